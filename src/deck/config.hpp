@@ -1,0 +1,83 @@
+// The resolved configuration of one run: what a YAML deck says, defaults filled in.
+// docs/decks.md documents every key; parse_deck() validates before any work is done.
+#pragma once
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hs {
+
+struct MeshConfig {
+  std::string file;            // .msh (gmsh 4.x) or .geo; resolved relative to the deck's folder
+  int order = 1;               // 1: Tet4, 2: Tet10
+  std::map<std::string, double> parameters;  // .geo only: numbers set before meshing (e.g. h)
+  int refine = 0;              // .geo only: uniform refinements after meshing
+};
+
+struct MaterialConfig {
+  std::string group;           // volume physical group
+  std::string model;           // linear_elastic | corotational | saint_venant_kirchhoff |
+                               // neo_hookean | mooney_rivlin
+  double E = 0, nu = 0;        // given as E, nu or as mu, lambda; both pairs are filled in
+  double mu = 0, lambda = 0;
+  double c1 = 0, c2 = 0;       // Mooney-Rivlin: psi = c1 (I1b - 3) + c2 (I2b - 3) + volumetric;
+                               // default c1 = mu/2, c2 = 0 (then it is neo-Hookean-like)
+  double density = 0;          // kg/m^3
+};
+
+struct DirichletConfig {
+  std::string group;                      // any physical group; all its nodes are constrained
+  std::array<bool, 3> components{true, true, true};  // which of x, y, z are prescribed
+  std::array<double, 3> value{0, 0, 0};   // prescribed displacement at full load
+  bool scaled = true;                     // follows the load factor (false: applied at once)
+};
+
+struct PressureConfig {
+  std::string group;           // surface physical group
+  double value = 0;            // Pa at full load; positive pushes against the outward normal
+};
+
+struct TimeConfig {
+  std::string type = "static";   // static | quasi_static | dynamic
+  int steps = 1;                 // static: load increments; quasi_static: schedule steps
+  std::vector<double> schedule;  // quasi_static: load factor per step (default linear ramp)
+  double dt = 0;                 // dynamic only
+  double end_time = 0;           // dynamic only
+  std::string integrator = "newmark";  // dynamic: newmark | backward_euler
+  double newmark_beta = 0.25, newmark_gamma = 0.5;
+  int max_cutbacks = 8;          // halvings of a failed load increment before giving up
+};
+
+struct SolverConfig {
+  std::string preset = "mumps";  // mumps | gamg: a starting set of PETSc options
+  std::map<std::string, std::string> petsc_options;  // any PETSc option, without the dash
+};
+
+struct OutputConfig {
+  std::string folder;            // default: out/<deck name>, relative to the working directory
+  int every = 1;                 // write every n-th step (the last one always)
+};
+
+struct ExactConfig {
+  std::string type;              // none | lame_sphere | cantilever_gravity | hydrostatic_block
+  std::map<std::string, double> parameters;  // e.g. a, b, p for lame_sphere
+};
+
+struct Config {
+  std::string deck_path;         // as given on the command line
+  std::string deck_name;         // file stem, e.g. lame_sphere
+  MeshConfig mesh;
+  std::vector<MaterialConfig> materials;
+  std::vector<DirichletConfig> dirichlet;
+  std::array<double, 3> gravity{0, 0, 0};
+  std::vector<PressureConfig> pressures;
+  TimeConfig time;
+  SolverConfig solver;
+  OutputConfig output;
+  ExactConfig exact;
+};
+
+}  // namespace hs

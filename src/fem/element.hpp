@@ -1,0 +1,49 @@
+// Element routines of the total-Lagrangian displacement formulation on P1/P2 tetrahedra.
+// One routine computes the residual and the tangent of an element, so the two can never
+// disagree (tested against finite differences in tests/fem).
+//
+// Arrays are node-major: X[3*a + i] is coordinate i of element node a; the same for u, r.
+// Matrices are row-major (3*npe) x (3*npe): K[(3a+i)*(3*npe) + 3b+j] = d r_{3a+i} / d u_{3b+j}.
+#pragma once
+
+#include <array>
+
+#include "materials/material.hpp"
+
+namespace hs {
+
+struct ElementOutput {
+  bool valid = true;   // false if any quadrature point has det F <= 0 (inverted element)
+  double energy = 0;   // integral of psi over the element
+};
+
+// Internal force r = int P : grad N dV and its tangent K = dr/du (K may be nullptr).
+ElementOutput tet_internal_force(int order, const double* X, const double* u,
+                                 const MaterialParameters& m, double* r, double* K);
+
+// Consistent nodal body force f_a = int rho g N_a dV (reference configuration).
+void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,
+                    double* f);
+
+// Consistent mass matrix M_ab = int rho N_a N_b dV, returned as (3 npe)^2 with 3x3 identity blocks.
+void tet_mass(int order, const double* X, double rho, double* M);
+
+// Reference volume of the element.
+double tet_volume(int order, const double* X);
+
+// Follower pressure p on a triangle face (3 or 6 nodes) of the current configuration
+// x = X + u, the face's right-hand normal pointing out of the body. The nodal forces are
+//   f_a = -p int N_a n da
+// (a positive p pushes into the body). Returns f in f[3*npf] and, if K is not nullptr,
+// K = df/dx (the load stiffness, not symmetric in general).
+void face_pressure(int order, const double* x, double p, double* f, double* K);
+
+// Element values for output, at the element centroid: deformation gradient F, Cauchy
+// von Mises stress and J = det F.
+struct ElementFields {
+  double von_mises = 0;
+  double J = 1;
+};
+ElementFields tet_fields(int order, const double* X, const double* u, const MaterialParameters& m);
+
+}  // namespace hs

@@ -1,0 +1,41 @@
+// Pointwise constitutive laws: first Piola-Kirchhoff stress P(F) and its tangent dP/dF.
+// Pure functions of the deformation gradient and the parameters, so that each can be
+// checked against finite differences (tests/materials).
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+
+namespace hs {
+
+using Mat3 = Eigen::Matrix3d;
+// dP_ij / dF_kl stored at (3*i + j, 3*k + l) (row-major flattening of both).
+using Tangent = Eigen::Matrix<double, 9, 9>;
+
+enum class MaterialModel { LinearElastic, Corotational, SaintVenantKirchhoff, NeoHookean, MooneyRivlin };
+
+struct MaterialParameters {
+  MaterialModel model = MaterialModel::LinearElastic;
+  double mu = 0, lambda = 0;   // Lame parameters
+  double c1 = 0, c2 = 0;       // Mooney-Rivlin
+  double density = 0;
+};
+
+// Throws std::invalid_argument for an unknown name.
+MaterialModel material_model_from_name(const std::string& name);
+std::string material_model_name(MaterialModel model);
+
+struct StressResult {
+  Mat3 P;        // first Piola-Kirchhoff stress
+  Tangent A;     // dP/dF
+  double psi;    // strain energy density (where the model has one)
+};
+
+// Stress, tangent and energy density at one point. For det F <= 0 the finite-strain
+// models return a non-finite psi; callers must treat that as an inverted element.
+StressResult stress(const MaterialParameters& m, const Mat3& F);
+
+// Cauchy stress sigma = P F^T / J, used for output (von Mises).
+Mat3 cauchy_stress(const MaterialParameters& m, const Mat3& F);
+
+}  // namespace hs

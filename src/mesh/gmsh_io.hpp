@@ -1,0 +1,24 @@
+// Reading gmsh meshes (.msh 4.x) and meshing .geo sources through the gmsh C++ API.
+#pragma once
+
+#include <mpi.h>
+
+#include "deck/config.hpp"
+#include "mesh/mesh.hpp"
+
+namespace hs {
+
+// Reads cfg.file (.msh) or meshes it (.geo, with cfg.parameters set as geo numbers and
+// cfg.refine uniform refinements), at element order cfg.order. Keeps tetrahedra and the
+// named physical groups. Throws InputError naming the file and the reason (missing file,
+// no tetrahedra, unsupported element type, a group without a name).
+Mesh load_mesh(const MeshConfig& cfg);
+
+// Rank `root` loads, the others receive a copy (the mesh is replicated; see
+// docs/architecture.md for why and for the size limits this implies).
+Mesh load_mesh_replicated(const MeshConfig& cfg, MPI_Comm comm, int root = 0);
+
+// Throws InputError unless `name` is a group of the mesh with at least one node.
+void require_group(const Mesh& mesh, const std::string& name, const std::string& where);
+
+}  // namespace hs

@@ -1,0 +1,21 @@
+// main() for MPI GoogleTest executables: PETSc (and so MPI) is initialised once,
+// and only rank 0 prints, so that the output of 2 ranks stays readable.
+#include <gtest/gtest.h>
+#include <petscsys.h>
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  PetscInitialize(&argc, &argv, nullptr, nullptr);
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank != 0) {
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  int result = RUN_ALL_TESTS();
+  // Every rank must agree on the verdict; a failure on any rank fails the test.
+  int global = 0;
+  MPI_Allreduce(&result, &global, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  PetscFinalize();
+  return global;
+}
