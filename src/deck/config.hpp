@@ -33,6 +33,8 @@ struct DirichletConfig {
   std::array<bool, 3> components{true, true, true};  // which of x, y, z are prescribed
   std::array<double, 3> value{0, 0, 0};   // prescribed displacement at full load
   bool scaled = true;                     // follows the load factor (false: applied at once)
+  bool exact = false;                     // values from the deck's exact solution at the
+                                          // current load factor (verification decks)
 };
 
 struct PressureConfig {

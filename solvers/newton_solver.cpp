@@ -1,0 +1,108 @@
+#include "solvers/newton_solver.hpp"
+
+#include <map>
+#include <stdexcept>
+
+namespace hs {
+namespace {
+
+void set_default(const std::string& name, const std::string& value) {
+  PetscBool set = PETSC_FALSE;
+  PetscCallThrow(PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &set));
+  if (!set) PetscCallThrow(PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()));
+}
+
+}  // namespace
+
+void set_solver_options(const SolverConfig& solver, bool symmetric_tangent) {
+  // The deck's options first, so that they win over the preset; the command line, already
+  // in the database, wins over both.
+  for (const auto& [name, value] : solver.petsc_options) set_default(name, value);
+
+  // Convergence is judged on the residual (never on a small step alone: a stalled
+  // iterative solve would otherwise look converged).
+  const std::map<std::string, std::string> common = {
+      {"snes_type", "newtonls"}, {"snes_linesearch_type", "bt"}, {"snes_rtol", "1e-10"},
+      {"snes_atol", "1e-12"},    {"snes_stol", "0"},             {"snes_max_it", "30"}};
+  for (const auto& [k, v] : common) set_default(k, v);
+  if (solver.preset == "mumps") {
+    set_default("ksp_type", "preonly");
+    set_default("pc_type", "lu");
+    set_default("pc_factor_mat_solver_type", "mumps");
+  } else if (solver.preset == "gamg") {
+    set_default("ksp_type", symmetric_tangent ? "cg" : "gmres");
+    set_default("pc_type", "gamg");
+    set_default("ksp_rtol", "1e-10");
+    set_default("ksp_max_it", "2000");
+    set_default("pc_gamg_threshold", "0.01");
+    set_default("mg_levels_ksp_type", "chebyshev");
+    set_default("mg_levels_pc_type", "jacobi");
+  } else {
+    throw std::invalid_argument("unknown solver preset '" + solver.preset + "'");
+  }
+}
+
+NewtonSolver::NewtonSolver(Problem& problem) : problem_(problem) {
+  J_ = problem.create_matrix();
+  R_ = problem.create_vector();
+  PetscBool near_null = PETSC_TRUE;
+  PetscCallThrow(PetscOptionsGetBool(nullptr, nullptr, "-hs_near_null_space", &near_null, nullptr));
+  if (!near_null) PetscCallThrow(MatSetNearNullSpace(J_, nullptr));
+  PetscCallThrow(SNESCreate(problem.comm(), &snes_));
+  PetscCallThrow(SNESSetFunction(snes_, R_, form_residual, this));
+  PetscCallThrow(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
+  PetscCallThrow(SNESSetFromOptions(snes_));
+}
+
+NewtonSolver::~NewtonSolver() {
+  SNESDestroy(&snes_);
+  MatDestroy(&J_);
+  VecDestroy(&R_);
+}
+
+PetscErrorCode NewtonSolver::form_residual(SNES snes, Vec u, Vec R, void* ctx) {
+  auto* self = static_cast<NewtonSolver*>(ctx);
+  try {
+    if (!self->problem_.residual(u, self->load_, R)) PetscCall(SNESSetFunctionDomainError(snes));
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  return 0;
+}
+
+PetscErrorCode NewtonSolver::form_jacobian(SNES snes, Vec u, Mat J, Mat, void* ctx) {
+  auto* self = static_cast<NewtonSolver*>(ctx);
+  try {
+    if (!self->problem_.jacobian(u, self->load_, J)) PetscCall(SNESSetJacobianDomainError(snes));
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  return 0;
+}
+
+NewtonResult NewtonSolver::solve(Vec u, double s) {
+  load_ = s;
+  const auto& t = problem_.timers();
+  const double assembly_before = t.residual_s + t.jacobian_s;
+  const double t0 = MPI_Wtime();
+  PetscCallThrow(SNESSolve(snes_, nullptr, u));
+  const double assembly = t.residual_s + t.jacobian_s - assembly_before;
+  solve_s_ += MPI_Wtime() - t0 - assembly;
+
+  NewtonResult r;
+  SNESConvergedReason reason;
+  PetscCallThrow(SNESGetConvergedReason(snes_, &reason));
+  PetscInt its = 0, lits = 0;
+  PetscCallThrow(SNESGetIterationNumber(snes_, &its));
+  PetscCallThrow(SNESGetLinearSolveIterations(snes_, &lits));
+  PetscReal norm = 0;
+  PetscCallThrow(SNESGetFunctionNorm(snes_, &norm));
+  r.converged = reason > 0;
+  r.iterations = static_cast<int>(its);
+  r.linear_iterations = static_cast<int>(lits);
+  r.residual_norm = norm;
+  r.reason = SNESConvergedReasons[reason];
+  return r;
+}
+
+}  // namespace hs

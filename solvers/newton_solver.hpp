@@ -1,0 +1,52 @@
+// Newton's method for R(u; s) = 0 through PETSc's SNES (line search), with the linear
+// solver from the options database: MUMPS LU by default, CG/GMRES + GAMG with the rigid-body
+// near-null space as the "gamg" preset. Options come, lowest precedence first, from the
+// preset, the deck's solver.petsc_options and the command line.
+#pragma once
+
+#include <petscsnes.h>
+
+#include <string>
+
+#include "deck/config.hpp"
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+// Puts the preset's and the deck's options into PETSc's options database, leaving every
+// option that the command line already set untouched.
+void set_solver_options(const SolverConfig& solver, bool symmetric_tangent);
+
+struct NewtonResult {
+  bool converged = false;
+  int iterations = 0;
+  int linear_iterations = 0;
+  double residual_norm = 0;
+  std::string reason;  // PETSc's converged/diverged reason
+};
+
+class NewtonSolver {
+ public:
+  explicit NewtonSolver(Problem& problem);
+  ~NewtonSolver();
+  NewtonSolver(const NewtonSolver&) = delete;
+  NewtonSolver& operator=(const NewtonSolver&) = delete;
+
+  // Solves at load factor s starting from u (which must satisfy the constraints at s).
+  NewtonResult solve(Vec u, double s);
+  double solve_seconds() const { return solve_s_; }  // time in SNESSolve minus assembly
+  SNES snes() const { return snes_; }
+
+ private:
+  static PetscErrorCode form_residual(SNES, Vec u, Vec R, void* ctx);
+  static PetscErrorCode form_jacobian(SNES, Vec u, Mat J, Mat P, void* ctx);
+
+  Problem& problem_;
+  SNES snes_ = nullptr;
+  Mat J_ = nullptr;
+  Vec R_ = nullptr;
+  double load_ = 0;
+  double solve_s_ = 0;
+};
+
+}  // namespace hs

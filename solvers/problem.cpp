@@ -1,0 +1,488 @@
+#include "solvers/problem.hpp"
+
+#include <petscsys.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "common/error.hpp"
+#include "fem/element.hpp"
+
+namespace hs {
+namespace {
+
+MaterialParameters to_parameters(const MaterialConfig& c) {
+  MaterialParameters m;
+  m.model = material_model_from_name(c.model);
+  m.mu = c.mu;
+  m.lambda = c.lambda;
+  m.c1 = c.c1;
+  m.c2 = c.c2;
+  m.density = c.density;
+  return m;
+}
+
+}  // namespace
+
+Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dist, MPI_Comm comm,
+                 const ExactSolution* exact)
+    : comm_(comm), mesh_(mesh), dist_(dist), npe_(mesh.nodes_per_tet()), exact_(exact) {
+  // Materials per volume group of the mesh.
+  materials_.resize(mesh.volume_names.size());
+  std::vector<char> has_material(mesh.volume_names.size(), 0);
+  for (const auto& mc : config.materials) {
+    auto it = std::find(mesh.volume_names.begin(), mesh.volume_names.end(), mc.group);
+    if (it == mesh.volume_names.end()) throw InputError("material group '" + mc.group + "' is not a volume");
+    const auto v = static_cast<size_t>(it - mesh.volume_names.begin());
+    materials_[v] = to_parameters(mc);
+    has_material[v] = 1;
+  }
+  for (size_t v = 0; v < has_material.size(); ++v)
+    if (!has_material[v]) throw InputError("volume group '" + mesh.volume_names[v] + "' has no material");
+
+  const int64_t nlocal = dist.num_local();
+  X_local_.resize(3 * nlocal);
+  for (int64_t i = 0; i < nlocal; ++i)
+    for (int d = 0; d < 3; ++d) X_local_[3 * i + d] = mesh.x[3 * dist.old_of_local[i] + d];
+
+  global_dof_.resize(3 * nlocal);
+  for (int64_t i = 0; i < nlocal; ++i)
+    for (int d = 0; d < 3; ++d) global_dof_[3 * i + d] = static_cast<PetscInt>(3 * dist.local_nodes[i] + d);
+  for (int64_t i = dist.num_owned(); i < nlocal; ++i)
+    ghost_blocks_.push_back(static_cast<PetscInt>(dist.local_nodes[i]));
+
+  // Dirichlet data per local dof (a later condition on the same dof wins).
+  constrained_.assign(3 * nlocal, 0);
+  prescribed_.assign(3 * nlocal, 0.0);
+  scaled_.assign(3 * nlocal, 1);
+  from_exact_.assign(3 * nlocal, 0);
+  for (const auto& bc : config.dirichlet) {
+    if (bc.exact && !exact)
+      throw InputError(config.deck_path + ": boundary: group '" + bc.group +
+                       "' asks for exact values but the deck has no exact solution");
+    auto it = dist.node_groups.find(bc.group);
+    if (it == dist.node_groups.end()) continue;  // group has no node on this rank
+    for (int32_t n : it->second)
+      for (int d = 0; d < 3; ++d)
+        if (bc.components[d]) {
+          constrained_[3 * n + d] = 1;
+          prescribed_[3 * n + d] = bc.value[d];
+          scaled_[3 * n + d] = bc.scaled;
+          from_exact_[3 * n + d] = bc.exact;
+        }
+  }
+
+  // Body force per local tet at full load.
+  const auto nt = dist.local_tets.size();
+  body_force_.assign(nt * 3 * npe_, 0.0);
+  std::vector<double> X(3 * npe_);
+  for (size_t e = 0; e < nt; ++e) {
+    element_coordinates(e, X.data());
+    const auto& m = materials_[mesh.tet_volume[dist.local_tets[e]]];
+    tet_body_force(mesh.order, X.data(), m.density, config.gravity, &body_force_[e * 3 * npe_]);
+  }
+
+  for (const auto& pc : config.pressures) {
+    auto it = dist.faces.find(pc.group);
+    PressureSurface s;
+    s.value = pc.value;
+    if (it != dist.faces.end()) s.faces = it->second;
+    pressure_faces_.push_back(std::move(s));
+  }
+  bool any_faces = false;
+  for (const auto& s : pressure_faces_) any_faces |= !s.faces.empty();
+  int local_any = any_faces, global_any = 0;
+  MPI_Allreduce(&local_any, &global_any, 1, MPI_INT, MPI_MAX, comm_);
+  if (!global_any) pressure_faces_.clear();
+
+  u_work_ = create_vector();
+  PetscCallThrow(VecDuplicate(u_work_, &r_work_));
+}
+
+Problem::~Problem() {
+  VecDestroy(&u_work_);
+  VecDestroy(&r_work_);
+}
+
+Vec Problem::create_vector() const {
+  Vec v;
+  PetscCallThrow(VecCreateGhostBlock(comm_, 3, 3 * static_cast<PetscInt>(dist_.num_owned()),
+                                     PETSC_DECIDE, static_cast<PetscInt>(ghost_blocks_.size()),
+                                     ghost_blocks_.data(), &v));
+  PetscCallThrow(VecSet(v, 0.0));
+  return v;
+}
+
+void Problem::element_coordinates(int64_t e, double* X) const {
+  const int32_t* nodes = &dist_.tet_nodes[e * npe_];
+  for (int a = 0; a < npe_; ++a)
+    for (int d = 0; d < 3; ++d) X[3 * a + d] = X_local_[3 * nodes[a] + d];
+}
+
+void Problem::element_displacement(const PetscScalar* u_local, int64_t e, double* u) const {
+  const int32_t* nodes = &dist_.tet_nodes[e * npe_];
+  for (int a = 0; a < npe_; ++a)
+    for (int d = 0; d < 3; ++d) u[3 * a + d] = u_local[3 * nodes[a] + d];
+}
+
+void Problem::dof_indices(int64_t e, PetscInt* idx) const {
+  const int32_t* nodes = &dist_.tet_nodes[e * npe_];
+  face_dofs(nodes, npe_, idx);
+}
+
+void Problem::face_dofs(const int32_t* nodes, int n, PetscInt* idx) const {
+  for (int a = 0; a < n; ++a)
+    for (int d = 0; d < 3; ++d) {
+      const auto l = 3 * static_cast<int64_t>(nodes[a]) + d;
+      idx[3 * a + d] = constrained_[l] ? -1 : global_dof_[l];
+    }
+}
+
+Mat Problem::create_matrix() const {
+  // Preallocation from the node graph of the whole (replicated) mesh: an owned row couples
+  // with every node of every tetrahedron that contains it, whichever rank assembles it.
+  const int64_t begin = dist_.owned_offsets[dist_.rank], end = dist_.owned_offsets[dist_.rank + 1];
+  const int64_t nowned = end - begin;
+  std::vector<std::vector<int64_t>> neighbours(nowned);
+  const int64_t ntet = mesh_.num_tets();
+  for (int64_t t = 0; t < ntet; ++t) {
+    const int64_t* tet = &mesh_.tets[t * npe_];
+    for (int a = 0; a < npe_; ++a) {
+      const int64_t row = dist_.new_of_old[tet[a]];
+      if (row < begin || row >= end) continue;
+      auto& list = neighbours[row - begin];
+      for (int b = 0; b < npe_; ++b) list.push_back(dist_.new_of_old[tet[b]]);
+    }
+  }
+  std::vector<PetscInt> dnnz(nowned), onnz(nowned);
+  for (int64_t i = 0; i < nowned; ++i) {
+    auto& list = neighbours[i];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    PetscInt d = 0;
+    for (int64_t c : list) d += (c >= begin && c < end);
+    dnnz[i] = d;
+    onnz[i] = static_cast<PetscInt>(list.size()) - d;
+    std::vector<int64_t>().swap(list);
+  }
+  Mat A;
+  PetscCallThrow(MatCreate(comm_, &A));
+  PetscCallThrow(MatSetSizes(A, 3 * nowned, 3 * nowned, PETSC_DETERMINE, PETSC_DETERMINE));
+  PetscCallThrow(MatSetBlockSize(A, 3));
+  PetscCallThrow(MatSetType(A, MATAIJ));
+  PetscCallThrow(MatSetFromOptions(A));
+  PetscCallThrow(MatXAIJSetPreallocation(A, 3, dnnz.data(), onnz.data(), nullptr, nullptr));
+  PetscCallThrow(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+
+  // Rigid-body modes from the reference coordinates of the owned nodes.
+  Vec coords;
+  PetscCallThrow(VecCreateMPI(comm_, 3 * nowned, PETSC_DETERMINE, &coords));
+  PetscCallThrow(VecSetBlockSize(coords, 3));
+  PetscScalar* c;
+  PetscCallThrow(VecGetArray(coords, &c));
+  for (int64_t i = 0; i < 3 * nowned; ++i) c[i] = X_local_[i];
+  PetscCallThrow(VecRestoreArray(coords, &c));
+  MatNullSpace nullspace;
+  PetscCallThrow(MatNullSpaceCreateRigidBody(coords, &nullspace));
+  PetscCallThrow(MatSetNearNullSpace(A, nullspace));
+  PetscCallThrow(MatNullSpaceDestroy(&nullspace));
+  PetscCallThrow(VecDestroy(&coords));
+  return A;
+}
+
+Mat Problem::create_mass_matrix() const {
+  Mat M = create_matrix();
+  const int n = 3 * npe_;
+  std::vector<double> X(n), Me(n * n);
+  std::vector<PetscInt> idx(n);
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    element_coordinates(e, X.data());
+    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+    tet_mass(mesh_.order, X.data(), m.density, Me.data());
+    dof_indices(e, idx.data());
+    PetscCallThrow(MatSetValues(M, n, idx.data(), n, idx.data(), Me.data(), ADD_VALUES));
+  }
+  for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
+    if (constrained_[l]) PetscCallThrow(MatSetValue(M, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
+  PetscCallThrow(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
+  PetscCallThrow(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
+  return M;
+}
+
+double Problem::prescribed_value(int64_t l, double s) const {
+  if (from_exact_[l]) {
+    const int64_t node = l / 3;
+    const std::array<double, 3> X = {X_local_[3 * node], X_local_[3 * node + 1], X_local_[3 * node + 2]};
+    return exact_->displacement(X, s)[l % 3];
+  }
+  return prescribed_[l] * (scaled_[l] ? s : 1.0);
+}
+
+void Problem::apply_dirichlet(Vec u, double s) const {
+  PetscScalar* a;
+  PetscCallThrow(VecGetArray(u, &a));
+  for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
+    if (constrained_[l]) a[l] = prescribed_value(l, s);
+  PetscCallThrow(VecRestoreArray(u, &a));
+}
+
+bool Problem::residual(Vec u, double s, Vec R) {
+  const double t0 = MPI_Wtime();
+  PetscCallThrow(VecCopy(u, u_work_));
+  PetscCallThrow(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCallThrow(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  Vec ul, rl;
+  PetscCallThrow(VecGhostGetLocalForm(u_work_, &ul));
+  PetscCallThrow(VecGhostGetLocalForm(r_work_, &rl));
+  PetscCallThrow(VecSet(rl, 0.0));
+  const PetscScalar* ua;
+  PetscScalar* ra;
+  PetscCallThrow(VecGetArrayRead(ul, &ua));
+  PetscCallThrow(VecGetArray(rl, &ra));
+
+  bool ok = true;
+  const int n = 3 * npe_;
+  double X[30], ue[30], re[30];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    element_coordinates(e, X);
+    element_displacement(ua, e, ue);
+    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+    const ElementOutput out = tet_internal_force(mesh_.order, X, ue, m, re, nullptr);
+    if (!out.valid && ok) {
+      ok = false;
+      bad_element_ = dist_.local_tets[e];
+    }
+    const double* fb = &body_force_[e * n];
+    const int32_t* nodes = &dist_.tet_nodes[e * npe_];
+    for (int a = 0; a < npe_; ++a)
+      for (int d = 0; d < 3; ++d) ra[3 * nodes[a] + d] += re[3 * a + d] - s * fb[3 * a + d];
+  }
+  const int npf = mesh_.nodes_per_face();
+  double xf[18], ff[18];
+  for (const auto& surface : pressure_faces_) {
+    for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
+      const int32_t* nodes = &surface.faces[f * npf];
+      for (int a = 0; a < npf; ++a)
+        for (int d = 0; d < 3; ++d) xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
+      face_pressure(mesh_.order, xf, s * surface.value, ff, nullptr);
+      for (int a = 0; a < npf; ++a)
+        for (int d = 0; d < 3; ++d) ra[3 * nodes[a] + d] -= ff[3 * a + d];
+    }
+  }
+  PetscCallThrow(VecRestoreArray(rl, &ra));
+  PetscCallThrow(VecRestoreArrayRead(ul, &ua));
+  PetscCallThrow(VecGhostRestoreLocalForm(r_work_, &rl));
+  PetscCallThrow(VecGhostRestoreLocalForm(u_work_, &ul));
+  PetscCallThrow(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  PetscCallThrow(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
+
+  if (inertia_) {  // c M (u - u_pred)
+    Vec du;
+    PetscCallThrow(VecDuplicate(u, &du));
+    PetscCallThrow(VecWAXPY(du, -1.0, inertia_->u_pred, u));
+    PetscCallThrow(VecScale(du, inertia_->c));
+    PetscCallThrow(MatMultAdd(inertia_->M, du, r_work_, r_work_));
+    PetscCallThrow(VecDestroy(&du));
+  }
+
+  // Dirichlet rows: R_D = u_D - g_D(s).
+  PetscScalar* r;
+  const PetscScalar* uo;
+  PetscCallThrow(VecGetArray(r_work_, &r));
+  PetscCallThrow(VecGetArrayRead(u, &uo));
+  for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
+    if (constrained_[l]) r[l] = uo[l] - prescribed_value(l, s);
+  PetscCallThrow(VecRestoreArrayRead(u, &uo));
+  PetscCallThrow(VecRestoreArray(r_work_, &r));
+  PetscCallThrow(VecCopy(r_work_, R));
+
+  int local_ok = ok, global_ok = 0;
+  MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
+  timers_.residual_s += MPI_Wtime() - t0;
+  ++timers_.residual_calls;
+  return global_ok;
+}
+
+bool Problem::jacobian(Vec u, double s, Mat J) {
+  const double t0 = MPI_Wtime();
+  PetscCallThrow(MatZeroEntries(J));
+  PetscCallThrow(VecCopy(u, u_work_));
+  PetscCallThrow(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCallThrow(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  Vec ul;
+  PetscCallThrow(VecGhostGetLocalForm(u_work_, &ul));
+  const PetscScalar* ua;
+  PetscCallThrow(VecGetArrayRead(ul, &ua));
+
+  bool ok = true;
+  const int n = 3 * npe_;
+  double X[30], ue[30], re[30];
+  std::vector<double> Ke(n * n);
+  PetscInt idx[30];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    element_coordinates(e, X);
+    element_displacement(ua, e, ue);
+    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+    const ElementOutput out = tet_internal_force(mesh_.order, X, ue, m, re, Ke.data());
+    if (!out.valid && ok) {
+      ok = false;
+      bad_element_ = dist_.local_tets[e];
+    }
+    dof_indices(e, idx);
+    PetscCallThrow(MatSetValues(J, n, idx, n, idx, Ke.data(), ADD_VALUES));
+  }
+  const int npf = mesh_.nodes_per_face();
+  const int nf = 3 * npf;
+  double xf[18], ff[18];
+  std::vector<double> Kf(nf * nf);
+  for (const auto& surface : pressure_faces_) {
+    for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
+      const int32_t* nodes = &surface.faces[f * npf];
+      for (int a = 0; a < npf; ++a)
+        for (int d = 0; d < 3; ++d) xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
+      face_pressure(mesh_.order, xf, s * surface.value, ff, Kf.data());
+      for (double& k : Kf) k = -k;  // R = ... - f_pressure
+      face_dofs(nodes, npf, idx);
+      PetscCallThrow(MatSetValues(J, nf, idx, nf, idx, Kf.data(), ADD_VALUES));
+    }
+  }
+  PetscCallThrow(VecRestoreArrayRead(ul, &ua));
+  PetscCallThrow(VecGhostRestoreLocalForm(u_work_, &ul));
+  for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
+    if (constrained_[l]) PetscCallThrow(MatSetValue(J, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
+  PetscCallThrow(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  PetscCallThrow(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  if (inertia_) PetscCallThrow(MatAXPY(J, inertia_->c, inertia_->M, SUBSET_NONZERO_PATTERN));
+
+  int local_ok = ok, global_ok = 0;
+  MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
+  timers_.jacobian_s += MPI_Wtime() - t0;
+  ++timers_.jacobian_calls;
+  return global_ok;
+}
+
+void Problem::external_load(Vec u, double s, Vec f) {
+  // The external load is R(u) with the internal forces left out: assemble it directly.
+  PetscCallThrow(VecCopy(u, u_work_));
+  PetscCallThrow(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCallThrow(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  Vec ul, fl;
+  PetscCallThrow(VecGhostGetLocalForm(u_work_, &ul));
+  PetscCallThrow(VecGhostGetLocalForm(r_work_, &fl));
+  PetscCallThrow(VecSet(fl, 0.0));
+  const PetscScalar* ua;
+  PetscScalar* fa;
+  PetscCallThrow(VecGetArrayRead(ul, &ua));
+  PetscCallThrow(VecGetArray(fl, &fa));
+  const int n = 3 * npe_;
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    const int32_t* nodes = &dist_.tet_nodes[e * npe_];
+    for (int a = 0; a < npe_; ++a)
+      for (int d = 0; d < 3; ++d) fa[3 * nodes[a] + d] += s * body_force_[e * n + 3 * a + d];
+  }
+  const int npf = mesh_.nodes_per_face();
+  double xf[18], ff[18];
+  for (const auto& surface : pressure_faces_)
+    for (size_t k = 0; k < surface.faces.size() / npf; ++k) {
+      const int32_t* nodes = &surface.faces[k * npf];
+      for (int a = 0; a < npf; ++a)
+        for (int d = 0; d < 3; ++d) xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
+      face_pressure(mesh_.order, xf, s * surface.value, ff, nullptr);
+      for (int a = 0; a < npf; ++a)
+        for (int d = 0; d < 3; ++d) fa[3 * nodes[a] + d] += ff[3 * a + d];
+    }
+  PetscCallThrow(VecRestoreArray(fl, &fa));
+  PetscCallThrow(VecRestoreArrayRead(ul, &ua));
+  PetscCallThrow(VecGhostRestoreLocalForm(r_work_, &fl));
+  PetscCallThrow(VecGhostRestoreLocalForm(u_work_, &ul));
+  PetscCallThrow(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  PetscCallThrow(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  PetscCallThrow(VecCopy(r_work_, f));
+}
+
+void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const {
+  Vec uw;
+  PetscCallThrow(VecDuplicate(u_work_, &uw));
+  PetscCallThrow(VecCopy(u, uw));
+  PetscCallThrow(VecGhostUpdateBegin(uw, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCallThrow(VecGhostUpdateEnd(uw, INSERT_VALUES, SCATTER_FORWARD));
+  Vec ul;
+  PetscCallThrow(VecGhostGetLocalForm(uw, &ul));
+  const PetscScalar* ua;
+  PetscCallThrow(VecGetArrayRead(ul, &ua));
+  const auto nt = dist_.local_tets.size();
+  von_mises.resize(nt);
+  J.resize(nt);
+  double X[30], ue[30];
+  for (size_t e = 0; e < nt; ++e) {
+    element_coordinates(e, X);
+    element_displacement(ua, e, ue);
+    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+    const ElementFields f = tet_fields(mesh_.order, X, ue, m);
+    von_mises[e] = f.von_mises;
+    J[e] = f.J;
+  }
+  PetscCallThrow(VecRestoreArrayRead(ul, &ua));
+  PetscCallThrow(VecGhostRestoreLocalForm(uw, &ul));
+  PetscCallThrow(VecDestroy(&uw));
+}
+
+std::vector<double> Problem::gather_nodal(Vec v) const {
+  const int nowned = static_cast<int>(dist_.num_owned());
+  const PetscScalar* a;
+  PetscCallThrow(VecGetArrayRead(v, &a));
+  std::vector<double> mine(a, a + 3 * nowned);
+  PetscCallThrow(VecRestoreArrayRead(v, &a));
+  std::vector<double> all;
+  std::vector<int> counts(dist_.size), displs(dist_.size);
+  for (int r = 0; r < dist_.size; ++r) {
+    counts[r] = static_cast<int>(3 * (dist_.owned_offsets[r + 1] - dist_.owned_offsets[r]));
+    displs[r] = static_cast<int>(3 * dist_.owned_offsets[r]);
+  }
+  if (dist_.rank == 0) all.resize(3 * dist_.num_global());
+  MPI_Gatherv(mine.data(), 3 * nowned, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+              MPI_DOUBLE, 0, comm_);
+  if (dist_.rank != 0) return {};
+  // New (rank-contiguous) numbering to mesh numbering.
+  std::vector<double> out(all.size());
+  for (int64_t old = 0; old < mesh_.num_nodes(); ++old)
+    for (int d = 0; d < 3; ++d) out[3 * old + d] = all[3 * dist_.new_of_old[old] + d];
+  return out;
+}
+
+std::vector<double> Problem::gather_elemental(const std::vector<double>& local) const {
+  const int n = static_cast<int>(local.size());
+  std::vector<int> counts(dist_.size), displs(dist_.size);
+  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
+  std::vector<long long> ids(dist_.local_tets.begin(), dist_.local_tets.end());
+  int total = 0;
+  if (dist_.rank == 0)
+    for (int r = 0; r < dist_.size; ++r) {
+      displs[r] = total;
+      total += counts[r];
+    }
+  std::vector<double> values(total);
+  std::vector<long long> all_ids(total);
+  MPI_Gatherv(local.data(), n, MPI_DOUBLE, values.data(), counts.data(), displs.data(), MPI_DOUBLE,
+              0, comm_);
+  MPI_Gatherv(ids.data(), n, MPI_LONG_LONG, all_ids.data(), counts.data(), displs.data(),
+              MPI_LONG_LONG, 0, comm_);
+  if (dist_.rank != 0) return {};
+  std::vector<double> out(mesh_.num_tets(), 0.0);
+  for (int i = 0; i < total; ++i) out[all_ids[i]] = values[i];
+  return out;
+}
+
+double Problem::total_mass() const {
+  double local = 0, X[30];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    element_coordinates(e, X);
+    local += materials_[mesh_.tet_volume[dist_.local_tets[e]]].density * tet_volume(mesh_.order, X);
+  }
+  double total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  return total;
+}
+
+}  // namespace hs

@@ -1,0 +1,113 @@
+// The discrete problem one rank works on (equation 1 of the paper without actuators):
+//   R(u; s) = f_int(u) - s f_body - f_pressure(u; s) [+ c M (u - u_pred)] = 0,
+// s the load factor. Its PETSc objects: ghosted block vectors (3 dofs per node, the
+// layout of hs::Distribution) and a preallocated AIJ matrix of block size 3 with the
+// rigid-body near-null space attached. Dirichlet dofs keep their rows: R_D = u_D - g_D(s)
+// and identity rows/columns in the tangent, so the tangent stays symmetric when the
+// physics is (the solution always satisfies the constraints before a Newton solve,
+// hence the zeroed columns lose nothing).
+#pragma once
+
+#include <petscmat.h>
+#include <petscvec.h>
+
+#include <array>
+#include <vector>
+
+#include "deck/config.hpp"
+#include "materials/material.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/mesh.hpp"
+#include "solvers/exact_solution.hpp"
+
+namespace hs {
+
+// Inertia of an implicit time step: the term c M (u - u_pred) (Newmark or backward Euler).
+struct InertiaTerm {
+  Mat M = nullptr;     // consistent mass matrix (unit diagonal on Dirichlet rows)
+  Vec u_pred = nullptr;
+  double c = 0;
+};
+
+struct AssemblyTimers {
+  double residual_s = 0, jacobian_s = 0;
+  int residual_calls = 0, jacobian_calls = 0;
+};
+
+class Problem {
+ public:
+  // `exact` (may be nullptr) gives the values of Dirichlet conditions marked exact.
+  Problem(const Config& config, const Mesh& mesh, const Distribution& dist, MPI_Comm comm,
+          const ExactSolution* exact = nullptr);
+  ~Problem();
+  Problem(const Problem&) = delete;
+  Problem& operator=(const Problem&) = delete;
+
+  MPI_Comm comm() const { return comm_; }
+  const Mesh& mesh() const { return mesh_; }
+  const Distribution& distribution() const { return dist_; }
+  PetscInt num_global_dofs() const { return 3 * static_cast<PetscInt>(dist_.num_global()); }
+
+  Vec create_vector() const;  // ghosted, zeroed
+  Mat create_matrix() const;  // preallocated, near-null space attached
+  Mat create_mass_matrix() const;
+
+  // Sets the Dirichlet dofs of u to their prescribed values at load factor s.
+  void apply_dirichlet(Vec u, double s) const;
+
+  // Residual and tangent. Return false if an element is inverted (det F <= 0) or a
+  // value is not finite; first_bad_element() then names it (mesh index, -1 if none).
+  bool residual(Vec u, double s, Vec R);
+  bool jacobian(Vec u, double s, Mat J);
+  int64_t first_bad_element() const { return bad_element_; }
+
+  void set_inertia(const InertiaTerm* inertia) { inertia_ = inertia; }
+
+  // The applied external load at load factor s on configuration u (gravity + pressure).
+  void external_load(Vec u, double s, Vec f);
+
+  // Per local tetrahedron: von Mises stress and J at the centroid.
+  void element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const;
+
+  // Owned-node values of a block-3 vector in mesh (old) numbering, gathered on rank 0.
+  std::vector<double> gather_nodal(Vec v) const;
+  // Per-local-tet values gathered on rank 0 in mesh tet order.
+  std::vector<double> gather_elemental(const std::vector<double>& local) const;
+
+  const AssemblyTimers& timers() const { return timers_; }
+  bool has_follower_loads() const { return !pressure_faces_.empty(); }
+  double total_mass() const;
+
+ private:
+  struct PressureSurface {
+    std::vector<int32_t> faces;  // local node indices, nodes_per_face each
+    double value;
+  };
+  void element_coordinates(int64_t local_tet, double* X) const;
+  void element_displacement(const PetscScalar* u_local, int64_t local_tet, double* u) const;
+  void dof_indices(int64_t local_tet, PetscInt* idx) const;  // -1 on Dirichlet dofs
+  void face_dofs(const int32_t* face, int npf, PetscInt* idx) const;
+  double prescribed_value(int64_t local_dof, double s) const;
+
+  MPI_Comm comm_;
+  const Mesh& mesh_;
+  const Distribution& dist_;
+  int npe_;
+  std::vector<MaterialParameters> materials_;  // per mesh volume group
+  std::vector<double> X_local_;                // reference coordinates of local nodes
+  std::vector<PetscInt> global_dof_;           // per local dof: PETSc global index
+  std::vector<char> constrained_;              // per local dof
+  std::vector<double> prescribed_;             // per local dof: value at full load
+  std::vector<char> scaled_;                   // per local dof: follows the load factor
+  std::vector<char> from_exact_;               // per local dof: value from exact_
+  const ExactSolution* exact_;
+  std::vector<double> body_force_;             // per local tet: npe*3, at full load
+  std::vector<PressureSurface> pressure_faces_;
+  std::vector<PetscInt> ghost_blocks_;
+  const InertiaTerm* inertia_ = nullptr;
+  Vec u_work_ = nullptr, r_work_ = nullptr;
+  int64_t bad_element_ = -1;
+  AssemblyTimers timers_;
+};
+
+}  // namespace hs

@@ -1,0 +1,175 @@
+#include "solvers/simulation.hpp"
+
+#include <petscsys.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "common/error.hpp"
+#include "deck/deck.hpp"
+#include "io/output.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/gmsh_io.hpp"
+#include "solvers/error_norms.hpp"
+#include "solvers/exact_solution.hpp"
+#include "solvers/newton_solver.hpp"
+#include "solvers/problem.hpp"
+#include "solvers/stepping.hpp"
+
+namespace hs {
+namespace {
+
+std::vector<int> partition_on_root(const Mesh& mesh, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  std::vector<int> part(mesh.num_tets());
+  if (rank == 0) part = partition_tets(mesh, size);
+  MPI_Bcast(part.data(), static_cast<int>(part.size()), MPI_INT, 0, comm);
+  return part;
+}
+
+// Writes one output step: fields gathered on rank 0.
+class ResultRecorder {
+ public:
+  ResultRecorder(Problem& problem, const Config& config, MPI_Comm comm) : problem_(problem) {
+    MPI_Comm_rank(comm, &rank_);
+    if (rank_ == 0) {
+      folder_ = std::make_unique<OutputFolder>(config.output.folder);
+      writer_ = std::make_unique<XdmfWriter>(folder_->staging(), config.deck_name, problem.mesh());
+    }
+    load_ = problem.create_vector();
+  }
+  ~ResultRecorder() { VecDestroy(&load_); }
+
+  void record(double time, Vec u, double s) {
+    StepFields f;
+    f.time = time;
+    f.displacement = problem_.gather_nodal(u);
+    problem_.external_load(u, s, load_);
+    f.nodal_load = problem_.gather_nodal(load_);
+    std::vector<double> vm, J;
+    problem_.element_fields(u, vm, J);
+    f.von_mises = problem_.gather_elemental(vm);
+    f.J = problem_.gather_elemental(J);
+    std::vector<double> rank(vm.size(), problem_.distribution().rank);
+    const auto ranks = problem_.gather_elemental(rank);
+    // Decided together, so that every rank stops on a non-finite result, not rank 0 alone.
+    int finite = 1;
+    for (const auto* field : {&f.displacement, &f.nodal_load, &f.von_mises, &f.J})
+      for (double x : *field) finite &= std::isfinite(x);
+    MPI_Bcast(&finite, 1, MPI_INT, 0, problem_.comm());
+    if (!finite)
+      throw SolveError("output at time/load " + std::to_string(time) +
+                       ": a computed field is not finite; nothing was written");
+    if (rank_ != 0) return;
+    f.rank.assign(ranks.begin(), ranks.end());
+    writer_->write_step(f);
+    ++written_;
+  }
+
+  // Closes the files and moves them to the output folder (rank 0).
+  std::string finish(const nlohmann::json& summary) {
+    if (rank_ != 0) return {};
+    writer_->close();
+    write_json(folder_->staging() + "/summary.json", summary);
+    folder_->commit();
+    return folder_->final();
+  }
+  std::string xdmf_path() const {
+    return rank_ == 0 ? folder_->final() + "/" + writer_->xdmf_file() : std::string();
+  }
+  int written() const { return written_; }
+
+ private:
+  Problem& problem_;
+  int rank_ = 0;
+  int written_ = 0;
+  std::unique_ptr<OutputFolder> folder_;
+  std::unique_ptr<XdmfWriter> writer_;
+  Vec load_ = nullptr;
+};
+
+}  // namespace
+
+nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
+  const double t_start = MPI_Wtime();
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+
+  const Mesh mesh = load_mesh_replicated(config.mesh, comm);
+  check_groups(config, mesh);
+  const auto exact = make_exact_solution(config);
+  const std::vector<int> part = partition_on_root(mesh, comm);
+  const Distribution dist = distribute(mesh, part, rank, size);
+
+  Problem problem(config, mesh, dist, comm, exact.get());
+  const bool symmetric = !problem.has_follower_loads();
+  set_solver_options(config.solver, symmetric);
+  NewtonSolver newton(problem);
+  ResultRecorder recorder(problem, config, comm);
+  const double t_setup = MPI_Wtime() - t_start;
+
+  Vec u = problem.create_vector();
+  SteppingStats stats;
+  double final_load = 1.0;
+  int outputs = 0;
+  auto output_due = [&](int k, int last) { return k == last || (k % config.output.every) == 0; };
+
+  if (config.time.type == "dynamic") {
+    const int nsteps = static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9));
+    recorder.record(0.0, u, 1.0);
+    run_dynamic(problem, newton, config.time, u, stats, [&](int n, double t, Vec un) {
+      if (output_due(n, nsteps)) recorder.record(t, un, 1.0);
+    });
+  } else {
+    const auto schedule = load_schedule(config.time);
+    double s_prev = 0;
+    for (size_t k = 0; k < schedule.size(); ++k) {
+      advance_load(problem, newton, u, s_prev, schedule[k], static_cast<int>(k + 1),
+                   config.time.max_cutbacks, stats);
+      s_prev = schedule[k];
+      if (output_due(static_cast<int>(k + 1), static_cast<int>(schedule.size())))
+        recorder.record(schedule[k], u, schedule[k]);
+    }
+    final_load = schedule.back();
+  }
+  outputs = recorder.written();
+
+  nlohmann::json summary;
+  summary["deck"] = config.deck_path;
+  summary["ranks"] = size;
+  summary["dofs"] = problem.num_global_dofs();
+  summary["nodes"] = mesh.num_nodes();
+  summary["elements"] = mesh.num_tets();
+  summary["order"] = mesh.order;
+  summary["steps"] = stats.steps;
+  summary["cutbacks"] = stats.cutbacks;
+  summary["newton_iterations"] = stats.newton_iterations;
+  summary["linear_iterations"] = stats.linear_iterations;
+  summary["outputs"] = outputs;
+  if (exact) {
+    const ErrorNorms e = displacement_error(problem, u, *exact, final_load);
+    summary["error"]["l2_relative"] = e.l2_relative;
+    summary["error"]["l2_absolute"] = e.l2_absolute;
+  }
+  add_verification_quantities(config, problem, u, final_load, summary);
+
+  const auto& t = problem.timers();
+  double assembly = t.residual_s + t.jacobian_s, solve = newton.solve_seconds();
+  MPI_Allreduce(MPI_IN_PLACE, &assembly, 1, MPI_DOUBLE, MPI_MAX, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &solve, 1, MPI_DOUBLE, MPI_MAX, comm);
+  summary["time_s"]["setup"] = t_setup;
+  summary["time_s"]["assembly"] = assembly;
+  summary["time_s"]["solve"] = solve;
+  summary["output"]["xdmf"] = recorder.xdmf_path();
+  summary["time_s"]["total"] = MPI_Wtime() - t_start;
+  const std::string folder = recorder.finish(summary);
+  summary["output"]["folder"] = folder;
+  PetscCallThrow(VecDestroy(&u));
+  return summary;
+}
+
+}  // namespace hs
