@@ -17,10 +17,9 @@ struct ErrorNorms {
 // Integrated element by element with a quadrature rule of degree 2 order + 2, summed over ranks.
 ErrorNorms displacement_error(const Problem& problem, Vec u, const ExactSolution& exact, double s);
 
-// Deck-specific results for summary.json["verification"]: the cantilever's tip deflection
-// against Euler-Bernoulli or the elastica, the neo-Hookean sphere's pressure against the
-// closed-form curve. Nothing for other decks.
-void add_verification_quantities(const Config& config, const Problem& problem, Vec u, double s,
-                                 nlohmann::json& summary);
+// Deck-specific results at load factor s: the cantilever's tip deflection against
+// Euler-Bernoulli or the elastica, the neo-Hookean sphere's pressure against the closed-form
+// curve. A null object for other decks.
+nlohmann::json verification_quantities(const Config& config, Problem& problem, Vec u, double s);
 
 }  // namespace hs

@@ -8,8 +8,8 @@ namespace {
 
 void set_default(const std::string& name, const std::string& value) {
   PetscBool set = PETSC_FALSE;
-  PetscCallThrow(PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &set));
-  if (!set) PetscCallThrow(PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()));
+  HS_PETSC(PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &set));
+  if (!set) HS_PETSC(PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()));
 }
 
 }  // namespace
@@ -46,12 +46,12 @@ NewtonSolver::NewtonSolver(Problem& problem) : problem_(problem) {
   J_ = problem.create_matrix();
   R_ = problem.create_vector();
   PetscBool near_null = PETSC_TRUE;
-  PetscCallThrow(PetscOptionsGetBool(nullptr, nullptr, "-hs_near_null_space", &near_null, nullptr));
-  if (!near_null) PetscCallThrow(MatSetNearNullSpace(J_, nullptr));
-  PetscCallThrow(SNESCreate(problem.comm(), &snes_));
-  PetscCallThrow(SNESSetFunction(snes_, R_, form_residual, this));
-  PetscCallThrow(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
-  PetscCallThrow(SNESSetFromOptions(snes_));
+  HS_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-hs_near_null_space", &near_null, nullptr));
+  if (!near_null) HS_PETSC(MatSetNearNullSpace(J_, nullptr));
+  HS_PETSC(SNESCreate(problem.comm(), &snes_));
+  HS_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
+  HS_PETSC(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
+  HS_PETSC(SNESSetFromOptions(snes_));
 }
 
 NewtonSolver::~NewtonSolver() {
@@ -85,18 +85,18 @@ NewtonResult NewtonSolver::solve(Vec u, double s) {
   const auto& t = problem_.timers();
   const double assembly_before = t.residual_s + t.jacobian_s;
   const double t0 = MPI_Wtime();
-  PetscCallThrow(SNESSolve(snes_, nullptr, u));
+  HS_PETSC(SNESSolve(snes_, nullptr, u));
   const double assembly = t.residual_s + t.jacobian_s - assembly_before;
   solve_s_ += MPI_Wtime() - t0 - assembly;
 
   NewtonResult r;
   SNESConvergedReason reason;
-  PetscCallThrow(SNESGetConvergedReason(snes_, &reason));
+  HS_PETSC(SNESGetConvergedReason(snes_, &reason));
   PetscInt its = 0, lits = 0;
-  PetscCallThrow(SNESGetIterationNumber(snes_, &its));
-  PetscCallThrow(SNESGetLinearSolveIterations(snes_, &lits));
+  HS_PETSC(SNESGetIterationNumber(snes_, &its));
+  HS_PETSC(SNESGetLinearSolveIterations(snes_, &lits));
   PetscReal norm = 0;
-  PetscCallThrow(SNESGetFunctionNorm(snes_, &norm));
+  HS_PETSC(SNESGetFunctionNorm(snes_, &norm));
   r.converged = reason > 0;
   r.iterations = static_cast<int>(its);
   r.linear_iterations = static_cast<int>(lits);

@@ -97,7 +97,7 @@ Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dis
   if (!global_any) pressure_faces_.clear();
 
   u_work_ = create_vector();
-  PetscCallThrow(VecDuplicate(u_work_, &r_work_));
+  HS_PETSC(VecDuplicate(u_work_, &r_work_));
 }
 
 Problem::~Problem() {
@@ -107,10 +107,10 @@ Problem::~Problem() {
 
 Vec Problem::create_vector() const {
   Vec v;
-  PetscCallThrow(VecCreateGhostBlock(comm_, 3, 3 * static_cast<PetscInt>(dist_.num_owned()),
+  HS_PETSC(VecCreateGhostBlock(comm_, 3, 3 * static_cast<PetscInt>(dist_.num_owned()),
                                      PETSC_DECIDE, static_cast<PetscInt>(ghost_blocks_.size()),
                                      ghost_blocks_.data(), &v));
-  PetscCallThrow(VecSet(v, 0.0));
+  HS_PETSC(VecSet(v, 0.0));
   return v;
 }
 
@@ -167,27 +167,27 @@ Mat Problem::create_matrix() const {
     std::vector<int64_t>().swap(list);
   }
   Mat A;
-  PetscCallThrow(MatCreate(comm_, &A));
-  PetscCallThrow(MatSetSizes(A, 3 * nowned, 3 * nowned, PETSC_DETERMINE, PETSC_DETERMINE));
-  PetscCallThrow(MatSetBlockSize(A, 3));
-  PetscCallThrow(MatSetType(A, MATAIJ));
-  PetscCallThrow(MatSetFromOptions(A));
-  PetscCallThrow(MatXAIJSetPreallocation(A, 3, dnnz.data(), onnz.data(), nullptr, nullptr));
-  PetscCallThrow(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  HS_PETSC(MatCreate(comm_, &A));
+  HS_PETSC(MatSetSizes(A, 3 * nowned, 3 * nowned, PETSC_DETERMINE, PETSC_DETERMINE));
+  HS_PETSC(MatSetBlockSize(A, 3));
+  HS_PETSC(MatSetType(A, MATAIJ));
+  HS_PETSC(MatSetFromOptions(A));
+  HS_PETSC(MatXAIJSetPreallocation(A, 3, dnnz.data(), onnz.data(), nullptr, nullptr));
+  HS_PETSC(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
 
   // Rigid-body modes from the reference coordinates of the owned nodes.
   Vec coords;
-  PetscCallThrow(VecCreateMPI(comm_, 3 * nowned, PETSC_DETERMINE, &coords));
-  PetscCallThrow(VecSetBlockSize(coords, 3));
+  HS_PETSC(VecCreateMPI(comm_, 3 * nowned, PETSC_DETERMINE, &coords));
+  HS_PETSC(VecSetBlockSize(coords, 3));
   PetscScalar* c;
-  PetscCallThrow(VecGetArray(coords, &c));
+  HS_PETSC(VecGetArray(coords, &c));
   for (int64_t i = 0; i < 3 * nowned; ++i) c[i] = X_local_[i];
-  PetscCallThrow(VecRestoreArray(coords, &c));
+  HS_PETSC(VecRestoreArray(coords, &c));
   MatNullSpace nullspace;
-  PetscCallThrow(MatNullSpaceCreateRigidBody(coords, &nullspace));
-  PetscCallThrow(MatSetNearNullSpace(A, nullspace));
-  PetscCallThrow(MatNullSpaceDestroy(&nullspace));
-  PetscCallThrow(VecDestroy(&coords));
+  HS_PETSC(MatNullSpaceCreateRigidBody(coords, &nullspace));
+  HS_PETSC(MatSetNearNullSpace(A, nullspace));
+  HS_PETSC(MatNullSpaceDestroy(&nullspace));
+  HS_PETSC(VecDestroy(&coords));
   return A;
 }
 
@@ -201,12 +201,12 @@ Mat Problem::create_mass_matrix() const {
     const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
     tet_mass(mesh_.order, X.data(), m.density, Me.data());
     dof_indices(e, idx.data());
-    PetscCallThrow(MatSetValues(M, n, idx.data(), n, idx.data(), Me.data(), ADD_VALUES));
+    HS_PETSC(MatSetValues(M, n, idx.data(), n, idx.data(), Me.data(), ADD_VALUES));
   }
   for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
-    if (constrained_[l]) PetscCallThrow(MatSetValue(M, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
-  PetscCallThrow(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
-  PetscCallThrow(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
+    if (constrained_[l]) HS_PETSC(MatSetValue(M, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
+  HS_PETSC(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
+  HS_PETSC(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
   return M;
 }
 
@@ -221,25 +221,25 @@ double Problem::prescribed_value(int64_t l, double s) const {
 
 void Problem::apply_dirichlet(Vec u, double s) const {
   PetscScalar* a;
-  PetscCallThrow(VecGetArray(u, &a));
+  HS_PETSC(VecGetArray(u, &a));
   for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
     if (constrained_[l]) a[l] = prescribed_value(l, s);
-  PetscCallThrow(VecRestoreArray(u, &a));
+  HS_PETSC(VecRestoreArray(u, &a));
 }
 
 bool Problem::residual(Vec u, double s, Vec R) {
   const double t0 = MPI_Wtime();
-  PetscCallThrow(VecCopy(u, u_work_));
-  PetscCallThrow(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCallThrow(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecCopy(u, u_work_));
+  HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
   Vec ul, rl;
-  PetscCallThrow(VecGhostGetLocalForm(u_work_, &ul));
-  PetscCallThrow(VecGhostGetLocalForm(r_work_, &rl));
-  PetscCallThrow(VecSet(rl, 0.0));
+  HS_PETSC(VecGhostGetLocalForm(u_work_, &ul));
+  HS_PETSC(VecGhostGetLocalForm(r_work_, &rl));
+  HS_PETSC(VecSet(rl, 0.0));
   const PetscScalar* ua;
   PetscScalar* ra;
-  PetscCallThrow(VecGetArrayRead(ul, &ua));
-  PetscCallThrow(VecGetArray(rl, &ra));
+  HS_PETSC(VecGetArrayRead(ul, &ua));
+  HS_PETSC(VecGetArray(rl, &ra));
 
   bool ok = true;
   const int n = 3 * npe_;
@@ -270,32 +270,32 @@ bool Problem::residual(Vec u, double s, Vec R) {
         for (int d = 0; d < 3; ++d) ra[3 * nodes[a] + d] -= ff[3 * a + d];
     }
   }
-  PetscCallThrow(VecRestoreArray(rl, &ra));
-  PetscCallThrow(VecRestoreArrayRead(ul, &ua));
-  PetscCallThrow(VecGhostRestoreLocalForm(r_work_, &rl));
-  PetscCallThrow(VecGhostRestoreLocalForm(u_work_, &ul));
-  PetscCallThrow(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  PetscCallThrow(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecRestoreArray(rl, &ra));
+  HS_PETSC(VecRestoreArrayRead(ul, &ua));
+  HS_PETSC(VecGhostRestoreLocalForm(r_work_, &rl));
+  HS_PETSC(VecGhostRestoreLocalForm(u_work_, &ul));
+  HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
 
   if (inertia_) {  // c M (u - u_pred)
     Vec du;
-    PetscCallThrow(VecDuplicate(u, &du));
-    PetscCallThrow(VecWAXPY(du, -1.0, inertia_->u_pred, u));
-    PetscCallThrow(VecScale(du, inertia_->c));
-    PetscCallThrow(MatMultAdd(inertia_->M, du, r_work_, r_work_));
-    PetscCallThrow(VecDestroy(&du));
+    HS_PETSC(VecDuplicate(u, &du));
+    HS_PETSC(VecWAXPY(du, -1.0, inertia_->u_pred, u));
+    HS_PETSC(VecScale(du, inertia_->c));
+    HS_PETSC(MatMultAdd(inertia_->M, du, r_work_, r_work_));
+    HS_PETSC(VecDestroy(&du));
   }
 
   // Dirichlet rows: R_D = u_D - g_D(s).
   PetscScalar* r;
   const PetscScalar* uo;
-  PetscCallThrow(VecGetArray(r_work_, &r));
-  PetscCallThrow(VecGetArrayRead(u, &uo));
+  HS_PETSC(VecGetArray(r_work_, &r));
+  HS_PETSC(VecGetArrayRead(u, &uo));
   for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
     if (constrained_[l]) r[l] = uo[l] - prescribed_value(l, s);
-  PetscCallThrow(VecRestoreArrayRead(u, &uo));
-  PetscCallThrow(VecRestoreArray(r_work_, &r));
-  PetscCallThrow(VecCopy(r_work_, R));
+  HS_PETSC(VecRestoreArrayRead(u, &uo));
+  HS_PETSC(VecRestoreArray(r_work_, &r));
+  HS_PETSC(VecCopy(r_work_, R));
 
   int local_ok = ok, global_ok = 0;
   MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
@@ -306,14 +306,14 @@ bool Problem::residual(Vec u, double s, Vec R) {
 
 bool Problem::jacobian(Vec u, double s, Mat J) {
   const double t0 = MPI_Wtime();
-  PetscCallThrow(MatZeroEntries(J));
-  PetscCallThrow(VecCopy(u, u_work_));
-  PetscCallThrow(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCallThrow(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(MatZeroEntries(J));
+  HS_PETSC(VecCopy(u, u_work_));
+  HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
   Vec ul;
-  PetscCallThrow(VecGhostGetLocalForm(u_work_, &ul));
+  HS_PETSC(VecGhostGetLocalForm(u_work_, &ul));
   const PetscScalar* ua;
-  PetscCallThrow(VecGetArrayRead(ul, &ua));
+  HS_PETSC(VecGetArrayRead(ul, &ua));
 
   bool ok = true;
   const int n = 3 * npe_;
@@ -330,7 +330,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
       bad_element_ = dist_.local_tets[e];
     }
     dof_indices(e, idx);
-    PetscCallThrow(MatSetValues(J, n, idx, n, idx, Ke.data(), ADD_VALUES));
+    HS_PETSC(MatSetValues(J, n, idx, n, idx, Ke.data(), ADD_VALUES));
   }
   const int npf = mesh_.nodes_per_face();
   const int nf = 3 * npf;
@@ -344,16 +344,16 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
       face_pressure(mesh_.order, xf, s * surface.value, ff, Kf.data());
       for (double& k : Kf) k = -k;  // R = ... - f_pressure
       face_dofs(nodes, npf, idx);
-      PetscCallThrow(MatSetValues(J, nf, idx, nf, idx, Kf.data(), ADD_VALUES));
+      HS_PETSC(MatSetValues(J, nf, idx, nf, idx, Kf.data(), ADD_VALUES));
     }
   }
-  PetscCallThrow(VecRestoreArrayRead(ul, &ua));
-  PetscCallThrow(VecGhostRestoreLocalForm(u_work_, &ul));
+  HS_PETSC(VecRestoreArrayRead(ul, &ua));
+  HS_PETSC(VecGhostRestoreLocalForm(u_work_, &ul));
   for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
-    if (constrained_[l]) PetscCallThrow(MatSetValue(J, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
-  PetscCallThrow(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
-  PetscCallThrow(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
-  if (inertia_) PetscCallThrow(MatAXPY(J, inertia_->c, inertia_->M, SUBSET_NONZERO_PATTERN));
+    if (constrained_[l]) HS_PETSC(MatSetValue(J, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
+  HS_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  HS_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  if (inertia_) HS_PETSC(MatAXPY(J, inertia_->c, inertia_->M, SUBSET_NONZERO_PATTERN));
 
   int local_ok = ok, global_ok = 0;
   MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
@@ -362,19 +362,50 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
   return global_ok;
 }
 
-void Problem::external_load(Vec u, double s, Vec f) {
-  // The external load is R(u) with the internal forces left out: assemble it directly.
-  PetscCallThrow(VecCopy(u, u_work_));
-  PetscCallThrow(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCallThrow(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+void Problem::internal_force(Vec u, Vec f) {
+  HS_PETSC(VecCopy(u, u_work_));
+  HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
   Vec ul, fl;
-  PetscCallThrow(VecGhostGetLocalForm(u_work_, &ul));
-  PetscCallThrow(VecGhostGetLocalForm(r_work_, &fl));
-  PetscCallThrow(VecSet(fl, 0.0));
+  HS_PETSC(VecGhostGetLocalForm(u_work_, &ul));
+  HS_PETSC(VecGhostGetLocalForm(r_work_, &fl));
+  HS_PETSC(VecSet(fl, 0.0));
   const PetscScalar* ua;
   PetscScalar* fa;
-  PetscCallThrow(VecGetArrayRead(ul, &ua));
-  PetscCallThrow(VecGetArray(fl, &fa));
+  HS_PETSC(VecGetArrayRead(ul, &ua));
+  HS_PETSC(VecGetArray(fl, &fa));
+  double X[30], ue[30], re[30];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    element_coordinates(e, X);
+    element_displacement(ua, e, ue);
+    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+    tet_internal_force(mesh_.order, X, ue, m, re, nullptr);
+    const int32_t* nodes = &dist_.tet_nodes[e * npe_];
+    for (int a = 0; a < npe_; ++a)
+      for (int d = 0; d < 3; ++d) fa[3 * nodes[a] + d] += re[3 * a + d];
+  }
+  HS_PETSC(VecRestoreArray(fl, &fa));
+  HS_PETSC(VecRestoreArrayRead(ul, &ua));
+  HS_PETSC(VecGhostRestoreLocalForm(r_work_, &fl));
+  HS_PETSC(VecGhostRestoreLocalForm(u_work_, &ul));
+  HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecCopy(r_work_, f));
+}
+
+void Problem::external_load(Vec u, double s, Vec f) {
+  // The external load is R(u) with the internal forces left out: assemble it directly.
+  HS_PETSC(VecCopy(u, u_work_));
+  HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
+  Vec ul, fl;
+  HS_PETSC(VecGhostGetLocalForm(u_work_, &ul));
+  HS_PETSC(VecGhostGetLocalForm(r_work_, &fl));
+  HS_PETSC(VecSet(fl, 0.0));
+  const PetscScalar* ua;
+  PetscScalar* fa;
+  HS_PETSC(VecGetArrayRead(ul, &ua));
+  HS_PETSC(VecGetArray(fl, &fa));
   const int n = 3 * npe_;
   for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
     const int32_t* nodes = &dist_.tet_nodes[e * npe_];
@@ -392,25 +423,25 @@ void Problem::external_load(Vec u, double s, Vec f) {
       for (int a = 0; a < npf; ++a)
         for (int d = 0; d < 3; ++d) fa[3 * nodes[a] + d] += ff[3 * a + d];
     }
-  PetscCallThrow(VecRestoreArray(fl, &fa));
-  PetscCallThrow(VecRestoreArrayRead(ul, &ua));
-  PetscCallThrow(VecGhostRestoreLocalForm(r_work_, &fl));
-  PetscCallThrow(VecGhostRestoreLocalForm(u_work_, &ul));
-  PetscCallThrow(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  PetscCallThrow(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  PetscCallThrow(VecCopy(r_work_, f));
+  HS_PETSC(VecRestoreArray(fl, &fa));
+  HS_PETSC(VecRestoreArrayRead(ul, &ua));
+  HS_PETSC(VecGhostRestoreLocalForm(r_work_, &fl));
+  HS_PETSC(VecGhostRestoreLocalForm(u_work_, &ul));
+  HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecCopy(r_work_, f));
 }
 
 void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const {
   Vec uw;
-  PetscCallThrow(VecDuplicate(u_work_, &uw));
-  PetscCallThrow(VecCopy(u, uw));
-  PetscCallThrow(VecGhostUpdateBegin(uw, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCallThrow(VecGhostUpdateEnd(uw, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecDuplicate(u_work_, &uw));
+  HS_PETSC(VecCopy(u, uw));
+  HS_PETSC(VecGhostUpdateBegin(uw, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostUpdateEnd(uw, INSERT_VALUES, SCATTER_FORWARD));
   Vec ul;
-  PetscCallThrow(VecGhostGetLocalForm(uw, &ul));
+  HS_PETSC(VecGhostGetLocalForm(uw, &ul));
   const PetscScalar* ua;
-  PetscCallThrow(VecGetArrayRead(ul, &ua));
+  HS_PETSC(VecGetArrayRead(ul, &ua));
   const auto nt = dist_.local_tets.size();
   von_mises.resize(nt);
   J.resize(nt);
@@ -423,17 +454,17 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
     von_mises[e] = f.von_mises;
     J[e] = f.J;
   }
-  PetscCallThrow(VecRestoreArrayRead(ul, &ua));
-  PetscCallThrow(VecGhostRestoreLocalForm(uw, &ul));
-  PetscCallThrow(VecDestroy(&uw));
+  HS_PETSC(VecRestoreArrayRead(ul, &ua));
+  HS_PETSC(VecGhostRestoreLocalForm(uw, &ul));
+  HS_PETSC(VecDestroy(&uw));
 }
 
 std::vector<double> Problem::gather_nodal(Vec v) const {
   const int nowned = static_cast<int>(dist_.num_owned());
   const PetscScalar* a;
-  PetscCallThrow(VecGetArrayRead(v, &a));
+  HS_PETSC(VecGetArrayRead(v, &a));
   std::vector<double> mine(a, a + 3 * nowned);
-  PetscCallThrow(VecRestoreArrayRead(v, &a));
+  HS_PETSC(VecRestoreArrayRead(v, &a));
   std::vector<double> all;
   std::vector<int> counts(dist_.size), displs(dist_.size);
   for (int r = 0; r < dist_.size; ++r) {

@@ -19,6 +19,7 @@
 #include "mesh/distribution.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/exact_solution.hpp"
+#include "solvers/petsc_check.hpp"
 
 namespace hs {
 
@@ -66,6 +67,16 @@ class Problem {
   // The applied external load at load factor s on configuration u (gravity + pressure).
   void external_load(Vec u, double s, Vec f);
 
+  // Sum over the owned nodes of `group` of f(X, value of v at the node), over all ranks.
+  // Used for reactions and averages over node groups.
+  template <class F>
+  double sum_over_group(const std::string& group, Vec v, F f) const;
+
+  // Internal forces f_int(u) alone (no loads, no Dirichlet rows): at constrained nodes these
+  // are the reactions.
+  void internal_force(Vec u, Vec f);
+  double reference_coordinate(int64_t local_node, int d) const { return X_local_[3 * local_node + d]; }
+
   // Per local tetrahedron: von Mises stress and J at the centroid.
   void element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const;
 
@@ -109,5 +120,25 @@ class Problem {
   int64_t bad_element_ = -1;
   AssemblyTimers timers_;
 };
+
+template <class F>
+double Problem::sum_over_group(const std::string& group, Vec v, F f) const {
+  double local = 0;
+  auto it = dist_.node_groups.find(group);
+  if (it != dist_.node_groups.end()) {
+    const PetscScalar* a;
+    HS_PETSC(VecGetArrayRead(v, &a));
+    for (int32_t n : it->second) {
+      if (n >= dist_.num_owned()) continue;  // ghosts are counted by their owner
+      const std::array<double, 3> X = {X_local_[3 * n], X_local_[3 * n + 1], X_local_[3 * n + 2]};
+      const std::array<double, 3> value = {a[3 * n], a[3 * n + 1], a[3 * n + 2]};
+      local += f(X, value);
+    }
+    HS_PETSC(VecRestoreArrayRead(v, &a));
+  }
+  double total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  return total;
+}
 
 }  // namespace hs

@@ -33,13 +33,13 @@ namespace {
 void advance_load(Problem& problem, NewtonSolver& newton, Vec u, double s_from, double s_to,
                   int step, int max_cutbacks, SteppingStats& stats) {
   Vec saved;
-  PetscCallThrow(VecDuplicate(u, &saved));
+  HS_PETSC(VecDuplicate(u, &saved));
   double done = 0, increment = 1;  // fractions of the way from s_from to s_to
   int halvings = 0;
   while (done < 1) {
     const double next = std::min(1.0, done + increment);
     const double s = s_from + next * (s_to - s_from);
-    PetscCallThrow(VecCopy(u, saved));
+    HS_PETSC(VecCopy(u, saved));
     problem.apply_dirichlet(u, s);
     const NewtonResult r = newton.solve(u, s);
     stats.newton_iterations += r.iterations;
@@ -51,7 +51,7 @@ void advance_load(Problem& problem, NewtonSolver& newton, Vec u, double s_from, 
       increment = std::min(1.0, 2 * increment);  // grow back after a success
       continue;
     }
-    PetscCallThrow(VecCopy(saved, u));
+    HS_PETSC(VecCopy(saved, u));
     ++stats.cutbacks;
     if (++halvings > max_cutbacks) {
       VecDestroy(&saved);
@@ -59,7 +59,7 @@ void advance_load(Problem& problem, NewtonSolver& newton, Vec u, double s_from, 
     }
     increment /= 2;
   }
-  PetscCallThrow(VecDestroy(&saved));
+  HS_PETSC(VecDestroy(&saved));
 }
 
 void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time, Vec u,
@@ -69,39 +69,39 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
   InertiaTerm inertia;
   inertia.M = problem.create_mass_matrix();
   Vec v, a, a_new, R;
-  PetscCallThrow(VecDuplicate(u, &v));
-  PetscCallThrow(VecDuplicate(u, &a));
-  PetscCallThrow(VecDuplicate(u, &a_new));
-  PetscCallThrow(VecDuplicate(u, &R));
-  PetscCallThrow(VecDuplicate(u, &inertia.u_pred));
-  PetscCallThrow(VecSet(v, 0.0));
+  HS_PETSC(VecDuplicate(u, &v));
+  HS_PETSC(VecDuplicate(u, &a));
+  HS_PETSC(VecDuplicate(u, &a_new));
+  HS_PETSC(VecDuplicate(u, &R));
+  HS_PETSC(VecDuplicate(u, &inertia.u_pred));
+  HS_PETSC(VecSet(v, 0.0));
 
   // Initial acceleration from M a0 = -(f_int(u0) - f_ext): CG on the mass matrix.
   problem.apply_dirichlet(u, 1.0);
   problem.residual(u, 1.0, R);
   KSP mass_solver;
-  PetscCallThrow(KSPCreate(problem.comm(), &mass_solver));
-  PetscCallThrow(KSPSetOperators(mass_solver, inertia.M, inertia.M));
-  PetscCallThrow(KSPSetType(mass_solver, KSPCG));
+  HS_PETSC(KSPCreate(problem.comm(), &mass_solver));
+  HS_PETSC(KSPSetOperators(mass_solver, inertia.M, inertia.M));
+  HS_PETSC(KSPSetType(mass_solver, KSPCG));
   PC pc;
-  PetscCallThrow(KSPGetPC(mass_solver, &pc));
-  PetscCallThrow(PCSetType(pc, PCJACOBI));
-  PetscCallThrow(KSPSetTolerances(mass_solver, 1e-12, 1e-30, PETSC_DEFAULT, 1000));
-  PetscCallThrow(KSPSolve(mass_solver, R, a));
-  PetscCallThrow(VecScale(a, -1.0));
-  PetscCallThrow(KSPDestroy(&mass_solver));
+  HS_PETSC(KSPGetPC(mass_solver, &pc));
+  HS_PETSC(PCSetType(pc, PCJACOBI));
+  HS_PETSC(KSPSetTolerances(mass_solver, 1e-12, 1e-30, PETSC_DEFAULT, 1000));
+  HS_PETSC(KSPSolve(mass_solver, R, a));
+  HS_PETSC(VecScale(a, -1.0));
+  HS_PETSC(KSPDestroy(&mass_solver));
 
   problem.set_inertia(&inertia);
   const int nsteps = static_cast<int>(std::ceil(time.end_time / dt - 1e-9));
   for (int n = 1; n <= nsteps; ++n) {
     // u_pred = u + dt v + dt^2 (1/2 - beta) a  (Newmark), u + dt v (backward Euler);
     // the step solves c M (u - u_pred) + f_int(u) - f_ext = 0, c = 1/(beta dt^2) or 1/dt^2.
-    PetscCallThrow(VecWAXPY(inertia.u_pred, dt, v, u));
-    if (newmark) PetscCallThrow(VecAXPY(inertia.u_pred, dt * dt * (0.5 - beta), a));
+    HS_PETSC(VecWAXPY(inertia.u_pred, dt, v, u));
+    if (newmark) HS_PETSC(VecAXPY(inertia.u_pred, dt * dt * (0.5 - beta), a));
     inertia.c = newmark ? 1 / (beta * dt * dt) : 1 / (dt * dt);
     Vec u_old;
-    PetscCallThrow(VecDuplicate(u, &u_old));
-    PetscCallThrow(VecCopy(u, u_old));
+    HS_PETSC(VecDuplicate(u, &u_old));
+    HS_PETSC(VecCopy(u, u_old));
     const NewtonResult r = newton.solve(u, 1.0);
     stats.newton_iterations += r.iterations;
     stats.linear_iterations += r.linear_iterations;
@@ -112,16 +112,16 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
     }
     ++stats.steps;
     // a_new = c (u - u_pred); v += dt ((1 - gamma) a + gamma a_new) or dt a_new.
-    PetscCallThrow(VecWAXPY(a_new, -1.0, inertia.u_pred, u));
-    PetscCallThrow(VecScale(a_new, inertia.c));
+    HS_PETSC(VecWAXPY(a_new, -1.0, inertia.u_pred, u));
+    HS_PETSC(VecScale(a_new, inertia.c));
     if (newmark) {
-      PetscCallThrow(VecAXPY(v, dt * (1 - gamma), a));
-      PetscCallThrow(VecAXPY(v, dt * gamma, a_new));
+      HS_PETSC(VecAXPY(v, dt * (1 - gamma), a));
+      HS_PETSC(VecAXPY(v, dt * gamma, a_new));
     } else {
-      PetscCallThrow(VecAXPY(v, dt, a_new));
+      HS_PETSC(VecAXPY(v, dt, a_new));
     }
-    PetscCallThrow(VecCopy(a_new, a));
-    PetscCallThrow(VecDestroy(&u_old));
+    HS_PETSC(VecCopy(a_new, a));
+    HS_PETSC(VecDestroy(&u_old));
     on_step(n, n * dt, u);
   }
   problem.set_inertia(nullptr);

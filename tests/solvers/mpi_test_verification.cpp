@@ -1,0 +1,82 @@
+// The verification decks, run whole (mesh, assembly, Newton, output) on 1 and 2 ranks:
+// errors against the closed-form solutions, and the 2-rank answer against a 1-rank run of
+// the same deck made inside the same test (on MPI_COMM_SELF of rank 0).
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "deck/deck.hpp"
+#include "solvers/simulation.hpp"
+
+namespace {
+
+const std::string kSource = HYDROSOFT_SOURCE_DIR;
+
+int world_size() {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+// A private output folder per test and per world size (ctest runs np1 and np2 together).
+std::string out_folder(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("hydrosoft_test_" + name + "_np" + std::to_string(world_size())))
+      .string();
+}
+
+nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
+                   MPI_Comm comm = MPI_COMM_WORLD, const std::string& tag = "") {
+  overrides.push_back("output.folder=" + out_folder(std::filesystem::path(deck).stem().string() + tag));
+  const hs::Config config = hs::parse_deck(kSource + "/input/" + deck, overrides);
+  return hs::run_simulation(config, comm);
+}
+
+// Runs the deck on the world communicator and, when there are several ranks, once more on
+// rank 0 alone; the two must agree to solver tolerance.
+double l2_error_checked_against_one_rank(const std::string& deck, const std::vector<std::string>& o) {
+  const auto world = run(deck, o);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  double l2 = world.contains("error") ? world["error"]["l2_relative"].get<double>() : 0.0;
+  MPI_Bcast(&l2, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  if (world_size() > 1 && rank == 0) {
+    const auto single = run(deck, o, MPI_COMM_SELF, "_self");
+    EXPECT_NEAR(single["error"]["l2_relative"].get<double>(), l2, 1e-9 * l2 + 1e-14);
+    EXPECT_EQ(single["dofs"], world["dofs"]);
+  }
+  return l2;
+}
+
+TEST(Verification, LameSphereP1) {
+  const double e = l2_error_checked_against_one_rank("lame_sphere.yaml", {"mesh.parameters.h=0.4"});
+  EXPECT_LT(e, 0.05);
+  EXPECT_GT(e, 1e-4);  // P1 on a coarse mesh cannot be exact
+}
+
+TEST(Verification, LameSphereP2IsMoreAccurate) {
+  const double e1 = l2_error_checked_against_one_rank("lame_sphere.yaml", {"mesh.parameters.h=0.4"});
+  const double e2 = l2_error_checked_against_one_rank(
+      "lame_sphere.yaml", {"mesh.parameters.h=0.4", "mesh.order=2"});
+  EXPECT_LT(e2, e1 / 5);
+}
+
+TEST(Verification, HydrostaticPatchP2IsExact) {
+  const double e = l2_error_checked_against_one_rank("hydrostatic_patch.yaml", {});
+  EXPECT_LT(e, 1e-10);
+}
+
+TEST(Verification, CantileverEulerBernoulli) {
+  const auto s = run("cantilever_gravity.yaml", {"mesh.parameters.h=0.025"});
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) {
+    // Shear (Timoshenko) adds about 0.8 (1 + nu)(h/L)^2 = 0.26% to the beam value.
+    EXPECT_NEAR(s["verification"]["tip_relative_error"].get<double>(), 0.0026, 0.01);
+  }
+}
+
+}  // namespace
