@@ -83,6 +83,29 @@ class Cantilever : public ExactSolution {
   double k_, L_;
 };
 
+// Two materials in series along x (nu = 0), pulled by a traction t at the end: uniform
+// stress t, so u_x = t x / E1 up to L1 and t L1 / E1 + t (x - L1) / E2 beyond; no lateral
+// displacement. Piecewise linear: P1 and P2 reproduce it exactly at any stiffness contrast.
+class BimaterialBar : public ExactSolution {
+ public:
+  BimaterialBar(double L1, double t, double E1, double E2) : L1_(L1), t_(t), E1_(E1), E2_(E2) {}
+  std::array<double, 3> displacement(const std::array<double, 3>& X, double s) const override {
+    const double x = X[0];
+    const double ux = x <= L1_ ? t_ * x / E1_ : t_ * L1_ / E1_ + t_ * (x - L1_) / E2_;
+    return {s * ux, 0, 0};
+  }
+
+ private:
+  double L1_, t_, E1_, E2_;
+};
+
+const MaterialConfig& material_of(const Config& c, const std::string& group) {
+  for (const auto& m : c.materials)
+    if (m.group == group) return m;
+  throw InputError(c.deck_path + ": materials: exact solution '" + c.exact.type +
+                   "' needs a material for group '" + group + "'");
+}
+
 }  // namespace
 
 double lame_sphere_radial_displacement(double r, double a, double b, double p, double E, double nu) {
@@ -160,6 +183,9 @@ std::unique_ptr<ExactSolution> make_exact_solution(const Config& c) {
     const double I = std::pow(h, 4) / 12;
     return std::make_unique<Cantilever>(m.density * g * h * h / (m.E * I), L);
   }
+  if (type == "bimaterial_bar")
+    return std::make_unique<BimaterialBar>(parameter(c, "L1"), parameter(c, "t"),
+                                           material_of(c, "stiff").E, material_of(c, "soft").E);
   throw InputError(c.deck_path + ": exact.type: unknown exact solution '" + type + "'");
 }
 

@@ -45,7 +45,7 @@ struct PressureConfig {
 struct TimeConfig {
   std::string type = "static";   // static | quasi_static | dynamic
   int steps = 1;                 // static: load increments; quasi_static: schedule steps
-  std::vector<double> schedule;  // quasi_static: load factor per step (default linear ramp)
+  std::vector<double> schedule;  // load factor per step (default linear ramp); steps = its size
   double dt = 0;                 // dynamic only
   double end_time = 0;           // dynamic only
   std::string integrator = "newmark";  // dynamic: newmark | backward_euler
@@ -64,7 +64,8 @@ struct OutputConfig {
 };
 
 struct ExactConfig {
-  std::string type;              // none | lame_sphere | cantilever_gravity | hydrostatic_block
+  std::string type;              // none | lame_sphere | cantilever_gravity | hydrostatic_block |
+                                 // neo_hookean_sphere | bimaterial_bar ("none" after parse_deck)
   std::map<std::string, double> parameters;  // e.g. a, b, p for lame_sphere
 };
 

@@ -13,8 +13,9 @@
 namespace hs {
 
 struct ElementOutput {
-  bool valid = true;   // false if any quadrature point has det F <= 0 (inverted element)
-  double energy = 0;   // integral of psi over the element
+  bool valid = true;  // false if any quadrature point has det F <= 0 (inverted element);
+                      // linear_elastic, a small-strain law, is never inverted
+  double energy = 0;  // integral of psi over the element
 };
 
 // Internal force r = int P : grad N dV and its tangent K = dr/du (K may be nullptr).

@@ -5,17 +5,23 @@
 #pragma once
 
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "mesh/mesh.hpp"
 
 namespace hs {
 
+// Why `folder` cannot serve as an output folder (it, or its .partial or .old sibling,
+// exists and is not ours to delete; or it is . or ..), or "" if it can. parse_deck checks
+// output.folder with it on every rank, before any work.
+std::string output_folder_problem(const std::string& folder);
+
 // A staging folder "<folder>.partial" that becomes <folder> on commit(); removed if the
-// object dies uncommitted (an exception unwinds the run).
+// object dies uncommitted (an exception unwinds the run). An existing <folder> is replaced
+// (deleted) on commit, so it must be empty or an earlier hydrosoft output folder (marked
+// by the file .hydrosoft_output): the constructor throws InputError otherwise.
 class OutputFolder {
  public:
   explicit OutputFolder(std::string folder);
@@ -40,23 +46,26 @@ struct StepFields {
   std::vector<int> rank;             // per tetrahedron: the MPI rank that owns it
 };
 
-// <folder>/<name>.h5 and <folder>/<name>.xmf. P2 meshes are written as Tetrahedron_10.
-// write_step() refuses non-finite values (throws SolveError naming the field and entry):
-// a NaN is never written as a result.
+// <folder>/<name>.h5 and <folder>/<name>.xmf (layout: docs/output.md). P2 meshes are
+// written as Tetrahedron_10 in VTK's node order. write_step() refuses non-finite values
+// (throws SolveError naming the field and entry): a NaN is never written as a result. The
+// .xmf is rewritten (atomically) after every step. HDF5 or file-system failures throw
+// std::runtime_error naming the file.
 class XdmfWriter {
  public:
   XdmfWriter(const std::string& folder, const std::string& name, const Mesh& mesh);
   ~XdmfWriter();
   void write_step(const StepFields& fields);
-  void close();                       // writes the .xmf; called by the destructor too
-  std::string xdmf_file() const;      // file name (no folder) of the .xmf
+  void close();                   // writes the .xmf; called by the destructor too
+  std::string xdmf_file() const;  // file name (no folder) of the .xmf
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
-// Writes JSON (pretty, 2 spaces) to path; throws SolveError if any number is not finite.
+// Writes JSON (pretty, 2 spaces) to path, atomically; throws SolveError naming the key
+// (e.g. time_s.total) if any number is not finite.
 void write_json(const std::string& path, const nlohmann::json& j);
 
 }  // namespace hs

@@ -12,6 +12,12 @@ namespace hs {
 // cfg.refine uniform refinements), at element order cfg.order. Keeps tetrahedra and the
 // named physical groups. Throws InputError naming the file and the reason (missing file,
 // no tetrahedra, unsupported element type, a group without a name).
+//
+// .geo parameters: each must be declared in the file with DefineConstant[name = default]
+// (a value set before the file is read wins over the default); a name the file never
+// mentions, or a plain assignment that overwrites the value, is an error. A .msh (any
+// version gmsh reads) of another order is converted (setOrder), after cfg.refine uniform
+// refinements if any. gmsh is initialised and finalised inside each call, silently.
 Mesh load_mesh(const MeshConfig& cfg);
 
 // Rank `root` loads, the others receive a copy (the mesh is replicated; see

@@ -6,6 +6,12 @@
 //   Tet10: vertices 0..3, then edge nodes 4:(0,1) 5:(1,2) 6:(2,0) 7:(3,0) 8:(3,2) 9:(3,1)
 //   Tri3:  0 1 2
 //   Tri6:  vertices 0..2, then edge nodes 3:(0,1) 4:(1,2) 5:(2,0)
+//
+// What load_mesh guarantees: nodes are exactly the nodes of the tetrahedra (numbered in
+// gmsh tag order); every tetrahedron is positively oriented, det[x1-x0, x2-x0, x3-x0] > 0;
+// every tetrahedron is in exactly one volume group (a mesh without volume groups gets the
+// single group "body"); a surface face is made of the nodes of the tetrahedron it bounds
+// (for a face shared by two tetrahedra, an interior surface, the one of lower index).
 #pragma once
 
 #include <cstdint>

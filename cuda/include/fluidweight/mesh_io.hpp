@@ -1,0 +1,25 @@
+// Triangle surfaces from files: Wavefront .obj, .off, .stl (ASCII and binary) and gmsh's ASCII
+// .msh (versions 4.1 and 2.2). Polygons are split into fans of triangles. Errors throw
+// InputError naming the file, the line and the reason.
+#pragma once
+
+#include <string>
+
+#include "fluidweight/fluidweight.hpp"
+
+namespace fluidweight {
+
+// Reads by extension (case-insensitive). Vertices keep the file's order, except for STL,
+// whose facets repeat their corners: equal corners are merged, in order of first appearance,
+// and facets left with a repeated vertex (no area) are dropped.
+SurfaceMesh read_surface(const std::string& path);
+
+SurfaceMesh read_obj(const std::string& path);
+SurfaceMesh read_off(const std::string& path);
+SurfaceMesh read_stl(const std::string& path);
+// Every node becomes a vertex (in file order); every 2D element a triangle or two (first-order
+// corners of quadratic elements); points, lines and volume elements are skipped. Binary .msh
+// is refused: this reader is hand-written because the module builds without gmsh.
+SurfaceMesh read_msh(const std::string& path);
+
+}  // namespace fluidweight

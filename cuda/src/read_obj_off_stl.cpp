@@ -1,0 +1,198 @@
+// Readers for .obj, .off and .stl surfaces, and the dispatch by extension.
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <sstream>
+
+#include "fluidweight/mesh_io.hpp"
+#include "text_reader.hpp"
+
+namespace fluidweight {
+namespace {
+
+// Appends the fan (c0, c_k, c_k+1) of a polygon.
+void add_fan(const std::vector<int>& corners, SurfaceMesh& mesh) {
+  for (size_t k = 1; k + 1 < corners.size(); ++k) {
+    mesh.triangles.insert(mesh.triangles.end(), {corners[0], corners[k], corners[k + 1]});
+  }
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::istringstream in(line);
+  for (std::string t; in >> t;) out.push_back(t);
+  return out;
+}
+
+}  // namespace
+
+SurfaceMesh read_obj(const std::string& path) {
+  detail::TextReader in(path, detail::read_file(path));
+  SurfaceMesh mesh;
+  while (!in.at_end()) {
+    int line_number = in.line_number();
+    std::vector<std::string> t = split(in.line());
+    auto fail = [&](const std::string& why) {
+      throw InputError(path + ":" + std::to_string(line_number) + ": " + why);
+    };
+    if (t.empty()) continue;
+    if (t[0] == "v") {
+      if (t.size() < 4) fail("a vertex needs 3 coordinates");
+      for (int d = 1; d <= 3; ++d) {
+        char* end = nullptr;
+        double x = std::strtod(t[d].c_str(), &end);
+        if (end == t[d].c_str() || *end != '\0') fail("bad coordinate '" + t[d] + "'");
+        mesh.vertices.push_back(x);
+      }
+    } else if (t[0] == "f") {
+      if (t.size() < 4) fail("a face needs at least 3 corners");
+      std::vector<int> corners;
+      for (size_t k = 1; k < t.size(); ++k) {
+        // "v", "v/vt", "v//vn" or "v/vt/vn"; negative indices count back from the last vertex.
+        char* end = nullptr;
+        long index = std::strtol(t[k].c_str(), &end, 10);
+        if (end == t[k].c_str() || (*end != '\0' && *end != '/')) {
+          fail("bad face corner '" + t[k] + "'");
+        }
+        long nv = mesh.num_vertices();
+        long v = index > 0 ? index - 1 : nv + index;
+        if (index == 0 || v < 0 || v >= nv) {
+          fail("face corner " + t[k] + " refers to no vertex (" + std::to_string(nv) +
+               " defined so far)");
+        }
+        corners.push_back(static_cast<int>(v));
+      }
+      add_fan(corners, mesh);
+    }
+    // Normals, texture coordinates, groups, materials and lines carry no geometry we need.
+  }
+  return mesh;
+}
+
+SurfaceMesh read_off(const std::string& path) {
+  detail::TextReader in(path, detail::read_file(path));
+  in.set_comments(true);
+  std::string header = in.token();
+  if (header != "OFF") in.fail("expected the header 'OFF', got '" + header + "'");
+  long long nv = in.integer("vertex count"), nf = in.integer("face count");
+  in.integer("edge count");
+  in.line();
+  if (nv < 0 || nf < 0 || nv > INT32_MAX / 3) in.fail("bad vertex or face count");
+  SurfaceMesh mesh;
+  mesh.vertices.reserve(3 * nv);
+  for (long long v = 0; v < nv; ++v) {
+    for (int d = 0; d < 3; ++d) mesh.vertices.push_back(in.number("vertex coordinate"));
+    in.line();  // optional colour values
+  }
+  for (long long f = 0; f < nf; ++f) {
+    long long count = in.integer("corner count");
+    if (count < 3) in.fail("face " + std::to_string(f) + " has fewer than 3 corners");
+    std::vector<int> corners;
+    for (long long k = 0; k < count; ++k) {
+      long long v = in.integer("vertex index");
+      if (v < 0 || v >= nv) {
+        in.fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+                ", outside [0, " + std::to_string(nv) + ")");
+      }
+      corners.push_back(static_cast<int>(v));
+    }
+    add_fan(corners, mesh);
+    // Optional colour values end the face's line.
+    in.line();
+  }
+  return mesh;
+}
+
+namespace {
+
+// Merges equal corners of STL facets, in order of first appearance.
+struct CornerMerger {
+  SurfaceMesh mesh;
+  std::map<std::array<double, 3>, int> ids;
+  void facet(const std::array<std::array<double, 3>, 3>& c) {
+    int v[3];
+    for (int k = 0; k < 3; ++k) {
+      auto [it, inserted] = ids.emplace(c[k], static_cast<int>(ids.size()));
+      if (inserted) mesh.vertices.insert(mesh.vertices.end(), c[k].begin(), c[k].end());
+      v[k] = it->second;
+    }
+    if (v[0] != v[1] && v[1] != v[2] && v[2] != v[0]) {
+      mesh.triangles.insert(mesh.triangles.end(), {v[0], v[1], v[2]});
+    }
+  }
+};
+
+SurfaceMesh read_stl_binary(const std::string& bytes) {
+  uint32_t count;
+  std::memcpy(&count, bytes.data() + 80, 4);
+  CornerMerger merger;
+  for (uint32_t f = 0; f < count; ++f) {
+    const char* facet = bytes.data() + 84 + 50 * static_cast<size_t>(f) + 12;  // after normal
+    std::array<std::array<double, 3>, 3> c;
+    for (int k = 0; k < 3; ++k) {
+      for (int d = 0; d < 3; ++d) {
+        float x;
+        std::memcpy(&x, facet + 4 * (3 * k + d), 4);
+        c[k][d] = x;
+      }
+    }
+    merger.facet(c);
+  }
+  return std::move(merger.mesh);
+}
+
+SurfaceMesh read_stl_ascii(const std::string& path, std::string text) {
+  detail::TextReader in(path, std::move(text));
+  CornerMerger merger;
+  if (in.token() != "solid") in.fail("an ASCII STL starts with 'solid'");
+  in.line();  // the solid's name
+  for (;;) {
+    std::string word = in.token();
+    if (word == "endsolid") break;
+    if (word != "facet") in.fail("expected 'facet' or 'endsolid', got '" + word + "'");
+    in.line();  // normal: recomputed from the corners
+    if (in.token() != "outer" || in.token() != "loop") in.fail("expected 'outer loop'");
+    std::array<std::array<double, 3>, 3> c;
+    for (int k = 0; k < 3; ++k) {
+      if (in.token() != "vertex") in.fail("expected 'vertex' (facets must be triangles)");
+      for (int d = 0; d < 3; ++d) c[k][d] = in.number("vertex coordinate");
+    }
+    if (in.token() != "endloop") in.fail("expected 'endloop' (facets must be triangles)");
+    if (in.token() != "endfacet") in.fail("expected 'endfacet'");
+    merger.facet(c);
+  }
+  return std::move(merger.mesh);
+}
+
+}  // namespace
+
+SurfaceMesh read_stl(const std::string& path) {
+  std::string bytes = detail::read_file(path);
+  // Binary: an 80-byte header, a facet count, 50 bytes a facet. Some binary files start with
+  // "solid" too, so the size decides first.
+  if (bytes.size() >= 84) {
+    uint32_t count;
+    std::memcpy(&count, bytes.data() + 80, 4);
+    if (bytes.size() == 84 + 50 * static_cast<size_t>(count)) return read_stl_binary(bytes);
+  }
+  if (bytes.compare(0, 5, "solid") == 0) return read_stl_ascii(path, std::move(bytes));
+  throw InputError(path + ": neither a binary STL (size does not match its facet count) nor "
+                          "an ASCII one (no leading 'solid')");
+}
+
+SurfaceMesh read_surface(const std::string& path) {
+  std::string ext;
+  size_t dot = path.find_last_of('.');
+  if (dot != std::string::npos) ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == "obj") return read_obj(path);
+  if (ext == "off") return read_off(path);
+  if (ext == "stl") return read_stl(path);
+  if (ext == "msh") return read_msh(path);
+  throw InputError(path + ": unknown mesh format '." + ext + "' (expected .obj, .off, .stl, .msh)");
+}
+
+}  // namespace fluidweight

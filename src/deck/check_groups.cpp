@@ -1,0 +1,71 @@
+// check_groups: the deck's group names against the mesh, before any assembly.
+#include <algorithm>
+
+#include "common/error.hpp"
+#include "deck/deck.hpp"
+#include "deck/deck_reader.hpp"
+
+namespace hs {
+namespace {
+
+bool has_nodes(const Mesh& mesh, const std::string& group) {
+  const auto it = mesh.node_groups.find(group);
+  return it != mesh.node_groups.end() && !it->second.empty();
+}
+
+bool is_volume(const Mesh& mesh, const std::string& group) {
+  return std::find(mesh.volume_names.begin(), mesh.volume_names.end(), group) !=
+         mesh.volume_names.end();
+}
+
+bool is_surface(const Mesh& mesh, const std::string& group) {
+  const auto it = mesh.surfaces.find(group);
+  return it != mesh.surfaces.end() && !it->second.empty();
+}
+
+// "volumes: body; surfaces: inner, outer; other groups: tip".
+std::string listing(const Mesh& mesh) {
+  std::vector<std::string> surfaces, others;
+  for (const auto& [name, faces] : mesh.surfaces) surfaces.push_back(name);
+  for (const auto& [name, nodes] : mesh.node_groups)
+    if (!is_volume(mesh, name) && !mesh.surfaces.count(name)) others.push_back(name);
+  auto names = [](const std::vector<std::string>& v) { return v.empty() ? "none" : join(v); };
+  return "volumes: " + names(mesh.volume_names) + "; surfaces: " + names(surfaces) +
+         "; other groups: " + names(others);
+}
+
+}  // namespace
+
+void check_groups(const Config& c, const Mesh& mesh) {
+  auto fail = [&](const std::string& key, const std::string& reason) {
+    throw InputError(c.deck_path + ": " + key + ": " + reason + " (mesh " + c.mesh.file + " has " +
+                     listing(mesh) + ")");
+  };
+  // Every group must carry nodes: an empty one would silently constrain or load nothing.
+  auto require_nodes = [&](const std::string& key, const std::string& group) {
+    if (!mesh.node_groups.count(group)) fail(key, "group '" + group + "' is not in the mesh");
+    if (!has_nodes(mesh, group)) fail(key, "group '" + group + "' has no nodes");
+  };
+
+  for (size_t i = 0; i < c.materials.size(); ++i) {
+    const std::string key = child_key(item_key("materials", i), "group"),
+                      group = c.materials[i].group;
+    require_nodes(key, group);
+    if (!is_volume(mesh, group)) fail(key, "group '" + group + "' is not a volume");
+  }
+  for (const auto& volume : mesh.volume_names) {
+    const bool assigned = std::any_of(c.materials.begin(), c.materials.end(),
+                                      [&](const MaterialConfig& m) { return m.group == volume; });
+    if (!assigned) fail("materials", "volume '" + volume + "' of the mesh has no material");
+  }
+  for (size_t i = 0; i < c.dirichlet.size(); ++i)
+    require_nodes(child_key(item_key("boundary", i), "group"), c.dirichlet[i].group);
+  for (size_t i = 0; i < c.pressures.size(); ++i) {
+    const std::string key = child_key(item_key("loads.pressure", i), "group");
+    const std::string group = c.pressures[i].group;
+    require_nodes(key, group);
+    if (!is_surface(mesh, group)) fail(key, "group '" + group + "' is not a surface");
+  }
+}
+
+}  // namespace hs

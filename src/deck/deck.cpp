@@ -1,0 +1,369 @@
+// parse_deck: YAML -> Config, validating every key before any work (docs/decks.md).
+#include "deck/deck.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <regex>
+#include <set>
+
+#include "common/error.hpp"
+#include "deck/deck_reader.hpp"
+#include "deck/overrides.hpp"
+#include "io/output.hpp"
+
+namespace hs {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kModels = {"linear_elastic", "corotational",
+                                          "saint_venant_kirchhoff", "neo_hookean", "mooney_rivlin"};
+const std::vector<std::string> kTimeTypes = {"static", "quasi_static", "dynamic"};
+const std::vector<std::string> kIntegrators = {"newmark", "backward_euler"};
+const std::vector<std::string> kPresets = {"mumps", "gamg"};
+// The exact solutions of solvers/exact_solution.cpp and the parameters each one reads.
+const std::map<std::string, std::vector<std::string>> kExactParameters = {
+    {"none", {}},
+    {"lame_sphere", {"a", "b", "p"}},
+    {"cantilever_gravity", {"L", "h"}},
+    {"hydrostatic_block", {"H"}},
+    {"neo_hookean_sphere", {"A", "B", "stretch"}},
+    {"bimaterial_bar", {"L1", "t"}}};
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// A value of `map` that must be there.
+YAML::Node required(const DeckReader& r, const YAML::Node& map, const std::string& key,
+                    const std::string& name) {
+  const YAML::Node node = map[name];
+  if (!node) r.fail(child_key(key, name), map, "required key missing");
+  return node;
+}
+
+std::string one_of(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                   const std::vector<std::string>& valid) {
+  const std::string name = r.text(node, key);
+  if (!contains(valid, name))
+    r.fail(key, node, "unknown name '" + name + "' (valid: " + join(valid) + ")");
+  return name;
+}
+
+void require(bool condition, const DeckReader& r, const YAML::Node& node, const std::string& key,
+             const std::string& reason) {
+  if (!condition) r.fail(key, node, reason);
+}
+
+// A key that only matters in some configurations must not be given in the others.
+void forbid(const DeckReader& r, const YAML::Node& map, const std::string& key,
+            const std::string& name, const std::string& reason) {
+  if (map[name]) r.fail(child_key(key, name), map[name], reason);
+}
+
+YAML::Node load_yaml(const std::string& path) {
+  if (!fs::is_regular_file(path)) throw InputError(path + ": deck file not found");
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(path + ": line " + std::to_string(e.mark.line + 1) + ", column " +
+                     std::to_string(e.mark.column + 1) + ": invalid YAML: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ": cannot read the deck: " + e.msg);
+  }
+}
+
+MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::path& deck_dir) {
+  const std::string key = "mesh";
+  r.check_map(node, key, {"file", "order", "parameters", "refine"});
+  MeshConfig mesh;
+  const YAML::Node file = required(r, node, key, "file");
+  const fs::path given = r.text(file, "mesh.file");
+  const fs::path resolved = fs::absolute(given.is_absolute() ? given : deck_dir / given);
+  mesh.file = resolved.lexically_normal().string();
+  if (!fs::is_regular_file(mesh.file))
+    r.fail("mesh.file", file,
+           "mesh file '" + mesh.file +
+               "' not found (relative paths start "
+               "at the deck's folder)");
+  const std::string extension = resolved.extension().string();
+  require(extension == ".msh" || extension == ".geo", r, file, "mesh.file",
+          "expected a .msh or .geo file, got '" + extension + "'");
+  if (const auto n = node["order"]) {
+    mesh.order = r.integer(n, "mesh.order");
+    require(mesh.order == 1 || mesh.order == 2, r, n, "mesh.order", "must be 1 or 2");
+  }
+  const std::string geo_only = "only used with a .geo mesh file";
+  if (const auto n = node["parameters"]) {
+    require(extension == ".geo", r, n, "mesh.parameters", geo_only);
+    mesh.parameters = r.number_map(n, "mesh.parameters");
+  }
+  if (const auto n = node["refine"]) {
+    require(extension == ".geo", r, n, "mesh.refine", geo_only);
+    mesh.refine = r.integer(n, "mesh.refine");
+    require(mesh.refine >= 0, r, n, "mesh.refine", "must be >= 0");
+  }
+  return mesh;
+}
+
+// Elastic constants: exactly one of the pairs (E, nu), (mu, lambda); the other follows from
+//   mu = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu))
+//   E = mu (3 lambda + 2 mu) / (lambda + mu),  nu = lambda / (2 (lambda + mu)).
+void parse_elastic_constants(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                             MaterialConfig& m) {
+  const bool engineering = node["E"] || node["nu"], lame = node["mu"] || node["lambda"];
+  if (engineering && lame) r.fail(key, node, "give either E and nu or mu and lambda, not both");
+  if (!engineering && !lame)
+    r.fail(key, node, "elastic constants missing: give E and nu, or mu and lambda");
+  if (engineering) {
+    const auto E = required(r, node, key, "E"), nu = required(r, node, key, "nu");
+    m.E = r.number(E, child_key(key, "E"));
+    m.nu = r.number(nu, child_key(key, "nu"));
+    require(m.E > 0, r, E, child_key(key, "E"), "must be > 0, got " + format_number(m.E));
+    require(m.nu > -1 && m.nu < 0.5, r, nu, child_key(key, "nu"),
+            "must lie in (-1, 0.5), got " + format_number(m.nu) +
+                " (0.5 is incompressible, beyond a displacement formulation)");
+    m.mu = m.E / (2 * (1 + m.nu));
+    m.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
+  } else {
+    const auto mu = required(r, node, key, "mu"), lambda = required(r, node, key, "lambda");
+    m.mu = r.number(mu, child_key(key, "mu"));
+    m.lambda = r.number(lambda, child_key(key, "lambda"));
+    require(m.mu > 0, r, mu, child_key(key, "mu"), "must be > 0, got " + format_number(m.mu));
+    const double bulk = m.lambda + 2 * m.mu / 3;
+    require(bulk > 0, r, lambda, child_key(key, "lambda"),
+            "gives bulk modulus lambda + 2 mu / 3 = " + format_number(bulk) + ", must be > 0");
+    m.E = m.mu * (3 * m.lambda + 2 * m.mu) / (m.lambda + m.mu);
+    m.nu = m.lambda / (2 * (m.lambda + m.mu));
+  }
+}
+
+MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const std::string& key) {
+  r.check_map(node, key, {"group", "model", "E", "nu", "mu", "lambda", "c1", "c2", "density"});
+  MaterialConfig m;
+  m.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
+  m.model = one_of(r, required(r, node, key, "model"), child_key(key, "model"), kModels);
+  parse_elastic_constants(r, node, key, m);
+  if (m.model == "mooney_rivlin") {
+    m.c1 = node["c1"] ? r.number(node["c1"], child_key(key, "c1")) : m.mu / 2;
+    m.c2 = node["c2"] ? r.number(node["c2"], child_key(key, "c2")) : 0.0;
+    require(m.c1 + m.c2 > 0, r, node, child_key(key, "c1"),
+            "c1 + c2 must be > 0 (the small-strain shear modulus is 2 (c1 + c2))");
+  } else {
+    forbid(r, node, key, "c1", "only used by model mooney_rivlin");
+    forbid(r, node, key, "c2", "only used by model mooney_rivlin");
+  }
+  if (const auto n = node["density"]) {
+    m.density = r.number(n, child_key(key, "density"));
+    require(m.density >= 0, r, n, child_key(key, "density"),
+            "must be >= 0, got " + format_number(m.density));
+  }
+  return m;
+}
+
+std::vector<MaterialConfig> parse_materials(const DeckReader& r, const YAML::Node& node) {
+  r.check_list(node, "materials");
+  require(node.size() > 0, r, node, "materials", "at least one material is required");
+  std::vector<MaterialConfig> materials;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string key = item_key("materials", i);
+    materials.push_back(parse_material(r, node[i], key));
+    for (size_t j = 0; j < i; ++j)
+      if (materials[j].group == materials[i].group)
+        r.fail(child_key(key, "group"), node[i]["group"],
+               "duplicate material group '" + materials[i].group + "' (also in " +
+                   item_key("materials", j) + ")");
+  }
+  return materials;
+}
+
+DirichletConfig parse_boundary(const DeckReader& r, const YAML::Node& node,
+                               const std::string& key) {
+  r.check_map(node, key, {"group", "components", "value", "scaled", "exact"});
+  DirichletConfig bc;
+  bc.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
+  if (const auto n = node["components"]) {
+    const std::string ckey = child_key(key, "components");
+    r.check_list(n, ckey);
+    require(n.size() > 0, r, n, ckey, "must name at least one of x, y, z");
+    bc.components = {false, false, false};
+    for (size_t i = 0; i < n.size(); ++i) {
+      const std::string c = one_of(r, n[i], item_key(ckey, i), {"x", "y", "z"});
+      bool& on = bc.components[c[0] - 'x'];
+      require(!on, r, n[i], item_key(ckey, i), "component '" + c + "' named twice");
+      on = true;
+    }
+  }
+  if (const auto n = node["value"]) bc.value = r.vector3(n, child_key(key, "value"));
+  if (const auto n = node["scaled"]) bc.scaled = r.boolean(n, child_key(key, "scaled"));
+  if (const auto n = node["exact"]) bc.exact = r.boolean(n, child_key(key, "exact"));
+  if (bc.exact) forbid(r, node, key, "value", "not used when exact is true");
+  return bc;
+}
+
+void parse_loads(const DeckReader& r, const YAML::Node& node, Config& c) {
+  r.check_map(node, "loads", {"gravity", "pressure"});
+  if (const auto n = node["gravity"]) c.gravity = r.vector3(n, "loads.gravity");
+  if (const auto list = node["pressure"]) {
+    r.check_list(list, "loads.pressure");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string key = item_key("loads.pressure", i);
+      r.check_map(list[i], key, {"group", "value"});
+      PressureConfig p;
+      p.group = r.text(required(r, list[i], key, "group"), child_key(key, "group"));
+      p.value = r.number(required(r, list[i], key, "value"), child_key(key, "value"));
+      c.pressures.push_back(p);
+    }
+  }
+}
+
+TimeConfig parse_time(const DeckReader& r, const YAML::Node& node) {
+  r.check_map(
+      node, "time",
+      {"type", "steps", "schedule", "dt", "end_time", "integrator", "newmark", "max_cutbacks"});
+  TimeConfig t;
+  if (const auto n = node["type"]) t.type = one_of(r, n, "time.type", kTimeTypes);
+  if (t.type == "dynamic") {
+    const std::string reason = "not used when time.type is dynamic (dt and end_time set the steps)";
+    for (const char* name : {"steps", "schedule", "max_cutbacks"})
+      forbid(r, node, "time", name, reason);
+    const auto dt = required(r, node, "time", "dt"), end = required(r, node, "time", "end_time");
+    t.dt = r.number(dt, "time.dt");
+    t.end_time = r.number(end, "time.end_time");
+    require(t.dt > 0, r, dt, "time.dt", "must be > 0, got " + format_number(t.dt));
+    require(t.end_time > 0, r, end, "time.end_time",
+            "must be > 0, got " + format_number(t.end_time));
+    require(t.dt <= t.end_time, r, dt, "time.dt", "must not exceed time.end_time");
+    if (const auto n = node["integrator"])
+      t.integrator = one_of(r, n, "time.integrator", kIntegrators);
+    if (const auto n = node["newmark"]) {
+      require(t.integrator == "newmark", r, n, "time.newmark", "only used by integrator newmark");
+      r.check_map(n, "time.newmark", {"beta", "gamma"});
+      if (n["beta"]) t.newmark_beta = r.number(n["beta"], "time.newmark.beta");
+      if (n["gamma"]) t.newmark_gamma = r.number(n["gamma"], "time.newmark.gamma");
+      // beta > 0: the implicit update divides by beta; gamma >= 1/2: no negative damping.
+      require(t.newmark_beta > 0, r, n, "time.newmark.beta", "must be > 0");
+      require(t.newmark_gamma >= 0.5, r, n, "time.newmark.gamma", "must be >= 0.5");
+    }
+    return t;
+  }
+  const std::string reason = "only used when time.type is dynamic";
+  for (const char* name : {"dt", "end_time", "integrator", "newmark"})
+    forbid(r, node, "time", name, reason);
+  if (const auto n = node["steps"]) {
+    t.steps = r.integer(n, "time.steps");
+    require(t.steps >= 1, r, n, "time.steps", "must be >= 1, got " + std::to_string(t.steps));
+  }
+  if (const auto n = node["schedule"]) {
+    t.schedule = r.numbers(n, "time.schedule");
+    require(!t.schedule.empty(), r, n, "time.schedule", "must hold at least one load factor");
+    if (node["steps"] && t.steps != static_cast<int>(t.schedule.size()))
+      r.fail("time.steps", node["steps"],
+             "is " + std::to_string(t.steps) + " but time.schedule has " +
+                 std::to_string(t.schedule.size()) + " entries");
+    t.steps = static_cast<int>(t.schedule.size());
+  }
+  if (const auto n = node["max_cutbacks"]) {
+    t.max_cutbacks = r.integer(n, "time.max_cutbacks");
+    require(t.max_cutbacks >= 0, r, n, "time.max_cutbacks", "must be >= 0");
+  }
+  return t;
+}
+
+SolverConfig parse_solver(const DeckReader& r, const YAML::Node& node) {
+  r.check_map(node, "solver", {"preset", "petsc_options"});
+  SolverConfig s;
+  if (const auto n = node["preset"]) s.preset = one_of(r, n, "solver.preset", kPresets);
+  if (const auto options = node["petsc_options"]) {
+    if (!options.IsMap())
+      r.fail("solver.petsc_options", options, "expected a map of option: value");
+    static const std::regex option_name("[A-Za-z][A-Za-z0-9_]*");
+    for (const auto& entry : options) {
+      const std::string name = entry.first.Scalar();
+      const std::string key = child_key("solver.petsc_options", name);
+      if (!name.empty() && name[0] == '-')
+        r.fail(key, entry.first, "write PETSc options without the leading dash");
+      if (!std::regex_match(name, option_name))
+        r.fail(key, entry.first, "not a PETSc option name (letters, digits and _ only)");
+      if (s.petsc_options.count(name)) r.fail(key, entry.first, "duplicate key");
+      if (!entry.second.IsNull() && !entry.second.IsScalar())
+        r.fail(key, entry.second, "expected a single value (or nothing, for a flag)");
+      s.petsc_options[name] = entry.second.IsNull() ? "" : entry.second.Scalar();
+    }
+  }
+  return s;
+}
+
+OutputConfig parse_output(const DeckReader& r, const YAML::Node& node) {
+  r.check_map(node, "output", {"folder", "every"});
+  OutputConfig o;
+  if (const auto n = node["folder"]) o.folder = r.text(n, "output.folder");
+  if (const auto n = node["every"]) {
+    o.every = r.integer(n, "output.every");
+    require(o.every >= 1, r, n, "output.every", "must be >= 1");
+  }
+  return o;
+}
+
+ExactConfig parse_exact(const DeckReader& r, const YAML::Node& node) {
+  r.check_map(node, "exact", {"type", "parameters"});
+  ExactConfig e;
+  std::vector<std::string> types;
+  for (const auto& entry : kExactParameters) types.push_back(entry.first);
+  e.type = node["type"] ? one_of(r, node["type"], "exact.type", types) : "none";
+  if (const auto n = node["parameters"]) e.parameters = r.number_map(n, "exact.parameters");
+  const auto& needed = kExactParameters.at(e.type);
+  const std::string needs = "exact solution '" + e.type + "' (takes " +
+                            (needed.empty() ? "no parameters" : join(needed)) + ")";
+  for (const auto& name : needed)
+    if (!e.parameters.count(name))
+      r.fail(child_key("exact.parameters", name), node, "required by " + needs);
+  for (const auto& [name, value] : e.parameters)
+    if (!contains(needed, name))
+      r.fail(child_key("exact.parameters", name), node["parameters"][name], "unknown to " + needs);
+  return e;
+}
+
+}  // namespace
+
+Config parse_deck(const std::string& path, const std::vector<std::string>& overrides) {
+  YAML::Node root = load_yaml(path);
+  const DeckReader r(path, apply_overrides(root, overrides, path));
+  if (root.IsNull()) r.fail("mesh", "required key missing (the deck is empty)");
+  if (!root.IsMap())
+    r.fail("(top level)", root, "expected a map of sections (mesh, materials, ...)");
+  r.check_map(root, "",
+              {"mesh", "materials", "boundary", "loads", "time", "solver", "output", "exact"});
+
+  Config c;
+  c.deck_path = path;
+  c.deck_name = fs::path(path).stem().string();
+  c.mesh = parse_mesh(r, required(r, root, "", "mesh"), fs::path(path).parent_path());
+  c.materials = parse_materials(r, required(r, root, "", "materials"));
+  if (const auto list = root["boundary"]) {
+    r.check_list(list, "boundary");
+    for (size_t i = 0; i < list.size(); ++i)
+      c.dirichlet.push_back(parse_boundary(r, list[i], item_key("boundary", i)));
+  }
+  if (const auto n = root["loads"]) parse_loads(r, n, c);
+  if (const auto n = root["time"]) c.time = parse_time(r, n);
+  if (const auto n = root["solver"]) c.solver = parse_solver(r, n);
+  if (const auto n = root["output"]) c.output = parse_output(r, n);
+  if (c.output.folder.empty()) c.output.folder = (fs::path("out") / c.deck_name).string();
+  const std::string problem = output_folder_problem(c.output.folder);
+  if (!problem.empty()) {
+    const YAML::Node output = root["output"];
+    if (output && output.IsMap() && output["folder"])
+      r.fail("output.folder", output["folder"], problem);
+    r.fail("output.folder", "the default '" + c.output.folder + "': " + problem);
+  }
+  c.exact.type = "none";
+  if (const auto n = root["exact"]) c.exact = parse_exact(r, n);
+  for (size_t i = 0; i < c.dirichlet.size(); ++i)
+    if (c.dirichlet[i].exact && c.exact.type == "none")
+      r.fail(child_key(item_key("boundary", i), "exact"), root["boundary"][i]["exact"],
+             "needs an exact solution, but exact.type is none");
+  return c;
+}
+
+}  // namespace hs

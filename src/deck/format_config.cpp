@@ -1,0 +1,157 @@
+// format_config: the resolved Config as a deck. The text is itself a valid deck that
+// parse_deck reads back to the same Config (tests/deck), so a run can be repeated from
+// its printed configuration. Keys that the configuration does not use (e.g. time.dt of a
+// static run) are left out, as parse_deck would refuse them.
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+
+#include "deck/deck.hpp"
+#include "deck/deck_reader.hpp"
+
+namespace hs {
+namespace {
+
+// Numbers as their shortest exact text, so that printing loses nothing.
+void emit_numbers(YAML::Emitter& out, const std::string& key, const double* values, size_t n) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (size_t i = 0; i < n; ++i) out << format_number(values[i]);
+  out << YAML::EndSeq;
+}
+
+void emit_number(YAML::Emitter& out, const std::string& key, double value) {
+  out << YAML::Key << key << YAML::Value << format_number(value);
+}
+
+void emit_number_map(YAML::Emitter& out, const std::string& key,
+                     const std::map<std::string, double>& values) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap;
+  for (const auto& [name, value] : values) emit_number(out, name, value);
+  out << YAML::EndMap;
+}
+
+void emit_mesh(YAML::Emitter& out, const MeshConfig& mesh) {
+  out << YAML::Key << "mesh" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "file" << YAML::Value << mesh.file;
+  out << YAML::Key << "order" << YAML::Value << mesh.order;
+  if (std::filesystem::path(mesh.file).extension() == ".geo") {
+    emit_number_map(out, "parameters", mesh.parameters);
+    out << YAML::Key << "refine" << YAML::Value << mesh.refine;
+  }
+  out << YAML::EndMap;
+}
+
+void emit_materials(YAML::Emitter& out, const std::vector<MaterialConfig>& materials) {
+  out << YAML::Key << "materials" << YAML::Value << YAML::BeginSeq;
+  for (const auto& m : materials) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "group" << YAML::Value << m.group;
+    out << YAML::Key << "model" << YAML::Value << m.model;
+    // The pair the deck gave: the derived pair, converted back, may differ in the last bit.
+    const bool from_E_nu =
+        m.mu == m.E / (2 * (1 + m.nu)) && m.lambda == m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
+    emit_number(out, from_E_nu ? "E" : "mu", from_E_nu ? m.E : m.mu);
+    emit_number(out, from_E_nu ? "nu" : "lambda", from_E_nu ? m.nu : m.lambda);
+    if (m.model == "mooney_rivlin") {
+      emit_number(out, "c1", m.c1);
+      emit_number(out, "c2", m.c2);
+    }
+    emit_number(out, "density", m.density);
+    out << YAML::EndMap;
+    out << YAML::Comment(from_E_nu ? "mu = " + format_number(m.mu) +
+                                         ", lambda = " + format_number(m.lambda)
+                                   : "E = " + format_number(m.E) + ", nu = " + format_number(m.nu));
+  }
+  out << YAML::EndSeq;
+}
+
+void emit_boundary(YAML::Emitter& out, const std::vector<DirichletConfig>& boundary) {
+  out << YAML::Key << "boundary" << YAML::Value;
+  if (boundary.empty()) out << YAML::Flow;
+  out << YAML::BeginSeq;
+  for (const auto& bc : boundary) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "group" << YAML::Value << bc.group;
+    out << YAML::Key << "components" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (int d = 0; d < 3; ++d)
+      if (bc.components[d]) out << std::string(1, static_cast<char>('x' + d));
+    out << YAML::EndSeq;
+    if (!bc.exact) emit_numbers(out, "value", bc.value.data(), 3);
+    out << YAML::Key << "scaled" << YAML::Value << bc.scaled;
+    out << YAML::Key << "exact" << YAML::Value << bc.exact;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
+void emit_loads(YAML::Emitter& out, const Config& c) {
+  out << YAML::Key << "loads" << YAML::Value << YAML::BeginMap;
+  emit_numbers(out, "gravity", c.gravity.data(), 3);
+  out << YAML::Key << "pressure" << YAML::Value;
+  if (c.pressures.empty()) out << YAML::Flow;
+  out << YAML::BeginSeq;
+  for (const auto& p : c.pressures) {
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "group" << YAML::Value << p.group;
+    emit_number(out, "value", p.value);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq << YAML::EndMap;
+}
+
+void emit_time(YAML::Emitter& out, const TimeConfig& t) {
+  out << YAML::Key << "time" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "type" << YAML::Value << t.type;
+  if (t.type == "dynamic") {
+    emit_number(out, "dt", t.dt);
+    emit_number(out, "end_time", t.end_time);
+    out << YAML::Key << "integrator" << YAML::Value << t.integrator;
+    if (t.integrator == "newmark") {
+      out << YAML::Key << "newmark" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      emit_number(out, "beta", t.newmark_beta);
+      emit_number(out, "gamma", t.newmark_gamma);
+      out << YAML::EndMap;
+    }
+  } else {
+    out << YAML::Key << "steps" << YAML::Value << t.steps;
+    if (!t.schedule.empty()) emit_numbers(out, "schedule", t.schedule.data(), t.schedule.size());
+    out << YAML::Key << "max_cutbacks" << YAML::Value << t.max_cutbacks;
+  }
+  out << YAML::EndMap;
+}
+
+}  // namespace
+
+std::string format_config(const Config& c) {
+  YAML::Emitter out;
+  out << YAML::Comment("deck: " + c.deck_path);
+  out << YAML::BeginMap;
+  emit_mesh(out, c.mesh);
+  emit_materials(out, c.materials);
+  emit_boundary(out, c.dirichlet);
+  emit_loads(out, c);
+  emit_time(out, c.time);
+
+  out << YAML::Key << "solver" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "preset" << YAML::Value << c.solver.preset;
+  out << YAML::Key << "petsc_options" << YAML::Value;
+  if (c.solver.petsc_options.empty()) out << YAML::Flow;
+  out << YAML::BeginMap;
+  for (const auto& [name, value] : c.solver.petsc_options)
+    out << YAML::Key << name << YAML::Value << value;
+  out << YAML::EndMap << YAML::EndMap;
+
+  out << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "folder" << YAML::Value << c.output.folder;
+  out << YAML::Key << "every" << YAML::Value << c.output.every;
+  out << YAML::EndMap;
+
+  out << YAML::Key << "exact" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "type" << YAML::Value << (c.exact.type.empty() ? "none" : c.exact.type);
+  emit_number_map(out, "parameters", c.exact.parameters);
+  out << YAML::EndMap;
+
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace hs

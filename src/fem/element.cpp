@@ -1,0 +1,190 @@
+// Element routines on P1/P2 tetrahedra (docs/formulation.md, "Element routines").
+// Total-Lagrangian: at each quadrature point of the reference element
+//   J = dX/dxi,  grad N_a = J^-T dN_a/dxi,  F = I + sum_a u_a (x) grad N_a,
+//   r_a = int P grad N_a dV,  K_ab,ik = int sum_jl A_ijkl (grad N_a)_j (grad N_b)_l dV.
+// Quadrature degrees: P1 stiffness 1 point (F is constant), P2 stiffness 4 points (degree 2:
+// exact for linear elasticity on straight elements); volume, body force and mass use rules
+// exact for the polynomial integrands det J, N_a det J and N_a N_b det J of curved P2 elements
+// (det J is cubic there).
+#include "fem/element.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "fem/element_tables.hpp"
+
+namespace hs {
+namespace {
+
+template <int NPE>
+using NodeMatrix = Eigen::Matrix<double, 3, NPE>;  // column a: a vector at node a
+
+struct Degrees {
+  int stiffness, volume, body, mass;
+};
+constexpr Degrees kP1Degrees{1, 1, 1, 2};
+constexpr Degrees kP2Degrees{2, 3, 5, 7};
+
+template <int NPE>
+constexpr const Degrees& degrees() {
+  return NPE == 4 ? kP1Degrees : kP2Degrees;
+}
+
+[[noreturn]] void throw_bad_geometry(const double* X, double detJ) {
+  std::ostringstream s;
+  s << "tetrahedron with vertices";
+  for (int a = 0; a < 4; ++a)
+    s << " (" << X[3 * a] << ", " << X[3 * a + 1] << ", " << X[3 * a + 2] << ")";
+  s << " has a non-positive reference Jacobian (det J = " << detJ
+    << "): the mesh has an inverted or too strongly curved element";
+  throw InputError(s.str());
+}
+
+// Reference Jacobian J = dX/dxi at a point with reference gradients dN; det J > 0 or throws.
+template <int NPE>
+double reference_jacobian(const NodeMatrix<NPE>& X, const NodeMatrix<NPE>& dN, Mat3& J) {
+  J.noalias() = X * dN.transpose();
+  const double detJ = J.determinant();
+  if (!(detJ > 0)) throw_bad_geometry(X.data(), detJ);
+  return detJ;
+}
+
+// K_ab += wdV sum_jl A_(ij)(kl) G_ja G_lb for the blocks b >= a (K is symmetric: every law
+// has an energy, so A has the major symmetry; the lower blocks are mirrored at the end).
+template <int NPE>
+void add_stiffness(const Tangent& A, const NodeMatrix<NPE>& G, double wdV, double* K) {
+  constexpr int n = 3 * NPE;
+  for (int a = 0; a < NPE; ++a) {
+    Eigen::Matrix<double, 3, 9> C;  // C(i, 3k + l) = wdV sum_j G_ja A(3i + j, 3k + l)
+    for (int i = 0; i < 3; ++i)
+      C.row(i) =
+          wdV * (G(0, a) * A.row(3 * i) + G(1, a) * A.row(3 * i + 1) + G(2, a) * A.row(3 * i + 2));
+    for (int b = a; b < NPE; ++b)
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k)
+          K[(3 * a + i) * n + 3 * b + k] +=
+              C(i, 3 * k) * G(0, b) + C(i, 3 * k + 1) * G(1, b) + C(i, 3 * k + 2) * G(2, b);
+  }
+}
+
+template <int NPE>
+void mirror_lower_blocks(double* K) {
+  constexpr int n = 3 * NPE;
+  for (int a = 0; a < NPE; ++a)
+    for (int b = a + 1; b < NPE; ++b)
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) K[(3 * b + k) * n + 3 * a + i] = K[(3 * a + i) * n + 3 * b + k];
+}
+
+template <int NPE>
+ElementOutput internal_force(const double* X, const double* u, const MaterialParameters& m,
+                             double* r, double* K) {
+  constexpr int n = 3 * NPE;
+  const auto& t = tet_tables<NPE>(degrees<NPE>().stiffness);
+  const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
+  const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
+  NodeMatrix<NPE> R = NodeMatrix<NPE>::Zero();
+  if (K) std::fill(K, K + n * n, 0.0);
+  ElementOutput out;
+  for (size_t q = 0; q < t.weights.size(); ++q) {
+    Mat3 J;
+    const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
+    const NodeMatrix<NPE> G = J.inverse().transpose() * t.dN[q];  // grad N_a in column a
+    const Mat3 F = Mat3::Identity() + Um * G.transpose();
+    const StressResult s = stress(m, F, K != nullptr);
+    if (!std::isfinite(s.psi)) out.valid = false;
+    out.energy += wdV * s.psi;
+    R.noalias() += wdV * s.P * G;
+    if (K) add_stiffness<NPE>(s.A, G, wdV, K);
+  }
+  Eigen::Map<NodeMatrix<NPE>> r_out(r);
+  r_out = R;
+  if (K) mirror_lower_blocks<NPE>(K);
+  return out;
+}
+
+template <int NPE>
+void body_force(const double* X, double rho, const std::array<double, 3>& g, double* f) {
+  const auto& t = tet_tables<NPE>(degrees<NPE>().body);
+  const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
+  const Eigen::Vector3d rho_g = rho * Eigen::Vector3d(g[0], g[1], g[2]);
+  NodeMatrix<NPE> Fm = NodeMatrix<NPE>::Zero();
+  for (size_t q = 0; q < t.weights.size(); ++q) {
+    Mat3 J;
+    const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
+    Fm.noalias() += wdV * rho_g * t.N[q].transpose();
+  }
+  Eigen::Map<NodeMatrix<NPE>> f_out(f);
+  f_out = Fm;
+}
+
+template <int NPE>
+void mass(const double* X, double rho, double* M) {
+  constexpr int n = 3 * NPE;
+  const auto& t = tet_tables<NPE>(degrees<NPE>().mass);
+  const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
+  Eigen::Matrix<double, NPE, NPE> Ms = Eigen::Matrix<double, NPE, NPE>::Zero();
+  for (size_t q = 0; q < t.weights.size(); ++q) {
+    Mat3 J;
+    const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
+    Ms.noalias() += (rho * wdV) * t.N[q] * t.N[q].transpose();
+  }
+  std::fill(M, M + n * n, 0.0);
+  for (int a = 0; a < NPE; ++a)
+    for (int b = 0; b < NPE; ++b)
+      for (int i = 0; i < 3; ++i) M[(3 * a + i) * n + 3 * b + i] = Ms(a, b);
+}
+
+template <int NPE>
+double volume(const double* X) {
+  const auto& t = tet_tables<NPE>(degrees<NPE>().volume);
+  const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
+  double V = 0;
+  for (size_t q = 0; q < t.weights.size(); ++q) {
+    Mat3 J;
+    V += t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
+  }
+  return V;
+}
+
+template <int NPE>
+ElementFields fields(const double* X, const double* u, const MaterialParameters& m) {
+  const auto& t = tet_tables<NPE>(1);  // the centroid
+  const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
+  const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
+  Mat3 J;
+  reference_jacobian<NPE>(Xm, t.dN[0], J);
+  const Mat3 F = Mat3::Identity() + Um * (J.inverse().transpose() * t.dN[0]).transpose();
+  ElementFields out;
+  out.J = F.determinant();
+  out.von_mises = von_mises(cauchy_stress(m, F));
+  return out;
+}
+
+}  // namespace
+
+ElementOutput tet_internal_force(int order, const double* X, const double* u,
+                                 const MaterialParameters& m, double* r, double* K) {
+  return tet_num_nodes(order) == 4 ? internal_force<4>(X, u, m, r, K)
+                                   : internal_force<10>(X, u, m, r, K);
+}
+
+void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,
+                    double* f) {
+  tet_num_nodes(order) == 4 ? body_force<4>(X, rho, g, f) : body_force<10>(X, rho, g, f);
+}
+
+void tet_mass(int order, const double* X, double rho, double* M) {
+  tet_num_nodes(order) == 4 ? mass<4>(X, rho, M) : mass<10>(X, rho, M);
+}
+
+double tet_volume(int order, const double* X) {
+  return tet_num_nodes(order) == 4 ? volume<4>(X) : volume<10>(X);
+}
+
+ElementFields tet_fields(int order, const double* X, const double* u, const MaterialParameters& m) {
+  return tet_num_nodes(order) == 4 ? fields<4>(X, u, m) : fields<10>(X, u, m);
+}
+
+}  // namespace hs

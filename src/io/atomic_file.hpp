@@ -1,0 +1,13 @@
+// Writing a whole file so that a reader sees either the old or the new content, never a
+// half-written one: the text goes to "<path>.tmp", which is then renamed over <path>
+// (rename is atomic within one file system).
+#pragma once
+
+#include <string>
+
+namespace hs {
+
+// Throws std::runtime_error naming the file if it cannot be written.
+void write_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace hs

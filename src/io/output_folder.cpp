@@ -1,0 +1,80 @@
+// OutputFolder: results are written to "<folder>.partial" and replace <folder> only when
+// the run succeeds. Replacing means deleting, so a folder is only ever deleted when it
+// carries the marker file that hydrosoft writes into every output folder (or is empty):
+// a mistyped output.folder cannot wipe out a user's own files.
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "common/error.hpp"
+#include "io/output.hpp"
+
+namespace hs {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kMarker = ".hydrosoft_output";
+
+void require_usable(const std::string& folder) {
+  const std::string problem = output_folder_problem(folder);
+  if (!problem.empty()) throw InputError("output folder '" + folder + "': " + problem);
+}
+
+}  // namespace
+
+std::string output_folder_problem(const std::string& folder) {
+  fs::path path = fs::path(folder).lexically_normal();
+  if (!path.has_filename()) path = path.parent_path();  // "out/run/" -> "out/run"
+  const std::string name = path.filename().string();
+  if (name.empty() || name == "." || name == "..") return "must name a folder (not . or ..)";
+  for (const fs::path& p :
+       {path, fs::path(path.string() + ".partial"), fs::path(path.string() + ".old")}) {
+    if (!fs::exists(p)) continue;
+    if (!fs::is_directory(p)) return "'" + p.string() + "' exists and is not a folder";
+    if (!fs::is_empty(p) && !fs::exists(p / kMarker))
+      return "'" + p.string() + "' exists and was not written by hydrosoft (which replaces its " +
+             "output folders): move it away or choose another folder";
+  }
+  return {};
+}
+
+OutputFolder::OutputFolder(std::string folder) {
+  require_usable(folder);
+  fs::path path = fs::path(folder).lexically_normal();
+  if (!path.has_filename()) path = path.parent_path();
+  final_ = path.string();
+  staging_ = final_ + ".partial";
+  fs::remove_all(staging_);  // a crashed run's leftovers
+  fs::create_directories(staging_);
+  std::ofstream(fs::path(staging_) / kMarker)
+      << "Written by hydrosoft. The next run with this output folder replaces the folder.\n";
+}
+
+OutputFolder::~OutputFolder() {
+  if (committed_) return;
+  std::error_code ignored;
+  fs::remove_all(staging_, ignored);
+}
+
+void OutputFolder::commit() {
+  if (committed_) throw std::logic_error("OutputFolder::commit called twice");
+  // Move the old results aside first, so that they come back if the rename fails.
+  const fs::path old = final_ + ".old";
+  const bool had_old = fs::exists(final_);
+  require_usable(final_);  // checked at construction; the folder may have changed since
+  if (had_old) {
+    fs::remove_all(old);
+    fs::rename(final_, old);
+  }
+  try {
+    fs::rename(staging_, final_);
+  } catch (const fs::filesystem_error&) {
+    if (had_old) fs::rename(old, final_);
+    throw;
+  }
+  committed_ = true;
+  if (had_old) fs::remove_all(old);
+}
+
+}  // namespace hs

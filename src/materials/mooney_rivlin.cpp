@@ -1,0 +1,66 @@
+// Compressible Mooney-Rivlin on the isochoric invariants (docs/formulation.md, "Mooney-Rivlin").
+//   C = F^T F,  I1 = tr C,  I2 = (I1^2 - C:C)/2,  I1b = J^-2/3 I1,  I2b = J^-4/3 I2,
+//   psi = c1 (I1b - 3) + c2 (I2b - 3) + kappa/2 (ln J)^2.
+// Small-strain limit: shear modulus 2 (c1 + c2), bulk modulus kappa. The (ln J)^2 volumetric
+// term (rather than (J - 1)^2) makes psi infinite as J -> 0, a barrier against inversion.
+// With g = J^-2/3, h = J^-4/3 and dJ/dF = J F^-T:
+//   dI1b/dF = g (2 F - 2/3 I1 F^-T)
+//   dI2b/dF = h Q,  Q = 2 (I1 F - F C) - 4/3 I2 F^-T
+//   P = c1 dI1b/dF + c2 dI2b/dF + kappa ln J F^-T.
+// Differentiating once more (D_ijkl = F^-T_il F^-T_kj, (X (x) Y)_ijkl = X_ij Y_kl):
+//   A1 = c1 g [2 Id - 4/3 (F (x) F^-T + F^-T (x) F) + 4/9 I1 F^-T (x) F^-T + 2/3 I1 D]
+//   dQ = 4 F (x) F + 2 I1 Id - 2 d(F C) - 8/3 F^-T (x) (I1 F - F C) + 4/3 I2 D,
+//        d(F C)_ijkl = d_ik C_lj + F_il F_kj + (F F^T)_ik d_lj
+//   A2 = c2 h [dQ - 4/3 Q (x) F^-T]
+//   A3 = kappa [F^-T (x) F^-T - ln J D].
+#include <cmath>
+
+#include "materials/models.hpp"
+#include "materials/tensor.hpp"
+
+namespace hs {
+
+StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& F, bool with_tangent) {
+  const double J = F.determinant();
+  if (!(J > 0)) return inverted_result();
+  const Mat3 I = Mat3::Identity();
+  const double lnJ = std::log(J);
+  const double g = std::pow(J, -2.0 / 3.0);
+  const double h = g * g;
+  const Mat3 FinvT = F.inverse().transpose();
+  const Mat3 C = F.transpose() * F;
+  const Mat3 FC = F * C;
+  const double I1 = C.trace();
+  const double I2 = 0.5 * (I1 * I1 - C.squaredNorm());
+  const Mat3 Q = 2.0 * (I1 * F - FC) - 4.0 / 3.0 * I2 * FinvT;
+
+  StressResult s;
+  s.P = c1 * g * (2.0 * F - 2.0 / 3.0 * I1 * FinvT) + c2 * h * Q + kappa * lnJ * FinvT;
+  s.psi = c1 * (g * I1 - 3.0) + c2 * (h * I2 - 3.0) + 0.5 * kappa * lnJ * lnJ;
+  s.A.setZero();
+  if (!with_tangent) return s;
+
+  // First invariant part.
+  const double a1 = c1 * g;
+  tensor::add_ik_lj(s.A, 2.0 * a1, I, I);
+  tensor::add_outer(s.A, -4.0 / 3.0 * a1, F, FinvT);
+  tensor::add_outer(s.A, -4.0 / 3.0 * a1, FinvT, F);
+  tensor::add_outer(s.A, 4.0 / 9.0 * a1 * I1, FinvT, FinvT);
+  tensor::add_il_kj(s.A, 2.0 / 3.0 * a1 * I1, FinvT, FinvT);
+  // Second invariant part.
+  const double a2 = c2 * h;
+  tensor::add_outer(s.A, 4.0 * a2, F, F);
+  tensor::add_ik_lj(s.A, 2.0 * a2 * I1, I, I);
+  tensor::add_ik_lj(s.A, -2.0 * a2, I, C);
+  tensor::add_il_kj(s.A, -2.0 * a2, F, F);
+  tensor::add_ik_lj(s.A, -2.0 * a2, F * F.transpose(), I);
+  tensor::add_outer(s.A, -8.0 / 3.0 * a2, FinvT, I1 * F - FC);
+  tensor::add_il_kj(s.A, 4.0 / 3.0 * a2 * I2, FinvT, FinvT);
+  tensor::add_outer(s.A, -4.0 / 3.0 * a2, Q, FinvT);
+  // Volumetric part.
+  tensor::add_outer(s.A, kappa, FinvT, FinvT);
+  tensor::add_il_kj(s.A, -kappa * lnJ, FinvT, FinvT);
+  return s;
+}
+
+}  // namespace hs

@@ -1,0 +1,185 @@
+// load_mesh: file checks, the gmsh session, meshing of .geo sources with deck parameters.
+// The model -> Mesh step is in gmsh_model.cpp, the broadcast in mesh_broadcast.cpp.
+#include "mesh/gmsh_io.hpp"
+
+#include <gmsh.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "mesh/gmsh_model.hpp"
+
+namespace hs {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One gmsh session per load, quiet (errors reach the user through InputError), single
+// threaded (reproducible meshes), finalised on every way out.
+class GmshSession {
+ public:
+  GmshSession() {
+    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 1);  // errors only
+    gmsh::option::setNumber("General.NumThreads", 1);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+};
+
+std::ifstream open_input(const std::string& file) {
+  std::ifstream in(file);
+  if (!in || fs::is_directory(file))
+    throw InputError(file + ": cannot open the mesh file (missing or unreadable)");
+  return in;
+}
+
+std::string read_text(const std::string& file) {
+  std::ifstream in = open_input(file);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+bool is_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+// Whether `name` occurs in `text` as a whole word (a guard against misspelt parameters).
+bool mentions(const std::string& text, const std::string& name) {
+  auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (size_t at = text.find(name); at != std::string::npos; at = text.find(name, at + 1)) {
+    const bool left = at == 0 || !word_char(text[at - 1]);
+    const size_t end = at + name.size();
+    if (left && (end == text.size() || !word_char(text[end]))) return true;
+  }
+  return false;
+}
+
+// A temporary .geo that defines the deck's parameters, includes the source, and checks that
+// the source did not overwrite them. Parameters must be declared in the source with
+// DefineConstant[name = default], which keeps a value defined before it; a plain
+// assignment would silently replace it, hence the check.
+class ParameterWrapper {
+ public:
+  ParameterWrapper(const std::string& file, const std::map<std::string, double>& parameters) {
+    const std::string source = read_text(file);
+    const std::string absolute = fs::absolute(file).lexically_normal().string();
+    if (absolute.find('"') != std::string::npos)
+      throw InputError(file + ": a .geo path with a double quote cannot be included");
+    std::ostringstream geo;
+    geo.precision(17);
+    for (const auto& [name, value] : parameters) {
+      const std::string where = file + ": mesh parameter '" + name + "'";
+      if (!is_identifier(name)) throw InputError(where + " is not a .geo identifier");
+      if (!std::isfinite(value)) throw InputError(where + " is not a finite number");
+      if (!mentions(source, name)) throw InputError(where + " does not occur in the file");
+      geo << name << " = " << value << ";\n";
+    }
+    geo << "Include \"" << absolute << "\";\n";
+    for (const auto& [name, value] : parameters)
+      geo << "If (" << name << " != " << value << ")\n  Error(\"mesh parameter '" << name
+          << "' is overwritten by the .geo file: declare it with DefineConstant\");\nEndIf\n";
+
+    std::string pattern = (fs::temp_directory_path() / "hydrosoft_mesh_XXXXXX.geo").string();
+    const int fd = mkstemps(pattern.data(), 4);
+    if (fd < 0) throw InputError(file + ": cannot create a temporary .geo for its parameters");
+    close(fd);
+    path_ = pattern;
+    std::ofstream out(path_);
+    if (!(out << geo.str() << std::flush)) {
+      std::remove(path_.c_str());
+      throw InputError(file + ": cannot write a temporary .geo for its parameters");
+    }
+  }
+  ~ParameterWrapper() { std::remove(path_.c_str()); }
+  ParameterWrapper(const ParameterWrapper&) = delete;
+  ParameterWrapper& operator=(const ParameterWrapper&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// The order of the tetrahedra of the current model: 1 or 2, 0 when it has none, -1 when
+// it mixes Tet4 and Tet10 (then setOrder makes them alike).
+int tet_order() {
+  std::vector<int> types;
+  gmsh::model::mesh::getElementTypes(types, 3);
+  const bool p1 = std::count(types.begin(), types.end(), 4) > 0;
+  const bool p2 = std::count(types.begin(), types.end(), 11) > 0;
+  return p1 && p2 ? -1 : p2 ? 2 : p1 ? 1 : 0;
+}
+
+void refine_and_set_order(const MeshConfig& cfg, int current_order) {
+  if (cfg.refine > 0 && current_order != 1) gmsh::model::mesh::setOrder(1);
+  for (int i = 0; i < cfg.refine; ++i) gmsh::model::mesh::refine();
+  if (cfg.refine > 0) current_order = 1;
+  if (current_order != cfg.order) gmsh::model::mesh::setOrder(cfg.order);
+}
+
+Mesh load_with_gmsh(const MeshConfig& cfg, bool is_geo) {
+  std::unique_ptr<ParameterWrapper> wrapper;
+  if (is_geo && !cfg.parameters.empty())
+    wrapper = std::make_unique<ParameterWrapper>(cfg.file, cfg.parameters);
+  GmshSession session;
+  try {
+    gmsh::open(wrapper ? wrapper->path() : cfg.file);
+    if (is_geo) gmsh::model::mesh::generate(3);
+    check_tetrahedra_only(cfg.file);
+    const int order = tet_order();
+    if (order == 0) throw InputError(cfg.file + ": the mesh contains no tetrahedra");
+    refine_and_set_order(cfg, is_geo ? 1 : order);
+    return mesh_from_gmsh_model(cfg.file, cfg.order);
+  } catch (const std::exception&) {  // ours (InputError) and the standard library's
+    throw;
+  } catch (...) {  // gmsh's own errors (thrown with General.AbortOnError = 2)
+    std::string error;
+    gmsh::logger::getLastError(error);
+    throw InputError(cfg.file + ": gmsh: " + (error.empty() ? "unknown error" : error));
+  }
+}
+
+}  // namespace
+
+Mesh load_mesh(const MeshConfig& cfg) {
+  const std::string& file = cfg.file;
+  if (cfg.order != 1 && cfg.order != 2)
+    throw InputError(file + ": mesh.order must be 1 or 2, not " + std::to_string(cfg.order));
+  if (cfg.refine < 0)
+    throw InputError(file + ": mesh.refine must be >= 0, not " + std::to_string(cfg.refine));
+  std::string extension = fs::path(file).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool is_geo = extension == ".geo";
+  if (!is_geo && extension != ".msh")
+    throw InputError(file + ": unknown mesh file type '" + extension + "' (.msh or .geo)");
+  if (!is_geo && !cfg.parameters.empty())
+    throw InputError(file + ": mesh.parameters apply to .geo files only");
+  open_input(file);  // gmsh reports a missing file only as a warning
+  return load_with_gmsh(cfg, is_geo);
+}
+
+void require_group(const Mesh& mesh, const std::string& name, const std::string& where) {
+  const auto it = mesh.node_groups.find(name);
+  if (it != mesh.node_groups.end() && !it->second.empty()) return;
+  std::string known;
+  for (const auto& [group, nodes] : mesh.node_groups) known += (known.empty() ? "" : ", ") + group;
+  throw InputError(where + ": the mesh has no group '" + name +
+                   "' (its groups: " + (known.empty() ? "none" : known) + ")");
+}
+
+}  // namespace hs

@@ -1,0 +1,106 @@
+#include "mesh/mesh_faces.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/error.hpp"
+
+namespace hs {
+namespace {
+
+// Tet10 edge node of each pair of vertices (gmsh order, see mesh.hpp); -1 on the diagonal.
+constexpr int kEdgeNode[4][4] = {{-1, 4, 6, 7}, {4, -1, 5, 9}, {6, 5, -1, 8}, {7, 9, 8, -1}};
+
+// For a positively oriented tetrahedron, the face opposite vertex v listed so that its
+// right-hand normal points away from v: e.g. face (0, 2, 1) has normal
+// (x2 - x0) x (x1 - x0), whose dot product with x3 - x0 is -det < 0.
+constexpr int kOutwardFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+// Swapping vertices 1 and 2 of a tetrahedron: new node i is old node kSwap12[i]. The edge
+// nodes follow their edges, e.g. new edge (0, 1) is old edge (0, 2), node 6.
+constexpr int kSwap12[10] = {0, 2, 1, 3, 6, 5, 4, 7, 9, 8};
+
+Eigen::Vector3d node_x(const Mesh& mesh, int64_t n) {
+  return Eigen::Vector3d(mesh.x[3 * n], mesh.x[3 * n + 1], mesh.x[3 * n + 2]);
+}
+
+}  // namespace
+
+void orient_tets_positively(Mesh& mesh, const std::string& file) {
+  const int npe = mesh.nodes_per_tet();
+  int64_t tet_copy[10];
+  for (int64_t t = 0; t < mesh.num_tets(); ++t) {
+    int64_t* tet = &mesh.tets[t * npe];
+    const Eigen::Vector3d x0 = node_x(mesh, tet[0]);
+    Eigen::Matrix3d edges;
+    for (int i = 0; i < 3; ++i) edges.col(i) = node_x(mesh, tet[i + 1]) - x0;
+    const double det = edges.determinant();
+    // Degenerate relative to the cube of the longest vertex-to-vertex-0 edge.
+    const double scale = edges.colwise().norm().maxCoeff();
+    if (!(std::abs(det) > 1e-12 * scale * scale * scale)) {
+      std::ostringstream msg;
+      msg << file << ": tetrahedron " << t << " (first vertex at " << x0.transpose()
+          << ") is degenerate (zero volume)";
+      throw InputError(msg.str());
+    }
+    if (det > 0) continue;
+    std::copy(tet, tet + npe, tet_copy);
+    for (int i = 0; i < npe; ++i) tet[i] = tet_copy[kSwap12[i]];
+  }
+}
+
+size_t FaceIndex::KeyHash::operator()(const std::array<int64_t, 3>& k) const {
+  // Boost-style hash combination of the three sorted vertex ids.
+  size_t h = 0;
+  for (int64_t v : k) h ^= std::hash<int64_t>()(v) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  return h;
+}
+
+FaceIndex::FaceIndex(const Mesh& mesh) {
+  const int npe = mesh.nodes_per_tet();
+  faces_.reserve(static_cast<size_t>(2.2 * static_cast<double>(mesh.num_tets())) + 16);
+  for (int64_t t = 0; t < mesh.num_tets(); ++t) {
+    const int64_t* tet = &mesh.tets[t * npe];
+    for (int v = 0; v < 4; ++v) {
+      const int* f = kOutwardFace[v];
+      std::array<int64_t, 3> key{tet[f[0]], tet[f[1]], tet[f[2]]};
+      std::sort(key.begin(), key.end());
+      faces_.emplace(key, Hit{t, v});  // keeps the first (lowest) tetrahedron
+    }
+  }
+}
+
+FaceIndex::Hit FaceIndex::find(int64_t a, int64_t b, int64_t c) const {
+  std::array<int64_t, 3> key{a, b, c};
+  std::sort(key.begin(), key.end());
+  const auto it = faces_.find(key);
+  return it == faces_.end() ? Hit{} : it->second;
+}
+
+void attach_surface(Mesh& mesh, const FaceIndex& index, const std::string& name,
+                    const std::vector<int64_t>& triangles, const std::string& file) {
+  const int npe = mesh.nodes_per_tet();
+  auto& faces = mesh.surfaces[name];
+  auto& face_tets = mesh.surface_tets[name];
+  faces.clear();
+  face_tets.clear();
+  for (size_t i = 0; i + 2 < triangles.size(); i += 3) {
+    const auto hit = index.find(triangles[i], triangles[i + 1], triangles[i + 2]);
+    if (hit.tet < 0) {
+      std::ostringstream msg;
+      msg << file << ": surface group '" << name << "': the triangle with a vertex at "
+          << node_x(mesh, triangles[i]).transpose() << " bounds no tetrahedron";
+      throw InputError(msg.str());
+    }
+    const int64_t* tet = &mesh.tets[hit.tet * npe];
+    const int* f = kOutwardFace[hit.opposite];
+    for (int k = 0; k < 3; ++k) faces.push_back(tet[f[k]]);
+    if (mesh.order == 2)
+      for (int k = 0; k < 3; ++k) faces.push_back(tet[kEdgeNode[f[k]][f[(k + 1) % 3]]]);
+    face_tets.push_back(hit.tet);
+  }
+}
+
+}  // namespace hs

@@ -1,0 +1,256 @@
+// parse_deck on bad decks: every class of error is an InputError whose message reads
+// "FILE: KEY: reason". One test per class; each case checks the file, the key and the reason.
+#include <gtest/gtest.h>
+
+#include "common/error.hpp"
+#include "deck/deck.hpp"
+#include "temp_folder.hpp"
+
+namespace hs {
+namespace {
+
+using testing::TempFolder;
+
+const std::string kMesh = "mesh: {file: body.geo}\n";
+const std::string kMaterials =
+    "materials:\n  - {group: body, model: linear_elastic, E: 1.0e6, nu: 0.3}\n";
+
+struct Case {
+  std::string deck;    // the whole deck
+  std::string key;     // expected "FILE: KEY: "
+  std::string reason;  // expected in the message after the key
+};
+
+class DeckErrors : public ::testing::Test {
+ protected:
+  void SetUp() override { tmp.write("body.geo", ""); }
+
+  // Writes each deck, parses it, and checks the message of the InputError it must raise.
+  void expect_errors(const std::vector<Case>& cases) {
+    for (size_t i = 0; i < cases.size(); ++i) {
+      const std::string path = tmp.write("case" + std::to_string(i) + ".yaml", cases[i].deck);
+      SCOPED_TRACE(cases[i].deck);
+      try {
+        parse_deck(path);
+        ADD_FAILURE() << "no InputError for " << cases[i].key;
+      } catch (const InputError& e) {
+        const std::string message = e.what();
+        const std::string head = path + ": " + cases[i].key + ": ";
+        EXPECT_EQ(message.rfind(head, 0), 0u) << message;
+        EXPECT_NE(message.find(cases[i].reason, head.size()), std::string::npos) << message;
+      }
+    }
+  }
+
+  TempFolder tmp;
+};
+
+TEST_F(DeckErrors, UnknownKeysSuggestTheNearest) {
+  expect_errors({
+      {kMesh + kMaterials + "mesj: {}\n", "mesj", "unknown key (did you mean 'mesh'?"},
+      {"mesh: {file: body.geo, ordr: 2}\n" + kMaterials, "mesh.ordr", "did you mean 'order'?"},
+      {kMesh + "materials:\n  - {group: b, model: linear_elastic, E: 1, nu: 0.3}\n"
+               "  - {group: c, model: linear_elastic, E: 1, Nu: 0.3}\n",
+       "materials[1].Nu", "unknown key (did you mean 'nu'? valid keys: group, model, E, nu"},
+      {kMesh + kMaterials + "time: {type: static, stpes: 3}\n", "time.stpes",
+       "did you mean 'steps'?"},
+      {kMesh + kMaterials + "loads: {gravity: [0, 0, -1], gravity: [0, 0, 1]}\n", "loads.gravity",
+       "duplicate key"},
+  });
+}
+
+TEST_F(DeckErrors, WrongTypes) {
+  expect_errors({
+      {kMesh + "materials:\n  - {group: body, model: linear_elastic, E: stiff, nu: 0.3}\n",
+       "materials[0].E", "expected a number, got 'stiff'"},
+      {kMesh + "materials:\n  - {group: body, model: linear_elastic, E: \"1e6\", nu: 0.3}\n",
+       "materials[0].E", "expected a number, got the string \"1e6\""},
+      {"mesh: {file: body.geo, order: 1.5}\n" + kMaterials, "mesh.order",
+       "expected an integer, got '1.5'"},
+      {kMesh + kMaterials + "boundary:\n  - {group: base, components: x}\n",
+       "boundary[0].components", "expected a list, got 'x'"},
+      {kMesh + kMaterials + "loads: {gravity: [0, -9.81]}\n", "loads.gravity",
+       "expected a list of 3 numbers, got 2"},
+      {kMesh + kMaterials + "boundary:\n  - {group: base, value: [0, 0, 0, 1]}\n",
+       "boundary[0].value", "expected a list of 3 numbers, got 4"},
+      {kMesh + kMaterials + "boundary:\n  - {group: base, scaled: maybe}\n", "boundary[0].scaled",
+       "expected true or false, got 'maybe'"},
+      {kMesh + "materials: {group: body}\n", "materials", "expected a list, got a map"},
+      {kMesh + kMaterials + "time: [static]\n", "time", "expected a map, got a list"},
+      {kMesh + kMaterials + "solver: {petsc_options: {ksp_type: [cg]}}\n",
+       "solver.petsc_options.ksp_type", "expected a single value"},
+  });
+}
+
+TEST_F(DeckErrors, MissingRequiredKeys) {
+  expect_errors({
+      {kMaterials, "mesh", "required key missing"},
+      {"mesh: {order: 2}\n" + kMaterials, "mesh.file", "required key missing (line 1)"},
+      {kMesh, "materials", "required key missing"},
+      {kMesh + "materials: []\n", "materials", "at least one material is required"},
+      {kMesh + "materials:\n  - {model: linear_elastic, E: 1, nu: 0.3}\n", "materials[0].group",
+       "required key missing"},
+      {kMesh + "materials:\n  - {group: body, E: 1, nu: 0.3}\n", "materials[0].model",
+       "required key missing"},
+      {kMesh + "materials:\n  - {group: body, model: linear_elastic, E: 1}\n", "materials[0].nu",
+       "required key missing"},
+      {kMesh + "materials:\n  - {group: body, model: linear_elastic}\n", "materials[0]",
+       "elastic constants missing: give E and nu, or mu and lambda"},
+      {kMesh + "materials:\n  - {group: body, model: linear_elastic, E: 1, nu: 0.3, mu: 1}\n",
+       "materials[0]", "give either E and nu or mu and lambda, not both"},
+      {kMesh + kMaterials + "loads: {pressure: [{group: inner}]}\n", "loads.pressure[0].value",
+       "required key missing"},
+      {kMesh + kMaterials + "time: {type: dynamic, dt: 0.1}\n", "time.end_time",
+       "required key missing"},
+      {kMesh + kMaterials + "exact: {type: lame_sphere, parameters: {a: 1, b: 2}}\n",
+       "exact.parameters.p", "required by exact solution 'lame_sphere' (takes a, b, p)"},
+  });
+}
+
+TEST_F(DeckErrors, NonPhysicalValues) {
+  auto material = [](const std::string& fields) {
+    return kMesh + "materials:\n  - {group: body, model: neo_hookean, " + fields + "}\n";
+  };
+  expect_errors({
+      {material("E: 0, nu: 0.3"), "materials[0].E", "must be > 0, got 0"},
+      {material("E: -5, nu: 0.3"), "materials[0].E", "must be > 0, got -5"},
+      {material("E: 1, nu: 0.5"), "materials[0].nu", "must lie in (-1, 0.5), got 0.5"},
+      {material("E: 1, nu: -1"), "materials[0].nu", "must lie in (-1, 0.5), got -1"},
+      {material("mu: 0, lambda: 1"), "materials[0].mu", "must be > 0, got 0"},
+      {material("mu: 3, lambda: -2"), "materials[0].lambda",
+       "gives bulk modulus lambda + 2 mu / 3 = 0, must be > 0"},
+      {material("E: 1, nu: 0.3, density: -1"), "materials[0].density", "must be >= 0, got -1"},
+      {kMesh +
+           "materials:\n  - {group: body, model: mooney_rivlin, E: 1, nu: 0.3, c1: 1, c2: -1}\n",
+       "materials[0].c1", "c1 + c2 must be > 0"},
+      {"mesh: {file: body.geo, order: 3}\n" + kMaterials, "mesh.order", "must be 1 or 2"},
+      {"mesh: {file: body.geo, refine: -1}\n" + kMaterials, "mesh.refine", "must be >= 0"},
+      {kMesh + kMaterials + "time: {steps: 0}\n", "time.steps", "must be >= 1, got 0"},
+      {kMesh + kMaterials + "time: {type: dynamic, dt: 0, end_time: 1}\n", "time.dt",
+       "must be > 0, got 0"},
+      {kMesh + kMaterials + "time: {type: dynamic, dt: 0.1, end_time: -1}\n", "time.end_time",
+       "must be > 0, got -1"},
+      {kMesh + kMaterials + "time: {type: quasi_static, schedule: [0.5, .nan]}\n",
+       "time.schedule[1]", "must be a finite number"},
+      {kMesh + kMaterials + "time: {type: quasi_static, schedule: [0.5, .inf]}\n",
+       "time.schedule[1]", "must be a finite number"},
+      {kMesh + kMaterials + "time: {type: dynamic, dt: 0.1, end_time: 1, newmark: {gamma: 0.4}}\n",
+       "time.newmark.gamma", "must be >= 0.5"},
+      {kMesh + kMaterials + "output: {every: 0}\n", "output.every", "must be >= 1"},
+  });
+}
+
+TEST_F(DeckErrors, UnknownNamesListTheValidOnes) {
+  expect_errors({
+      {kMesh + "materials:\n  - {group: body, model: hookean, E: 1, nu: 0.3}\n",
+       "materials[0].model",
+       "unknown name 'hookean' (valid: linear_elastic, corotational, saint_venant_kirchhoff, "
+       "neo_hookean, mooney_rivlin)"},
+      {kMesh + kMaterials + "time: {type: transient}\n", "time.type",
+       "unknown name 'transient' (valid: static, quasi_static, dynamic)"},
+      {kMesh + kMaterials + "time: {type: dynamic, dt: 1, end_time: 2, integrator: euler}\n",
+       "time.integrator", "(valid: newmark, backward_euler)"},
+      {kMesh + kMaterials + "solver: {preset: ilu}\n", "solver.preset",
+       "unknown name 'ilu' (valid: mumps, gamg)"},
+      {kMesh + kMaterials + "exact: {type: sphere}\n", "exact.type",
+       "unknown name 'sphere' (valid: "},
+      {kMesh + kMaterials + "boundary: [{group: base, components: [x, w]}]\n",
+       "boundary[0].components[1]", "unknown name 'w' (valid: x, y, z)"},
+  });
+}
+
+TEST_F(DeckErrors, InconsistentKeys) {
+  expect_errors({
+      {kMesh + "materials:\n  - {group: body, model: linear_elastic, E: 1, nu: 0.3}\n"
+               "  - {group: body, model: neo_hookean, E: 2, nu: 0.3}\n",
+       "materials[1].group", "duplicate material group 'body' (also in materials[0])"},
+      {kMesh + "materials:\n  - {group: body, model: neo_hookean, E: 1, nu: 0.3, c1: 2}\n",
+       "materials[0].c1", "only used by model mooney_rivlin"},
+      {kMesh + kMaterials + "time: {type: static, dt: 0.1}\n", "time.dt",
+       "only used when time.type is dynamic"},
+      {kMesh + kMaterials + "time: {type: dynamic, dt: 0.1, end_time: 1, steps: 3}\n", "time.steps",
+       "not used when time.type is dynamic"},
+      {kMesh + kMaterials + "time: {steps: 3, schedule: [0.5, 1]}\n", "time.steps",
+       "is 3 but time.schedule has 2 entries"},
+      {kMesh + kMaterials + "boundary: [{group: base, exact: true}]\n", "boundary[0].exact",
+       "needs an exact solution, but exact.type is none"},
+      {kMesh + kMaterials + "boundary: [{group: base, components: [x, x]}]\n",
+       "boundary[0].components[1]", "component 'x' named twice"},
+      {"mesh: {file: body.geo}\n" + kMaterials + "exact: {type: none, parameters: {a: 1}}\n",
+       "exact.parameters.a", "unknown to exact solution 'none' (takes no parameters)"},
+  });
+}
+
+TEST_F(DeckErrors, PetscOptionNames) {
+  expect_errors({
+      {kMesh + kMaterials + "solver: {petsc_options: {-ksp_type: cg}}\n",
+       "solver.petsc_options.-ksp_type", "write PETSc options without the leading dash"},
+      {kMesh + kMaterials + "solver: {petsc_options: {ksp type: cg}}\n",
+       "solver.petsc_options.ksp type", "not a PETSc option name"},
+  });
+}
+
+TEST_F(DeckErrors, MeshFiles) {
+  tmp.write("mesh.stl", "");
+  tmp.write("body.msh", "");
+  expect_errors({
+      {"mesh: {file: nowhere.msh}\n" + kMaterials, "mesh.file",
+       "mesh file '" + (tmp.path() / "nowhere.msh").string() + "' not found"},
+      {"mesh: {file: mesh.stl}\n" + kMaterials, "mesh.file", "expected a .msh or .geo file"},
+      {"mesh: {file: body.msh, parameters: {h: 1}}\n" + kMaterials, "mesh.parameters",
+       "only used with a .geo mesh file"},
+  });
+}
+
+TEST_F(DeckErrors, OutputFolderThatIsNotOurs) {
+  tmp.write("results/notes.txt", "not hydrosoft's");
+  const std::string folder = (tmp.path() / "results").string();
+  expect_errors({
+      {kMesh + kMaterials + "output: {folder: " + folder + "}\n", "output.folder",
+       "'" + folder + "' exists and was not written by hydrosoft"},
+      {kMesh + kMaterials + "output: {folder: .}\n", "output.folder", "must name a folder"},
+  });
+}
+
+std::string error_of(const std::string& path) {
+  try {
+    parse_deck(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST_F(DeckErrors, DeckFileMissing) {
+  const std::string path = (tmp.path() / "absent.yaml").string();
+  EXPECT_EQ(error_of(path), path + ": deck file not found");
+}
+
+TEST_F(DeckErrors, InvalidYamlGivesTheLine) {
+  // The flow list opened on line 3 is never closed: yaml-cpp stops at line 4.
+  const std::string path = tmp.write("broken.yaml", kMesh + "materials:\n  - [1, 2\ntime: {}\n");
+  const std::string message = error_of(path);
+  EXPECT_EQ(message.rfind(path + ": line 4, column ", 0), 0u) << message;
+  EXPECT_NE(message.find("invalid YAML: end of sequence flow not found"), std::string::npos)
+      << message;
+}
+
+TEST_F(DeckErrors, NotAMap) {
+  const std::string path = tmp.write("list.yaml", "- mesh\n- materials\n");
+  EXPECT_EQ(error_of(path).rfind(path + ": (top level): expected a map of sections", 0), 0u);
+  const std::string empty = tmp.write("empty.yaml", "# nothing\n");
+  EXPECT_EQ(error_of(empty), empty + ": mesh: required key missing (the deck is empty)");
+}
+
+TEST_F(DeckErrors, ErrorsGiveTheLineOfTheKey) {
+  const std::string path =
+      tmp.write("lines.yaml", kMesh +
+                                  "materials:\n  - group: body\n"
+                                  "    model: neo_hookean\n    E: 1\n    nu: 0.7\n");
+  EXPECT_EQ(error_of(path), path +
+                                ": materials[0].nu: must lie in (-1, 0.5), got 0.7 (0.5 is "
+                                "incompressible, beyond a displacement formulation) (line 6)");
+}
+
+}  // namespace
+}  // namespace hs

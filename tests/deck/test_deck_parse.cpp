@@ -1,0 +1,316 @@
+// parse_deck on valid decks: every key read, defaults, E/nu <-> mu/lambda, the round trip
+// parse -> format_config -> parse, and command-line overrides.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "common/error.hpp"
+#include "deck/deck.hpp"
+#include "temp_folder.hpp"
+
+namespace hs {
+namespace {
+
+using testing::TempFolder;
+
+// Every key of the format, with values that differ from the defaults.
+const char* kFullDeck = R"(# a deck that uses every key
+mesh:
+  file: ../meshes/body.geo
+  order: 2
+  parameters: {h: 0.05, a: 1.5}
+  refine: 1
+materials:
+  - {group: body, model: neo_hookean, E: 2.98e5, nu: 0.49, density: 1100}
+  - {group: insert, model: linear_elastic, mu: 1.0e5, lambda: 2.0e5}
+  - {group: skin, model: mooney_rivlin, E: 3.0e4, nu: 0.45, c1: 4000, c2: 1000, density: 1000}
+boundary:
+  - {group: clamp}
+  - {group: slide, components: [z, x], value: [0.5, 0, -0.25], scaled: false}
+  - {group: inner, exact: true}
+loads:
+  gravity: [0, -9.81, 0.5]
+  pressure:
+    - {group: inner, value: 2.5e3}
+    - {group: outer, value: -10}
+time:
+  type: quasi_static
+  schedule: [0.25, 0.5, 1.0, 0.75]
+  max_cutbacks: 3
+solver:
+  preset: gamg
+  petsc_options: {snes_rtol: 1e-10, ksp_type: cg, snes_monitor: , pc_gamg_threshold: 0.02}
+output: {folder: results/run1, every: 2}
+exact:
+  type: lame_sphere
+  parameters: {a: 1, b: 2, p: 2.5e3}
+)";
+
+const char* kDynamicDeck = R"(mesh: {file: body.msh}
+materials:
+  - {group: body, model: corotational, E: 1.0e6, nu: 0.3, density: 1000}
+time: {type: dynamic, dt: 0.01, end_time: 0.5, newmark: {beta: 0.3025, gamma: 0.6}}
+)";
+
+void expect_same(const Config& a, const Config& b) {
+  EXPECT_EQ(a.mesh.file, b.mesh.file);
+  EXPECT_EQ(a.mesh.order, b.mesh.order);
+  EXPECT_EQ(a.mesh.parameters, b.mesh.parameters);
+  EXPECT_EQ(a.mesh.refine, b.mesh.refine);
+  ASSERT_EQ(a.materials.size(), b.materials.size());
+  for (size_t i = 0; i < a.materials.size(); ++i) {
+    const auto &m = a.materials[i], &n = b.materials[i];
+    EXPECT_EQ(m.group, n.group);
+    EXPECT_EQ(m.model, n.model);
+    EXPECT_EQ(m.E, n.E);  // bitwise: the printed numbers are exact
+    EXPECT_EQ(m.nu, n.nu);
+    EXPECT_EQ(m.mu, n.mu);
+    EXPECT_EQ(m.lambda, n.lambda);
+    EXPECT_EQ(m.c1, n.c1);
+    EXPECT_EQ(m.c2, n.c2);
+    EXPECT_EQ(m.density, n.density);
+  }
+  ASSERT_EQ(a.dirichlet.size(), b.dirichlet.size());
+  for (size_t i = 0; i < a.dirichlet.size(); ++i) {
+    EXPECT_EQ(a.dirichlet[i].group, b.dirichlet[i].group);
+    EXPECT_EQ(a.dirichlet[i].components, b.dirichlet[i].components);
+    EXPECT_EQ(a.dirichlet[i].value, b.dirichlet[i].value);
+    EXPECT_EQ(a.dirichlet[i].scaled, b.dirichlet[i].scaled);
+    EXPECT_EQ(a.dirichlet[i].exact, b.dirichlet[i].exact);
+  }
+  EXPECT_EQ(a.gravity, b.gravity);
+  ASSERT_EQ(a.pressures.size(), b.pressures.size());
+  for (size_t i = 0; i < a.pressures.size(); ++i) {
+    EXPECT_EQ(a.pressures[i].group, b.pressures[i].group);
+    EXPECT_EQ(a.pressures[i].value, b.pressures[i].value);
+  }
+  EXPECT_EQ(a.time.type, b.time.type);
+  EXPECT_EQ(a.time.steps, b.time.steps);
+  EXPECT_EQ(a.time.schedule, b.time.schedule);
+  EXPECT_EQ(a.time.dt, b.time.dt);
+  EXPECT_EQ(a.time.end_time, b.time.end_time);
+  EXPECT_EQ(a.time.integrator, b.time.integrator);
+  EXPECT_EQ(a.time.newmark_beta, b.time.newmark_beta);
+  EXPECT_EQ(a.time.newmark_gamma, b.time.newmark_gamma);
+  EXPECT_EQ(a.time.max_cutbacks, b.time.max_cutbacks);
+  EXPECT_EQ(a.solver.preset, b.solver.preset);
+  EXPECT_EQ(a.solver.petsc_options, b.solver.petsc_options);
+  EXPECT_EQ(a.output.folder, b.output.folder);
+  EXPECT_EQ(a.output.every, b.output.every);
+  EXPECT_EQ(a.exact.type, b.exact.type);
+  EXPECT_EQ(a.exact.parameters, b.exact.parameters);
+}
+
+class DeckParse : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    tmp.write("meshes/body.geo", "// stands in for a gmsh source\n");
+    tmp.write("decks/body.msh", "");
+  }
+  TempFolder tmp;
+};
+
+TEST_F(DeckParse, ReadsEveryKey) {
+  const std::string path = tmp.write("decks/full.yaml", kFullDeck);
+  const Config c = parse_deck(path);
+  EXPECT_EQ(c.deck_path, path);
+  EXPECT_EQ(c.deck_name, "full");
+  // Resolved from the deck's folder, not from the working directory.
+  EXPECT_EQ(c.mesh.file, (tmp.path() / "meshes/body.geo").string());
+  EXPECT_EQ(c.mesh.order, 2);
+  EXPECT_EQ(c.mesh.parameters, (std::map<std::string, double>{{"h", 0.05}, {"a", 1.5}}));
+  EXPECT_EQ(c.mesh.refine, 1);
+
+  ASSERT_EQ(c.materials.size(), 3u);
+  EXPECT_EQ(c.materials[0].model, "neo_hookean");
+  EXPECT_EQ(c.materials[0].density, 1100);
+  EXPECT_EQ(c.materials[1].density, 0);  // default
+  EXPECT_EQ(c.materials[2].c1, 4000);
+  EXPECT_EQ(c.materials[2].c2, 1000);
+
+  ASSERT_EQ(c.dirichlet.size(), 3u);
+  EXPECT_EQ(c.dirichlet[0].components, (std::array<bool, 3>{true, true, true}));
+  EXPECT_EQ(c.dirichlet[0].value, (std::array<double, 3>{0, 0, 0}));
+  EXPECT_TRUE(c.dirichlet[0].scaled);
+  EXPECT_EQ(c.dirichlet[1].components, (std::array<bool, 3>{true, false, true}));
+  EXPECT_EQ(c.dirichlet[1].value, (std::array<double, 3>{0.5, 0, -0.25}));
+  EXPECT_FALSE(c.dirichlet[1].scaled);
+  EXPECT_TRUE(c.dirichlet[2].exact);
+
+  EXPECT_EQ(c.gravity, (std::array<double, 3>{0, -9.81, 0.5}));
+  ASSERT_EQ(c.pressures.size(), 2u);
+  EXPECT_EQ(c.pressures[0].group, "inner");
+  EXPECT_EQ(c.pressures[0].value, 2500);
+  EXPECT_EQ(c.pressures[1].value, -10);
+
+  EXPECT_EQ(c.time.type, "quasi_static");
+  EXPECT_EQ(c.time.schedule, (std::vector<double>{0.25, 0.5, 1.0, 0.75}));
+  EXPECT_EQ(c.time.steps, 4);  // from the schedule
+  EXPECT_EQ(c.time.max_cutbacks, 3);
+
+  EXPECT_EQ(c.solver.preset, "gamg");
+  const std::map<std::string, std::string> options = {{"snes_rtol", "1e-10"},
+                                                      {"ksp_type", "cg"},
+                                                      {"snes_monitor", ""},
+                                                      {"pc_gamg_threshold", "0.02"}};
+  EXPECT_EQ(c.solver.petsc_options, options);
+  EXPECT_EQ(c.output.folder, "results/run1");
+  EXPECT_EQ(c.output.every, 2);
+  EXPECT_EQ(c.exact.type, "lame_sphere");
+  EXPECT_EQ(c.exact.parameters, (std::map<std::string, double>{{"a", 1}, {"b", 2}, {"p", 2500}}));
+}
+
+TEST_F(DeckParse, FillsDefaults) {
+  const std::string path =
+      tmp.write("decks/minimal.yaml",
+                "mesh: {file: body.msh}\n"
+                "materials: [{group: body, model: linear_elastic, E: 1, nu: 0}]\n");
+  const Config c = parse_deck(path);
+  const Config defaults;
+  EXPECT_EQ(c.mesh.order, 1);
+  EXPECT_TRUE(c.dirichlet.empty());
+  EXPECT_TRUE(c.pressures.empty());
+  EXPECT_EQ(c.gravity, (std::array<double, 3>{0, 0, 0}));
+  EXPECT_EQ(c.time.type, "static");
+  EXPECT_EQ(c.time.steps, 1);
+  EXPECT_EQ(c.time.max_cutbacks, defaults.time.max_cutbacks);
+  EXPECT_EQ(c.solver.preset, "mumps");
+  EXPECT_EQ(c.output.folder, "out/minimal");  // relative to the working directory
+  EXPECT_EQ(c.output.every, 1);
+  EXPECT_EQ(c.exact.type, "none");
+}
+
+TEST_F(DeckParse, RoundTripThroughFormatConfig) {
+  for (const char* text : {kFullDeck, kDynamicDeck}) {
+    const Config first = parse_deck(tmp.write("decks/deck.yaml", text));
+    // Written elsewhere: the printed mesh path is absolute, so the copy reads the same mesh.
+    const std::string printed = format_config(first);
+    const Config second = parse_deck(tmp.write("elsewhere/deck.yaml", printed));
+    SCOPED_TRACE(printed);
+    expect_same(first, second);
+    // The same text, but for the "# deck:" line.
+    const std::string again = format_config(second);
+    EXPECT_EQ(again.substr(again.find('\n')), printed.substr(printed.find('\n')));
+  }
+}
+
+TEST_F(DeckParse, DynamicDefaults) {
+  const Config c = parse_deck(tmp.write("decks/dyn.yaml", kDynamicDeck));
+  EXPECT_EQ(c.time.type, "dynamic");
+  EXPECT_EQ(c.time.dt, 0.01);
+  EXPECT_EQ(c.time.end_time, 0.5);
+  EXPECT_EQ(c.time.integrator, "newmark");
+  EXPECT_EQ(c.time.newmark_beta, 0.3025);
+  EXPECT_EQ(c.time.newmark_gamma, 0.6);
+}
+
+// mu = E / (2 (1 + nu)), lambda = E nu / ((1 + nu)(1 - 2 nu)), and the inverse.
+TEST_F(DeckParse, ElasticConstantConversion) {
+  const std::string path = tmp.write("decks/pairs.yaml", R"(mesh: {file: body.msh}
+materials:
+  - {group: a, model: linear_elastic, E: 1.0e6, nu: 0.25}
+  - {group: b, model: neo_hookean, E: 2.98e5, nu: 0.49}
+  - {group: c, model: linear_elastic, mu: 3.0e5, lambda: -1.5e5}
+  - {group: d, model: mooney_rivlin, mu: 1.0e5, lambda: 2.0e5}
+)");
+  const Config c = parse_deck(path);
+  // E = 1e6, nu = 1/4: mu = 1e6 / 2.5 = 4e5, lambda = 2.5e5 / (1.25 * 0.5) = 4e5.
+  EXPECT_DOUBLE_EQ(c.materials[0].mu, 4.0e5);
+  EXPECT_DOUBLE_EQ(c.materials[0].lambda, 4.0e5);
+  const double E = 2.98e5, nu = 0.49;
+  EXPECT_DOUBLE_EQ(c.materials[1].mu, E / (2 * (1 + nu)));
+  EXPECT_DOUBLE_EQ(c.materials[1].lambda, E * nu / ((1 + nu) * (1 - 2 * nu)));
+  // mu = 3e5, lambda = -1.5e5: nu = lambda / (2 (lambda + mu)) = -0.5, E = 2 mu (1 + nu) = 3e5.
+  EXPECT_DOUBLE_EQ(c.materials[2].nu, -0.5);
+  EXPECT_DOUBLE_EQ(c.materials[2].E, 3.0e5);
+  // Given mu, lambda: the derived E, nu satisfy the forward formulas.
+  for (const auto& m : {c.materials[2], c.materials[3]}) {
+    EXPECT_NEAR(m.E / (2 * (1 + m.nu)), m.mu, 1e-12 * m.mu);
+    EXPECT_NEAR(m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu)), m.lambda, 1e-12 * std::abs(m.lambda));
+  }
+  // Mooney-Rivlin defaults: c1 = mu / 2, c2 = 0 (small-strain shear modulus 2 (c1 + c2) = mu).
+  EXPECT_DOUBLE_EQ(c.materials[3].c1, 0.5e5);
+  EXPECT_EQ(c.materials[3].c2, 0);
+}
+
+TEST_F(DeckParse, OverridesChangeTheTreeBeforeValidation) {
+  const std::string path = tmp.write("decks/base.yaml", R"(mesh: {file: ../meshes/body.geo}
+materials:
+  - {group: body, model: linear_elastic, E: 1.0e6, nu: 0.25}
+)");
+  const Config c = parse_deck(
+      path, {"mesh.order=2", "mesh.parameters.h=0.05", "materials[0].E=2e6",
+             "solver.petsc_options.ksp_type=cg", "loads.gravity=[0, 0, -9.81]", "time.type=dynamic",
+             "time.dt=0.1", "time.end_time=1", "output.folder=elsewhere"});
+  EXPECT_EQ(c.mesh.order, 2);
+  EXPECT_EQ(c.mesh.parameters.at("h"), 0.05);
+  EXPECT_EQ(c.materials[0].E, 2e6);
+  EXPECT_DOUBLE_EQ(c.materials[0].mu, 8e5);  // derived from the overridden E
+  EXPECT_EQ(c.solver.petsc_options.at("ksp_type"), "cg");
+  EXPECT_EQ(c.gravity, (std::array<double, 3>{0, 0, -9.81}));
+  EXPECT_EQ(c.time.type, "dynamic");
+  EXPECT_EQ(c.time.dt, 0.1);
+  EXPECT_EQ(c.output.folder, "elsewhere");
+  // A later override of the same key wins.
+  EXPECT_EQ(parse_deck(path, {"mesh.order=2", "mesh.order=1"}).mesh.order, 1);
+}
+
+std::string error_of(const std::string& path, const std::vector<std::string>& overrides) {
+  try {
+    parse_deck(path, overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST_F(DeckParse, BadOverridesFailNamingThem) {
+  const std::string path = tmp.write("decks/base.yaml", R"(mesh: {file: ../meshes/body.geo}
+materials:
+  - {group: body, model: linear_elastic, E: 1.0e6, nu: 0.25}
+)");
+  struct Case {
+    std::string override_text, reason;
+  };
+  const std::vector<Case> cases = {
+      {"mesh.order", "expected key=value"},
+      {"mesh..order=2", "malformed key"},
+      {"materials[x].E=2", "malformed key"},
+      {"materials[1].E=2", "materials[1] does not exist (materials has 1 entries)"},
+      {"mesh.file.name=2", "mesh.file is not a map"},
+      {"mesh[0]=2", "mesh is not a list"},
+      {"mesh.order=[1, 2", "the value is not valid YAML"},
+      // Well-formed overrides whose result fails validation name the override as well.
+      {"mesh.ordr=2", "mesh.ordr: unknown key (did you mean 'order'?"},
+      {"materials[0].nu=0.5", "materials[0].nu: must lie in (-1, 0.5), got 0.5"},
+      {"mesh.order=two", "mesh.order: expected an integer, got 'two'"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = error_of(path, {c.override_text});
+    EXPECT_NE(message.find(path + ": "), std::string::npos) << message;
+    EXPECT_NE(message.find(c.reason), std::string::npos) << message;
+    EXPECT_NE(message.find("override '" + c.override_text + "'"), std::string::npos) << message;
+  }
+}
+
+// The decks shipped with the repository stay valid as the format evolves.
+TEST(RepositoryDecks, AllParseAndRoundTrip) {
+  namespace fs = std::filesystem;
+  int count = 0;
+  for (const char* folder : {"input", "bench/fem"}) {
+    for (const auto& entry : fs::directory_iterator(fs::path(HYDROSOFT_SOURCE_DIR) / folder)) {
+      if (entry.path().extension() != ".yaml") continue;
+      SCOPED_TRACE(entry.path().string());
+      const Config c = parse_deck(entry.path().string());
+      EXPECT_EQ(c.output.folder, "out/" + entry.path().stem().string());
+      TempFolder tmp;
+      expect_same(c, parse_deck(tmp.write("printed.yaml", format_config(c))));
+      ++count;
+    }
+  }
+  EXPECT_GT(count, 0);
+}
+
+}  // namespace
+}  // namespace hs

@@ -1,0 +1,216 @@
+// Element internal force and tangent: against finite differences of the element energy and
+// of the force, for every material and both orders on a distorted (P2: curved) element;
+// rigid-body invariance; the rank of the linear-elastic stiffness; inverted elements.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "common/error.hpp"
+#include "element_fixtures.hpp"
+#include "fem/element.hpp"
+
+namespace hs {
+namespace {
+
+using namespace testing_fixtures;
+
+const MaterialModel kAllModels[] = {MaterialModel::LinearElastic, MaterialModel::Corotational,
+                                    MaterialModel::SaintVenantKirchhoff, MaterialModel::NeoHookean,
+                                    MaterialModel::MooneyRivlin};
+
+MaterialParameters parameters(MaterialModel model) {
+  MaterialParameters m;
+  m.model = model;
+  m.mu = 3.0;
+  m.lambda = 7.0;
+  m.c1 = 0.9;  // c1 + c2 = mu / 2
+  m.c2 = 0.6;
+  return m;
+}
+
+struct Case {
+  MaterialModel model;
+  int order;
+};
+
+std::vector<Case> all_cases() {
+  std::vector<Case> cases;
+  for (int order : {1, 2})
+    for (MaterialModel model : kAllModels) cases.push_back({model, order});
+  return cases;
+}
+
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << material_model_name(c.model) << " P" << c.order;
+}
+
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+  return material_model_name(info.param.model) + "_P" + std::to_string(info.param.order);
+}
+
+class ElementCase : public ::testing::TestWithParam<Case> {
+ protected:
+  int order() const { return GetParam().order; }
+  int n() const { return 3 * (order() == 1 ? 4 : 10); }
+  MaterialParameters material() const { return parameters(GetParam().model); }
+};
+
+double max_abs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+TEST_P(ElementCase, ForceIsTheDerivativeOfTheEnergy) {
+  const std::vector<double> X = distorted_tet(order());
+  const std::vector<double> u = random_vector(n(), 0.15, 11);
+  std::vector<double> r(n()), rp(n()), scratch(n());
+  ASSERT_TRUE(tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr).valid);
+  const double h = 1e-6;
+  std::vector<double> fd(n());
+  for (int d = 0; d < n(); ++d) {
+    std::vector<double> up = u, um = u;
+    up[d] += h;
+    um[d] -= h;
+    const double ep =
+        tet_internal_force(order(), X.data(), up.data(), material(), scratch.data(), nullptr)
+            .energy;
+    const double em =
+        tet_internal_force(order(), X.data(), um.data(), material(), scratch.data(), nullptr)
+            .energy;
+    fd[d] = (ep - em) / (2 * h);
+  }
+  for (int d = 0; d < n(); ++d) EXPECT_NEAR(r[d], fd[d], 1e-7 * max_abs(r)) << "dof " << d;
+}
+
+TEST_P(ElementCase, TangentIsTheDerivativeOfTheForce) {
+  const std::vector<double> X = distorted_tet(order());
+  const std::vector<double> u = random_vector(n(), 0.15, 12);
+  std::vector<double> r(n()), K(n() * n()), rp(n()), rm(n());
+  tet_internal_force(order(), X.data(), u.data(), material(), r.data(), K.data());
+  const double h = 1e-6;
+  double worst = 0;
+  for (int d = 0; d < n(); ++d) {
+    std::vector<double> up = u, um = u;
+    up[d] += h;
+    um[d] -= h;
+    tet_internal_force(order(), X.data(), up.data(), material(), rp.data(), nullptr);
+    tet_internal_force(order(), X.data(), um.data(), material(), rm.data(), nullptr);
+    for (int i = 0; i < n(); ++i)
+      worst = std::max(worst, std::abs(K[i * n() + d] - (rp[i] - rm[i]) / (2 * h)));
+  }
+  EXPECT_LT(worst, 1e-7 * max_abs(K));
+}
+
+TEST_P(ElementCase, ForceWithTangentEqualsForceAlone) {
+  const std::vector<double> X = distorted_tet(order());
+  const std::vector<double> u = random_vector(n(), 0.15, 13);
+  std::vector<double> r1(n()), r2(n()), K(n() * n());
+  const ElementOutput a =
+      tet_internal_force(order(), X.data(), u.data(), material(), r1.data(), nullptr);
+  const ElementOutput b =
+      tet_internal_force(order(), X.data(), u.data(), material(), r2.data(), K.data());
+  EXPECT_EQ(r1, r2);
+  EXPECT_EQ(a.energy, b.energy);
+}
+
+TEST_P(ElementCase, RigidTranslationGivesNoForce) {
+  const std::vector<double> X = distorted_tet(order());
+  std::vector<double> u(n()), r(n());
+  for (int a = 0; a < n() / 3; ++a) u[3 * a] = 0.3, u[3 * a + 1] = -1.2, u[3 * a + 2] = 0.7;
+  const ElementOutput out =
+      tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr);
+  EXPECT_LT(max_abs(r), 1e-13);
+  EXPECT_NEAR(out.energy, 0.0, 1e-14);
+}
+
+TEST_P(ElementCase, TangentAtRestIsTheLinearElasticStiffness) {
+  const std::vector<double> X = distorted_tet(order());
+  const std::vector<double> u(n(), 0.0);
+  std::vector<double> r(n()), K(n() * n()), K_linear(n() * n());
+  tet_internal_force(order(), X.data(), u.data(), material(), r.data(), K.data());
+  tet_internal_force(order(), X.data(), u.data(), parameters(MaterialModel::LinearElastic),
+                     r.data(), K_linear.data());
+  for (int i = 0; i < n() * n(); ++i) EXPECT_NEAR(K[i], K_linear[i], 1e-13 * max_abs(K_linear));
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, ElementCase, ::testing::ValuesIn(all_cases()), case_name);
+
+class FiniteStrainElement : public ElementCase {};
+
+TEST_P(FiniteStrainElement, RigidRotationGivesNoForce) {
+  const std::vector<double> X = distorted_tet(order());
+  const Eigen::Matrix3d Q =
+      Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  std::vector<double> u(n()), r(n());
+  for (int a = 0; a < n() / 3; ++a) {
+    const Eigen::Vector3d x(X[3 * a], X[3 * a + 1], X[3 * a + 2]);
+    const Eigen::Vector3d d = Q * x - x + Eigen::Vector3d(0.2, 0.1, -0.3);
+    for (int i = 0; i < 3; ++i) u[3 * a + i] = d(i);
+  }
+  const ElementOutput out =
+      tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr);
+  EXPECT_LT(max_abs(r), 1e-12);
+  EXPECT_NEAR(out.energy, 0.0, 1e-13);
+}
+
+TEST_P(FiniteStrainElement, InvertedElementIsReported) {
+  std::vector<double> X = distorted_tet(order());
+  std::vector<double> u(n(), 0.0), r(n());
+  // Push vertex 3 through the opposite face (and the P2 edge nodes with it).
+  const double dz = -2.0;
+  u[3 * 3 + 2] = dz;
+  if (order() == 2)
+    for (int node : {7, 8, 9}) u[3 * node + 2] = dz / 2;
+  EXPECT_FALSE(
+      tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr).valid);
+}
+
+std::vector<Case> finite_strain_cases() {
+  std::vector<Case> cases;
+  for (const Case& c : all_cases())
+    if (c.model != MaterialModel::LinearElastic) cases.push_back(c);
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, FiniteStrainElement, ::testing::ValuesIn(finite_strain_cases()),
+                         case_name);
+
+class Order : public ::testing::TestWithParam<int> {};
+
+TEST_P(Order, LinearElasticStiffnessHasExactlySixRigidModes) {
+  const int order = GetParam(), n = 3 * (order == 1 ? 4 : 10);
+  const std::vector<double> X = distorted_tet(order);
+  const std::vector<double> u(n, 0.0);
+  std::vector<double> r(n), K(n * n);
+  tet_internal_force(order, X.data(), u.data(), parameters(MaterialModel::LinearElastic), r.data(),
+                     K.data());
+  const Eigen::MatrixXd Km = Eigen::Map<const Eigen::MatrixXd>(K.data(), n, n);
+  ASSERT_LT((Km - Km.transpose()).norm(), 1e-14 * Km.norm());
+  const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Km).eigenvalues();
+  const double largest = ev(n - 1);
+  for (int i = 0; i < 6; ++i) EXPECT_LT(std::abs(ev(i)), 1e-12 * largest) << "eigenvalue " << i;
+  EXPECT_GT(ev(6), 1e-4 * largest);
+}
+
+TEST_P(Order, InvertedReferenceElementIsAnInputError) {
+  const int order = GetParam(), n = 3 * (order == 1 ? 4 : 10);
+  std::vector<double> X = distorted_tet(order);
+  std::swap_ranges(X.begin() + 3, X.begin() + 6, X.begin() + 6);  // swap vertices 1 and 2
+  if (order == 2) {  // keep the edge nodes on the swapped edges: (0,1) <-> (2,0), (3,2) <-> (3,1)
+    std::swap_ranges(X.begin() + 12, X.begin() + 15, X.begin() + 18);
+    std::swap_ranges(X.begin() + 24, X.begin() + 27, X.begin() + 27);
+  }
+  const std::vector<double> u(n, 0.0);
+  std::vector<double> r(n);
+  EXPECT_THROW(tet_internal_force(order, X.data(), u.data(), parameters(MaterialModel::NeoHookean),
+                                  r.data(), nullptr),
+               InputError);
+  EXPECT_THROW(tet_volume(order, X.data()), InputError);
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, Order, ::testing::Values(1, 2));
+
+}  // namespace
+}  // namespace hs

@@ -1,0 +1,167 @@
+// Volume, body force, mass matrix and output fields of P1/P2 tetrahedra against closed forms,
+// including a curved P2 element whose geometry is a known quadratic map.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+
+#include "element_fixtures.hpp"
+#include "fem/element.hpp"
+#include "fem/shape.hpp"
+
+namespace hs {
+namespace {
+
+using namespace testing_fixtures;
+
+const Eigen::Matrix3d kA =
+    (Eigen::Matrix3d() << 1.2, 0.3, -0.1, 0.1, 0.9, 0.2, -0.2, 0.1, 1.1).finished();
+const Eigen::Vector3d kShift(0.4, -0.3, 1.0);
+
+// Element nodes X_a = A phi(xi_a) + b with phi(xi) = xi + c xi_0^2 e_0: the P2 interpolation
+// reproduces this quadratic map, det(dX/dxi) = det A (1 + 2 c xi_0) and the volume is
+// det A (1/6 + c/12). With c = 0 (or P1) the element is straight.
+std::vector<double> mapped_tet(int order, double c) {
+  std::vector<double> X;
+  for (int a = 0; a < tet_num_nodes(order); ++a) {
+    Eigen::Vector3d xi = tet_node(order, a);
+    xi(0) += c * xi(0) * xi(0);
+    const Eigen::Vector3d x = kA * xi + kShift;
+    X.insert(X.end(), {x(0), x(1), x(2)});
+  }
+  return X;
+}
+
+double mapped_volume(double c) { return kA.determinant() * (1.0 / 6.0 + c / 12.0); }
+
+TEST(Volume, StraightAndCurvedElements) {
+  EXPECT_NEAR(tet_volume(1, mapped_tet(1, 0).data()), mapped_volume(0), 1e-15);
+  EXPECT_NEAR(tet_volume(2, mapped_tet(2, 0).data()), mapped_volume(0), 1e-15);
+  EXPECT_NEAR(tet_volume(2, mapped_tet(2, 0.3).data()), mapped_volume(0.3), 1e-15);
+}
+
+TEST(BodyForce, ClosedFormOnStraightElements) {
+  // int N_a dV: V/4 on P1; on P2 -V/20 at the vertices and V/5 at the edge nodes.
+  const double rho = 2.5, V = mapped_volume(0);
+  const std::array<double, 3> g = {0.0, -9.81, 1.0};
+  for (int order : {1, 2}) {
+    const int npe = tet_num_nodes(order);
+    std::vector<double> f(3 * npe);
+    tet_body_force(order, mapped_tet(order, 0).data(), rho, g, f.data());
+    for (int a = 0; a < npe; ++a) {
+      const double share = order == 1 ? 0.25 : (a < 4 ? -1.0 / 20 : 1.0 / 5);
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(f[3 * a + i], rho * g[i] * V * share, 1e-14);
+    }
+  }
+}
+
+TEST(BodyForce, SumsToTheWeightOfACurvedElement) {
+  const double rho = 2.5, c = 0.3;
+  const std::array<double, 3> g = {0.5, -9.81, 1.0};
+  std::vector<double> f(30);
+  tet_body_force(2, mapped_tet(2, c).data(), rho, g, f.data());
+  for (int i = 0; i < 3; ++i) {
+    double total = 0;
+    for (int a = 0; a < 10; ++a) total += f[3 * a + i];
+    EXPECT_NEAR(total, rho * g[i] * mapped_volume(c), 1e-13);
+  }
+}
+
+// int over a straight tetrahedron of N_a N_b, from the shape functions written as polynomials
+// in the barycentric coordinates and int L0^p L1^q L2^r L3^s dV = 6 V p! q! r! s! / (p+q+r+s+3)!.
+double reference_mass(int order, int a, int b, double V) {
+  using Monomial = std::array<int, 4>;
+  using Polynomial = std::map<Monomial, double>;
+  auto shape = [order](int node) {
+    Polynomial p;
+    if (node < 4) {
+      Monomial m1{}, m2{};
+      m1[node] = 1;
+      m2[node] = 2;
+      if (order == 1) return Polynomial{{m1, 1.0}};
+      return Polynomial{{m2, 2.0}, {m1, -1.0}};
+    }
+    Monomial m{};
+    m[kTetEdges[node - 4][0]] = 1;
+    m[kTetEdges[node - 4][1]] = 1;
+    return Polynomial{{m, 4.0}};
+  };
+  auto factorial = [](int n) {
+    double f = 1;
+    for (int k = 2; k <= n; ++k) f *= k;
+    return f;
+  };
+  double integral = 0;
+  for (const auto& [ma, ca] : shape(a))
+    for (const auto& [mb, cb] : shape(b)) {
+      double num = 6 * V;
+      int total = 0;
+      for (int v = 0; v < 4; ++v) {
+        num *= factorial(ma[v] + mb[v]);
+        total += ma[v] + mb[v];
+      }
+      integral += ca * cb * num / factorial(total + 3);
+    }
+  return integral;
+}
+
+TEST(Mass, MatchesBarycentricIntegralsOnStraightElements) {
+  const double rho = 1.7, V = mapped_volume(0);
+  for (int order : {1, 2}) {
+    const int npe = tet_num_nodes(order), n = 3 * npe;
+    std::vector<double> M(n * n);
+    tet_mass(order, mapped_tet(order, 0).data(), rho, M.data());
+    for (int a = 0; a < npe; ++a)
+      for (int b = 0; b < npe; ++b)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            const double expected = i == j ? rho * reference_mass(order, a, b, V) : 0.0;
+            EXPECT_NEAR(M[(3 * a + i) * n + 3 * b + j], expected, 1e-15)
+                << "order " << order << " nodes " << a << " " << b;
+          }
+  }
+  // The classical P1 mass matrix rho V / 20 (1 + delta_ab), as a check of the reference.
+  EXPECT_NEAR(reference_mass(1, 0, 0, 1.0), 2.0 / 20, 1e-15);
+  EXPECT_NEAR(reference_mass(1, 0, 3, 1.0), 1.0 / 20, 1e-15);
+}
+
+TEST(Mass, SumsToTheMassOfACurvedElementPerDirection) {
+  const double rho = 1.7, c = 0.3;
+  std::vector<double> M(900);
+  tet_mass(2, mapped_tet(2, c).data(), rho, M.data());
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double total = 0;
+      for (int a = 0; a < 10; ++a)
+        for (int b = 0; b < 10; ++b) total += M[(3 * a + i) * 30 + 3 * b + j];
+      EXPECT_NEAR(total, i == j ? rho * mapped_volume(c) : 0.0, 1e-13);
+    }
+}
+
+TEST(Fields, UniaxialStretchOfACurvedElement) {
+  // u = H X with H = diag(e, 0, 0): F = diag(1 + e, 1, 1) everywhere, also on a curved P2.
+  const double e = 0.1;
+  MaterialParameters linear;
+  linear.model = MaterialModel::LinearElastic;
+  linear.mu = 3.0;
+  linear.lambda = 7.0;
+  MaterialParameters nh = linear;
+  nh.model = MaterialModel::NeoHookean;
+  for (int order : {1, 2}) {
+    const std::vector<double> X = mapped_tet(order, order == 2 ? 0.3 : 0.0);
+    std::vector<double> u(X.size(), 0.0);
+    for (size_t a = 0; a < X.size() / 3; ++a) u[3 * a] = e * X[3 * a];
+    // Linear: sigma = diag(lambda + 2 mu, lambda, lambda) e, von Mises 2 mu e.
+    const ElementFields fl = tet_fields(order, X.data(), u.data(), linear);
+    EXPECT_NEAR(fl.von_mises, 2 * linear.mu * e, 1e-13);
+    EXPECT_NEAR(fl.J, 1 + e, 1e-14);
+    // Neo-Hookean: sigma_i = (mu (l_i^2 - 1) + lambda ln J) / J, von Mises |sigma_1 - sigma_2|.
+    const double J = 1 + e;
+    const double expected = nh.mu * (J * J - 1) / J;
+    EXPECT_NEAR(tet_fields(order, X.data(), u.data(), nh).von_mises, expected, 1e-13);
+  }
+}
+
+}  // namespace
+}  // namespace hs

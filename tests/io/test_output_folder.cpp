@@ -1,0 +1,142 @@
+// OutputFolder (staging, commit, clean-up, never deleting foreign folders) and write_json.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "../deck/temp_folder.hpp"
+#include "common/error.hpp"
+#include "io/output.hpp"
+
+namespace hs {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::TempFolder;
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+// A committed output folder holding result.txt = text, as a previous run leaves it.
+void previous_run(const std::string& folder, const std::string& text) {
+  OutputFolder out(folder);
+  write_text(out.staging() + "/result.txt", text);
+  out.commit();
+}
+
+TEST(OutputFolder, CommitMovesStagingToFinal) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "results" / "run").string();
+  OutputFolder out(final + "/");  // a trailing slash names the same folder
+  EXPECT_EQ(out.final(), final);
+  EXPECT_EQ(out.staging(), final + ".partial");
+  EXPECT_TRUE(fs::is_directory(out.staging()));
+  EXPECT_FALSE(fs::exists(final));  // nothing final before the commit
+  write_text(out.staging() + "/result.txt", "new");
+  out.commit();
+  EXPECT_EQ(read_text(final + "/result.txt"), "new");
+  EXPECT_FALSE(fs::exists(final + ".partial"));
+}
+
+TEST(OutputFolder, CommitReplacesAnOldFolder) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "run").string();
+  previous_run(final, "old");
+  write_text(final + "/only_in_old.txt", "x");
+  previous_run(final, "new");
+  EXPECT_EQ(read_text(final + "/result.txt"), "new");
+  EXPECT_FALSE(fs::exists(final + "/only_in_old.txt"));  // replaced, not merged
+  EXPECT_FALSE(fs::exists(final + ".old"));
+  EXPECT_FALSE(fs::exists(final + ".partial"));
+}
+
+TEST(OutputFolder, UncommittedRunLeavesTheOldFolderAlone) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "run").string();
+  previous_run(final, "old");
+  try {
+    OutputFolder out(final);
+    write_text(out.staging() + "/result.txt", "half-written");
+    throw SolveError("step 3: Newton did not converge");  // the run fails
+  } catch (const SolveError&) {
+  }
+  EXPECT_FALSE(fs::exists(final + ".partial"));
+  EXPECT_EQ(read_text(final + "/result.txt"), "old");
+}
+
+TEST(OutputFolder, ClearsTheStagingFolderOfACrashedRun) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "run").string();
+  {
+    OutputFolder crashed(final);
+    write_text(crashed.staging() + "/stale.txt", "x");
+    fs::copy(crashed.staging(), final + ".kept");  // what a killed process leaves behind
+  }
+  fs::rename(final + ".kept", final + ".partial");
+  ASSERT_TRUE(fs::exists(final + ".partial/stale.txt"));
+  OutputFolder out(final);
+  EXPECT_FALSE(fs::exists(out.staging() + "/stale.txt"));
+}
+
+TEST(OutputFolder, NeverDeletesAFolderItDidNotWrite) {
+  TempFolder tmp;
+  const fs::path mine = tmp.path() / "thesis";
+  fs::create_directories(mine);
+  write_text(mine / "chapter1.tex", "precious");
+  EXPECT_THROW(OutputFolder{mine.string()}, InputError);
+  EXPECT_NE(output_folder_problem(mine.string()).find("was not written by hydrosoft"),
+            std::string::npos);
+  EXPECT_EQ(read_text(mine / "chapter1.tex"), "precious");
+  EXPECT_FALSE(fs::exists(mine.string() + ".partial"));
+  // A foreign "<folder>.partial" is just as safe.
+  fs::create_directories(tmp.path() / "run.partial");
+  write_text(tmp.path() / "run.partial" / "notes.txt", "mine");
+  EXPECT_THROW(OutputFolder{(tmp.path() / "run").string()}, InputError);
+  EXPECT_EQ(read_text(tmp.path() / "run.partial" / "notes.txt"), "mine");
+  // An empty folder may be used.
+  fs::create_directories(tmp.path() / "empty");
+  EXPECT_EQ(output_folder_problem((tmp.path() / "empty").string()), "");
+  EXPECT_NE(output_folder_problem("."), "");
+  EXPECT_NE(output_folder_problem("out/.."), "");
+}
+
+TEST(WriteJson, WritesPrettyJsonThatReadsBack) {
+  TempFolder tmp;
+  const std::string path = (tmp.path() / "summary.json").string();
+  const nlohmann::json summary = {
+      {"ranks", 2},
+      {"dofs", 12345},
+      {"time_s", {{"total", 1.25}, {"assembly", 0.5}, {"solve", 0.625}}},
+      {"error", {{"l2_relative", 3.2e-5}}}};
+  write_json(path, summary);
+  const std::string text = read_text(path);
+  EXPECT_EQ(nlohmann::json::parse(text), summary);
+  EXPECT_EQ(text, summary.dump(2) + "\n");
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+}
+
+TEST(WriteJson, RefusesNonFiniteNumbers) {
+  TempFolder tmp;
+  const std::string path = (tmp.path() / "summary.json").string();
+  nlohmann::json summary = {{"time_s", {{"total", NAN}}}, {"steps", 3}};
+  try {
+    write_json(path, summary);
+    ADD_FAILURE() << "NaN written";
+  } catch (const SolveError& e) {
+    EXPECT_EQ(std::string(e.what()).find(path + ": time_s.total is not finite"), 0u) << e.what();
+  }
+  summary = {{"history", {1.0, 2.0, INFINITY}}};
+  EXPECT_THROW(write_json(path, summary), SolveError);
+  EXPECT_FALSE(fs::exists(path));
+}
+
+}  // namespace
+}  // namespace hs

@@ -1,0 +1,391 @@
+// XdmfWriter: the .h5 read back with the HDF5 C API and compared array by array; the .xmf
+// parsed as XML and checked against the datasets it references; non-finite values refused;
+// and, where /usr/bin/pvpython exists, opened with ParaView's three XDMF readers.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include "../deck/temp_folder.hpp"
+#include "common/error.hpp"
+#include "io/output.hpp"
+
+namespace hs {
+namespace {
+
+using testing::TempFolder;
+
+// Two tetrahedra sharing the face (1, 2, 3). At order 2, edge nodes are added at the edge
+// midpoints in gmsh's order (0,1) (1,2) (2,0) (3,0) (3,2) (3,1), shared between the tets.
+Mesh two_tets(int order) {
+  Mesh m;
+  m.x = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1.2, 0.9, 1.1};
+  m.tets = {0, 1, 2, 3, 1, 2, 3, 4};
+  m.tet_volume = {0, 0};
+  m.volume_names = {"body"};
+  if (order == 2) {
+    const int gmsh_edges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}};
+    std::map<std::pair<int64_t, int64_t>, int64_t> midpoint;
+    std::vector<int64_t> tets;
+    for (int e = 0; e < 2; ++e) {
+      const int64_t* v = &m.tets[4 * e];
+      tets.insert(tets.end(), v, v + 4);
+      for (const auto& edge : gmsh_edges) {
+        const int64_t a = v[edge[0]], b = v[edge[1]];
+        const auto key = std::minmax(a, b);
+        if (!midpoint.count(key)) {
+          midpoint[key] = m.num_nodes();
+          for (int d = 0; d < 3; ++d) m.x.push_back((m.x[3 * a + d] + m.x[3 * b + d]) / 2);
+        }
+        tets.push_back(midpoint[key]);
+      }
+    }
+    m.order = 2;
+    m.tets = tets;
+  }
+  return m;
+}
+
+// Distinct, non-trivial values per step.
+StepFields fields(const Mesh& mesh, int step, double time) {
+  StepFields f;
+  f.time = time;
+  for (int64_t i = 0; i < 3 * mesh.num_nodes(); ++i) {
+    f.displacement.push_back(std::sin(0.7 * i + step) * 1e-3);
+    f.nodal_load.push_back(std::cos(0.3 * i - step) * 1e4);
+  }
+  for (int64_t e = 0; e < mesh.num_tets(); ++e) {
+    f.von_mises.push_back(1e5 * (e + 1) + step);
+    f.J.push_back(1 - 0.01 * (e + step));
+    f.rank.push_back(static_cast<int>((e + step) % 2));
+  }
+  return f;
+}
+
+// ---- Reading back with the HDF5 C API ----
+
+struct Dataset {
+  std::vector<hsize_t> dims;
+  H5T_class_t type_class = H5T_NO_CLASS;
+  size_t type_size = 0;
+  std::vector<double> values;  // converted by HDF5 to double (exact for the int data here)
+};
+
+// nullopt-like: dims empty when the dataset does not exist.
+Dataset read_dataset(const std::string& file, const std::string& name) {
+  Dataset d;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // a missing dataset is an answer, not noise
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return d;
+  const hid_t set = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  if (set >= 0) {
+    const hid_t space = H5Dget_space(set), type = H5Dget_type(set);
+    d.dims.resize(H5Sget_simple_extent_ndims(space));
+    H5Sget_simple_extent_dims(space, d.dims.data(), nullptr);
+    d.type_class = H5Tget_class(type);
+    d.type_size = H5Tget_size(type);
+    d.values.resize(H5Sget_simple_extent_npoints(space));
+    H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.values.data());
+    H5Tclose(type);
+    H5Sclose(space);
+    H5Dclose(set);
+  }
+  H5Fclose(f);
+  return d;
+}
+
+std::vector<int64_t> read_int64(const std::string& file, const std::string& name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t set = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(set);
+  std::vector<int64_t> values(H5Sget_simple_extent_npoints(space));
+  H5Dread(set, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Sclose(space);
+  H5Dclose(set);
+  H5Fclose(f);
+  return values;
+}
+
+double read_time(const std::string& file, const std::string& group) {
+  double t = NAN;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t a = H5Aopen_by_name(f, group.c_str(), "time", H5P_DEFAULT, H5P_DEFAULT);
+  H5Aread(a, H5T_NATIVE_DOUBLE, &t);
+  H5Aclose(a);
+  H5Fclose(f);
+  return t;
+}
+
+template <class T>
+std::vector<double> as_doubles(const std::vector<T>& v) {
+  return std::vector<double>(v.begin(), v.end());
+}
+
+// ---- A minimal XML reader for the subset the writer produces ----
+
+struct XmlElement {
+  std::string name;
+  std::map<std::string, std::string> attributes;
+  std::string text;
+  int parent = -1;  // index of the enclosing element
+};
+
+// Throws std::runtime_error unless the document is well-formed: one root, every tag
+// closed by its own name, attributes as name="value".
+std::vector<XmlElement> parse_xml(const std::string& xml) {
+  std::vector<XmlElement> elements;
+  std::vector<int> open;
+  int roots = 0;
+  size_t pos = 0;
+  auto blank = [](const std::string& s) {
+    return s.find_first_not_of(" \t\r\n") == std::string::npos;
+  };
+  static const std::regex attribute("\\s*([A-Za-z_][\\w:.-]*)=\"([^\"<]*)\"");
+  for (size_t lt; (lt = xml.find('<', pos)) != std::string::npos;) {
+    const std::string text = xml.substr(pos, lt - pos);
+    if (open.empty() && !blank(text)) throw std::runtime_error("text outside the root: " + text);
+    if (!open.empty()) elements[open.back()].text += text;
+    const size_t gt = xml.find('>', lt);
+    if (gt == std::string::npos) throw std::runtime_error("unterminated tag");
+    std::string tag = xml.substr(lt + 1, gt - lt - 1);
+    pos = gt + 1;
+    if (tag.front() == '?') {
+      if (tag.back() != '?' || !elements.empty()) throw std::runtime_error("bad declaration");
+      continue;
+    }
+    if (tag.front() == '/') {
+      if (open.empty() || elements[open.back()].name != tag.substr(1))
+        throw std::runtime_error("</" + tag.substr(1) + "> closes nothing open");
+      open.pop_back();
+      continue;
+    }
+    const bool self_closing = tag.back() == '/';
+    if (self_closing) tag.pop_back();
+    XmlElement e;
+    const size_t name_end = std::min(tag.find_first_of(" \t\r\n"), tag.size());
+    e.name = tag.substr(0, name_end);
+    std::string rest = tag.substr(name_end);
+    for (std::smatch m; std::regex_search(rest, m, attribute) && m.position(0) == 0;
+         rest = m.suffix()) {
+      if (!e.attributes.emplace(m[1], m[2]).second) throw std::runtime_error("repeated attribute");
+    }
+    if (!blank(rest)) throw std::runtime_error("malformed attributes in <" + tag + ">");
+    e.parent = open.empty() ? -1 : open.back();
+    if (open.empty()) ++roots;
+    elements.push_back(e);
+    if (!self_closing) open.push_back(static_cast<int>(elements.size()) - 1);
+  }
+  if (!open.empty()) throw std::runtime_error("<" + elements[open.back()].name + "> never closed");
+  if (roots != 1 || !blank(xml.substr(pos))) throw std::runtime_error("not exactly one root");
+  return elements;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The .xmf: a Temporal collection of one Uniform grid per step, each with its own Time;
+// every DataItem names a dataset of the .h5 with the right dimensions and number type.
+void check_xmf(const std::string& folder, const std::string& name, const Mesh& mesh,
+               const std::vector<double>& times) {
+  const auto elements = parse_xml(read_text(folder + "/" + name + ".xmf"));
+  ASSERT_EQ(elements[0].name, "Xdmf");
+  int collection = -1, grids = 0, items = 0;
+  for (size_t i = 0; i < elements.size(); ++i) {
+    const XmlElement& e = elements[i];
+    if (e.name == "Grid" && e.attributes.count("CollectionType")) {
+      EXPECT_EQ(e.attributes.at("CollectionType"), "Temporal");
+      collection = static_cast<int>(i);
+    }
+    if (e.name == "Time") {
+      EXPECT_EQ(e.attributes.count("TimeType"), 0u) << "ParaView's Xdmf3 readers abort on it";
+      ASSERT_GE(e.parent, 0);
+      EXPECT_EQ(elements[e.parent].attributes.at("GridType"), "Uniform");
+    }
+    if (e.name == "Grid" && e.attributes.at("GridType") == "Uniform") {
+      EXPECT_EQ(e.parent, collection);
+      EXPECT_EQ(e.attributes.at("Name"), "step_" + std::to_string(grids));
+      int time_children = 0;
+      for (const auto& c : elements) {
+        if (c.parent != static_cast<int>(i) || c.name != "Time") continue;
+        ++time_children;
+        EXPECT_EQ(std::stod(c.attributes.at("Value")), times.at(grids));
+      }
+      EXPECT_EQ(time_children, 1);
+      ++grids;
+    }
+    if (e.name == "Topology") {
+      EXPECT_EQ(e.attributes.at("TopologyType"),
+                mesh.order == 1 ? "Tetrahedron" : "Tetrahedron_10");
+      EXPECT_EQ(e.attributes.at("NumberOfElements"), std::to_string(mesh.num_tets()));
+    }
+    if (e.name == "DataItem") {
+      ++items;
+      EXPECT_EQ(e.attributes.at("Format"), "HDF");
+      const size_t colon = e.text.find(':');
+      ASSERT_NE(colon, std::string::npos) << e.text;
+      EXPECT_EQ(e.text.substr(0, colon), name + ".h5");
+      const Dataset d =
+          read_dataset(folder + "/" + e.text.substr(0, colon), e.text.substr(colon + 1));
+      ASSERT_FALSE(d.dims.empty()) << "no dataset " << e.text;
+      std::string dims;
+      for (hsize_t n : d.dims) dims += (dims.empty() ? "" : " ") + std::to_string(n);
+      EXPECT_EQ(e.attributes.at("Dimensions"), dims) << e.text;
+      EXPECT_EQ(e.attributes.at("NumberType"), d.type_class == H5T_FLOAT ? "Float" : "Int");
+      EXPECT_EQ(e.attributes.at("Precision"), std::to_string(d.type_size));
+    }
+  }
+  EXPECT_GE(collection, 0);
+  EXPECT_EQ(grids, static_cast<int>(times.size()));
+  EXPECT_EQ(items, 7 * grids);  // topology, geometry and five fields per step
+}
+
+// ---- Tests ----
+
+class XdmfWriterTest : public ::testing::TestWithParam<int> {
+ protected:
+  // Writes two steps of the mesh of the test's order; returns the mesh.
+  Mesh write_two_steps() {
+    const Mesh mesh = two_tets(GetParam());
+    XdmfWriter writer(folder(), "case", mesh);
+    writer.write_step(fields(mesh, 0, 0.5));
+    check_xmf(folder(), "case", mesh, {0.5});  // rewritten after every step
+    writer.write_step(fields(mesh, 1, 1.0));
+    EXPECT_EQ(writer.xdmf_file(), "case.xmf");
+    return mesh;
+  }
+  std::string folder() const { return tmp.path().string(); }
+  std::string h5() const { return folder() + "/case.h5"; }
+  TempFolder tmp;
+};
+
+TEST_P(XdmfWriterTest, Hdf5HoldsEveryArray) {
+  const Mesh mesh = write_two_steps();
+  const int64_t N = mesh.num_nodes(), E = mesh.num_tets(), npe = mesh.nodes_per_tet();
+  const Dataset x = read_dataset(h5(), "/mesh/coordinates");
+  EXPECT_EQ(x.dims, (std::vector<hsize_t>{hsize_t(N), 3}));
+  EXPECT_EQ(x.values, mesh.x);
+  const Dataset topology = read_dataset(h5(), "/mesh/topology");
+  EXPECT_EQ(topology.dims, (std::vector<hsize_t>{hsize_t(E), hsize_t(npe)}));
+  EXPECT_EQ(topology.type_class, H5T_INTEGER);
+  EXPECT_EQ(topology.type_size, 8u);
+  for (int step = 0; step < 2; ++step) {
+    const std::string group = "/step_" + std::to_string(step);
+    const StepFields f = fields(mesh, step, 0.5 * (step + 1));
+    EXPECT_EQ(read_time(h5(), group), f.time);
+    EXPECT_EQ(read_dataset(h5(), group + "/displacement").values, f.displacement);
+    EXPECT_EQ(read_dataset(h5(), group + "/displacement").dims,
+              (std::vector<hsize_t>{hsize_t(N), 3}));
+    EXPECT_EQ(read_dataset(h5(), group + "/nodal_load").values, f.nodal_load);
+    EXPECT_EQ(read_dataset(h5(), group + "/von_mises").values, f.von_mises);
+    EXPECT_EQ(read_dataset(h5(), group + "/J").values, f.J);
+    EXPECT_EQ(read_dataset(h5(), group + "/J").dims, (std::vector<hsize_t>{hsize_t(E)}));
+    const Dataset rank = read_dataset(h5(), group + "/rank");
+    EXPECT_EQ(rank.values, as_doubles(f.rank));
+    EXPECT_EQ(rank.type_class, H5T_INTEGER);
+  }
+  EXPECT_TRUE(read_dataset(h5(), "/step_2/J").dims.empty());
+}
+
+TEST_P(XdmfWriterTest, TopologyIsInVtkNodeOrder) {
+  const Mesh mesh = write_two_steps();
+  const std::vector<int64_t> topology = read_int64(h5(), "/mesh/topology");
+  const int npe = mesh.nodes_per_tet();
+  ASSERT_EQ(topology.size(), mesh.tets.size());
+  // VTK's quadratic tetra: node 4 + k is the midpoint of edge k (straight edges here).
+  const int vtk_edges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+  for (int64_t e = 0; e < mesh.num_tets(); ++e) {
+    const int64_t* t = &topology[npe * e];
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(t[i], mesh.tets[npe * e + i]);  // vertices as given
+    if (npe == 4) continue;
+    for (int k = 0; k < 6; ++k)
+      for (int d = 0; d < 3; ++d)
+        EXPECT_DOUBLE_EQ(
+            mesh.x[3 * t[4 + k] + d],
+            (mesh.x[3 * t[vtk_edges[k][0]] + d] + mesh.x[3 * t[vtk_edges[k][1]] + d]) / 2)
+            << "tet " << e << ", VTK edge " << k;
+  }
+}
+
+TEST_P(XdmfWriterTest, XmfReferencesTheDatasets) {
+  const Mesh mesh = write_two_steps();
+  check_xmf(folder(), "case", mesh, {0.5, 1.0});
+  EXPECT_FALSE(std::filesystem::exists(folder() + "/case.xmf.tmp"));
+}
+
+TEST_P(XdmfWriterTest, ParaViewReadersOpenTheFile) {
+  const char* pvpython = "/usr/bin/pvpython";
+  if (!std::filesystem::exists(pvpython)) GTEST_SKIP() << "no " << pvpython;
+  const Mesh mesh = write_two_steps();
+  const std::string command =
+      std::string(pvpython) + " " + HYDROSOFT_SOURCE_DIR + "/postprocess/check_xdmf_paraview.py " +
+      folder() + "/case.xmf --points " + std::to_string(mesh.num_nodes()) + " --cells " +
+      std::to_string(mesh.num_tets()) + " --times 0.5,1 --straight-edges";
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
+}
+
+TEST_P(XdmfWriterTest, RefusesNonFiniteValues) {
+  const Mesh mesh = two_tets(GetParam());
+  XdmfWriter writer(folder(), "case", mesh);
+  writer.write_step(fields(mesh, 0, 0.5));
+  auto message = [&](StepFields f) -> std::string {
+    try {
+      writer.write_step(f);
+    } catch (const SolveError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  StepFields f = fields(mesh, 1, 1.0);
+  f.displacement[7] = NAN;
+  EXPECT_EQ(message(f).find("output step 1 (time 1): displacement[7] (node 2, y) is not finite"),
+            0u)
+      << message(f);
+  f = fields(mesh, 1, 1.0);
+  f.J[1] = INFINITY;
+  EXPECT_NE(message(f).find("J[1] (tetrahedron 1) is not finite"), std::string::npos);
+  f = fields(mesh, 1, 1.0);
+  f.nodal_load.back() = -INFINITY;
+  EXPECT_NE(message(f).find("nodal_load[" + std::to_string(3 * mesh.num_nodes() - 1) + "]"),
+            std::string::npos);
+  // Nothing of the refused steps was written: one step in the file and in the .xmf.
+  EXPECT_TRUE(read_dataset(h5(), "/step_1/J").dims.empty());
+  check_xmf(folder(), "case", mesh, {0.5});
+  writer.write_step(fields(mesh, 1, 1.0));  // a finite step still goes in as step 1
+  check_xmf(folder(), "case", mesh, {0.5, 1.0});
+}
+
+INSTANTIATE_TEST_SUITE_P(Order, XdmfWriterTest, ::testing::Values(1, 2),
+                         [](const auto& info) { return "P" + std::to_string(info.param); });
+
+TEST(XdmfWriter, NonIncreasingTimesBecomeStepNumbers) {
+  TempFolder tmp;
+  const Mesh mesh = two_tets(1);
+  XdmfWriter writer(tmp.path().string(), "unload", mesh);
+  for (double s : {0.5, 1.0, 0.5}) writer.write_step(fields(mesh, 0, s));
+  writer.close();
+  check_xmf(tmp.path().string(), "unload", mesh, {0, 1, 2});
+  EXPECT_EQ(read_time(tmp.path().string() + "/unload.h5", "/step_2"), 0.5);  // the true value
+}
+
+TEST(XdmfWriter, MeshAloneBeforeTheFirstStep) {
+  TempFolder tmp;
+  const Mesh mesh = two_tets(2);
+  XdmfWriter writer(tmp.path().string(), "empty", mesh);
+  const auto elements = parse_xml(read_text(tmp.path().string() + "/empty.xmf"));
+  int grids = 0, items = 0;
+  for (const auto& e : elements) grids += e.name == "Grid", items += e.name == "DataItem";
+  EXPECT_EQ(grids, 1);
+  EXPECT_EQ(items, 2);  // topology and geometry
+}
+
+}  // namespace
+}  // namespace hs

@@ -1,0 +1,272 @@
+// Pointwise constitutive laws against finite differences, closed forms in principal
+// stretches, the small-strain limit and objectivity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "materials/material.hpp"
+
+namespace hs {
+namespace {
+
+const double kMu = 3.0, kLambda = 7.0;  // E = 7.8, nu = 0.35
+
+MaterialParameters parameters(MaterialModel model) {
+  MaterialParameters m;
+  m.model = model;
+  m.mu = kMu;
+  m.lambda = kLambda;
+  m.c1 = 0.3 * kMu;  // c1 + c2 = mu / 2
+  m.c2 = 0.2 * kMu;
+  return m;
+}
+
+const MaterialModel kAllModels[] = {MaterialModel::LinearElastic, MaterialModel::Corotational,
+                                    MaterialModel::SaintVenantKirchhoff, MaterialModel::NeoHookean,
+                                    MaterialModel::MooneyRivlin};
+const MaterialModel kFiniteStrainModels[] = {
+    MaterialModel::Corotational, MaterialModel::SaintVenantKirchhoff, MaterialModel::NeoHookean,
+    MaterialModel::MooneyRivlin};
+
+Mat3 rotation(const Eigen::Vector3d& axis, double angle) {
+  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+}
+
+// Random rotation from a random axis and angle in [-pi, pi].
+Mat3 random_rotation(std::mt19937& rng) {
+  std::uniform_real_distribution<double> d(-1.0, 1.0);
+  return rotation(Eigen::Vector3d(d(rng), d(rng), d(rng)), M_PI * d(rng));
+}
+
+// F = I + amplitude * (random matrix); redrawn until det F >= 0.3 (large amplitudes).
+Mat3 random_F(std::mt19937& rng, double amplitude) {
+  std::uniform_real_distribution<double> d(-1.0, 1.0);
+  for (;;) {
+    Mat3 H;
+    for (int i = 0; i < 9; ++i) H(i) = d(rng);
+    const Mat3 F = Mat3::Identity() + amplitude * H;
+    if (F.determinant() >= 0.3) return F;
+  }
+}
+
+double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& reference) {
+  return (a - reference).norm() / reference.norm();
+}
+
+// Central differences of psi in each F_kl (row-major flattening as the tangent).
+Mat3 fd_stress(const MaterialParameters& m, const Mat3& F, double h) {
+  Mat3 P;
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l) {
+      Mat3 Fp = F, Fm = F;
+      Fp(k, l) += h;
+      Fm(k, l) -= h;
+      P(k, l) = (stress(m, Fp).psi - stress(m, Fm).psi) / (2 * h);
+    }
+  return P;
+}
+
+Tangent fd_tangent(const MaterialParameters& m, const Mat3& F, double h) {
+  Tangent A;
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l) {
+      Mat3 Fp = F, Fm = F;
+      Fp(k, l) += h;
+      Fm(k, l) -= h;
+      const Mat3 dP = (stress(m, Fp).P - stress(m, Fm).P) / (2 * h);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) A(3 * i + j, 3 * k + l) = dP(i, j);
+    }
+  return A;
+}
+
+class EveryModel : public ::testing::TestWithParam<MaterialModel> {};
+
+TEST_P(EveryModel, StressIsTheDerivativeOfTheEnergy) {
+  const MaterialParameters m = parameters(GetParam());
+  std::mt19937 rng(1);
+  for (double amplitude : {0.01, 0.3}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const Mat3 F = random_F(rng, amplitude);
+      const StressResult s = stress(m, F);
+      EXPECT_LT(relative_error(s.P, fd_stress(m, F, 1e-5)), 1e-7)
+          << material_model_name(m.model) << " amplitude " << amplitude << "\nF =\n"
+          << F;
+    }
+  }
+}
+
+TEST_P(EveryModel, TangentIsTheDerivativeOfTheStress) {
+  const MaterialParameters m = parameters(GetParam());
+  std::mt19937 rng(2);
+  for (double amplitude : {0.01, 0.3}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const Mat3 F = random_F(rng, amplitude);
+      const StressResult s = stress(m, F);
+      EXPECT_LT(relative_error(s.A, fd_tangent(m, F, 1e-5)), 1e-7)
+          << material_model_name(m.model) << " amplitude " << amplitude << "\nF =\n"
+          << F;
+      // All five laws derive from an energy: the tangent has the major symmetry.
+      EXPECT_LT((s.A - s.A.transpose()).norm(), 1e-12 * s.A.norm());
+    }
+  }
+}
+
+TEST_P(EveryModel, TangentAtIdentityIsTheLinearElasticOne) {
+  const MaterialParameters m = parameters(GetParam());
+  // lambda d_ij d_kl + mu (d_ik d_jl + d_il d_jk), written out index by index.
+  Tangent reference;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l)
+          reference(3 * i + j, 3 * k + l) =
+              kLambda * (i == j) * (k == l) + kMu * ((i == k) * (j == l) + (i == l) * (j == k));
+  EXPECT_LT(relative_error(stress(m, Mat3::Identity()).A, reference), 1e-14);
+}
+
+TEST_P(EveryModel, NoStressNoEnergyAtIdentity) {
+  const StressResult s = stress(parameters(GetParam()), Mat3::Identity());
+  EXPECT_LT(s.P.norm(), 1e-14 * kLambda);
+  EXPECT_NEAR(s.psi, 0.0, 1e-14 * kLambda);
+}
+
+TEST_P(EveryModel, ResidualOnlyCallGivesTheSameStress) {
+  const MaterialParameters m = parameters(GetParam());
+  std::mt19937 rng(3);
+  const Mat3 F = random_F(rng, 0.3);
+  const StressResult full = stress(m, F), light = stress(m, F, false);
+  EXPECT_EQ(full.P, light.P);
+  EXPECT_EQ(full.psi, light.psi);
+}
+
+INSTANTIATE_TEST_SUITE_P(Materials, EveryModel, ::testing::ValuesIn(kAllModels),
+                         [](const auto& info) { return material_model_name(info.param); });
+
+class FiniteStrainModel : public ::testing::TestWithParam<MaterialModel> {};
+
+TEST_P(FiniteStrainModel, IsObjective) {
+  const MaterialParameters m = parameters(GetParam());
+  std::mt19937 rng(4);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Mat3 F = random_F(rng, 0.4), Q = random_rotation(rng);
+    const StressResult s = stress(m, F), sq = stress(m, Q * F);
+    EXPECT_LT(relative_error(sq.P, Q * s.P), 1e-12);
+    EXPECT_NEAR(sq.psi, s.psi, 1e-12 * std::abs(s.psi));
+  }
+}
+
+TEST_P(FiniteStrainModel, InvertedOrFlatPointHasNoFiniteEnergy) {
+  const MaterialParameters m = parameters(GetParam());
+  const Mat3 reflected = Eigen::Vector3d(1.1, 0.9, -0.8).asDiagonal();
+  const Mat3 flat = Eigen::Vector3d(1.1, 0.9, 0.0).asDiagonal();
+  EXPECT_FALSE(std::isfinite(stress(m, reflected).psi));
+  EXPECT_FALSE(std::isfinite(stress(m, flat).psi));
+  EXPECT_FALSE(std::isfinite(stress(m, -Mat3::Identity()).psi));
+}
+
+// Energy in principal stretches on F = Q1 diag(l) Q2^T: a reference that shares no code with
+// the invariant / polar forms of the laws.
+double principal_energy(MaterialModel model, const Eigen::Vector3d& l) {
+  const double J = l.prod(), lnJ = std::log(J);
+  const Eigen::Vector3d l2 = l.cwiseProduct(l);
+  switch (model) {
+    case MaterialModel::Corotational: {
+      const Eigen::Vector3d e = l - Eigen::Vector3d::Ones();
+      return kMu * e.squaredNorm() + 0.5 * kLambda * e.sum() * e.sum();
+    }
+    case MaterialModel::SaintVenantKirchhoff: {
+      const Eigen::Vector3d E = 0.5 * (l2 - Eigen::Vector3d::Ones());
+      return kMu * E.squaredNorm() + 0.5 * kLambda * E.sum() * E.sum();
+    }
+    case MaterialModel::NeoHookean:
+      return 0.5 * kMu * (l2.sum() - 3) - kMu * lnJ + 0.5 * kLambda * lnJ * lnJ;
+    case MaterialModel::MooneyRivlin: {
+      const double I1b = std::pow(J, -2.0 / 3.0) * l2.sum();
+      const double I2b = std::pow(J, -4.0 / 3.0) * (l2(0) * l2(1) + l2(1) * l2(2) + l2(2) * l2(0));
+      const double kappa = kLambda + 2 * kMu / 3;
+      return 0.3 * kMu * (I1b - 3) + 0.2 * kMu * (I2b - 3) + 0.5 * kappa * lnJ * lnJ;
+    }
+    default:
+      throw std::logic_error("no principal-stretch form");
+  }
+}
+
+TEST_P(FiniteStrainModel, EnergyMatchesPrincipalStretchForm) {
+  const MaterialParameters m = parameters(GetParam());
+  std::mt19937 rng(5);
+  for (const Eigen::Vector3d& l : {Eigen::Vector3d(1.3, 0.8, 1.05), Eigen::Vector3d(2.0, 0.5, 0.7),
+                                   Eigen::Vector3d(1.0, 1.0, 1.4)}) {
+    const Mat3 F = random_rotation(rng) * l.asDiagonal() * random_rotation(rng).transpose();
+    const double reference = principal_energy(m.model, l);
+    EXPECT_NEAR(stress(m, F).psi, reference, 1e-12 * reference) << l.transpose();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Materials, FiniteStrainModel, ::testing::ValuesIn(kFiniteStrainModels),
+                         [](const auto& info) { return material_model_name(info.param); });
+
+TEST(LinearElastic, EnergyIsTheQuadraticForm) {
+  const MaterialParameters m = parameters(MaterialModel::LinearElastic);
+  const Mat3 F = Eigen::Vector3d(1.01, 0.99, 1.02).asDiagonal();  // eps = diag(.01, -.01, .02)
+  const double tr = 0.02;
+  EXPECT_NEAR(stress(m, F).psi, kMu * (1e-4 + 1e-4 + 4e-4) + 0.5 * kLambda * tr * tr, 1e-15);
+  EXPECT_NEAR(stress(m, F).P(2, 2), kLambda * tr + 2 * kMu * 0.02, 1e-14);
+  // A pure rotation strains the linear law (it is not objective), so a 90-degree turn does.
+  EXPECT_GT(stress(m, rotation(Eigen::Vector3d::UnitZ(), M_PI / 2)).psi, kMu);
+}
+
+TEST(Corotational, RotatedSmallStrainHasTheRotatedLinearStress) {
+  // F = Q (I + eps) with eps symmetric: S = I + eps, R = Q, P = Q sigma_linear(eps).
+  const MaterialParameters m = parameters(MaterialModel::Corotational);
+  Mat3 eps;
+  eps << 0.02, 0.01, -0.005, 0.01, -0.01, 0.003, -0.005, 0.003, 0.015;
+  const Mat3 Q = rotation(Eigen::Vector3d(1, 2, 3), 2.9);  // near a half turn
+  const Mat3 sigma = kLambda * eps.trace() * Mat3::Identity() + 2 * kMu * eps;
+  EXPECT_LT(relative_error(stress(m, Q * (Mat3::Identity() + eps)).P, Q * sigma), 1e-13);
+}
+
+TEST(Corotational, LargeStretchStressInPrincipalForm) {
+  // F = Q1 diag(l) Q2^T: R = Q1 Q2^T, S = Q2 diag(l) Q2^T, so P = Q1 diag(s) Q2^T with
+  // s_i = lambda sum_j (l_j - 1) + 2 mu (l_i - 1).
+  const MaterialParameters m = parameters(MaterialModel::Corotational);
+  const Eigen::Vector3d l(3.0, 0.2, 1.5);
+  const Mat3 Q1 = rotation(Eigen::Vector3d(0.3, -1, 2), 2.5),
+             Q2 = rotation(Eigen::Vector3d(1, 1, 0), -1.2);
+  Eigen::Vector3d principal;
+  for (int i = 0; i < 3; ++i) principal(i) = kLambda * (l.sum() - 3) + 2 * kMu * (l(i) - 1);
+  const Mat3 F = Q1 * l.asDiagonal() * Q2.transpose();
+  EXPECT_LT(relative_error(stress(m, F).P, Q1 * principal.asDiagonal() * Q2.transpose()), 1e-14);
+}
+
+TEST(NeoHookean, CauchyStressInPrincipalStretches) {
+  // sigma_i = (mu (l_i^2 - 1) + lambda ln J) / J on the principal axes.
+  const MaterialParameters m = parameters(MaterialModel::NeoHookean);
+  const Eigen::Vector3d l(1.4, 0.9, 0.75);
+  const Mat3 Q = rotation(Eigen::Vector3d(-1, 0.5, 2), 0.7);
+  const Mat3 F = Q * l.asDiagonal() * Q.transpose();
+  const double J = l.prod();
+  Eigen::Vector3d principal;
+  for (int i = 0; i < 3; ++i) principal(i) = (kMu * (l(i) * l(i) - 1) + kLambda * std::log(J)) / J;
+  const Mat3 reference = Q * principal.asDiagonal() * Q.transpose();
+  EXPECT_LT(relative_error(cauchy_stress(m, F), reference), 1e-13);
+}
+
+TEST(VonMises, UniaxialAndHydrostatic) {
+  EXPECT_NEAR(von_mises(Eigen::Vector3d(5.0, 0, 0).asDiagonal()), 5.0, 1e-14);
+  EXPECT_NEAR(von_mises(-2.0 * Mat3::Identity()), 0.0, 1e-14);
+  Mat3 shear = Mat3::Zero();
+  shear(0, 1) = shear(1, 0) = 1.0;
+  EXPECT_NEAR(von_mises(shear), std::sqrt(3.0), 1e-14);
+}
+
+TEST(MaterialNames, RoundTripAndUnknownName) {
+  for (MaterialModel model : kAllModels)
+    EXPECT_EQ(material_model_from_name(material_model_name(model)), model);
+  EXPECT_THROW(material_model_from_name("ogden"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hs

@@ -1,0 +1,83 @@
+// Stiff and extreme cases (docs/stiff_cases.md): stiffness contrast 1e6 in one body, a load
+// too large for one Newton step (cutback recovers), and true failures that stop with a
+// message naming the step and the cause, leaving no output behind.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <filesystem>
+#include <string>
+
+#include "common/error.hpp"
+#include "deck/deck.hpp"
+#include "solvers/simulation.hpp"
+
+namespace {
+
+const std::string kSource = HYDROSOFT_SOURCE_DIR;
+
+std::string out_folder(const std::string& name) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return (std::filesystem::temp_directory_path() /
+          ("hydrosoft_stiff_" + name + "_np" + std::to_string(size)))
+      .string();
+}
+
+nlohmann::json run(const std::string& deck, std::vector<std::string> overrides, const std::string& out) {
+  overrides.push_back("output.folder=" + out);
+  return hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides), MPI_COMM_WORLD);
+}
+
+double shared(const nlohmann::json& s, const char* a, const char* b) {
+  double v = s.is_null() || !s.contains(a) ? 0.0 : s[a][b].get<double>();
+  MPI_Bcast(&v, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  return v;
+}
+
+TEST(StiffCases, ContrastOfSixDecadesIsExactP1) {
+  const auto s = run("bimaterial_bar.yaml", {}, out_folder("bimaterial_p1"));
+  EXPECT_LT(shared(s, "error", "l2_relative"), 1e-8);
+}
+
+TEST(StiffCases, ContrastOfSixDecadesIsExactP2) {
+  const auto s = run("bimaterial_bar.yaml", {"mesh.order=2"}, out_folder("bimaterial_p2"));
+  EXPECT_LT(shared(s, "error", "l2_relative"), 1e-8);
+}
+
+TEST(StiffCases, ContrastWithGamgAndNearNullSpace) {
+  const auto s = run("bimaterial_bar.yaml", {"solver.preset=gamg"}, out_folder("bimaterial_gamg"));
+  EXPECT_LT(shared(s, "error", "l2_relative"), 1e-6);
+}
+
+TEST(StiffCases, OneStepTooLargeIsRecoveredByCutback) {
+  // The whole inflation to stretch 2.2 asked for in one load step.
+  const auto s = run("neo_hookean_sphere.yaml", {"time.steps=1", "mesh.parameters.h=0.5"},
+                     out_folder("cutback"));
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) {
+    EXPECT_GT(s["cutbacks"].get<int>(), 0);
+    EXPECT_GT(s["steps"].get<int>(), 1);
+    EXPECT_NEAR(s["verification"]["pressure_relative_error"].get<double>(), 0.0, 0.05);
+  }
+}
+
+TEST(StiffCases, InvertedElementsStopWithStepAndCause) {
+  // Pulling the inner surface of the sphere through its centre must fail, and say why.
+  const std::string out = out_folder("inverted");
+  try {
+    run("neo_hookean_sphere.yaml",
+        {"time.steps=1", "time.max_cutbacks=2", "mesh.parameters.h=0.5",
+         "exact.parameters.stretch=-0.5"},
+        out);
+    FAIL() << "an inverted configuration was accepted";
+  } catch (const hs::SolveError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("step 1"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("did not converge"), std::string::npos) << msg;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(out + ".partial"));
+}
+
+}  // namespace
