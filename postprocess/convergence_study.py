@@ -17,7 +17,7 @@ import os
 import subprocess
 import sys
 
-DEFAULT_LEVELS = {1: [0.4, 0.2, 0.1, 0.05], 2: [0.8, 0.4, 0.2, 0.1]}
+DEFAULT_LEVELS = {1: [0.4, 0.2, 0.1, 0.05], 2: [0.5, 0.35, 0.25, 0.18, 0.125]}
 
 
 def run_level(args, order, h):

@@ -110,15 +110,17 @@ const std::vector<Result>& Context::compute() {
     m.device->compute(views, m.outputs, volumes, gpu_ms);
   } else {
     for (size_t c = 0; c < views.size(); ++c) {
+      if (o.method == Method::column && o.implementation == Implementation::cpu_fast) {
+        if (!m.fast) m.fast = std::make_unique<detail::FastColumn>(o.threads);
+        m.fast->run(views[c], m.frame, o.grid, rho_g, m.outputs[c], volumes[c]);
+        continue;
+      }
       volumes[c] = detail::signed_volume(views[c]);
       detail::GridParams grid = detail::grid_for(views[c], m.frame, o.grid, volumes[c]);
       if (o.method == Method::hydrostatic) {
         detail::hydrostatic(views[c], m.frame, grid, rho_g, m.outputs[c]);
-      } else if (o.implementation == Implementation::cpu_reference) {
-        detail::column_reference(views[c], m.frame, grid, rho_g, m.outputs[c]);
       } else {
-        if (!m.fast) m.fast = std::make_unique<detail::FastColumn>(o.threads);
-        m.fast->run(views[c], m.frame, grid, rho_g, m.outputs[c]);
+        detail::column_reference(views[c], m.frame, grid, rho_g, m.outputs[c]);
       }
     }
   }

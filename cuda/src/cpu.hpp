@@ -43,13 +43,14 @@ struct CavityOutput {
 void column_reference(const CavityView& cavity, const Frame& frame, const GridParams& grid,
                       double rho_g, CavityOutput& out);
 
-// Column method, CPU fast path: row sweeps over bands of rows, on worker threads.
+// Column method, CPU fast path: row sweeps over bands of rows, on worker threads. Computes
+// the grid (Step 1) itself, on the threads, and returns the signed volume.
 class FastColumn {
  public:
   explicit FastColumn(int threads);
   ~FastColumn();
-  void run(const CavityView& cavity, const Frame& frame, const GridParams& grid, double rho_g,
-           CavityOutput& out);
+  void run(const CavityView& cavity, const Frame& frame, int n, double rho_g, CavityOutput& out,
+           double& signed_volume);
 
  private:
   struct Impl;

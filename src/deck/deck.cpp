@@ -2,6 +2,7 @@
 #include "deck/deck.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <regex>
 #include <set>
@@ -83,10 +84,9 @@ MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::pat
   mesh.file = resolved.lexically_normal().string();
   if (!fs::is_regular_file(mesh.file))
     r.fail("mesh.file", file,
-           "mesh file '" + mesh.file +
-               "' not found (relative paths start "
-               "at the deck's folder)");
-  const std::string extension = resolved.extension().string();
+           "mesh file '" + mesh.file + "' not found (a relative path starts at the deck's folder)");
+  std::string extension = resolved.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   require(extension == ".msh" || extension == ".geo", r, file, "mesh.file",
           "expected a .msh or .geo file, got '" + extension + "'");
   if (const auto n = node["order"]) {

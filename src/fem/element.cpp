@@ -1,6 +1,6 @@
 // Element routines on P1/P2 tetrahedra (docs/formulation.md, "Element routines").
 // Total-Lagrangian: at each quadrature point of the reference element
-//   J = dX/dxi,  grad N_a = J^-T dN_a/dxi,  F = I + sum_a u_a (x) grad N_a,
+//   J = dX/dxi,  grad N_a = J^-T dN_a/dxi,  F = I + H,  H = sum_a u_a (x) grad N_a,
 //   r_a = int P grad N_a dV,  K_ab,ik = int sum_jl A_ijkl (grad N_a)_j (grad N_b)_l dV.
 // Quadrature degrees: P1 stiffness 1 point (F is constant), P2 stiffness 4 points (degree 2:
 // exact for linear elasticity on straight elements); volume, body force and mass use rules
@@ -91,8 +91,8 @@ ElementOutput internal_force(const double* X, const double* u, const MaterialPar
     Mat3 J;
     const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
     const NodeMatrix<NPE> G = J.inverse().transpose() * t.dN[q];  // grad N_a in column a
-    const Mat3 F = Mat3::Identity() + Um * G.transpose();
-    const StressResult s = stress(m, F, K != nullptr);
+    const Mat3 H = Um * G.transpose();                            // F - I
+    const StressResult s = stress_from_displacement_gradient(m, H, K != nullptr);
     if (!std::isfinite(s.psi)) out.valid = false;
     out.energy += wdV * s.psi;
     R.noalias() += wdV * s.P * G;

@@ -42,15 +42,26 @@ Mat3 rotation_of(const Mat3& F) {
   return R;
 }
 
+// sym(R) - I of a rotation R, without cancellation for small angles: with w = sin(a) n the
+// axial vector of skew(R) and cos(a) = (tr R - 1)/2, sym(R) - I = (cos a - 1)(I - n n^T)
+// = -(|w|^2 I - w w^T) / (1 + cos a); past a quarter turn the direct form is as accurate.
+Mat3 sym_minus_identity(const Mat3& R) {
+  const double c = 0.5 * (R.trace() - 1.0);
+  if (c <= 0.0) return 0.5 * (R + R.transpose()) - Mat3::Identity();
+  const Eigen::Vector3d w = 0.5 * axial(R - R.transpose());
+  return -(w.squaredNorm() * Mat3::Identity() - w * w.transpose()) / (1.0 + c);
+}
+
 }  // namespace
 
-StressResult corotational(double mu, double lambda, const Mat3& F, bool with_tangent) {
-  if (!(F.determinant() > 0)) return inverted_result();
-  const Mat3 R = rotation_of(F);
-  const Mat3 RtF = R.transpose() * F;
-  const Mat3 S = 0.5 * (RtF + RtF.transpose());
+StressResult corotational(double mu, double lambda, const Mat3& H, bool with_tangent) {
+  if (!(1.0 + tensor::det_minus_one(H) > 0)) return inverted_result();
   const Mat3 I = Mat3::Identity();
-  const Mat3 E = S - I;
+  const Mat3 R = rotation_of(I + H);
+  // S - I = sym(R^T F) - I = (sym(R) - I) + sym(R^T H), each term free of cancellation.
+  const Mat3 RtH = R.transpose() * H;
+  const Mat3 E = sym_minus_identity(R) + 0.5 * (RtH + RtH.transpose());
+  const Mat3 S = I + E;
   const double trE = E.trace();
 
   StressResult s;

@@ -1,5 +1,5 @@
 // Small-strain linear elasticity (docs/formulation.md, "Linear elastic").
-//   eps = (F + F^T)/2 - I,  psi = mu eps:eps + lambda/2 tr(eps)^2,
+//   eps = (H + H^T)/2  (H = F - I),  psi = mu eps:eps + lambda/2 tr(eps)^2,
 //   P = sigma = lambda tr(eps) I + 2 mu eps,
 //   A_ijkl = lambda d_ij d_kl + mu (d_ik d_jl + d_il d_jk)   (constant).
 // Not objective: it is meant for small displacements and as the small-strain reference.
@@ -8,9 +8,9 @@
 
 namespace hs {
 
-StressResult linear_elastic(double mu, double lambda, const Mat3& F, bool with_tangent) {
+StressResult linear_elastic(double mu, double lambda, const Mat3& H, bool with_tangent) {
   const Mat3 I = Mat3::Identity();
-  const Mat3 eps = 0.5 * (F + F.transpose()) - I;
+  const Mat3 eps = 0.5 * (H + H.transpose());
   const double tr = eps.trace();
   StressResult s;
   s.P = lambda * tr * I + 2.0 * mu * eps;

@@ -46,22 +46,27 @@ StressResult inverted_result() {
   return s;
 }
 
-StressResult stress(const MaterialParameters& m, const Mat3& F, bool with_tangent) {
+StressResult stress_from_displacement_gradient(const MaterialParameters& m, const Mat3& H,
+                                               bool with_tangent) {
   switch (m.model) {
     case MaterialModel::LinearElastic:
-      return linear_elastic(m.mu, m.lambda, F, with_tangent);
+      return linear_elastic(m.mu, m.lambda, H, with_tangent);
     case MaterialModel::Corotational:
-      return corotational(m.mu, m.lambda, F, with_tangent);
+      return corotational(m.mu, m.lambda, H, with_tangent);
     case MaterialModel::SaintVenantKirchhoff:
-      return saint_venant_kirchhoff(m.mu, m.lambda, F, with_tangent);
+      return saint_venant_kirchhoff(m.mu, m.lambda, H, with_tangent);
     case MaterialModel::NeoHookean:
-      return neo_hookean(m.mu, m.lambda, F, with_tangent);
+      return neo_hookean(m.mu, m.lambda, H, with_tangent);
     case MaterialModel::MooneyRivlin:
       // Bulk modulus of the small-strain limit; the shear modulus there is 2 (c1 + c2).
-      return mooney_rivlin(m.c1, m.c2, m.lambda + 2.0 * m.mu / 3.0, F, with_tangent);
+      return mooney_rivlin(m.c1, m.c2, m.lambda + 2.0 * m.mu / 3.0, H, with_tangent);
   }
   throw std::invalid_argument("unknown material model " +
                               std::to_string(static_cast<int>(m.model)));
+}
+
+StressResult stress(const MaterialParameters& m, const Mat3& F, bool with_tangent) {
+  return stress_from_displacement_gradient(m, F - Mat3::Identity(), with_tangent);
 }
 
 StressResult stress(const MaterialParameters& m, const Mat3& F) { return stress(m, F, true); }

@@ -42,6 +42,11 @@ struct StressResult {
 StressResult stress(const MaterialParameters& m, const Mat3& F);
 // The same; with_tangent = false skips computing A (residual-only evaluations).
 StressResult stress(const MaterialParameters& m, const Mat3& F, bool with_tangent);
+// The same from the displacement gradient H = F - I, which element routines have: small
+// strains keep their relative precision (F - I would leave an absolute error of 1e-16, i.e.
+// a stress error of 1e-16 times the stiffness, a residual floor for small loads).
+StressResult stress_from_displacement_gradient(const MaterialParameters& m, const Mat3& H,
+                                               bool with_tangent);
 
 // Cauchy stress sigma = P F^T / J, used for output (von Mises).
 // For linear_elastic (small strain) it is P itself.

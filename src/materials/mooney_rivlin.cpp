@@ -7,6 +7,9 @@
 //   dI1b/dF = g (2 F - 2/3 I1 F^-T)
 //   dI2b/dF = h Q,  Q = 2 (I1 F - F C) - 4/3 I2 F^-T
 //   P = c1 dI1b/dF + c2 dI2b/dF + kappa ln J F^-T.
+// Written on E = (C - I)/2 (from H = F - I, keeping the precision of small strains), with
+// t = tr E: dev C = 2 dev E and dev(I1 C - C^2) = 2 dev((1 + 2t) E - 2 E^2), so
+//   P = F^-T [4 c1 g dev E + 4 c2 h dev((1 + 2t) E - 2 E^2) + kappa ln J I].
 // Differentiating once more (D_ijkl = F^-T_il F^-T_kj, (X (x) Y)_ijkl = X_ij Y_kl):
 //   A1 = c1 g [2 Id - 4/3 (F (x) F^-T + F^-T (x) F) + 4/9 I1 F^-T (x) F^-T + 2/3 I1 D]
 //   dQ = 4 F (x) F + 2 I1 Id - 2 d(F C) - 8/3 F^-T (x) (I1 F - F C) + 4/3 I2 D,
@@ -20,22 +23,26 @@
 
 namespace hs {
 
-StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& F, bool with_tangent) {
-  const double J = F.determinant();
-  if (!(J > 0)) return inverted_result();
+StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& H, bool with_tangent) {
+  const double J_minus_one = tensor::det_minus_one(H);
+  if (!(1.0 + J_minus_one > 0)) return inverted_result();
   const Mat3 I = Mat3::Identity();
-  const double lnJ = std::log(J);
-  const double g = std::pow(J, -2.0 / 3.0);
+  const Mat3 F = I + H;
+  const double lnJ = std::log1p(J_minus_one);
+  const double g = std::exp(-2.0 / 3.0 * lnJ);
   const double h = g * g;
   const Mat3 FinvT = F.inverse().transpose();
-  const Mat3 C = F.transpose() * F;
+  const Mat3 E = tensor::green_lagrange(H);
+  const Mat3 C = I + 2.0 * E;
   const Mat3 FC = F * C;
   const double I1 = C.trace();
   const double I2 = 0.5 * (I1 * I1 - C.squaredNorm());
-  const Mat3 Q = 2.0 * (I1 * F - FC) - 4.0 / 3.0 * I2 * FinvT;
+  const Mat3 dev_E = tensor::deviator(E);
+  const Mat3 dev_E2 = tensor::deviator((1.0 + 2.0 * E.trace()) * E - 2.0 * E * E);
+  const Mat3 Q = 4.0 * FinvT * dev_E2;  // = 2 (I1 F - F C) - 4/3 I2 F^-T
 
   StressResult s;
-  s.P = c1 * g * (2.0 * F - 2.0 / 3.0 * I1 * FinvT) + c2 * h * Q + kappa * lnJ * FinvT;
+  s.P = FinvT * (4.0 * c1 * g * dev_E + 4.0 * c2 * h * dev_E2 + kappa * lnJ * I);
   s.psi = c1 * (g * I1 - 3.0) + c2 * (h * I2 - 3.0) + 0.5 * kappa * lnJ * lnJ;
   s.A.setZero();
   if (!with_tangent) return s;

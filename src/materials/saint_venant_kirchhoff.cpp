@@ -8,10 +8,11 @@
 
 namespace hs {
 
-StressResult saint_venant_kirchhoff(double mu, double lambda, const Mat3& F, bool with_tangent) {
-  if (!(F.determinant() > 0)) return inverted_result();
+StressResult saint_venant_kirchhoff(double mu, double lambda, const Mat3& H, bool with_tangent) {
+  if (!(1.0 + tensor::det_minus_one(H) > 0)) return inverted_result();
   const Mat3 I = Mat3::Identity();
-  const Mat3 E = 0.5 * (F.transpose() * F - I);
+  const Mat3 F = I + H;
+  const Mat3 E = tensor::green_lagrange(H);
   const double trE = E.trace();
   const Mat3 S = lambda * trE * I + 2.0 * mu * E;
   StressResult s;

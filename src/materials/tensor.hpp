@@ -6,6 +6,22 @@
 
 namespace hs::tensor {
 
+// Kinematics from the displacement gradient H = F - I, free of the cancellation in F - I,
+// F^T F - I or det F - 1 that would leave an absolute error of 1e-16 (times the stiffness) on
+// strains that may be as small as 1e-9.
+
+// Green-Lagrange strain E = (F^T F - I)/2 = (H + H^T + H^T H)/2.
+inline Mat3 green_lagrange(const Mat3& H) { return 0.5 * (H + H.transpose() + H.transpose() * H); }
+
+// det(I + H) - 1 = tr H + ((tr H)^2 - tr(H^2))/2 + det H.
+inline double det_minus_one(const Mat3& H) {
+  const double t = H.trace();
+  return t + 0.5 * (t * t - (H * H).trace()) + H.determinant();
+}
+
+// Deviatoric part X - tr(X)/3 I.
+inline Mat3 deviator(const Mat3& X) { return X - X.trace() / 3.0 * Mat3::Identity(); }
+
 // Row-major flattening of a 3x3 matrix: v(3i + j) = X(i, j).
 inline Eigen::Matrix<double, 9, 1> flatten(const Mat3& X) {
   Eigen::Matrix<double, 9, 1> v;

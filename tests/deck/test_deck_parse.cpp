@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "common/error.hpp"
 #include "deck/deck.hpp"
@@ -310,6 +312,29 @@ TEST(RepositoryDecks, AllParseAndRoundTrip) {
     }
   }
   EXPECT_GT(count, 0);
+}
+
+// The complete example of docs/decks.md is a valid deck, also with its dynamic time section.
+TEST(DocumentedExample, Parses) {
+  std::ifstream in(std::string(HYDROSOFT_SOURCE_DIR) + "/docs/decks.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::vector<std::string> blocks;
+  const std::string doc = text.str(), open = "```yaml\n", close = "```\n";
+  for (size_t at = doc.find(open); at != std::string::npos; at = doc.find(open, at)) {
+    at += open.size();
+    const size_t end = doc.find(close, at);
+    blocks.push_back(doc.substr(at, end - at));
+  }
+  ASSERT_EQ(blocks.size(), 2u);
+  TempFolder tmp;
+  tmp.write("meshes/lame_sphere.geo", "");
+  const Config c = parse_deck(tmp.write("input/example.yaml", blocks[0]));
+  EXPECT_EQ(c.materials[0].c1, 4.0e4);
+  EXPECT_EQ(c.time.steps, 5);
+  const size_t time = blocks[0].find("time:"), solver = blocks[0].find("solver:");
+  const std::string dynamic = blocks[0].substr(0, time) + blocks[1] + blocks[0].substr(solver);
+  EXPECT_EQ(parse_deck(tmp.write("input/dynamic.yaml", dynamic)).time.end_time, 0.2);
 }
 
 }  // namespace

@@ -133,6 +133,19 @@ TEST_P(EveryModel, NoStressNoEnergyAtIdentity) {
   EXPECT_NEAR(s.psi, 0.0, 1e-14 * kLambda);
 }
 
+TEST_P(EveryModel, TinyStrainKeepsItsRelativePrecision) {
+  // At |H| ~ 1e-11 every law is linear to 1e-11; computing through F = I + H would lose
+  // 1e-16 / 1e-11 = 1e-5 of the stress (a residual floor of 1e-16 E for small loads).
+  const MaterialParameters m = parameters(GetParam());
+  std::mt19937 rng(6);
+  for (int trial = 0; trial < 10; ++trial) {
+    const Mat3 H = 1e-11 * (random_F(rng, 1.0) - Mat3::Identity());
+    const Mat3 eps = 0.5 * (H + H.transpose());
+    const Mat3 linear = kLambda * eps.trace() * Mat3::Identity() + 2 * kMu * eps;
+    EXPECT_LT(relative_error(stress_from_displacement_gradient(m, H, false).P, linear), 1e-9);
+  }
+}
+
 TEST_P(EveryModel, ResidualOnlyCallGivesTheSameStress) {
   const MaterialParameters m = parameters(GetParam());
   std::mt19937 rng(3);

@@ -1,0 +1,115 @@
+// The fluidweight command line: JSON fields against the library, the forces file, errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "support.hpp"
+
+namespace fw = fluidweight;
+using namespace fwtest;
+
+namespace {
+
+struct Run {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+Run run_cli(const std::string& args) {
+  std::string command = std::string(FLUIDWEIGHT_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string out;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) out.append(buffer, n);
+  int status = pclose(pipe);
+  return {WEXITSTATUS(status), out};
+}
+
+// The number after "key": in a one-line JSON object.
+double json_number(const std::string& json, const std::string& key) {
+  size_t at = json.find("\"" + key + "\": ");
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "no key " << key << " in " << json;
+    return NAN;
+  }
+  return std::stod(json.substr(at + key.size() + 4));
+}
+
+std::string write_obj(const SurfaceMesh& m, const std::string& name) {
+  std::string path = testing::TempDir() + name;
+  std::ofstream out(path);
+  out.precision(17);
+  for (int v = 0; v < m.num_vertices(); ++v) {
+    out << "v " << m.vertices[3 * v] << " " << m.vertices[3 * v + 1] << " "
+        << m.vertices[3 * v + 2] << "\n";
+  }
+  for (int t = 0; t < m.num_triangles(); ++t) {
+    out << "f " << m.triangles[3 * t] + 1 << " " << m.triangles[3 * t + 1] + 1 << " "
+        << m.triangles[3 * t + 2] + 1 << "\n";
+  }
+  return path;
+}
+
+}  // namespace
+
+TEST(Cli, JsonAndForcesMatchTheLibrary) {
+  SurfaceMesh m = fw::shapes::icosphere(3);
+  std::string mesh = write_obj(m, "cli_sphere.obj");
+  std::string forces = testing::TempDir() + "cli_forces.txt";
+  Run r = run_cli(mesh + " --grid 64 --rho 1000 --gravity 0,-9.81,0 --repeat 3 --json --forces " +
+                  forces);
+  ASSERT_EQ(r.status, 0) << r.output;
+  Result expected = fw::compute(m, options(fw::Implementation::cpu_fast, 64));
+  EXPECT_EQ(json_number(r.output, "triangles"), m.num_triangles());
+  EXPECT_EQ(json_number(r.output, "vertices"), m.num_vertices());
+  EXPECT_EQ(json_number(r.output, "grid"), 64);
+  EXPECT_DOUBLE_EQ(json_number(r.output, "signed_volume"), expected.signed_volume);
+  EXPECT_DOUBLE_EQ(json_number(r.output, "volume"), expected.column_volume);
+  EXPECT_NEAR(json_number(r.output, "total_weight"), 1000 * 9.81 * expected.column_volume,
+              1e-9 * expected.total_weight);
+  EXPECT_GE(json_number(r.output, "time_ms"), 0.0);
+
+  std::ifstream in(forces);
+  std::vector<double> f;
+  for (double x; in >> x;) f.push_back(x);
+  ASSERT_EQ(f.size(), expected.forces.size());
+  double sum_y = 0;
+  for (size_t k = 0; k < f.size(); ++k) {
+    EXPECT_NEAR(f[k], expected.forces[k], 1e-12 * expected.total_weight);
+    if (k % 3 == 1) sum_y += f[k];
+  }
+  EXPECT_NEAR(sum_y, -expected.total_weight, 1e-9 * expected.total_weight);
+}
+
+TEST(Cli, MethodsAndKernelsAreSelectable) {
+  SurfaceMesh m = e_shape();
+  std::string mesh = write_obj(m, "cli_e.obj");
+  Run ref = run_cli(mesh + " --grid 30 --kernel reference --json");
+  Run hydro = run_cli(mesh + " --method hydrostatic --gravity 0,0,-2 --json");
+  ASSERT_EQ(ref.status, 0) << ref.output;
+  ASSERT_EQ(hydro.status, 0) << hydro.output;
+  EXPECT_NEAR(json_number(ref.output, "volume"), 51.0, 1e-12);
+  EXPECT_NEAR(json_number(hydro.output, "total_weight"), 2 * 51.0, 1e-10);
+  Run text = run_cli(mesh + " --grid=30");
+  EXPECT_NE(text.output.find("column volume  51"), std::string::npos) << text.output;
+}
+
+TEST(Cli, ErrorsAreClear) {
+  Run usage = run_cli("--grid 10");
+  EXPECT_EQ(usage.status, 2);
+  EXPECT_NE(usage.output.find("no mesh given"), std::string::npos);
+  EXPECT_EQ(run_cli("x.obj --frobnicate 3").status, 2);
+  EXPECT_EQ(run_cli("x.obj --grid ten").status, 2);
+
+  SurfaceMesh open = octahedron({0, 0, 0}, 1);
+  open.triangles.resize(open.triangles.size() - 3);
+  Run bad = run_cli(write_obj(open, "cli_open.obj"));
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.output.find("not a closed surface: edge ("), std::string::npos) << bad.output;
+  Run kernel = run_cli(write_obj(e_shape(), "cli_k.obj") + " --device cpu --kernel leveraging");
+  EXPECT_EQ(kernel.status, 1);
+  EXPECT_NE(kernel.output.find("not a cpu kernel"), std::string::npos);
+}

@@ -1,0 +1,76 @@
+// The multithreaded CPU fast path gives the reference's columns, volumes and nodal forces.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "support.hpp"
+
+namespace fw = fluidweight;
+using namespace fwtest;
+
+namespace {
+
+void expect_same(const SurfaceMesh& mesh, int n, int threads, Vec3 gravity = {0, -9.81, 0}) {
+  Options ref = options(fw::Implementation::cpu_reference, n, gravity);
+  Options fast = options(fw::Implementation::cpu_fast, n, gravity);
+  fast.threads = threads;
+  Result a = fw::compute(mesh, ref), b = fw::compute(mesh, fast);
+  EXPECT_NEAR(b.column_volume, a.column_volume, 1e-12 * std::fabs(a.signed_volume))
+      << "grid " << n << " threads " << threads;
+  EXPECT_NEAR(b.signed_volume, a.signed_volume, 1e-12 * std::fabs(a.signed_volume));
+  EXPECT_EQ(b.unmatched_columns, 0);
+  EXPECT_LT(force_difference(b, a), 1e-11) << "grid " << n << " threads " << threads;
+}
+
+}  // namespace
+
+TEST(ColumnFast, MatchesReferenceOnVariedShapes) {
+  std::vector<SurfaceMesh> meshes = {
+      fw::shapes::icosphere(4),
+      transformed(fw::shapes::torus(1, 0.3, 48, 20), rotation({1, 0.2, 0}, 1.2)),
+      e_shape(),
+      comb(9),  // 9 sections per column: more hits than a column's buffer keeps
+      fw::shapes::uneven_sphere(3, 10.0),
+      octahedron({0, 0, 0}, 1.0)};
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    SCOPED_TRACE("mesh " + std::to_string(m));
+    for (int n : {1, 15, 31, 64, 255}) {
+      for (int threads : {1, 3}) expect_same(meshes[m], n, threads);
+    }
+  }
+}
+
+TEST(ColumnFast, InwardOrientationAndOtherGravity) {
+  SurfaceMesh m = flipped(transformed(e_shape(), rotation({0.3, 1, 0.1}, 0.7)));
+  expect_same(m, 90, 2, {1.0, 2.0, -3.0});
+  expect_same(fw::shapes::torus(1, 0.4, 40, 16), 77, 2, {0, 0, -9.81});
+}
+
+// A context computes again with new positions (same connectivity), as a control loop does.
+TEST(ColumnFast, ContextFollowsMovingVertices) {
+  SurfaceMesh a = fw::shapes::icosphere(3);
+  SurfaceMesh b = transformed(a, rotation({1, 1, 1}, 0.5));
+  for (size_t v = 0; v < b.vertices.size(); ++v) b.vertices[v] *= 1.0 + 0.1 * (v % 3);
+  Options o = options(fw::Implementation::cpu_fast, 120);
+  fw::Context context(o);
+  context.set_cavities({a});
+  Result first = context.compute().front();
+  context.set_positions({b.vertices.data()});
+  Result second = context.compute().front();
+  EXPECT_NEAR(first.column_volume, fw::compute(a, o).column_volume, 1e-14);
+  EXPECT_NEAR(second.column_volume, fw::compute(b, o).column_volume, 1e-14);
+  EXPECT_LT(force_difference(second, fw::compute(b, o)), 1e-14);
+}
+
+TEST(ColumnFast, BatchEqualsSeparateCalls) {
+  std::vector<SurfaceMesh> cavities = {fw::shapes::icosphere(3), e_shape(),
+                                       translated(fw::shapes::torus(1, 0.3, 30, 12), {5, 0, 0})};
+  Options o = options(fw::Implementation::cpu_fast, 64);
+  std::vector<Result> batch = fw::compute_batch(cavities, o);
+  ASSERT_EQ(batch.size(), cavities.size());
+  for (size_t c = 0; c < cavities.size(); ++c) {
+    Result alone = fw::compute(cavities[c], o);
+    EXPECT_DOUBLE_EQ(batch[c].column_volume, alone.column_volume);
+    EXPECT_LT(force_difference(batch[c], alone), 1e-15);
+  }
+}

@@ -1,0 +1,151 @@
+// The file readers: each format written here from a generated mesh reads back to the same
+// surface (same volume); STL corners are merged; errors name the file and line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "fluidweight/mesh_io.hpp"
+#include "support.hpp"
+
+namespace fw = fluidweight;
+using namespace fwtest;
+
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return testing::TempDir() + "fluidweight_" + name;
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  std::string path = temp_path(name);
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+std::string expect_error(const std::string& path) {
+  try {
+    fw::read_surface(path);
+  } catch (const fw::InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << path << " was read without error";
+  return "";
+}
+
+const SurfaceMesh& sample() {
+  static SurfaceMesh mesh = transformed(fw::shapes::torus(1, 0.3, 16, 8), rotation({1, 2, 0}, 0.3));
+  return mesh;
+}
+
+}  // namespace
+
+TEST(Readers, ObjWithPolygonsNegativeIndicesAndNormals) {
+  // A cube as quads, with texture and normal indices and relative (negative) indices.
+  std::string text =
+      "# cube\nmtllib none.mtl\no cube\n"
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+      "vn 0 0 1\nvt 0 0\n"
+      "f 1/1/1 4/1/1 3/1/1 2/1/1\nf 5//1 6//1 7//1 8//1\nf 1 2 6 5\n"
+      "f -6 -5 -1 -2\nf 3 4 8 7\nf 4 1 5 8\n";
+  SurfaceMesh m = fw::read_surface(write("cube.obj", text));
+  EXPECT_EQ(m.num_vertices(), 8);
+  EXPECT_EQ(m.num_triangles(), 12);
+  fw::check_closed_surface(m);
+  EXPECT_NEAR(volume(m), 1.0, 1e-15);
+}
+
+TEST(Readers, OffStlAsciiStlBinaryAndMshGiveTheSameSurface) {
+  const SurfaceMesh& m = sample();
+  const double v = volume(m);
+  std::ostringstream off, stl;
+  off << "OFF\n# comment\n" << m.num_vertices() << " " << m.num_triangles() << " 0\n";
+  off.precision(17);
+  stl.precision(17);
+  for (int k = 0; k < m.num_vertices(); ++k) {
+    off << m.vertices[3 * k] << " " << m.vertices[3 * k + 1] << " " << m.vertices[3 * k + 2] << "\n";
+  }
+  stl << "solid torus\n";
+  std::string binary(80, ' ');
+  uint32_t count = m.num_triangles();
+  binary.append(reinterpret_cast<const char*>(&count), 4);
+  for (int t = 0; t < m.num_triangles(); ++t) {
+    const int* c = &m.triangles[3 * t];
+    off << "3 " << c[0] << " " << c[1] << " " << c[2] << "\n";
+    stl << "facet normal 0 0 0\n outer loop\n";
+    float record[12] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      const double* p = &m.vertices[3 * c[k]];
+      stl << "  vertex " << p[0] << " " << p[1] << " " << p[2] << "\n";
+      for (int d = 0; d < 3; ++d) record[3 + 3 * k + d] = static_cast<float>(p[d]);
+    }
+    stl << " endloop\nendfacet\n";
+    binary.append(reinterpret_cast<const char*>(record), 48);
+    binary.append(2, '\0');
+  }
+  stl << "endsolid torus\n";
+
+  SurfaceMesh a = fw::read_surface(write("torus.off", off.str()));
+  SurfaceMesh b = fw::read_surface(write("torus.stl", stl.str()));
+  SurfaceMesh c = fw::read_surface(write("torus_binary.STL", binary));
+  EXPECT_EQ(a.vertices, m.vertices);
+  EXPECT_EQ(a.triangles, m.triangles);
+  // STL repeats each corner once per facet; merged back, the corners are the mesh's vertices.
+  for (const SurfaceMesh* s : {&b, &c}) {
+    EXPECT_EQ(s->num_vertices(), m.num_vertices());
+    EXPECT_EQ(s->num_triangles(), m.num_triangles());
+    fw::check_closed_surface(*s);
+  }
+  EXPECT_NEAR(volume(b), v, 1e-14);
+  EXPECT_NEAR(volume(c), v, 1e-6 * v);  // float32 coordinates
+}
+
+TEST(Readers, Msh41And22) {
+  // Two triangles and a quad closing a square pyramid... here: a tetrahedron's four faces,
+  // one of them given as part of a line/point/volume element mix that must be skipped.
+  std::string v41 =
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+      "$Entities\n0 0 1 0\n1 0 0 0 1 1 1 0 0\n$EndEntities\n"
+      "$Nodes\n2 4 1 40\n"
+      "2 1 0 3\n10\n20\n30\n0 0 0\n1 0 0\n0 1 0\n"
+      "0 7 0 1\n40\n0 0 1\n"
+      "$EndNodes\n"
+      "$Elements\n3 6 1 6\n"
+      "1 1 1 1\n1 10 20\n"
+      "2 1 2 4\n2 10 30 20\n3 10 20 40\n4 20 30 40\n5 30 10 40\n"
+      "3 1 4 1\n6 10 20 30 40\n"
+      "$EndElements\n";
+  SurfaceMesh a = fw::read_surface(write("tet41.msh", v41));
+  EXPECT_EQ(a.num_vertices(), 4);
+  EXPECT_EQ(a.num_triangles(), 4);
+  fw::check_closed_surface(a);
+  EXPECT_NEAR(volume(a), 1.0 / 6.0, 1e-15);
+
+  std::string v22 =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+      "$Nodes\n4\n10 0 0 0\n20 1 0 0\n30 0 1 0\n40 0 0 1\n$EndNodes\n"
+      "$Elements\n6\n1 15 2 0 1 10\n"
+      "2 2 2 0 1 10 30 20\n3 2 2 0 1 10 20 40\n4 2 2 0 1 20 30 40\n5 2 2 0 1 30 10 40\n"
+      "6 4 2 0 1 10 20 30 40\n$EndElements\n";
+  SurfaceMesh b = fw::read_surface(write("tet22.msh", v22));
+  EXPECT_EQ(b.vertices, a.vertices);
+  EXPECT_EQ(b.triangles, a.triangles);
+}
+
+TEST(Readers, ErrorsNameTheFileAndLine) {
+  std::string obj = write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+  EXPECT_EQ(expect_error(obj), obj + ":4: face corner 4 refers to no vertex (3 defined so far)");
+  std::string off = write("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(expect_error(off), off + ":4: expected a number (vertex coordinate), got 'x'");
+  std::string msh = write("bad.msh", "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n");
+  EXPECT_EQ(expect_error(msh), msh + ":2: binary .msh files are not supported: save as ASCII");
+  std::string stl = write("bad.stl", "not an stl");
+  EXPECT_NE(expect_error(stl).find("neither a binary STL"), std::string::npos);
+  EXPECT_EQ(expect_error(temp_path("missing.obj")),
+            temp_path("missing.obj") + ": cannot open the file");
+  EXPECT_NE(expect_error(write("mesh.ply", "")).find("unknown mesh format '.ply'"),
+            std::string::npos);
+}
