@@ -23,7 +23,7 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent) {
   // iterative solve would otherwise look converged).
   const std::map<std::string, std::string> common = {
       {"snes_type", "newtonls"}, {"snes_linesearch_type", "bt"}, {"snes_rtol", "1e-8"},
-      {"snes_atol", "1e-12"},    {"snes_stol", "0"},             {"snes_max_it", "30"}};
+      {"snes_stol", "0"},             {"snes_max_it", "30"}};
   for (const auto& [k, v] : common) set_default(k, v);
   if (solver.preset == "mumps") {
     set_default("ksp_type", "preonly");
@@ -78,6 +78,14 @@ PetscErrorCode NewtonSolver::form_jacobian(SNES snes, Vec u, Mat J, Mat, void* c
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
   }
   return 0;
+}
+
+void NewtonSolver::scale_absolute_tolerance(double load_norm) {
+  PetscBool set = PETSC_FALSE;
+  HS_PETSC(PetscOptionsHasName(nullptr, nullptr, "-snes_atol", &set));
+  if (set || load_norm <= 0) return;
+  HS_PETSC(SNESSetTolerances(snes_, 1e-9 * load_norm, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
+                             PETSC_DEFAULT));
 }
 
 NewtonResult NewtonSolver::solve(Vec u, double s) {

@@ -362,7 +362,8 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
   return global_ok;
 }
 
-void Problem::internal_force(Vec u, Vec f) {
+void Problem::internal_force(Vec u, Vec f, double* energy) {
+  double local_energy = 0;
   HS_PETSC(VecCopy(u, u_work_));
   HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
   HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
@@ -379,7 +380,7 @@ void Problem::internal_force(Vec u, Vec f) {
     element_coordinates(e, X);
     element_displacement(ua, e, ue);
     const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-    tet_internal_force(mesh_.order, X, ue, m, re, nullptr);
+    local_energy += tet_internal_force(mesh_.order, X, ue, m, re, nullptr).energy;
     const int32_t* nodes = &dist_.tet_nodes[e * npe_];
     for (int a = 0; a < npe_; ++a)
       for (int d = 0; d < 3; ++d) fa[3 * nodes[a] + d] += re[3 * a + d];
@@ -391,6 +392,7 @@ void Problem::internal_force(Vec u, Vec f) {
   HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
   HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
   HS_PETSC(VecCopy(r_work_, f));
+  if (energy) MPI_Allreduce(&local_energy, energy, 1, MPI_DOUBLE, MPI_SUM, comm_);
 }
 
 void Problem::external_load(Vec u, double s, Vec f) {

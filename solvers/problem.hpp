@@ -74,7 +74,8 @@ class Problem {
 
   // Internal forces f_int(u) alone (no loads, no Dirichlet rows): at constrained nodes these
   // are the reactions.
-  void internal_force(Vec u, Vec f);
+  // Optionally also the stored energy int psi dV (summed over ranks) in *energy.
+  void internal_force(Vec u, Vec f, double* energy = nullptr);
   double reference_coordinate(int64_t local_node, int d) const { return X_local_[3 * local_node + d]; }
 
   // Per local tetrahedron: von Mises stress and J at the centroid.

@@ -115,6 +115,15 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   const double t_setup = MPI_Wtime() - t_start;
 
   Vec u = problem.create_vector();
+  {
+    Vec f;
+    HS_PETSC(VecDuplicate(u, &f));
+    problem.external_load(u, 1.0, f);
+    PetscReal norm = 0;
+    HS_PETSC(VecNorm(f, NORM_2, &norm));
+    HS_PETSC(VecDestroy(&f));
+    newton.scale_absolute_tolerance(norm);
+  }
   SteppingStats stats;
   double final_load = 1.0;
   int outputs = 0;
@@ -156,6 +165,15 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   summary["newton_iterations"] = stats.newton_iterations;
   summary["linear_iterations"] = stats.linear_iterations;
   summary["outputs"] = outputs;
+  if (!stats.energy.empty()) {
+    // Drift of the total energy relative to the largest stored energy reached.
+    double drift = 0;
+    for (double e : stats.energy) drift = std::max(drift, std::abs(e - stats.energy.front()));
+    summary["energy"]["initial"] = stats.energy.front();
+    summary["energy"]["final"] = stats.energy.back();
+    summary["energy"]["max_drift"] = drift;
+    summary["energy"]["max_stored"] = stats.max_stored_energy;
+  }
   if (exact) {
     const ErrorNorms e = displacement_error(problem, u, *exact, final_load);
     summary["error"]["l2_relative"] = e.l2_relative;

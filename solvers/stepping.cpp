@@ -2,6 +2,7 @@
 
 #include <petscksp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -18,9 +19,10 @@ std::vector<double> load_schedule(const TimeConfig& time) {
 
 namespace {
 
-[[noreturn]] void fail(const Problem& problem, int step, double s, const NewtonResult& r) {
+[[noreturn]] void fail(const Problem& problem, int step, const std::string& where,
+                       const NewtonResult& r) {
   std::ostringstream msg;
-  msg << "step " << step << " (load factor " << s << "): Newton did not converge ("
+  msg << "step " << step << " (" << where << "): Newton did not converge ("
       << r.reason << ", residual " << r.residual_norm << " after " << r.iterations
       << " iterations)";
   if (problem.first_bad_element() >= 0)
@@ -55,7 +57,7 @@ void advance_load(Problem& problem, NewtonSolver& newton, Vec u, double s_from, 
     ++stats.cutbacks;
     if (++halvings > max_cutbacks) {
       VecDestroy(&saved);
-      fail(problem, step, s, r);
+      fail(problem, step, "load factor " + std::to_string(s), r);
     }
     increment /= 2;
   }
@@ -91,6 +93,23 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
   HS_PETSC(VecScale(a, -1.0));
   HS_PETSC(KSPDestroy(&mass_solver));
 
+  // E = 1/2 v.M v + int psi - f_ext.u (f_ext at full load on the current configuration).
+  Vec Mv, f_ext, scratch;
+  HS_PETSC(VecDuplicate(u, &Mv));
+  HS_PETSC(VecDuplicate(u, &f_ext));
+  HS_PETSC(VecDuplicate(u, &scratch));
+  auto total_energy = [&]() {
+    double stored = 0, kinetic = 0, work = 0;
+    problem.internal_force(u, scratch, &stored);
+    HS_PETSC(MatMult(inertia.M, v, Mv));
+    HS_PETSC(VecDot(v, Mv, &kinetic));
+    problem.external_load(u, 1.0, f_ext);
+    HS_PETSC(VecDot(f_ext, u, &work));
+    stats.max_stored_energy = std::max(stats.max_stored_energy, stored);
+    return 0.5 * kinetic + stored - work;
+  };
+  stats.energy.push_back(total_energy());
+
   problem.set_inertia(&inertia);
   const int nsteps = static_cast<int>(std::ceil(time.end_time / dt - 1e-9));
   for (int n = 1; n <= nsteps; ++n) {
@@ -99,16 +118,12 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
     HS_PETSC(VecWAXPY(inertia.u_pred, dt, v, u));
     if (newmark) HS_PETSC(VecAXPY(inertia.u_pred, dt * dt * (0.5 - beta), a));
     inertia.c = newmark ? 1 / (beta * dt * dt) : 1 / (dt * dt);
-    Vec u_old;
-    HS_PETSC(VecDuplicate(u, &u_old));
-    HS_PETSC(VecCopy(u, u_old));
     const NewtonResult r = newton.solve(u, 1.0);
     stats.newton_iterations += r.iterations;
     stats.linear_iterations += r.linear_iterations;
     if (!r.converged) {
-      VecDestroy(&u_old);
       problem.set_inertia(nullptr);
-      fail(problem, n, n * dt, r);
+      fail(problem, n, "time " + std::to_string(n * dt), r);
     }
     ++stats.steps;
     // a_new = c (u - u_pred); v += dt ((1 - gamma) a + gamma a_new) or dt a_new.
@@ -121,10 +136,13 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
       HS_PETSC(VecAXPY(v, dt, a_new));
     }
     HS_PETSC(VecCopy(a_new, a));
-    HS_PETSC(VecDestroy(&u_old));
+    stats.energy.push_back(total_energy());
     on_step(n, n * dt, u);
   }
   problem.set_inertia(nullptr);
+  VecDestroy(&Mv);
+  VecDestroy(&f_ext);
+  VecDestroy(&scratch);
   VecDestroy(&v);
   VecDestroy(&a);
   VecDestroy(&a_new);

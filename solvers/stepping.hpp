@@ -17,6 +17,11 @@ struct SteppingStats {
   int cutbacks = 0;
   int newton_iterations = 0;
   int linear_iterations = 0;
+  // Dynamic runs: total energy (kinetic + stored - work of the external load) after each step,
+  // and the initial one. Newmark's trapezoidal rule conserves it for linear elasticity under
+  // dead loads; backward Euler dissipates it.
+  std::vector<double> energy;
+  double max_stored_energy = 0;  // the scale the drift is measured against
 };
 
 // The load factors a static or quasi-static run visits: time.schedule, or a ramp of

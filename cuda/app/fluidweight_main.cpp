@@ -204,6 +204,7 @@ std::string kernel_label(const fw::Options& o) {
 int run(const Args& a) {
   fw::Options o = options_from(a);
   fw::SurfaceMesh mesh = fw::read_surface(a.mesh);
+  fw::check_closed_surface(mesh, a.mesh);
   fw::Context context(o);
   context.set_cavities({mesh});
   std::vector<double> wall, gpu;

@@ -13,12 +13,12 @@ using namespace fwtest;
 
 namespace {
 
-struct Run {
+struct CliRun {
   int status;
   std::string output;  // stdout and stderr
 };
 
-Run run_cli(const std::string& args) {
+CliRun run_cli(const std::string& args) {
   std::string command = std::string(FLUIDWEIGHT_CLI) + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   std::string out;
@@ -59,7 +59,7 @@ TEST(Cli, JsonAndForcesMatchTheLibrary) {
   SurfaceMesh m = fw::shapes::icosphere(3);
   std::string mesh = write_obj(m, "cli_sphere.obj");
   std::string forces = testing::TempDir() + "cli_forces.txt";
-  Run r = run_cli(mesh + " --grid 64 --rho 1000 --gravity 0,-9.81,0 --repeat 3 --json --forces " +
+  CliRun r = run_cli(mesh + " --grid 64 --rho 1000 --gravity 0,-9.81,0 --repeat 3 --json --forces " +
                   forces);
   ASSERT_EQ(r.status, 0) << r.output;
   Result expected = fw::compute(m, options(fw::Implementation::cpu_fast, 64));
@@ -87,18 +87,18 @@ TEST(Cli, JsonAndForcesMatchTheLibrary) {
 TEST(Cli, MethodsAndKernelsAreSelectable) {
   SurfaceMesh m = e_shape();
   std::string mesh = write_obj(m, "cli_e.obj");
-  Run ref = run_cli(mesh + " --grid 30 --kernel reference --json");
-  Run hydro = run_cli(mesh + " --method hydrostatic --gravity 0,0,-2 --json");
+  CliRun ref = run_cli(mesh + " --grid 30 --kernel reference --json");
+  CliRun hydro = run_cli(mesh + " --method hydrostatic --gravity 0,0,-2 --json");
   ASSERT_EQ(ref.status, 0) << ref.output;
   ASSERT_EQ(hydro.status, 0) << hydro.output;
   EXPECT_NEAR(json_number(ref.output, "volume"), 51.0, 1e-12);
   EXPECT_NEAR(json_number(hydro.output, "total_weight"), 2 * 51.0, 1e-10);
-  Run text = run_cli(mesh + " --grid=30");
+  CliRun text = run_cli(mesh + " --grid=30");
   EXPECT_NE(text.output.find("column volume  51"), std::string::npos) << text.output;
 }
 
 TEST(Cli, ErrorsAreClear) {
-  Run usage = run_cli("--grid 10");
+  CliRun usage = run_cli("--grid 10");
   EXPECT_EQ(usage.status, 2);
   EXPECT_NE(usage.output.find("no mesh given"), std::string::npos);
   EXPECT_EQ(run_cli("x.obj --frobnicate 3").status, 2);
@@ -106,10 +106,10 @@ TEST(Cli, ErrorsAreClear) {
 
   SurfaceMesh open = octahedron({0, 0, 0}, 1);
   open.triangles.resize(open.triangles.size() - 3);
-  Run bad = run_cli(write_obj(open, "cli_open.obj"));
+  CliRun bad = run_cli(write_obj(open, "cli_open.obj"));
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.output.find("not a closed surface: edge ("), std::string::npos) << bad.output;
-  Run kernel = run_cli(write_obj(e_shape(), "cli_k.obj") + " --device cpu --kernel leveraging");
+  CliRun kernel = run_cli(write_obj(e_shape(), "cli_k.obj") + " --device cpu --kernel leveraging");
   EXPECT_EQ(kernel.status, 1);
   EXPECT_NE(kernel.output.find("not a cpu kernel"), std::string::npos);
 }

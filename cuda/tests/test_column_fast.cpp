@@ -57,9 +57,9 @@ TEST(ColumnFast, ContextFollowsMovingVertices) {
   Result first = context.compute().front();
   context.set_positions({b.vertices.data()});
   Result second = context.compute().front();
-  EXPECT_NEAR(first.column_volume, fw::compute(a, o).column_volume, 1e-14);
-  EXPECT_NEAR(second.column_volume, fw::compute(b, o).column_volume, 1e-14);
-  EXPECT_LT(force_difference(second, fw::compute(b, o)), 1e-14);
+  EXPECT_NEAR(first.column_volume, fw::compute(a, o).column_volume, 1e-13);
+  EXPECT_NEAR(second.column_volume, fw::compute(b, o).column_volume, 1e-13);
+  EXPECT_LT(force_difference(second, fw::compute(b, o)), 1e-13);
 }
 
 TEST(ColumnFast, BatchEqualsSeparateCalls) {
@@ -70,7 +70,8 @@ TEST(ColumnFast, BatchEqualsSeparateCalls) {
   ASSERT_EQ(batch.size(), cavities.size());
   for (size_t c = 0; c < cavities.size(); ++c) {
     Result alone = fw::compute(cavities[c], o);
-    EXPECT_DOUBLE_EQ(batch[c].column_volume, alone.column_volume);
-    EXPECT_LT(force_difference(batch[c], alone), 1e-15);
+    // Bands are shared among the threads dynamically: sums differ in order only.
+    EXPECT_NEAR(batch[c].column_volume, alone.column_volume, 1e-14 * alone.column_volume);
+    EXPECT_LT(force_difference(batch[c], alone), 1e-13);
   }
 }

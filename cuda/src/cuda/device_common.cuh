@@ -1,0 +1,134 @@
+// Data shared by the CUDA kernels (docs/fluidweight.md, "CUDA kernels").
+//
+// One call runs as a captured CUDA graph of three or four kernels over all cavities at once:
+//   1. reduce_kernel: Step 1's projected boxes and the signed volumes (orientation), block
+//      partials reduced by the last block to finish; it also clears the accumulators.
+//   2. setup kernels: Step 2 per triangle (snapped corners, floor or ceiling, candidate box),
+//      and for the tiled kernel the binning of triangles to tiles of columns.
+//   3. Steps 3-5: the leveraging or triangle-parallel raster kernel writing hits per column to
+//      global memory, then column_kernel pairing them; or tile_kernel doing both per tile in
+//      shared memory.
+#pragma once
+
+#include <cuda_runtime.h>
+
+#include <cstdint>
+
+#include "../geometry.hpp"
+
+namespace fluidweight::detail::gpu {
+
+constexpr unsigned kFullMask = 0xffffffffu;
+
+// Triangle after Steps 1-2 (written by the setup kernels). Empty box (i0 > i1) when it covers
+// no column.
+template <typename Real>
+struct DevTri {
+  int x[3], y[3];      // snapped corners, counter-clockwise
+  int vertex[3];       // global vertex indices of those corners
+  int flags;           // bits 0-2: edge k needs E_k >= 1 (not top-left); bit 3: floor
+  int i0, i1, j0, j1;  // columns whose centres lie in the box
+  int cavity;
+  Real z[3];           // heights of the corners above the cavity's lowest vertex
+};
+
+struct CavityState {
+  GridParams grid;
+  double signed_volume;
+  double sum_heights;           // column volume = cell area * sum_heights
+  unsigned long long unmatched;  // columns whose floors and ceilings do not pair
+};
+
+// Overflows of the fixed-capacity buffers: the host grows them and runs again.
+struct Status {
+  int max_tile_count;    // largest tile list (tiled)
+  int max_column_hits;   // largest number of hits in one column
+  int pad[2];
+};
+
+// One block of reduce_kernel: a range of a cavity's vertices (kind 0) or triangles (kind 1).
+struct ReduceJob {
+  int cavity, kind, begin, end;
+};
+
+// Everything a kernel reads or writes; passed by value.
+template <typename Real>
+struct Batch {
+  // Inputs.
+  const double* xyz;       // 3 per vertex, all cavities one after the other
+  const int* triangles;    // 3 per triangle, global vertex indices
+  const int* tri_cavity;   // cavity of each triangle
+  const int* cavity_vertex_begin;  // first vertex of each cavity
+  int num_cavities, num_vertices, num_triangles;
+  Frame frame;
+  int n;                   // columns per side
+  double rho_g;            // rho |g|
+  // Reduction.
+  const ReduceJob* jobs;
+  const int* cavity_job_begin;  // jobs of cavity c: [begin[c], begin[c + 1])
+  int num_jobs;
+  double* partials;             // 8 per job
+  unsigned int* ticket;         // blocks done; the last one finishes and resets it
+  // Per call.
+  CavityState* cavities;
+  Status* status;
+  DevTri<Real>* tris;
+  Real* out;                    // weights (column method, 1 per vertex) or forces (3 per vertex)
+  // Paper kernels: hits per column, slot-major (slot * columns + column).
+  int* column_count;            // reset to 0 by column_kernel after use
+  Real* column_z;
+  int* column_tag;              // triangle index, bitwise-negated for floors
+  int column_capacity;
+  unsigned long long* candidates;  // sum of candidate boxes (leveraging's c)
+  double alpha;
+  // Tiled kernel.
+  int tile_bits;                // tile edge = 1 << tile_bits columns
+  int tiles_per_side;
+  int* tile_count;
+  int* tile_list;               // tile * tile_capacity + k
+  int tile_capacity;
+  int* big_list;                // triangles over many tiles, read by every tile
+  int* big_count;
+};
+
+// Snapped centre coordinates and edge functions of a DevTri at column (i, j).
+template <typename Real>
+__device__ inline bool covers_column(const DevTri<Real>& t, int px, int py, int64_t e[3]) {
+  e[0] = edge_function(t.x[1], t.y[1], t.x[2], t.y[2], px, py);
+  e[1] = edge_function(t.x[2], t.y[2], t.x[0], t.y[0], px, py);
+  e[2] = edge_function(t.x[0], t.y[0], t.x[1], t.y[1], px, py);
+  return e[0] >= ((t.flags >> 0) & 1) && e[1] >= ((t.flags >> 1) & 1) &&
+         e[2] >= ((t.flags >> 2) & 1);
+}
+
+template <typename Real>
+__device__ inline Real height_at(const DevTri<Real>& t, const int64_t e[3]) {
+  Real inv = Real(1) / static_cast<Real>(e[0] + e[1] + e[2]);
+  return (static_cast<Real>(e[0]) * t.z[0] + static_cast<Real>(e[1]) * t.z[1] +
+          static_cast<Real>(e[2]) * t.z[2]) *
+         inv;
+}
+
+__device__ inline bool is_floor(int flags) { return (flags >> 3) & 1; }
+
+// Host launchers (one translation unit each).
+template <typename Real>
+void launch_reduce(const Batch<Real>& b, int zero_out_count, int zero_tile_count,
+                   cudaStream_t stream);
+template <typename Real>
+void launch_setup(const Batch<Real>& b, bool bin_to_tiles, cudaStream_t stream);
+template <typename Real>
+void launch_raster(const Batch<Real>& b, bool leveraging, int num_sms, cudaStream_t stream);
+template <typename Real>
+void launch_columns(const Batch<Real>& b, cudaStream_t stream);
+template <typename Real>
+void launch_tiles(const Batch<Real>& b, cudaStream_t stream);
+template <typename Real>
+void launch_hydrostatic(const Batch<Real>& b, cudaStream_t stream);
+// Dynamic shared memory of tile_kernel; the host raises the kernel's limit to it.
+template <typename Real>
+size_t tile_shared_bytes(int tile_bits, int column_capacity);
+template <typename Real>
+void allow_tile_shared(size_t bytes);
+
+}  // namespace fluidweight::detail::gpu
