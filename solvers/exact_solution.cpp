@@ -124,7 +124,8 @@ double cantilever_tip_deflection(double rho, double g, double L, double h, doubl
 }
 
 double elastica_uniform_load(double beta) {
-  // theta'' = -beta (1 - t) cos(theta), theta(0) = 0, theta'(1) = 0, t = s/L; v/L = int sin(theta).
+  // EI theta'(s) = M(s) = int_s^L q (x(r) - x(s)) dr gives, with t = s/L,
+  //   theta'' = -beta (1 - t) cos(theta),  theta(0) = 0,  theta'(1) = 0,  v/L = int_0^1 sin(theta).
   // Shooting on theta'(0) with classical RK4 and bisection: an independent check of the table.
   auto shoot = [beta](double k0, double* v) {
     const int n = 4000;
@@ -149,8 +150,9 @@ double elastica_uniform_load(double beta) {
     *v = y;
     return w;  // theta'(1), to be driven to zero
   };
-  // theta'(0) is negative (bending down is theta < 0 here): bracket in [-beta, 0].
-  double lo = -beta, hi = 0, v = 0;
+  // theta (downward inclination) grows from the clamp: theta'(0) = beta int (1 - t) cos(theta)
+  // lies in [0, beta], where theta'(1) changes sign.
+  double lo = 0, hi = beta, v = 0;
   for (int it = 0; it < 100; ++it) {
     const double mid = (lo + hi) / 2;
     if (shoot(mid, &v) > 0) hi = mid; else lo = mid;

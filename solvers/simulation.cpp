@@ -139,11 +139,9 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   } else {
     const auto schedule = load_schedule(config.time);
     history = nlohmann::json::array();
-    double s_prev = 0;
+    LoadStepper stepper(problem, newton, config.time.max_cutbacks);
     for (size_t k = 0; k < schedule.size(); ++k) {
-      advance_load(problem, newton, u, s_prev, schedule[k], static_cast<int>(k + 1),
-                   config.time.max_cutbacks, stats);
-      s_prev = schedule[k];
+      stepper.advance(u, schedule[k], static_cast<int>(k + 1), stats);
       const auto v = verification_quantities(config, problem, u, schedule[k]);
       if (!v.is_null()) history.push_back(v);
       if (output_due(static_cast<int>(k + 1), static_cast<int>(schedule.size())))

@@ -32,36 +32,54 @@ namespace {
 
 }  // namespace
 
-void advance_load(Problem& problem, NewtonSolver& newton, Vec u, double s_from, double s_to,
-                  int step, int max_cutbacks, SteppingStats& stats) {
-  Vec saved;
-  HS_PETSC(VecDuplicate(u, &saved));
+LoadStepper::LoadStepper(Problem& problem, NewtonSolver& newton, int max_cutbacks)
+    : problem_(problem), newton_(newton), max_cutbacks_(max_cutbacks) {
+  u_last_ = problem.create_vector();
+  saved_ = problem.create_vector();
+}
+
+LoadStepper::~LoadStepper() {
+  VecDestroy(&u_last_);
+  VecDestroy(&saved_);
+}
+
+void LoadStepper::predict(Vec u, double s_next) {
+  // u <- u + (s_next - s) / (s - s_last) (u - u_last): exact for a path linear in s.
+  if (has_last_ && s_ != s_last_) {
+    const double k = (s_next - s_) / (s_ - s_last_);
+    HS_PETSC(VecAXPBY(u, -k, 1 + k, u_last_));  // u <- (1 + k) u - k u_last
+  }
+  problem_.apply_dirichlet(u, s_next);
+}
+
+void LoadStepper::advance(Vec u, double s_to, int step, SteppingStats& stats) {
+  const double s_from = s_;
   double done = 0, increment = 1;  // fractions of the way from s_from to s_to
   int halvings = 0;
   while (done < 1) {
     const double next = std::min(1.0, done + increment);
     const double s = s_from + next * (s_to - s_from);
-    HS_PETSC(VecCopy(u, saved));
-    problem.apply_dirichlet(u, s);
-    const NewtonResult r = newton.solve(u, s);
+    HS_PETSC(VecCopy(u, saved_));  // the converged state at s_
+    predict(u, s);
+    const NewtonResult r = newton_.solve(u, s);
     stats.newton_iterations += r.iterations;
     stats.linear_iterations += r.linear_iterations;
     if (r.converged) {
+      HS_PETSC(VecCopy(saved_, u_last_));
+      s_last_ = s_;
+      s_ = s;
+      has_last_ = true;
       done = next;
       ++stats.steps;
       halvings = 0;
-      increment = std::min(1.0, 2 * increment);  // grow back after a success
+      increment = std::min(1.0, 2 * increment);
       continue;
     }
-    HS_PETSC(VecCopy(saved, u));
+    HS_PETSC(VecCopy(saved_, u));  // back to the converged state; the history still holds
     ++stats.cutbacks;
-    if (++halvings > max_cutbacks) {
-      VecDestroy(&saved);
-      fail(problem, step, "load factor " + std::to_string(s), r);
-    }
+    if (++halvings > max_cutbacks_) fail(problem_, step, "load factor " + std::to_string(s), r);
     increment /= 2;
   }
-  HS_PETSC(VecDestroy(&saved));
 }
 
 void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time, Vec u,

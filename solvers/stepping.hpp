@@ -28,11 +28,33 @@ struct SteppingStats {
 // time.steps equal increments to 1.
 std::vector<double> load_schedule(const TimeConfig& time);
 
-// Moves the converged state u from load factor s_from to s_to, halving the increment when
-// Newton fails (at most max_cutbacks times in a row). Throws SolveError naming the step, the
-// load factor and the cause when it cannot.
-void advance_load(Problem& problem, NewtonSolver& newton, Vec u, double s_from, double s_to,
-                  int step, int max_cutbacks, SteppingStats& stats);
+// Moves a converged state from one load factor to the next, halving the increment when
+// Newton fails (at most max_cutbacks times in a row) and growing it back after a success.
+// Each increment starts from a secant predictor, the extrapolation of the last two converged
+// states, so that a prescribed boundary motion moves the interior along with it instead of
+// distorting the elements next to the boundary. Throws SolveError naming the step, the load
+// factor and the cause when it cannot go on.
+class LoadStepper {
+ public:
+  LoadStepper(Problem& problem, NewtonSolver& newton, int max_cutbacks);
+  ~LoadStepper();
+  LoadStepper(const LoadStepper&) = delete;
+  LoadStepper& operator=(const LoadStepper&) = delete;
+
+  // u holds the converged state at the current load factor (0 at the start).
+  void advance(Vec u, double s_to, int step, SteppingStats& stats);
+
+ private:
+  void predict(Vec u, double s_next);
+
+  Problem& problem_;
+  NewtonSolver& newton_;
+  int max_cutbacks_;
+  double s_ = 0;           // load factor of u
+  double s_last_ = 0;      // load factor of u_last_
+  bool has_last_ = false;  // u_last_ holds an earlier converged state
+  Vec u_last_ = nullptr, saved_ = nullptr;
+};
 
 // Called after every converged time or load step with (step index, time or load factor, u).
 using StepCallback = std::function<void(int, double, Vec)>;

@@ -176,6 +176,8 @@ std::vector<Result> compute_batch(const std::vector<SurfaceMesh>& cavities,
 
 bool cuda_available() { return detail::device_present(); }
 
+std::string cuda_device_name() { return detail::device_name(); }
+
 std::string to_string(Method m) { return m == Method::column ? "column" : "hydrostatic"; }
 
 std::string to_string(Kernel k) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cpu.hpp"
@@ -25,6 +26,7 @@ class DeviceBackend {
 
 // True when built with CUDA and a device is present.
 bool device_present();
+std::string device_name();
 
 // Throws DeviceError when CUDA is not built in or no device is present.
 std::unique_ptr<DeviceBackend> make_device_backend(const Options& options, const Frame& frame);

@@ -5,6 +5,8 @@ namespace fluidweight::detail {
 
 bool device_present() { return false; }
 
+std::string device_name() { return ""; }
+
 std::unique_ptr<DeviceBackend> make_device_backend(const Options&, const Frame&) {
   throw DeviceError(
       "cuda: this build of the fluid-weight module has no CUDA support (the CUDA toolkit was "

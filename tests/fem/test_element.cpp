@@ -65,7 +65,7 @@ double max_abs(const std::vector<double>& v) {
 TEST_P(ElementCase, ForceIsTheDerivativeOfTheEnergy) {
   const std::vector<double> X = distorted_tet(order());
   const std::vector<double> u = random_vector(n(), 0.15, 11);
-  std::vector<double> r(n()), rp(n()), scratch(n());
+  std::vector<double> r(n()), scratch(n());
   ASSERT_TRUE(tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr).valid);
   const double h = 1e-6;
   std::vector<double> fd(n());

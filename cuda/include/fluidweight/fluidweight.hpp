@@ -107,6 +107,8 @@ std::vector<Result> compute_batch(const std::vector<SurfaceMesh>& cavities,
 
 // True when the CUDA part is built in and a device is present.
 bool cuda_available();
+// The CUDA device's name and multiprocessor count, or "" without one.
+std::string cuda_device_name();
 
 // Names used by the command line and the JSON output.
 std::string to_string(Method method);

@@ -1,0 +1,264 @@
+// Steps 1-2 on the GPU (reduce_kernel, setup_kernel) and the closed-form hydrostatic load.
+#include <cub/block/block_reduce.cuh>
+
+#include "device_common.cuh"
+
+namespace fluidweight::detail::gpu {
+namespace {
+
+constexpr int kBlock = 256;
+// A triangle over at most this many tiles is binned by one lane, up to kWarpTiles by its warp,
+// beyond that it goes to the list that every tile reads.
+constexpr int kLaneTiles = 4;
+constexpr int kWarpTiles = 256;
+
+struct Box {
+  double v[7];  // min e1, max e1, min e2, max e2, min up, max up, 6 x signed volume
+};
+
+struct BoxOp {
+  __device__ Box operator()(const Box& a, const Box& b) const {
+    Box r;
+    for (int k = 0; k < 6; k += 2) {
+      r.v[k] = fmin(a.v[k], b.v[k]);
+      r.v[k + 1] = fmax(a.v[k + 1], b.v[k + 1]);
+    }
+    r.v[6] = a.v[6] + b.v[6];
+    return r;
+  }
+};
+
+__device__ Box empty_box() {
+  Box b;
+  for (int k = 0; k < 6; k += 2) {
+    b.v[k] = INFINITY;
+    b.v[k + 1] = -INFINITY;
+  }
+  b.v[6] = 0.0;
+  return b;
+}
+
+// Step 1: each block reduces a range of one cavity's vertices (projected box) or triangles
+// (signed volume, relative to the cavity's first vertex). The last block to finish reduces
+// the partials of each cavity into its grid. All blocks also clear the accumulators.
+template <typename Real>
+__global__ void __launch_bounds__(kBlock) reduce_kernel(Batch<Real> b, int zero_out_count,
+                                                        int zero_tile_count) {
+  using Reduce = cub::BlockReduce<Box, kBlock>;
+  __shared__ typename Reduce::TempStorage storage;
+  __shared__ bool last;
+  const int stride = gridDim.x * blockDim.x;
+  for (int k = blockIdx.x * blockDim.x + threadIdx.x; k < zero_out_count; k += stride) {
+    b.out[k] = 0;
+  }
+  for (int k = blockIdx.x * blockDim.x + threadIdx.x; k < zero_tile_count; k += stride) {
+    b.tile_count[k] = 0;
+  }
+
+  const ReduceJob job = b.jobs[blockIdx.x];
+  Box box = empty_box();
+  if (job.kind == 0) {
+    for (int v = job.begin + threadIdx.x; v < job.end; v += blockDim.x) {
+      Vec3 p = load_vec3(b.xyz, v);
+      double c[3] = {dot_rn(p, b.frame.e1), dot_rn(p, b.frame.e2), dot_rn(p, b.frame.up)};
+      for (int d = 0; d < 3; ++d) {
+        box.v[2 * d] = fmin(box.v[2 * d], c[d]);
+        box.v[2 * d + 1] = fmax(box.v[2 * d + 1], c[d]);
+      }
+    }
+  } else {
+    Vec3 o = load_vec3(b.xyz, b.cavity_vertex_begin[job.cavity]);
+    for (int t = job.begin + threadIdx.x; t < job.end; t += blockDim.x) {
+      const int* v = b.triangles + 3 * t;
+      Vec3 a = load_vec3(b.xyz, v[0]), q = load_vec3(b.xyz, v[1]), c = load_vec3(b.xyz, v[2]);
+      double ax = a.x - o.x, ay = a.y - o.y, az = a.z - o.z;
+      double bx = q.x - o.x, by = q.y - o.y, bz = q.z - o.z;
+      double cx = c.x - o.x, cy = c.y - o.y, cz = c.z - o.z;
+      box.v[6] += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+    }
+  }
+  box = Reduce(storage).Reduce(box, BoxOp());
+  if (threadIdx.x == 0) {
+    for (int k = 0; k < 7; ++k) b.partials[8 * blockIdx.x + k] = box.v[k];
+    __threadfence();
+    last = atomicAdd(b.ticket, 1u) == gridDim.x - 1;
+  }
+  __syncthreads();
+  if (!last) return;
+  __threadfence();
+  for (int c = 0; c < b.num_cavities; ++c) {
+    __syncthreads();  // storage is reused
+    Box sum = empty_box();
+    for (int k = b.cavity_job_begin[c] + threadIdx.x; k < b.cavity_job_begin[c + 1];
+         k += blockDim.x) {
+      Box p;
+      for (int q = 0; q < 7; ++q) p.v[q] = __ldcg(&b.partials[8 * k + q]);
+      sum = BoxOp()(sum, p);
+    }
+    sum = Reduce(storage).Reduce(sum, BoxOp());
+    if (threadIdx.x == 0) {
+      double volume = sum.v[6] / 6.0;
+      CavityState& s = b.cavities[c];
+      s.grid = make_grid(sum.v[0], sum.v[1], sum.v[2], sum.v[3], sum.v[4], sum.v[5], b.n, volume);
+      s.signed_volume = volume;
+      s.sum_heights = 0.0;
+      s.unmatched = 0;
+    }
+  }
+  if (threadIdx.x == 0) {
+    *b.status = Status{0, 0, {0, 0}};
+    if (b.candidates) *b.candidates = 0;
+    if (b.big_count) *b.big_count = 0;
+    *b.ticket = 0;
+  }
+}
+
+// Step 2 for one triangle; false when it covers no column.
+template <typename Real>
+__device__ bool make_devtri(const Batch<Real>& b, int t, DevTri<Real>& d) {
+  const int cavity = b.tri_cavity[t];
+  d = DevTri<Real>{};
+  d.flags = cavity << 4;
+  d.i0 = d.j0 = 1;
+  d.i1 = d.j1 = 0;
+  const GridParams& g = b.cavities[cavity].grid;
+  if (g.empty) return false;
+  const int* v = b.triangles + 3 * t;
+  const int units = g.n << g.sub_bits;
+  int sx[3], sy[3];
+  double z[3];
+  for (int k = 0; k < 3; ++k) {
+    Vec3 p = load_vec3(b.xyz, v[k]);
+    sx[k] = snap(dot_rn(p, b.frame.e1), g.a0, g.scale_a, units);
+    sy[k] = snap(dot_rn(p, b.frame.e2), g.b0, g.scale_b, units);
+    z[k] = dot_rn(p, b.frame.up) - g.u0;
+  }
+  SnappedTriangle s;
+  if (!setup_triangle(sx, sy, g.orientation, g.n, g.sub_bits, &s)) return false;
+  for (int k = 0; k < 3; ++k) {
+    d.x[k] = s.x[k];
+    d.y[k] = s.y[k];
+    d.vertex[k] = v[s.corner[k]];
+    d.z[k] = static_cast<Real>(z[s.corner[k]]);
+  }
+  d.flags |= static_cast<int>(s.e_min[0] | (s.e_min[1] << 1) | (s.e_min[2] << 2)) |
+              (s.bottom ? 8 : 0);
+  d.i0 = s.i0;
+  d.i1 = s.i1;
+  d.j0 = s.j0;
+  d.j1 = s.j1;
+  return s.i0 <= s.i1 && s.j0 <= s.j1;
+}
+
+// Appends triangle t to a tile's list (counting past the capacity: the host grows it).
+__device__ void bin(int* tile_count, int* tile_list, int capacity, int tile, int t) {
+  int pos = atomicAdd(&tile_count[tile], 1);
+  if (pos < capacity) tile_list[static_cast<size_t>(tile) * capacity + pos] = t;
+}
+
+// Step 2 per triangle; the tiled kernel also bins each triangle to the tiles of its box.
+template <typename Real>
+__global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_to_tiles) {
+  using Reduce = cub::BlockReduce<unsigned long long, kBlock>;
+  __shared__ typename Reduce::TempStorage storage;
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  DevTri<Real> d;
+  bool valid = false;
+  if (t < b.num_triangles) {
+    valid = make_devtri(b, t, d);
+    store_tri(&b.tris[t], d);
+  }
+  if (!bin_to_tiles) {
+    // The leveraging kernel's c: candidate columns over all triangles' boxes.
+    unsigned long long candidates =
+        valid ? static_cast<unsigned long long>(d.i1 - d.i0 + 1) * (d.j1 - d.j0 + 1) : 0ull;
+    candidates = Reduce(storage).Sum(candidates);
+    if (threadIdx.x == 0 && candidates) atomicAdd(b.candidates, candidates);
+    return;
+  }
+  int tx0 = 0, ty0 = 0, width = 0, tiles = 0, base = 0;
+  if (valid) {
+    tx0 = d.i0 >> b.tile_bits;
+    ty0 = d.j0 >> b.tile_bits;
+    width = (d.i1 >> b.tile_bits) - tx0 + 1;
+    tiles = width * ((d.j1 >> b.tile_bits) - ty0 + 1);
+    base = cavity_of(d.flags) * b.tiles_per_side * b.tiles_per_side;
+  }
+  if (tiles > 0 && tiles <= kLaneTiles) {
+    for (int q = 0; q < tiles; ++q) {
+      int tile = base + (ty0 + q / width) * b.tiles_per_side + tx0 + q % width;
+      bin(b.tile_count, b.tile_list, b.tile_capacity, tile, t);
+    }
+  }
+  // Larger boxes: the warp bins them together, one triangle after the other.
+  const int lane = threadIdx.x & 31;
+  unsigned shared = __ballot_sync(kFullMask, tiles > kLaneTiles && tiles <= kWarpTiles);
+  while (shared) {
+    int src = __ffs(shared) - 1;
+    shared &= shared - 1;
+    int st = __shfl_sync(kFullMask, t, src), sx = __shfl_sync(kFullMask, tx0, src);
+    int sy = __shfl_sync(kFullMask, ty0, src), sw = __shfl_sync(kFullMask, width, src);
+    int sn = __shfl_sync(kFullMask, tiles, src), sb = __shfl_sync(kFullMask, base, src);
+    for (int q = lane; q < sn; q += 32) {
+      bin(b.tile_count, b.tile_list, b.tile_capacity,
+          sb + (sy + q / sw) * b.tiles_per_side + sx + q % sw, st);
+    }
+  }
+  if (tiles > kWarpTiles) b.big_list[atomicAdd(b.big_count, 1)] = t;
+}
+
+// Closed-form hydrostatic load (see hydrostatic.cpp): pressure rho |g| depth below the highest
+// vertex, f_i = N (p_i + p_1 + p_2 + p_3) / 24 with N oriented outward.
+template <typename Real>
+__global__ void __launch_bounds__(kBlock) hydrostatic_kernel(Batch<Real> b) {
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  if (t >= b.num_triangles) return;
+  const GridParams& g = b.cavities[b.tri_cavity[t]].grid;
+  const int* v = b.triangles + 3 * t;
+  Vec3 x[3];
+  double p[3];
+  for (int k = 0; k < 3; ++k) {
+    x[k] = load_vec3(b.xyz, v[k]);
+    p[k] = b.rho_g * (g.u1 - dot_rn(x[k], b.frame.up));
+  }
+  double ux = x[1].x - x[0].x, uy = x[1].y - x[0].y, uz = x[1].z - x[0].z;
+  double wx = x[2].x - x[0].x, wy = x[2].y - x[0].y, wz = x[2].z - x[0].z;
+  double s = g.orientation / 24.0;
+  double n[3] = {s * (uy * wz - uz * wy), s * (uz * wx - ux * wz), s * (ux * wy - uy * wx)};
+  double sum = p[0] + p[1] + p[2];
+  for (int k = 0; k < 3; ++k) {
+    for (int d = 0; d < 3; ++d) {
+      atomicAdd(&b.out[3 * v[k] + d], static_cast<Real>(n[d] * (p[k] + sum)));
+    }
+  }
+}
+
+}  // namespace
+
+template <typename Real>
+void launch_reduce(const Batch<Real>& b, int zero_out_count, int zero_tile_count,
+                   cudaStream_t stream) {
+  reduce_kernel<Real><<<b.num_jobs, kBlock, 0, stream>>>(b, zero_out_count, zero_tile_count);
+}
+
+template <typename Real>
+void launch_setup(const Batch<Real>& b, bool bin_to_tiles, cudaStream_t stream) {
+  int blocks = (b.num_triangles + kBlock - 1) / kBlock;
+  setup_kernel<Real><<<blocks, kBlock, 0, stream>>>(b, bin_to_tiles);
+}
+
+template <typename Real>
+void launch_hydrostatic(const Batch<Real>& b, cudaStream_t stream) {
+  int blocks = (b.num_triangles + kBlock - 1) / kBlock;
+  hydrostatic_kernel<Real><<<blocks, kBlock, 0, stream>>>(b);
+}
+
+#define FW_INSTANTIATE(Real)                                                          \
+  template void launch_reduce<Real>(const Batch<Real>&, int, int, cudaStream_t);      \
+  template void launch_setup<Real>(const Batch<Real>&, bool, cudaStream_t);           \
+  template void launch_hydrostatic<Real>(const Batch<Real>&, cudaStream_t);
+FW_INSTANTIATE(float)
+FW_INSTANTIATE(double)
+#undef FW_INSTANTIATE
+
+}  // namespace fluidweight::detail::gpu

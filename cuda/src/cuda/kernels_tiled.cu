@@ -1,0 +1,235 @@
+// Steps 3-5 by tiles of TILE x TILE columns, one block a tile, hits kept in shared memory.
+//
+// The setup kernel has listed, for each tile, the triangles whose box meets it (triangles over
+// very many tiles sit in one list that every tile reads). A block takes its tile's triangles a
+// round of TILE^2 at a time: each triangle's candidates are the columns of its box inside the
+// tile; an exclusive scan of their counts lays all candidates of the round end to end, and each
+// thread tests an equal, contiguous share of them, finding its first triangle by binary search
+// (a load-balanced search). So a triangle covering the whole tile and one covering a single
+// column cost the same per candidate, whatever the mix: the balance the leveraging kernel gets
+// from its average c, here exact per tile. Hits go to per-column slots in shared memory; then
+// each thread resolves one column (Step 5) and only the nodal weights leave the chip.
+#include <cub/block/block_reduce.cuh>
+#include <cub/block/block_scan.cuh>
+
+#include "resolve.cuh"
+
+namespace fluidweight::detail::gpu {
+namespace {
+
+// A round's triangles, staged in shared memory (structure of arrays: no bank conflicts).
+template <typename Real, int N>
+struct Staged {
+  int x[3][N], y[3][N], vertex[3][N];
+  int flags[N], tri[N], ci[N], cj[N], width[N], offset[N + 1];
+  Real z[3][N];
+};
+
+// Floors for Step 5: the last round's triangles from shared memory, earlier ones from global.
+template <typename Real, int N>
+struct TileFloors {
+  const Batch<Real>& b;
+  const Staged<Real, N>& s;
+  const int* list;
+  int listed, staged_first;
+  __device__ FloorAtColumn operator()(int item, int px, int py) const {
+    if (item < staged_first) {
+      int tri = item < listed ? list[item] : b.big_list[item - listed];
+      return GlobalFloors<Real>{b}(tri, px, py);
+    }
+    const int k = item - staged_first;
+    FloorAtColumn f;
+    f.key = s.tri[k];
+    for (int c = 0; c < 3; ++c) f.vertex[c] = s.vertex[c][k];
+    f.e[0] = edge_function(s.x[1][k], s.y[1][k], s.x[2][k], s.y[2][k], px, py);
+    f.e[1] = edge_function(s.x[2][k], s.y[2][k], s.x[0][k], s.y[0][k], px, py);
+    f.e[2] = edge_function(s.x[0][k], s.y[0][k], s.x[1][k], s.y[1][k], px, py);
+    return f;
+  }
+};
+
+template <typename Real, int TILE>
+__global__ void __launch_bounds__(TILE* TILE) tile_kernel(Batch<Real> b) {
+  constexpr int kThreads = TILE * TILE;  // also the columns of a tile
+  using Scan = cub::BlockScan<int, kThreads>;
+  using Reduce = cub::BlockReduce<double, kThreads>;
+  using ReduceCount = cub::BlockReduce<unsigned, kThreads>;
+  __shared__ union {
+    typename Scan::TempStorage scan;
+    typename Reduce::TempStorage reduce;
+    typename ReduceCount::TempStorage count;
+  } storage;
+  __shared__ Staged<Real, kThreads> s;
+  extern __shared__ __align__(16) unsigned char dynamic[];
+  const int capacity = b.column_capacity;
+  Real* s_z = reinterpret_cast<Real*>(dynamic);  // slot * kThreads + column
+  int* s_tag = reinterpret_cast<int*>(s_z + capacity * kThreads);
+  int* s_count = s_tag + capacity * kThreads;
+
+  const int tiles_per_cavity = b.tiles_per_side * b.tiles_per_side;
+  const int tile = blockIdx.x, cavity = tile / tiles_per_cavity;
+  const int local_tile = tile % tiles_per_cavity;
+  const int ti0 = (local_tile % b.tiles_per_side) * TILE;
+  const int tj0 = (local_tile / b.tiles_per_side) * TILE;
+  const int listed = b.tile_count[tile];
+  if (listed > b.tile_capacity) {
+    if (threadIdx.x == 0) atomicMax(&b.status->max_tile_count, listed);
+    return;
+  }
+  const int items = listed + *b.big_count;
+  if (items == 0) return;
+  const GridParams grid = b.cavities[cavity].grid;
+  const int sub_bits = grid.sub_bits;
+  const int* list = b.tile_list + static_cast<size_t>(tile) * b.tile_capacity;
+  s_count[threadIdx.x] = 0;
+
+  int first = 0;
+  for (;; first += kThreads) {
+    // This round's triangles and their candidate rectangles inside the tile.
+    const int e = first + threadIdx.x;
+    int tri = 0, count = 0, ci = 0, cj = 0, width = 0;
+    DevTri<Real> t{};
+    if (e < items) {
+      tri = e < listed ? list[e] : b.big_list[e - listed];
+      t = load_tri(&b.tris[tri]);
+      if (cavity_of(t.flags) == cavity) {
+        ci = max(t.i0, ti0);
+        cj = max(t.j0, tj0);
+        width = min(t.i1, ti0 + TILE - 1) - ci + 1;
+        int height = min(t.j1, tj0 + TILE - 1) - cj + 1;
+        if (width > 0 && height > 0) count = width * height;
+      }
+    }
+    __syncthreads();  // the previous round is done with the staged triangles
+    int offset, total;
+    Scan(storage.scan).ExclusiveSum(count, offset, total);
+    const int k = threadIdx.x;
+    for (int c = 0; c < 3; ++c) {
+      s.x[c][k] = t.x[c];
+      s.y[c][k] = t.y[c];
+      s.vertex[c][k] = t.vertex[c];
+      s.z[c][k] = t.z[c];
+    }
+    s.flags[k] = t.flags;
+    s.tri[k] = tri;
+    s.ci[k] = ci;
+    s.cj[k] = cj;
+    s.width[k] = width;
+    s.offset[k] = offset;
+    if (k == 0) s.offset[kThreads] = total;
+    __syncthreads();
+
+    // Steps 3-4: an equal, contiguous share of the candidates per thread.
+    const int share = (total + kThreads - 1) / kThreads;
+    int f = threadIdx.x * share;
+    const int end = min(f + share, total);
+    if (f < end) {
+      int lo = 0, hi = kThreads - 1;  // the last triangle whose candidates start at or before f
+      while (lo < hi) {
+        int mid = (lo + hi + 1) >> 1;
+        if (s.offset[mid] <= f) {
+          lo = mid;
+        } else {
+          hi = mid - 1;
+        }
+      }
+      int item = lo - 1, next = s.offset[lo], li = 0, lj = 0, w = 1;
+      int x[3], y[3], flags = 0;
+      Real z[3];
+      for (; f < end; ++f) {
+        if (f >= next) {
+          do {
+            ++item;
+            next = s.offset[item + 1];
+          } while (f >= next);
+          w = s.width[item];
+          li = (f - s.offset[item]) % w;
+          lj = (f - s.offset[item]) / w;
+          for (int c = 0; c < 3; ++c) {
+            x[c] = s.x[c][item];
+            y[c] = s.y[c][item];
+            z[c] = s.z[c][item];
+          }
+          flags = s.flags[item];
+        }
+        const int i = s.ci[item] + li, j = s.cj[item] + lj;
+        const int px = column_centre(i, sub_bits), py = column_centre(j, sub_bits);
+        int64_t e0 = edge_function(x[1], y[1], x[2], y[2], px, py);
+        int64_t e1 = edge_function(x[2], y[2], x[0], y[0], px, py);
+        int64_t e2 = edge_function(x[0], y[0], x[1], y[1], px, py);
+        if (e0 >= (flags & 1) && e1 >= ((flags >> 1) & 1) && e2 >= ((flags >> 2) & 1)) {
+          const int col = (j - tj0) * TILE + (i - ti0);
+          const int slot = atomicAdd(&s_count[col], 1);
+          if (slot < capacity) {
+            Real inv = Real(1) / static_cast<Real>(e0 + e1 + e2);
+            s_z[slot * kThreads + col] = (static_cast<Real>(e0) * z[0] + static_cast<Real>(e1) * z[1] +
+                                          static_cast<Real>(e2) * z[2]) * inv;
+            s_tag[slot * kThreads + col] = is_floor(flags) ? ~(first + item) : first + item;
+          }
+        }
+        if (++li == w) {
+          li = 0;
+          ++lj;
+        }
+      }
+    }
+    if (first + kThreads >= items) break;
+  }
+  __syncthreads();
+
+  // Step 5, one column per thread.
+  int n = s_count[threadIdx.x];
+  if (n > capacity) {
+    atomicMax(&b.status->max_column_hits, n);
+    n = capacity;
+  }
+  const int i = ti0 + threadIdx.x % TILE, j = tj0 + threadIdx.x / TILE;
+  double sum_heights = 0.0;
+  unsigned unmatched = 0;
+  resolve_column(b, ColumnHits<Real>{s_z + threadIdx.x, s_tag + threadIdx.x, kThreads}, n, i, j,
+                 grid, sum_heights, unmatched, TileFloors<Real, kThreads>{b, s, list, listed, first});
+  __syncthreads();
+  double sum = Reduce(storage.reduce).Sum(sum_heights);
+  __syncthreads();
+  unsigned u = ReduceCount(storage.count).Sum(unmatched);
+  if (threadIdx.x == 0) {
+    if (sum != 0.0) atomicAdd(&b.cavities[cavity].sum_heights, sum);
+    if (u) atomicAdd(&b.cavities[cavity].unmatched, static_cast<unsigned long long>(u));
+  }
+}
+
+}  // namespace
+
+template <typename Real>
+size_t tile_shared_bytes(int tile_bits, int column_capacity) {
+  size_t columns = size_t{1} << (2 * tile_bits);
+  return column_capacity * columns * (sizeof(Real) + sizeof(int)) + columns * sizeof(int);
+}
+
+template <typename Real>
+void allow_tile_shared(size_t bytes) {
+  cudaFuncSetAttribute(tile_kernel<Real, 8>, cudaFuncAttributeMaxDynamicSharedMemorySize,
+                       static_cast<int>(bytes));
+  cudaFuncSetAttribute(tile_kernel<Real, 16>, cudaFuncAttributeMaxDynamicSharedMemorySize,
+                       static_cast<int>(bytes));
+}
+
+template <typename Real>
+void launch_tiles(const Batch<Real>& b, cudaStream_t stream) {
+  int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
+  size_t shared = tile_shared_bytes<Real>(b.tile_bits, b.column_capacity);
+  if (b.tile_bits == 3) {
+    tile_kernel<Real, 8><<<tiles, 64, shared, stream>>>(b);
+  } else {
+    tile_kernel<Real, 16><<<tiles, 256, shared, stream>>>(b);
+  }
+}
+
+template size_t tile_shared_bytes<float>(int, int);
+template size_t tile_shared_bytes<double>(int, int);
+template void allow_tile_shared<float>(size_t);
+template void allow_tile_shared<double>(size_t);
+template void launch_tiles<float>(const Batch<float>&, cudaStream_t);
+template void launch_tiles<double>(const Batch<double>&, cudaStream_t);
+
+}  // namespace fluidweight::detail::gpu

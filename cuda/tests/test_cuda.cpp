@@ -1,0 +1,163 @@
+// The CUDA kernels against the CPU reference: every kernel in float64 and float32, on shapes
+// of every character, one cavity or a batch, fixed or moving vertices. Skipped, with a message,
+// where there is no CUDA device (CI); they must pass on a GPU machine.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "support.hpp"
+
+namespace fw = fluidweight;
+using namespace fwtest;
+
+namespace {
+
+#define SKIP_WITHOUT_GPU()                                                                  \
+  if (!fw::cuda_available()) {                                                              \
+    GTEST_SKIP() << "no CUDA device here (or the module was built without CUDA): the CUDA " \
+                    "tests run on a GPU machine";                                           \
+  }
+
+struct Variant {
+  fw::Kernel kernel;
+  fw::Precision precision;
+};
+
+std::string name(const Variant& v) { return fw::to_string(v.kernel) + "_" + fw::to_string(v.precision); }
+
+Options cuda_options(const Variant& v, int n, Vec3 gravity = {0, -9.81, 0}) {
+  Options o = options(fw::Implementation::cuda, n, gravity);
+  o.kernel = v.kernel;
+  o.precision = v.precision;
+  return o;
+}
+
+// Volume and forces against the reference, within the precision's round-off.
+void expect_matches_reference(const Result& gpu, const Result& ref, fw::Precision p,
+                              const std::string& what) {
+  const bool f64 = p == fw::Precision::float64;
+  EXPECT_NEAR(gpu.column_volume, ref.column_volume,
+              (f64 ? 1e-12 : 2e-6) * std::fabs(ref.signed_volume)) << what;
+  EXPECT_NEAR(gpu.signed_volume, ref.signed_volume, 1e-12 * std::fabs(ref.signed_volume)) << what;
+  EXPECT_EQ(gpu.unmatched_columns, 0) << what;
+  EXPECT_LT(force_difference(gpu, ref), f64 ? 1e-10 : 2e-4) << what;
+  // float32: nodal weights are sums of many float atomics.
+  EXPECT_NEAR(gpu.total_weight, ref.total_weight, (f64 ? 1e-11 : 2e-5) * ref.total_weight) << what;
+  EXPECT_GE(gpu.timings.gpu_ms, 0.0);
+}
+
+class CudaKernels : public testing::TestWithParam<Variant> {};
+
+}  // namespace
+
+TEST_P(CudaKernels, MatchReferenceOnVariedShapes) {
+  SKIP_WITHOUT_GPU();
+  const Variant v = GetParam();
+  struct Case {
+    std::string label;
+    SurfaceMesh mesh;
+  };
+  std::vector<Case> cases = {
+      {"sphere", fw::shapes::icosphere(4)},
+      {"standing torus", transformed(fw::shapes::torus(1, 0.25, 64, 24), rotation({1, 0, 0}, 1.3))},
+      {"E shape", transformed(e_shape(), rotation({1, 1, 0}, 0.3))},
+      {"comb of 9", comb(9)},  // 18 hits in a column: more than the first buffers hold
+      {"uneven sphere", fw::shapes::uneven_sphere(4, 12.0)},
+      {"octahedron", octahedron({0, 0, 0}, 1)},
+      {"inward torus", flipped(fw::shapes::torus(1, 0.4, 40, 16))}};
+  for (const Case& c : cases) {
+    for (int n : {1, 31, 64, 200, 401}) {
+      Result ref = fw::compute(c.mesh, options(fw::Implementation::cpu_reference, n));
+      Result gpu = fw::compute(c.mesh, cuda_options(v, n));
+      expect_matches_reference(gpu, ref, v.precision, c.label + " grid " + std::to_string(n));
+    }
+  }
+}
+
+TEST_P(CudaKernels, GravityAlongAnyDirection) {
+  SKIP_WITHOUT_GPU();
+  const Variant v = GetParam();
+  SurfaceMesh m = transformed(fw::shapes::torus(1, 0.3, 48, 20), rotation({0.2, 1, 0.4}, 0.8));
+  for (Vec3 g : {Vec3{0, 0, -9.81}, Vec3{3, -5, 7.5}, Vec3{-1, 0, 0}}) {
+    Result ref = fw::compute(m, options(fw::Implementation::cpu_reference, 150, g));
+    expect_matches_reference(fw::compute(m, cuda_options(v, 150, g)), ref, v.precision,
+                             "gravity");
+  }
+}
+
+// Four cavities in one call (the paper's pendulum) against separate reference calls; then the
+// same context with moved vertices, as in a control loop.
+TEST_P(CudaKernels, BatchAndMovingVertices) {
+  SKIP_WITHOUT_GPU();
+  const Variant v = GetParam();
+  std::vector<SurfaceMesh> cavities = {fw::shapes::icosphere(3), e_shape(),
+                                       translated(fw::shapes::torus(1, 0.3, 30, 12), {5, 0, 0}),
+                                       fw::shapes::uneven_sphere(3, 6.0)};
+  fw::Context context(cuda_options(v, 200));
+  context.set_cavities(cavities);
+  for (int step = 0; step < 3; ++step) {
+    std::vector<SurfaceMesh> moved;
+    std::vector<const double*> positions;
+    for (const SurfaceMesh& c : cavities) {
+      moved.push_back(transformed(c, rotation({1, 2, 3}, 0.2 * step)));
+    }
+    for (const SurfaceMesh& c : moved) positions.push_back(c.vertices.data());
+    context.set_positions(positions);
+    const std::vector<Result>& results = context.compute();
+    ASSERT_EQ(results.size(), cavities.size());
+    for (size_t c = 0; c < cavities.size(); ++c) {
+      Result ref = fw::compute(moved[c], options(fw::Implementation::cpu_reference, 200));
+      expect_matches_reference(results[c], ref, v.precision,
+                               "cavity " + std::to_string(c) + " step " + std::to_string(step));
+    }
+  }
+  std::vector<double> replays = context.time_device_replays(5);
+  ASSERT_EQ(replays.size(), 5u);
+  for (double ms : replays) EXPECT_GT(ms, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllKernels, CudaKernels,
+    testing::Values(Variant{fw::Kernel::leveraging, fw::Precision::float64},
+                    Variant{fw::Kernel::leveraging, fw::Precision::float32},
+                    Variant{fw::Kernel::triangle_parallel, fw::Precision::float64},
+                    Variant{fw::Kernel::triangle_parallel, fw::Precision::float32},
+                    Variant{fw::Kernel::tiled, fw::Precision::float64},
+                    Variant{fw::Kernel::tiled, fw::Precision::float32}),
+    [](const testing::TestParamInfo<Variant>& info) { return name(info.param); });
+
+// Tiles of 8 and 16 columns, and a tile list that must grow (a coarse mesh at a fine grid
+// has triangles over many tiles; a fine mesh at a coarse grid many triangles a tile).
+TEST(Cuda, TiledKernelTileSizesAndGrowth) {
+  SKIP_WITHOUT_GPU();
+  SurfaceMesh fine = fw::shapes::icosphere(5);  // 20480 triangles
+  SurfaceMesh coarse = fw::shapes::icosphere(1);
+  for (int tile : {8, 16}) {
+    for (const SurfaceMesh* m : {&fine, &coarse}) {
+      for (int n : {20, 300}) {
+        Options o = cuda_options({fw::Kernel::tiled, fw::Precision::float64}, n);
+        o.tile = tile;
+        Result ref = fw::compute(*m, options(fw::Implementation::cpu_reference, n));
+        expect_matches_reference(fw::compute(*m, o), ref, fw::Precision::float64,
+                                 "tile " + std::to_string(tile) + " grid " + std::to_string(n));
+      }
+    }
+  }
+}
+
+TEST(Cuda, HydrostaticMatchesCpu) {
+  SKIP_WITHOUT_GPU();
+  for (fw::Precision p : {fw::Precision::float64, fw::Precision::float32}) {
+    for (Vec3 g : {Vec3{0, -9.81, 0}, Vec3{1, 2, -3}}) {
+      SurfaceMesh m = translated(e_shape(), {1, 2, 3});
+      Options cpu = options(fw::Implementation::cpu_reference, 1, g);
+      cpu.method = fw::Method::hydrostatic;
+      Options gpu = cpu;
+      gpu.implementation = fw::Implementation::cuda;
+      gpu.precision = p;
+      Result a = fw::compute(m, cpu), b = fw::compute(m, gpu);
+      EXPECT_LT(force_difference(b, a), p == fw::Precision::float64 ? 1e-12 : 1e-5);
+      EXPECT_NEAR(b.total_weight, a.total_weight, 1e-5 * a.total_weight);
+    }
+  }
+}
