@@ -1,5 +1,6 @@
 // Floor of a call on this GPU: CUDA events around replays of graphs of 1 to 4 empty kernels,
-// and of one kernel of 512 blocks that ends with the last-block (ticket) pattern.
+// and of one kernel of 512 blocks that ends with the last-block (ticket) pattern; then the
+// latency of one dependent global load (pointer chase) from L2 and from device memory.
 // Build: nvcc -O3 -arch=sm_90 launch_floor.cu -o launch_floor
 #include <algorithm>
 #include <cstdio>
@@ -21,6 +22,44 @@ __global__ void ticket_kernel(unsigned* ticket, double* partials, double* out) {
     *out = s;
     *ticket = 0;
   }
+}
+
+__global__ void chase_kernel(const unsigned* next, int steps, unsigned* sink) {
+  unsigned p = 0;
+  for (int k = 0; k < steps; ++k) p = next[p];
+  *sink = p;
+}
+
+void chase(size_t bytes) {
+  size_t n = bytes / 4;
+  std::vector<unsigned> h(n);
+  // A random cycle with a stride of at least a few cache lines.
+  std::vector<unsigned> order(n / 64);
+  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<unsigned>(k * 64);
+  unsigned seed = 12345;
+  for (size_t k = order.size() - 1; k > 0; --k) {
+    seed = seed * 1103515245u + 12345u;
+    std::swap(order[k], order[seed % (k + 1)]);
+  }
+  for (size_t k = 0; k < order.size(); ++k) h[order[k]] = order[(k + 1) % order.size()];
+  unsigned *d, *sink;
+  cudaMalloc(&d, bytes);
+  cudaMalloc(&sink, 4);
+  cudaMemcpy(d, h.data(), bytes, cudaMemcpyHostToDevice);
+  chase_kernel<<<1, 1>>>(d, 1000, sink);
+  cudaEvent_t a, b;
+  cudaEventCreate(&a);
+  cudaEventCreate(&b);
+  const int steps = 20000;
+  cudaEventRecord(a);
+  chase_kernel<<<1, 1>>>(d, steps, sink);
+  cudaEventRecord(b);
+  cudaEventSynchronize(b);
+  float ms;
+  cudaEventElapsedTime(&ms, a, b);
+  std::printf("dependent load, %7.1f MB buffer: %6.0f ns\n", bytes / 1e6, 1e6 * ms / steps);
+  cudaFree(d);
+  cudaFree(sink);
 }
 
 int main() {
@@ -63,5 +102,6 @@ int main() {
     std::printf("graph of %-28s median %6.2f us  (min %6.2f)\n", names[variant],
                 1000 * ms[ms.size() / 2], 1000 * ms[0]);
   }
+  for (size_t mb : {1, 16, 256}) chase(mb << 20);
   return 0;
 }

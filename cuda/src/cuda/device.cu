@@ -107,9 +107,9 @@ class Backend : public DeviceBackend {
     const int n = options_.grid;
     num_cavities_ = static_cast<int>(cavities.size());
     vertex_begin_.assign(1, 0);
-    std::vector<int> triangles, tri_cavity, job_begin(1, 0);
+    std::vector<int> triangles, tri_cavity, job_begin(1, 0), triangle_begin(1, 0);
     std::vector<gpu::ReduceJob> jobs;
-    constexpr int kItemsPerJob = 256;  // one item a thread: latency, not work, bounds this kernel
+    constexpr int kItemsPerJob = 512;  // two items a thread: latency, not work, bounds this kernel
     for (int c = 0; c < num_cavities_; ++c) {
       const CavityView& v = cavities[c];
       const int offset = vertex_begin_.back(), first_triangle = static_cast<int>(tri_cavity.size());
@@ -124,6 +124,7 @@ class Backend : public DeviceBackend {
       }
       job_begin.push_back(static_cast<int>(jobs.size()));
       vertex_begin_.push_back(offset + v.num_vertices);
+      triangle_begin.push_back(static_cast<int>(tri_cavity.size()));
     }
     num_vertices_ = vertex_begin_.back();
     num_triangles_ = static_cast<int>(tri_cavity.size());
@@ -134,18 +135,19 @@ class Backend : public DeviceBackend {
     job_begin_.upload(job_begin);
     std::vector<int> first_vertex(vertex_begin_.begin(), vertex_begin_.end() - 1);
     cavity_vertex_begin_.upload(first_vertex);
+    cavity_triangle_begin_.upload(triangle_begin);
+    setup_blocks_ = (num_triangles_ + gpu::kSetupBlock - 1) / gpu::kSetupBlock;
     xyz_.reserve(3 * static_cast<size_t>(num_vertices_));
     host_xyz_.reserve(3 * static_cast<size_t>(num_vertices_));
     out_.reserve(3 * static_cast<size_t>(num_vertices_));
     host_out_.reserve(3 * static_cast<size_t>(num_vertices_));
     tris_.reserve(num_triangles_);
     partials_.reserve(8 * static_cast<size_t>(num_jobs_));
-    ticket_.reserve(1, true);
     states_.reserve(num_cavities_);
     host_states_.reserve(num_cavities_);
     status_.reserve(1);
     host_status_.reserve(1);
-    candidates_.reserve(1);
+    candidates_.reserve(setup_blocks_);
     big_count_.reserve(1);
     big_list_.reserve(num_triangles_);
     if (options_.method == Method::column) {
@@ -203,8 +205,14 @@ class Backend : public DeviceBackend {
       const size_t first = per * static_cast<size_t>(vertex_begin_[c]);
       out[c].values.assign(values_out + first,
                            values_out + first + per * static_cast<size_t>(cavities[c].num_vertices));
-      out[c].column_volume = s.grid.cell_area * s.sum_heights;
-      out[c].unmatched_columns = static_cast<long long>(s.unmatched);
+      double sum_heights = 0;
+      long long unmatched = 0;
+      for (int k = 0; k < gpu::kStripes; ++k) {
+        sum_heights += s.sum_heights[k];
+        unmatched += static_cast<long long>(s.unmatched[k]);
+      }
+      out[c].column_volume = s.grid.cell_area * sum_heights;
+      out[c].unmatched_columns = unmatched;
       signed_volumes[c] = s.signed_volume;
     }
   }
@@ -325,6 +333,8 @@ class Backend : public DeviceBackend {
     b.triangles = triangles_.get();
     b.tri_cavity = tri_cavity_.get();
     b.cavity_vertex_begin = cavity_vertex_begin_.get();
+    b.cavity_triangle_begin = cavity_triangle_begin_.get();
+    b.setup_blocks = setup_blocks_;
     b.num_cavities = num_cavities_;
     b.num_vertices = num_vertices_;
     b.num_triangles = num_triangles_;
@@ -336,7 +346,6 @@ class Backend : public DeviceBackend {
     b.cavity_job_begin = job_begin_.get();
     b.num_jobs = num_jobs_;
     b.partials = partials_.get();
-    b.ticket = ticket_.get();
     b.cavities = states_.get();
     b.status = status_.get();
     b.tris = tris_.get();
@@ -357,24 +366,29 @@ class Backend : public DeviceBackend {
     return b;
   }
 
-  // One call's kernels, captured as a graph.
+  // One call's kernels, captured as a graph. Diagnostic: FLUIDWEIGHT_GRAPH_STAGES=k captures
+  // only the first k kernels (to time a pipeline's prefix; the results are then wrong).
   void capture() {
     const gpu::Batch<Real> b = batch();
     const bool hydro = options_.method == Method::hydrostatic;
     const bool tiled = !hydro && options_.kernel == Kernel::tiled;
     const int zero_out = (hydro ? 3 : 1) * num_vertices_;
     const int zero_tiles = tiled ? num_cavities_ * tiles_per_side_ * tiles_per_side_ : 0;
+    const char* stages_env = std::getenv("FLUIDWEIGHT_GRAPH_STAGES");
+    const int stages = stages_env ? std::atoi(stages_env) : 4;
     check(cudaStreamBeginCapture(stream_, cudaStreamCaptureModeThreadLocal), "begin capture");
-    gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
+    if (stages >= 1) gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
     if (hydro) {
-      gpu::launch_hydrostatic(b, stream_);
+      if (stages >= 2) gpu::launch_hydrostatic(b, stream_);
     } else if (tiled) {
-      gpu::launch_setup(b, true, stream_);
-      gpu::launch_tiles(b, stream_);
+      if (stages >= 2) gpu::launch_setup(b, true, stream_);
+      if (stages >= 3) gpu::launch_tiles(b, stream_);
     } else {
-      gpu::launch_setup(b, false, stream_);
-      gpu::launch_raster(b, options_.kernel == Kernel::leveraging, sms_, stream_);
-      gpu::launch_columns(b, stream_);
+      if (stages >= 2) gpu::launch_setup(b, false, stream_);
+      if (stages >= 3) {
+        gpu::launch_raster(b, options_.kernel == Kernel::leveraging, sms_, stream_);
+      }
+      if (stages >= 4) gpu::launch_columns(b, stream_);
     }
     cudaGraph_t graph = nullptr;
     cudaError_t launched = cudaGetLastError();
@@ -390,14 +404,14 @@ class Backend : public DeviceBackend {
   cudaStream_t stream_ = nullptr;
   cudaEvent_t start_ = nullptr, stop_ = nullptr;
   cudaGraphExec_t graph_ = nullptr;
-  int num_cavities_ = 0, num_vertices_ = 0, num_triangles_ = 0, num_jobs_ = 0;
+  int num_cavities_ = 0, num_vertices_ = 0, num_triangles_ = 0, num_jobs_ = 0, setup_blocks_ = 1;
   std::vector<int> vertex_begin_;
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
 
   DeviceArray<double> xyz_, partials_;
-  DeviceArray<int> triangles_, tri_cavity_, job_begin_, cavity_vertex_begin_;
+  DeviceArray<int> triangles_, tri_cavity_, job_begin_, cavity_vertex_begin_,
+      cavity_triangle_begin_;
   DeviceArray<gpu::ReduceJob> jobs_;
-  DeviceArray<unsigned> ticket_;
   DeviceArray<gpu::CavityState> states_;
   DeviceArray<gpu::Status> status_;
   DeviceArray<gpu::DevTri<Real>> tris_;

@@ -1,10 +1,14 @@
 // Data shared by the CUDA kernels (docs/fluidweight.md, "CUDA kernels").
 //
 // One call runs as a captured CUDA graph of three or four kernels over all cavities at once:
-//   1. reduce_kernel: Step 1's projected boxes and the signed volumes (orientation), block
-//      partials reduced by the last block to finish; it also clears the accumulators.
-//   2. setup kernels: Step 2 per triangle (snapped corners, floor or ceiling, candidate box),
-//      and for the tiled kernel the binning of triangles to tiles of columns.
+//   1. reduce_kernel: Step 1's projected boxes and the signed volumes (orientation) as block
+//      partials; it also clears the accumulators.
+//   2. setup kernels: each block first reduces the partials of its cavities into their grids
+//      (every block alike, so no block waits for another); then Step 2 per triangle (snapped
+//      corners, floor or ceiling, candidate box), and for the tiled kernel the binning of
+//      triangles to tiles of columns.
+// Many blocks adding to one address serialise (about 20 ns each on the H100 measured), so
+// sums over blocks go to partials or to kStripes addresses, never to one.
 //   3. Steps 3-5: the leveraging or triangle-parallel raster kernel writing hits per column to
 //      global memory, then column_kernel pairing them; or tile_kernel doing both per tile in
 //      shared memory.
@@ -59,11 +63,13 @@ __device__ inline void store_tri(DevTri<Real>* p, const DevTri<Real>& t) {
 
 __device__ inline int cavity_of(int flags) { return flags >> 4; }
 
+constexpr int kStripes = 32;  // accumulators a block adds to: blockIdx.x % kStripes
+
 struct CavityState {
   GridParams grid;
   double signed_volume;
-  double sum_heights;           // column volume = cell area * sum_heights
-  unsigned long long unmatched;  // columns whose floors and ceilings do not pair
+  double sum_heights[kStripes];           // column volume = cell area * their sum
+  unsigned long long unmatched[kStripes];  // columns whose floors and ceilings do not pair
 };
 
 // Overflows of the fixed-capacity buffers: the host grows them and runs again.
@@ -85,7 +91,8 @@ struct Batch {
   const double* xyz;       // 3 per vertex, all cavities one after the other
   const int* triangles;    // 3 per triangle, global vertex indices
   const int* tri_cavity;   // cavity of each triangle
-  const int* cavity_vertex_begin;  // first vertex of each cavity
+  const int* cavity_vertex_begin;    // first vertex of each cavity
+  const int* cavity_triangle_begin;  // first triangle of each cavity, and the total
   int num_cavities, num_vertices, num_triangles;
   Frame frame;
   int n;                   // columns per side
@@ -95,7 +102,6 @@ struct Batch {
   const int* cavity_job_begin;  // jobs of cavity c: [begin[c], begin[c + 1])
   int num_jobs;
   double* partials;             // 8 per job
-  unsigned int* ticket;         // blocks done; the last one finishes and resets it
   // Per call.
   CavityState* cavities;
   Status* status;
@@ -106,7 +112,8 @@ struct Batch {
   Real* column_z;
   int* column_tag;              // triangle index, bitwise-negated for floors
   int column_capacity;
-  unsigned long long* candidates;  // sum of candidate boxes (leveraging's c)
+  unsigned long long* candidates;  // candidate columns of each setup block (leveraging's c)
+  int setup_blocks;
   double alpha;
   // Tiled kernel.
   int tile_bits;                // tile edge = 1 << tile_bits columns
@@ -139,6 +146,8 @@ __device__ inline Real height_at(const DevTri<Real>& t, const int64_t e[3]) {
 __device__ inline bool is_floor(int flags) { return (flags >> 3) & 1; }
 
 // Host launchers (one translation unit each).
+constexpr int kSetupBlock = 256;  // threads a block of the setup and hydrostatic kernels
+
 template <typename Real>
 void launch_reduce(const Batch<Real>& b, int zero_out_count, int zero_tile_count,
                    cudaStream_t stream);

@@ -6,9 +6,9 @@
 namespace fluidweight::detail::gpu {
 namespace {
 
-constexpr int kBlock = 256;
-// A triangle over at most this many tiles is binned by one lane, up to kWarpTiles by its warp,
-// beyond that it goes to the list that every tile reads.
+constexpr int kBlock = kSetupBlock;
+// A triangle over at most this many tiles is binned by its own lane (warp-aggregated), up to
+// kWarpTiles by its whole warp, beyond that it goes to the list that every tile reads.
 constexpr int kLaneTiles = 4;
 constexpr int kWarpTiles = 256;
 
@@ -38,21 +38,26 @@ __device__ Box empty_box() {
   return b;
 }
 
+using BoxReduce = cub::BlockReduce<Box, kBlock>;
+
 // Step 1: each block reduces a range of one cavity's vertices (projected box) or triangles
-// (signed volume, relative to the cavity's first vertex). The last block to finish reduces
-// the partials of each cavity into its grid. All blocks also clear the accumulators.
+// (signed volume, relative to the cavity's first vertex) into its partial. All blocks also
+// clear the accumulators of the call.
 template <typename Real>
 __global__ void __launch_bounds__(kBlock) reduce_kernel(Batch<Real> b, int zero_out_count,
                                                         int zero_tile_count) {
-  using Reduce = cub::BlockReduce<Box, kBlock>;
-  __shared__ typename Reduce::TempStorage storage;
-  __shared__ bool last;
+  __shared__ typename BoxReduce::TempStorage storage;
   const int stride = gridDim.x * blockDim.x;
-  for (int k = blockIdx.x * blockDim.x + threadIdx.x; k < zero_out_count; k += stride) {
-    b.out[k] = 0;
+  const int first = blockIdx.x * blockDim.x + threadIdx.x;
+  for (int k = first; k < zero_out_count; k += stride) b.out[k] = 0;
+  for (int k = first; k < zero_tile_count; k += stride) b.tile_count[k] = 0;
+  for (int k = first; k < b.num_cavities * kStripes; k += stride) {
+    b.cavities[k / kStripes].sum_heights[k % kStripes] = 0.0;
+    b.cavities[k / kStripes].unmatched[k % kStripes] = 0;
   }
-  for (int k = blockIdx.x * blockDim.x + threadIdx.x; k < zero_tile_count; k += stride) {
-    b.tile_count[k] = 0;
+  if (first == 0) {
+    *b.status = Status{0, 0, {0, 0}};
+    if (b.big_count) *b.big_count = 0;
   }
 
   const ReduceJob job = b.jobs[blockIdx.x];
@@ -77,51 +82,56 @@ __global__ void __launch_bounds__(kBlock) reduce_kernel(Batch<Real> b, int zero_
       box.v[6] += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
     }
   }
-  box = Reduce(storage).Reduce(box, BoxOp());
+  box = BoxReduce(storage).Reduce(box, BoxOp());
   if (threadIdx.x == 0) {
     for (int k = 0; k < 7; ++k) b.partials[8 * blockIdx.x + k] = box.v[k];
-    __threadfence();
-    last = atomicAdd(b.ticket, 1u) == gridDim.x - 1;
   }
-  __syncthreads();
-  if (!last) return;
-  __threadfence();
-  for (int c = 0; c < b.num_cavities; ++c) {
-    __syncthreads();  // storage is reused
+}
+
+// The grids of the cavities of this block's triangles [first, last], reduced from the
+// partials by every block alike (deterministic). The block holding a cavity's first triangle
+// also publishes its grid and signed volume (for the later kernels and the host). Returns
+// the first cavity; grids[c - first] is cavity c's.
+template <typename Real>
+__device__ int block_grids(const Batch<Real>& b, int first_triangle, int last_triangle,
+                           GridParams* grids, int max_grids) {
+  __shared__ typename BoxReduce::TempStorage storage;
+  const int c0 = b.tri_cavity[first_triangle], c1 = b.tri_cavity[last_triangle];
+  for (int c = c0; c <= c1 && c - c0 < max_grids; ++c) {
     Box sum = empty_box();
     for (int k = b.cavity_job_begin[c] + threadIdx.x; k < b.cavity_job_begin[c + 1];
          k += blockDim.x) {
       Box p;
-      for (int q = 0; q < 7; ++q) p.v[q] = __ldcg(&b.partials[8 * k + q]);
+      for (int q = 0; q < 7; ++q) p.v[q] = b.partials[8 * k + q];
       sum = BoxOp()(sum, p);
     }
-    sum = Reduce(storage).Reduce(sum, BoxOp());
+    sum = BoxReduce(storage).Reduce(sum, BoxOp());
     if (threadIdx.x == 0) {
       double volume = sum.v[6] / 6.0;
-      CavityState& s = b.cavities[c];
-      s.grid = make_grid(sum.v[0], sum.v[1], sum.v[2], sum.v[3], sum.v[4], sum.v[5], b.n, volume);
-      s.signed_volume = volume;
-      s.sum_heights = 0.0;
-      s.unmatched = 0;
+      grids[c - c0] = make_grid(sum.v[0], sum.v[1], sum.v[2], sum.v[3], sum.v[4], sum.v[5], b.n,
+                                volume);
+      const int owner = b.cavity_triangle_begin[c];
+      if (owner >= first_triangle && owner <= last_triangle) {
+        b.cavities[c].grid = grids[c - c0];
+        b.cavities[c].signed_volume = volume;
+      }
     }
+    __syncthreads();
   }
-  if (threadIdx.x == 0) {
-    *b.status = Status{0, 0, {0, 0}};
-    if (b.candidates) *b.candidates = 0;
-    if (b.big_count) *b.big_count = 0;
-    *b.ticket = 0;
-  }
+  return c0;
 }
+
+// A block's triangles span at most this many cavities (4 triangles at least a cavity).
+constexpr int kMaxBlockCavities = kBlock / 4 + 1;
 
 // Step 2 for one triangle; false when it covers no column.
 template <typename Real>
-__device__ bool make_devtri(const Batch<Real>& b, int t, DevTri<Real>& d) {
-  const int cavity = b.tri_cavity[t];
+__device__ bool make_devtri(const Batch<Real>& b, int t, int cavity, const GridParams& g,
+                            DevTri<Real>& d) {
   d = DevTri<Real>{};
   d.flags = cavity << 4;
   d.i0 = d.j0 = 1;
   d.i1 = d.j1 = 0;
-  const GridParams& g = b.cavities[cavity].grid;
   if (g.empty) return false;
   const int* v = b.triangles + 3 * t;
   const int units = g.n << g.sub_bits;
@@ -142,7 +152,7 @@ __device__ bool make_devtri(const Batch<Real>& b, int t, DevTri<Real>& d) {
     d.z[k] = static_cast<Real>(z[s.corner[k]]);
   }
   d.flags |= static_cast<int>(s.e_min[0] | (s.e_min[1] << 1) | (s.e_min[2] << 2)) |
-              (s.bottom ? 8 : 0);
+             (s.bottom ? 8 : 0);
   d.i0 = s.i0;
   d.i1 = s.i1;
   d.j0 = s.j0;
@@ -150,9 +160,19 @@ __device__ bool make_devtri(const Batch<Real>& b, int t, DevTri<Real>& d) {
   return s.i0 <= s.i1 && s.j0 <= s.j1;
 }
 
-// Appends triangle t to a tile's list (counting past the capacity: the host grows it).
-__device__ void bin(int* tile_count, int* tile_list, int capacity, int tile, int t) {
-  int pos = atomicAdd(&tile_count[tile], 1);
+// Appends triangle t to a tile's list, the warp's lanes with the same tile (tile < 0: none)
+// taking consecutive places after one atomic (counting past the capacity: the host grows it).
+__device__ void bin(int* tile_count, int* tile_list, int capacity,
+                    int tile, int t) {
+  const int lane = threadIdx.x & 31;
+  const unsigned active = __ballot_sync(kFullMask, tile >= 0);
+  if (tile < 0) return;
+  const unsigned peers = __match_any_sync(active, tile);
+  const int leader = __ffs(peers) - 1;
+  int base = 0;
+  if (lane == leader) base = atomicAdd(&tile_count[tile], __popc(peers));
+  base = __shfl_sync(active, base, leader);
+  const int pos = base + __popc(peers & ((1u << lane) - 1));
   if (pos < capacity) tile_list[static_cast<size_t>(tile) * capacity + pos] = t;
 }
 
@@ -161,19 +181,24 @@ template <typename Real>
 __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_to_tiles) {
   using Reduce = cub::BlockReduce<unsigned long long, kBlock>;
   __shared__ typename Reduce::TempStorage storage;
-  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  __shared__ GridParams grids[kMaxBlockCavities];
+  const int first = blockIdx.x * blockDim.x;
+  const int last = min(first + static_cast<int>(blockDim.x), b.num_triangles) - 1;
+  const int c0 = block_grids(b, first, last, grids, kMaxBlockCavities);
+  const int t = first + threadIdx.x;
   DevTri<Real> d;
   bool valid = false;
   if (t < b.num_triangles) {
-    valid = make_devtri(b, t, d);
+    const int cavity = b.tri_cavity[t];
+    valid = make_devtri(b, t, cavity, grids[cavity - c0], d);
     store_tri(&b.tris[t], d);
   }
   if (!bin_to_tiles) {
-    // The leveraging kernel's c: candidate columns over all triangles' boxes.
+    // The leveraging kernel's c: candidate columns over all triangles' boxes, per block.
     unsigned long long candidates =
         valid ? static_cast<unsigned long long>(d.i1 - d.i0 + 1) * (d.j1 - d.j0 + 1) : 0ull;
     candidates = Reduce(storage).Sum(candidates);
-    if (threadIdx.x == 0 && candidates) atomicAdd(b.candidates, candidates);
+    if (threadIdx.x == 0) b.candidates[blockIdx.x] = candidates;
     return;
   }
   int tx0 = 0, ty0 = 0, width = 0, tiles = 0, base = 0;
@@ -184,13 +209,14 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
     tiles = width * ((d.j1 >> b.tile_bits) - ty0 + 1);
     base = cavity_of(d.flags) * b.tiles_per_side * b.tiles_per_side;
   }
-  if (tiles > 0 && tiles <= kLaneTiles) {
-    for (int q = 0; q < tiles; ++q) {
-      int tile = base + (ty0 + q / width) * b.tiles_per_side + tx0 + q % width;
-      bin(b.tile_count, b.tile_list, b.tile_capacity, tile, t);
-    }
+  const bool own = tiles > 0 && tiles <= kLaneTiles;
+  const int rounds = __reduce_max_sync(kFullMask, own ? tiles : 0);
+  for (int q = 0; q < rounds; ++q) {
+    int tile = own && q < tiles ? base + (ty0 + q / width) * b.tiles_per_side + tx0 + q % width
+                                : -1;
+    bin(b.tile_count, b.tile_list, b.tile_capacity, tile, t);
   }
-  // Larger boxes: the warp bins them together, one triangle after the other.
+  // Larger boxes: the warp bins them together, one triangle after the other (distinct tiles).
   const int lane = threadIdx.x & 31;
   unsigned shared = __ballot_sync(kFullMask, tiles > kLaneTiles && tiles <= kWarpTiles);
   while (shared) {
@@ -200,8 +226,9 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
     int sy = __shfl_sync(kFullMask, ty0, src), sw = __shfl_sync(kFullMask, width, src);
     int sn = __shfl_sync(kFullMask, tiles, src), sb = __shfl_sync(kFullMask, base, src);
     for (int q = lane; q < sn; q += 32) {
-      bin(b.tile_count, b.tile_list, b.tile_capacity,
-          sb + (sy + q / sw) * b.tiles_per_side + sx + q % sw, st);
+      int tile = sb + (sy + q / sw) * b.tiles_per_side + sx + q % sw;
+      int pos = atomicAdd(&b.tile_count[tile], 1);
+      if (pos < b.tile_capacity) b.tile_list[static_cast<size_t>(tile) * b.tile_capacity + pos] = st;
     }
   }
   if (tiles > kWarpTiles) b.big_list[atomicAdd(b.big_count, 1)] = t;
@@ -211,9 +238,13 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
 // vertex, f_i = N (p_i + p_1 + p_2 + p_3) / 24 with N oriented outward.
 template <typename Real>
 __global__ void __launch_bounds__(kBlock) hydrostatic_kernel(Batch<Real> b) {
-  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  __shared__ GridParams grids[kMaxBlockCavities];
+  const int first = blockIdx.x * blockDim.x;
+  const int last = min(first + static_cast<int>(blockDim.x), b.num_triangles) - 1;
+  const int c0 = block_grids(b, first, last, grids, kMaxBlockCavities);
+  const int t = first + threadIdx.x;
   if (t >= b.num_triangles) return;
-  const GridParams& g = b.cavities[b.tri_cavity[t]].grid;
+  const GridParams& g = grids[b.tri_cavity[t] - c0];
   const int* v = b.triangles + 3 * t;
   Vec3 x[3];
   double p[3];
@@ -243,14 +274,12 @@ void launch_reduce(const Batch<Real>& b, int zero_out_count, int zero_tile_count
 
 template <typename Real>
 void launch_setup(const Batch<Real>& b, bool bin_to_tiles, cudaStream_t stream) {
-  int blocks = (b.num_triangles + kBlock - 1) / kBlock;
-  setup_kernel<Real><<<blocks, kBlock, 0, stream>>>(b, bin_to_tiles);
+  setup_kernel<Real><<<b.setup_blocks, kBlock, 0, stream>>>(b, bin_to_tiles);
 }
 
 template <typename Real>
 void launch_hydrostatic(const Batch<Real>& b, cudaStream_t stream) {
-  int blocks = (b.num_triangles + kBlock - 1) / kBlock;
-  hydrostatic_kernel<Real><<<blocks, kBlock, 0, stream>>>(b);
+  hydrostatic_kernel<Real><<<b.setup_blocks, kBlock, 0, stream>>>(b);
 }
 
 #define FW_INSTANTIATE(Real)                                                          \

@@ -33,7 +33,15 @@ __device__ inline void test_candidate(const Batch<Real>& b, const DevTri<Real>& 
 
 template <typename Real>
 __global__ void __launch_bounds__(kBlock) leveraging_kernel(Batch<Real> b) {
-  const double c = static_cast<double>(*b.candidates) / b.num_triangles;
+  using Reduce = cub::BlockReduce<unsigned long long, kBlock>;
+  __shared__ typename Reduce::TempStorage storage;
+  __shared__ unsigned long long candidates;
+  unsigned long long sum = 0;
+  for (int k = threadIdx.x; k < b.setup_blocks; k += blockDim.x) sum += b.candidates[k];
+  sum = Reduce(storage).Sum(sum);
+  if (threadIdx.x == 0) candidates = sum;
+  __syncthreads();
+  const double c = static_cast<double>(candidates) / b.num_triangles;
   const long long k = max(1ll, static_cast<long long>(floor(b.alpha * c)));
   const long long threads = k * b.num_triangles;
   const long long stride = static_cast<long long>(gridDim.x) * blockDim.x;
@@ -104,8 +112,9 @@ __global__ void __launch_bounds__(kBlock) column_kernel(Batch<Real> b) {
     double s = Reduce(storage).Sum(mine ? sum_heights : 0.0);
     unsigned u = ReduceCount(count_storage).Sum(mine ? unmatched : 0u);
     if (threadIdx.x == 0) {
-      if (s != 0.0) atomicAdd(&b.cavities[c].sum_heights, s);
-      if (u) atomicAdd(&b.cavities[c].unmatched, static_cast<unsigned long long>(u));
+      const int stripe = blockIdx.x % kStripes;
+      if (s != 0.0) atomicAdd(&b.cavities[c].sum_heights[stripe], s);
+      if (u) atomicAdd(&b.cavities[c].unmatched[stripe], static_cast<unsigned long long>(u));
     }
     __syncthreads();
   }

@@ -193,8 +193,9 @@ __global__ void __launch_bounds__(TILE* TILE) tile_kernel(Batch<Real> b) {
   __syncthreads();
   unsigned u = ReduceCount(storage.count).Sum(unmatched);
   if (threadIdx.x == 0) {
-    if (sum != 0.0) atomicAdd(&b.cavities[cavity].sum_heights, sum);
-    if (u) atomicAdd(&b.cavities[cavity].unmatched, static_cast<unsigned long long>(u));
+    const int stripe = blockIdx.x % kStripes;
+    if (sum != 0.0) atomicAdd(&b.cavities[cavity].sum_heights[stripe], sum);
+    if (u) atomicAdd(&b.cavities[cavity].unmatched[stripe], static_cast<unsigned long long>(u));
   }
 }
 
