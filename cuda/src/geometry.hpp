@@ -144,19 +144,19 @@ FW_HD bool setup_triangle(const int sx[3], const int sy[3], int orientation, int
   if (area2 == 0) return false;
   bool ceiling = (area2 > 0) == (orientation > 0);
   t->bottom = !ceiling;
-  // Counter-clockwise order: swap corners 1 and 2 of a clockwise triangle.
-  int order[3] = {0, 1, 2};
-  if (area2 < 0) {
-    order[1] = 2;
-    order[2] = 1;
-    area2 = -area2;
-  }
-  t->area2 = area2;
-  for (int k = 0; k < 3; ++k) {
-    t->corner[k] = order[k];
-    t->x[k] = sx[order[k]];
-    t->y[k] = sy[order[k]];
-  }
+  // Counter-clockwise order: swap corners 1 and 2 of a clockwise triangle (no arrays indexed
+  // at run time, so that the device keeps everything in registers).
+  const bool flip = area2 < 0;
+  t->area2 = flip ? -area2 : area2;
+  t->corner[0] = 0;
+  t->corner[1] = flip ? 2 : 1;
+  t->corner[2] = flip ? 1 : 2;
+  t->x[0] = sx[0];
+  t->y[0] = sy[0];
+  t->x[1] = flip ? sx[2] : sx[1];
+  t->y[1] = flip ? sy[2] : sy[1];
+  t->x[2] = flip ? sx[1] : sx[2];
+  t->y[2] = flip ? sy[1] : sy[2];
   for (int k = 0; k < 3; ++k) {
     int a = (k + 1) % 3, b = (k + 2) % 3;
     int dx = t->x[b] - t->x[a], dy = t->y[b] - t->y[a];

@@ -84,7 +84,8 @@ __global__ void __launch_bounds__(kBlock) reduce_kernel(Batch<Real> b, int zero_
   }
   box = BoxReduce(storage).Reduce(box, BoxOp());
   if (threadIdx.x == 0) {
-    for (int k = 0; k < 7; ++k) b.partials[8 * blockIdx.x + k] = box.v[k];
+    // Component-major, so that block_grids reads them coalesced.
+    for (int k = 0; k < 7; ++k) b.partials[k * b.num_jobs + blockIdx.x] = box.v[k];
   }
 }
 
@@ -102,7 +103,7 @@ __device__ int block_grids(const Batch<Real>& b, int first_triangle, int last_tr
     for (int k = b.cavity_job_begin[c] + threadIdx.x; k < b.cavity_job_begin[c + 1];
          k += blockDim.x) {
       Box p;
-      for (int q = 0; q < 7; ++q) p.v[q] = b.partials[8 * k + q];
+      for (int q = 0; q < 7; ++q) p.v[q] = b.partials[q * b.num_jobs + k];
       sum = BoxOp()(sum, p);
     }
     sum = BoxReduce(storage).Reduce(sum, BoxOp());
@@ -145,11 +146,15 @@ __device__ bool make_devtri(const Batch<Real>& b, int t, int cavity, const GridP
   }
   SnappedTriangle s;
   if (!setup_triangle(sx, sy, g.orientation, g.n, g.sub_bits, &s)) return false;
+  // Corner 0 stays, 1 and 2 may have swapped (selects, not run-time indices: registers).
+  const bool flip = s.corner[1] == 2;
+  const int vertex[3] = {v[0], flip ? v[2] : v[1], flip ? v[1] : v[2]};
+  const double height[3] = {z[0], flip ? z[2] : z[1], flip ? z[1] : z[2]};
   for (int k = 0; k < 3; ++k) {
     d.x[k] = s.x[k];
     d.y[k] = s.y[k];
-    d.vertex[k] = v[s.corner[k]];
-    d.z[k] = static_cast<Real>(z[s.corner[k]]);
+    d.vertex[k] = vertex[k];
+    d.z[k] = static_cast<Real>(height[k]);
   }
   d.flags |= static_cast<int>(s.e_min[0] | (s.e_min[1] << 1) | (s.e_min[2] << 2)) |
              (s.bottom ? 8 : 0);
@@ -182,6 +187,7 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
   using Reduce = cub::BlockReduce<unsigned long long, kBlock>;
   __shared__ typename Reduce::TempStorage storage;
   __shared__ GridParams grids[kMaxBlockCavities];
+  __shared__ DevTri<Real> staged[kBlock];
   const int first = blockIdx.x * blockDim.x;
   const int last = min(first + static_cast<int>(blockDim.x), b.num_triangles) - 1;
   const int c0 = block_grids(b, first, last, grids, kMaxBlockCavities);
@@ -191,7 +197,15 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
   if (t < b.num_triangles) {
     const int cavity = b.tri_cavity[t];
     valid = make_devtri(b, t, cavity, grids[cavity - c0], d);
-    store_tri(&b.tris[t], d);
+    staged[threadIdx.x] = d;
+  }
+  // The block's triangles leave in consecutive 16-byte pieces (coalesced).
+  __syncthreads();
+  {
+    const int4* src = reinterpret_cast<const int4*>(staged);
+    int4* dst = reinterpret_cast<int4*>(b.tris + first);
+    const int pieces = (last - first + 1) * static_cast<int>(sizeof(DevTri<Real>) / 16);
+    for (int k = threadIdx.x; k < pieces; k += blockDim.x) dst[k] = src[k];
   }
   if (!bin_to_tiles) {
     // The leveraging kernel's c: candidate columns over all triangles' boxes, per block.

@@ -49,7 +49,7 @@ struct TileFloors {
 };
 
 template <typename Real, int TILE>
-__global__ void __launch_bounds__(TILE* TILE) tile_kernel(Batch<Real> b) {
+__global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_kernel(Batch<Real> b) {
   constexpr int kThreads = TILE * TILE;  // also the columns of a tile
   using Scan = cub::BlockScan<int, kThreads>;
   using Reduce = cub::BlockReduce<double, kThreads>;
@@ -133,9 +133,11 @@ __global__ void __launch_bounds__(TILE* TILE) tile_kernel(Batch<Real> b) {
           hi = mid - 1;
         }
       }
-      int item = lo - 1, next = s.offset[lo], li = 0, lj = 0, w = 1;
-      int x[3], y[3], flags = 0;
-      Real z[3];
+      // Walk the share; on each new triangle, its edge functions and height at the first
+      // candidate and their steps along a row and at a row's end (exact integer steps).
+      int item = lo - 1, next = s.offset[lo], li = 0, w = 1, col = 0, tag = 0;
+      int64_t e[3], step[3], wrap[3], e_min[3];
+      Real z = 0, dz = 0, dz_wrap = 0;
       for (; f < end; ++f) {
         if (f >= next) {
           do {
@@ -144,32 +146,52 @@ __global__ void __launch_bounds__(TILE* TILE) tile_kernel(Batch<Real> b) {
           } while (f >= next);
           w = s.width[item];
           li = (f - s.offset[item]) % w;
-          lj = (f - s.offset[item]) / w;
+          const int lj = (f - s.offset[item]) / w;
+          const int i = s.ci[item] + li, j = s.cj[item] + lj;
+          const int px = column_centre(i, sub_bits), py = column_centre(j, sub_bits);
+          const int flags = s.flags[item];
+          int x[3], y[3];
           for (int c = 0; c < 3; ++c) {
             x[c] = s.x[c][item];
             y[c] = s.y[c][item];
-            z[c] = s.z[c][item];
           }
-          flags = s.flags[item];
+          Real area = 0, zi = 0, zj = 0, z0 = 0;
+          for (int c = 0; c < 3; ++c) {
+            const int p = (c + 1) % 3, q = (c + 2) % 3;
+            e[c] = edge_function(x[p], y[p], x[q], y[q], px, py);
+            step[c] = -static_cast<int64_t>(y[q] - y[p]) << sub_bits;
+            const int64_t row = static_cast<int64_t>(x[q] - x[p]) << sub_bits;
+            wrap[c] = row - step[c] * (w - 1);
+            e_min[c] = (flags >> c) & 1;
+            const Real zc = s.z[c][item];
+            area += static_cast<Real>(e[c]);
+            z0 += static_cast<Real>(e[c]) * zc;
+            zi += static_cast<Real>(step[c]) * zc;
+            zj += static_cast<Real>(row) * zc;
+          }
+          const Real inv = Real(1) / area;
+          z = z0 * inv;
+          dz = zi * inv;
+          dz_wrap = (zj - zi * (w - 1)) * inv;
+          col = (j - tj0) * TILE + (i - ti0);
+          tag = is_floor(flags) ? ~(first + item) : first + item;
         }
-        const int i = s.ci[item] + li, j = s.cj[item] + lj;
-        const int px = column_centre(i, sub_bits), py = column_centre(j, sub_bits);
-        int64_t e0 = edge_function(x[1], y[1], x[2], y[2], px, py);
-        int64_t e1 = edge_function(x[2], y[2], x[0], y[0], px, py);
-        int64_t e2 = edge_function(x[0], y[0], x[1], y[1], px, py);
-        if (e0 >= (flags & 1) && e1 >= ((flags >> 1) & 1) && e2 >= ((flags >> 2) & 1)) {
-          const int col = (j - tj0) * TILE + (i - ti0);
+        if (e[0] >= e_min[0] && e[1] >= e_min[1] && e[2] >= e_min[2]) {
           const int slot = atomicAdd(&s_count[col], 1);
           if (slot < capacity) {
-            Real inv = Real(1) / static_cast<Real>(e0 + e1 + e2);
-            s_z[slot * kThreads + col] = (static_cast<Real>(e0) * z[0] + static_cast<Real>(e1) * z[1] +
-                                          static_cast<Real>(e2) * z[2]) * inv;
-            s_tag[slot * kThreads + col] = is_floor(flags) ? ~(first + item) : first + item;
+            s_z[slot * kThreads + col] = z;
+            s_tag[slot * kThreads + col] = tag;
           }
         }
         if (++li == w) {
           li = 0;
-          ++lj;
+          col += TILE - (w - 1);
+          z += dz_wrap;
+          for (int c = 0; c < 3; ++c) e[c] += wrap[c];
+        } else {
+          col += 1;
+          z += dz;
+          for (int c = 0; c < 3; ++c) e[c] += step[c];
         }
       }
     }

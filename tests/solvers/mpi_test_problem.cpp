@@ -1,0 +1,125 @@
+// The distributed problem as a whole, on 1 and 2 ranks: the assembled tangent is the
+// derivative of the assembled residual (finite differences through ghosts, Dirichlet rows,
+// follower pressure and gravity together), the matrix is preallocated exactly (insertion
+// outside the pattern is an error) and carries the six rigid-body modes, and the solver
+// options take the command line over the deck over the preset.
+#include <gtest/gtest.h>
+#include <petscsnes.h>
+
+#include <random>
+
+#include "deck/deck.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/gmsh_io.hpp"
+#include "solvers/newton_solver.hpp"
+#include "solvers/problem.hpp"
+
+namespace {
+
+const std::string kSource = HYDROSOFT_SOURCE_DIR;
+
+struct Fixture {
+  hs::Config config;
+  hs::Mesh mesh;
+  hs::Distribution dist;
+  explicit Fixture(std::vector<std::string> overrides) {
+    overrides.push_back("mesh.parameters.h=0.5");
+    config = hs::parse_deck(kSource + "/input/lame_sphere.yaml", overrides);
+    config.gravity = {0.3, -9.81, 0.1};
+    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
+    int rank, size;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    std::vector<int> part = hs::partition_tets(mesh, size);
+    dist = hs::distribute(mesh, part, rank, size);
+  }
+};
+
+void fill_random(Vec v, double scale, unsigned seed) {
+  PetscInt lo, hi;
+  VecGetOwnershipRange(v, &lo, &hi);
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> d(-scale, scale);
+  for (PetscInt i = 0; i < hi; ++i) {  // same stream on every rank: values depend on i only
+    const double x = d(gen);
+    if (i >= lo) VecSetValue(v, i, x, INSERT_VALUES);
+  }
+  VecAssemblyBegin(v);
+  VecAssemblyEnd(v);
+}
+
+class TangentTest : public ::testing::TestWithParam<std::tuple<int, std::string>> {};
+
+TEST_P(TangentTest, TangentIsDerivativeOfResidual) {
+  const auto [order, model] = GetParam();
+  Fixture f({"mesh.order=" + std::to_string(order), "materials[0].model=" + model,
+             "materials[0].density=1000", "loads.pressure[0].value=2e5"});
+  hs::Problem problem(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+  Vec u = problem.create_vector(), v = problem.create_vector();
+  fill_random(u, 0.02, 1);
+  fill_random(v, 1.0, 2);
+  const double s = 0.7;
+  problem.apply_dirichlet(u, s);
+  problem.apply_dirichlet(v, 0.0);  // directions that keep the constraints
+  Mat J = problem.create_matrix();
+  ASSERT_TRUE(problem.jacobian(u, s, J));
+  Vec Jv, Rp, Rm, up, um;
+  VecDuplicate(u, &Jv);
+  VecDuplicate(u, &Rp);
+  VecDuplicate(u, &Rm);
+  VecDuplicate(u, &up);
+  VecDuplicate(u, &um);
+  MatMult(J, v, Jv);
+  const double eps = 1e-6;
+  VecWAXPY(up, eps, v, u);
+  VecWAXPY(um, -eps, v, u);
+  ASSERT_TRUE(problem.residual(up, s, Rp));
+  ASSERT_TRUE(problem.residual(um, s, Rm));
+  VecAXPY(Rp, -1.0, Rm);
+  VecScale(Rp, 1.0 / (2 * eps));  // central difference of R along v
+  VecAXPY(Rp, -1.0, Jv);
+  PetscReal err, ref;
+  VecNorm(Rp, NORM_2, &err);
+  VecNorm(Jv, NORM_2, &ref);
+  EXPECT_LT(err, 1e-6 * ref) << "order " << order << " " << model;
+  EXPECT_GT(ref, 0);
+
+  MatNullSpace nns;
+  MatGetNearNullSpace(J, &nns);
+  ASSERT_NE(nns, nullptr);
+  PetscBool has_constant;
+  PetscInt n;
+  const Vec* vecs;
+  MatNullSpaceGetVecs(nns, &has_constant, &n, &vecs);
+  EXPECT_EQ(n, 6);
+  PetscInt bs;
+  MatGetBlockSize(J, &bs);
+  EXPECT_EQ(bs, 3);
+  for (Vec* w : {&u, &v, &Jv, &Rp, &Rm, &up, &um}) VecDestroy(w);
+  MatDestroy(&J);
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, TangentTest,
+                         ::testing::Combine(::testing::Values(1, 2),
+                                            ::testing::Values("neo_hookean", "corotational",
+                                                              "mooney_rivlin",
+                                                              "saint_venant_kirchhoff")));
+
+TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {
+  PetscOptionsSetValue(nullptr, "-ksp_type", "bcgs");  // as if given on the command line
+  hs::SolverConfig solver;
+  solver.preset = "gamg";
+  solver.petsc_options = {{"ksp_type", "cg"}, {"pc_gamg_threshold", "0.05"}};
+  hs::set_solver_options(solver, true);
+  char value[64];
+  PetscBool set;
+  PetscOptionsGetString(nullptr, nullptr, "-ksp_type", value, sizeof value, &set);
+  EXPECT_STREQ(value, "bcgs");
+  PetscOptionsGetString(nullptr, nullptr, "-pc_gamg_threshold", value, sizeof value, &set);
+  EXPECT_STREQ(value, "0.05");
+  PetscOptionsGetString(nullptr, nullptr, "-pc_type", value, sizeof value, &set);
+  EXPECT_STREQ(value, "gamg");
+  PetscOptionsClear(nullptr);
+}
+
+}  // namespace
