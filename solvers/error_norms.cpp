@@ -2,12 +2,13 @@
 //   sum_e sum_q w_q |det J_e(xi_q)| |u_h(xi_q) - u(X(xi_q))|^2,
 // with an isoparametric map X(xi) = sum_a N_a(xi) X_a (curved P2 elements included) and a
 // rule of degree 2 (order + 1), enough to integrate |u_h|^2 exactly on straight elements.
+#include "solvers/error_norms.hpp"
+
 #include <Eigen/Dense>
 #include <cmath>
 
 #include "fem/quadrature.hpp"
 #include "fem/shape.hpp"
-#include "solvers/error_norms.hpp"
 
 namespace hs {
 
@@ -20,39 +21,34 @@ ErrorNorms displacement_error(const Problem& problem, Vec u, const ExactSolution
   // The displacement of the local (owned + ghost) nodes.
   Vec uw;
   HS_PETSC(VecDuplicate(u, &uw));
-  HS_PETSC(VecCopy(u, uw));
-  HS_PETSC(VecGhostUpdateBegin(uw, INSERT_VALUES, SCATTER_FORWARD));
-  HS_PETSC(VecGhostUpdateEnd(uw, INSERT_VALUES, SCATTER_FORWARD));
-  Vec ul;
-  HS_PETSC(VecGhostGetLocalForm(uw, &ul));
-  const PetscScalar* ua;
-  HS_PETSC(VecGetArrayRead(ul, &ua));
-
   double err2 = 0, norm2 = 0;
-  double N[10], dN[30];
-  for (size_t e = 0; e < dist.local_tets.size(); ++e) {
-    const int32_t* nodes = &dist.tet_nodes[e * npe];
-    for (size_t q = 0; q < rule.points.size(); ++q) {
-      tet_shape(order, rule.points[q], N, dN);
-      Eigen::Vector3d X = Eigen::Vector3d::Zero(), uh = Eigen::Vector3d::Zero();
-      Eigen::Matrix3d J = Eigen::Matrix3d::Zero();  // dX/dxi
-      for (int a = 0; a < npe; ++a) {
-        const Eigen::Vector3d Xa(problem.reference_coordinate(nodes[a], 0),
-                                 problem.reference_coordinate(nodes[a], 1),
-                                 problem.reference_coordinate(nodes[a], 2));
-        X += N[a] * Xa;
-        uh += N[a] * Eigen::Vector3d(ua[3 * nodes[a]], ua[3 * nodes[a] + 1], ua[3 * nodes[a] + 2]);
-        J += Xa * Eigen::RowVector3d(dN[3 * a], dN[3 * a + 1], dN[3 * a + 2]);
+  {
+    const Problem::LocalView view(u, uw);
+    const PetscScalar* ua = view.values();
+    double N[10], dN[30];
+    for (size_t e = 0; e < dist.local_tets.size(); ++e) {
+      const int32_t* nodes = &dist.tet_nodes[e * npe];
+      for (size_t q = 0; q < rule.points.size(); ++q) {
+        tet_shape(order, rule.points[q], N, dN);
+        Eigen::Vector3d X = Eigen::Vector3d::Zero(), uh = Eigen::Vector3d::Zero();
+        Eigen::Matrix3d J = Eigen::Matrix3d::Zero();  // dX/dxi
+        for (int a = 0; a < npe; ++a) {
+          const Eigen::Vector3d Xa(problem.reference_coordinate(nodes[a], 0),
+                                   problem.reference_coordinate(nodes[a], 1),
+                                   problem.reference_coordinate(nodes[a], 2));
+          X += N[a] * Xa;
+          uh +=
+              N[a] * Eigen::Vector3d(ua[3 * nodes[a]], ua[3 * nodes[a] + 1], ua[3 * nodes[a] + 2]);
+          J += Xa * Eigen::RowVector3d(dN[3 * a], dN[3 * a + 1], dN[3 * a + 2]);
+        }
+        const auto ue = exact.displacement({X[0], X[1], X[2]}, s);
+        const Eigen::Vector3d uex(ue[0], ue[1], ue[2]);
+        const double w = rule.weights[q] * std::abs(J.determinant());
+        err2 += w * (uh - uex).squaredNorm();
+        norm2 += w * uex.squaredNorm();
       }
-      const auto ue = exact.displacement({X[0], X[1], X[2]}, s);
-      const Eigen::Vector3d uex(ue[0], ue[1], ue[2]);
-      const double w = rule.weights[q] * std::abs(J.determinant());
-      err2 += w * (uh - uex).squaredNorm();
-      norm2 += w * uex.squaredNorm();
     }
   }
-  HS_PETSC(VecRestoreArrayRead(ul, &ua));
-  HS_PETSC(VecGhostRestoreLocalForm(uw, &ul));
   HS_PETSC(VecDestroy(&uw));
 
   double local[2] = {err2, norm2}, global[2] = {0, 0};

@@ -26,7 +26,8 @@ const MaterialConfig& only_material(const Config& c) {
 // Linear in s: u(X; s) = s u(X).
 class LameSphere : public ExactSolution {
  public:
-  LameSphere(double a, double b, double p, double E, double nu) : a_(a), b_(b), p_(p), E_(E), nu_(nu) {}
+  LameSphere(double a, double b, double p, double E, double nu)
+      : a_(a), b_(b), p_(p), E_(E), nu_(nu) {}
   std::array<double, 3> displacement(const std::array<double, 3>& X, double s) const override {
     const double r = std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
     const double ur = s * lame_sphere_radial_displacement(r, a_, b_, p_, E_, nu_);
@@ -44,7 +45,8 @@ class HydrostaticBlock : public ExactSolution {
   HydrostaticBlock(double H, double c) : H_(H), c_(c) {}
   std::array<double, 3> displacement(const std::array<double, 3>& X, double s) const override {
     const double x = X[0], y = X[1], z = X[2], c = s * c_;
-    return {-c * (H_ - z) * x, -c * (H_ - z) * y, -c * (H_ * z - z * z / 2) - c * (x * x + y * y) / 2};
+    return {-c * (H_ - z) * x, -c * (H_ - z) * y,
+            -c * (H_ * z - z * z / 2) - c * (x * x + y * y) / 2};
   }
 
  private:
@@ -108,7 +110,8 @@ const MaterialConfig& material_of(const Config& c, const std::string& group) {
 
 }  // namespace
 
-double lame_sphere_radial_displacement(double r, double a, double b, double p, double E, double nu) {
+double lame_sphere_radial_displacement(double r, double a, double b, double p, double E,
+                                       double nu) {
   const double a3 = a * a * a, b3 = b * b * b;
   return p * a3 / (E * (b3 - a3)) * ((1 - 2 * nu) * r + (1 + nu) * b3 / (2 * r * r));
 }
@@ -155,7 +158,10 @@ double elastica_uniform_load(double beta) {
   double lo = 0, hi = beta, v = 0;
   for (int it = 0; it < 100; ++it) {
     const double mid = (lo + hi) / 2;
-    if (shoot(mid, &v) > 0) hi = mid; else lo = mid;
+    if (shoot(mid, &v) > 0)
+      hi = mid;
+    else
+      lo = mid;
   }
   shoot((lo + hi) / 2, &v);
   return std::abs(v);
@@ -166,8 +172,8 @@ std::unique_ptr<ExactSolution> make_exact_solution(const Config& c) {
   if (type.empty() || type == "none") return nullptr;
   if (type == "lame_sphere") {
     const auto& m = only_material(c);
-    return std::make_unique<LameSphere>(parameter(c, "a"), parameter(c, "b"), parameter(c, "p"), m.E,
-                                        m.nu);
+    return std::make_unique<LameSphere>(parameter(c, "a"), parameter(c, "b"), parameter(c, "p"),
+                                        m.E, m.nu);
   }
   if (type == "hydrostatic_block") {
     const auto& m = only_material(c);

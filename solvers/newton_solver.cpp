@@ -21,9 +21,11 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent) {
 
   // Convergence is judged on the residual (never on a small step alone: a stalled
   // iterative solve would otherwise look converged).
-  const std::map<std::string, std::string> common = {
-      {"snes_type", "newtonls"}, {"snes_linesearch_type", "bt"}, {"snes_rtol", "1e-8"},
-      {"snes_stol", "0"},             {"snes_max_it", "30"}};
+  const std::map<std::string, std::string> common = {{"snes_type", "newtonls"},
+                                                     {"snes_linesearch_type", "bt"},
+                                                     {"snes_rtol", "1e-8"},
+                                                     {"snes_stol", "0"},
+                                                     {"snes_max_it", "30"}};
   for (const auto& [k, v] : common) set_default(k, v);
   if (solver.preset == "mumps") {
     set_default("ksp_type", "preonly");

@@ -19,8 +19,8 @@ namespace hs {
 
 }  // namespace hs
 
-#define HS_PETSC(...)                                                             \
-  do {                                                                            \
-    const PetscErrorCode hs_petsc_code_ = (__VA_ARGS__);                          \
+#define HS_PETSC(...)                                                                             \
+  do {                                                                                            \
+    const PetscErrorCode hs_petsc_code_ = (__VA_ARGS__);                                          \
     if (PetscUnlikely(hs_petsc_code_)) hs::throw_petsc_error(hs_petsc_code_, __FILE__, __LINE__); \
   } while (0)

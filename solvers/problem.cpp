@@ -33,13 +33,15 @@ Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dis
   std::vector<char> has_material(mesh.volume_names.size(), 0);
   for (const auto& mc : config.materials) {
     auto it = std::find(mesh.volume_names.begin(), mesh.volume_names.end(), mc.group);
-    if (it == mesh.volume_names.end()) throw InputError("material group '" + mc.group + "' is not a volume");
+    if (it == mesh.volume_names.end())
+      throw InputError("material group '" + mc.group + "' is not a volume");
     const auto v = static_cast<size_t>(it - mesh.volume_names.begin());
     materials_[v] = to_parameters(mc);
     has_material[v] = 1;
   }
   for (size_t v = 0; v < has_material.size(); ++v)
-    if (!has_material[v]) throw InputError("volume group '" + mesh.volume_names[v] + "' has no material");
+    if (!has_material[v])
+      throw InputError("volume group '" + mesh.volume_names[v] + "' has no material");
 
   const int64_t nlocal = dist.num_local();
   X_local_.resize(3 * nlocal);
@@ -48,7 +50,8 @@ Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dis
 
   global_dof_.resize(3 * nlocal);
   for (int64_t i = 0; i < nlocal; ++i)
-    for (int d = 0; d < 3; ++d) global_dof_[3 * i + d] = static_cast<PetscInt>(3 * dist.local_nodes[i] + d);
+    for (int d = 0; d < 3; ++d)
+      global_dof_[3 * i + d] = static_cast<PetscInt>(3 * dist.local_nodes[i] + d);
   for (int64_t i = dist.num_owned(); i < nlocal; ++i)
     ghost_blocks_.push_back(static_cast<PetscInt>(dist.local_nodes[i]));
 
@@ -107,9 +110,9 @@ Problem::~Problem() {
 
 Vec Problem::create_vector() const {
   Vec v;
-  HS_PETSC(VecCreateGhostBlock(comm_, 3, 3 * static_cast<PetscInt>(dist_.num_owned()),
-                                     PETSC_DECIDE, static_cast<PetscInt>(ghost_blocks_.size()),
-                                     ghost_blocks_.data(), &v));
+  HS_PETSC(VecCreateGhostBlock(comm_, 3, 3 * static_cast<PetscInt>(dist_.num_owned()), PETSC_DECIDE,
+                               static_cast<PetscInt>(ghost_blocks_.size()), ghost_blocks_.data(),
+                               &v));
   HS_PETSC(VecSet(v, 0.0));
   return v;
 }
@@ -213,7 +216,8 @@ Mat Problem::create_mass_matrix() const {
 double Problem::prescribed_value(int64_t l, double s) const {
   if (from_exact_[l]) {
     const int64_t node = l / 3;
-    const std::array<double, 3> X = {X_local_[3 * node], X_local_[3 * node + 1], X_local_[3 * node + 2]};
+    const std::array<double, 3> X = {X_local_[3 * node], X_local_[3 * node + 1],
+                                     X_local_[3 * node + 2]};
     return exact_->displacement(X, s)[l % 3];
   }
   return prescribed_[l] * (scaled_[l] ? s : 1.0);
@@ -227,128 +231,128 @@ void Problem::apply_dirichlet(Vec u, double s) const {
   HS_PETSC(VecRestoreArray(u, &a));
 }
 
-bool Problem::residual(Vec u, double s, Vec R) {
-  const double t0 = MPI_Wtime();
-  HS_PETSC(VecCopy(u, u_work_));
-  HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  Vec ul, rl;
-  HS_PETSC(VecGhostGetLocalForm(u_work_, &ul));
+// out = a f_int(u) + b (s f_body + f_pressure(u; s)), assembled over local elements and faces
+// into the ghosted local form, then added to the owners. Returns false on an inverted element.
+bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy) {
+  LocalView view(u, u_work_);
+  const PetscScalar* ua = view.values();
+  Vec rl;
   HS_PETSC(VecGhostGetLocalForm(r_work_, &rl));
   HS_PETSC(VecSet(rl, 0.0));
-  const PetscScalar* ua;
   PetscScalar* ra;
-  HS_PETSC(VecGetArrayRead(ul, &ua));
   HS_PETSC(VecGetArray(rl, &ra));
 
   bool ok = true;
+  double local_energy = 0;
   const int n = 3 * npe_;
   double X[30], ue[30], re[30];
   for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-    element_coordinates(e, X);
-    element_displacement(ua, e, ue);
-    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-    const ElementOutput out = tet_internal_force(mesh_.order, X, ue, m, re, nullptr);
-    if (!out.valid && ok) {
-      ok = false;
-      bad_element_ = dist_.local_tets[e];
-    }
-    const double* fb = &body_force_[e * n];
     const int32_t* nodes = &dist_.tet_nodes[e * npe_];
-    for (int a = 0; a < npe_; ++a)
-      for (int d = 0; d < 3; ++d) ra[3 * nodes[a] + d] += re[3 * a + d] - s * fb[3 * a + d];
-  }
-  const int npf = mesh_.nodes_per_face();
-  double xf[18], ff[18];
-  for (const auto& surface : pressure_faces_) {
-    for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
-      const int32_t* nodes = &surface.faces[f * npf];
-      for (int a = 0; a < npf; ++a)
-        for (int d = 0; d < 3; ++d) xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
-      face_pressure(mesh_.order, xf, s * surface.value, ff, nullptr);
-      for (int a = 0; a < npf; ++a)
-        for (int d = 0; d < 3; ++d) ra[3 * nodes[a] + d] -= ff[3 * a + d];
+    if (a != 0) {
+      element_coordinates(e, X);
+      element_displacement(ua, e, ue);
+      const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+      const ElementOutput out_e = tet_internal_force(mesh_.order, X, ue, m, re, nullptr);
+      local_energy += out_e.energy;
+      if (!out_e.valid && ok) {
+        ok = false;
+        bad_element_ = dist_.local_tets[e];
+      }
+      for (int k = 0; k < n; ++k) ra[3 * nodes[k / 3] + k % 3] += a * re[k];
     }
+    if (b != 0) {
+      const double* fb = &body_force_[e * n];
+      for (int k = 0; k < n; ++k) ra[3 * nodes[k / 3] + k % 3] += b * s * fb[k];
+    }
+  }
+  if (b != 0) {
+    const int npf = mesh_.nodes_per_face();
+    double xf[18], ff[18];
+    for (const auto& surface : pressure_faces_)
+      for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
+        const int32_t* nodes = &surface.faces[f * npf];
+        for (int k = 0; k < 3 * npf; ++k)
+          xf[k] = X_local_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
+        face_pressure(mesh_.order, xf, s * surface.value, ff, nullptr);
+        for (int k = 0; k < 3 * npf; ++k) ra[3 * nodes[k / 3] + k % 3] += b * ff[k];
+      }
   }
   HS_PETSC(VecRestoreArray(rl, &ra));
-  HS_PETSC(VecRestoreArrayRead(ul, &ua));
   HS_PETSC(VecGhostRestoreLocalForm(r_work_, &rl));
-  HS_PETSC(VecGhostRestoreLocalForm(u_work_, &ul));
   HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
   HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecCopy(r_work_, out));
+  if (energy) MPI_Allreduce(&local_energy, energy, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  int local_ok = ok, global_ok = 0;
+  MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
+  return global_ok;
+}
 
-  if (inertia_) {  // c M (u - u_pred)
+bool Problem::residual(Vec u, double s, Vec R) {
+  const double t0 = MPI_Wtime();
+  const bool ok = assemble_forces(u, s, 1.0, -1.0, R, nullptr);
+  if (inertia_) {  // + c M (u - u_pred)
     Vec du;
     HS_PETSC(VecDuplicate(u, &du));
     HS_PETSC(VecWAXPY(du, -1.0, inertia_->u_pred, u));
     HS_PETSC(VecScale(du, inertia_->c));
-    HS_PETSC(MatMultAdd(inertia_->M, du, r_work_, r_work_));
+    HS_PETSC(MatMultAdd(inertia_->M, du, R, R));
     HS_PETSC(VecDestroy(&du));
   }
-
   // Dirichlet rows: R_D = u_D - g_D(s).
   PetscScalar* r;
   const PetscScalar* uo;
-  HS_PETSC(VecGetArray(r_work_, &r));
+  HS_PETSC(VecGetArray(R, &r));
   HS_PETSC(VecGetArrayRead(u, &uo));
   for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
     if (constrained_[l]) r[l] = uo[l] - prescribed_value(l, s);
   HS_PETSC(VecRestoreArrayRead(u, &uo));
-  HS_PETSC(VecRestoreArray(r_work_, &r));
-  HS_PETSC(VecCopy(r_work_, R));
-
-  int local_ok = ok, global_ok = 0;
-  MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
+  HS_PETSC(VecRestoreArray(R, &r));
   timers_.residual_s += MPI_Wtime() - t0;
   ++timers_.residual_calls;
-  return global_ok;
+  return ok;
 }
 
 bool Problem::jacobian(Vec u, double s, Mat J) {
   const double t0 = MPI_Wtime();
   HS_PETSC(MatZeroEntries(J));
-  HS_PETSC(VecCopy(u, u_work_));
-  HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  Vec ul;
-  HS_PETSC(VecGhostGetLocalForm(u_work_, &ul));
-  const PetscScalar* ua;
-  HS_PETSC(VecGetArrayRead(ul, &ua));
-
   bool ok = true;
-  const int n = 3 * npe_;
-  double X[30], ue[30], re[30];
-  std::vector<double> Ke(n * n);
-  PetscInt idx[30];
-  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-    element_coordinates(e, X);
-    element_displacement(ua, e, ue);
-    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-    const ElementOutput out = tet_internal_force(mesh_.order, X, ue, m, re, Ke.data());
-    if (!out.valid && ok) {
-      ok = false;
-      bad_element_ = dist_.local_tets[e];
+  {
+    LocalView view(u, u_work_);
+    const PetscScalar* ua = view.values();
+    const int n = 3 * npe_;
+    double X[30], ue[30], re[30];
+    std::vector<double> Ke(n * n);
+    PetscInt idx[30];
+    for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+      element_coordinates(e, X);
+      element_displacement(ua, e, ue);
+      const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+      const ElementOutput out = tet_internal_force(mesh_.order, X, ue, m, re, Ke.data());
+      if (!out.valid && ok) {
+        ok = false;
+        bad_element_ = dist_.local_tets[e];
+      }
+      dof_indices(e, idx);
+      HS_PETSC(MatSetValues(J, n, idx, n, idx, Ke.data(), ADD_VALUES));
     }
-    dof_indices(e, idx);
-    HS_PETSC(MatSetValues(J, n, idx, n, idx, Ke.data(), ADD_VALUES));
-  }
-  const int npf = mesh_.nodes_per_face();
-  const int nf = 3 * npf;
-  double xf[18], ff[18];
-  std::vector<double> Kf(nf * nf);
-  for (const auto& surface : pressure_faces_) {
-    for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
-      const int32_t* nodes = &surface.faces[f * npf];
-      for (int a = 0; a < npf; ++a)
-        for (int d = 0; d < 3; ++d) xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
-      face_pressure(mesh_.order, xf, s * surface.value, ff, Kf.data());
-      for (double& k : Kf) k = -k;  // R = ... - f_pressure
-      face_dofs(nodes, npf, idx);
-      HS_PETSC(MatSetValues(J, nf, idx, nf, idx, Kf.data(), ADD_VALUES));
+    const int npf = mesh_.nodes_per_face();
+    const int nf = 3 * npf;
+    double xf[18], ff[18];
+    std::vector<double> Kf(nf * nf);
+    for (const auto& surface : pressure_faces_) {
+      for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
+        const int32_t* nodes = &surface.faces[f * npf];
+        for (int a = 0; a < npf; ++a)
+          for (int d = 0; d < 3; ++d)
+            xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
+        face_pressure(mesh_.order, xf, s * surface.value, ff, Kf.data());
+        for (double& k : Kf) k = -k;  // R = ... - f_pressure
+        face_dofs(nodes, npf, idx);
+        HS_PETSC(MatSetValues(J, nf, idx, nf, idx, Kf.data(), ADD_VALUES));
+      }
     }
   }
-  HS_PETSC(VecRestoreArrayRead(ul, &ua));
-  HS_PETSC(VecGhostRestoreLocalForm(u_work_, &ul));
   for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
     if (constrained_[l]) HS_PETSC(MatSetValue(J, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
   HS_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
@@ -363,101 +367,30 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
 }
 
 void Problem::internal_force(Vec u, Vec f, double* energy) {
-  double local_energy = 0;
-  HS_PETSC(VecCopy(u, u_work_));
-  HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  Vec ul, fl;
-  HS_PETSC(VecGhostGetLocalForm(u_work_, &ul));
-  HS_PETSC(VecGhostGetLocalForm(r_work_, &fl));
-  HS_PETSC(VecSet(fl, 0.0));
-  const PetscScalar* ua;
-  PetscScalar* fa;
-  HS_PETSC(VecGetArrayRead(ul, &ua));
-  HS_PETSC(VecGetArray(fl, &fa));
-  double X[30], ue[30], re[30];
-  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-    element_coordinates(e, X);
-    element_displacement(ua, e, ue);
-    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-    local_energy += tet_internal_force(mesh_.order, X, ue, m, re, nullptr).energy;
-    const int32_t* nodes = &dist_.tet_nodes[e * npe_];
-    for (int a = 0; a < npe_; ++a)
-      for (int d = 0; d < 3; ++d) fa[3 * nodes[a] + d] += re[3 * a + d];
-  }
-  HS_PETSC(VecRestoreArray(fl, &fa));
-  HS_PETSC(VecRestoreArrayRead(ul, &ua));
-  HS_PETSC(VecGhostRestoreLocalForm(r_work_, &fl));
-  HS_PETSC(VecGhostRestoreLocalForm(u_work_, &ul));
-  HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  HS_PETSC(VecCopy(r_work_, f));
-  if (energy) MPI_Allreduce(&local_energy, energy, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  assemble_forces(u, 0.0, 1.0, 0.0, f, energy);
 }
 
-void Problem::external_load(Vec u, double s, Vec f) {
-  // The external load is R(u) with the internal forces left out: assemble it directly.
-  HS_PETSC(VecCopy(u, u_work_));
-  HS_PETSC(VecGhostUpdateBegin(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  HS_PETSC(VecGhostUpdateEnd(u_work_, INSERT_VALUES, SCATTER_FORWARD));
-  Vec ul, fl;
-  HS_PETSC(VecGhostGetLocalForm(u_work_, &ul));
-  HS_PETSC(VecGhostGetLocalForm(r_work_, &fl));
-  HS_PETSC(VecSet(fl, 0.0));
-  const PetscScalar* ua;
-  PetscScalar* fa;
-  HS_PETSC(VecGetArrayRead(ul, &ua));
-  HS_PETSC(VecGetArray(fl, &fa));
-  const int n = 3 * npe_;
-  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-    const int32_t* nodes = &dist_.tet_nodes[e * npe_];
-    for (int a = 0; a < npe_; ++a)
-      for (int d = 0; d < 3; ++d) fa[3 * nodes[a] + d] += s * body_force_[e * n + 3 * a + d];
-  }
-  const int npf = mesh_.nodes_per_face();
-  double xf[18], ff[18];
-  for (const auto& surface : pressure_faces_)
-    for (size_t k = 0; k < surface.faces.size() / npf; ++k) {
-      const int32_t* nodes = &surface.faces[k * npf];
-      for (int a = 0; a < npf; ++a)
-        for (int d = 0; d < 3; ++d) xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
-      face_pressure(mesh_.order, xf, s * surface.value, ff, nullptr);
-      for (int a = 0; a < npf; ++a)
-        for (int d = 0; d < 3; ++d) fa[3 * nodes[a] + d] += ff[3 * a + d];
-    }
-  HS_PETSC(VecRestoreArray(fl, &fa));
-  HS_PETSC(VecRestoreArrayRead(ul, &ua));
-  HS_PETSC(VecGhostRestoreLocalForm(r_work_, &fl));
-  HS_PETSC(VecGhostRestoreLocalForm(u_work_, &ul));
-  HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  HS_PETSC(VecCopy(r_work_, f));
-}
+void Problem::external_load(Vec u, double s, Vec f) { assemble_forces(u, s, 0.0, 1.0, f, nullptr); }
 
 void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const {
   Vec uw;
   HS_PETSC(VecDuplicate(u_work_, &uw));
-  HS_PETSC(VecCopy(u, uw));
-  HS_PETSC(VecGhostUpdateBegin(uw, INSERT_VALUES, SCATTER_FORWARD));
-  HS_PETSC(VecGhostUpdateEnd(uw, INSERT_VALUES, SCATTER_FORWARD));
-  Vec ul;
-  HS_PETSC(VecGhostGetLocalForm(uw, &ul));
-  const PetscScalar* ua;
-  HS_PETSC(VecGetArrayRead(ul, &ua));
-  const auto nt = dist_.local_tets.size();
-  von_mises.resize(nt);
-  J.resize(nt);
-  double X[30], ue[30];
-  for (size_t e = 0; e < nt; ++e) {
-    element_coordinates(e, X);
-    element_displacement(ua, e, ue);
-    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-    const ElementFields f = tet_fields(mesh_.order, X, ue, m);
-    von_mises[e] = f.von_mises;
-    J[e] = f.J;
+  {
+    LocalView view(u, uw);
+    const PetscScalar* ua = view.values();
+    const auto nt = dist_.local_tets.size();
+    von_mises.resize(nt);
+    J.resize(nt);
+    double X[30], ue[30];
+    for (size_t e = 0; e < nt; ++e) {
+      element_coordinates(e, X);
+      element_displacement(ua, e, ue);
+      const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+      const ElementFields f = tet_fields(mesh_.order, X, ue, m);
+      von_mises[e] = f.von_mises;
+      J[e] = f.J;
+    }
   }
-  HS_PETSC(VecRestoreArrayRead(ul, &ua));
-  HS_PETSC(VecGhostRestoreLocalForm(uw, &ul));
   HS_PETSC(VecDestroy(&uw));
 }
 

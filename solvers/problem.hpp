@@ -25,7 +25,7 @@ namespace hs {
 
 // Inertia of an implicit time step: the term c M (u - u_pred) (Newmark or backward Euler).
 struct InertiaTerm {
-  Mat M = nullptr;     // consistent mass matrix (unit diagonal on Dirichlet rows)
+  Mat M = nullptr;  // consistent mass matrix (unit diagonal on Dirichlet rows)
   Vec u_pred = nullptr;
   double c = 0;
 };
@@ -76,7 +76,9 @@ class Problem {
   // are the reactions.
   // Optionally also the stored energy int psi dV (summed over ranks) in *energy.
   void internal_force(Vec u, Vec f, double* energy = nullptr);
-  double reference_coordinate(int64_t local_node, int d) const { return X_local_[3 * local_node + d]; }
+  double reference_coordinate(int64_t local_node, int d) const {
+    return X_local_[3 * local_node + d];
+  }
 
   // Per local tetrahedron: von Mises stress and J at the centroid.
   void element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const;
@@ -85,6 +87,9 @@ class Problem {
   std::vector<double> gather_nodal(Vec v) const;
   // Per-local-tet values gathered on rank 0 in mesh tet order.
   std::vector<double> gather_elemental(const std::vector<double>& local) const;
+
+  // The ghost-updated local form (owned then ghost nodes) of a vector, readable while alive.
+  class LocalView;
 
   const AssemblyTimers& timers() const { return timers_; }
   bool has_follower_loads() const { return !pressure_faces_.empty(); }
@@ -100,6 +105,7 @@ class Problem {
   void dof_indices(int64_t local_tet, PetscInt* idx) const;  // -1 on Dirichlet dofs
   void face_dofs(const int32_t* face, int npf, PetscInt* idx) const;
   double prescribed_value(int64_t local_dof, double s) const;
+  bool assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy);
 
   MPI_Comm comm_;
   const Mesh& mesh_;
@@ -113,13 +119,33 @@ class Problem {
   std::vector<char> scaled_;                   // per local dof: follows the load factor
   std::vector<char> from_exact_;               // per local dof: value from exact_
   const ExactSolution* exact_;
-  std::vector<double> body_force_;             // per local tet: npe*3, at full load
+  std::vector<double> body_force_;  // per local tet: npe*3, at full load
   std::vector<PressureSurface> pressure_faces_;
   std::vector<PetscInt> ghost_blocks_;
   const InertiaTerm* inertia_ = nullptr;
   Vec u_work_ = nullptr, r_work_ = nullptr;
   int64_t bad_element_ = -1;
   AssemblyTimers timers_;
+};
+
+class Problem::LocalView {
+ public:
+  LocalView(Vec u, Vec work) : work_(work) {
+    HS_PETSC(VecCopy(u, work_));
+    HS_PETSC(VecGhostUpdateBegin(work_, INSERT_VALUES, SCATTER_FORWARD));
+    HS_PETSC(VecGhostUpdateEnd(work_, INSERT_VALUES, SCATTER_FORWARD));
+    HS_PETSC(VecGhostGetLocalForm(work_, &local_));
+    HS_PETSC(VecGetArrayRead(local_, &values_));
+  }
+  ~LocalView() {
+    VecRestoreArrayRead(local_, &values_);
+    VecGhostRestoreLocalForm(work_, &local_);
+  }
+  const PetscScalar* values() const { return values_; }
+
+ private:
+  Vec work_, local_ = nullptr;
+  const PetscScalar* values_ = nullptr;
 };
 
 template <class F>

@@ -22,9 +22,8 @@ namespace {
 [[noreturn]] void fail(const Problem& problem, int step, const std::string& where,
                        const NewtonResult& r) {
   std::ostringstream msg;
-  msg << "step " << step << " (" << where << "): Newton did not converge ("
-      << r.reason << ", residual " << r.residual_norm << " after " << r.iterations
-      << " iterations)";
+  msg << "step " << step << " (" << where << "): Newton did not converge (" << r.reason
+      << ", residual " << r.residual_norm << " after " << r.iterations << " iterations)";
   if (problem.first_bad_element() >= 0)
     msg << "; element " << problem.first_bad_element() << " is inverted (det F <= 0)";
   throw SolveError(msg.str());

@@ -13,7 +13,7 @@
 namespace hs {
 
 struct SteppingStats {
-  int steps = 0;              // converged solves (sub-increments included)
+  int steps = 0;  // converged solves (sub-increments included)
   int cutbacks = 0;
   int newton_iterations = 0;
   int linear_iterations = 0;

@@ -62,7 +62,9 @@ int main(int argc, char** argv) {
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   try {
     const hs::Config config = hs::parse_deck(deck, overrides);
-    if (rank == 0) std::cout << "# hydrosoft: resolved configuration\n" << hs::format_config(config) << std::endl;
+    if (rank == 0)
+      std::cout << "# hydrosoft: resolved configuration\n"
+                << hs::format_config(config) << std::endl;
     const auto summary = hs::run_simulation(config, PETSC_COMM_WORLD);
     if (rank == 0) {
       std::cout << "# hydrosoft: done\n" << summary.dump(2) << std::endl;

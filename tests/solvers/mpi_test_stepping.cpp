@@ -15,13 +15,16 @@ namespace {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
-nlohmann::json run(const std::string& deck, std::vector<std::string> overrides, const std::string& tag) {
+nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
+                   const std::string& tag) {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  overrides.push_back("output.folder=" + (std::filesystem::temp_directory_path() /
-                                          ("hydrosoft_stepping_" + tag + "_np" + std::to_string(size)))
-                                             .string());
-  auto s = hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides), MPI_COMM_WORLD);
+  overrides.push_back("output.folder=" +
+                      (std::filesystem::temp_directory_path() /
+                       ("hydrosoft_stepping_" + tag + "_np" + std::to_string(size)))
+                          .string());
+  auto s =
+      hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides), MPI_COMM_WORLD);
   std::string text = s.dump();  // rank 0 holds the summary: share it
   int n = static_cast<int>(text.size());
   MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
@@ -46,8 +49,9 @@ TEST(Stepping, BackwardEulerDissipatesEnergy) {
 }
 
 TEST(Stepping, QuasiStaticScheduleUnloads) {
-  const auto s = run("bimaterial_bar.yaml", {"time.type=quasi_static", "time.steps=2", "time.schedule=[1.0, 0.25]"},
-                     "schedule");
+  const auto s =
+      run("bimaterial_bar.yaml",
+          {"time.type=quasi_static", "time.steps=2", "time.schedule=[1.0, 0.25]"}, "schedule");
   EXPECT_EQ(s["steps"].get<int>(), 2);
   EXPECT_LT(s["error"]["l2_relative"].get<double>(), 1e-8);
 }

@@ -23,7 +23,8 @@ std::string out_folder(const std::string& name) {
       .string();
 }
 
-nlohmann::json run(const std::string& deck, std::vector<std::string> overrides, const std::string& out) {
+nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
+                   const std::string& out) {
   overrides.push_back("output.folder=" + out);
   return hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides), MPI_COMM_WORLD);
 }

@@ -30,14 +30,16 @@ std::string out_folder(const std::string& name) {
 
 nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
                    MPI_Comm comm = MPI_COMM_WORLD, const std::string& tag = "") {
-  overrides.push_back("output.folder=" + out_folder(std::filesystem::path(deck).stem().string() + tag));
+  overrides.push_back("output.folder=" +
+                      out_folder(std::filesystem::path(deck).stem().string() + tag));
   const hs::Config config = hs::parse_deck(kSource + "/input/" + deck, overrides);
   return hs::run_simulation(config, comm);
 }
 
 // Runs the deck on the world communicator and, when there are several ranks, once more on
 // rank 0 alone; the two must agree to solver tolerance.
-double l2_error_checked_against_one_rank(const std::string& deck, const std::vector<std::string>& o) {
+double l2_error_checked_against_one_rank(const std::string& deck,
+                                         const std::vector<std::string>& o) {
   const auto world = run(deck, o);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -53,17 +55,20 @@ double l2_error_checked_against_one_rank(const std::string& deck, const std::vec
 
 TEST(Verification, LameSphereP1Converges) {
   // Halving h must cut the P1 error by about 4 (rate 2); coarse levels show rate ~1.7.
-  const double coarse = l2_error_checked_against_one_rank("lame_sphere.yaml", {"mesh.parameters.h=0.4"});
-  const double fine = l2_error_checked_against_one_rank("lame_sphere.yaml", {"mesh.parameters.h=0.2"});
+  const double coarse =
+      l2_error_checked_against_one_rank("lame_sphere.yaml", {"mesh.parameters.h=0.4"});
+  const double fine =
+      l2_error_checked_against_one_rank("lame_sphere.yaml", {"mesh.parameters.h=0.2"});
   EXPECT_LT(fine, 0.08);
   EXPECT_GT(coarse / fine, 2.8);
   EXPECT_LT(coarse / fine, 5.0);
 }
 
 TEST(Verification, LameSphereP2IsMoreAccurate) {
-  const double e1 = l2_error_checked_against_one_rank("lame_sphere.yaml", {"mesh.parameters.h=0.4"});
-  const double e2 = l2_error_checked_against_one_rank(
-      "lame_sphere.yaml", {"mesh.parameters.h=0.4", "mesh.order=2"});
+  const double e1 =
+      l2_error_checked_against_one_rank("lame_sphere.yaml", {"mesh.parameters.h=0.4"});
+  const double e2 = l2_error_checked_against_one_rank("lame_sphere.yaml",
+                                                      {"mesh.parameters.h=0.4", "mesh.order=2"});
   EXPECT_LT(e2, e1 / 5);
 }
 

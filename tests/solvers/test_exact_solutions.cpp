@@ -12,7 +12,8 @@ TEST(ExactSolutions, ElasticaMatchesPublishedTable) {
   // Uniform load, v/L at beta = q L^3 / (E I) (inextensible elastica).
   const double beta[] = {1, 2, 4, 8, 16};
   const double v[] = {0.12347, 0.23851, 0.42516, 0.64063, 0.79702};
-  for (int i = 0; i < 5; ++i) EXPECT_NEAR(hs::elastica_uniform_load(beta[i]), v[i], 2e-5) << beta[i];
+  for (int i = 0; i < 5; ++i)
+    EXPECT_NEAR(hs::elastica_uniform_load(beta[i]), v[i], 2e-5) << beta[i];
 }
 
 TEST(ExactSolutions, ElasticaTendsToEulerBernoulliAtSmallLoad) {
@@ -38,7 +39,8 @@ TEST(ExactSolutions, LameSphereSatisfiesBoundaryTractions) {
     const double h = 1e-6;
     const double u = hs::lame_sphere_radial_displacement(r, a, b, p, E, nu);
     const double du = (hs::lame_sphere_radial_displacement(r + h, a, b, p, E, nu) -
-                       hs::lame_sphere_radial_displacement(r - h, a, b, p, E, nu)) / (2 * h);
+                       hs::lame_sphere_radial_displacement(r - h, a, b, p, E, nu)) /
+                      (2 * h);
     return (lambda + 2 * mu) * du + 2 * lambda * u / r;
   };
   EXPECT_NEAR(srr(a), -p, 1e-6);
@@ -49,7 +51,8 @@ TEST(ExactSolutions, EulerBernoulliTipDeflection) {
   // 3 rho g L^4 / (2 E h^2) = q L^4 / (8 E I) with q = rho g h^2, I = h^4 / 12.
   const double rho = 1000, g = 9.81, L = 1, h = 0.05, E = 1e9;
   const double q = rho * g * h * h, I = std::pow(h, 4) / 12;
-  EXPECT_NEAR(hs::cantilever_tip_deflection(rho, g, L, h, E), q * std::pow(L, 4) / (8 * E * I), 1e-15);
+  EXPECT_NEAR(hs::cantilever_tip_deflection(rho, g, L, h, E), q * std::pow(L, 4) / (8 * E * I),
+              1e-15);
 }
 
 }  // namespace

@@ -363,6 +363,8 @@ class Backend : public DeviceBackend {
     b.tile_capacity = tile_capacity_;
     b.big_list = big_list_.get();
     b.big_count = big_count_.get();
+    const char* phases = std::getenv("FLUIDWEIGHT_TILE_PHASES");  // diagnostic, timing only
+    b.diagnostic_phases = phases ? std::atoi(phases) : 3;
     return b;
   }
 

@@ -123,6 +123,7 @@ struct Batch {
   int tile_capacity;
   int* big_list;                // triangles over many tiles, read by every tile
   int* big_count;
+  int diagnostic_phases;        // tiled kernel, for timing only: bit 0 raster, bit 1 resolve
 };
 
 // Snapped centre coordinates and edge functions of a DevTri at column (i, j).

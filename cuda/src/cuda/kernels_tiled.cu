@@ -120,7 +120,7 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
     __syncthreads();
 
     // Steps 3-4: an equal, contiguous share of the candidates per thread.
-    const int share = (total + kThreads - 1) / kThreads;
+    const int share = (b.diagnostic_phases & 1) ? (total + kThreads - 1) / kThreads : 0;
     int f = threadIdx.x * share;
     const int end = min(f + share, total);
     if (f < end) {
@@ -200,7 +200,7 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   __syncthreads();
 
   // Step 5, one column per thread.
-  int n = s_count[threadIdx.x];
+  int n = (b.diagnostic_phases & 2) ? s_count[threadIdx.x] : 0;
   if (n > capacity) {
     atomicMax(&b.status->max_column_hits, n);
     n = capacity;
