@@ -112,8 +112,10 @@ struct FastColumn::Impl {
   std::vector<Worker> workers;
   std::vector<int> sx, sy;
   std::vector<double> z;
-  std::vector<TriangleRecord> records, sorted;  // input order, first-row order
-  std::vector<int> band_start, band_list;       // indices into `sorted`
+  std::vector<int> row0, row1;         // rows of each triangle's box (row0 > row1: no column)
+  std::vector<int> order;              // triangles with columns, by first row
+  std::vector<TriangleRecord> sorted;  // their records, in that order
+  std::vector<int> band_start, band_list;  // indices into `sorted`
   int band_rows = 1, num_bands = 1;
 };
 
@@ -144,8 +146,9 @@ void FastColumn::Impl::activate(const GridParams& grid, double rho_g, const Tria
     a.di[k] = -static_cast<int64_t>(tri.y[q] - tri.y[p]) * unit;
     a.dj[k] = static_cast<int64_t>(tri.x[q] - tri.x[p]) * unit;
     a.e_min[k] = tri.e_min[k];
-    a.vertex[k] = r.vertex[tri.corner[k]];
-    double zk = r.z[tri.corner[k]];
+    const int c = tri.corner[k];  // 0, 1 or 2
+    a.vertex[k] = c == 0 ? r.vertex[0] : c == 1 ? r.vertex[1] : r.vertex[2];
+    double zk = c == 0 ? r.z[0] : c == 1 ? r.z[1] : r.z[2];
     z0 += static_cast<double>(e[k]) * zk;
     dzi += static_cast<double>(a.di[k]) * zk;
     dzj += static_cast<double>(a.dj[k]) * zk;
@@ -330,7 +333,6 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   m.sx.resize(nv);
   m.sy.resize(nv);
   m.z.resize(nv);
-  m.records.resize(nt);
   m.pool.run([&](int index) {
     int begin, end;
     slice(nv, index, begin, end);
@@ -341,39 +343,53 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
       m.z[v] = dot_rn(p, frame.up) - grid.u0;
     }
   });
+  // Each triangle's rows (input order, where vertices are near each other in memory), then
+  // the records built directly in first-row order (a counting sort of the indices).
+  m.row0.resize(nt);
+  m.row1.resize(nt);
   m.pool.run([&](int index) {
     int begin, end;
     slice(nt, index, begin, end);
     const int half = 1 << (s - 1);
     for (int t = begin; t < end; ++t) {
       const int* v = cavity.triangles + 3 * t;
-      TriangleRecord& r = m.records[t];
-      for (int k = 0; k < 3; ++k) {
-        r.x[k] = m.sx[v[k]];
-        r.y[k] = m.sy[v[k]];
-        r.z[k] = m.z[v[k]];
-        r.vertex[k] = v[k];
-      }
-      int xmin = std::min({r.x[0], r.x[1], r.x[2]}), xmax = std::max({r.x[0], r.x[1], r.x[2]});
-      int ymin = std::min({r.y[0], r.y[1], r.y[2]}), ymax = std::max({r.y[0], r.y[1], r.y[2]});
+      int x0 = m.sx[v[0]], x1 = m.sx[v[1]], x2 = m.sx[v[2]];
+      int y0 = m.sy[v[0]], y1 = m.sy[v[1]], y2 = m.sy[v[2]];
+      int xmin = std::min({x0, x1, x2}), xmax = std::max({x0, x1, x2});
+      int ymin = std::min({y0, y1, y2}), ymax = std::max({y0, y1, y2});
       bool has_columns = ((xmax - half) >> s) >= -((half - xmin) >> s) &&
-                         edge_function(r.x[0], r.y[0], r.x[1], r.y[1], r.x[2], r.y[2]) != 0;
-      r.row0 = -((half - ymin) >> s);
-      r.row1 = has_columns ? std::min(n - 1, (ymax - half) >> s) : -1;
+                         edge_function(x0, y0, x1, y1, x2, y2) != 0;
+      m.row0[t] = -((half - ymin) >> s);
+      m.row1[t] = has_columns ? std::min(n - 1, (ymax - half) >> s) : -1;
     }
   });
-
-  // Records by first row (counting sort), then into bands of rows, each band's list in
-  // first-row order.
   std::vector<int> first(n + 1, 0);
-  for (const TriangleRecord& r : m.records) {
-    if (r.row0 <= r.row1) ++first[r.row0 + 1];
+  for (int t = 0; t < nt; ++t) {
+    if (m.row0[t] <= m.row1[t]) ++first[m.row0[t] + 1];
   }
   for (int j = 0; j < n; ++j) first[j + 1] += first[j];
-  m.sorted.resize(first[n]);
-  for (const TriangleRecord& r : m.records) {
-    if (r.row0 <= r.row1) m.sorted[first[r.row0]++] = r;
+  m.order.resize(first[n]);
+  for (int t = 0; t < nt; ++t) {
+    if (m.row0[t] <= m.row1[t]) m.order[first[m.row0[t]]++] = t;
   }
+  m.sorted.resize(m.order.size());
+  m.pool.run([&](int index) {
+    int begin, end;
+    slice(static_cast<int>(m.order.size()), index, begin, end);
+    for (int k = begin; k < end; ++k) {
+      const int t = m.order[k];
+      const int* v = cavity.triangles + 3 * t;
+      TriangleRecord& r = m.sorted[k];
+      for (int c = 0; c < 3; ++c) {
+        r.x[c] = m.sx[v[c]];
+        r.y[c] = m.sy[v[c]];
+        r.z[c] = m.z[v[c]];
+        r.vertex[c] = v[c];
+      }
+      r.row0 = m.row0[t];
+      r.row1 = m.row1[t];
+    }
+  });
   const int count = static_cast<int>(m.sorted.size());
   m.num_bands = threads == 1 ? 1 : std::min(n, 8 * threads);
   m.band_rows = (n + m.num_bands - 1) / m.num_bands;

@@ -165,20 +165,30 @@ __device__ bool make_devtri(const Batch<Real>& b, int t, int cavity, const GridP
   return s.i0 <= s.i1 && s.j0 <= s.j1;
 }
 
-// Appends triangle t to a tile's list, the warp's lanes with the same tile (tile < 0: none)
-// taking consecutive places after one atomic (counting past the capacity: the host grows it).
-__device__ void bin(int* tile_count, int* tile_list, int capacity,
-                    int tile, int t) {
+// Appends each lane's triangle t to the tiles tile[0..kLaneTiles) (-1: none). The warp's lanes
+// with the same tile take consecutive places after one atomic (counting past the capacity:
+// the host grows it); all atomics of all rounds are in flight together.
+__device__ void bin_lane_tiles(int* tile_count, int* tile_list, int capacity,
+                               const int (&tile)[kLaneTiles], int t) {
   const int lane = threadIdx.x & 31;
-  const unsigned active = __ballot_sync(kFullMask, tile >= 0);
-  if (tile < 0) return;
-  const unsigned peers = __match_any_sync(active, tile);
-  const int leader = __ffs(peers) - 1;
-  int base = 0;
-  if (lane == leader) base = atomicAdd(&tile_count[tile], __popc(peers));
-  base = __shfl_sync(active, base, leader);
-  const int pos = base + __popc(peers & ((1u << lane) - 1));
-  if (pos < capacity) tile_list[static_cast<size_t>(tile) * capacity + pos] = t;
+  unsigned peers[kLaneTiles];
+  int base[kLaneTiles];
+#pragma unroll
+  for (int q = 0; q < kLaneTiles; ++q) {
+    peers[q] = __match_any_sync(kFullMask, tile[q] >= 0 ? tile[q] : -1 - lane);
+    base[q] = 0;
+    if (tile[q] >= 0 && lane == __ffs(peers[q]) - 1) {
+      base[q] = atomicAdd(&tile_count[tile[q]], __popc(peers[q]));
+    }
+  }
+#pragma unroll
+  for (int q = 0; q < kLaneTiles; ++q) {
+    int start = __shfl_sync(kFullMask, base[q], __ffs(peers[q]) - 1);
+    int pos = start + __popc(peers[q] & ((1u << lane) - 1));
+    if (tile[q] >= 0 && pos < capacity) {
+      tile_list[static_cast<size_t>(tile[q]) * capacity + pos] = t;
+    }
+  }
 }
 
 // Step 2 per triangle; the tiled kernel also bins each triangle to the tiles of its box.
@@ -224,25 +234,41 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
     base = cavity_of(d.flags) * b.tiles_per_side * b.tiles_per_side;
   }
   const bool own = tiles > 0 && tiles <= kLaneTiles;
-  const int rounds = __reduce_max_sync(kFullMask, own ? tiles : 0);
-  for (int q = 0; q < rounds; ++q) {
-    int tile = own && q < tiles ? base + (ty0 + q / width) * b.tiles_per_side + tx0 + q % width
-                                : -1;
-    bin(b.tile_count, b.tile_list, b.tile_capacity, tile, t);
+  int tile[kLaneTiles];
+#pragma unroll
+  for (int q = 0; q < kLaneTiles; ++q) {
+    tile[q] = own && q < tiles ? base + (ty0 + q / width) * b.tiles_per_side + tx0 + q % width
+                               : -1;
   }
-  // Larger boxes: the warp bins them together, one triangle after the other (distinct tiles).
+  bin_lane_tiles(b.tile_count, b.tile_list, b.tile_capacity, tile, t);
+  // Larger boxes: the warp's (triangle, tile) pairs laid end to end and shared by its lanes,
+  // several pairs in flight at once.
   const int lane = threadIdx.x & 31;
-  unsigned shared = __ballot_sync(kFullMask, tiles > kLaneTiles && tiles <= kWarpTiles);
-  while (shared) {
-    int src = __ffs(shared) - 1;
-    shared &= shared - 1;
-    int st = __shfl_sync(kFullMask, t, src), sx = __shfl_sync(kFullMask, tx0, src);
-    int sy = __shfl_sync(kFullMask, ty0, src), sw = __shfl_sync(kFullMask, width, src);
-    int sn = __shfl_sync(kFullMask, tiles, src), sb = __shfl_sync(kFullMask, base, src);
-    for (int q = lane; q < sn; q += 32) {
-      int tile = sb + (sy + q / sw) * b.tiles_per_side + sx + q % sw;
-      int pos = atomicAdd(&b.tile_count[tile], 1);
-      if (pos < b.tile_capacity) b.tile_list[static_cast<size_t>(tile) * b.tile_capacity + pos] = st;
+  const bool shared = tiles > kLaneTiles && tiles <= kWarpTiles;
+  int count = shared ? tiles : 0, offset = count;
+  for (int d = 1; d < 32; d <<= 1) {  // inclusive scan over the warp
+    int up = __shfl_up_sync(kFullMask, offset, d);
+    if (lane >= d) offset += up;
+  }
+  const int total = __shfl_sync(kFullMask, offset, 31);
+  offset -= count;  // exclusive
+  for (int first_pair = 0; first_pair < total; first_pair += 32) {
+    const int p = first_pair + lane;
+    // The lane whose pairs contain p: the last with offset <= p (binary search by shuffles).
+    int owner = 0;
+    for (int step = 16; step > 0; step >>= 1) {
+      int o = __shfl_sync(kFullMask, offset, (owner + step) & 31);
+      if (owner + step < 32 && o <= p) owner += step;
+    }
+    const int q = p - __shfl_sync(kFullMask, offset, owner);
+    const int w = max(1, __shfl_sync(kFullMask, width, owner));
+    const int tile = __shfl_sync(kFullMask, base, owner) +
+                     (__shfl_sync(kFullMask, ty0, owner) + q / w) * b.tiles_per_side +
+                     __shfl_sync(kFullMask, tx0, owner) + q % w;
+    const int tri = __shfl_sync(kFullMask, t, owner);
+    if (p < total) {
+      const int pos = atomicAdd(&b.tile_count[tile], 1);
+      if (pos < b.tile_capacity) b.tile_list[static_cast<size_t>(tile) * b.tile_capacity + pos] = tri;
     }
   }
   if (tiles > kWarpTiles) b.big_list[atomicAdd(b.big_count, 1)] = t;
