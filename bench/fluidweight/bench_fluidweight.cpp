@@ -44,7 +44,9 @@ std::string kv(const std::string& k, double v) {
   std::snprintf(buf, sizeof buf, "\"%s\": %.10g", k.c_str(), v);
   return buf;
 }
-std::string kv(const std::string& k, const std::string& v) { return "\"" + k + "\": \"" + v + "\""; }
+std::string kv(const std::string& k, const std::string& v) {
+  return "\"" + k + "\": \"" + v + "\"";
+}
 
 fw::Options base(int n) {
   fw::Options o;
@@ -56,7 +58,7 @@ fw::Options base(int n) {
 
 struct Timed {
   std::vector<fw::Result> results;
-  double ms = NAN;      // CPU: median call; GPU: median graph replay
+  double ms = NAN;       // CPU: median call; GPU: median graph replay
   double call_ms = NAN;  // GPU: median whole call (upload, graph, download)
 };
 
@@ -141,8 +143,9 @@ void table_one(const std::string& label, const fw::SurfaceMesh& mesh, bool gpu, 
     double error = (r.column_volume - std::fabs(r.signed_volume)) / std::fabs(r.signed_volume);
     std::printf("| %d^2 | %.6f | %.2e | %.2f | %.2f |", n, r.column_volume, error, one.ms, all.ms);
     std::string fields = kv("table", "I") + ", " + kv("mesh", label) + ", " + kv("grid", n) + ", " +
-                         kv("volume", r.column_volume) + ", " + kv("signed_volume", r.signed_volume) +
-                         ", " + kv("cpu1_ms", one.ms) + ", " + kv("cpu_all_ms", all.ms);
+                         kv("volume", r.column_volume) + ", " +
+                         kv("signed_volume", r.signed_volume) + ", " + kv("cpu1_ms", one.ms) +
+                         ", " + kv("cpu_all_ms", all.ms);
     if (gpu) {
       double call = NAN;
       for (auto [k, p] : kVariants) {
@@ -190,8 +193,7 @@ void kernels_on_meshes(const std::vector<std::pair<std::string, fw::SurfaceMesh>
   for (const auto& [label, mesh] : meshes) {
     for (int n : {200, 1000}) {
       std::printf("| %s | %d | %d^2 |", label.c_str(), mesh.num_triangles(), n);
-      std::string fields =
-          kv("table", "kernels") + ", " + kv("mesh", label) + ", " + kv("grid", n);
+      std::string fields = kv("table", "kernels") + ", " + kv("mesh", label) + ", " + kv("grid", n);
       for (auto [k, p] : kVariants) {
         Timed g = time_gpu({mesh}, n, k, p);
         std::printf(" %.1f |", 1000 * g.ms);
@@ -256,14 +258,16 @@ void error_against_time(const std::string& label, const fw::SurfaceMesh& mesh, b
   }
 }
 
-void hydrostatic_times(const std::vector<std::pair<std::string, fw::SurfaceMesh>>& meshes,
-                       bool gpu, int threads) {
-  std::printf("\n### Closed-form hydrostatic load\n\n| mesh | CPU 1 thr ms | GPU f32 us | GPU f64 us |\n|---|---|---|---|\n");
+void hydrostatic_times(const std::vector<std::pair<std::string, fw::SurfaceMesh>>& meshes, bool gpu,
+                       int threads) {
+  std::printf(
+      "\n### Closed-form hydrostatic load\n\n| mesh | CPU 1 thr ms | GPU f32 us | GPU f64 us "
+      "|\n|---|---|---|---|\n");
   for (const auto& [label, mesh] : meshes) {
     Timed cpu = time_cpu({mesh}, 1, 1, fw::Method::hydrostatic);
     std::printf("| %s | %.3f |", label.c_str(), cpu.ms);
-    std::string fields = kv("table", "hydrostatic") + ", " + kv("mesh", label) + ", " +
-                         kv("cpu1_ms", cpu.ms);
+    std::string fields =
+        kv("table", "hydrostatic") + ", " + kv("mesh", label) + ", " + kv("cpu1_ms", cpu.ms);
     if (gpu) {
       for (fw::Precision p : {fw::Precision::float32, fw::Precision::float64}) {
         Timed g = time_gpu({mesh}, 1, fw::Kernel::tiled, p, 0.25, fw::Method::hydrostatic);
@@ -302,9 +306,12 @@ int main(int argc, char** argv) {
   std::string dir, out;
   for (int k = 1; k < argc; ++k) {
     std::string a = argv[k];
-    if (a == "--meshes" && k + 1 < argc) dir = argv[++k];
-    else if (a == "--out" && k + 1 < argc) out = argv[++k];
-    else if (a == "--quick") quick = true;
+    if (a == "--meshes" && k + 1 < argc)
+      dir = argv[++k];
+    else if (a == "--out" && k + 1 < argc)
+      out = argv[++k];
+    else if (a == "--quick")
+      quick = true;
     else {
       std::fprintf(stderr, "usage: bench_fluidweight [--meshes DIR] [--out FILE] [--quick]\n");
       return 2;
@@ -327,8 +334,10 @@ int main(int argc, char** argv) {
   table_one("sphere, radius 1", sphere, gpu, threads);
   if (files.count("armadillo.obj")) table_one("armadillo", files["armadillo.obj"], gpu, threads);
 
-  std::printf("\n### Four cavities at 200^2, one batched call\n\n| cavities | CPU 1 thr ms | CPU %d thr ms |",
-              threads);
+  std::printf(
+      "\n### Four cavities at 200^2, one batched call\n\n| cavities | CPU 1 thr ms | CPU %d thr ms "
+      "|",
+      threads);
   if (gpu) {
     for (auto [k, p] : kVariants) std::printf(" %s us |", short_name(k, p).c_str());
   }
@@ -338,13 +347,15 @@ int main(int argc, char** argv) {
   batched("4 spheres", spheres, gpu, threads);
   if (files.count("armadillo.obj")) {
     std::vector<fw::SurfaceMesh> armadillos;
-    for (int c = 0; c < 4; ++c) armadillos.push_back(rotated_copy(files["armadillo.obj"], 0.3 * c, 2.0 * c));
+    for (int c = 0; c < 4; ++c)
+      armadillos.push_back(rotated_copy(files["armadillo.obj"], 0.3 * c, 2.0 * c));
     batched("4 armadillos", armadillos, gpu, threads);
   }
 
   if (gpu) {
     std::vector<std::pair<std::string, fw::SurfaceMesh>> meshes = {
-        {"sphere (even)", sphere}, {"uneven sphere (areas 1:10^5)", fw::shapes::uneven_sphere(5, 20.0)}};
+        {"sphere (even)", sphere},
+        {"uneven sphere (areas 1:10^5)", fw::shapes::uneven_sphere(5, 20.0)}};
     for (const char* name : {"armadillo.obj", "tray_bottom.stl", "sword.obj", "fertility.off"}) {
       if (files.count(name)) meshes.emplace_back(name, files[name]);
     }
@@ -353,7 +364,8 @@ int main(int argc, char** argv) {
     if (!quick && files.count("armadillo.obj")) alpha_sweep("armadillo", files["armadillo.obj"]);
   }
   error_against_time("sphere", sphere, gpu, threads);
-  if (files.count("armadillo.obj")) error_against_time("armadillo", files["armadillo.obj"], gpu, threads);
+  if (files.count("armadillo.obj"))
+    error_against_time("armadillo", files["armadillo.obj"], gpu, threads);
   std::vector<std::pair<std::string, fw::SurfaceMesh>> hydro = {{"sphere", sphere}};
   if (files.count("armadillo.obj")) hydro.emplace_back("armadillo", files["armadillo.obj"]);
   hydrostatic_times(hydro, gpu, threads);

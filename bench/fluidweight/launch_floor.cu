@@ -97,8 +97,9 @@ int main() {
       if (r >= 20) ms.push_back(t);
     }
     std::sort(ms.begin(), ms.end());
-    const char* names[] = {"1 empty kernel", "2 empty kernels", "3 empty kernels",
-                           "4 empty kernels", "ticket kernel, 512 blocks", "ticket kernel, 64 blocks"};
+    const char* names[] = {
+        "1 empty kernel",  "2 empty kernels",           "3 empty kernels",
+        "4 empty kernels", "ticket kernel, 512 blocks", "ticket kernel, 64 blocks"};
     std::printf("graph of %-28s median %6.2f us  (min %6.2f)\n", names[variant],
                 1000 * ms[ms.size() / 2], 1000 * ms[0]);
   }

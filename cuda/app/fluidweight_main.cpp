@@ -197,9 +197,12 @@ std::string num(double x) {
 
 std::string kernel_label(const fw::Options& o) {
   switch (o.implementation) {
-    case fw::Implementation::cpu_reference: return "reference";
-    case fw::Implementation::cpu_fast: return "fast";
-    default: return fw::to_string(o.kernel) + ":" + fw::to_string(o.precision);
+    case fw::Implementation::cpu_reference:
+      return "reference";
+    case fw::Implementation::cpu_fast:
+      return "fast";
+    default:
+      return fw::to_string(o.kernel) + ":" + fw::to_string(o.precision);
   }
 }
 
@@ -217,34 +220,35 @@ int run(const Args& a) {
     gpu.push_back(r.timings.gpu_ms);
   }
   // Diagnostic: FLUIDWEIGHT_REPLAYS=k prints the median of k CUDA-graph replays.
-  if (const char* replays = std::getenv("FLUIDWEIGHT_REPLAYS"); replays && o.implementation == fw::Implementation::cuda) {
-    std::cerr << "graph replay median " << 1000 * median(context.time_device_replays(std::atoi(replays)))
-              << " us\n";
+  if (const char* replays = std::getenv("FLUIDWEIGHT_REPLAYS");
+      replays && o.implementation == fw::Implementation::cuda) {
+    std::cerr << "graph replay median "
+              << 1000 * median(context.time_device_replays(std::atoi(replays))) << " us\n";
   }
   if (!a.forces.empty()) {
     std::ofstream out(a.forces);
     if (!out) throw fw::InputError(a.forces + ": cannot write the forces file");
     char line[96];
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", r.forces[3 * v],
-                    r.forces[3 * v + 1], r.forces[3 * v + 2]);
+      std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", r.forces[3 * v], r.forces[3 * v + 1],
+                    r.forces[3 * v + 2]);
       out << line;
     }
     if (!out) throw fw::InputError(a.forces + ": writing the forces failed");
   }
   const bool on_gpu = o.implementation == fw::Implementation::cuda;
   if (a.json) {
-    std::cout << "{\"mesh\": " << json_string(a.mesh) << ", \"triangles\": "
-              << mesh.num_triangles() << ", \"vertices\": " << mesh.num_vertices()
-              << ", \"grid\": " << o.grid << ", \"method\": " << json_string(a.method)
+    std::cout << "{\"mesh\": " << json_string(a.mesh) << ", \"triangles\": " << mesh.num_triangles()
+              << ", \"vertices\": " << mesh.num_vertices() << ", \"grid\": " << o.grid
+              << ", \"method\": " << json_string(a.method)
               << ", \"device\": " << json_string(a.device)
               << ", \"kernel\": " << json_string(kernel_label(o)) << ", \"rho\": " << num(o.rho)
               << ", \"gravity\": [" << num(o.gravity[0]) << ", " << num(o.gravity[1]) << ", "
               << num(o.gravity[2]) << "], \"signed_volume\": " << num(r.signed_volume)
               << ", \"volume\": " << num(r.column_volume)
               << ", \"total_weight\": " << num(r.total_weight)
-              << ", \"unmatched_columns\": " << r.unmatched_columns
-              << ", \"repeat\": " << a.repeat << ", \"time_ms\": " << num(median(wall))
+              << ", \"unmatched_columns\": " << r.unmatched_columns << ", \"repeat\": " << a.repeat
+              << ", \"time_ms\": " << num(median(wall))
               << ", \"gpu_time_ms\": " << (on_gpu ? num(median(gpu)) : "null") << "}\n";
   } else {
     std::cout << "mesh           " << a.mesh << " (" << mesh.num_triangles() << " triangles, "
@@ -254,8 +258,7 @@ int run(const Args& a) {
               << "signed volume  " << num(r.signed_volume) << "\n"
               << "column volume  " << num(r.column_volume) << "\n"
               << "total weight   " << num(r.total_weight) << "\n"
-              << "time           " << num(median(wall)) << " ms (median of " << a.repeat
-              << ")\n";
+              << "time           " << num(median(wall)) << " ms (median of " << a.repeat << ")\n";
     if (on_gpu) std::cout << "gpu time       " << num(median(gpu)) << " ms (CUDA events)\n";
     if (r.unmatched_columns) {
       std::cout << "warning        " << r.unmatched_columns

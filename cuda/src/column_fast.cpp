@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "cpu.hpp"
@@ -32,7 +33,7 @@ struct Active {
   double m0, mi, mj;    // sum h, sum h (i - i0), sum h (j - j_ref) over this band's sections
   double weight_scale;  // rho |g| cell area / twice the snapped area
   int i0, i1, j1, j_ref;
-  int vertex[3];        // counter-clockwise corners' vertices
+  int vertex[3];  // counter-clockwise corners' vertices
   bool bottom;
 };
 
@@ -75,7 +76,8 @@ struct RowBuffer {
   }
   // The column's hits, sorted, in `out` (only needed when it spilled).
   void gather(int i, std::vector<RowHit>& out) const {
-    out.assign(&slots[static_cast<size_t>(i) * kSlots], &slots[static_cast<size_t>(i) * kSlots] + kSlots);
+    out.assign(&slots[static_cast<size_t>(i) * kSlots],
+               &slots[static_cast<size_t>(i) * kSlots] + kSlots);
     for (const auto& [col, hit] : spill) {
       if (col == i) out.push_back(hit);
     }
@@ -100,7 +102,8 @@ int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1)
 }  // namespace
 
 struct FastColumn::Impl {
-  explicit Impl(int threads) : pool(threads), workers(pool.size()) {}
+  explicit Impl(int threads)
+      : pool(threads), workers(pool.size()), automatic_threads(threads == 0) {}
 
   void sweep_band(const GridParams& grid, double rho_g, int band, Worker& w);
   void activate(const GridParams& grid, double rho_g, const TriangleRecord& r, int j, Worker& w);
@@ -112,11 +115,12 @@ struct FastColumn::Impl {
   std::vector<Worker> workers;
   std::vector<int> sx, sy;
   std::vector<double> z;
-  std::vector<int> row0, row1;         // rows of each triangle's box (row0 > row1: no column)
-  std::vector<int> order;              // triangles with columns, by first row
-  std::vector<TriangleRecord> sorted;  // their records, in that order
+  std::vector<int> row0, row1;             // rows of each triangle's box (row0 > row1: no column)
+  std::vector<int> order;                  // triangles with columns, by first row
+  std::vector<TriangleRecord> sorted;      // their records, in that order
   std::vector<int> band_start, band_list;  // indices into `sorted`
   int band_rows = 1, num_bands = 1;
+  bool automatic_threads;  // threads = 0: all of them, but one for small problems
 };
 
 FastColumn::FastColumn(int threads) : impl_(std::make_unique<Impl>(threads)) {}
@@ -171,9 +175,9 @@ void FastColumn::Impl::retire(int slot, Worker& w) {
   const Active& a = w.pool[slot];
   if (a.bottom && a.m0 != 0.0) {
     for (int k = 0; k < 3; ++k) {
-      w.weights[a.vertex[k]] +=
-          a.weight_scale * (static_cast<double>(a.e_ref[k]) * a.m0 +
-                            static_cast<double>(a.di[k]) * a.mi + static_cast<double>(a.dj[k]) * a.mj);
+      w.weights[a.vertex[k]] += a.weight_scale * (static_cast<double>(a.e_ref[k]) * a.m0 +
+                                                  static_cast<double>(a.di[k]) * a.mi +
+                                                  static_cast<double>(a.dj[k]) * a.mj);
     }
   }
   w.free.push_back(slot);
@@ -280,7 +284,18 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
                      CavityOutput& out, double& volume) {
   Impl& m = *impl_;
   const int nv = cavity.num_vertices, nt = cavity.num_triangles;
-  const int threads = m.pool.size();
+  // Waking the workers costs tens of microseconds a phase: with the thread count left
+  // automatic, small problems run on the calling thread alone.
+  const bool small =
+      m.automatic_threads && static_cast<long long>(nt) + static_cast<long long>(n) * n < 200000;
+  const int threads = small ? 1 : m.pool.size();
+  auto parallel = [&](const std::function<void(int)>& task) {
+    if (threads == 1) {
+      task(0);
+    } else {
+      m.pool.run(task);
+    }
+  };
   auto slice = [threads](int count, int index, int& begin, int& end) {
     begin = static_cast<int>(static_cast<long long>(count) * index / threads);
     end = static_cast<int>(static_cast<long long>(count) * (index + 1) / threads);
@@ -292,7 +307,7 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   // Step 1: the projected box and the signed volume (its sign is the orientation), then the
   // snapped vertices and the triangles' records.
   std::vector<std::array<double, 7>> partial(threads);
-  m.pool.run([&](int index) {
+  parallel([&](int index) {
     int begin, end;
     slice(nv, index, begin, end);
     double inf = std::numeric_limits<double>::infinity();
@@ -333,7 +348,7 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   m.sx.resize(nv);
   m.sy.resize(nv);
   m.z.resize(nv);
-  m.pool.run([&](int index) {
+  parallel([&](int index) {
     int begin, end;
     slice(nv, index, begin, end);
     for (int v = begin; v < end; ++v) {
@@ -347,7 +362,7 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   // the records built directly in first-row order (a counting sort of the indices).
   m.row0.resize(nt);
   m.row1.resize(nt);
-  m.pool.run([&](int index) {
+  parallel([&](int index) {
     int begin, end;
     slice(nt, index, begin, end);
     const int half = 1 << (s - 1);
@@ -373,7 +388,7 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     if (m.row0[t] <= m.row1[t]) m.order[first[m.row0[t]]++] = t;
   }
   m.sorted.resize(m.order.size());
-  m.pool.run([&](int index) {
+  parallel([&](int index) {
     int begin, end;
     slice(static_cast<int>(m.order.size()), index, begin, end);
     for (int k = begin; k < end; ++k) {
@@ -410,7 +425,7 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
 
   // Steps 2-5, band by band.
   std::atomic<int> next_band{0};
-  m.pool.run([&](int index) {
+  parallel([&](int index) {
     Worker& w = m.workers[index];
     w.floors.resize(n);
     w.ceilings.resize(n);
@@ -419,17 +434,17 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     w.unmatched = 0;
     for (int b; (b = next_band++) < m.num_bands;) m.sweep_band(grid, rho_g, b, w);
   });
-  m.pool.run([&](int index) {
+  parallel([&](int index) {
     int begin, end;
     slice(nv, index, begin, end);
-    for (const Worker& w : m.workers) {
-      for (int v = begin; v < end; ++v) out.values[v] += w.weights[v];
+    for (int k = 0; k < threads; ++k) {
+      for (int v = begin; v < end; ++v) out.values[v] += m.workers[k].weights[v];
     }
   });
   double sum_heights = 0.0;
-  for (const Worker& w : m.workers) {
-    sum_heights += w.sum_heights;
-    out.unmatched_columns += w.unmatched;
+  for (int k = 0; k < threads; ++k) {
+    sum_heights += m.workers[k].sum_heights;
+    out.unmatched_columns += m.workers[k].unmatched;
   }
   out.column_volume = grid.cell_area * sum_heights;
 }

@@ -10,11 +10,11 @@ namespace {
 
 // A column-triangle intersection (Steps 3 and 4).
 struct Hit {
-  int64_t column;     // j * N + i
-  bool bottom;        // floor or ceiling
-  double z;           // height above the cavity's lowest vertex
+  int64_t column;  // j * N + i
+  bool bottom;     // floor or ceiling
+  double z;        // height above the cavity's lowest vertex
   int triangle;
-  double lambda[3];   // barycentric coordinates at the column centre, input corner order
+  double lambda[3];  // barycentric coordinates at the column centre, input corner order
 };
 
 }  // namespace

@@ -138,10 +138,10 @@ const std::vector<Result>& Context::compute() {
       r.forces = out.values;
       r.column_volume = std::fabs(volumes[c]);
     } else {
-      for (int v = 0; v < nv; ++v) {
-        r.forces[3 * v] = out.values[v] * down.x;
-        r.forces[3 * v + 1] = out.values[v] * down.y;
-        r.forces[3 * v + 2] = out.values[v] * down.z;
+      for (int v = 0; v < nv; ++v) {  // + 0.0: no negative zeros for unloaded nodes
+        r.forces[3 * v] = out.values[v] * down.x + 0.0;
+        r.forces[3 * v + 1] = out.values[v] * down.y + 0.0;
+        r.forces[3 * v + 2] = out.values[v] * down.z + 0.0;
       }
       r.column_volume = out.column_volume;
     }
@@ -182,9 +182,12 @@ std::string to_string(Method m) { return m == Method::column ? "column" : "hydro
 
 std::string to_string(Kernel k) {
   switch (k) {
-    case Kernel::leveraging: return "leveraging";
-    case Kernel::triangle_parallel: return "triangle_parallel";
-    default: return "tiled";
+    case Kernel::leveraging:
+      return "leveraging";
+    case Kernel::triangle_parallel:
+      return "triangle_parallel";
+    default:
+      return "tiled";
   }
 }
 
@@ -192,9 +195,12 @@ std::string to_string(Precision p) { return p == Precision::float32 ? "float32" 
 
 std::string to_string(Implementation i) {
   switch (i) {
-    case Implementation::cpu_reference: return "cpu_reference";
-    case Implementation::cpu_fast: return "cpu_fast";
-    default: return "cuda";
+    case Implementation::cpu_reference:
+      return "cpu_reference";
+    case Implementation::cpu_fast:
+      return "cpu_fast";
+    default:
+      return "cuda";
   }
 }
 

@@ -60,7 +60,7 @@ class FastColumn {
 // Closed-form hydrostatic load: pressure rho |g| depth below the highest vertex, consistent
 // nodal forces f_i = N (p_i + p_1 + p_2 + p_3) / 24 on each triangle (N = twice the area times
 // the outward normal). Fills 3 values a vertex.
-void hydrostatic(const CavityView& cavity, const Frame& frame, const GridParams& grid,
-                 double rho_g, CavityOutput& out);
+void hydrostatic(const CavityView& cavity, const Frame& frame, const GridParams& grid, double rho_g,
+                 CavityOutput& out);
 
 }  // namespace fluidweight::detail

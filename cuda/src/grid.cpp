@@ -8,8 +8,8 @@
 namespace fluidweight::detail {
 
 Frame make_frame(const std::array<double, 3>& gravity) {
-  double norm = std::sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] +
-                          gravity[2] * gravity[2]);
+  double norm =
+      std::sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2]);
   if (!(norm > 0.0) || !std::isfinite(norm)) {
     throw InputError("gravity: the vector must be finite and non-zero");
   }

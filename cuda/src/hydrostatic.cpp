@@ -10,8 +10,8 @@
 
 namespace fluidweight::detail {
 
-void hydrostatic(const CavityView& cavity, const Frame& frame, const GridParams& grid,
-                 double rho_g, CavityOutput& out) {
+void hydrostatic(const CavityView& cavity, const Frame& frame, const GridParams& grid, double rho_g,
+                 CavityOutput& out) {
   out.values.assign(3 * static_cast<size_t>(cavity.num_vertices), 0.0);
   out.unmatched_columns = 0;
   for (int t = 0; t < cavity.num_triangles; ++t) {

@@ -11,9 +11,14 @@ namespace {
 // Corner count of the 2D element types (first-order corners of higher-order ones); 0: not 2D.
 int corners_of(long long type) {
   switch (type) {
-    case 2: case 9: case 20: case 21:
+    case 2:
+    case 9:
+    case 20:
+    case 21:
       return 3;  // triangles of order 1 to 3
-    case 3: case 10: case 16:
+    case 3:
+    case 10:
+    case 16:
       return 4;  // quadrangles of order 1 and 2
     default:
       return 0;
@@ -23,22 +28,38 @@ int corners_of(long long type) {
 // Nodes per element, for skipping elements that are not 2D (version 2.2 lines).
 int nodes_of(long long type) {
   switch (type) {
-    case 15: return 1;
-    case 1: return 2;
-    case 8: return 3;
-    case 2: return 3;
-    case 9: return 6;
-    case 3: return 4;
-    case 10: return 9;
-    case 16: return 8;
-    case 4: return 4;
-    case 11: return 10;
-    case 5: return 8;
-    case 6: return 6;
-    case 7: return 5;
-    case 20: return 9;
-    case 21: return 10;
-    default: return -1;
+    case 15:
+      return 1;
+    case 1:
+      return 2;
+    case 8:
+      return 3;
+    case 2:
+      return 3;
+    case 9:
+      return 6;
+    case 3:
+      return 4;
+    case 10:
+      return 9;
+    case 16:
+      return 8;
+    case 4:
+      return 4;
+    case 11:
+      return 10;
+    case 5:
+      return 8;
+    case 6:
+      return 6;
+    case 7:
+      return 5;
+    case 20:
+      return 9;
+    case 21:
+      return 10;
+    default:
+      return -1;
   }
 }
 

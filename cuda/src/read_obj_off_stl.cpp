@@ -178,8 +178,9 @@ SurfaceMesh read_stl(const std::string& path) {
     if (bytes.size() == 84 + 50 * static_cast<size_t>(count)) return read_stl_binary(bytes);
   }
   if (bytes.compare(0, 5, "solid") == 0) return read_stl_ascii(path, std::move(bytes));
-  throw InputError(path + ": neither a binary STL (size does not match its facet count) nor "
-                          "an ASCII one (no leading 'solid')");
+  throw InputError(path +
+                   ": neither a binary STL (size does not match its facet count) nor "
+                   "an ASCII one (no leading 'solid')");
 }
 
 SurfaceMesh read_surface(const std::string& path) {

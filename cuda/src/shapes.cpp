@@ -8,13 +8,13 @@ namespace fluidweight::shapes {
 
 SurfaceMesh icosphere(int levels, double radius) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<std::array<double, 3>> p = {{-1, t, 0}, {1, t, 0},   {-1, -t, 0}, {1, -t, 0},
-                                          {0, -1, t}, {0, 1, t},   {0, -1, -t}, {0, 1, -t},
-                                          {t, 0, -1}, {t, 0, 1},   {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<std::array<int, 3>> f = {
-      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  std::vector<std::array<double, 3>> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                          {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                          {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   auto to_sphere = [](std::array<double, 3> q) {
     double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
     return std::array<double, 3>{q[0] / n, q[1] / n, q[2] / n};
@@ -26,8 +26,8 @@ SurfaceMesh icosphere(int levels, double radius) {
       auto key = std::make_pair(std::min(a, b), std::max(a, b));
       auto it = midpoint.find(key);
       if (it != midpoint.end()) return it->second;
-      p.push_back(to_sphere({(p[a][0] + p[b][0]) / 2, (p[a][1] + p[b][1]) / 2,
-                             (p[a][2] + p[b][2]) / 2}));
+      p.push_back(
+          to_sphere({(p[a][0] + p[b][0]) / 2, (p[a][1] + p[b][1]) / 2, (p[a][2] + p[b][2]) / 2}));
       return midpoint[key] = static_cast<int>(p.size()) - 1;
     };
     std::vector<std::array<int, 3>> g;

@@ -12,11 +12,10 @@ std::string read_file(const std::string& path);
 
 class TextReader {
  public:
-  TextReader(const std::string& path, std::string text)
-      : path_(path), text_(std::move(text)) {}
+  TextReader(const std::string& path, std::string text) : path_(path), text_(std::move(text)) {}
 
-  bool at_end();                  // only whitespace (and '#' comments if enabled) remains
-  std::string token();            // next token; error at the end of the file
+  bool at_end();        // only whitespace (and '#' comments if enabled) remains
+  std::string token();  // next token; error at the end of the file
   double number(const char* what);
   long long integer(const char* what);
   // Rest of the current line (without the newline); moves to the next line.

@@ -11,9 +11,9 @@ namespace fluidweight {
 namespace {
 
 struct EdgeUse {
-  uint64_t key;   // smaller vertex << 32 | larger vertex
-  int position;   // 3 * triangle + edge: the order in which the edge first appears
-  bool forward;   // used from the smaller to the larger vertex
+  uint64_t key;  // smaller vertex << 32 | larger vertex
+  int position;  // 3 * triangle + edge: the order in which the edge first appears
+  bool forward;  // used from the smaller to the larger vertex
 };
 
 }  // namespace
@@ -31,8 +31,8 @@ void check_closed_surface(const SurfaceMesh& mesh, const std::string& name) {
     for (int k = 0; k < 3; ++k) {
       if (v[k] < 0 || v[k] >= nv) {
         std::ostringstream msg;
-        msg << name << ": triangle " << t << " has vertex index " << v[k] << ", outside [0, "
-            << nv << ")";
+        msg << name << ": triangle " << t << " has vertex index " << v[k] << ", outside [0, " << nv
+            << ")";
         throw InputError(msg.str());
       }
     }
@@ -70,9 +70,8 @@ void check_closed_surface(const SurfaceMesh& mesh, const std::string& name) {
         for (size_t u = first; u < end; ++u) why << (u > first ? ", " : "") << uses[u].position / 3;
         why << "): the surface is not manifold there";
       } else {
-        why << "is used in the same direction by triangles " << uses[first].position / 3
-            << " and " << uses[first + 1].position / 3
-            << ": their orientations disagree (flip one)";
+        why << "is used in the same direction by triangles " << uses[first].position / 3 << " and "
+            << uses[first + 1].position / 3 << ": their orientations disagree (flip one)";
       }
       reason = why.str();
     }

@@ -52,8 +52,8 @@ SurfaceMesh box(Vec3 size, int sub) {
 
 SurfaceMesh octahedron(Vec3 c, double h) {
   SurfaceMesh m;
-  m.vertices = {c[0] + h, c[1], c[2], c[0] - h, c[1], c[2], c[0], c[1] + h, c[2],
-                c[0],     c[1] - h, c[2], c[0], c[1], c[2] + h, c[0], c[1], c[2] - h};
+  m.vertices = {c[0] + h, c[1],     c[2], c[0] - h, c[1], c[2],     c[0], c[1] + h, c[2],
+                c[0],     c[1] - h, c[2], c[0],     c[1], c[2] + h, c[0], c[1],     c[2] - h};
   // Outward: x+ y+ z+ is counter-clockwise seen from outside.
   m.triangles = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
   return m;
@@ -84,7 +84,8 @@ SurfaceMesh transformed(const SurfaceMesh& mesh, const Mat3& rotation) {
 
 SurfaceMesh flipped(const SurfaceMesh& mesh) {
   SurfaceMesh m = mesh;
-  for (size_t t = 0; t < m.triangles.size(); t += 3) std::swap(m.triangles[t + 1], m.triangles[t + 2]);
+  for (size_t t = 0; t < m.triangles.size(); t += 3)
+    std::swap(m.triangles[t + 1], m.triangles[t + 2]);
   return m;
 }
 
@@ -132,7 +133,8 @@ Vec3 centroid(const SurfaceMesh& m) {
     const double* b = &m.vertices[3 * m.triangles[t + 1]];
     const double* c = &m.vertices[3 * m.triangles[t + 2]];
     double v = (a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-                a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+                a[2] * (b[0] * c[1] - b[1] * c[0])) /
+               6;
     for (int d = 0; d < 3; ++d) sum[d] += v * (a[d] + b[d] + c[d]) / 4;
     vol += v;
   }

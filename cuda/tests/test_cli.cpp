@@ -43,8 +43,8 @@ std::string write_obj(const SurfaceMesh& m, const std::string& name) {
   std::ofstream out(path);
   out.precision(17);
   for (int v = 0; v < m.num_vertices(); ++v) {
-    out << "v " << m.vertices[3 * v] << " " << m.vertices[3 * v + 1] << " "
-        << m.vertices[3 * v + 2] << "\n";
+    out << "v " << m.vertices[3 * v] << " " << m.vertices[3 * v + 1] << " " << m.vertices[3 * v + 2]
+        << "\n";
   }
   for (int t = 0; t < m.num_triangles(); ++t) {
     out << "f " << m.triangles[3 * t] + 1 << " " << m.triangles[3 * t + 1] + 1 << " "
@@ -59,8 +59,8 @@ TEST(Cli, JsonAndForcesMatchTheLibrary) {
   SurfaceMesh m = fw::shapes::icosphere(3);
   std::string mesh = write_obj(m, "cli_sphere.obj");
   std::string forces = testing::TempDir() + "cli_forces.txt";
-  CliRun r = run_cli(mesh + " --grid 64 --rho 1000 --gravity 0,-9.81,0 --repeat 3 --json --forces " +
-                  forces);
+  CliRun r = run_cli(
+      mesh + " --grid 64 --rho 1000 --gravity 0,-9.81,0 --repeat 3 --json --forces " + forces);
   ASSERT_EQ(r.status, 0) << r.output;
   Result expected = fw::compute(m, options(fw::Implementation::cpu_fast, 64));
   EXPECT_EQ(json_number(r.output, "triangles"), m.num_triangles());

@@ -26,8 +26,8 @@ TEST(ColumnReference, PaperSphereVolumes) {
   SurfaceMesh sphere = fw::shapes::icosphere(4);
   ASSERT_EQ(sphere.num_triangles(), 5120);
   EXPECT_NEAR(volume(sphere), 4.17974, 5e-6);
-  const std::pair<int, double> table[] = {{30, 4.1835}, {50, 4.1828}, {100, 4.1804},
-                                          {200, 4.1799}, {500, 4.1798}};
+  const std::pair<int, double> table[] = {
+      {30, 4.1835}, {50, 4.1828}, {100, 4.1804}, {200, 4.1799}, {500, 4.1798}};
   for (auto [n, paper] : table) {
     Result r = run(sphere, n);
     EXPECT_NEAR(r.column_volume, paper, 1.5e-4) << "grid " << n;
@@ -38,9 +38,9 @@ TEST(ColumnReference, PaperSphereVolumes) {
 // The weight of the liquid equals rho |g| times the column volume, at every grid, for shapes of
 // every character (total weight = sum of the sections' weights, to round-off).
 TEST(ColumnReference, TotalWeightIsRhoGTimesColumnVolume) {
-  std::vector<SurfaceMesh> meshes = {fw::shapes::icosphere(3), fw::shapes::torus(1, 0.3, 40, 16),
-                                     e_shape(), comb(5), fw::shapes::uneven_sphere(3, 6.0),
-                                     box({2.0, 0.02, 1.0}, 2)};
+  std::vector<SurfaceMesh> meshes = {
+      fw::shapes::icosphere(3),          fw::shapes::torus(1, 0.3, 40, 16), e_shape(), comb(5),
+      fw::shapes::uneven_sphere(3, 6.0), box({2.0, 0.02, 1.0}, 2)};
   for (size_t m = 0; m < meshes.size(); ++m) {
     for (int n : {1, 2, 7, 30, 64, 101}) {
       Result r = run(meshes[m], n);

@@ -23,7 +23,9 @@ struct Variant {
   fw::Precision precision;
 };
 
-std::string name(const Variant& v) { return fw::to_string(v.kernel) + "_" + fw::to_string(v.precision); }
+std::string name(const Variant& v) {
+  return fw::to_string(v.kernel) + "_" + fw::to_string(v.precision);
+}
 
 Options cuda_options(const Variant& v, int n, Vec3 gravity = {0, -9.81, 0}) {
   Options o = options(fw::Implementation::cuda, n, gravity);
@@ -37,7 +39,8 @@ void expect_matches_reference(const Result& gpu, const Result& ref, fw::Precisio
                               const std::string& what) {
   const bool f64 = p == fw::Precision::float64;
   EXPECT_NEAR(gpu.column_volume, ref.column_volume,
-              (f64 ? 1e-12 : 2e-6) * std::fabs(ref.signed_volume)) << what;
+              (f64 ? 1e-12 : 2e-6) * std::fabs(ref.signed_volume))
+      << what;
   EXPECT_NEAR(gpu.signed_volume, ref.signed_volume, 1e-12 * std::fabs(ref.signed_volume)) << what;
   EXPECT_EQ(gpu.unmatched_columns, 0) << what;
   EXPECT_LT(force_difference(gpu, ref), f64 ? 1e-10 : 2e-4) << what;
@@ -80,8 +83,7 @@ TEST_P(CudaKernels, GravityAlongAnyDirection) {
   SurfaceMesh m = transformed(fw::shapes::torus(1, 0.3, 48, 20), rotation({0.2, 1, 0.4}, 0.8));
   for (Vec3 g : {Vec3{0, 0, -9.81}, Vec3{3, -5, 7.5}, Vec3{-1, 0, 0}}) {
     Result ref = fw::compute(m, options(fw::Implementation::cpu_reference, 150, g));
-    expect_matches_reference(fw::compute(m, cuda_options(v, 150, g)), ref, v.precision,
-                             "gravity");
+    expect_matches_reference(fw::compute(m, cuda_options(v, 150, g)), ref, v.precision, "gravity");
   }
 }
 

@@ -33,7 +33,8 @@ TEST(Hydrostatic, TotalForceAndMomentAreExact) {
       Result r = fw::compute(meshes[m], hydro(g));
       double v = std::fabs(volume(meshes[m]));
       Vec3 f = total_force(r), mom = total_moment(meshes[m], r);
-      Vec3 expected_m = cross(centroid(meshes[m]), {1000 * v * g[0], 1000 * v * g[1], 1000 * v * g[2]});
+      Vec3 expected_m =
+          cross(centroid(meshes[m]), {1000 * v * g[0], 1000 * v * g[1], 1000 * v * g[2]});
       double scale = 1000 * v * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
       for (int d = 0; d < 3; ++d) {
         EXPECT_NEAR(f[d], 1000 * v * g[d], 1e-10 * scale) << "mesh " << m;

@@ -66,7 +66,8 @@ TEST(Readers, OffStlAsciiStlBinaryAndMshGiveTheSameSurface) {
   off.precision(17);
   stl.precision(17);
   for (int k = 0; k < m.num_vertices(); ++k) {
-    off << m.vertices[3 * k] << " " << m.vertices[3 * k + 1] << " " << m.vertices[3 * k + 2] << "\n";
+    off << m.vertices[3 * k] << " " << m.vertices[3 * k + 1] << " " << m.vertices[3 * k + 2]
+        << "\n";
   }
   stl << "solid torus\n";
   std::string binary(80, ' ');

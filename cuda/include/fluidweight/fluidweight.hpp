@@ -44,14 +44,14 @@ enum class Precision { float32, float64 };
 struct Options {
   Method method = Method::column;
   Implementation implementation = Implementation::cpu_fast;
-  Kernel kernel = Kernel::tiled;              // CUDA only
-  Precision precision = Precision::float64;   // CUDA only; the CPU paths compute in double
-  int grid = 200;                             // N: N x N columns over the projected box
-  double rho = 1.0;                           // density of the liquid
+  Kernel kernel = Kernel::tiled;             // CUDA only
+  Precision precision = Precision::float64;  // CUDA only; the CPU paths compute in double
+  int grid = 200;                            // N: N x N columns over the projected box
+  double rho = 1.0;                          // density of the liquid
   std::array<double, 3> gravity{0.0, -1.0, 0.0};
-  double alpha = 0.25;                        // leveraging: k = max(1, floor(alpha c)) threads
-  int threads = 0;                            // cpu_fast: worker threads, 0 = all hardware ones
-  int tile = 0;                               // tiled: tile edge in columns (8 or 16), 0 = auto
+  double alpha = 0.25;  // leveraging: k = max(1, floor(alpha c)) threads
+  int threads = 0;      // cpu_fast: worker threads; 0 = all hardware ones (one for small problems)
+  int tile = 0;         // tiled: tile edge in columns (8 or 16), 0 = auto
 };
 
 struct Timings {
@@ -60,10 +60,10 @@ struct Timings {
 };
 
 struct Result {
-  std::vector<double> forces;     // 3 per vertex, in input order
-  double column_volume = 0.0;     // sum of the column sections; hydrostatic: |signed volume|
-  double signed_volume = 0.0;     // divergence theorem; negative for an inward orientation
-  double total_weight = 0.0;      // |sum of the nodal forces|
+  std::vector<double> forces;       // 3 per vertex, in input order
+  double column_volume = 0.0;       // sum of the column sections; hydrostatic: |signed volume|
+  double signed_volume = 0.0;       // divergence theorem; negative for an inward orientation
+  double total_weight = 0.0;        // |sum of the nodal forces|
   long long unmatched_columns = 0;  // columns whose floors and ceilings do not pair (0 when closed)
   Timings timings;
 };
@@ -84,7 +84,8 @@ class Context {
 
   // Checks each cavity (check_closed_surface) and keeps its connectivity and positions.
   void set_cavities(const std::vector<SurfaceMesh>& cavities);
-  // New positions, one array of 3 * num_vertices doubles per cavity, same connectivity.
+  // New positions, one array of 3 * num_vertices doubles per cavity, same connectivity. The
+  // arrays are read by compute(), not copied here: they must live until then.
   void set_positions(const std::vector<const double*>& positions);
   // Forces for the current positions, one Result per cavity.
   const std::vector<Result>& compute();
@@ -102,8 +103,7 @@ class Context {
 
 // One-shot conveniences (a Context made and dropped).
 Result compute(const SurfaceMesh& mesh, const Options& options);
-std::vector<Result> compute_batch(const std::vector<SurfaceMesh>& cavities,
-                                  const Options& options);
+std::vector<Result> compute_batch(const std::vector<SurfaceMesh>& cavities, const Options& options);
 
 // True when the CUDA part is built in and a device is present.
 bool cuda_available();

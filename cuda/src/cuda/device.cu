@@ -45,8 +45,7 @@ class DeviceArray {
   }
   void upload(const std::vector<T>& host) {
     reserve(host.size());
-    check(cudaMemcpy(ptr_, host.data(), host.size() * sizeof(T), cudaMemcpyHostToDevice),
-          "upload");
+    check(cudaMemcpy(ptr_, host.data(), host.size() * sizeof(T), cudaMemcpyHostToDevice), "upload");
   }
 
  private:
@@ -203,8 +202,9 @@ class Backend : public DeviceBackend {
       const gpu::CavityState& s = host_states_.get()[c];
       const int per = hydro ? 3 : 1;
       const size_t first = per * static_cast<size_t>(vertex_begin_[c]);
-      out[c].values.assign(values_out + first,
-                           values_out + first + per * static_cast<size_t>(cavities[c].num_vertices));
+      out[c].values.assign(
+          values_out + first,
+          values_out + first + per * static_cast<size_t>(cavities[c].num_vertices));
       double sum_heights = 0;
       long long unmatched = 0;
       for (int k = 0; k < gpu::kStripes; ++k) {
@@ -437,7 +437,8 @@ std::string device_name() {
   if (!device_present()) return "";
   int device = 0;
   cudaDeviceProp prop{};
-  if (cudaGetDevice(&device) != cudaSuccess || cudaGetDeviceProperties(&prop, device) != cudaSuccess) {
+  if (cudaGetDevice(&device) != cudaSuccess ||
+      cudaGetDeviceProperties(&prop, device) != cudaSuccess) {
     return "";
   }
   return std::string(prop.name) + ", " + std::to_string(prop.multiProcessorCount) + " SMs, " +

@@ -68,14 +68,14 @@ constexpr int kStripes = 32;  // accumulators a block adds to: blockIdx.x % kStr
 struct CavityState {
   GridParams grid;
   double signed_volume;
-  double sum_heights[kStripes];           // column volume = cell area * their sum
+  double sum_heights[kStripes];            // column volume = cell area * their sum
   unsigned long long unmatched[kStripes];  // columns whose floors and ceilings do not pair
 };
 
 // Overflows of the fixed-capacity buffers: the host grows them and runs again.
 struct Status {
-  int max_tile_count;    // largest tile list (tiled)
-  int max_column_hits;   // largest number of hits in one column
+  int max_tile_count;   // largest tile list (tiled)
+  int max_column_hits;  // largest number of hits in one column
   int pad[2];
 };
 
@@ -88,42 +88,42 @@ struct ReduceJob {
 template <typename Real>
 struct Batch {
   // Inputs.
-  const double* xyz;       // 3 per vertex, all cavities one after the other
-  const int* triangles;    // 3 per triangle, global vertex indices
-  const int* tri_cavity;   // cavity of each triangle
+  const double* xyz;                 // 3 per vertex, all cavities one after the other
+  const int* triangles;              // 3 per triangle, global vertex indices
+  const int* tri_cavity;             // cavity of each triangle
   const int* cavity_vertex_begin;    // first vertex of each cavity
   const int* cavity_triangle_begin;  // first triangle of each cavity, and the total
   int num_cavities, num_vertices, num_triangles;
   Frame frame;
-  int n;                   // columns per side
-  double rho_g;            // rho |g|
+  int n;         // columns per side
+  double rho_g;  // rho |g|
   // Reduction.
   const ReduceJob* jobs;
   const int* cavity_job_begin;  // jobs of cavity c: [begin[c], begin[c + 1])
   int num_jobs;
-  double* partials;             // 8 per job
+  double* partials;  // 8 per job
   // Per call.
   CavityState* cavities;
   Status* status;
   DevTri<Real>* tris;
-  Real* out;                    // weights (column method, 1 per vertex) or forces (3 per vertex)
+  Real* out;  // weights (column method, 1 per vertex) or forces (3 per vertex)
   // Paper kernels: hits per column, slot-major (slot * columns + column).
-  int* column_count;            // reset to 0 by column_kernel after use
+  int* column_count;  // reset to 0 by column_kernel after use
   Real* column_z;
-  int* column_tag;              // triangle index, bitwise-negated for floors
+  int* column_tag;  // triangle index, bitwise-negated for floors
   int column_capacity;
   unsigned long long* candidates;  // candidate columns of each setup block (leveraging's c)
   int setup_blocks;
   double alpha;
   // Tiled kernel.
-  int tile_bits;                // tile edge = 1 << tile_bits columns
+  int tile_bits;  // tile edge = 1 << tile_bits columns
   int tiles_per_side;
   int* tile_count;
-  int* tile_list;               // tile * tile_capacity + k
+  int* tile_list;  // tile * tile_capacity + k
   int tile_capacity;
-  int* big_list;                // triangles over many tiles, read by every tile
+  int* big_list;  // triangles over many tiles, read by every tile
   int* big_count;
-  int diagnostic_phases;        // tiled kernel, for timing only: bit 0 raster, bit 1 resolve
+  int diagnostic_phases;  // tiled kernel, for timing only: bit 0 raster, bit 1 resolve
 };
 
 // Snapped centre coordinates and edge functions of a DevTri at column (i, j).

@@ -44,8 +44,8 @@ using BoxReduce = cub::BlockReduce<Box, kBlock>;
 // (signed volume, relative to the cavity's first vertex) into its partial. All blocks also
 // clear the accumulators of the call.
 template <typename Real>
-__global__ void __launch_bounds__(kBlock) reduce_kernel(Batch<Real> b, int zero_out_count,
-                                                        int zero_tile_count) {
+__global__ void __launch_bounds__(kBlock)
+    reduce_kernel(Batch<Real> b, int zero_out_count, int zero_tile_count) {
   __shared__ typename BoxReduce::TempStorage storage;
   const int stride = gridDim.x * blockDim.x;
   const int first = blockIdx.x * blockDim.x + threadIdx.x;
@@ -109,8 +109,8 @@ __device__ int block_grids(const Batch<Real>& b, int first_triangle, int last_tr
     sum = BoxReduce(storage).Reduce(sum, BoxOp());
     if (threadIdx.x == 0) {
       double volume = sum.v[6] / 6.0;
-      grids[c - c0] = make_grid(sum.v[0], sum.v[1], sum.v[2], sum.v[3], sum.v[4], sum.v[5], b.n,
-                                volume);
+      grids[c - c0] =
+          make_grid(sum.v[0], sum.v[1], sum.v[2], sum.v[3], sum.v[4], sum.v[5], b.n, volume);
       const int owner = b.cavity_triangle_begin[c];
       if (owner >= first_triangle && owner <= last_triangle) {
         b.cavities[c].grid = grids[c - c0];
@@ -156,8 +156,8 @@ __device__ bool make_devtri(const Batch<Real>& b, int t, int cavity, const GridP
     d.vertex[k] = vertex[k];
     d.z[k] = static_cast<Real>(height[k]);
   }
-  d.flags |= static_cast<int>(s.e_min[0] | (s.e_min[1] << 1) | (s.e_min[2] << 2)) |
-             (s.bottom ? 8 : 0);
+  d.flags |=
+      static_cast<int>(s.e_min[0] | (s.e_min[1] << 1) | (s.e_min[2] << 2)) | (s.bottom ? 8 : 0);
   d.i0 = s.i0;
   d.i1 = s.i1;
   d.j0 = s.j0;
@@ -237,8 +237,7 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
   int tile[kLaneTiles];
 #pragma unroll
   for (int q = 0; q < kLaneTiles; ++q) {
-    tile[q] = own && q < tiles ? base + (ty0 + q / width) * b.tiles_per_side + tx0 + q % width
-                               : -1;
+    tile[q] = own && q < tiles ? base + (ty0 + q / width) * b.tiles_per_side + tx0 + q % width : -1;
   }
   bin_lane_tiles(b.tile_count, b.tile_list, b.tile_capacity, tile, t);
   // Larger boxes: the warp's (triangle, tile) pairs laid end to end and shared by its lanes,
@@ -268,7 +267,8 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
     const int tri = __shfl_sync(kFullMask, t, owner);
     if (p < total) {
       const int pos = atomicAdd(&b.tile_count[tile], 1);
-      if (pos < b.tile_capacity) b.tile_list[static_cast<size_t>(tile) * b.tile_capacity + pos] = tri;
+      if (pos < b.tile_capacity)
+        b.tile_list[static_cast<size_t>(tile) * b.tile_capacity + pos] = tri;
     }
   }
   if (tiles > kWarpTiles) b.big_list[atomicAdd(b.big_count, 1)] = t;
@@ -322,9 +322,9 @@ void launch_hydrostatic(const Batch<Real>& b, cudaStream_t stream) {
   hydrostatic_kernel<Real><<<b.setup_blocks, kBlock, 0, stream>>>(b);
 }
 
-#define FW_INSTANTIATE(Real)                                                          \
-  template void launch_reduce<Real>(const Batch<Real>&, int, int, cudaStream_t);      \
-  template void launch_setup<Real>(const Batch<Real>&, bool, cudaStream_t);           \
+#define FW_INSTANTIATE(Real)                                                     \
+  template void launch_reduce<Real>(const Batch<Real>&, int, int, cudaStream_t); \
+  template void launch_setup<Real>(const Batch<Real>&, bool, cudaStream_t);      \
   template void launch_hydrostatic<Real>(const Batch<Real>&, cudaStream_t);
 FW_INSTANTIATE(float)
 FW_INSTANTIATE(double)

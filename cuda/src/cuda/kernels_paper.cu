@@ -18,8 +18,8 @@ constexpr int kBlock = 256;
 
 // Steps 3-4 for one candidate: a hit goes to its column's next slot.
 template <typename Real>
-__device__ inline void test_candidate(const Batch<Real>& b, const DevTri<Real>& t, int tri,
-                                      int i, int j, int sub_bits) {
+__device__ inline void test_candidate(const Batch<Real>& b, const DevTri<Real>& t, int tri, int i,
+                                      int j, int sub_bits) {
   int64_t e[3];
   if (!covers_column(t, column_centre(i, sub_bits), column_centre(j, sub_bits), e)) return;
   const size_t columns = static_cast<size_t>(b.num_cavities) * b.n * b.n;

@@ -209,7 +209,8 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   double sum_heights = 0.0;
   unsigned unmatched = 0;
   resolve_column(b, ColumnHits<Real>{s_z + threadIdx.x, s_tag + threadIdx.x, kThreads}, n, i, j,
-                 grid, sum_heights, unmatched, TileFloors<Real, kThreads>{b, s, list, listed, first});
+                 grid, sum_heights, unmatched,
+                 TileFloors<Real, kThreads>{b, s, list, listed, first});
   __syncthreads();
   double sum = Reduce(storage.reduce).Sum(sum_heights);
   __syncthreads();

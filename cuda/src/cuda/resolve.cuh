@@ -106,8 +106,8 @@ struct GlobalFloors {
 // it. A hit's tag is `floor_of(~tag, px, py)`'s argument for floors. Adds the column's section
 // heights to sum_heights and counts an unpaired column.
 template <typename Real, typename Floors>
-__device__ inline void resolve_column(const Batch<Real>& b, ColumnHits<Real> h, int n, int i,
-                                      int j, const GridParams& grid, double& sum_heights,
+__device__ inline void resolve_column(const Batch<Real>& b, ColumnHits<Real> h, int n, int i, int j,
+                                      const GridParams& grid, double& sum_heights,
                                       unsigned& unmatched, const Floors& floor_of) {
   int floors = n ? sort_hits(h, n) : 0;
   int ceilings = n - floors;
