@@ -231,41 +231,50 @@ void Problem::apply_dirichlet(Vec u, double s) const {
   HS_PETSC(VecRestoreArray(u, &a));
 }
 
-// out = a f_int(u) + b (s f_body + f_pressure(u; s)), assembled over local elements and faces
-// into the ghosted local form, then added to the owners. Returns false on an inverted element.
-bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy) {
+template <class F>
+void Problem::assemble_local(Vec u, Vec out, F add) {
   LocalView view(u, u_work_);
-  const PetscScalar* ua = view.values();
   Vec rl;
   HS_PETSC(VecGhostGetLocalForm(r_work_, &rl));
   HS_PETSC(VecSet(rl, 0.0));
   PetscScalar* ra;
   HS_PETSC(VecGetArray(rl, &ra));
+  add(view.values(), ra);
+  HS_PETSC(VecRestoreArray(rl, &ra));
+  HS_PETSC(VecGhostRestoreLocalForm(r_work_, &rl));
+  HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecCopy(r_work_, out));
+}
 
+// out = a f_int(u) + b (s f_body + f_pressure(u; s) + f_extra), assembled over local elements
+// and faces. Returns false on an inverted element.
+bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy) {
   bool ok = true;
   double local_energy = 0;
-  const int n = 3 * npe_;
-  double X[30], ue[30], re[30];
-  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-    const int32_t* nodes = &dist_.tet_nodes[e * npe_];
-    if (a != 0) {
-      element_coordinates(e, X);
-      element_displacement(ua, e, ue);
-      const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-      const ElementOutput out_e = tet_internal_force(mesh_.order, X, ue, m, re, nullptr);
-      local_energy += out_e.energy;
-      if (!out_e.valid && ok) {
-        ok = false;
-        bad_element_ = dist_.local_tets[e];
+  assemble_local(u, out, [&](const PetscScalar* ua, PetscScalar* ra) {
+    const int n = 3 * npe_;
+    double X[30], ue[30], re[30];
+    for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+      const int32_t* nodes = &dist_.tet_nodes[e * npe_];
+      if (a != 0) {
+        element_coordinates(e, X);
+        element_displacement(ua, e, ue);
+        const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+        const ElementOutput out_e = tet_internal_force(mesh_.order, X, ue, m, re, nullptr);
+        local_energy += out_e.energy;
+        if (!out_e.valid && ok) {
+          ok = false;
+          bad_element_ = dist_.local_tets[e];
+        }
+        for (int k = 0; k < n; ++k) ra[3 * nodes[k / 3] + k % 3] += a * re[k];
       }
-      for (int k = 0; k < n; ++k) ra[3 * nodes[k / 3] + k % 3] += a * re[k];
+      if (b != 0) {
+        const double* fb = &body_force_[e * n];
+        for (int k = 0; k < n; ++k) ra[3 * nodes[k / 3] + k % 3] += b * s * fb[k];
+      }
     }
-    if (b != 0) {
-      const double* fb = &body_force_[e * n];
-      for (int k = 0; k < n; ++k) ra[3 * nodes[k / 3] + k % 3] += b * s * fb[k];
-    }
-  }
-  if (b != 0) {
+    if (b == 0) return;
     const int npf = mesh_.nodes_per_face();
     double xf[18], ff[18];
     for (const auto& surface : pressure_faces_)
@@ -273,19 +282,86 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
         const int32_t* nodes = &surface.faces[f * npf];
         for (int k = 0; k < 3 * npf; ++k)
           xf[k] = X_local_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
-        face_pressure(mesh_.order, xf, s * surface.value, ff, nullptr);
+        face_pressure(mesh_.order, xf, pressure_at(surface, s), ff, nullptr);
         for (int k = 0; k < 3 * npf; ++k) ra[3 * nodes[k / 3] + k % 3] += b * ff[k];
       }
-  }
-  HS_PETSC(VecRestoreArray(rl, &ra));
-  HS_PETSC(VecGhostRestoreLocalForm(r_work_, &rl));
-  HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
-  HS_PETSC(VecCopy(r_work_, out));
+  });
+  if (b != 0 && extra_load_) HS_PETSC(VecAXPY(out, b, extra_load_));
   if (energy) MPI_Allreduce(&local_energy, energy, 1, MPI_DOUBLE, MPI_SUM, comm_);
   int local_ok = ok, global_ok = 0;
   MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
   return global_ok;
+}
+
+int Problem::add_cavity_surface(const std::string& group) {
+  PressureSurface s;
+  s.value = 0;
+  s.scaled = false;
+  auto it = dist_.faces.find(group);
+  if (it != dist_.faces.end()) s.faces = it->second;
+  pressure_faces_.push_back(std::move(s));
+  return static_cast<int>(pressure_faces_.size()) - 1;
+}
+
+double Problem::enclosed_volume(int surface, Vec u) {
+  LocalView view(u, u_work_);
+  const PetscScalar* ua = view.values();
+  const int npf = mesh_.nodes_per_face();
+  const auto& faces = pressure_faces_[surface].faces;
+  double local = 0, xf[18];
+  for (size_t f = 0; f < faces.size() / npf; ++f) {
+    const int32_t* nodes = &faces[f * npf];
+    for (int k = 0; k < 3 * npf; ++k)
+      xf[k] = X_local_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
+    local += face_enclosed_volume(mesh_.order, xf);
+  }
+  double total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  return total;
+}
+
+void Problem::volume_gradient(int surface, Vec u, Vec g) {
+  assemble_local(u, g, [&](const PetscScalar* ua, PetscScalar* ra) {
+    const int npf = mesh_.nodes_per_face();
+    const auto& faces = pressure_faces_[surface].faces;
+    double xf[18], ff[18];
+    for (size_t f = 0; f < faces.size() / npf; ++f) {
+      const int32_t* nodes = &faces[f * npf];
+      for (int k = 0; k < 3 * npf; ++k)
+        xf[k] = X_local_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
+      face_pressure(mesh_.order, xf, 1.0, ff, nullptr);
+      for (int k = 0; k < 3 * npf; ++k) ra[3 * nodes[k / 3] + k % 3] += ff[k];
+    }
+  });
+  zero_constrained(g);
+}
+
+std::array<double, 3> Problem::area_vector(const std::string& group, Vec u) {
+  std::array<double, 3> local{0, 0, 0}, total{0, 0, 0};
+  auto it = dist_.faces.find(group);
+  if (it != dist_.faces.end()) {
+    LocalView view(u, u_work_);
+    const PetscScalar* ua = view.values();
+    const int npf = mesh_.nodes_per_face();
+    double xf[18], ff[18];
+    for (size_t f = 0; f < it->second.size() / npf; ++f) {
+      const int32_t* nodes = &it->second[f * npf];
+      for (int k = 0; k < 3 * npf; ++k)
+        xf[k] = X_local_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
+      face_pressure(mesh_.order, xf, -1.0, ff, nullptr);  // f_a = int N_a n da
+      for (int k = 0; k < 3 * npf; ++k) local[k % 3] += ff[k];
+    }
+  }
+  MPI_Allreduce(local.data(), total.data(), 3, MPI_DOUBLE, MPI_SUM, comm_);
+  return total;
+}
+
+void Problem::zero_constrained(Vec v) const {
+  PetscScalar* a;
+  HS_PETSC(VecGetArray(v, &a));
+  for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
+    if (constrained_[l]) a[l] = 0;
+  HS_PETSC(VecRestoreArray(v, &a));
 }
 
 bool Problem::residual(Vec u, double s, Vec R) {
@@ -346,7 +422,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
         for (int a = 0; a < npf; ++a)
           for (int d = 0; d < 3; ++d)
             xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
-        face_pressure(mesh_.order, xf, s * surface.value, ff, Kf.data());
+        face_pressure(mesh_.order, xf, pressure_at(surface, s), ff, Kf.data());
         for (double& k : Kf) k = -k;  // R = ... - f_pressure
         face_dofs(nodes, npf, idx);
         HS_PETSC(MatSetValues(J, nf, idx, nf, idx, Kf.data(), ADD_VALUES));

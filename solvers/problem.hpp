@@ -93,13 +93,39 @@ class Problem {
 
   const AssemblyTimers& timers() const { return timers_; }
   bool has_follower_loads() const { return !pressure_faces_.empty(); }
+
+  // Cavity walls (solvers/cavity.hpp). A cavity surface is a follower pressure surface whose
+  // pressure is set directly (not scaled by the load factor); returns its index.
+  int add_cavity_surface(const std::string& group);
+  void set_surface_pressure(int surface, double p) { pressure_faces_[surface].value = p; }
+  // Volume enclosed by the surface on configuration u (summed over ranks; faces point out of
+  // the body, so a cavity's volume is positive).
+  double enclosed_volume(int surface, Vec u);
+  // g = dV/du of that volume: the nodal forces of a unit pressure (the paper's J_p^T), zero on
+  // Dirichlet dofs.
+  void volume_gradient(int surface, Vec u, Vec g);
+  // A further load vector f (not owned; nullptr for none): R -= f, external_load += f.
+  void set_extra_load(Vec f) { extra_load_ = f; }
+  // int n da over the deformed faces of a surface group (summed over ranks): its area times
+  // its mean outward normal.
+  std::array<double, 3> area_vector(const std::string& group, Vec u);
+  // Zeroes the Dirichlet dofs of a vector (owned entries).
+  void zero_constrained(Vec v) const;
   double total_mass() const;
 
  private:
   struct PressureSurface {
     std::vector<int32_t> faces;  // local node indices, nodes_per_face each
     double value;
+    bool scaled = true;  // the pressure is value * load factor (cavities: value as is)
   };
+  double pressure_at(const PressureSurface& surface, double s) const {
+    return surface.scaled ? s * surface.value : surface.value;
+  }
+  // Adds per-local-node contributions computed by `add(u_local, r_local)` into `out`
+  // (through the ghosted local form and a reverse ghost update).
+  template <class F>
+  void assemble_local(Vec u, Vec out, F add);
   void element_coordinates(int64_t local_tet, double* X) const;
   void element_displacement(const PetscScalar* u_local, int64_t local_tet, double* u) const;
   void dof_indices(int64_t local_tet, PetscInt* idx) const;  // -1 on Dirichlet dofs
@@ -123,6 +149,7 @@ class Problem {
   std::vector<PressureSurface> pressure_faces_;
   std::vector<PetscInt> ghost_blocks_;
   const InertiaTerm* inertia_ = nullptr;
+  Vec extra_load_ = nullptr;
   Vec u_work_ = nullptr, r_work_ = nullptr;
   int64_t bad_element_ = -1;
   AssemblyTimers timers_;

@@ -17,6 +17,8 @@
 #include "solvers/exact_solution.hpp"
 #include "solvers/newton_solver.hpp"
 #include "solvers/problem.hpp"
+#include "solvers/result_recorder.hpp"
+#include "solvers/state_stepping.hpp"
 #include "solvers/stepping.hpp"
 
 namespace hs {
@@ -31,67 +33,6 @@ std::vector<int> partition_on_root(const Mesh& mesh, MPI_Comm comm) {
   MPI_Bcast(part.data(), static_cast<int>(part.size()), MPI_INT, 0, comm);
   return part;
 }
-
-// Writes one output step: fields gathered on rank 0.
-class ResultRecorder {
- public:
-  ResultRecorder(Problem& problem, const Config& config, MPI_Comm comm) : problem_(problem) {
-    MPI_Comm_rank(comm, &rank_);
-    if (rank_ == 0) {
-      folder_ = std::make_unique<OutputFolder>(config.output.folder);
-      writer_ = std::make_unique<XdmfWriter>(folder_->staging(), config.deck_name, problem.mesh());
-    }
-    load_ = problem.create_vector();
-  }
-  ~ResultRecorder() { VecDestroy(&load_); }
-
-  void record(double time, Vec u, double s) {
-    StepFields f;
-    f.time = time;
-    f.displacement = problem_.gather_nodal(u);
-    problem_.external_load(u, s, load_);
-    f.nodal_load = problem_.gather_nodal(load_);
-    std::vector<double> vm, J;
-    problem_.element_fields(u, vm, J);
-    f.von_mises = problem_.gather_elemental(vm);
-    f.J = problem_.gather_elemental(J);
-    std::vector<double> rank(vm.size(), problem_.distribution().rank);
-    const auto ranks = problem_.gather_elemental(rank);
-    // Decided together, so that every rank stops on a non-finite result, not rank 0 alone.
-    int finite = 1;
-    for (const auto* field : {&f.displacement, &f.nodal_load, &f.von_mises, &f.J})
-      for (double x : *field) finite &= std::isfinite(x);
-    MPI_Bcast(&finite, 1, MPI_INT, 0, problem_.comm());
-    if (!finite)
-      throw SolveError("output at time/load " + std::to_string(time) +
-                       ": a computed field is not finite; nothing was written");
-    if (rank_ != 0) return;
-    f.rank.assign(ranks.begin(), ranks.end());
-    writer_->write_step(f);
-    ++written_;
-  }
-
-  // Closes the files and moves them to the output folder (rank 0).
-  std::string finish(const nlohmann::json& summary) {
-    if (rank_ != 0) return {};
-    writer_->close();
-    write_json(folder_->staging() + "/summary.json", summary);
-    folder_->commit();
-    return folder_->final();
-  }
-  std::string xdmf_path() const {
-    return rank_ == 0 ? folder_->final() + "/" + writer_->xdmf_file() : std::string();
-  }
-  int written() const { return written_; }
-
- private:
-  Problem& problem_;
-  int rank_ = 0;
-  int written_ = 0;
-  std::unique_ptr<OutputFolder> folder_;
-  std::unique_ptr<XdmfWriter> writer_;
-  Vec load_ = nullptr;
-};
 
 }  // namespace
 
@@ -108,9 +49,19 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   const Distribution dist = distribute(mesh, part, rank, size);
 
   Problem problem(config, mesh, dist, comm, exact.get());
+  // A scene with cavities or states runs the bordered Newton (displacements and cavity
+  // pressures); any other the plain SNES. No cavity code runs in a scene without cavities.
+  const bool staged = !config.cavities.empty() || !config.states.empty();
+  std::unique_ptr<CavitySystem> cavities;
+  if (staged) cavities = std::make_unique<CavitySystem>(config, problem, mesh, dist);
   const bool symmetric = !problem.has_follower_loads();
   set_solver_options(config.solver, symmetric);
-  NewtonSolver newton(problem);
+  std::unique_ptr<NewtonSolver> newton;
+  std::unique_ptr<BorderedNewton> bordered;
+  if (staged)
+    bordered = std::make_unique<BorderedNewton>(problem, *cavities);
+  else
+    newton = std::make_unique<NewtonSolver>(problem);
   ResultRecorder recorder(problem, config, comm);
   const double t_setup = MPI_Wtime() - t_start;
 
@@ -122,7 +73,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
     PetscReal norm = 0;
     HS_PETSC(VecNorm(f, NORM_2, &norm));
     HS_PETSC(VecDestroy(&f));
-    newton.scale_absolute_tolerance(norm);
+    if (newton) newton->scale_absolute_tolerance(norm);
+    if (bordered) bordered->set_load_norm(norm);
   }
   SteppingStats stats;
   double final_load = 1.0;
@@ -130,16 +82,19 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   nlohmann::json history;  // verification quantities after every load step
   auto output_due = [&](int k, int last) { return k == last || (k % config.output.every) == 0; };
 
-  if (config.time.type == "dynamic") {
+  StateRun state_run;
+  if (staged) {
+    state_run = run_states(config, problem, *cavities, *bordered, recorder, u, stats);
+  } else if (config.time.type == "dynamic") {
     const int nsteps = static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9));
     recorder.record(0.0, u, 1.0);
-    run_dynamic(problem, newton, config.time, u, stats, [&](int n, double t, Vec un) {
+    run_dynamic(problem, *newton, config.time, u, stats, [&](int n, double t, Vec un) {
       if (output_due(n, nsteps)) recorder.record(t, un, 1.0);
     });
   } else {
     const auto schedule = load_schedule(config.time);
     history = nlohmann::json::array();
-    LoadStepper stepper(problem, newton, config.time.max_cutbacks);
+    LoadStepper stepper(problem, *newton, config.time.max_cutbacks);
     for (size_t k = 0; k < schedule.size(); ++k) {
       stepper.advance(u, schedule[k], static_cast<int>(k + 1), stats);
       const auto v = verification_quantities(config, problem, u, schedule[k]);
@@ -183,7 +138,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   }
 
   const auto& t = problem.timers();
-  double assembly = t.residual_s + t.jacobian_s, solve = newton.solve_seconds();
+  double assembly = t.residual_s + t.jacobian_s;
+  double solve = newton ? newton->solve_seconds() : bordered->solve_seconds();
   MPI_Allreduce(MPI_IN_PLACE, &assembly, 1, MPI_DOUBLE, MPI_MAX, comm);
   MPI_Allreduce(MPI_IN_PLACE, &solve, 1, MPI_DOUBLE, MPI_MAX, comm);
   summary["time_s"]["setup"] = t_setup;
@@ -203,6 +159,20 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   summary["assembly"]["jacobian_calls"] = t.jacobian_calls;
   summary["assembly"]["elements_per_second"] =
       t.jacobian_calls > 0 ? mesh.num_tets() * t.jacobian_calls / std::max(jacobian_s, 1e-12) : 0.0;
+  if (staged) {
+    summary["states"] = state_run.states;
+    summary["cavities"] = cavities->report();
+    summary["parts"] = cavities->parts();
+    double fluid = cavities->fluid_weight_seconds(), constraint = bordered->constraint_seconds();
+    MPI_Allreduce(MPI_IN_PLACE, &fluid, 1, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &constraint, 1, MPI_DOUBLE, MPI_MAX, comm);
+    summary["time_s"]["fluid_weight"] = fluid;
+    summary["time_s"]["constraint"] = constraint;
+  } else {
+    summary["parts"] = {{"cavities", 0},
+                        {"fluid_weight", {{"cavities", 0}, {"device", "none"}, {"method", "none"}}},
+                        {"cuda_context", false}};
+  }
   summary["output"]["xdmf"] = recorder.xdmf_path();
   summary["time_s"]["total"] = MPI_Wtime() - t_start;
   const std::string folder = recorder.finish(summary);

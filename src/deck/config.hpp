@@ -44,7 +44,8 @@ struct PressureConfig {
 
 struct TimeConfig {
   std::string type = "static";   // static | quasi_static | dynamic
-  int steps = 1;                 // static: load increments; quasi_static: schedule steps
+  int steps = 1;                 // static: load increments; quasi_static: schedule steps;
+                                 // with states: the first state's steps
   std::vector<double> schedule;  // load factor per step (default linear ramp); steps = its size
   double dt = 0;                 // dynamic only
   double end_time = 0;           // dynamic only
@@ -69,6 +70,48 @@ struct ExactConfig {
   std::map<std::string, double> parameters;  // e.g. a, b, p for lame_sphere
 };
 
+// How a hydraulic cavity's liquid weight reaches the wall nodes (docs/cavities.md).
+struct FluidWeightConfig {
+  std::string method = "column";       // column (the paper's Section III) | hydrostatic
+  int grid = 200;                      // column: N x N columns
+  std::string device = "cpu";          // cpu | cuda (column only)
+  std::string coupling = "converged";  // converged: weight recomputed at every Newton iterate;
+                                       // linearized: the paper's J_w = w / v_c, distribution
+                                       // frozen at the start of each step
+};
+
+// A closed surface of the mesh (boundary faces of a surface group) that holds gas or liquid.
+struct CavityConfig {
+  std::string group;              // surface physical group; its name is the cavity's name
+  std::string kind = "pneumatic";  // pneumatic | hydraulic | sealed_gas | sealed_volume
+  // pneumatic / hydraulic control in the first state (ramped with the load factor): a gauge
+  // pressure in Pa, or the volume added in m^3 (the pressure is then an unknown).
+  double pressure = 0;
+  std::optional<double> added_volume;
+  double density = 0;  // hydraulic: liquid density, kg/m^3 (0: weightless liquid)
+  FluidWeightConfig fluid_weight;  // hydraulic only
+  // sealed_gas: p V = const with the absolute pressure; gauge pressure at the mesh's volume.
+  double initial_pressure = 0;
+  double atmospheric_pressure = 101325;
+};
+
+// A later state of a run (after the first): the load stays at full, the named cavities'
+// controls ramp from their current values to these in `steps` increments.
+struct CavityTarget {
+  std::optional<double> pressure;      // Pa
+  std::optional<double> added_volume;  // m^3, relative to the volume at the end of the first state
+};
+struct StateConfig {
+  std::string name;
+  int steps = 1;
+  std::map<std::string, CavityTarget> cavities;  // by cavity name (its group)
+};
+
+// Inclination of a face group (e.g. a hanging tip) reported for every state.
+struct TipConfig {
+  std::string group;  // surface group whose mean deformed normal is measured
+};
+
 struct Config {
   std::string deck_path;         // as given on the command line
   std::string deck_name;         // file stem, e.g. lame_sphere
@@ -81,6 +124,12 @@ struct Config {
   SolverConfig solver;
   OutputConfig output;
   ExactConfig exact;
+  std::vector<CavityConfig> cavities;
+  // The run's states in order. Empty: one state "final" (load ramped over time.steps). The
+  // first state always ramps the load (gravity, pressures, Dirichlet values, the cavities'
+  // own controls) from 0 to 1; later states only move cavity controls.
+  std::vector<StateConfig> states;
+  std::optional<TipConfig> tip;
 };
 
 }  // namespace hs

@@ -39,6 +39,13 @@ double tet_volume(int order, const double* X);
 // K = df/dx (the load stiffness, not symmetric in general).
 void face_pressure(int order, const double* x, double p, double* f, double* K);
 
+// A face's share of the volume enclosed by a closed surface whose faces point out of the body
+// (a cavity): V = -1/3 int x . n da, exact for Tri3 and Tri6. Summed over a closed surface,
+// the gradient of V in the nodal positions is face_pressure's force at p = 1 (the pressure
+// term J_p^T of the paper) and its Hessian that force's load stiffness; on one face they
+// differ (terms on its edges, which cancel between neighbours).
+double face_enclosed_volume(int order, const double* x);
+
 // Element values for output, at the element centroid: deformation gradient F, Cauchy
 // von Mises stress and J = det F.
 struct ElementFields {

@@ -46,7 +46,26 @@ void pressure(const double* x, double p, double* f, double* K) {
   f_out = fm;
 }
 
+template <int NPF>
+double enclosed_volume(const double* x) {
+  using FaceMatrix = Eigen::Matrix<double, 3, NPF>;
+  const auto& t = tri_tables<NPF>(NPF == 3 ? 1 : 4);
+  const FaceMatrix xm = Eigen::Map<const FaceMatrix>(x);
+  double v = 0;
+  for (size_t q = 0; q < t.weights.size(); ++q) {
+    const Eigen::Vector3d xq = xm * t.N[q];
+    const Eigen::Vector3d xs = xm * t.dN[q].row(0).transpose();
+    const Eigen::Vector3d xt = xm * t.dN[q].row(1).transpose();
+    v -= t.weights[q] * xq.dot(xs.cross(xt)) / 3;
+  }
+  return v;
+}
+
 }  // namespace
+
+double face_enclosed_volume(int order, const double* x) {
+  return tri_num_nodes(order) == 3 ? enclosed_volume<3>(x) : enclosed_volume<6>(x);
+}
 
 void face_pressure(int order, const double* x, double p, double* f, double* K) {
   tri_num_nodes(order) == 3 ? pressure<3>(x, p, f, K) : pressure<6>(x, p, f, K);

@@ -72,6 +72,34 @@ TEST_P(FacePressure, ForcesAreMinusPressureTimesVolumeDerivative) {
   }
 }
 
+TEST_P(FacePressure, EnclosedVolumeOfAClosedSurfaceIsExact) {
+  // The faces of a (curved) tetrahedron point out of it: seen as a cavity wall they enclose
+  // minus its volume, which tet_volume integrates independently over the solid.
+  const int order = GetParam(), npf = order == 1 ? 3 : 6;
+  const std::vector<double> x = distorted_tet(order, 0.1);
+  double enclosed = 0;
+  std::vector<double> xf(3 * npf);
+  for (int face = 0; face < 4; ++face) {
+    const std::vector<int> nodes = face_nodes(order, face);
+    for (int a = 0; a < npf; ++a)
+      for (int i = 0; i < 3; ++i) xf[3 * a + i] = x[3 * nodes[a] + i];
+    enclosed += face_enclosed_volume(order, xf.data());
+  }
+  const double solid = tet_volume(order, x.data());
+  EXPECT_NEAR(enclosed, -solid, 1e-14 * solid);
+  // A translation changes no volume (the faces' shares do change, but not their sum).
+  std::vector<double> moved = x;
+  for (size_t d = 0; d < moved.size(); ++d) moved[d] += 10.0 * (d % 3 == 1);
+  double enclosed_moved = 0;
+  for (int face = 0; face < 4; ++face) {
+    const std::vector<int> nodes = face_nodes(order, face);
+    for (int a = 0; a < npf; ++a)
+      for (int i = 0; i < 3; ++i) xf[3 * a + i] = moved[3 * nodes[a] + i];
+    enclosed_moved += face_enclosed_volume(order, xf.data());
+  }
+  EXPECT_NEAR(enclosed_moved, -solid, 1e-12 * solid);
+}
+
 TEST_P(FacePressure, LoadStiffnessMatchesFiniteDifferences) {
   const int order = GetParam(), npf = order == 1 ? 3 : 6, n = 3 * npf;
   std::vector<double> x = random_vector(n, 1.0, 21);  // an arbitrary (curved) face

@@ -1,0 +1,184 @@
+#include "solvers/bordered_newton.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace hs {
+
+BorderedNewton::BorderedNewton(Problem& problem, CavitySystem& cavities)
+    : problem_(problem), cavities_(cavities) {
+  J_ = problem.create_matrix();
+  R_ = problem.create_vector();
+  HS_PETSC(VecDuplicate(R_, &a_));
+  HS_PETSC(VecDuplicate(R_, &du_));
+  HS_PETSC(VecDuplicate(R_, &u_trial_));
+  for (int c = 0; c < cavities.size(); ++c) {
+    Vec y;
+    HS_PETSC(VecDuplicate(R_, &y));
+    Y_.push_back(y);
+    Vec z = nullptr;
+    if (cavities[c].has_weight()) HS_PETSC(VecDuplicate(R_, &z));
+    Z_.push_back(z);
+  }
+  HS_PETSC(KSPCreate(problem.comm(), &ksp_));
+  HS_PETSC(KSPSetFromOptions(ksp_));  // -ksp_type, -pc_type, ...: the deck's and the preset's
+  PetscInt max_it = max_it_;
+  HS_PETSC(PetscOptionsGetInt(nullptr, nullptr, "-snes_max_it", &max_it, nullptr));
+  max_it_ = static_cast<int>(max_it);
+}
+
+BorderedNewton::~BorderedNewton() {
+  KSPDestroy(&ksp_);
+  MatDestroy(&J_);
+  for (Vec* v : {&R_, &a_, &du_, &u_trial_}) VecDestroy(v);
+  for (auto& v : Y_) VecDestroy(&v);
+  for (auto& v : Z_) VecDestroy(&v);
+  for (auto& v : lin_.g) VecDestroy(&v);
+  for (auto& v : lin_.q) VecDestroy(&v);
+}
+
+double BorderedNewton::merit(double r_norm, const std::vector<double>& c, double F) const {
+  double phi = r_norm / F;
+  for (size_t i = 0; i < c.size(); ++i)
+    phi += std::abs(c[i]) / cavities_.control_scale(static_cast<int>(i));
+  return phi;
+}
+
+NewtonResult BorderedNewton::solve(Vec u, double s) {
+  const double t0 = MPI_Wtime();
+  const auto& timers = problem_.timers();
+  const double assembly_before = timers.residual_s + timers.jacobian_s;
+  const int m = cavities_.size();
+  NewtonResult result;
+  std::vector<double> c, c_trial, g_norm(m, 0.0);
+  std::vector<double> lambda = cavities_.pressures();
+
+  auto force_scale = [&]() {
+    double F = load_norm_;
+    for (int i = 0; i < m; ++i) F = std::max(F, std::abs(lambda[i]) * g_norm[i]);
+    return std::max(F, 1e-300);
+  };
+  auto controls_met = [&](const std::vector<double>& cc) {
+    for (int i = 0; i < m; ++i)
+      if (std::abs(cc[i]) > 1e-10 * cavities_.control_scale(i)) return false;
+    return true;
+  };
+
+  bool ok = cavities_.residual(u, s, R_, c);
+  PetscReal r_norm = 0;
+  HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
+  const double r0 = r_norm;
+  for (int it = 0;; ++it) {
+    result.residual_norm = r_norm;
+    if (!ok || !std::isfinite(r_norm)) {
+      result.reason = ok ? "residual not finite" : "inverted element";
+      break;
+    }
+    const double F = force_scale();
+    if ((r_norm <= 1e-9 * F || (it > 0 && r_norm <= 1e-8 * r0)) && controls_met(c)) {
+      result.converged = true;
+      result.reason = "converged";
+      break;
+    }
+    if (it >= max_it_) {
+      result.reason = "maximum iterations";
+      break;
+    }
+    ++result.iterations;
+
+    // Linearise, factor once, and solve for R, every g_c and every q_h.
+    if (!cavities_.linearize(u, s, J_, lin_)) {
+      result.reason = "inverted element";
+      break;
+    }
+    const double tc = MPI_Wtime();
+    HS_PETSC(KSPSetOperators(ksp_, J_, J_));
+    auto ksp_solve = [&](Vec rhs, Vec x) {
+      HS_PETSC(KSPSolve(ksp_, rhs, x));
+      KSPConvergedReason reason;
+      HS_PETSC(KSPGetConvergedReason(ksp_, &reason));
+      PetscInt its = 0;
+      HS_PETSC(KSPGetIterationNumber(ksp_, &its));
+      result.linear_iterations += static_cast<int>(its);
+      return reason >= 0;
+    };
+    bool linear_ok = ksp_solve(R_, a_);
+    for (int i = 0; i < m; ++i) {
+      HS_PETSC(VecNorm(lin_.g[i], NORM_2, &g_norm[i]));
+      linear_ok &= ksp_solve(lin_.g[i], Y_[i]);
+      if (Z_[i]) linear_ok &= ksp_solve(lin_.q[i], Z_[i]);
+    }
+    if (!linear_ok) {
+      result.reason = "linear solve failed";
+      break;
+    }
+    // Dense system for zeta = [dlambda (m); eta (one per weighted cavity)], du = -a + Y dl + Z eta.
+    std::vector<int> weighted;
+    for (int i = 0; i < m; ++i)
+      if (Z_[i]) weighted.push_back(i);
+    const int n = m + static_cast<int>(weighted.size());
+    std::vector<Vec> columns(Y_.begin(), Y_.end());
+    for (int h : weighted) columns.push_back(Z_[h]);
+    Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd rhs(n);
+    std::vector<PetscScalar> dots(n);
+    auto g_dot_columns = [&](int i) {  // g_i . column_k for every k, and g_i . a
+      HS_PETSC(VecMDot(lin_.g[i], n, columns.data(), dots.data()));
+      PetscScalar ga = 0;
+      HS_PETSC(VecDot(lin_.g[i], a_, &ga));
+      return ga;
+    };
+    for (int i = 0; i < m; ++i) {  // alpha g_i^T du + b dlambda_i = -c_i
+      const double ga = g_dot_columns(i);
+      for (int k = 0; k < n; ++k) S(i, k) = lin_.alpha[i] * dots[k];
+      S(i, i) += lin_.b[i];
+      rhs(i) = -c[i] + lin_.alpha[i] * ga;
+    }
+    for (size_t w = 0; w < weighted.size(); ++w) {  // eta_h - g_h^T du = 0
+      const int row = m + static_cast<int>(w);
+      const double ga = g_dot_columns(weighted[w]);
+      for (int k = 0; k < n; ++k) S(row, k) = dots[k];
+      S(row, row) -= 1;
+      rhs(row) = ga;
+    }
+    const Eigen::VectorXd zeta = S.fullPivLu().solve(rhs);
+    HS_PETSC(VecCopy(a_, du_));
+    HS_PETSC(VecScale(du_, -1.0));
+    HS_PETSC(VecMAXPY(du_, n, zeta.data(), columns.data()));
+    constraint_s_ += MPI_Wtime() - tc;
+
+    // Backtracking on phi.
+    const double phi0 = merit(r_norm, c, F);
+    double t = 1;
+    bool accepted = false;
+    for (int halving = 0; halving <= 8; ++halving, t /= 2) {
+      HS_PETSC(VecWAXPY(u_trial_, t, du_, u));
+      std::vector<double> trial = lambda;
+      for (int i = 0; i < m; ++i) trial[i] += t * zeta(i);
+      cavities_.set_pressures(trial);
+      ok = cavities_.residual(u_trial_, s, R_, c_trial);
+      PetscReal norm = 0;
+      HS_PETSC(VecNorm(R_, NORM_2, &norm));
+      if (ok && std::isfinite(norm) && merit(norm, c_trial, F) <= (1 - 1e-4 * t) * phi0) {
+        HS_PETSC(VecCopy(u_trial_, u));
+        lambda = trial;
+        c = c_trial;
+        r_norm = norm;
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      cavities_.set_pressures(lambda);
+      ok = cavities_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
+      result.reason = "line search failed";
+      break;
+    }
+  }
+  const double assembly = timers.residual_s + timers.jacobian_s - assembly_before;
+  solve_s_ += MPI_Wtime() - t0 - assembly;
+  return result;
+}
+
+}  // namespace hs

@@ -1,0 +1,53 @@
+// Newton's method for the displacements and the cavity pressures together (the bordered
+// system of solvers/cavity_system.hpp). Each iteration solves
+//   [ J    -G ] [du     ]     [R]          J du = -R + G dlambda + Q eta
+//   [ A     B ] [dlambda] = - [c],  with   eta_h = g_h^T du (hydraulic cavities, Q = W / V)
+// by block elimination: one factorization of the sparse tangent J (PETSc KSP, from the options
+// database: MUMPS LU by default) and 1 + m + m_h solves with it, then a dense system of size
+// m + m_h for dlambda and eta. A backtracking line search on
+//   phi = |R| / F + sum_c |c_c| / C_c
+// guards the step. docs/cavities.md says why this is not a SNES: SNES would need a shell
+// matrix and a shell preconditioner doing this same elimination, on a composite vector.
+#pragma once
+
+#include <petscksp.h>
+
+#include <string>
+#include <vector>
+
+#include "solvers/cavity_system.hpp"
+#include "solvers/newton_solver.hpp"
+
+namespace hs {
+
+class BorderedNewton {
+ public:
+  BorderedNewton(Problem& problem, CavitySystem& cavities);
+  ~BorderedNewton();
+  BorderedNewton(const BorderedNewton&) = delete;
+  BorderedNewton& operator=(const BorderedNewton&) = delete;
+
+  // Solves at load factor s from u and the cavities' current pressures; on success u and the
+  // pressures hold the solution.
+  NewtonResult solve(Vec u, double s);
+  // The norm of the full external load (gravity, pressure loads): with the pressure forces,
+  // it sets the residual tolerance 1e-9 F.
+  void set_load_norm(double norm) { load_norm_ = norm; }
+  double solve_seconds() const { return solve_s_; }
+  double constraint_seconds() const { return constraint_s_; }
+
+ private:
+  double merit(double r_norm, const std::vector<double>& c, double F) const;
+
+  Problem& problem_;
+  CavitySystem& cavities_;
+  KSP ksp_ = nullptr;
+  Mat J_ = nullptr;
+  Vec R_ = nullptr, a_ = nullptr, du_ = nullptr, u_trial_ = nullptr;
+  std::vector<Vec> Y_, Z_;
+  CavityLinearization lin_;
+  double load_norm_ = 0, solve_s_ = 0, constraint_s_ = 0;
+  int max_it_ = 30;
+};
+
+}  // namespace hs

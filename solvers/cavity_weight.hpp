@@ -1,0 +1,63 @@
+// The liquid's weight on one cavity's walls, on the deformed cavity, by the fluid-weight
+// module (cuda/: the paper's column method on CPU or CUDA, or the closed-form hydrostatic
+// pressure). The cavity's surface is gathered to one owning rank, which runs the module and
+// adds the nodal forces into a distributed vector (docs/cavities.md, "Distributed runs").
+#pragma once
+
+#include <petscvec.h>
+
+#include <fluidweight/fluidweight.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "deck/config.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/mesh.hpp"
+
+namespace hs {
+
+// The triangles the fluid-weight module sees for a cavity's faces: Tri3 as they are, Tri6 as
+// four flat triangles through the edge nodes. Vertices index `nodes` (mesh node ids).
+struct CavityTriangles {
+  std::vector<int64_t> nodes;  // sorted mesh node ids of the surface
+  std::vector<int> triangles;  // 3 per triangle, indices into nodes
+};
+CavityTriangles cavity_triangles(const Mesh& mesh, const std::string& group);
+
+class CavityWeight {
+ public:
+  // Collective. `owner` is the rank that runs the fluid-weight module for this cavity.
+  CavityWeight(const Mesh& mesh, const Distribution& dist, const CavityConfig& cavity,
+               const std::array<double, 3>& gravity, int owner, MPI_Comm comm);
+  ~CavityWeight();
+  CavityWeight(const CavityWeight&) = delete;
+  CavityWeight& operator=(const CavityWeight&) = delete;
+
+  // W += nodal weights of the liquid filling the cavity on configuration u (global vector of
+  // displacements), under gravity * load_factor (the weights are linear in |g|). Collective;
+  // W is assembled on return.
+  void add_weight(Vec u, double load_factor, Vec W);
+
+  // Of the last add_weight (the same on every rank): |sum of the nodal forces|, the volume the
+  // module measured (column volume, or |signed volume| for hydrostatic), and its time.
+  double total_weight() const { return total_weight_; }
+  double measured_volume() const { return volume_; }
+  double seconds() const { return seconds_; }
+  const char* device() const;
+
+ private:
+  MPI_Comm comm_;
+  int rank_ = 0, owner_ = 0;
+  double density_ = 0, gravity_norm_ = 0;
+  fluidweight::Options options_;
+  std::vector<double> reference_;      // owner: reference positions of the surface nodes
+  std::vector<double> positions_;      // owner: current positions
+  std::vector<PetscInt> global_dofs_;  // owner: PETSc dofs of the surface nodes
+  std::unique_ptr<fluidweight::Context> context_;  // owner only
+  VecScatter gather_ = nullptr;
+  Vec surface_u_ = nullptr;  // sequential, 3 per surface node on the owner, empty elsewhere
+  double total_weight_ = 0, volume_ = 0, seconds_ = 0;
+};
+
+}  // namespace hs

@@ -1,0 +1,59 @@
+#include "solvers/result_recorder.hpp"
+
+#include <cmath>
+
+#include "common/error.hpp"
+
+namespace hs {
+
+ResultRecorder::ResultRecorder(Problem& problem, const Config& config, MPI_Comm comm)
+    : problem_(problem) {
+  MPI_Comm_rank(comm, &rank_);
+  if (rank_ == 0) {
+    folder_ = std::make_unique<OutputFolder>(config.output.folder);
+    writer_ = std::make_unique<XdmfWriter>(folder_->staging(), config.deck_name, problem.mesh());
+  }
+  load_ = problem.create_vector();
+}
+
+ResultRecorder::~ResultRecorder() { VecDestroy(&load_); }
+
+void ResultRecorder::record(double time, Vec u, double s) {
+  StepFields f;
+  f.time = time;
+  f.displacement = problem_.gather_nodal(u);
+  problem_.external_load(u, s, load_);
+  f.nodal_load = problem_.gather_nodal(load_);
+  std::vector<double> vm, J;
+  problem_.element_fields(u, vm, J);
+  f.von_mises = problem_.gather_elemental(vm);
+  f.J = problem_.gather_elemental(J);
+  std::vector<double> rank(vm.size(), problem_.distribution().rank);
+  const auto ranks = problem_.gather_elemental(rank);
+  // Decided together, so that every rank stops on a non-finite result, not rank 0 alone.
+  int finite = 1;
+  for (const auto* field : {&f.displacement, &f.nodal_load, &f.von_mises, &f.J})
+    for (double x : *field) finite &= std::isfinite(x);
+  MPI_Bcast(&finite, 1, MPI_INT, 0, problem_.comm());
+  if (!finite)
+    throw SolveError("output at time/load " + std::to_string(time) +
+                     ": a computed field is not finite; nothing was written");
+  if (rank_ != 0) return;
+  f.rank.assign(ranks.begin(), ranks.end());
+  writer_->write_step(f);
+  ++written_;
+}
+
+std::string ResultRecorder::finish(const nlohmann::json& summary) {
+  if (rank_ != 0) return {};
+  writer_->close();
+  write_json(folder_->staging() + "/summary.json", summary);
+  folder_->commit();
+  return folder_->final();
+}
+
+std::string ResultRecorder::xdmf_path() const {
+  return rank_ == 0 ? folder_->final() + "/" + writer_->xdmf_file() : std::string();
+}
+
+}  // namespace hs

@@ -1,0 +1,40 @@
+// Output of a run: every output step's fields gathered on rank 0 and written as HDF5 + XDMF
+// into the run's staging folder; finish() writes summary.json and commits the folder
+// (docs/output.md).
+#pragma once
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "deck/config.hpp"
+#include "io/output.hpp"
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+class ResultRecorder {
+ public:
+  ResultRecorder(Problem& problem, const Config& config, MPI_Comm comm);
+  ~ResultRecorder();
+  ResultRecorder(const ResultRecorder&) = delete;
+  ResultRecorder& operator=(const ResultRecorder&) = delete;
+
+  // Writes the fields of u at `time` (the step's attribute), loads at load factor s.
+  // Collective; refuses (SolveError, nothing written) a step with a non-finite value.
+  void record(double time, Vec u, double s);
+  // Closes the files and moves them to the output folder (rank 0); returns its path there.
+  std::string finish(const nlohmann::json& summary);
+  std::string xdmf_path() const;
+  int written() const { return written_; }
+
+ private:
+  Problem& problem_;
+  int rank_ = 0;
+  int written_ = 0;
+  std::unique_ptr<OutputFolder> folder_;
+  std::unique_ptr<XdmfWriter> writer_;
+  Vec load_ = nullptr;
+};
+
+}  // namespace hs

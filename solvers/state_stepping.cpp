@@ -1,0 +1,232 @@
+#include "solvers/state_stepping.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/error.hpp"
+
+namespace hs {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// One state: its increments' end points tau (fractions of the state) and what tau sets.
+struct StatePlan {
+  std::string name;
+  std::vector<double> taus;
+  bool first = false;
+  // Later states: per cavity, the control to ramp (from -> to); unnamed cavities keep theirs.
+  struct Ramp {
+    bool active = false;
+    CavityControl control = CavityControl::pressure;
+    double from = 0, to = 0;
+  };
+  std::vector<Ramp> ramps;
+};
+
+std::vector<StatePlan> plan_states(const Config& config) {
+  std::vector<StateConfig> states = config.states;
+  if (states.empty()) {
+    StateConfig only;
+    only.name = "final";
+    only.steps = config.time.steps;
+    states.push_back(only);
+  }
+  std::vector<StatePlan> plans;
+  for (size_t k = 0; k < states.size(); ++k) {
+    StatePlan p;
+    p.name = states[k].name;
+    p.first = k == 0;
+    if (p.first && config.states.empty() && !config.time.schedule.empty()) {
+      p.taus = config.time.schedule;
+    } else {
+      for (int i = 1; i <= states[k].steps; ++i)
+        p.taus.push_back(static_cast<double>(i) / states[k].steps);
+    }
+    p.ramps.resize(config.cavities.size());
+    for (size_t c = 0; c < config.cavities.size(); ++c) {
+      auto it = states[k].cavities.find(config.cavities[c].group);
+      if (it == states[k].cavities.end()) continue;
+      p.ramps[c].active = true;
+      p.ramps[c].control = it->second.pressure ? CavityControl::pressure : CavityControl::volume;
+      p.ramps[c].to = it->second.pressure ? *it->second.pressure : *it->second.added_volume;
+    }
+    plans.push_back(p);
+  }
+  return plans;
+}
+
+class StateStepper {
+ public:
+  StateStepper(const Config& config, Problem& problem, CavitySystem& cavities,
+               BorderedNewton& newton, SteppingStats& stats)
+      : config_(config), problem_(problem), cavities_(cavities), newton_(newton), stats_(stats) {
+    u_last_ = problem.create_vector();
+    saved_ = problem.create_vector();
+  }
+  ~StateStepper() {
+    VecDestroy(&u_last_);
+    VecDestroy(&saved_);
+  }
+
+  // Starts a state: fixes its ramps' start values from the current state of the cavities.
+  void begin(StatePlan& plan) {
+    plan_ = &plan;
+    tau_ = 0;
+    has_last_ = false;
+    for (int c = 0; c < cavities_.size(); ++c) {
+      auto& ramp = plan.ramps[c];
+      if (!ramp.active) continue;
+      Cavity& cav = cavities_[c];
+      if (ramp.control == CavityControl::pressure) {
+        ramp.from = cav.lambda;
+      } else {
+        ramp.from = cav.volume;
+        ramp.to += cav.rest_volume;  // added volume is counted from the end of the first state
+      }
+      cav.control = ramp.control;
+    }
+  }
+
+  double load_factor(double tau) const { return plan_->first ? tau : 1.0; }
+
+  // Sets the cavity targets at tau.
+  void set_targets(double tau) {
+    for (int c = 0; c < cavities_.size(); ++c) {
+      Cavity& cav = cavities_[c];
+      const auto& ramp = plan_->ramps[c];
+      if (ramp.active) {
+        cav.target = ramp.from + tau * (ramp.to - ramp.from);
+      } else if (plan_->first) {
+        const auto& cc = cav.config;
+        if (cav.control == CavityControl::pressure) cav.target = tau * cc.pressure;
+        if (cav.control == CavityControl::volume)
+          cav.target = cav.reference_volume + tau * cc.added_volume.value_or(0.0);
+      }
+      if (cav.control == CavityControl::pressure) cav.lambda = cav.target;
+    }
+  }
+
+  // Advances the current state to tau_to, halving failed increments.
+  void advance(Vec u, double tau_to) {
+    const double tau_from = tau_;
+    double done = 0, increment = 1;
+    int halvings = 0;
+    while (done < 1) {
+      const double next = std::min(1.0, done + increment);
+      const double tau = tau_from + next * (tau_to - tau_from);
+      const std::vector<double> lambda = cavities_.pressures();
+      HS_PETSC(VecCopy(u, saved_));
+      predict(u, tau);
+      const double s = load_factor(tau);
+      set_targets(tau);
+      problem_.apply_dirichlet(u, s);
+      if (cavities_.linearized()) cavities_.freeze_weights(u, s);
+      const NewtonResult r = newton_.solve(u, s);
+      stats_.newton_iterations += r.iterations;
+      stats_.linear_iterations += r.linear_iterations;
+      if (r.converged) {
+        HS_PETSC(VecCopy(saved_, u_last_));
+        lambda_last_ = lambda;
+        tau_last_ = tau_;
+        tau_ = tau;
+        has_last_ = true;
+        done = next;
+        ++stats_.steps;
+        halvings = 0;
+        increment = std::min(1.0, 2 * increment);
+        continue;
+      }
+      HS_PETSC(VecCopy(saved_, u));
+      cavities_.set_pressures(lambda);
+      ++stats_.cutbacks;
+      if (++halvings > config_.time.max_cutbacks) {
+        std::ostringstream msg;
+        msg << "state '" << plan_->name << "' at " << tau
+            << " of the way: Newton did not converge (" << r.reason << ", residual "
+            << r.residual_norm << " after " << r.iterations << " iterations, "
+            << config_.time.max_cutbacks << " halvings of the increment)";
+        if (problem_.first_bad_element() >= 0)
+          msg << "; element " << problem_.first_bad_element() << " is inverted (det F <= 0)";
+        throw SolveError(msg.str());
+      }
+      increment /= 2;
+    }
+  }
+
+ private:
+  // Secant predictor from the last two converged points of this state (u and pressures).
+  void predict(Vec u, double tau) {
+    if (!has_last_ || tau_ == tau_last_) return;
+    const double k = (tau - tau_) / (tau_ - tau_last_);
+    HS_PETSC(VecAXPBY(u, -k, 1 + k, u_last_));
+    std::vector<double> lambda = cavities_.pressures();
+    for (size_t c = 0; c < lambda.size(); ++c)
+      lambda[c] = (1 + k) * lambda[c] - k * lambda_last_[c];
+    cavities_.set_pressures(lambda);
+  }
+
+  const Config& config_;
+  Problem& problem_;
+  CavitySystem& cavities_;
+  BorderedNewton& newton_;
+  SteppingStats& stats_;
+  StatePlan* plan_ = nullptr;
+  double tau_ = 0, tau_last_ = 0;
+  bool has_last_ = false;
+  std::vector<double> lambda_last_;
+  Vec u_last_ = nullptr, saved_ = nullptr;
+};
+
+}  // namespace
+
+double tip_angle_deg(Problem& problem, const std::string& group,
+                     const std::array<double, 3>& gravity, Vec u) {
+  const auto n = problem.area_vector(group, u);
+  const double n_norm = std::hypot(n[0], n[1], n[2]);
+  const double g_norm = std::hypot(gravity[0], gravity[1], gravity[2]);
+  if (n_norm == 0 || g_norm == 0) return 0;
+  const double sine =
+      (n[0] * gravity[0] + n[1] * gravity[1] + n[2] * gravity[2]) / (n_norm * g_norm);
+  return std::asin(std::clamp(sine, -1.0, 1.0)) * 180 / kPi;
+}
+
+StateRun run_states(const Config& config, Problem& problem, CavitySystem& cavities,
+                    BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats) {
+  StateRun run;
+  std::vector<StatePlan> plans = plan_states(config);
+  StateStepper stepper(config, problem, cavities, newton, stats);
+  for (size_t k = 0; k < plans.size(); ++k) {
+    StatePlan& plan = plans[k];
+    stepper.begin(plan);
+    for (size_t i = 0; i < plan.taus.size(); ++i) {
+      stepper.advance(u, plan.taus[i]);
+      const bool last = i + 1 == plan.taus.size();
+      if (last || (i + 1) % config.output.every == 0)
+        recorder.record(static_cast<double>(k) + plan.taus[i], u,
+                        stepper.load_factor(plan.taus[i]));
+    }
+    if (plan.first)
+      for (int c = 0; c < cavities.size(); ++c) cavities[c].rest_volume = cavities[c].volume;
+    nlohmann::json state;
+    state["name"] = plan.name;
+    state["time"] = static_cast<double>(k + 1);
+    state["step"] = recorder.written() - 1;
+    state["load_factor"] = stepper.load_factor(plan.taus.back());
+    if (config.tip)
+      state["tip_angle_deg"] = tip_angle_deg(problem, config.tip->group, config.gravity, u);
+    double added = 0, change = 0;
+    for (int c = 0; c < cavities.size(); ++c) {
+      added += cavities[c].volume - cavities[c].rest_volume;
+      change += cavities[c].volume - cavities[c].reference_volume;
+    }
+    state["added_volume_ml"] = added * 1e6;
+    state["volume_change_ml"] = change * 1e6;
+    state["cavities"] = cavities.report();
+    run.states.push_back(state);
+  }
+  return run;
+}
+
+}  // namespace hs

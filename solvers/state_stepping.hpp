@@ -1,0 +1,33 @@
+// Runs the states of a deck (docs/decks.md, "states"): the first ramps the load factor from
+// 0 to 1 with the cavities at their own controls; each later state ramps the cavity controls
+// it names from their current values to its targets. Every increment is one bordered Newton
+// solve (solvers/bordered_newton.hpp) with a secant predictor and automatic cutback, and
+// with the paper's linearized coupling the liquid's weight is frozen at its start.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+
+#include "solvers/bordered_newton.hpp"
+#include "solvers/cavity_system.hpp"
+#include "solvers/result_recorder.hpp"
+#include "solvers/stepping.hpp"
+
+namespace hs {
+
+struct StateRun {
+  nlohmann::json states = nlohmann::json::array();  // one entry per state, for summary.json
+};
+
+// u starts at rest (zero). Writes every output.every-th increment and the last of every
+// state; the step attribute `time` is state index + fraction of the state (1.0 = end of the
+// first state, 2.0 = end of the second, ...).
+StateRun run_states(const Config& config, Problem& problem, CavitySystem& cavities,
+                    BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats);
+
+// Inclination of a face group's mean deformed normal below the plane normal to gravity, in
+// degrees (positive: tilted towards gravity): asin(n . g / |g|).
+double tip_angle_deg(Problem& problem, const std::string& group,
+                     const std::array<double, 3>& gravity, Vec u);
+
+}  // namespace hs

@@ -1,0 +1,272 @@
+// Cavities on 1 and 2 ranks, against conservation laws and independent computations:
+// the pressure forces on a closed cavity have no resultant and no moment, and are the
+// derivative of the cavity volume; a volume-controlled inflation reaches its volume; the
+// work of the pressure equals the stored energy it creates; the liquid's total weight is
+// rho g times the column volume, the distributed weights equal a serial computation of the
+// fluid-weight module on the gathered surface, and the column method and the closed-form
+// hydrostatic pressure give the same resultant and moment.
+#include <gtest/gtest.h>
+#include <petscsnes.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "deck/deck.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/gmsh_io.hpp"
+#include "solvers/bordered_newton.hpp"
+#include "solvers/cavity_system.hpp"
+#include "solvers/problem.hpp"
+#include "solvers/simulation.hpp"
+
+namespace {
+
+const std::string kSource = HYDROSOFT_SOURCE_DIR;
+
+struct Scene {
+  hs::Config config;
+  hs::Mesh mesh;
+  hs::Distribution dist;
+  std::unique_ptr<hs::Problem> problem;
+  std::unique_ptr<hs::CavitySystem> cavities;
+  explicit Scene(const std::string& deck, std::vector<std::string> overrides) {
+    config = hs::parse_deck(kSource + "/input/" + deck, overrides);
+    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
+    int rank, size;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
+    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
+    cavities = std::make_unique<hs::CavitySystem>(config, *problem, mesh, dist);
+  }
+};
+
+// Owned entries of v as (position, value) pairs summed into a resultant and a moment about
+// the origin, over all ranks.
+void resultant_and_moment(hs::Problem& problem, Vec u, Vec f, double force[3], double moment[3]) {
+  const PetscScalar *fa, *ua;
+  VecGetArrayRead(f, &fa);
+  VecGetArrayRead(u, &ua);
+  double local[6] = {0, 0, 0, 0, 0, 0};
+  for (int64_t n = 0; n < problem.distribution().num_owned(); ++n) {
+    double x[3], fn[3];
+    for (int d = 0; d < 3; ++d) {
+      x[d] = problem.reference_coordinate(n, d) + ua[3 * n + d];
+      fn[d] = fa[3 * n + d];
+      local[d] += fn[d];
+    }
+    local[3] += x[1] * fn[2] - x[2] * fn[1];
+    local[4] += x[2] * fn[0] - x[0] * fn[2];
+    local[5] += x[0] * fn[1] - x[1] * fn[0];
+  }
+  VecRestoreArrayRead(f, &fa);
+  VecRestoreArrayRead(u, &ua);
+  double all[6];
+  MPI_Allreduce(local, all, 6, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  for (int d = 0; d < 3; ++d) {
+    force[d] = all[d];
+    moment[d] = all[3 + d];
+  }
+}
+
+void bend(hs::Problem& problem, Vec u, double amplitude) {
+  // A smooth deformation of the whole body: the cavity walls curve and move.
+  PetscScalar* a;
+  VecGetArray(u, &a);
+  for (int64_t n = 0; n < problem.distribution().num_owned(); ++n) {
+    const double x = problem.reference_coordinate(n, 0), y = problem.reference_coordinate(n, 1),
+                 z = problem.reference_coordinate(n, 2);
+    a[3 * n] = amplitude * std::sin(40 * z) * y;
+    a[3 * n + 1] = amplitude * (z * z * 30 + x * y * 50);
+    a[3 * n + 2] = amplitude * x * 2;
+  }
+  VecRestoreArray(u, &a);
+}
+
+TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
+  for (int order : {1, 2}) {
+    // No Dirichlet condition, so that no entry of the gradient is zeroed.
+    Scene s("cylinder_air.yaml", {"mesh.order=" + std::to_string(order), "boundary=[]"});
+    hs::Problem& p = *s.problem;
+    Vec u = p.create_vector(), g = p.create_vector(), du = p.create_vector();
+    bend(p, u, 0.01);
+    const int surface = (*s.cavities)[0].surface;
+    p.volume_gradient(surface, u, g);
+    double force[3], moment[3];
+    resultant_and_moment(p, u, g, force, moment);
+    PetscReal scale = 0;
+    VecNorm(g, NORM_1, &scale);
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_LT(std::abs(force[d]), 1e-13 * scale) << "order " << order << " component " << d;
+      EXPECT_LT(std::abs(moment[d]), 1e-13 * scale * 0.2) << "order " << order;
+    }
+    // Directional derivative of the volume against g . du (central differences).
+    bend(p, du, 1e-3);
+    const double h = 1e-4;
+    Vec up = p.create_vector(), um = p.create_vector();
+    VecWAXPY(up, h, du, u);
+    VecWAXPY(um, -h, du, u);
+    const double dV = (p.enclosed_volume(surface, up) - p.enclosed_volume(surface, um)) / (2 * h);
+    PetscScalar gdu = 0;
+    VecDot(g, du, &gdu);
+    EXPECT_NEAR(gdu, dV, 1e-7 * std::abs(dV)) << "order " << order;
+    for (Vec* v : {&u, &g, &du, &up, &um}) VecDestroy(v);
+  }
+}
+
+nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
+                   const std::string& tag) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  overrides.push_back("output.folder=" +
+                      (std::filesystem::temp_directory_path() /
+                       ("hydrosoft_cavities_" + tag + "_np" + std::to_string(size)))
+                          .string());
+  auto s =
+      hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides), MPI_COMM_WORLD);
+  std::string text = s.dump();  // rank 0 holds the summary: share it
+  int n = static_cast<int>(text.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  text.resize(n);
+  MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
+  return nlohmann::json::parse(text);
+}
+
+TEST(Cavities, VolumeControlReachesItsVolumeAndWaterWeighs) {
+  const auto air = run("cylinder_air.yaml", {}, "air");
+  const auto water = run("cylinder_water.yaml", {}, "water");
+  for (const auto* s : {&air, &water}) {
+    const auto& states = (*s)["states"];
+    ASSERT_EQ(states.size(), 2u);
+    const auto& rest = states[0]["cavities"][0];
+    const auto& inflated = states[1]["cavities"][0];
+    EXPECT_NEAR(inflated["volume"].get<double>() - rest["volume"].get<double>(), 15e-6,
+                1e-9 * 15e-6);
+    EXPECT_NEAR(states[1]["added_volume_ml"].get<double>(), 15.0, 1e-8);
+    EXPECT_GT(inflated["pressure"].get<double>(), 0.0);
+  }
+  // Air carries no weight; water's total weight is rho g V of its column volume.
+  EXPECT_EQ(air["parts"]["fluid_weight"]["device"], "none");
+  EXPECT_EQ(air["cavities"][0]["fluid_weight_total"].get<double>(), 0.0);
+  const auto& w = water["cavities"][0];
+  EXPECT_NEAR(w["fluid_weight_total"].get<double>(),
+              1000 * 9.81 * w["fluid_weight_volume"].get<double>(),
+              1e-10 * w["fluid_weight_total"].get<double>());
+  // The column volume tends to the cavity's volume (200^2 columns).
+  EXPECT_NEAR(w["fluid_weight_volume"].get<double>(), w["volume"].get<double>(),
+              2e-3 * w["volume"].get<double>());
+  // The water-filled cylinder hangs lower, at rest and inflated.
+  for (int k : {0, 1})
+    EXPECT_GT(water["states"][k]["tip_angle_deg"].get<double>(),
+              air["states"][k]["tip_angle_deg"].get<double>() + 2.0);
+}
+
+TEST(Cavities, PressureWorkEqualsStoredEnergyAndGravityWork) {
+  // Conservative loads: int p dV = Delta(stored energy) - f_g . Delta u on a pressure ramp.
+  // int p dV = p_N V_N - p_0 V_0 - int V dp, the last by Simpson's rule on equal steps.
+  Scene s("cylinder_air.yaml", {});
+  hs::Problem& p = *s.problem;
+  hs::set_solver_options(s.config.solver, false);
+  hs::BorderedNewton newton(p, *s.cavities);
+  Vec u = p.create_vector(), f = p.create_vector(), fg = p.create_vector(), u0 = p.create_vector();
+  p.external_load(u, 1.0, fg);  // gravity alone (cavity pressure 0)
+  PetscReal fg_norm = 0;
+  VecNorm(fg, NORM_2, &fg_norm);
+  newton.set_load_norm(fg_norm);
+  hs::Cavity& cavity = (*s.cavities)[0];
+  cavity.control = hs::CavityControl::pressure;
+  const int n = 16;
+  const double p_max = 3000;
+  std::vector<double> volume;
+  double psi0 = 0;
+  for (int k = 0; k <= n; ++k) {
+    cavity.target = cavity.lambda = p_max * k / n;
+    p.apply_dirichlet(u, 1.0);
+    const auto r = newton.solve(u, 1.0);
+    ASSERT_TRUE(r.converged) << "pressure " << cavity.target << ": " << r.reason;
+    volume.push_back(cavity.volume);
+    if (k == 0) {
+      p.internal_force(u, f, &psi0);
+      VecCopy(u, u0);
+    }
+  }
+  double psi = 0;
+  p.internal_force(u, f, &psi);
+  VecAXPY(u0, -1.0, u);  // u0 - u
+  PetscScalar gravity_work = 0;
+  VecDot(fg, u0, &gravity_work);  // f_g . (u0 - u) = -f_g . Delta u
+  double integral_v_dp = 0;
+  const double dp = p_max / n;
+  for (int k = 0; k < n; k += 2)
+    integral_v_dp += dp / 3 * (volume[k] + 4 * volume[k + 1] + volume[k + 2]);
+  const double pressure_work = p_max * volume[n] - integral_v_dp;
+  EXPECT_GT(psi - psi0, 0.0);
+  EXPECT_NEAR(pressure_work, (psi - psi0) + gravity_work, 1e-5 * pressure_work);
+  for (Vec* v : {&u, &f, &fg, &u0}) VecDestroy(v);
+}
+
+TEST(Cavities, DistributedWeightsMatchOneSerialComputation) {
+  Scene s("cylinder_water.yaml", {"cavities[0].fluid_weight.grid=120"});
+  hs::Problem& p = *s.problem;
+  Vec u = p.create_vector(), w = p.create_vector();
+  bend(p, u, 0.01);
+  hs::CavityWeight weight(s.mesh, s.dist, s.config.cavities[0], s.config.gravity, s.dist.size - 1,
+                          PETSC_COMM_WORLD);  // owned by the last rank
+  weight.add_weight(u, 0.5, w);
+  const std::vector<double> displacement = p.gather_nodal(u), forces = p.gather_nodal(w);
+  if (s.dist.rank == 0) {
+    const hs::CavityTriangles t = hs::cavity_triangles(s.mesh, "cavity");
+    fluidweight::SurfaceMesh surface;
+    for (int64_t node : t.nodes)
+      for (int d = 0; d < 3; ++d)
+        surface.vertices.push_back(s.mesh.x[3 * node + d] + displacement[3 * node + d]);
+    surface.triangles = t.triangles;
+    fluidweight::Options o;
+    o.implementation = fluidweight::Implementation::cpu_reference;
+    o.grid = 120;
+    o.rho = 1000;
+    o.gravity = {0, -0.5 * 9.81, 0};
+    const fluidweight::Result r = fluidweight::compute(surface, o);
+    double worst = 0, scale = 0;
+    for (size_t i = 0; i < t.nodes.size(); ++i)
+      for (int d = 0; d < 3; ++d) {
+        worst = std::max(worst, std::abs(forces[3 * t.nodes[i] + d] - r.forces[3 * i + d]));
+        scale = std::max(scale, std::abs(r.forces[3 * i + d]));
+      }
+    EXPECT_GT(scale, 0.0);
+    EXPECT_LT(worst, 1e-9 * scale);
+    EXPECT_NEAR(weight.total_weight(), r.total_weight, 1e-9 * r.total_weight);
+  }
+  VecDestroy(&u);
+  VecDestroy(&w);
+}
+
+TEST(Cavities, ColumnAndHydrostaticWeightsHaveTheSameResultantAndMoment) {
+  Scene s("cylinder_water.yaml", {"cavities[0].fluid_weight.grid=400"});
+  hs::Problem& p = *s.problem;
+  Vec u = p.create_vector(), column = p.create_vector(), exact = p.create_vector();
+  bend(p, u, 0.01);
+  hs::CavityConfig c = s.config.cavities[0];
+  hs::CavityWeight by_columns(s.mesh, s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
+  c.fluid_weight.method = "hydrostatic";
+  hs::CavityWeight by_pressure(s.mesh, s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
+  by_columns.add_weight(u, 1.0, column);
+  by_pressure.add_weight(u, 1.0, exact);
+  double f1[3], m1[3], f2[3], m2[3];
+  resultant_and_moment(p, u, column, f1, m1);
+  resultant_and_moment(p, u, exact, f2, m2);
+  const double weight = std::hypot(f2[0], f2[1], f2[2]);
+  EXPECT_NEAR(weight, 1000 * 9.81 * p.enclosed_volume((*s.cavities)[0].surface, u), 1e-10 * weight);
+  for (int d = 0; d < 3; ++d) {
+    EXPECT_NEAR(f1[d], f2[d], 1e-3 * weight) << "force " << d;
+    EXPECT_NEAR(m1[d], m2[d], 1e-3 * weight * 0.15) << "moment " << d;
+  }
+  // Different distributions: the column method loads floor nodes vertically only.
+  PetscReal difference = 0;
+  VecAXPY(column, -1.0, exact);
+  VecNorm(column, NORM_2, &difference);
+  EXPECT_GT(difference, 1e-2 * weight);
+  for (Vec* v : {&u, &column, &exact}) VecDestroy(v);
+}
+
+}  // namespace
