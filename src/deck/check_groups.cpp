@@ -66,6 +66,18 @@ void check_groups(const Config& c, const Mesh& mesh) {
     require_nodes(key, group);
     if (!is_surface(mesh, group)) fail(key, "group '" + group + "' is not a surface");
   }
+  // A cavity is a closed surface of boundary faces; the tip's inclination is that of faces.
+  for (size_t i = 0; i < c.cavities.size(); ++i) {
+    const std::string key = child_key(item_key("cavities", i), "group");
+    const std::string group = c.cavities[i].group;
+    require_nodes(key, group);
+    if (!is_surface(mesh, group)) fail(key, "group '" + group + "' is not a surface");
+  }
+  if (c.tip) {
+    require_nodes("tip.group", c.tip->group);
+    if (!is_surface(mesh, c.tip->group))
+      fail("tip.group", "group '" + c.tip->group + "' is not a surface");
+  }
 }
 
 }  // namespace hs

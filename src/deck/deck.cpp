@@ -1,13 +1,13 @@
 // parse_deck: YAML -> Config, validating every key before any work (docs/decks.md).
 #include "deck/deck.hpp"
 
-#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <regex>
 #include <set>
 
 #include "common/error.hpp"
+#include "deck/cavity_sections.hpp"
 #include "deck/deck_reader.hpp"
 #include "deck/overrides.hpp"
 #include "io/output.hpp"
@@ -30,37 +30,6 @@ const std::map<std::string, std::vector<std::string>> kExactParameters = {
     {"hydrostatic_block", {"H"}},
     {"neo_hookean_sphere", {"A", "B", "stretch"}},
     {"bimaterial_bar", {"L1", "t"}}};
-
-bool contains(const std::vector<std::string>& names, const std::string& name) {
-  return std::find(names.begin(), names.end(), name) != names.end();
-}
-
-// A value of `map` that must be there.
-YAML::Node required(const DeckReader& r, const YAML::Node& map, const std::string& key,
-                    const std::string& name) {
-  const YAML::Node node = map[name];
-  if (!node) r.fail(child_key(key, name), map, "required key missing");
-  return node;
-}
-
-std::string one_of(const DeckReader& r, const YAML::Node& node, const std::string& key,
-                   const std::vector<std::string>& valid) {
-  const std::string name = r.text(node, key);
-  if (!contains(valid, name))
-    r.fail(key, node, "unknown name '" + name + "' (valid: " + join(valid) + ")");
-  return name;
-}
-
-void require(bool condition, const DeckReader& r, const YAML::Node& node, const std::string& key,
-             const std::string& reason) {
-  if (!condition) r.fail(key, node, reason);
-}
-
-// A key that only matters in some configurations must not be given in the others.
-void forbid(const DeckReader& r, const YAML::Node& map, const std::string& key,
-            const std::string& name, const std::string& reason) {
-  if (map[name]) r.fail(child_key(key, name), map[name], reason);
-}
 
 YAML::Node load_yaml(const std::string& path) {
   if (!fs::is_regular_file(path)) throw InputError(path + ": deck file not found");
@@ -333,7 +302,8 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (!root.IsMap())
     r.fail("(top level)", root, "expected a map of sections (mesh, materials, ...)");
   r.check_map(root, "",
-              {"mesh", "materials", "boundary", "loads", "time", "solver", "output", "exact"});
+              {"mesh", "materials", "boundary", "loads", "cavities", "time", "states", "tip",
+               "solver", "output", "exact"});
 
   Config c;
   c.deck_path = path;
@@ -347,6 +317,7 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   }
   if (const auto n = root["loads"]) parse_loads(r, n, c);
   if (const auto n = root["time"]) c.time = parse_time(r, n);
+  parse_cavity_sections(r, root, c);
   if (const auto n = root["solver"]) c.solver = parse_solver(r, n);
   if (const auto n = root["output"]) c.output = parse_output(r, n);
   if (c.output.folder.empty()) c.output.folder = (fs::path("out") / c.deck_name).string();

@@ -69,6 +69,35 @@ std::string join(const std::vector<std::string>& words, const std::string& separ
   return out;
 }
 
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+YAML::Node required(const DeckReader& r, const YAML::Node& map, const std::string& key,
+                    const std::string& name) {
+  const YAML::Node node = map[name];
+  if (!node) r.fail(child_key(key, name), map, "required key missing");
+  return node;
+}
+
+std::string one_of(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                   const std::vector<std::string>& valid) {
+  const std::string name = r.text(node, key);
+  if (!contains(valid, name))
+    r.fail(key, node, "unknown name '" + name + "' (valid: " + join(valid) + ")");
+  return name;
+}
+
+void require(bool condition, const DeckReader& r, const YAML::Node& node, const std::string& key,
+             const std::string& reason) {
+  if (!condition) r.fail(key, node, reason);
+}
+
+void forbid(const DeckReader& r, const YAML::Node& map, const std::string& key,
+            const std::string& name, const std::string& reason) {
+  if (map[name]) r.fail(child_key(key, name), map[name], reason);
+}
+
 DeckReader::DeckReader(std::string file, std::map<std::string, std::string> override_of_key)
     : file_(std::move(file)), override_of_key_(std::move(override_of_key)) {}
 

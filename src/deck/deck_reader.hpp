@@ -46,6 +46,22 @@ class DeckReader {
   std::map<std::string, std::string> override_of_key_;
 };
 
+// Checks shared by the parsers of each section; each throws through r.fail.
+
+// The value of `map`'s key `name` (its path: child_key(key, name)), which must be there.
+YAML::Node required(const DeckReader& r, const YAML::Node& map, const std::string& key,
+                    const std::string& name);
+// A name that must be one of `valid` (the message lists them).
+std::string one_of(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                   const std::vector<std::string>& valid);
+void require(bool condition, const DeckReader& r, const YAML::Node& node, const std::string& key,
+             const std::string& reason);
+// A key that only matters in some configurations must not be given in the others.
+void forbid(const DeckReader& r, const YAML::Node& map, const std::string& key,
+            const std::string& name, const std::string& reason);
+
+bool contains(const std::vector<std::string>& names, const std::string& name);
+
 // "a.b" + "c" -> "a.b.c"; the root has the empty path.
 std::string child_key(const std::string& parent, const std::string& name);
 // "materials" + 2 -> "materials[2]".

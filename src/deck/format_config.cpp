@@ -98,7 +98,68 @@ void emit_loads(YAML::Emitter& out, const Config& c) {
   out << YAML::EndSeq << YAML::EndMap;
 }
 
-void emit_time(YAML::Emitter& out, const TimeConfig& t) {
+void emit_fluid_weight(YAML::Emitter& out, const FluidWeightConfig& w) {
+  out << YAML::Key << "fluid_weight" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "method" << YAML::Value << w.method;
+  if (w.method == "column") out << YAML::Key << "grid" << YAML::Value << w.grid;
+  out << YAML::Key << "device" << YAML::Value << w.device;
+  out << YAML::Key << "coupling" << YAML::Value << w.coupling;
+  out << YAML::EndMap;
+}
+
+// Each cavity with the keys of its kind only.
+void emit_cavities(YAML::Emitter& out, const std::vector<CavityConfig>& cavities) {
+  out << YAML::Key << "cavities" << YAML::Value;
+  if (cavities.empty()) out << YAML::Flow;
+  out << YAML::BeginSeq;
+  for (const auto& c : cavities) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "group" << YAML::Value << c.group;
+    out << YAML::Key << "kind" << YAML::Value << c.kind;
+    if (c.kind == "pneumatic" || c.kind == "hydraulic") {
+      if (c.added_volume)
+        emit_number(out, "added_volume", *c.added_volume);
+      else
+        emit_number(out, "pressure", c.pressure);
+    }
+    if (c.kind == "hydraulic") {
+      emit_number(out, "density", c.density);
+      emit_fluid_weight(out, c.fluid_weight);
+    }
+    if (c.kind == "sealed_gas") {
+      emit_number(out, "initial_pressure", c.initial_pressure);
+      emit_number(out, "atmospheric_pressure", c.atmospheric_pressure);
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
+// Only when the deck gave states: an empty list is not a valid deck (one implicit state).
+void emit_states(YAML::Emitter& out, const std::vector<StateConfig>& states) {
+  if (states.empty()) return;
+  out << YAML::Key << "states" << YAML::Value << YAML::BeginSeq;
+  for (const auto& s : states) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "name" << YAML::Value << s.name;
+    out << YAML::Key << "steps" << YAML::Value << s.steps;
+    if (!s.cavities.empty()) {
+      out << YAML::Key << "cavities" << YAML::Value << YAML::BeginMap;
+      for (const auto& [name, target] : s.cavities) {
+        out << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap;
+        if (target.pressure) emit_number(out, "pressure", *target.pressure);
+        if (target.added_volume) emit_number(out, "added_volume", *target.added_volume);
+        out << YAML::EndMap;
+      }
+      out << YAML::EndMap;
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
+// With states, the first state's steps replace time.steps (and a schedule).
+void emit_time(YAML::Emitter& out, const TimeConfig& t, bool has_states) {
   out << YAML::Key << "time" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "type" << YAML::Value << t.type;
   if (t.type == "dynamic") {
@@ -112,7 +173,7 @@ void emit_time(YAML::Emitter& out, const TimeConfig& t) {
       out << YAML::EndMap;
     }
   } else {
-    out << YAML::Key << "steps" << YAML::Value << t.steps;
+    if (!has_states) out << YAML::Key << "steps" << YAML::Value << t.steps;
     if (!t.schedule.empty()) emit_numbers(out, "schedule", t.schedule.data(), t.schedule.size());
     out << YAML::Key << "max_cutbacks" << YAML::Value << t.max_cutbacks;
   }
@@ -129,7 +190,15 @@ std::string format_config(const Config& c) {
   emit_materials(out, c.materials);
   emit_boundary(out, c.dirichlet);
   emit_loads(out, c);
-  emit_time(out, c.time);
+  // Cavities, states and tip belong to static and quasi-static runs only.
+  if (c.time.type != "dynamic") emit_cavities(out, c.cavities);
+  emit_time(out, c.time, !c.states.empty());
+  emit_states(out, c.states);
+  if (c.tip) {
+    out << YAML::Key << "tip" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "group" << YAML::Value << c.tip->group;
+    out << YAML::EndMap;
+  }
 
   out << YAML::Key << "solver" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "preset" << YAML::Value << c.solver.preset;

@@ -212,6 +212,154 @@ TEST_F(DeckErrors, OutputFolderThatIsNotOurs) {
   });
 }
 
+// The cavities, states and tip sections (docs/decks.md, "Cavities, states and tip").
+const std::string kBase = kMesh + kMaterials;
+
+std::string cavity(const std::string& fields) {
+  return kBase + "cavities:\n  - {" + fields + "}\n";
+}
+
+// A hydraulic cavity "c", a sealed gas "g", a sealed volume "v", and two states whose second
+// one has the given targets.
+std::string targets(const std::string& map) {
+  return kBase +
+         "cavities:\n  - {group: c, kind: hydraulic}\n  - {group: g, kind: sealed_gas}\n"
+         "  - {group: v, kind: sealed_volume}\n"
+         "states:\n  - {name: rest}\n  - {name: inflated, cavities: " +
+         map + "}\n";
+}
+
+TEST_F(DeckErrors, CavityKeysAndTypes) {
+  expect_errors({
+      {cavity("group: c, kind: hydraulic, densty: 1000"), "cavities[0].densty",
+       "unknown key (did you mean 'density'?"},
+      {kBase + "cavities: {group: c}\n", "cavities", "expected a list, got a map"},
+      {cavity("kind: pneumatic"), "cavities[0].group", "required key missing"},
+      {cavity("group: c, pressure: high"), "cavities[0].pressure", "expected a number, got 'high'"},
+      {cavity("group: c, added_volume: [1]"), "cavities[0].added_volume",
+       "expected a number, got a list"},
+      {cavity("group: c, kind: liquid"), "cavities[0].kind",
+       "unknown name 'liquid' (valid: pneumatic, hydraulic, sealed_gas, sealed_volume)"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: column"), "cavities[0].fluid_weight",
+       "expected a map, got 'column'"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {grids: 3}"),
+       "cavities[0].fluid_weight.grids", "did you mean 'grid'?"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {grid: 1.5}"),
+       "cavities[0].fluid_weight.grid", "expected an integer, got '1.5'"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {method: voxel}"),
+       "cavities[0].fluid_weight.method", "unknown name 'voxel' (valid: column, hydrostatic)"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {device: gpu}"),
+       "cavities[0].fluid_weight.device", "unknown name 'gpu' (valid: cpu, cuda)"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {coupling: full}"),
+       "cavities[0].fluid_weight.coupling", "unknown name 'full' (valid: converged, linearized)"},
+      {kBase + "cavities:\n  - {group: c}\n  - {group: c, kind: sealed_volume}\n",
+       "cavities[1].group", "duplicate cavity group 'c' (also in cavities[0])"},
+  });
+}
+
+TEST_F(DeckErrors, CavityKeysOfOtherKinds) {
+  expect_errors({
+      {cavity("group: c, density: 1000"), "cavities[0].density",
+       "only used by kind hydraulic (the liquid's density) (this cavity is pneumatic)"},
+      {cavity("group: c, kind: sealed_gas, density: 1.2"), "cavities[0].density",
+       "only used by kind hydraulic"},
+      {cavity("group: c, fluid_weight: {method: column}"), "cavities[0].fluid_weight",
+       "only used by kind hydraulic (how the liquid's weight reaches the walls) (this cavity is "
+       "pneumatic)"},
+      {cavity("group: c, kind: sealed_gas, pressure: 100"), "cavities[0].pressure",
+       "only used by kinds pneumatic and hydraulic (a sealed chamber is not actuated) (this "
+       "cavity is sealed_gas)"},
+      {cavity("group: c, kind: sealed_volume, added_volume: 1e-6"), "cavities[0].added_volume",
+       "only used by kinds pneumatic and hydraulic"},
+      {cavity("group: c, kind: hydraulic, initial_pressure: 0"), "cavities[0].initial_pressure",
+       "only used by kind sealed_gas (this cavity is hydraulic)"},
+      {cavity("group: c, kind: sealed_volume, atmospheric_pressure: 1e5"),
+       "cavities[0].atmospheric_pressure", "only used by kind sealed_gas"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {method: hydrostatic, grid: 100}"),
+       "cavities[0].fluid_weight.grid", "only used by method column (method is hydrostatic)"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {method: hydrostatic, device: cuda}"),
+       "cavities[0].fluid_weight.device", "cuda is only used by method column"},
+      {cavity("group: c, pressure: 100, added_volume: 1e-6"), "cavities[0]",
+       "give either pressure or added_volume, not both"},
+  });
+}
+
+TEST_F(DeckErrors, CavityNonPhysicalValues) {
+  expect_errors({
+      {cavity("group: c, kind: hydraulic, density: -1"), "cavities[0].density",
+       "must be >= 0, got -1"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {grid: 0}"),
+       "cavities[0].fluid_weight.grid", "must be >= 1, got 0"},
+      {cavity("group: c, kind: sealed_gas, atmospheric_pressure: 0"),
+       "cavities[0].atmospheric_pressure", "must be > 0, got 0"},
+      {cavity("group: c, kind: sealed_gas, initial_pressure: -101325"),
+       "cavities[0].initial_pressure",
+       "gives the absolute pressure initial_pressure + atmospheric_pressure = 0, must be > 0"},
+      {cavity("group: c, kind: sealed_gas, initial_pressure: -2e5, atmospheric_pressure: 1e5"),
+       "cavities[0].initial_pressure", "= -1e+05, must be > 0"},
+  });
+}
+
+TEST_F(DeckErrors, StatesAndTip) {
+  expect_errors({
+      {kBase + "states: {name: rest}\n", "states", "expected a list, got a map"},
+      {kBase + "states: []\n", "states", "must hold at least one state"},
+      {kBase + "states: [{steps: 2}]\n", "states[0].name", "required key missing"},
+      {kBase + "states: [{name: \"\"}]\n", "states[0].name", "must not be empty"},
+      {kBase + "states: [{name: rest, stpes: 2}]\n", "states[0].stpes", "did you mean 'steps'?"},
+      {kBase + "states: [{name: rest, steps: two}]\n", "states[0].steps",
+       "expected an integer, got 'two'"},
+      {kBase + "states: [{name: rest}, {name: up, steps: 0}]\n", "states[1].steps",
+       "must be >= 1, got 0"},
+      {kBase + "states: [{name: rest}, {name: rest}]\n", "states[1].name",
+       "duplicate state name 'rest' (also in states[0])"},
+      {kBase + "tip: {}\n", "tip.group", "required key missing"},
+      {kBase + "tip: tip\n", "tip", "expected a map, got 'tip'"},
+      {kBase + "tip: {group: tip, normal: z}\n", "tip.normal", "unknown key"},
+  });
+}
+
+TEST_F(DeckErrors, StateTargets) {
+  expect_errors({
+      {kBase + "cavities: [{group: c}]\nstates:\n  - {name: rest, cavities: {c: {pressure: "
+               "1}}}\n",
+       "states[0].cavities",
+       "not allowed in the first state: it ramps the load and the cavities' own controls"},
+      {targets("{d: {pressure: 1}}"), "states[1].cavities.d",
+       "not a declared cavity (did you mean 'c'? cavities: c, g, v)"},
+      {kBase + "states: [{name: rest}, {name: up, cavities: {c: {pressure: 1}}}]\n",
+       "states[1].cavities.c", "not a declared cavity (the deck has no cavities section)"},
+      {targets("[c]"), "states[1].cavities", "expected a map of cavity name"},
+      {targets("{c: 5}"), "states[1].cavities.c", "expected a map, got '5'"},
+      {targets("{c: {volume: 1e-6}}"), "states[1].cavities.c.volume",
+       "unknown key (did you mean 'pressure'? valid keys: pressure, added_volume)"},
+      {targets("{c: {pressure: 1, added_volume: 1e-6}}"), "states[1].cavities.c",
+       "give exactly one of pressure or added_volume"},
+      {targets("{c: {}}"), "states[1].cavities.c", "give exactly one of pressure or added_volume"},
+      {targets("{c: {pressure: high}}"), "states[1].cavities.c.pressure",
+       "expected a number, got 'high'"},
+      {targets("{c: {pressure: 1}, c: {pressure: 2}}"), "states[1].cavities.c", "duplicate key"},
+      {targets("{g: {pressure: 1}}"), "states[1].cavities.g",
+       "cavity 'g' is sealed_gas: sealed chambers are not actuated"},
+      {targets("{v: {added_volume: 1e-6}}"), "states[1].cavities.v",
+       "cavity 'v' is sealed_volume: sealed chambers are not actuated"},
+  });
+}
+
+TEST_F(DeckErrors, CavitiesAndStatesAgainstTime) {
+  const std::string dynamic = "time: {type: dynamic, dt: 0.1, end_time: 1}\n";
+  const std::string need = "cavities and states need time.type static or quasi_static";
+  expect_errors({
+      {cavity("group: c") + dynamic, "cavities", need},
+      {kBase + dynamic + "states: [{name: rest}]\n", "states", need},
+      {kBase + dynamic + "tip: {group: tip}\n", "tip", need},
+      {kBase + "time: {steps: 3}\nstates: [{name: rest, steps: 3}]\n", "time.steps",
+       "not used when states are given (the first state's steps replace it)"},
+      {kBase + "time: {type: quasi_static, schedule: [0.5, 1]}\nstates: [{name: rest}]\n",
+       "time.schedule", "not used when states are given"},
+  });
+}
+
 std::string error_of(const std::string& path) {
   try {
     parse_deck(path);

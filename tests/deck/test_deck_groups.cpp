@@ -100,5 +100,23 @@ TEST(CheckGroups, PressureGroupNotASurface) {
             "robot.yaml: loads.pressure[0].group: group 'outer' is not in the mesh " + kListing);
 }
 
+TEST(CheckGroups, CavityAndTipGroupsAreSurfaces) {
+  Config c = valid_config();
+  c.cavities = {CavityConfig{}};
+  c.cavities[0].group = "inner";
+  c.tip = TipConfig{"inner"};
+  EXPECT_EQ(error_of(c), "no error");
+  c.cavities[0].group = "tip";
+  EXPECT_EQ(error_of(c), "robot.yaml: cavities[0].group: group 'tip' is not a surface " + kListing);
+  c.cavities[0].group = "cavity";
+  EXPECT_EQ(error_of(c),
+            "robot.yaml: cavities[0].group: group 'cavity' is not in the mesh " + kListing);
+  c.cavities[0].group = "inner";
+  c.tip = TipConfig{"body"};
+  EXPECT_EQ(error_of(c), "robot.yaml: tip.group: group 'body' is not a surface " + kListing);
+  c.tip = TipConfig{"empty"};
+  EXPECT_EQ(error_of(c), "robot.yaml: tip.group: group 'empty' has no nodes " + kListing);
+}
+
 }  // namespace
 }  // namespace hs

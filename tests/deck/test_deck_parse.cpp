@@ -49,6 +49,38 @@ exact:
   parameters: {a: 1, b: 2, p: 2.5e3}
 )";
 
+// Every key of the cavities, states and tip sections; each kind of cavity once.
+const char* kCavityDeck = R"(mesh: {file: body.msh}
+materials:
+  - {group: body, model: neo_hookean, E: 1.0e5, nu: 0.45, density: 1070}
+boundary:
+  - {group: top}
+loads: {gravity: [0, -9.81, 0]}
+cavities:
+  - group: cavity
+    kind: hydraulic
+    added_volume: 1.5e-5
+    density: 13600
+    fluid_weight: {method: column, grid: 64, device: cuda, coupling: linearized}
+  - {group: bladder, kind: pneumatic, pressure: 2.0e3}
+  - {group: open}
+  - {group: chamber, kind: sealed_gas, initial_pressure: -5.0e3, atmospheric_pressure: 1.0e5}
+  - {group: core, kind: sealed_volume}
+  - {group: water, kind: hydraulic, fluid_weight: {method: hydrostatic}}
+  - {group: bubble, kind: sealed_gas}
+time: {type: quasi_static, max_cutbacks: 4}
+states:
+  - name: rest
+    steps: 4
+  - name: inflated
+    steps: 10
+    cavities:
+      cavity: {added_volume: 3.0e-5}
+      bladder: {pressure: 5.0e3}
+  - {name: hold}
+tip: {group: tip}
+)";
+
 const char* kDynamicDeck = R"(mesh: {file: body.msh}
 materials:
   - {group: body, model: corotational, E: 1.0e6, nu: 0.3, density: 1000}
@@ -102,6 +134,34 @@ void expect_same(const Config& a, const Config& b) {
   EXPECT_EQ(a.output.every, b.output.every);
   EXPECT_EQ(a.exact.type, b.exact.type);
   EXPECT_EQ(a.exact.parameters, b.exact.parameters);
+  ASSERT_EQ(a.cavities.size(), b.cavities.size());
+  for (size_t i = 0; i < a.cavities.size(); ++i) {
+    const auto &p = a.cavities[i], &q = b.cavities[i];
+    EXPECT_EQ(p.group, q.group);
+    EXPECT_EQ(p.kind, q.kind);
+    EXPECT_EQ(p.pressure, q.pressure);
+    EXPECT_EQ(p.added_volume, q.added_volume);
+    EXPECT_EQ(p.density, q.density);
+    EXPECT_EQ(p.fluid_weight.method, q.fluid_weight.method);
+    EXPECT_EQ(p.fluid_weight.grid, q.fluid_weight.grid);
+    EXPECT_EQ(p.fluid_weight.device, q.fluid_weight.device);
+    EXPECT_EQ(p.fluid_weight.coupling, q.fluid_weight.coupling);
+    EXPECT_EQ(p.initial_pressure, q.initial_pressure);
+    EXPECT_EQ(p.atmospheric_pressure, q.atmospheric_pressure);
+  }
+  ASSERT_EQ(a.states.size(), b.states.size());
+  for (size_t i = 0; i < a.states.size(); ++i) {
+    EXPECT_EQ(a.states[i].name, b.states[i].name);
+    EXPECT_EQ(a.states[i].steps, b.states[i].steps);
+    ASSERT_EQ(a.states[i].cavities.size(), b.states[i].cavities.size());
+    for (const auto& [name, target] : a.states[i].cavities) {
+      ASSERT_TRUE(b.states[i].cavities.count(name)) << name;
+      EXPECT_EQ(target.pressure, b.states[i].cavities.at(name).pressure);
+      EXPECT_EQ(target.added_volume, b.states[i].cavities.at(name).added_volume);
+    }
+  }
+  ASSERT_EQ(a.tip.has_value(), b.tip.has_value());
+  if (a.tip) EXPECT_EQ(a.tip->group, b.tip->group);
 }
 
 class DeckParse : public ::testing::Test {
@@ -181,10 +241,90 @@ TEST_F(DeckParse, FillsDefaults) {
   EXPECT_EQ(c.output.folder, "out/minimal");  // relative to the working directory
   EXPECT_EQ(c.output.every, 1);
   EXPECT_EQ(c.exact.type, "none");
+  EXPECT_TRUE(c.cavities.empty());
+  EXPECT_TRUE(c.states.empty());  // one implicit state, the load ramp over time.steps
+  EXPECT_FALSE(c.tip.has_value());
+}
+
+TEST_F(DeckParse, ReadsCavitiesStatesAndTip) {
+  const Config c = parse_deck(tmp.write("decks/cavities.yaml", kCavityDeck));
+  ASSERT_EQ(c.cavities.size(), 7u);
+
+  const auto& hydraulic = c.cavities[0];
+  EXPECT_EQ(hydraulic.group, "cavity");
+  EXPECT_EQ(hydraulic.kind, "hydraulic");
+  EXPECT_EQ(hydraulic.added_volume, 1.5e-5);
+  EXPECT_EQ(hydraulic.pressure, 0);     // an unknown of the run when the volume is given
+  EXPECT_EQ(hydraulic.density, 13600);  // mercury
+  EXPECT_EQ(hydraulic.fluid_weight.method, "column");
+  EXPECT_EQ(hydraulic.fluid_weight.grid, 64);
+  EXPECT_EQ(hydraulic.fluid_weight.device, "cuda");
+  EXPECT_EQ(hydraulic.fluid_weight.coupling, "linearized");
+
+  EXPECT_EQ(c.cavities[1].kind, "pneumatic");
+  EXPECT_EQ(c.cavities[1].pressure, 2.0e3);
+  EXPECT_FALSE(c.cavities[1].added_volume.has_value());
+
+  // No control at all: an open cavity at gauge pressure 0.
+  const auto& open = c.cavities[2];
+  EXPECT_EQ(open.kind, "pneumatic");
+  EXPECT_EQ(open.pressure, 0);
+  EXPECT_FALSE(open.added_volume.has_value());
+  EXPECT_EQ(open.density, 0);
+
+  EXPECT_EQ(c.cavities[3].kind, "sealed_gas");
+  EXPECT_EQ(c.cavities[3].initial_pressure, -5.0e3);
+  EXPECT_EQ(c.cavities[3].atmospheric_pressure, 1.0e5);
+  EXPECT_EQ(c.cavities[4].kind, "sealed_volume");
+  // A sealed gas without its keys: gauge 0 at the mesh's volume, standard atmosphere.
+  EXPECT_EQ(c.cavities[6].initial_pressure, 0);
+  EXPECT_EQ(c.cavities[6].atmospheric_pressure, 101325);
+
+  // Hydraulic defaults: a weightless liquid; the fluid-weight keys not given keep theirs.
+  const auto& water = c.cavities[5];
+  EXPECT_EQ(water.density, 0);
+  EXPECT_EQ(water.fluid_weight.method, "hydrostatic");
+  EXPECT_EQ(water.fluid_weight.device, "cpu");
+  EXPECT_EQ(water.fluid_weight.coupling, "converged");
+
+  ASSERT_EQ(c.states.size(), 3u);
+  EXPECT_EQ(c.states[0].name, "rest");
+  EXPECT_EQ(c.states[0].steps, 4);
+  EXPECT_TRUE(c.states[0].cavities.empty());
+  EXPECT_EQ(c.time.steps, 4);  // the first state's steps replace time.steps
+  EXPECT_EQ(c.time.max_cutbacks, 4);
+  EXPECT_EQ(c.states[1].name, "inflated");
+  EXPECT_EQ(c.states[1].steps, 10);
+  ASSERT_EQ(c.states[1].cavities.size(), 2u);
+  EXPECT_EQ(c.states[1].cavities.at("cavity").added_volume, 3.0e-5);
+  EXPECT_FALSE(c.states[1].cavities.at("cavity").pressure.has_value());
+  EXPECT_EQ(c.states[1].cavities.at("bladder").pressure, 5.0e3);
+  EXPECT_FALSE(c.states[1].cavities.at("bladder").added_volume.has_value());
+  EXPECT_EQ(c.states[2].name, "hold");
+  EXPECT_EQ(c.states[2].steps, 1);  // default
+  EXPECT_TRUE(c.states[2].cavities.empty());
+
+  ASSERT_TRUE(c.tip.has_value());
+  EXPECT_EQ(c.tip->group, "tip");
+}
+
+TEST_F(DeckParse, CavitiesWithoutStates) {
+  // Cavities alone: one implicit state, their controls ramped with the load over time.steps.
+  const Config c = parse_deck(tmp.write("decks/one_state.yaml", R"(mesh: {file: body.msh}
+materials: [{group: body, model: neo_hookean, E: 1.0e5, nu: 0.45}]
+cavities: [{group: cavity, added_volume: -1.0e-6}]
+time: {steps: 6}
+)"));
+  ASSERT_EQ(c.cavities.size(), 1u);
+  EXPECT_EQ(c.cavities[0].kind, "pneumatic");
+  EXPECT_EQ(c.cavities[0].added_volume, -1.0e-6);  // a negative added volume deflates
+  EXPECT_TRUE(c.states.empty());
+  EXPECT_EQ(c.time.steps, 6);
+  EXPECT_FALSE(c.tip.has_value());
 }
 
 TEST_F(DeckParse, RoundTripThroughFormatConfig) {
-  for (const char* text : {kFullDeck, kDynamicDeck}) {
+  for (const char* text : {kFullDeck, kDynamicDeck, kCavityDeck}) {
     const Config first = parse_deck(tmp.write("decks/deck.yaml", text));
     // Written elsewhere: the printed mesh path is absolute, so the copy reads the same mesh.
     const std::string printed = format_config(first);
@@ -296,6 +436,26 @@ materials:
   }
 }
 
+TEST_F(DeckParse, OverridesReachCavitiesAndStates) {
+  const std::string path = tmp.write("decks/cavity.yaml", R"(mesh: {file: body.msh}
+materials: [{group: body, model: neo_hookean, E: 1.0e5, nu: 0.45}]
+cavities: [{group: cavity, pressure: 1000}]
+states:
+  - {name: rest}
+  - {name: inflated, cavities: {cavity: {pressure: 2000}}}
+)");
+  const Config c = parse_deck(path, {"cavities[0].kind=hydraulic", "cavities[0].density=1000",
+                                     "states[1].cavities.cavity.pressure=3000"});
+  EXPECT_EQ(c.cavities[0].kind, "hydraulic");
+  EXPECT_EQ(c.cavities[0].density, 1000);
+  EXPECT_EQ(c.states[1].cavities.at("cavity").pressure, 3000);
+  const std::string message = error_of(path, {"cavities[0].density=-1"});
+  EXPECT_NE(message.find(path + ": cavities[0].density: only used by kind hydraulic"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("override 'cavities[0].density=-1'"), std::string::npos) << message;
+}
+
 // The decks shipped with the repository stay valid as the format evolves.
 TEST(RepositoryDecks, AllParseAndRoundTrip) {
   namespace fs = std::filesystem;
@@ -314,7 +474,8 @@ TEST(RepositoryDecks, AllParseAndRoundTrip) {
   EXPECT_GT(count, 0);
 }
 
-// The complete example of docs/decks.md is a valid deck, also with its dynamic time section.
+// The examples of docs/decks.md are valid decks: the cavity example, and the complete example,
+// also with its dynamic time section.
 TEST(DocumentedExample, Parses) {
   std::ifstream in(std::string(HYDROSOFT_SOURCE_DIR) + "/docs/decks.md");
   std::stringstream text;
@@ -326,9 +487,16 @@ TEST(DocumentedExample, Parses) {
     const size_t end = doc.find(close, at);
     blocks.push_back(doc.substr(at, end - at));
   }
-  ASSERT_EQ(blocks.size(), 2u);
+  ASSERT_EQ(blocks.size(), 3u);
   TempFolder tmp;
   tmp.write("meshes/lame_sphere.geo", "");
+  tmp.write("meshes/cylinder.geo", "");
+  // The cavity example is a deck of its own.
+  const Config cavity = parse_deck(tmp.write("input/cavity.yaml", blocks[0]));
+  ASSERT_EQ(cavity.states.size(), 2u);
+  EXPECT_EQ(cavity.states[1].cavities.at("cavity").added_volume, 1.5e-5);
+  EXPECT_EQ(cavity.time.steps, 4);
+  blocks.erase(blocks.begin());
   const Config c = parse_deck(tmp.write("input/example.yaml", blocks[0]));
   EXPECT_EQ(c.materials[0].c1, 4.0e4);
   EXPECT_EQ(c.time.steps, 5);
