@@ -5,7 +5,7 @@
 // (median of the repeats); GPU: CUDA events around replays of the captured CUDA graph of one
 // call (median of 50 replays, after two warm-up calls), and the whole call with its transfers.
 //
-//   bench_fluidweight [--meshes DIR] [--out FILE] [--quick]
+//   bench_fluidweight [--meshes DIR] [--out FILE] [--quick] [--targets]
 // DIR holds armadillo.obj and the other meshes of docs/fluidweight.md (skipped when absent).
 #include <algorithm>
 #include <cmath>
@@ -28,6 +28,7 @@ namespace {
 
 std::ofstream json;
 bool quick = false;
+bool only_targets = false;  // --targets: the cases only
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -300,6 +301,51 @@ fw::SurfaceMesh rotated_copy(const fw::SurfaceMesh& m, double angle, double shif
   return r;
 }
 
+// The targets only (--targets): tiled f32/f64 graph replays for the armadillo at
+// 1000^2 and 1500^2, the sphere at 200^2, four spheres at 200^2 batched; the CPU fast path on
+// one thread for the armadillo at 1000^2. Each GPU figure is timed twice (two contexts) so that
+// the spread shows.
+void targets(const std::map<std::string, fw::SurfaceMesh>& files, const fw::SurfaceMesh& sphere,
+             bool gpu) {
+  std::vector<std::pair<std::string, std::pair<std::vector<fw::SurfaceMesh>, int>>> cases;
+  if (files.count("armadillo.obj")) {
+    cases.push_back({"armadillo 1000^2", {{files.at("armadillo.obj")}, 1000}});
+    cases.push_back({"armadillo 1500^2", {{files.at("armadillo.obj")}, 1500}});
+    cases.push_back({"armadillo 200^2", {{files.at("armadillo.obj")}, 200}});
+  }
+  cases.push_back({"sphere 200^2", {{sphere}, 200}});
+  cases.push_back({"sphere 1000^2", {{sphere}, 1000}});
+  std::vector<fw::SurfaceMesh> spheres;
+  for (int c = 0; c < 4; ++c) spheres.push_back(rotated_copy(sphere, 0.3 * c, 3.0 * c));
+  cases.push_back({"4 spheres 200^2", {spheres, 200}});
+  std::printf("\n### Targets\n\n| case | kernel | us (run 1) | us (run 2) | volume | unmatched |\n"
+              "|---|---|---|---|---|---|\n");
+  for (auto& [name, c] : cases) {
+    if (!gpu) break;
+    for (auto p : {fw::Precision::float32, fw::Precision::float64}) {
+      Timed a = time_gpu(c.first, c.second, fw::Kernel::tiled, p);
+      Timed b = time_gpu(c.first, c.second, fw::Kernel::tiled, p);
+      long long unmatched = 0;
+      for (auto& r : a.results) unmatched += r.unmatched_columns;
+      std::printf("| %s | %s | %.1f | %.1f | %.9g | %lld |\n", name.c_str(),
+                  short_name(fw::Kernel::tiled, p).c_str(), 1000 * a.ms, 1000 * b.ms,
+                  a.results.front().column_volume, unmatched);
+      record(kv("targets", name) + ", " + kv("kernel", short_name(fw::Kernel::tiled, p)) + ", " +
+             kv("us", 1000 * a.ms) + ", " + kv("us2", 1000 * b.ms) + ", " +
+             kv("volume", a.results.front().column_volume));
+      std::fflush(stdout);
+    }
+  }
+  if (files.count("armadillo.obj")) {
+    for (int n : {200, 1000}) {
+      Timed t = time_cpu({files.at("armadillo.obj")}, n, 1);
+      std::printf("| armadillo %d^2 | CPU 1 thread | %.2f ms | | %.9g | %lld |\n", n, t.ms,
+                  t.results.front().column_volume, t.results.front().unmatched_columns);
+      record(kv("targets", "armadillo cpu1 " + std::to_string(n)) + ", " + kv("ms", t.ms));
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -312,8 +358,10 @@ int main(int argc, char** argv) {
       out = argv[++k];
     else if (a == "--quick")
       quick = true;
+    else if (a == "--targets")
+      only_targets = true;
     else {
-      std::fprintf(stderr, "usage: bench_fluidweight [--meshes DIR] [--out FILE] [--quick]\n");
+      std::fprintf(stderr, "usage: bench_fluidweight [--meshes DIR] [--out FILE] [--quick] [--targets]\n");
       return 2;
     }
   }
@@ -331,6 +379,10 @@ int main(int argc, char** argv) {
     if (!dir.empty() && std::ifstream(path)) files[name] = fw::read_surface(path);
   }
   const fw::SurfaceMesh sphere = fw::shapes::icosphere(4);
+  if (only_targets) {
+    targets(files, sphere, gpu);
+    return 0;
+  }
   table_one("sphere, radius 1", sphere, gpu, threads);
   if (files.count("armadillo.obj")) table_one("armadillo", files["armadillo.obj"], gpu, threads);
 

@@ -93,6 +93,11 @@ class Backend : public DeviceBackend {
     check(cudaEventCreate(&start_), "cudaEventCreate");
     check(cudaEventCreate(&stop_), "cudaEventCreate");
     tile_bits_ = options.tile == 8 ? 3 : options.tile == 16 ? 4 : (options.grid >= 128 ? 4 : 3);
+    // Diagnostic, timing only: FLUIDWEIGHT_TILE_BLOCKS=k runs the tiled kernel as a persistent
+    // grid of k blocks per multiprocessor (0: one block per tile).
+    if (const char* blocks = std::getenv("FLUIDWEIGHT_TILE_BLOCKS")) {
+      tile_blocks_per_sm_ = std::atoi(blocks);
+    }
   }
 
   ~Backend() override {
@@ -233,7 +238,7 @@ class Backend : public DeviceBackend {
       names.push_back("hydrostatic");
     } else if (tiled) {
       stages.push_back([&] { gpu::launch_setup(b, true, stream_); });
-      stages.push_back([&] { gpu::launch_tiles(b, stream_); });
+      stages.push_back([&] { gpu::launch_tiles(b, sms_, tile_blocks_per_sm_, stream_); });
       names.insert(names.end(), {"setup+bin", "tiles"});
     } else {
       stages.push_back([&] { gpu::launch_setup(b, false, stream_); });
@@ -313,7 +318,9 @@ class Backend : public DeviceBackend {
       again = true;
     }
     if (s.max_column_hits > column_capacity_) {
-      column_capacity_ = next_power_of_two(s.max_column_hits);
+      // A multiple of 4, not a power of two: the tiled kernel's shared memory grows with it
+      // (18 hits would take 32 slots, halving the blocks an SM holds).
+      column_capacity_ = (s.max_column_hits + 3) / 4 * 4;
       again = true;
     }
     if (again) {
@@ -384,7 +391,7 @@ class Backend : public DeviceBackend {
       if (stages >= 2) gpu::launch_hydrostatic(b, stream_);
     } else if (tiled) {
       if (stages >= 2) gpu::launch_setup(b, true, stream_);
-      if (stages >= 3) gpu::launch_tiles(b, stream_);
+      if (stages >= 3) gpu::launch_tiles(b, sms_, tile_blocks_per_sm_, stream_);
     } else {
       if (stages >= 2) gpu::launch_setup(b, false, stream_);
       if (stages >= 3) {
@@ -408,6 +415,7 @@ class Backend : public DeviceBackend {
   cudaGraphExec_t graph_ = nullptr;
   int num_cavities_ = 0, num_vertices_ = 0, num_triangles_ = 0, num_jobs_ = 0, setup_blocks_ = 1;
   std::vector<int> vertex_begin_;
+  int tile_blocks_per_sm_ = 0;  // tiled kernel: persistent grid of this many blocks an SM, or 0
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
 
   DeviceArray<double> xyz_, partials_;

@@ -159,7 +159,7 @@ void launch_raster(const Batch<Real>& b, bool leveraging, int num_sms, cudaStrea
 template <typename Real>
 void launch_columns(const Batch<Real>& b, cudaStream_t stream);
 template <typename Real>
-void launch_tiles(const Batch<Real>& b, cudaStream_t stream);
+void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStream_t stream);
 template <typename Real>
 void launch_hydrostatic(const Batch<Real>& b, cudaStream_t stream);
 // Dynamic shared memory of tile_kernel; the host raises the kernel's limit to it.

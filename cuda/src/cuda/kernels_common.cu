@@ -126,23 +126,23 @@ __device__ int block_grids(const Batch<Real>& b, int first_triangle, int last_tr
 constexpr int kMaxBlockCavities = kBlock / 4 + 1;
 
 // Step 2 for one triangle; false when it covers no column.
+// The triangle's corners (vertex indices v, positions p) are loaded by the caller, before the
+// grid is known, so that their loads overlap the reduction of the partials.
 template <typename Real>
-__device__ bool make_devtri(const Batch<Real>& b, int t, int cavity, const GridParams& g,
-                            DevTri<Real>& d) {
+__device__ bool make_devtri(const Batch<Real>& b, const int (&v)[3], const Vec3 (&p)[3], int cavity,
+                            const GridParams& g, DevTri<Real>& d) {
   d = DevTri<Real>{};
   d.flags = cavity << 4;
   d.i0 = d.j0 = 1;
   d.i1 = d.j1 = 0;
   if (g.empty) return false;
-  const int* v = b.triangles + 3 * t;
   const int units = g.n << g.sub_bits;
   int sx[3], sy[3];
   double z[3];
   for (int k = 0; k < 3; ++k) {
-    Vec3 p = load_vec3(b.xyz, v[k]);
-    sx[k] = snap(dot_rn(p, b.frame.e1), g.a0, g.scale_a, units);
-    sy[k] = snap(dot_rn(p, b.frame.e2), g.b0, g.scale_b, units);
-    z[k] = dot_rn(p, b.frame.up) - g.u0;
+    sx[k] = snap(dot_rn(p[k], b.frame.e1), g.a0, g.scale_a, units);
+    sy[k] = snap(dot_rn(p[k], b.frame.e2), g.b0, g.scale_b, units);
+    z[k] = dot_rn(p[k], b.frame.up) - g.u0;
   }
   SnappedTriangle s;
   if (!setup_triangle(sx, sy, g.orientation, g.n, g.sub_bits, &s)) return false;
@@ -200,13 +200,20 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
   __shared__ DevTri<Real> staged[kBlock];
   const int first = blockIdx.x * blockDim.x;
   const int last = min(first + static_cast<int>(blockDim.x), b.num_triangles) - 1;
-  const int c0 = block_grids(b, first, last, grids, kMaxBlockCavities);
   const int t = first + threadIdx.x;
+  // The triangle's corners first: their loads are in flight while the grid is reduced.
+  int v[3] = {0, 0, 0}, cavity = 0;
+  Vec3 p[3] = {};
+  if (t < b.num_triangles) {
+    cavity = b.tri_cavity[t];
+    for (int k = 0; k < 3; ++k) v[k] = b.triangles[3 * t + k];
+    for (int k = 0; k < 3; ++k) p[k] = load_vec3(b.xyz, v[k]);
+  }
+  const int c0 = block_grids(b, first, last, grids, kMaxBlockCavities);
   DevTri<Real> d;
   bool valid = false;
   if (t < b.num_triangles) {
-    const int cavity = b.tri_cavity[t];
-    valid = make_devtri(b, t, cavity, grids[cavity - c0], d);
+    valid = make_devtri(b, v, p, cavity, grids[cavity - c0], d);
     staged[threadIdx.x] = d;
   }
   // The block's triangles leave in consecutive 16-byte pieces (coalesced).

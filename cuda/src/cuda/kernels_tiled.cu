@@ -9,6 +9,8 @@
 // column cost the same per candidate, whatever the mix: the balance the leveraging kernel gets
 // from its average c, here exact per tile. Hits go to per-column slots in shared memory; then
 // each thread resolves one column (Step 5) and only the nodal weights leave the chip.
+#include <algorithm>
+
 #include <cub/block/block_reduce.cuh>
 #include <cub/block/block_scan.cuh>
 
@@ -17,12 +19,14 @@
 namespace fluidweight::detail::gpu {
 namespace {
 
-// A round's triangles, staged in shared memory (structure of arrays: no bank conflicts).
+// A round's triangles, staged in shared memory (structure of arrays: no bank conflicts). The
+// height plane is set up once per triangle when it is staged: z0 at the first candidate
+// (ci, cj) of its rectangle in the tile, dzi and dzj its steps along a row and a column.
 template <typename Real, int N>
 struct Staged {
   int x[3][N], y[3][N], vertex[3][N];
   int flags[N], tri[N], ci[N], cj[N], width[N], offset[N + 1];
-  Real z[3][N];
+  Real z0[N], dzi[N], dzj[N];
 };
 
 // Floors for Step 5: the last round's triangles from shared memory, earlier ones from global.
@@ -48,8 +52,12 @@ struct TileFloors {
   }
 };
 
+// One tile: Steps 3-5 of its columns. `listed` and `first_entry` (this thread's first list
+// entry, read before the count was known: the list has room for at least kThreads entries and
+// an entry past the count is not used) were loaded by the caller, ahead of time.
 template <typename Real, int TILE>
-__global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_kernel(Batch<Real> b) {
+__device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int listed,
+                                             int first_entry) {
   constexpr int kThreads = TILE * TILE;  // also the columns of a tile
   using Scan = cub::BlockScan<int, kThreads>;
   using Reduce = cub::BlockReduce<double, kThreads>;
@@ -67,11 +75,11 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   int* s_count = s_tag + capacity * kThreads;
 
   const int tiles_per_cavity = b.tiles_per_side * b.tiles_per_side;
-  const int tile = blockIdx.x, cavity = tile / tiles_per_cavity;
+  const int cavity = tile / tiles_per_cavity;
   const int local_tile = tile % tiles_per_cavity;
   const int ti0 = (local_tile % b.tiles_per_side) * TILE;
   const int tj0 = (local_tile / b.tiles_per_side) * TILE;
-  const int listed = b.tile_count[tile];
+  const int* list = b.tile_list + static_cast<size_t>(tile) * b.tile_capacity;
   if (listed > b.tile_capacity) {
     if (threadIdx.x == 0) atomicMax(&b.status->max_tile_count, listed);
     return;
@@ -80,7 +88,6 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   if (items == 0) return;
   const GridParams grid = b.cavities[cavity].grid;
   const int sub_bits = grid.sub_bits;
-  const int* list = b.tile_list + static_cast<size_t>(tile) * b.tile_capacity;
   s_count[threadIdx.x] = 0;
 
   int first = 0;
@@ -90,7 +97,7 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
     int tri = 0, count = 0, ci = 0, cj = 0, width = 0;
     DevTri<Real> t{};
     if (e < items) {
-      tri = e < listed ? list[e] : b.big_list[e - listed];
+      tri = e < listed ? (first == 0 ? first_entry : list[e]) : b.big_list[e - listed];
       t = load_tri(&b.tris[tri]);
       if (cavity_of(t.flags) == cavity) {
         ci = max(t.i0, ti0);
@@ -104,11 +111,35 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
     int offset, total;
     Scan(storage.scan).ExclusiveSum(count, offset, total);
     const int k = threadIdx.x;
+    {
+      // The height plane at the first candidate and its steps, once per triangle, so that a
+      // thread entering the triangle needs no division.
+      const int px = column_centre(ci, sub_bits), py = column_centre(cj, sub_bits);
+      Real area = 0, z0 = 0, zi = 0, zj = 0;
+      if (count > 0) {
+        for (int c = 0; c < 3; ++c) {
+          const int p = (c + 1) % 3, q = (c + 2) % 3;
+          const int64_t ec = edge_function(t.x[p], t.y[p], t.x[q], t.y[q], px, py);
+          const int64_t di = -static_cast<int64_t>(t.y[q] - t.y[p]) << sub_bits;
+          const int64_t dj = static_cast<int64_t>(t.x[q] - t.x[p]) << sub_bits;
+          area += static_cast<Real>(ec);
+          z0 += static_cast<Real>(ec) * t.z[c];
+          zi += static_cast<Real>(di) * t.z[c];
+          zj += static_cast<Real>(dj) * t.z[c];
+        }
+        const Real inv = Real(1) / area;
+        z0 *= inv;
+        zi *= inv;
+        zj *= inv;
+      }
+      s.z0[k] = z0;
+      s.dzi[k] = zi;
+      s.dzj[k] = zj;
+    }
     for (int c = 0; c < 3; ++c) {
       s.x[c][k] = t.x[c];
       s.y[c][k] = t.y[c];
       s.vertex[c][k] = t.vertex[c];
-      s.z[c][k] = t.z[c];
     }
     s.flags[k] = t.flags;
     s.tri[k] = tri;
@@ -144,35 +175,29 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
             ++item;
             next = s.offset[item + 1];
           } while (f >= next);
+          // Entering a triangle: its edge functions at this candidate and their steps; the
+          // height from the plane staged with it (no division, no 64-bit conversions).
           w = s.width[item];
-          li = (f - s.offset[item]) % w;
-          const int lj = (f - s.offset[item]) / w;
+          const int q0 = f - s.offset[item];
+          // q0 < TILE^2 and w <= TILE: the float quotient is exact after truncation.
+          const int lj = __float2int_rz(__fdividef(static_cast<float>(q0) + 0.5f, static_cast<float>(w)));
+          li = q0 - lj * w;
           const int i = s.ci[item] + li, j = s.cj[item] + lj;
           const int px = column_centre(i, sub_bits), py = column_centre(j, sub_bits);
           const int flags = s.flags[item];
-          int x[3], y[3];
-          for (int c = 0; c < 3; ++c) {
-            x[c] = s.x[c][item];
-            y[c] = s.y[c][item];
-          }
-          Real area = 0, zi = 0, zj = 0, z0 = 0;
           for (int c = 0; c < 3; ++c) {
             const int p = (c + 1) % 3, q = (c + 2) % 3;
-            e[c] = edge_function(x[p], y[p], x[q], y[q], px, py);
-            step[c] = -static_cast<int64_t>(y[q] - y[p]) << sub_bits;
-            const int64_t row = static_cast<int64_t>(x[q] - x[p]) << sub_bits;
-            wrap[c] = row - step[c] * (w - 1);
+            const int xp = s.x[p][item], yp = s.y[p][item];
+            const int xq = s.x[q][item], yq = s.y[q][item];
+            e[c] = edge_function(xp, yp, xq, yq, px, py);
+            step[c] = -static_cast<int64_t>(yq - yp) << sub_bits;
+            wrap[c] = (static_cast<int64_t>(xq - xp) << sub_bits) - step[c] * (w - 1);
             e_min[c] = (flags >> c) & 1;
-            const Real zc = s.z[c][item];
-            area += static_cast<Real>(e[c]);
-            z0 += static_cast<Real>(e[c]) * zc;
-            zi += static_cast<Real>(step[c]) * zc;
-            zj += static_cast<Real>(row) * zc;
           }
-          const Real inv = Real(1) / area;
-          z = z0 * inv;
-          dz = zi * inv;
-          dz_wrap = (zj - zi * (w - 1)) * inv;
+          dz = s.dzi[item];
+          const Real dzj = s.dzj[item];
+          z = s.z0[item] + dz * static_cast<Real>(li) + dzj * static_cast<Real>(lj);
+          dz_wrap = dzj - dz * static_cast<Real>(w - 1);
           col = (j - tj0) * TILE + (i - ti0);
           tag = is_floor(flags) ? ~(first + item) : first + item;
         }
@@ -216,9 +241,36 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   __syncthreads();
   unsigned u = ReduceCount(storage.count).Sum(unmatched);
   if (threadIdx.x == 0) {
-    const int stripe = blockIdx.x % kStripes;
+    const int stripe = tile % kStripes;
     if (sum != 0.0) atomicAdd(&b.cavities[cavity].sum_heights[stripe], sum);
     if (u) atomicAdd(&b.cavities[cavity].unmatched[stripe], static_cast<unsigned long long>(u));
+  }
+}
+
+// A block takes tiles blockIdx.x, blockIdx.x + gridDim.x, ... (one tile when the grid has a
+// block per tile; a persistent grid of the blocks the GPU holds at once otherwise). The next
+// tile's count and first list entries are loaded before this one is worked on, so an empty
+// tile costs no round trip and a full one starts with its triangles' loads.
+template <typename Real, int TILE>
+__global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_kernel(Batch<Real> b) {
+  const int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
+  int tile = blockIdx.x;
+  if (tile >= tiles) return;
+  auto entry = [&](int t) { return b.tile_list[static_cast<size_t>(t) * b.tile_capacity + threadIdx.x]; };
+  int listed = b.tile_count[tile], first_entry = entry(tile);
+  while (true) {
+    const int next = tile + gridDim.x;
+    int next_listed = 0, next_entry = 0;
+    if (next < tiles) {
+      next_listed = b.tile_count[next];
+      next_entry = entry(next);
+    }
+    tile_columns<Real, TILE>(b, tile, listed, first_entry);
+    if (next >= tiles) break;
+    __syncthreads();  // shared memory is reused by the next tile
+    tile = next;
+    listed = next_listed;
+    first_entry = next_entry;
   }
 }
 
@@ -238,14 +290,22 @@ void allow_tile_shared(size_t bytes) {
                        static_cast<int>(bytes));
 }
 
+// blocks_per_sm > 0: a persistent grid of that many blocks per multiprocessor (at most the
+// occupancy allows); 0: one block per tile.
 template <typename Real>
-void launch_tiles(const Batch<Real>& b, cudaStream_t stream) {
+void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStream_t stream) {
   int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
   size_t shared = tile_shared_bytes<Real>(b.tile_bits, b.column_capacity);
+  auto grid = [&](auto kernel, int threads) {
+    if (blocks_per_sm <= 0) return tiles;
+    int fit = 0;
+    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&fit, kernel, threads, shared);
+    return std::max(1, std::min(tiles, num_sms * std::min(std::max(fit, 1), blocks_per_sm)));
+  };
   if (b.tile_bits == 3) {
-    tile_kernel<Real, 8><<<tiles, 64, shared, stream>>>(b);
+    tile_kernel<Real, 8><<<grid(tile_kernel<Real, 8>, 64), 64, shared, stream>>>(b);
   } else {
-    tile_kernel<Real, 16><<<tiles, 256, shared, stream>>>(b);
+    tile_kernel<Real, 16><<<grid(tile_kernel<Real, 16>, 256), 256, shared, stream>>>(b);
   }
 }
 
@@ -253,7 +313,7 @@ template size_t tile_shared_bytes<float>(int, int);
 template size_t tile_shared_bytes<double>(int, int);
 template void allow_tile_shared<float>(size_t);
 template void allow_tile_shared<double>(size_t);
-template void launch_tiles<float>(const Batch<float>&, cudaStream_t);
-template void launch_tiles<double>(const Batch<double>&, cudaStream_t);
+template void launch_tiles<float>(const Batch<float>&, int, int, cudaStream_t);
+template void launch_tiles<double>(const Batch<double>&, int, int, cudaStream_t);
 
 }  // namespace fluidweight::detail::gpu
