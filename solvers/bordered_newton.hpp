@@ -4,10 +4,9 @@
 //   [ A     B ] [dlambda] = - [c],  with   eta_h = g_h^T du (hydraulic cavities, Q = W / V)
 // by block elimination: one factorization of the sparse tangent J (PETSc KSP, from the options
 // database: MUMPS LU by default) and 1 + m + m_h solves with it, then a dense system of size
-// m + m_h for dlambda and eta. A backtracking line search on
-//   phi = |R| / F + sum_c |c_c| / C_c
-// guards the step. docs/cavities.md says why this is not a SNES: SNES would need a shell
-// matrix and a shell preconditioner doing this same elimination, on a composite vector.
+// m + m_h for dlambda and eta. Full steps, shortened only where a trial inverts an element.
+// docs/cavities.md says why this is not a SNES: SNES would need a shell matrix and a shell
+// preconditioner doing this same elimination, on a composite vector.
 #pragma once
 
 #include <petscksp.h>
@@ -37,8 +36,6 @@ class BorderedNewton {
   double constraint_seconds() const { return constraint_s_; }
 
  private:
-  double merit(double r_norm, const std::vector<double>& c, double F) const;
-
   Problem& problem_;
   CavitySystem& cavities_;
   KSP ksp_ = nullptr;
@@ -48,6 +45,7 @@ class BorderedNewton {
   CavityLinearization lin_;
   double load_norm_ = 0, solve_s_ = 0, constraint_s_ = 0;
   int max_it_ = 30;
+  bool monitor_ = false;  // -hs_newton_monitor: one line per iteration
 };
 
 }  // namespace hs

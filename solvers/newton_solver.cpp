@@ -22,7 +22,7 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent) {
   // Convergence is judged on the residual (never on a small step alone: a stalled
   // iterative solve would otherwise look converged).
   const std::map<std::string, std::string> common = {{"snes_type", "newtonls"},
-                                                     {"snes_linesearch_type", "bt"},
+                                                     {"snes_linesearch_type", "cp"},
                                                      {"snes_rtol", "1e-8"},
                                                      {"snes_stol", "0"},
                                                      {"snes_max_it", "30"}};

@@ -51,7 +51,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   Problem problem(config, mesh, dist, comm, exact.get());
   // A scene with cavities or states runs the bordered Newton (displacements and cavity
   // pressures); any other the plain SNES. No cavity code runs in a scene without cavities.
-  const bool staged = !config.cavities.empty() || !config.states.empty();
+  const bool staged = !config.cavities.empty() || !config.states.empty() || config.tip;
   std::unique_ptr<CavitySystem> cavities;
   if (staged) cavities = std::make_unique<CavitySystem>(config, problem, mesh, dist);
   const bool symmetric = !problem.has_follower_loads();

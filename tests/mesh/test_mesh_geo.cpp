@@ -248,7 +248,7 @@ TEST(Cylinder, HollowWithAClosedCavity) {
   const double cavity = kPi * r * r * (L - 2 * t);
   const double exact = kPi * R * R * L - cavity;
   EXPECT_NEAR(mesh_volume(m), exact, 0.02 * exact);
-  expect_closed_boundary(m, {"top", "cavity", "outer"});
+  expect_closed_boundary(m, {"top", "tip", "cavity", "outer"});
   // Divergence theorem on the cavity surface: its normals point into the cavity, so
   // (1/3) sum x . n A is minus the (faceted) cavity volume.
   double flux = 0;
