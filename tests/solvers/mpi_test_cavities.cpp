@@ -122,13 +122,20 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
 }
 
 nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
-                   const std::string& tag) {
+                   const std::string& tag, MPI_Comm comm = MPI_COMM_WORLD) {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   overrides.push_back("output.folder=" +
                       (std::filesystem::temp_directory_path() /
                        ("hydrosoft_cavities_" + tag + "_np" + std::to_string(size)))
                           .string());
+  if (comm != MPI_COMM_WORLD) {  // a run of rank 0 alone
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    return rank == 0 ? hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides),
+                                          MPI_COMM_SELF)
+                     : nlohmann::json();
+  }
   auto s =
       hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides), MPI_COMM_WORLD);
   std::string text = s.dump();  // rank 0 holds the summary: share it
@@ -166,6 +173,66 @@ TEST(Cavities, VolumeControlReachesItsVolumeAndWaterWeighs) {
   for (int k : {0, 1})
     EXPECT_GT(water["states"][k]["tip_angle_deg"].get<double>(),
               air["states"][k]["tip_angle_deg"].get<double>() + 2.0);
+}
+
+TEST(Cavities, AllRanksAgreeWithOneRank) {
+  // The water deck (liquid weight gathered to an owning rank, pressures by volume control)
+  // on all ranks against the same deck on rank 0 alone.
+  const std::vector<std::string> o = {"states[0].steps=2", "states[1].steps=4"};
+  const auto all = run("cylinder_water.yaml", o, "all");
+  const auto one = run("cylinder_water.yaml", o, "one", MPI_COMM_SELF);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank != 0) return;
+  for (int k : {0, 1}) {
+    const auto &a = all["states"][k], &b = one["states"][k];
+    EXPECT_NEAR(a["tip_angle_deg"].get<double>(), b["tip_angle_deg"].get<double>(), 1e-8);
+    for (const char* key : {"volume", "pressure", "fluid_weight_total"}) {
+      const double x = a["cavities"][0][key].get<double>(), y = b["cavities"][0][key].get<double>();
+      EXPECT_NEAR(x, y, 1e-8 * std::max(std::abs(y), 1e-12)) << key << " in state " << k;
+    }
+  }
+}
+
+TEST(Cavities, SealedChambersKeepTheirGasOrVolume) {
+  // Gravity and a clamp deform the body; a sealed gas chamber keeps (p + p_atm) V and a
+  // sealed volume keeps V, whatever the deformation.
+  const auto gas = run("cylinder_air.yaml",
+                       {"cavities[0]={group: cavity, kind: sealed_gas, initial_pressure: 2000}",
+                        "states=[{name: rest, steps: 2}]", "loads.gravity=[0, -40, 0]"},
+                       "gas");
+  const auto fixed = run("cylinder_air.yaml",
+                         {"cavities[0]={group: cavity, kind: sealed_volume}",
+                          "states=[{name: rest, steps: 2}]", "loads.gravity=[0, -40, 0]"},
+                         "fixed");
+  const auto free = run("cylinder_air.yaml",
+                        {"states=[{name: rest, steps: 2}]", "loads.gravity=[0, -40, 0]"}, "free");
+  const auto at_atmosphere = run("cylinder_air.yaml",
+                                 {"cavities[0]={group: cavity, kind: sealed_gas}",
+                                  "states=[{name: rest, steps: 2}]", "loads.gravity=[0, -40, 0]"},
+                                 "gas0");
+  const auto& g = gas["cavities"][0];
+  const auto& f = fixed["cavities"][0];
+  const double v0 = f["volume"].get<double>();  // the sealed volume is the undeformed one
+  const double p_atm = 101325;
+  EXPECT_NEAR((g["pressure"].get<double>() + p_atm) * g["volume"].get<double>(),
+              (2000 + p_atm) * v0, 1e-9 * (2000 + p_atm) * v0);
+  // The gas at 2 kPa over the atmosphere expands the cavity until (p + p_atm) V holds.
+  EXPECT_GT(g["volume"].get<double>(), v0);
+  EXPECT_LT(g["pressure"].get<double>(), 2000.0);
+  // The open cavity shrinks under this load; sealed air at atmospheric pressure (bulk
+  // modulus p_atm, comparable to the silicone's E) resists part of it, with an overpressure
+  // below the one that keeps the volume exactly.
+  const double dv_free = std::abs(free["cavities"][0]["volume"].get<double>() - v0);
+  const auto& a = at_atmosphere["cavities"][0];
+  EXPECT_GT(dv_free, 1e-4 * v0);
+  const double dv_gas = std::abs(a["volume"].get<double>() - v0);
+  EXPECT_GT(dv_gas, 0.05 * dv_free);
+  EXPECT_LT(dv_gas, 0.7 * dv_free);
+  EXPECT_GT(a["pressure"].get<double>(), 0.0);
+  EXPECT_LT(a["pressure"].get<double>(), f["pressure"].get<double>());
+  EXPECT_NEAR((a["pressure"].get<double>() + p_atm) * a["volume"].get<double>(), p_atm * v0,
+              1e-9 * p_atm * v0);
 }
 
 TEST(Cavities, PressureWorkEqualsStoredEnergyAndGravityWork) {
