@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
-deck=${1:-input/lame_sphere.yaml}
+deck=${1:-input/cylinder_water.yaml}
 shift || true
 mpirun_flags=(--oversubscribe)
 [[ $(id -u) -eq 0 ]] && mpirun_flags+=(--allow-run-as-root)
