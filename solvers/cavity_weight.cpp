@@ -52,6 +52,17 @@ CavityWeight::CavityWeight(const Mesh& mesh, const Distribution& dist, const Cav
   gravity_norm_ =
       std::sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2]);
 
+  // Decided on the owning rank and shared, so that every rank stops together.
+  int no_gpu = 0;
+  if (rank_ == owner_)
+    no_gpu = options_.implementation == fluidweight::Implementation::cuda &&
+             !fluidweight::cuda_available();
+  MPI_Bcast(&no_gpu, 1, MPI_INT, owner_, comm_);
+  if (no_gpu)
+    throw InputError("cavity '" + cavity.group +
+                     "': fluid_weight.device is cuda, but this build has no CUDA or the machine "
+                     "no GPU (use device: cpu)");
+
   const CavityTriangles tris = cavity_triangles(mesh, cavity.group);
   const auto n = static_cast<PetscInt>(tris.nodes.size());
   std::vector<PetscInt> from;
@@ -66,11 +77,6 @@ CavityWeight::CavityWeight(const Mesh& mesh, const Distribution& dist, const Cav
     fluidweight::SurfaceMesh surface;
     surface.vertices = reference_;
     surface.triangles = tris.triangles;
-    if (options_.implementation == fluidweight::Implementation::cuda &&
-        !fluidweight::cuda_available())
-      throw InputError("cavity '" + cavity.group +
-                       "': fluid_weight.device is cuda, but this build has no CUDA or the "
-                       "machine no GPU (use device: cpu)");
     context_ = std::make_unique<fluidweight::Context>(options_);
     context_->set_cavities({surface});
   }

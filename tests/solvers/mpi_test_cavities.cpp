@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
@@ -173,6 +174,29 @@ TEST(Cavities, VolumeControlReachesItsVolumeAndWaterWeighs) {
   for (int k : {0, 1})
     EXPECT_GT(water["states"][k]["tip_angle_deg"].get<double>(),
               air["states"][k]["tip_angle_deg"].get<double>() + 2.0);
+}
+
+TEST(Cavities, BadCavitiesAreRefusedWithTheirNameAndReason) {
+  // The tip face is an open surface: refused, naming the cavity and the first open edge.
+  try {
+    Scene s("cylinder_air.yaml", {"cavities[0].group=tip", "states=[{name: rest}]"});
+    FAIL() << "an open cavity was accepted";
+  } catch (const hs::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("cylinder_air.yaml"), std::string::npos) << m;
+    EXPECT_NE(m.find("cavity 'tip'"), std::string::npos) << m;
+    EXPECT_NE(m.find("not a closed surface: edge ("), std::string::npos) << m;
+    EXPECT_NE(m.find("the surface is open there"), std::string::npos) << m;
+  }
+  // Asking for the GPU where there is none is refused before any solve.
+  if (!fluidweight::cuda_available()) {
+    try {
+      Scene s("cylinder_water.yaml", {"cavities[0].fluid_weight.device=cuda"});
+      FAIL() << "device cuda was accepted without a GPU";
+    } catch (const hs::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("device is cuda"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Cavities, AllRanksAgreeWithOneRank) {
