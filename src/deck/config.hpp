@@ -112,6 +112,34 @@ struct TipConfig {
   std::string group;  // surface group whose mean deformed normal is measured
 };
 
+// Inverse control (docs/control.md): end effectors, the actuators' bounds, the targets.
+struct EffectorConfig {
+  std::string name;
+  std::string point;  // a point physical group with one node, or empty: `position` is used
+  std::array<double, 3> position{0, 0, 0};  // a material point, in reference coordinates
+  std::array<bool, 3> directions{true, true, true};  // which of x, y, z are controlled
+  double weight = 1;
+};
+struct ActuatorConfig {
+  std::string cavity;  // the cavity it drives (pneumatic or hydraulic)
+  double min_pressure = -1e300, max_pressure = 1e300;  // Pa, gauge
+  double min_volume_growth = -1e300, max_volume_growth = 1e300;  // m^3, since the rest state
+  double max_pressure_change = 1e300;  // Pa per control step
+};
+struct ControlTarget {
+  std::string effector;
+  std::array<double, 3> position{0, 0, 0};
+};
+struct ControlConfig {
+  std::vector<EffectorConfig> effectors;
+  std::vector<ActuatorConfig> actuators;
+  std::vector<std::vector<ControlTarget>> targets;  // one entry per target set, in order
+  int steps_per_target = 10;    // control steps spent on each target set
+  double regularization = 1e-3;  // relative weight of |d lambda|^2 against the effector error
+  bool newton_finish = false;    // end every step with Newton at the new actuation
+  bool targets_from_stdin = false;  // `--targets -` on the command line (not a deck key)
+};
+
 struct Config {
   std::string deck_path;         // as given on the command line
   std::string deck_name;         // file stem, e.g. lame_sphere
@@ -130,6 +158,7 @@ struct Config {
   // own controls) from 0 to 1; later states only move cavity controls.
   std::vector<StateConfig> states;
   std::optional<TipConfig> tip;
+  std::optional<ControlConfig> control;
 };
 
 }  // namespace hs
