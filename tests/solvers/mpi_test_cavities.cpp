@@ -15,6 +15,7 @@
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "run_deck.hpp"
 #include "solvers/bordered_newton.hpp"
 #include "solvers/cavity_system.hpp"
 #include "solvers/problem.hpp"
@@ -122,29 +123,9 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
   }
 }
 
-nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
+nlohmann::json run(const std::string& deck, const std::vector<std::string>& overrides,
                    const std::string& tag, MPI_Comm comm = MPI_COMM_WORLD) {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  overrides.push_back("output.folder=" +
-                      (std::filesystem::temp_directory_path() /
-                       ("hydrosoft_cavities_" + tag + "_np" + std::to_string(size)))
-                          .string());
-  if (comm != MPI_COMM_WORLD) {  // a run of rank 0 alone
-    int rank = 0;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    return rank == 0 ? hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides),
-                                          MPI_COMM_SELF)
-                     : nlohmann::json();
-  }
-  auto s =
-      hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides), MPI_COMM_WORLD);
-  std::string text = s.dump();  // rank 0 holds the summary: share it
-  int n = static_cast<int>(text.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  text.resize(n);
-  MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-  return nlohmann::json::parse(text);
+  return hs_test::run_deck(deck, overrides, "cavities_" + tag, comm);
 }
 
 TEST(Cavities, VolumeControlReachesItsVolumeAndWaterWeighs) {

@@ -9,28 +9,16 @@
 #include <string>
 
 #include "deck/deck.hpp"
+#include "run_deck.hpp"
 #include "solvers/simulation.hpp"
 
 namespace {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
-nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
-                   const std::string& tag) {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  overrides.push_back("output.folder=" +
-                      (std::filesystem::temp_directory_path() /
-                       ("hydrosoft_stepping_" + tag + "_np" + std::to_string(size)))
-                          .string());
-  auto s =
-      hs::run_simulation(hs::parse_deck(kSource + "/input/" + deck, overrides), MPI_COMM_WORLD);
-  std::string text = s.dump();  // rank 0 holds the summary: share it
-  int n = static_cast<int>(text.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  text.resize(n);
-  MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-  return nlohmann::json::parse(text);
+nlohmann::json run(const std::string& deck, const std::vector<std::string>& overrides,
+                   const std::string& tag, MPI_Comm comm = MPI_COMM_WORLD) {
+  return hs_test::run_deck(deck, overrides, "stepping_" + tag, comm);
 }
 
 TEST(Stepping, NewmarkConservesEnergy) {
