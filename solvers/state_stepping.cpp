@@ -110,12 +110,7 @@ class StateStepper {
 
   // Advances the current state to tau_to, halving failed increments.
   void advance(Vec u, double tau_to) {
-    const double tau_from = tau_;
-    double done = 0, increment = 1;
-    int halvings = 0;
-    while (done < 1) {
-      const double next = std::min(1.0, done + increment);
-      const double tau = tau_from + next * (tau_to - tau_from);
+    auto attempt = [&](double tau) {
       const std::vector<double> lambda = cavities_.pressures();
       HS_PETSC(VecCopy(u, saved_));
       predict(u, tau);
@@ -124,35 +119,28 @@ class StateStepper {
       problem_.apply_dirichlet(u, s);
       if (cavities_.linearized()) cavities_.freeze_weights(u, s);
       const NewtonResult r = newton_.solve(u, s);
-      stats_.newton_iterations += r.iterations;
-      stats_.linear_iterations += r.linear_iterations;
       if (r.converged) {
         HS_PETSC(VecCopy(saved_, u_last_));
         lambda_last_ = lambda;
         tau_last_ = tau_;
         tau_ = tau;
         has_last_ = true;
-        done = next;
-        ++stats_.steps;
-        halvings = 0;
-        increment = std::min(1.0, 2 * increment);
-        continue;
+      } else {
+        HS_PETSC(VecCopy(saved_, u));
+        cavities_.set_pressures(lambda);
       }
-      HS_PETSC(VecCopy(saved_, u));
-      cavities_.set_pressures(lambda);
-      ++stats_.cutbacks;
-      if (++halvings > config_.time.max_cutbacks) {
-        std::ostringstream msg;
-        msg << "state '" << plan_->name << "' at " << tau
-            << " of the way: Newton did not converge (" << r.reason << ", residual "
-            << r.residual_norm << " after " << r.iterations << " iterations, "
-            << config_.time.max_cutbacks << " halvings of the increment)";
-        if (problem_.first_bad_element() >= 0)
-          msg << "; element " << problem_.first_bad_element() << " is inverted (det F <= 0)";
-        throw SolveError(msg.str());
-      }
-      increment /= 2;
-    }
+      return r;
+    };
+    auto give_up = [&](double tau, const NewtonResult& r) {
+      std::ostringstream msg;
+      msg << "state '" << plan_->name << "' at " << tau << " of the way: Newton did not converge ("
+          << r.reason << ", residual " << r.residual_norm << " after " << r.iterations
+          << " iterations, " << config_.time.max_cutbacks << " halvings of the increment)";
+      if (problem_.first_bad_element() >= 0)
+        msg << "; element " << problem_.first_bad_element() << " is inverted (det F <= 0)";
+      throw SolveError(msg.str());
+    };
+    advance_with_cutback(tau_, tau_to, config_.time.max_cutbacks, stats_, attempt, give_up);
   }
 
  private:

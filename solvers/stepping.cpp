@@ -51,34 +51,49 @@ void LoadStepper::predict(Vec u, double s_next) {
   problem_.apply_dirichlet(u, s_next);
 }
 
-void LoadStepper::advance(Vec u, double s_to, int step, SteppingStats& stats) {
-  const double s_from = s_;
-  double done = 0, increment = 1;  // fractions of the way from s_from to s_to
+void advance_with_cutback(double from, double to, int max_cutbacks, SteppingStats& stats,
+                          const std::function<NewtonResult(double)>& attempt,
+                          const std::function<void(double, const NewtonResult&)>& give_up) {
+  double done = 0, increment = 1;  // fractions of the way from `from` to `to`
   int halvings = 0;
   while (done < 1) {
     const double next = std::min(1.0, done + increment);
-    const double s = s_from + next * (s_to - s_from);
-    HS_PETSC(VecCopy(u, saved_));  // the converged state at s_
-    predict(u, s);
-    const NewtonResult r = newton_.solve(u, s);
+    const double t = from + next * (to - from);
+    const NewtonResult r = attempt(t);
     stats.newton_iterations += r.iterations;
     stats.linear_iterations += r.linear_iterations;
     if (r.converged) {
-      HS_PETSC(VecCopy(saved_, u_last_));
-      s_last_ = s_;
-      s_ = s;
-      has_last_ = true;
       done = next;
       ++stats.steps;
       halvings = 0;
       increment = std::min(1.0, 2 * increment);
       continue;
     }
-    HS_PETSC(VecCopy(saved_, u));  // back to the converged state; the history still holds
     ++stats.cutbacks;
-    if (++halvings > max_cutbacks_) fail(problem_, step, "load factor " + std::to_string(s), r);
+    if (++halvings > max_cutbacks) give_up(t, r);
     increment /= 2;
   }
+}
+
+void LoadStepper::advance(Vec u, double s_to, int step, SteppingStats& stats) {
+  auto attempt = [&](double s) {
+    HS_PETSC(VecCopy(u, saved_));  // the converged state at s_
+    predict(u, s);
+    const NewtonResult r = newton_.solve(u, s);
+    if (r.converged) {
+      HS_PETSC(VecCopy(saved_, u_last_));
+      s_last_ = s_;
+      s_ = s;
+      has_last_ = true;
+    } else {
+      HS_PETSC(VecCopy(saved_, u));  // back to the converged state; the history still holds
+    }
+    return r;
+  };
+  advance_with_cutback(s_, s_to, max_cutbacks_, stats, attempt,
+                       [&](double s, const NewtonResult& r) {
+                         fail(problem_, step, "load factor " + std::to_string(s), r);
+                       });
 }
 
 void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time, Vec u,

@@ -28,6 +28,15 @@ struct SteppingStats {
 // time.steps equal increments to 1.
 std::vector<double> load_schedule(const TimeConfig& time);
 
+// Advances a parameter (a load factor, a fraction of a state) from `from` to `to`: tries the
+// whole way, halves the increment after a failed solve (at most max_cutbacks times in a row)
+// and doubles it again after a success. attempt(t) solves at t from the last converged state
+// and, when it fails, puts that state back; give_up(t, result) throws. Counts steps,
+// cutbacks and iterations into stats.
+void advance_with_cutback(double from, double to, int max_cutbacks, SteppingStats& stats,
+                          const std::function<NewtonResult(double)>& attempt,
+                          const std::function<void(double, const NewtonResult&)>& give_up);
+
 // Moves a converged state from one load factor to the next, halving the increment when
 // Newton fails (at most max_cutbacks times in a row) and growing it back after a success.
 // Each increment starts from a secant predictor, the extrapolation of the last two converged
