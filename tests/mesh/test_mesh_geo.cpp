@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "common/error.hpp"
 #include "mesh_test_util.hpp"
 
 namespace hs::test {
@@ -266,6 +267,199 @@ TEST(BimaterialBar, TwoVolumeGroups) {
     volume[m.volume_names[m.tet_volume[t]]] += vertex_volume(m, t);
   EXPECT_NEAR(volume["stiff"], 1.0 * 0.04, 1e-12);
   EXPECT_NEAR(volume["soft"], 0.5 * 0.04, 1e-12);
+}
+
+// Enclosed volume of a cavity group by the divergence theorem: its normals point into the
+// cavity, so (1/3) sum x . n A is minus the (faceted) cavity volume.
+double cavity_volume(const Mesh& m, const std::string& group) {
+  double flux = 0;
+  for (int64_t f = 0; f < num_faces(m, group); ++f)
+    flux += face_centroid(m, group, f).dot(face_area_vector(m, group, f)) / 3;
+  return -flux;
+}
+
+// The one node of a point group, checked to lie at `where`.
+void expect_point_node(const Mesh& m, const std::string& group, const Vec3& where, double tol) {
+  ASSERT_TRUE(m.node_groups.count(group)) << group;
+  ASSERT_EQ(m.node_groups.at(group).size(), 1u) << group;
+  EXPECT_LT((node(m, m.node_groups.at(group)[0]) - where).norm(), tol) << group;
+}
+
+// Loading `name` with `parameters` fails with an InputError that mentions `part`.
+void expect_refused(const std::string& name, std::map<std::string, double> parameters,
+                    const std::string& part) {
+  try {
+    load_geo(name, std::move(parameters));
+    ADD_FAILURE() << name << ": no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
+        << "'" << part << "' not in: " << e.what();
+  }
+}
+
+TEST(Finger, SlabWithAClosedBoxCavityBelowTheMidPlane) {
+  // The file's defaults.
+  const double L = 0.09, W = 0.018, T = 0.016, lc = 0.07, wc = 0.01, tc = 0.005, xb = 0.01,
+               ez = -0.003;
+  const Mesh m = load_geo("finger.geo", {});
+  EXPECT_EQ(m.volume_names, std::vector<std::string>{"body"});
+  EXPECT_GT(m.num_nodes(), 200);  // coarse: a few hundred nodes
+  EXPECT_LT(m.num_nodes(), 600);
+  // Flat faces only: the faceted volumes are exact.
+  const double cavity = lc * wc * tc;
+  const double exact = L * W * T - cavity;
+  EXPECT_NEAR(mesh_volume(m), exact, 1e-9 * exact);
+  expect_closed_boundary(m, {"base", "tip", "cavity", "outer"});
+  EXPECT_NEAR(cavity_volume(m, "cavity"), cavity, 1e-9 * cavity);
+  for (int64_t n : m.node_groups.at("base")) EXPECT_EQ(node(m, n)[0], 0.0);
+  for (int64_t n : m.node_groups.at("tip")) EXPECT_NEAR(node(m, n)[0], L, 1e-15);
+  for (int64_t f = 0; f < num_faces(m, "base"); ++f)
+    EXPECT_NEAR(face_area_vector(m, "base", f).normalized()[0], -1.0, 1e-12);
+  for (int64_t f = 0; f < num_faces(m, "tip"); ++f)
+    EXPECT_NEAR(face_area_vector(m, "tip", f).normalized()[0], 1.0, 1e-12);
+  // The cavity's nodes lie on its box, which is below the mid-plane; its faces point into
+  // the box (towards its centre).
+  const Vec3 lo(xb, -wc / 2, ez - tc / 2), hi(xb + lc, wc / 2, ez + tc / 2);
+  for (int64_t n : m.node_groups.at("cavity")) {
+    const Vec3 x = node(m, n);
+    EXPECT_TRUE(((x - lo).minCoeff() > -1e-12) && ((hi - x).minCoeff() > -1e-12));
+    EXPECT_LT(std::min((x - lo).cwiseAbs().minCoeff(), (hi - x).cwiseAbs().minCoeff()), 1e-12);
+    EXPECT_LT(x[2], 0.0);
+  }
+  const Vec3 centre = (lo + hi) / 2;
+  for (int64_t f = 0; f < num_faces(m, "cavity"); ++f)
+    EXPECT_LT(face_area_vector(m, "cavity", f).dot(face_centroid(m, "cavity", f) - centre), 0);
+  // The effector: a mesh node at the centre of the tip face, in the tip group.
+  expect_point_node(m, "effector", Vec3(L, 0, 0), 1e-15);
+  const auto& tip = m.node_groups.at("tip");
+  EXPECT_TRUE(std::binary_search(tip.begin(), tip.end(), m.node_groups.at("effector")[0]));
+}
+
+TEST(Finger, ParametersMoveTheCavityAndRefineTheMesh) {
+  const double L = 0.1, W = 0.02, T = 0.02, lc = 0.06, wc = 0.012, tc = 0.006, xb = 0.015,
+               ez = 0.004;
+  const Mesh m = load_geo("finger.geo", {{"L", L},
+                                         {"W", W},
+                                         {"T", T},
+                                         {"lc", lc},
+                                         {"wc", wc},
+                                         {"tc", tc},
+                                         {"xb", xb},
+                                         {"ez", ez},
+                                         {"h", 0.004}});
+  const double exact = L * W * T - lc * wc * tc;
+  EXPECT_NEAR(mesh_volume(m), exact, 1e-9 * exact);
+  expect_closed_boundary(m, {"base", "tip", "cavity", "outer"});
+  EXPECT_NEAR(cavity_volume(m, "cavity"), lc * wc * tc, 1e-9 * lc * wc * tc);
+  for (int64_t n : m.node_groups.at("cavity")) {
+    EXPECT_GT(node(m, n)[2], ez - tc / 2 - 1e-12);  // above the mid-plane now
+    EXPECT_GT(node(m, n)[0], xb - 1e-12);
+  }
+  expect_point_node(m, "effector", Vec3(L, 0, 0), 1e-15);
+  // The refinement series of the file's comment: about 2k and 10k nodes.
+  const Mesh m2k = load_geo("finger.geo", {{"h", 0.0026}});
+  const Mesh m10k = load_geo("finger.geo", {{"h", 0.00135}});
+  EXPECT_GT(m2k.num_nodes(), 1500);
+  EXPECT_LT(m2k.num_nodes(), 2500);
+  EXPECT_GT(m10k.num_nodes(), 8000);
+  EXPECT_LT(m10k.num_nodes(), 12500);
+  expect_closed_boundary(m10k, {"base", "tip", "cavity", "outer"});
+  expect_point_node(m10k, "effector", Vec3(0.09, 0, 0), 1e-15);
+  // A cavity that would cut the bottom face is refused with the walls' thicknesses.
+  expect_refused("finger.geo", {{"ez", -0.006}}, "thinner than");
+}
+
+// The nodes of pendulum.geo's cavity k (0-based) lie on the faces of its sector:
+// r1 <= r <= r2, |angle - k 90 degrees| <= phi / 2, z0 <= z <= z0 + lc.
+void expect_on_sector(const Mesh& m, int k, double r1, double r2, double phi_deg, double z0,
+                      double lc) {
+  const std::string g = "cavity_" + std::to_string(k + 1);
+  const double half = phi_deg * kPi / 360, theta = k * kPi / 2, z1 = z0 + lc;
+  for (int64_t n : m.node_groups.at(g)) {
+    const Vec3 x = node(m, n);
+    const double r = std::hypot(x[0], x[1]);
+    // Angle from the sector's axis, in (-pi, pi].
+    const double d = std::atan2(-std::sin(theta) * x[0] + std::cos(theta) * x[1],
+                                std::cos(theta) * x[0] + std::sin(theta) * x[1]);
+    EXPECT_GT(r, r1 - 1e-9) << g;
+    EXPECT_LT(r, r2 + 1e-9) << g;
+    EXPECT_LT(std::abs(d), half + 1e-9) << g;
+    EXPECT_GT(x[2], z0 - 1e-12) << g;
+    EXPECT_LT(x[2], z1 + 1e-12) << g;
+    EXPECT_TRUE(std::abs(r - r1) < 1e-9 || std::abs(r - r2) < 1e-9 ||
+                r * std::abs(std::abs(d) - half) < 1e-9 || std::abs(x[2] - z0) < 1e-12 ||
+                std::abs(x[2] - z1) < 1e-12)
+        << g << " node " << n << " on no face of its sector";
+  }
+}
+
+const std::vector<std::string> kPendulumGroups = {"top",      "cavity_1", "cavity_2",
+                                                  "cavity_3", "cavity_4", "outer"};
+
+TEST(Pendulum, CylinderWithFourClosedSectorCavitiesAroundTheAxis) {
+  // The file's defaults.
+  const double R = 0.015, L = 0.1, r1 = 0.005, r2 = 0.012, phi = 60, lc = 0.05, tb = 0.005;
+  const Mesh m = load_geo("pendulum.geo", {});
+  EXPECT_EQ(m.volume_names, std::vector<std::string>{"body"});
+  EXPECT_GT(m.num_nodes(), 1500);  // about 2k nodes
+  EXPECT_LT(m.num_nodes(), 2500);
+  const double cavity = phi / 360 * kPi * (r2 * r2 - r1 * r1) * lc;
+  const double exact = kPi * R * R * L - 4 * cavity;
+  EXPECT_NEAR(mesh_volume(m), exact, 0.02 * exact);
+  expect_closed_boundary(m, kPendulumGroups);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(cavity_volume(m, "cavity_" + std::to_string(k + 1)), cavity, 0.02 * cavity);
+    expect_on_sector(m, k, r1, r2, phi, -L + tb, lc);
+  }
+  for (int64_t n : m.node_groups.at("top")) EXPECT_EQ(node(m, n)[2], 0.0);
+  for (int64_t f = 0; f < num_faces(m, "top"); ++f)
+    EXPECT_NEAR(face_area_vector(m, "top", f).normalized()[2], 1.0, 1e-12);
+  // "outer" is the lateral surface and the bottom face.
+  for (int64_t n : m.node_groups.at("outer")) {
+    const Vec3 x = node(m, n);
+    EXPECT_TRUE(std::abs(std::hypot(x[0], x[1]) - R) < 1e-9 || std::abs(x[2] + L) < 1e-12);
+  }
+  // The effector: a mesh node at the centre of the bottom face, in the outer group.
+  expect_point_node(m, "effector", Vec3(0, 0, -L), 1e-15);
+  const auto& outer = m.node_groups.at("outer");
+  EXPECT_TRUE(std::binary_search(outer.begin(), outer.end(), m.node_groups.at("effector")[0]));
+}
+
+TEST(Pendulum, ParametersAndRefinement) {
+  const double R = 0.02, L = 0.12, r1 = 0.006, r2 = 0.016, phi = 70, lc = 0.06, tb = 0.008;
+  const Mesh m = load_geo("pendulum.geo", {{"R", R},
+                                           {"L", L},
+                                           {"r1", r1},
+                                           {"r2", r2},
+                                           {"phi", phi},
+                                           {"lc", lc},
+                                           {"tb", tb},
+                                           {"h", 0.005}});
+  const double cavity = phi / 360 * kPi * (r2 * r2 - r1 * r1) * lc;
+  const double exact = kPi * R * R * L - 4 * cavity;
+  EXPECT_NEAR(mesh_volume(m), exact, 0.02 * exact);
+  expect_closed_boundary(m, kPendulumGroups);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(cavity_volume(m, "cavity_" + std::to_string(k + 1)), cavity, 0.02 * cavity);
+    expect_on_sector(m, k, r1, r2, phi, -L + tb, lc);
+  }
+  expect_point_node(m, "effector", Vec3(0, 0, -L), 1e-15);
+  // The refinement series of the file's comment: about 10k nodes, and the faceting error
+  // of the volumes falls.
+  const double R0 = 0.015, L0 = 0.1, r10 = 0.005, r20 = 0.012, lc0 = 0.05;
+  const double cavity0 = kPi / 6 * (r20 * r20 - r10 * r10) * lc0;
+  const double exact0 = kPi * R0 * R0 * L0 - 4 * cavity0;
+  const Mesh coarse = load_geo("pendulum.geo", {});
+  const Mesh fine = load_geo("pendulum.geo", {{"h", 0.00185}});
+  EXPECT_GT(fine.num_nodes(), 8000);
+  EXPECT_LT(fine.num_nodes(), 12500);
+  expect_closed_boundary(fine, kPendulumGroups);
+  EXPECT_LT(std::abs(mesh_volume(fine) - exact0), std::abs(mesh_volume(coarse) - exact0));
+  EXPECT_LT(std::abs(cavity_volume(fine, "cavity_3") - cavity0),
+            std::abs(cavity_volume(coarse, "cavity_3") - cavity0));
+  expect_point_node(fine, "effector", Vec3(0, 0, -L0), 1e-15);
+  // Neighbouring cavities that would (almost) touch are refused with the walls' thicknesses.
+  expect_refused("pendulum.geo", {{"phi", 85}}, "thinner than");
 }
 
 }  // namespace
