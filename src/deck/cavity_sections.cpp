@@ -15,10 +15,6 @@ const std::vector<std::string> kWeightMethods = {"column", "hydrostatic"};
 const std::vector<std::string> kDevices = {"cpu", "cuda"};
 const std::vector<std::string> kCouplings = {"converged", "linearized"};
 
-// Pneumatic and hydraulic cavities are driven by a pressure or an added volume; sealed
-// ones only respond to the deformation.
-bool is_actuated(const std::string& kind) { return kind == "pneumatic" || kind == "hydraulic"; }
-
 FluidWeightConfig parse_fluid_weight(const DeckReader& r, const YAML::Node& node,
                                      const std::string& key) {
   r.check_map(node, key, {"method", "grid", "device", "coupling"});
@@ -200,6 +196,8 @@ TipConfig parse_tip(const DeckReader& r, const YAML::Node& node) {
 }
 
 }  // namespace
+
+bool is_actuated(const std::string& kind) { return kind == "pneumatic" || kind == "hydraulic"; }
 
 void parse_cavity_sections(const DeckReader& r, const YAML::Node& root, Config& c) {
   // Dynamic runs have no states to step through and no cavity equations in their time

@@ -4,10 +4,16 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <string>
+
 #include "deck/config.hpp"
 #include "deck/deck_reader.hpp"
 
 namespace hs {
+
+// Pneumatic and hydraulic cavities are driven by a pressure or an added volume (by states,
+// and by control); sealed ones only respond to the deformation.
+bool is_actuated(const std::string& kind);
 
 // Reads root["cavities"], root["states"] and root["tip"] into `c`. Needs c.time parsed
 // already: these sections need a static or quasi-static run, and `states` replaces

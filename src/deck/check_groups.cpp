@@ -78,6 +78,18 @@ void check_groups(const Config& c, const Mesh& mesh) {
     if (!is_surface(mesh, c.tip->group))
       fail("tip.group", "group '" + c.tip->group + "' is not a surface");
   }
+  // An effector given as a point group follows that group's one node.
+  if (c.control)
+    for (size_t i = 0; i < c.control->effectors.size(); ++i) {
+      const std::string key = child_key(item_key("control.effectors", i), "point");
+      const std::string group = c.control->effectors[i].point;
+      if (group.empty()) continue;  // a material point (position), located by the solver
+      require_nodes(key, group);
+      const size_t n = mesh.node_groups.at(group).size();
+      if (n != 1)
+        fail(key, "group '" + group + "' has " + std::to_string(n) +
+                      " nodes, an effector point needs exactly one");
+    }
 }
 
 }  // namespace hs

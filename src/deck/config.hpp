@@ -113,27 +113,33 @@ struct TipConfig {
 };
 
 // Inverse control (docs/control.md): end effectors, the actuators' bounds, the targets.
+// The deck section `control` (docs/decks.md); parse_deck checks all of it but whether a
+// `position` lies in the mesh (the solver locates it).
 struct EffectorConfig {
-  std::string name;
+  std::string name;   // unique; target sets name it
   std::string point;  // a point physical group with one node, or empty: `position` is used
   std::array<double, 3> position{0, 0, 0};  // a material point, in reference coordinates
   std::array<bool, 3> directions{true, true, true};  // which of x, y, z are controlled
-  double weight = 1;
+  double weight = 1;  // > 0, on its squared error
 };
+// A bound left at +-1e300 is no bound (the deck did not set it).
 struct ActuatorConfig {
-  std::string cavity;  // the cavity it drives (pneumatic or hydraulic)
-  double min_pressure = -1e300, max_pressure = 1e300;  // Pa, gauge
-  double min_volume_growth = -1e300, max_volume_growth = 1e300;  // m^3, since the rest state
-  double max_pressure_change = 1e300;  // Pa per control step
+  std::string cavity;  // the cavity it drives (a declared pneumatic or hydraulic one; unique)
+  double min_pressure = -1e300, max_pressure = 1e300;  // Pa, gauge; min <= max
+  // m^3, since the rest state (the end of the deck's states); min <= max
+  double min_volume_growth = -1e300, max_volume_growth = 1e300;
+  double max_pressure_change = 1e300;  // Pa per control step, > 0
 };
 struct ControlTarget {
-  std::string effector;
-  std::array<double, 3> position{0, 0, 0};
+  std::string effector;                     // an effector's name
+  std::array<double, 3> position{0, 0, 0};  // where the effector should be (m)
 };
 struct ControlConfig {
-  std::vector<EffectorConfig> effectors;
-  std::vector<ActuatorConfig> actuators;
-  std::vector<std::vector<ControlTarget>> targets;  // one entry per target set, in order
+  std::vector<EffectorConfig> effectors;  // at least one
+  std::vector<ActuatorConfig> actuators;  // at least one
+  // One entry per target set, in order; a set names at least one effector, each at most
+  // once, in the deck's order. Empty when the deck gives no targets.
+  std::vector<std::vector<ControlTarget>> targets;
   int steps_per_target = 10;    // control steps spent on each target set
   double regularization = 1e-3;  // relative weight of |d lambda|^2 against the effector error
   bool newton_finish = false;    // end every step with Newton at the new actuation

@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "deck/cavity_sections.hpp"
+#include "deck/control_section.hpp"
 #include "deck/deck_reader.hpp"
 #include "deck/overrides.hpp"
 #include "io/output.hpp"
@@ -303,7 +304,7 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
     r.fail("(top level)", root, "expected a map of sections (mesh, materials, ...)");
   r.check_map(root, "",
               {"mesh", "materials", "boundary", "loads", "cavities", "time", "states", "tip",
-               "solver", "output", "exact"});
+               "control", "solver", "output", "exact"});
 
   Config c;
   c.deck_path = path;
@@ -318,6 +319,7 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (const auto n = root["loads"]) parse_loads(r, n, c);
   if (const auto n = root["time"]) c.time = parse_time(r, n);
   parse_cavity_sections(r, root, c);
+  parse_control_section(r, root, c);  // its actuators are cavities
   if (const auto n = root["solver"]) c.solver = parse_solver(r, n);
   if (const auto n = root["output"]) c.output = parse_output(r, n);
   if (c.output.folder.empty()) c.output.folder = (fs::path("out") / c.deck_name).string();

@@ -16,7 +16,8 @@ namespace hs {
 Config parse_deck(const std::string& path, const std::vector<std::string>& overrides = {});
 
 // Throws InputError if a group named by the deck is missing from the mesh or has no
-// nodes, or a material group is not a volume, a pressure, cavity or tip group not a surface.
+// nodes, or a material group is not a volume, a pressure, cavity or tip group not a surface,
+// or an effector's point group has more than one node.
 void check_groups(const Config& config, const Mesh& mesh);
 
 // The resolved configuration, defaults included, as YAML (printed at start).

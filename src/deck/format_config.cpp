@@ -158,6 +158,59 @@ void emit_states(YAML::Emitter& out, const std::vector<StateConfig>& states) {
   out << YAML::EndSeq;
 }
 
+// Only the bounds the deck set: an unset bound keeps its default (no bound), which is not
+// worth printing (and 1e300 would read as a bound the deck never gave).
+void emit_bound(YAML::Emitter& out, const std::string& key, double value, double unset) {
+  if (value != unset) emit_number(out, key, value);
+}
+
+void emit_control(YAML::Emitter& out, const ControlConfig& control) {
+  const ActuatorConfig unset;
+  out << YAML::Key << "control" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "effectors" << YAML::Value << YAML::BeginSeq;
+  for (const auto& e : control.effectors) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "name" << YAML::Value << e.name;
+    if (e.point.empty())
+      emit_numbers(out, "position", e.position.data(), 3);
+    else
+      out << YAML::Key << "point" << YAML::Value << e.point;
+    out << YAML::Key << "directions" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (int d = 0; d < 3; ++d)
+      if (e.directions[d]) out << std::string(1, static_cast<char>('x' + d));
+    out << YAML::EndSeq;
+    emit_number(out, "weight", e.weight);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "actuators" << YAML::Value << YAML::BeginSeq;
+  for (const auto& a : control.actuators) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "cavity" << YAML::Value << a.cavity;
+    emit_bound(out, "min_pressure", a.min_pressure, unset.min_pressure);
+    emit_bound(out, "max_pressure", a.max_pressure, unset.max_pressure);
+    emit_bound(out, "min_volume_growth", a.min_volume_growth, unset.min_volume_growth);
+    emit_bound(out, "max_volume_growth", a.max_volume_growth, unset.max_volume_growth);
+    emit_bound(out, "max_pressure_change", a.max_pressure_change, unset.max_pressure_change);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  // Only when the deck gave targets: an empty list is not a valid deck.
+  if (!control.targets.empty()) {
+    out << YAML::Key << "targets" << YAML::Value << YAML::BeginSeq;
+    for (const auto& set : control.targets) {
+      out << YAML::Flow << YAML::BeginMap;
+      for (const auto& t : set) emit_numbers(out, t.effector, t.position.data(), 3);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
+  out << YAML::Key << "steps_per_target" << YAML::Value << control.steps_per_target;
+  emit_number(out, "regularization", control.regularization);
+  out << YAML::Key << "newton_finish" << YAML::Value << control.newton_finish;
+  out << YAML::EndMap;
+}
+
 // With states, the first state's steps replace time.steps (and a schedule).
 void emit_time(YAML::Emitter& out, const TimeConfig& t, bool has_states) {
   out << YAML::Key << "time" << YAML::Value << YAML::BeginMap;
@@ -199,6 +252,7 @@ std::string format_config(const Config& c) {
     out << YAML::Key << "group" << YAML::Value << c.tip->group;
     out << YAML::EndMap;
   }
+  if (c.control) emit_control(out, *c.control);
 
   out << YAML::Key << "solver" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "preset" << YAML::Value << c.solver.preset;

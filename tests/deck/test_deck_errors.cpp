@@ -360,6 +360,177 @@ TEST_F(DeckErrors, CavitiesAndStatesAgainstTime) {
   });
 }
 
+// The control section (docs/decks.md, "control"): cavities "c" (hydraulic), "p" (pneumatic),
+// "g" (sealed gas) and "v" (sealed volume), and a control section with the given effectors,
+// actuators and further lines.
+std::string control(const std::string& effectors, const std::string& actuators,
+                    const std::string& more = "") {
+  return kBase +
+         "cavities:\n  - {group: c, kind: hydraulic}\n  - {group: p}\n"
+         "  - {group: g, kind: sealed_gas}\n  - {group: v, kind: sealed_volume}\n"
+         "control:\n  effectors: " +
+         effectors + "\n  actuators: " + actuators + "\n" + more;
+}
+const std::string kTip = "[{name: tip, point: effector}]";
+const std::string kActuator = "[{cavity: c}]";
+
+// One effector "tip" with the given keys besides its name.
+std::string effector(const std::string& fields) {
+  return control("[{name: tip, " + fields + "}]", kActuator);
+}
+// One actuator of cavity "c" with the given keys besides its cavity.
+std::string actuator(const std::string& fields) {
+  return control(kTip, "[{cavity: c, " + fields + "}]");
+}
+// The effector "tip" and an actuator, with the given further lines of the control section.
+std::string control_with(const std::string& more) { return control(kTip, kActuator, more); }
+
+TEST_F(DeckErrors, ControlKeysAndTypes) {
+  expect_errors({
+      {control_with("  stpes_per_target: 3\n"), "control.stpes_per_target",
+       "unknown key (did you mean 'steps_per_target'?"},
+      {control_with("  targets_from_stdin: true\n"), "control.targets_from_stdin",
+       "not a deck key: the command line sets it (--targets -)"},
+      {kBase + "control: [tip]\n", "control", "expected a map, got a list"},
+      {kBase + "cavities: [{group: c}]\ncontrol: {actuators: [{cavity: c}]}\n", "control.effectors",
+       "required key missing"},
+      {kBase + "control: {effectors: [{name: tip, point: effector}]}\n", "control.actuators",
+       "required key missing"},
+      {control("{name: tip, point: effector}", kActuator), "control.effectors",
+       "expected a list, got a map"},
+      {control(kTip, "c"), "control.actuators", "expected a list, got 'c'"},
+      {control("[]", kActuator), "control.effectors", "at least one effector is required"},
+      {control(kTip, "[]"), "control.actuators", "at least one actuator is required"},
+      {effector("point: effector, wieght: 2"), "control.effectors[0].wieght",
+       "unknown key (did you mean 'weight'?"},
+      {control("[{point: effector}]", kActuator), "control.effectors[0].name",
+       "required key missing"},
+      {control("[tip]", kActuator), "control.effectors[0]", "expected a map, got 'tip'"},
+      {effector("point: effector, weight: heavy"), "control.effectors[0].weight",
+       "expected a number, got 'heavy'"},
+      {effector("position: [0, 1]"), "control.effectors[0].position",
+       "expected a list of 3 numbers, got 2"},
+      {effector("point: [effector]"), "control.effectors[0].point", "expected a name, got a list"},
+      {effector("point: effector, directions: x"), "control.effectors[0].directions",
+       "expected a list, got 'x'"},
+      {effector("point: effector, directions: [x, w]"), "control.effectors[0].directions[1]",
+       "unknown name 'w' (valid: x, y, z)"},
+      {actuator("max_presure: 1"), "control.actuators[0].max_presure",
+       "unknown key (did you mean 'max_pressure'?"},
+      {actuator("max_pressure: high"), "control.actuators[0].max_pressure",
+       "expected a number, got 'high'"},
+      {actuator("min_volume_growth: \"0\""), "control.actuators[0].min_volume_growth",
+       "expected a number, got the string \"0\""},
+      {control_with("  steps_per_target: 2.5\n"), "control.steps_per_target",
+       "expected an integer, got '2.5'"},
+      {control_with("  regularization: small\n"), "control.regularization",
+       "expected a number, got 'small'"},
+      {control_with("  newton_finish: maybe\n"), "control.newton_finish",
+       "expected true or false, got 'maybe'"},
+      {control_with("  targets: {tip: [0, 0, 0]}\n"), "control.targets",
+       "expected a list, got a map"},
+      {control_with("  targets: [[0, 0, 0]]\n"), "control.targets[0]",
+       "expected a map of effector name: [x, y, z]"},
+      {control_with("  targets: [{tip: [0, 0]}]\n"), "control.targets[0].tip",
+       "expected a list of 3 numbers, got 2"},
+      {control_with("  targets: [{tip: [0, 0, 0], tip: [1, 1, 1]}]\n"), "control.targets[0].tip",
+       "duplicate key"},
+  });
+}
+
+TEST_F(DeckErrors, ControlEffectors) {
+  expect_errors({
+      {effector("point: effector, position: [0.09, 0, 0]"), "control.effectors[0]",
+       "give exactly one of point (a point group with one node) or position (a material point, "
+       "in reference coordinates)"},
+      {effector("weight: 2"), "control.effectors[0]", "give exactly one of point"},
+      {effector("point: \"\""), "control.effectors[0].point", "must not be empty"},
+      {control("[{name: tip, point: a}, {name: tip, position: [0, 0, 0]}]", kActuator),
+       "control.effectors[1].name", "duplicate effector name 'tip' (also in control.effectors[0])"},
+      {effector("point: effector, directions: []"), "control.effectors[0].directions",
+       "must name at least one of x, y, z"},
+      {effector("point: effector, directions: [z, x, z]"), "control.effectors[0].directions[2]",
+       "direction 'z' named twice"},
+      {effector("point: effector, weight: 0"), "control.effectors[0].weight", "must be > 0, got 0"},
+      {effector("point: effector, weight: -2"), "control.effectors[0].weight",
+       "must be > 0, got -2"},
+  });
+}
+
+TEST_F(DeckErrors, ControlActuators) {
+  expect_errors({
+      {control(kTip, "[{max_pressure: 1}]"), "control.actuators[0].cavity", "required key missing"},
+      {control(kTip, "[{cavity: d}]"), "control.actuators[0].cavity",
+       "not a declared cavity (did you mean 'c'? cavities: c, p, g, v)"},
+      {kBase + "control: {effectors: " + kTip + ", actuators: [{cavity: c}]}\n",
+       "control.actuators[0].cavity", "not a declared cavity (the deck has no cavities section)"},
+      {control(kTip, "[{cavity: g}]"), "control.actuators[0].cavity",
+       "cavity 'g' is sealed_gas: sealed chambers are not actuated, so control cannot drive "
+       "them"},
+      {control(kTip, "[{cavity: p}, {cavity: v}]"), "control.actuators[1].cavity",
+       "cavity 'v' is sealed_volume: sealed chambers are not actuated"},
+      {control(kTip, "[{cavity: c}, {cavity: p}, {cavity: c}]"), "control.actuators[2].cavity",
+       "duplicate actuator cavity 'c' (also in control.actuators[0])"},
+      {actuator("min_pressure: 3000, max_pressure: 2000"), "control.actuators[0].min_pressure",
+       "is 3000 but max_pressure is 2000 (the lower bound must not exceed the upper one)"},
+      {actuator("min_volume_growth: 2.0e-5, max_volume_growth: -1.0e-5"),
+       "control.actuators[0].min_volume_growth",
+       "is 2e-05 but max_volume_growth is -1e-05 (the lower bound must not exceed the upper "
+       "one)"},
+      {actuator("max_pressure_change: 0"), "control.actuators[0].max_pressure_change",
+       "must be > 0, got 0"},
+      {actuator("max_pressure_change: -500"), "control.actuators[0].max_pressure_change",
+       "must be > 0, got -500"},
+  });
+}
+
+TEST_F(DeckErrors, ControlTargetsAndSteps) {
+  const std::string two = "[{name: tip, point: effector}, {name: base, position: [0, 0, 0]}]";
+  expect_errors({
+      {control_with("  targets: [{tpi: [0.09, 0, 0]}]\n"), "control.targets[0].tpi",
+       "not an effector (did you mean 'tip'? effectors: tip)"},
+      {control(two, kActuator,
+               "  targets:\n    - {tip: [0, 0, 1]}\n    - {tip: [0, 0, 2], top: [0, 0, 3]}\n"),
+       "control.targets[1].top", "not an effector (did you mean 'tip'? effectors: tip, base)"},
+      {control_with("  targets: [{}]\n"), "control.targets[0]",
+       "an empty target set (name at least one effector: tip)"},
+      {control_with("  targets: [{tip: [0, 0, 1]}, {}]\n"), "control.targets[1]",
+       "an empty target set"},
+      {control_with("  targets: []\n"), "control.targets", "must hold at least one target set"},
+      {control_with("  steps_per_target: 0\n"), "control.steps_per_target", "must be >= 1, got 0"},
+      {control_with("  regularization: -1.0e-3\n"), "control.regularization",
+       "must be >= 0, got -0.001"},
+  });
+}
+
+// NaN and infinities (YAML .nan, .inf) anywhere in the section; an unset bound is already
+// unbounded, so an infinite one is refused like any other.
+TEST_F(DeckErrors, ControlNumbersAreFinite) {
+  const std::string finite = "must be a finite number, got ";
+  expect_errors({
+      {effector("position: [0, .nan, 0]"), "control.effectors[0].position[1]", finite + "'.nan'"},
+      {effector("point: effector, weight: .inf"), "control.effectors[0].weight", finite + "'.inf'"},
+      {actuator("min_pressure: -.inf"), "control.actuators[0].min_pressure", finite + "'-.inf'"},
+      {actuator("max_pressure: .inf"), "control.actuators[0].max_pressure", finite},
+      {actuator("min_volume_growth: .NaN"), "control.actuators[0].min_volume_growth", finite},
+      {actuator("max_volume_growth: .Inf"), "control.actuators[0].max_volume_growth", finite},
+      {actuator("max_pressure_change: .inf"), "control.actuators[0].max_pressure_change", finite},
+      {control_with("  targets: [{tip: [0, 0, 1]}, {tip: [.nan, 0, 0]}]\n"),
+       "control.targets[1].tip[0]", finite},
+      {control_with("  regularization: .nan\n"), "control.regularization", finite},
+      {control_with("  steps_per_target: .inf\n"), "control.steps_per_target",
+       "expected an integer, got '.inf'"},
+  });
+}
+
+TEST_F(DeckErrors, ControlAgainstTime) {
+  expect_errors({
+      {kBase + "time: {type: dynamic, dt: 0.1, end_time: 1}\ncontrol: {effectors: " + kTip +
+           ", actuators: " + kActuator + "}\n",
+       "control", "control needs time.type static or quasi_static (time.type is dynamic)"},
+  });
+}
+
 std::string error_of(const std::string& path) {
   try {
     parse_deck(path);

@@ -118,5 +118,30 @@ TEST(CheckGroups, CavityAndTipGroupsAreSurfaces) {
   EXPECT_EQ(error_of(c), "robot.yaml: tip.group: group 'empty' has no nodes " + kListing);
 }
 
+// An effector's point group must have exactly one node; a material point names no group.
+TEST(CheckGroups, EffectorPointsHaveOneNode) {
+  Config c = valid_config();
+  c.control = ControlConfig{};
+  c.control->effectors = {EffectorConfig{}, EffectorConfig{}};
+  c.control->effectors[0].name = "side";
+  c.control->effectors[0].position = {0.5, 0.1, 0.1};  // no point: not a group
+  c.control->effectors[1].name = "tip";
+  c.control->effectors[1].point = "tip";
+  EXPECT_EQ(error_of(c), "no error");
+  c.control->effectors[1].point = "inner";
+  EXPECT_EQ(error_of(c),
+            "robot.yaml: control.effectors[1].point: group 'inner' has 3 nodes, an effector "
+            "point needs exactly one " +
+                kListing);
+  c.control->effectors[1].point = "effector";
+  EXPECT_EQ(error_of(c),
+            "robot.yaml: control.effectors[1].point: group 'effector' is not in the "
+            "mesh " +
+                kListing);
+  c.control->effectors[1].point = "empty";
+  EXPECT_EQ(error_of(c),
+            "robot.yaml: control.effectors[1].point: group 'empty' has no nodes " + kListing);
+}
+
 }  // namespace
 }  // namespace hs

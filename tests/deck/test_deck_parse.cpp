@@ -81,6 +81,56 @@ states:
 tip: {group: tip}
 )";
 
+// Every key of the control section: an effector at a mesh node and one at a material point,
+// a hydraulic and a pneumatic actuator (one with every bound, one with equal pressure bounds),
+// target sets naming one or both effectors; after states, whose end is the rest state.
+const char* kControlDeck = R"(mesh: {file: body.msh}
+materials:
+  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}
+boundary:
+  - {group: base}
+loads: {gravity: [0, 0, -9.81]}
+cavities:
+  - {group: upper, kind: hydraulic, density: 1000}
+  - {group: lower, kind: pneumatic, pressure: 500}
+  - {group: bubble, kind: sealed_gas}
+time: {type: quasi_static}
+states:
+  - {name: rest, steps: 3}
+control:
+  effectors:
+    - name: tip
+      point: effector
+      directions: [z, x]
+      weight: 2.5
+    - {name: side, position: [0.045, 0.009, -0.25e-3]}
+  actuators:
+    - cavity: upper
+      min_pressure: -1.5e3
+      max_pressure: 2.0e4
+      min_volume_growth: -1.0e-6
+      max_volume_growth: 2.0e-5
+      max_pressure_change: 2000
+    - {cavity: lower, min_pressure: 0, max_pressure: 0}
+  targets:
+    - {tip: [0.09, 0.0, -0.01]}
+    - {side: [0.05, 0.01, 0.0], tip: [0.08, 0.0, 0.02]}
+    - tip: [0.085, 0.001, 0.015]
+      side: [0.044, 0.009, 0.003]
+  steps_per_target: 25
+  regularization: 0
+  newton_finish: true
+)";
+
+// The smallest control section: defaults for everything else.
+const char* kMinimalControlDeck = R"(mesh: {file: body.msh}
+materials: [{group: body, model: neo_hookean, E: 2.0e5, nu: 0.45}]
+cavities: [{group: cavity}]
+control:
+  effectors: [{name: tip, point: effector}]
+  actuators: [{cavity: cavity, max_pressure: 2.0e4}]
+)";
+
 const char* kDynamicDeck = R"(mesh: {file: body.msh}
 materials:
   - {group: body, model: corotational, E: 1.0e6, nu: 0.3, density: 1000}
@@ -162,6 +212,38 @@ void expect_same(const Config& a, const Config& b) {
   }
   ASSERT_EQ(a.tip.has_value(), b.tip.has_value());
   if (a.tip) EXPECT_EQ(a.tip->group, b.tip->group);
+  ASSERT_EQ(a.control.has_value(), b.control.has_value());
+  if (!a.control) return;
+  const ControlConfig &p = *a.control, &q = *b.control;
+  ASSERT_EQ(p.effectors.size(), q.effectors.size());
+  for (size_t i = 0; i < p.effectors.size(); ++i) {
+    EXPECT_EQ(p.effectors[i].name, q.effectors[i].name);
+    EXPECT_EQ(p.effectors[i].point, q.effectors[i].point);
+    EXPECT_EQ(p.effectors[i].position, q.effectors[i].position);
+    EXPECT_EQ(p.effectors[i].directions, q.effectors[i].directions);
+    EXPECT_EQ(p.effectors[i].weight, q.effectors[i].weight);
+  }
+  ASSERT_EQ(p.actuators.size(), q.actuators.size());
+  for (size_t i = 0; i < p.actuators.size(); ++i) {
+    EXPECT_EQ(p.actuators[i].cavity, q.actuators[i].cavity);
+    EXPECT_EQ(p.actuators[i].min_pressure, q.actuators[i].min_pressure);
+    EXPECT_EQ(p.actuators[i].max_pressure, q.actuators[i].max_pressure);
+    EXPECT_EQ(p.actuators[i].min_volume_growth, q.actuators[i].min_volume_growth);
+    EXPECT_EQ(p.actuators[i].max_volume_growth, q.actuators[i].max_volume_growth);
+    EXPECT_EQ(p.actuators[i].max_pressure_change, q.actuators[i].max_pressure_change);
+  }
+  ASSERT_EQ(p.targets.size(), q.targets.size());
+  for (size_t i = 0; i < p.targets.size(); ++i) {
+    ASSERT_EQ(p.targets[i].size(), q.targets[i].size());
+    for (size_t j = 0; j < p.targets[i].size(); ++j) {
+      EXPECT_EQ(p.targets[i][j].effector, q.targets[i][j].effector);
+      EXPECT_EQ(p.targets[i][j].position, q.targets[i][j].position);
+    }
+  }
+  EXPECT_EQ(p.steps_per_target, q.steps_per_target);
+  EXPECT_EQ(p.regularization, q.regularization);
+  EXPECT_EQ(p.newton_finish, q.newton_finish);
+  EXPECT_EQ(p.targets_from_stdin, q.targets_from_stdin);
 }
 
 class DeckParse : public ::testing::Test {
@@ -244,6 +326,7 @@ TEST_F(DeckParse, FillsDefaults) {
   EXPECT_TRUE(c.cavities.empty());
   EXPECT_TRUE(c.states.empty());  // one implicit state, the load ramp over time.steps
   EXPECT_FALSE(c.tip.has_value());
+  EXPECT_FALSE(c.control.has_value());
 }
 
 TEST_F(DeckParse, ReadsCavitiesStatesAndTip) {
@@ -323,8 +406,105 @@ time: {steps: 6}
   EXPECT_FALSE(c.tip.has_value());
 }
 
+TEST_F(DeckParse, ReadsControl) {
+  const Config c = parse_deck(tmp.write("decks/control.yaml", kControlDeck));
+  ASSERT_TRUE(c.control.has_value());
+  const ControlConfig& control = *c.control;
+
+  ASSERT_EQ(control.effectors.size(), 2u);
+  const auto& tip = control.effectors[0];
+  EXPECT_EQ(tip.name, "tip");
+  EXPECT_EQ(tip.point, "effector");
+  EXPECT_EQ(tip.directions, (std::array<bool, 3>{true, false, true}));
+  EXPECT_EQ(tip.weight, 2.5);
+  const auto& side = control.effectors[1];
+  EXPECT_EQ(side.name, "side");
+  EXPECT_EQ(side.point, "");  // a material point: its position is used
+  EXPECT_EQ(side.position, (std::array<double, 3>{0.045, 0.009, -0.25e-3}));
+  EXPECT_EQ(side.directions, (std::array<bool, 3>{true, true, true}));  // default: all
+  EXPECT_EQ(side.weight, 1);
+
+  ASSERT_EQ(control.actuators.size(), 2u);
+  const auto& upper = control.actuators[0];
+  EXPECT_EQ(upper.cavity, "upper");
+  EXPECT_EQ(upper.min_pressure, -1.5e3);
+  EXPECT_EQ(upper.max_pressure, 2.0e4);
+  EXPECT_EQ(upper.min_volume_growth, -1.0e-6);
+  EXPECT_EQ(upper.max_volume_growth, 2.0e-5);
+  EXPECT_EQ(upper.max_pressure_change, 2000);
+  // Equal bounds hold the pressure; the bounds not given are none.
+  const auto& lower = control.actuators[1];
+  EXPECT_EQ(lower.cavity, "lower");
+  EXPECT_EQ(lower.min_pressure, 0);
+  EXPECT_EQ(lower.max_pressure, 0);
+  EXPECT_EQ(lower.min_volume_growth, -1e300);
+  EXPECT_EQ(lower.max_volume_growth, 1e300);
+  EXPECT_EQ(lower.max_pressure_change, 1e300);
+
+  // Target sets in order, each with its effectors in the deck's order.
+  ASSERT_EQ(control.targets.size(), 3u);
+  ASSERT_EQ(control.targets[0].size(), 1u);
+  EXPECT_EQ(control.targets[0][0].effector, "tip");
+  EXPECT_EQ(control.targets[0][0].position, (std::array<double, 3>{0.09, 0.0, -0.01}));
+  ASSERT_EQ(control.targets[1].size(), 2u);
+  EXPECT_EQ(control.targets[1][0].effector, "side");
+  EXPECT_EQ(control.targets[1][0].position, (std::array<double, 3>{0.05, 0.01, 0.0}));
+  EXPECT_EQ(control.targets[1][1].effector, "tip");
+  EXPECT_EQ(control.targets[1][1].position, (std::array<double, 3>{0.08, 0.0, 0.02}));
+  ASSERT_EQ(control.targets[2].size(), 2u);  // a block map reads like a flow map
+  EXPECT_EQ(control.targets[2][0].effector, "tip");
+  EXPECT_EQ(control.targets[2][1].effector, "side");
+  EXPECT_EQ(control.targets[2][1].position, (std::array<double, 3>{0.044, 0.009, 0.003}));
+
+  EXPECT_EQ(control.steps_per_target, 25);
+  EXPECT_EQ(control.regularization, 0);
+  EXPECT_TRUE(control.newton_finish);
+  EXPECT_FALSE(control.targets_from_stdin);  // only the command line sets it
+  // Control leaves the rest of the run as it was.
+  EXPECT_EQ(c.cavities.size(), 3u);
+  EXPECT_EQ(c.states.size(), 1u);
+  EXPECT_EQ(c.time.steps, 3);
+}
+
+TEST_F(DeckParse, ControlDefaults) {
+  const Config c = parse_deck(tmp.write("decks/control.yaml", kMinimalControlDeck));
+  ASSERT_TRUE(c.control.has_value());
+  const ControlConfig defaults;
+  const ActuatorConfig unbounded;
+  ASSERT_EQ(c.control->effectors.size(), 1u);
+  EXPECT_EQ(c.control->effectors[0].directions, (std::array<bool, 3>{true, true, true}));
+  EXPECT_EQ(c.control->effectors[0].weight, 1);
+  ASSERT_EQ(c.control->actuators.size(), 1u);
+  const auto& a = c.control->actuators[0];
+  EXPECT_EQ(a.min_pressure, unbounded.min_pressure);
+  EXPECT_EQ(a.max_pressure, 2.0e4);
+  EXPECT_EQ(a.min_volume_growth, unbounded.min_volume_growth);
+  EXPECT_EQ(a.max_volume_growth, unbounded.max_volume_growth);
+  EXPECT_EQ(a.max_pressure_change, unbounded.max_pressure_change);
+  EXPECT_TRUE(c.control->targets.empty());  // none in the deck (e.g. from the command line)
+  EXPECT_EQ(c.control->steps_per_target, 10);
+  EXPECT_EQ(c.control->regularization, 1e-3);
+  EXPECT_EQ(c.control->regularization, defaults.regularization);
+  EXPECT_FALSE(c.control->newton_finish);
+  EXPECT_FALSE(c.control->targets_from_stdin);
+}
+
+TEST_F(DeckParse, PrintedControlSetsOnlyItsBounds) {
+  const Config c = parse_deck(tmp.write("decks/control.yaml", kMinimalControlDeck));
+  const std::string printed = format_config(c);
+  EXPECT_NE(printed.find("max_pressure: 20000"), std::string::npos) << printed;
+  for (const char* unset : {"min_pressure", "volume_growth", "max_pressure_change", "1e+300",
+                            "targets", "targets_from_stdin"})
+    EXPECT_EQ(printed.find(unset), std::string::npos) << unset << "\n" << printed;
+  // The defaults are printed.
+  for (const char* key : {"directions: [x, y, z]", "weight: 1", "steps_per_target: 10",
+                          "regularization: 0.001", "newton_finish: false"})
+    EXPECT_NE(printed.find(key), std::string::npos) << key << "\n" << printed;
+}
+
 TEST_F(DeckParse, RoundTripThroughFormatConfig) {
-  for (const char* text : {kFullDeck, kDynamicDeck, kCavityDeck}) {
+  for (const char* text :
+       {kFullDeck, kDynamicDeck, kCavityDeck, kControlDeck, kMinimalControlDeck}) {
     const Config first = parse_deck(tmp.write("decks/deck.yaml", text));
     // Written elsewhere: the printed mesh path is absolute, so the copy reads the same mesh.
     const std::string printed = format_config(first);
@@ -456,6 +636,22 @@ states:
   EXPECT_NE(message.find("override 'cavities[0].density=-1'"), std::string::npos) << message;
 }
 
+TEST_F(DeckParse, OverridesReachControl) {
+  const std::string path = tmp.write("decks/control.yaml", kControlDeck);
+  const Config c = parse_deck(
+      path, {"control.regularization=1e-2", "control.targets[0].tip=[0.07, 0, 0.03]",
+             "control.actuators[1].max_pressure=1000", "control.effectors[0].directions=[y]"});
+  EXPECT_EQ(c.control->regularization, 1e-2);
+  EXPECT_EQ(c.control->targets[0][0].position, (std::array<double, 3>{0.07, 0, 0.03}));
+  EXPECT_EQ(c.control->actuators[1].max_pressure, 1000);
+  EXPECT_EQ(c.control->effectors[0].directions, (std::array<bool, 3>{false, true, false}));
+  const std::string message = error_of(path, {"control.actuators[0].max_pressure=-2000"});
+  EXPECT_NE(message.find(path + ": control.actuators[0].min_pressure: is -1500 but max_pressure is "
+                                "-2000"),
+            std::string::npos)
+      << message;
+}
+
 // The decks shipped with the repository stay valid as the format evolves.
 TEST(RepositoryDecks, AllParseAndRoundTrip) {
   namespace fs = std::filesystem;
@@ -474,8 +670,8 @@ TEST(RepositoryDecks, AllParseAndRoundTrip) {
   EXPECT_GT(count, 0);
 }
 
-// The examples of docs/decks.md are valid decks: the cavity example, and the complete example,
-// also with its dynamic time section.
+// The examples of docs/decks.md are valid decks: the cavity example, the control example, and
+// the complete example, also with its dynamic time section.
 TEST(DocumentedExample, Parses) {
   std::ifstream in(std::string(HYDROSOFT_SOURCE_DIR) + "/docs/decks.md");
   std::stringstream text;
@@ -487,16 +683,23 @@ TEST(DocumentedExample, Parses) {
     const size_t end = doc.find(close, at);
     blocks.push_back(doc.substr(at, end - at));
   }
-  ASSERT_EQ(blocks.size(), 3u);
+  ASSERT_EQ(blocks.size(), 4u);
   TempFolder tmp;
   tmp.write("meshes/lame_sphere.geo", "");
   tmp.write("meshes/cylinder.geo", "");
-  // The cavity example is a deck of its own.
+  tmp.write("meshes/finger.geo", "");
+  // The cavity and control examples are decks of their own.
   const Config cavity = parse_deck(tmp.write("input/cavity.yaml", blocks[0]));
   ASSERT_EQ(cavity.states.size(), 2u);
   EXPECT_EQ(cavity.states[1].cavities.at("cavity").added_volume, 1.5e-5);
   EXPECT_EQ(cavity.time.steps, 4);
-  blocks.erase(blocks.begin());
+  const Config control = parse_deck(tmp.write("input/control.yaml", blocks[1]));
+  ASSERT_TRUE(control.control.has_value());
+  EXPECT_EQ(control.control->effectors[0].point, "effector");
+  EXPECT_EQ(control.control->actuators[0].max_volume_growth, 2.0e-5);
+  ASSERT_EQ(control.control->targets.size(), 2u);
+  EXPECT_EQ(control.control->targets[1][0].position, (std::array<double, 3>{0.08, 0.0, 0.02}));
+  blocks.erase(blocks.begin(), blocks.begin() + 2);
   const Config c = parse_deck(tmp.write("input/example.yaml", blocks[0]));
   EXPECT_EQ(c.materials[0].c1, 4.0e4);
   EXPECT_EQ(c.time.steps, 5);
