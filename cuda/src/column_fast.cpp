@@ -23,23 +23,11 @@ namespace fluidweight::detail {
 namespace {
 
 constexpr int kSlots = 6;        // floors (and ceilings) a column keeps sorted before spilling
-
-// The columns of the current row on the inner side of one edge, kept exactly from row to
-// row by integer steps (no division per row). With E(i) = e + di (i - i0) on the row and
-// E >= e_min inside: for di > 0 the columns i >= i0 + ceil((e_min - e) / di) (kind 1), for
-// di < 0 the columns i <= i0 + floor((e - e_min) / -di) (kind 2), for di = 0 all or none
-// (kind 0, e >= e_min). The bound is q = floor(x / d) with 0 <= r = x - q d < d, x the
-// numerator; each row adds step to x (step = dj for kind 2, -dj for kind 1), i.e. qs to q and
-// rs to r with a carry.
-struct EdgeSpan {
-  int64_t q, r, d, qs, rs;
-  int kind;
-};
+constexpr int kNarrowSpan = 12;  // rows of a narrower box are scanned column by column
 
 // A triangle crossing the current row. E_k(i, j) = e[k] + di[k] (i - i0) + dj[k] (j - row).
 struct Active {
-  EdgeSpan span[3];
-  int64_t di[3], dj[3];
+  int64_t e[3], di[3], dj[3], e_min[3];
   int64_t e_ref[3];     // E_k at (i0, j_ref), the row where the moments start
   double z, dzi, dzj;   // height at (i0, current row) and its steps
   double m0, mi, mj;    // sum h, sum h (i - i0), sum h (j - j_ref) over this band's sections
@@ -111,43 +99,6 @@ struct Worker {
 // Floor division for the span bounds (b > 0).
 int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
-// Sets up an edge's span bound for E = e + di (i - i0) at the first row, dj the row step.
-void init_span(EdgeSpan& s, int64_t e, int64_t di, int64_t dj, int64_t e_min) {
-  int64_t x, step;
-  if (di > 0) {  // i - i0 >= ceil((e_min - e) / di) = floor((e_min - e + di - 1) / di)
-    s.kind = 1;
-    s.d = di;
-    x = e_min - e + di - 1;
-    step = -dj;
-  } else if (di < 0) {  // i - i0 <= floor((e - e_min) / -di)
-    s.kind = 2;
-    s.d = -di;
-    x = e - e_min;
-    step = dj;
-  } else {
-    s.kind = 0;
-    s.q = e - e_min;  // >= 0: the whole row is inside this edge
-    s.d = 1;
-    s.qs = dj;
-    s.r = s.rs = 0;
-    return;
-  }
-  s.q = floor_div(x, s.d);
-  s.r = x - s.q * s.d;
-  s.qs = floor_div(step, s.d);
-  s.rs = step - s.qs * s.d;
-}
-
-// The next row.
-inline void step_span(EdgeSpan& s) {
-  s.q += s.qs;
-  s.r += s.rs;
-  if (s.r >= s.d) {
-    s.r -= s.d;
-    ++s.q;
-  }
-}
-
 }  // namespace
 
 struct FastColumn::Impl {
@@ -195,10 +146,10 @@ void FastColumn::Impl::activate(const GridParams& grid, double rho_g, const Tria
   double z0 = 0, dzi = 0, dzj = 0;
   for (int k = 0; k < 3; ++k) {
     int p = (k + 1) % 3, q = (k + 2) % 3;
-    a.e_ref[k] = e[k];
+    a.e[k] = a.e_ref[k] = e[k];
     a.di[k] = -static_cast<int64_t>(tri.y[q] - tri.y[p]) * unit;
     a.dj[k] = static_cast<int64_t>(tri.x[q] - tri.x[p]) * unit;
-    init_span(a.span[k], e[k], a.di[k], a.dj[k], tri.e_min[k]);
+    a.e_min[k] = tri.e_min[k];
     const int c = tri.corner[k];  // 0, 1 or 2
     a.vertex[k] = c == 0 ? r.vertex[0] : c == 1 ? r.vertex[1] : r.vertex[2];
     double zk = c == 0 ? r.z[0] : c == 1 ? r.z[1] : r.z[2];
@@ -232,28 +183,40 @@ void FastColumn::Impl::retire(int slot, Worker& w) {
   w.free.push_back(slot);
 }
 
-// Drops the hits of one active triangle on the current row: its exact span of covered
-// columns from the three edges' bounds, then one hit per column.
+// Drops the hits of one active triangle on the current row.
 void FastColumn::Impl::raster_row(Active& a, int& lo, int& hi, Worker& w, int slot) {
-  int64_t first = 0, last = a.i1 - a.i0;
-  for (int k = 0; k < 3; ++k) {
-    const EdgeSpan& s = a.span[k];
-    if (s.kind == 1) {
-      first = std::max(first, s.q);
-    } else if (s.kind == 2) {
-      last = std::min(last, s.q);
-    } else if (s.q < 0) {
-      last = -1;
+  int first = a.i0, last = a.i1;
+  if (last - first >= kNarrowSpan) {
+    // The span, edge by edge: E_k(i) = e[k] + di[k] (i - i0) >= e_min[k].
+    for (int k = 0; k < 3 && first <= last; ++k) {
+      int64_t need = a.e_min[k] - a.e[k];
+      if (a.di[k] > 0) {
+        if (need > 0) first = std::max<int64_t>(first, a.i0 - floor_div(-need, a.di[k]));
+      } else if (a.di[k] < 0) {
+        last = std::min<int64_t>(last, a.i0 + floor_div(-need, -a.di[k]));
+      } else if (need > 0) {
+        last = first - 1;
+      }
     }
+  } else {
+    // Narrow: find the span by testing the columns.
+    int64_t e0 = a.e[0], e1 = a.e[1], e2 = a.e[2];
+    int i = a.i0;
+    for (; i <= a.i1; ++i, e0 += a.di[0], e1 += a.di[1], e2 += a.di[2]) {
+      if (e0 >= a.e_min[0] && e1 >= a.e_min[1] && e2 >= a.e_min[2]) break;
+    }
+    first = i;
+    for (; i <= a.i1; ++i, e0 += a.di[0], e1 += a.di[1], e2 += a.di[2]) {
+      if (!(e0 >= a.e_min[0] && e1 >= a.e_min[1] && e2 >= a.e_min[2])) break;
+    }
+    last = i - 1;
   }
-  for (int k = 0; k < 3; ++k) step_span(a.span[k]);
   if (first > last) return;
-  const int i_first = a.i0 + static_cast<int>(first), i_last = a.i0 + static_cast<int>(last);
   RowBuffer& buffer = a.bottom ? w.floors : w.ceilings;
-  double zi = a.z + a.dzi * static_cast<double>(first);
-  for (int i = i_first; i <= i_last; ++i, zi += a.dzi) buffer.add(i, RowHit{zi, slot});
-  lo = std::min(lo, i_first);
-  hi = std::max(hi, i_last);
+  double zi = a.z + a.dzi * (first - a.i0);
+  for (int i = first; i <= last; ++i, zi += a.dzi) buffer.add(i, RowHit{zi, slot});
+  lo = std::min(lo, first);
+  hi = std::max(hi, last);
 }
 
 void FastColumn::Impl::sweep_band(const GridParams& grid, double rho_g, int band, Worker& w) {
@@ -278,6 +241,7 @@ void FastColumn::Impl::sweep_band(const GridParams& grid, double rho_g, int band
         continue;
       }
       raster_row(a, lo, hi, w, slot);
+      for (int q = 0; q < 3; ++q) a.e[q] += a.dj[q];
       a.z += a.dzj;
       ++k;
     }
