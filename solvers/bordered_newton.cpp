@@ -65,6 +65,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   PetscReal r_norm = 0;
   HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
   const double r0 = r_norm;
+  double r_previous = r_norm;
   for (int it = 0;; ++it) {
     result.residual_norm = r_norm;
     if (!ok || !std::isfinite(r_norm)) {
@@ -84,6 +85,16 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
       result.reason = "converged";
       break;
     }
+    // The column method's weights are piecewise smooth in the wall positions (a node moving
+    // across a column boundary moves a section's weight), so the residual can stall a few
+    // decades above the tolerance at a floor set by the grid. A residual that no longer
+    // falls and is already below 1e-6 of the force scale is that floor: accept it.
+    if (it > 1 && r_norm <= 1e-6 * F && r_norm >= 0.5 * r_previous && controls_met(c)) {
+      result.converged = true;
+      result.reason = "converged (residual at its floor)";
+      break;
+    }
+    r_previous = r_norm;
     if (it >= max_it_) {
       result.reason = "maximum iterations";
       break;

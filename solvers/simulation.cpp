@@ -13,6 +13,7 @@
 #include "io/output.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "solvers/control_run.hpp"
 #include "solvers/error_norms.hpp"
 #include "solvers/exact_solution.hpp"
 #include "solvers/newton_solver.hpp"
@@ -51,7 +52,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   Problem problem(config, mesh, dist, comm, exact.get());
   // A scene with cavities or states runs the bordered Newton (displacements and cavity
   // pressures); any other the plain SNES. No cavity code runs in a scene without cavities.
-  const bool staged = !config.cavities.empty() || !config.states.empty() || config.tip;
+  const bool staged =
+      !config.cavities.empty() || !config.states.empty() || config.tip || config.control;
   std::unique_ptr<CavitySystem> cavities;
   if (staged) cavities = std::make_unique<CavitySystem>(config, problem, mesh, dist);
   const bool symmetric = !problem.has_follower_loads();
@@ -83,8 +85,14 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   auto output_due = [&](int k, int last) { return k == last || (k % config.output.every) == 0; };
 
   StateRun state_run;
+  nlohmann::json control;
   if (staged) {
+    std::unique_ptr<ControlLoop> control_loop;
+    if (config.control)
+      control_loop = std::make_unique<ControlLoop>(config, problem, *cavities, *bordered);
     state_run = run_states(config, problem, *cavities, *bordered, recorder, u, stats);
+    if (control_loop)
+      control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()));
   } else if (config.time.type == "dynamic") {
     const int nsteps = static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9));
     recorder.record(0.0, u, 1.0);
@@ -161,6 +169,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
       t.jacobian_calls > 0 ? mesh.num_tets() * t.jacobian_calls / std::max(jacobian_s, 1e-12) : 0.0;
   if (staged) {
     summary["states"] = state_run.states;
+    for (const auto& [key, value] : control.items()) summary[key] = value;
     summary["cavities"] = cavities->report();
     summary["parts"] = cavities->parts();
     double fluid = cavities->fluid_weight_seconds(), constraint = bordered->constraint_seconds();

@@ -19,8 +19,10 @@
 namespace {
 
 const char* usage =
-    "usage: hydrosoft DECK.yaml [--set key=value ...] [PETSc options]\n"
+    "usage: hydrosoft DECK.yaml [--set key=value ...] [--targets -] [PETSc options]\n"
     "  --set key=value   override a deck key, e.g. --set mesh.order=2 --set mesh.parameters.h=0.1\n"
+    "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
+    "                    'effector x y z'; each is answered with one JSON line\n"
     "  PETSc options     e.g. -snes_monitor -ksp_type cg -pc_type gamg (they win over the deck)\n";
 
 int fail(int code, const std::string& message) {
@@ -37,12 +39,14 @@ int fail(int code, const std::string& message) {
 
 int main(int argc, char** argv) {
   // Separate hydrosoft's own arguments from PETSc's before PETSc sees them.
-  std::string deck;
+  std::string deck, targets;
   std::vector<std::string> overrides;
   std::vector<char*> petsc_args = {argv[0]};
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--set") == 0 && i + 1 < argc) {
       overrides.emplace_back(argv[++i]);
+    } else if (std::strcmp(argv[i], "--targets") == 0 && i + 1 < argc) {
+      targets = argv[++i];
     } else if (std::strcmp(argv[i], "--help") == 0) {
       std::cout << usage;
       return 0;
@@ -61,10 +65,18 @@ int main(int argc, char** argv) {
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   try {
-    const hs::Config config = hs::parse_deck(deck, overrides);
+    hs::Config config = hs::parse_deck(deck, overrides);
+    if (!targets.empty()) {
+      if (targets != "-") return fail(2, "--targets: only '-' (standard input) is supported");
+      if (!config.control)
+        return fail(2, deck + ": --targets - needs a deck with a control section");
+      config.control->targets_from_stdin = true;
+    }
+    // With targets on standard input, standard output carries the answers: the resolved
+    // configuration goes to standard error.
     if (rank == 0)
-      std::cout << "# hydrosoft: resolved configuration\n"
-                << hs::format_config(config) << std::endl;
+      (targets.empty() ? std::cout : std::cerr) << "# hydrosoft: resolved configuration\n"
+                                                << hs::format_config(config) << std::endl;
     const auto summary = hs::run_simulation(config, PETSC_COMM_WORLD);
     if (rank == 0) {
       std::cout << "# hydrosoft: done\n" << summary.dump(2) << std::endl;

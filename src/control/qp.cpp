@@ -13,10 +13,21 @@ namespace {
 
 bool all_finite(const Eigen::MatrixXd& m) { return m.allFinite(); }
 
-// Scale of the terms of row i of A x - b, for relative tolerances.
-double row_scale(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x,
-                 int i) {
-  return std::abs(b(i)) + A.row(i).cwiseAbs().dot(x.cwiseAbs());
+// Scale of the terms of row i of A x - b, for relative tolerances: x_size is the size of
+// the QP's steps (the larger of |x| and |H^-1 f|), so that a bound met at x = 0 with
+// b = 0 is not measured against zero.
+double row_scale(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, double x_size, int i) {
+  return std::abs(b(i)) + A.row(i).cwiseAbs().sum() * x_size;
+}
+
+double step_size(const Eigen::MatrixXd& H, const Eigen::VectorXd& f, const Eigen::VectorXd& x) {
+  double size = x.size() ? x.cwiseAbs().maxCoeff() : 0.0;
+  const Eigen::LLT<Eigen::MatrixXd> chol(H);
+  if (x.size() && chol.info() == Eigen::Success) {
+    const Eigen::VectorXd free = chol.solve(f);
+    if (free.allFinite()) size = std::max(size, free.cwiseAbs().maxCoeff());
+  }
+  return size;
 }
 
 }  // namespace
@@ -31,9 +42,10 @@ double qp_kkt_residual(const Eigen::MatrixXd& H, const Eigen::VectorXd& f, const
   double r = stationarity.cwiseAbs().maxCoeff() / (size.maxCoeff() + tiny);
   if (x.size() == 0) r = 0;
   const double mu_max = mu.size() ? mu.cwiseAbs().maxCoeff() : 0.0;
+  const double x_size = step_size(H, f, x);
   for (int i = 0; i < A.rows(); ++i) {
     const double slack = A.row(i).dot(x) - b(i);
-    const double scale = row_scale(A, b, x, i) + tiny;
+    const double scale = row_scale(A, b, x_size, i) + tiny;
     r = std::max(r, std::max(-slack, 0.0) / scale);
     r = std::max(r, std::abs(mu(i) * slack) / (std::abs(mu(i)) * scale + tiny));
     r = std::max(r, std::max(-mu(i), 0.0) / (mu_max + tiny));
@@ -92,6 +104,7 @@ QpResult solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& f, const Eige
     return out;
   };
 
+  const double x_size = step_size(H, f, x);
   while (true) {
     // The most violated constraint, measured as a distance (slack over the row's norm).
     int p = -1;
@@ -99,7 +112,7 @@ QpResult solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& f, const Eige
     for (int i = 0; i < m; ++i) {
       if (norm[i] == 0) continue;
       const double slack = A.row(i).dot(x) - b(i);
-      if (slack >= -1e-13 * row_scale(A, b, x, i)) continue;
+      if (slack >= -1e-13 * row_scale(A, b, std::max(x_size, x.cwiseAbs().maxCoeff()), i)) continue;
       if (-slack / norm[i] > worst) {
         worst = -slack / norm[i];
         p = i;

@@ -26,7 +26,8 @@ struct QpResult {
   int iterations = 0;  // constraints added or dropped
   // Largest of the scaled KKT conditions at (x, multipliers): stationarity
   // |H x + f - A^T mu|, primal violation max(b - A x, 0), complementarity |mu_i (A x - b)_i|,
-  // each divided by the size of the terms it is made of (docs/control.md).
+  // each divided by the size of the terms it is made of, x measured by the larger of |x|
+  // and |H^-1 f| (docs/control.md).
   double kkt_residual = 0;
   std::vector<int> active;  // rows in the final active set (multiplier > 0)
 };

@@ -103,6 +103,22 @@ TEST(Qp, DiagonalBoxIsAClamp) {
   EXPECT_LT(r.kkt_residual, 1e-14);
 }
 
+TEST(Qp, BoundMetAtZeroHasASmallResidual) {
+  // The controller's usual saturation: pressure at its bound, so b = 0 and x = 0; the
+  // residual is measured against the size of the step the bound stopped (|H^-1 f| = 2.5).
+  MatrixXd H(2, 2);
+  H << 2, 0.5, 0.5, 1;
+  const VectorXd f = (VectorXd(2) << 5, 1).finished();
+  MatrixXd A(1, 2);
+  A << 1, 0;
+  const hs::QpResult r = hs::solve_qp(H, f, A, VectorXd::Zero(1));
+  ASSERT_TRUE(r.solved);
+  EXPECT_EQ(r.x(0), 0.0);
+  EXPECT_NEAR(r.x(1), -1.0, 1e-15);  // min over x1 of 1/2 x1^2 + x1 at x0 = 0
+  EXPECT_NEAR(r.multipliers(0), 5 - 0.5, 1e-14);
+  EXPECT_LT(r.kkt_residual, 1e-14);
+}
+
 TEST(Qp, ProjectionOnAHalfPlane) {
   // min 1/2 |x - c|^2 s.t. a.x >= beta: x = c + (beta - a.c) a / |a|^2 when violated.
   const VectorXd c = (VectorXd(3) << 1, -2, 0.5).finished();

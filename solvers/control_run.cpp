@@ -1,0 +1,171 @@
+#include "solvers/control_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "common/error.hpp"
+
+namespace hs {
+namespace {
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const double pos = q * (v.size() - 1);
+  const size_t lo = static_cast<size_t>(std::floor(pos)), hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - lo) * (v[hi] - v[lo]);
+}
+
+// The next target set: from the deck, or a line of standard input read on rank 0 and shared.
+class TargetSource {
+ public:
+  TargetSource(const Config& config, const Effectors& effectors, MPI_Comm comm)
+      : config_(config), effectors_(effectors), comm_(comm) {
+    MPI_Comm_rank(comm, &rank_);
+  }
+  bool next(std::vector<ControlTarget>& targets) {
+    if (!config_.control->targets_from_stdin) {
+      if (index_ >= config_.control->targets.size()) return false;
+      targets = config_.control->targets[index_++];
+      return true;
+    }
+    std::string line;
+    int more = 0;
+    if (rank_ == 0) {
+      while (std::getline(std::cin, line)) {
+        ++line_number_;
+        if (line.find_first_not_of(" \t\r") != std::string::npos) {
+          more = 1;
+          break;
+        }
+      }
+    }
+    MPI_Bcast(&more, 1, MPI_INT, 0, comm_);
+    if (!more) return false;
+    int n = static_cast<int>(line.size());
+    MPI_Bcast(&n, 1, MPI_INT, 0, comm_);
+    line.resize(n);
+    MPI_Bcast(line.data(), n, MPI_CHAR, 0, comm_);
+    MPI_Bcast(&line_number_, 1, MPI_INT, 0, comm_);
+    targets = parse_target_line(line, effectors_, line_number_);
+    return true;
+  }
+
+ private:
+  const Config& config_;
+  const Effectors& effectors_;
+  MPI_Comm comm_;
+  int rank_ = 0, line_number_ = 0;
+  size_t index_ = 0;
+};
+
+}  // namespace
+
+std::vector<ControlTarget> parse_target_line(const std::string& line, const Effectors& effectors,
+                                             int line_number) {
+  std::istringstream in(line);
+  std::vector<std::string> words;
+  for (std::string w; in >> w;) words.push_back(w);
+  const std::string where =
+      "standard input, line " + std::to_string(line_number) + " '" + line + "'";
+  if (words.size() != 3 && words.size() != 4)
+    throw InputError(where + ": expected 'x y z' or 'effector x y z'");
+  ControlTarget t;
+  t.effector = words.size() == 4 ? words[0] : effectors.name(0);
+  if (effectors.index(t.effector) < 0)
+    throw InputError(where + ": no effector named '" + t.effector + "'");
+  for (int d = 0; d < 3; ++d) {
+    const std::string& w = words[words.size() - 3 + d];
+    size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(w, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != w.size() || !std::isfinite(x))
+      throw InputError(where + ": coordinate '" + w + "' is not a finite number");
+    t.position[d] = x;
+  }
+  return {t};
+}
+
+ControlLoop::ControlLoop(const Config& config, Problem& problem, CavitySystem& cavities,
+                         BorderedNewton& newton)
+    : config_(config),
+      problem_(problem),
+      effectors_(config, problem),
+      controller_(config, problem, cavities, newton, effectors_) {}
+
+nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_time) {
+  const Config& config = config_;
+  Effectors& effectors = effectors_;
+  InverseController& controller = controller_;
+  int rank = 0;
+  MPI_Comm_rank(problem_.comm(), &rank);
+  controller.set_rest(u);
+  TargetSource source(config, effectors, problem_.comm());
+
+  nlohmann::json out;
+  out["targets"] = nlohmann::json::array();
+  std::vector<double> total, assembly, fluid, free_solve, factorization, compliance, qp, correction;
+  double kkt_max = 0;
+  int unsolved = 0, set = 0;
+  std::vector<ControlTarget> targets;
+  while (source.next(targets)) {
+    ControlStepReport r;
+    bool limit_point = false;
+    for (int k = 0; k < config.control->steps_per_target; ++k) {
+      r = controller.step(u, targets);
+      limit_point |= r.limit_point;
+      total.push_back(r.total_ms);
+      assembly.push_back(r.assembly_ms);
+      fluid.push_back(r.fluid_weight_ms);
+      free_solve.push_back(r.free_solve_ms);
+      factorization.push_back(r.factorization_ms);
+      compliance.push_back(r.compliance_ms);
+      qp.push_back(r.qp_ms);
+      correction.push_back(r.correction_ms);
+      kkt_max = std::max(kkt_max, r.kkt_residual);
+      unsolved += !r.qp_solved;
+    }
+    recorder.record(first_time + ++set, u, 1.0);
+    for (const auto& t : targets) {
+      const int e = effectors.index(t.effector);
+      nlohmann::json j;
+      j["effector"] = t.effector;
+      j["target"] = t.position;
+      j["reached"] = {r.reached[3 * e], r.reached[3 * e + 1], r.reached[3 * e + 2]};
+      double err2 = 0;
+      for (int d = 0; d < 3; ++d)
+        if (effectors.config(e).directions[d])
+          err2 += std::pow(r.reached[3 * e + d] - t.position[d], 2);
+      j["error_m"] = std::sqrt(err2);
+      j["actuation"] = r.actuation;
+      j["saturated"] = r.saturated;
+      j["limit_point"] = limit_point;
+      j["step"] = recorder.written() - 1;
+      out["targets"].push_back(j);
+      if (config.control->targets_from_stdin && rank == 0)
+        std::cout << nlohmann::json({{"answer", j}}).dump() << std::endl;
+    }
+  }
+  auto timing = [](const std::vector<double>& v) {
+    return nlohmann::json{{"median", percentile(v, 0.5)}, {"p95", percentile(v, 0.95)}};
+  };
+  out["step_time_ms"] = timing(total);
+  out["step_time_ms"]["split_median"] = {{"assembly", percentile(assembly, 0.5)},
+                                         {"fluid_weight", percentile(fluid, 0.5)},
+                                         {"free_solve", percentile(free_solve, 0.5)},
+                                         {"factorization", percentile(factorization, 0.5)},
+                                         {"compliance", percentile(compliance, 0.5)},
+                                         {"qp", percentile(qp, 0.5)},
+                                         {"correction", percentile(correction, 0.5)}};
+  out["step_time_ms"]["steps"] = total.size();
+  out["qp"] = {{"kkt_residual_max", kkt_max}, {"unsolved", unsolved}};
+  return out;
+}
+
+}  // namespace hs

@@ -1,0 +1,44 @@
+// End effectors of the inverse controller: material points of the body (a mesh node named
+// by a point group, or any point inside the mesh located in its tetrahedron) whose position
+// x_e(u) = sum_a N_a(xi_e) (X_a + u_a) is linear in the displacements. Each controlled
+// direction d of effector e is one row of J_e: a distributed vector with N_a at the dofs
+// (a, d), zero on Dirichlet dofs, so that J_e du = row . du.
+#pragma once
+
+#include <petscvec.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "deck/config.hpp"
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+class Effectors {
+ public:
+  // Collective. Throws InputError naming the effector when its point group does not hold
+  // exactly one node or its position lies outside the mesh.
+  Effectors(const Config& config, Problem& problem);
+  ~Effectors();
+  Effectors(const Effectors&) = delete;
+  Effectors& operator=(const Effectors&) = delete;
+
+  int size() const { return static_cast<int>(names_.size()); }
+  int index(const std::string& name) const;  // -1 if unknown
+  const std::string& name(int e) const { return names_[e]; }
+  const EffectorConfig& config(int e) const { return configs_[e]; }
+  // Current positions on configuration u (3 per effector, every rank).
+  std::vector<double> positions(Vec u) const;
+  // Row of J_e for effector e, direction d.
+  Vec row(int e, int d) const { return rows_[3 * e + d]; }
+
+ private:
+  std::vector<std::string> names_;
+  std::vector<EffectorConfig> configs_;
+  std::vector<double> reference_;  // 3 per effector
+  std::vector<Vec> rows_;          // 3 per effector
+};
+
+}  // namespace hs

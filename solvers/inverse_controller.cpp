@@ -1,0 +1,326 @@
+#include "solvers/inverse_controller.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.hpp"
+#include "control/qp.hpp"
+#include "solvers/stepping.hpp"
+
+namespace hs {
+namespace {
+
+double max_over_ranks(double x, MPI_Comm comm) {
+  MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return x;
+}
+
+}  // namespace
+
+InverseController::InverseController(const Config& config, Problem& problem, CavitySystem& cavities,
+                                     BorderedNewton& newton, Effectors& effectors)
+    : config_(config),
+      problem_(problem),
+      cavities_(cavities),
+      newton_(newton),
+      effectors_(effectors) {
+  for (const auto& a : config.control->actuators) {
+    Actuator act;
+    act.config = a;
+    for (int c = 0; c < cavities.size(); ++c)
+      if (cavities[c].config.group == a.cavity) act.cavity = c;
+    const std::string where = config.deck_path + ": control.actuators '" + a.cavity + "'";
+    if (act.cavity < 0) throw InputError(where + ": no cavity of that name");
+    const std::string& kind = cavities[act.cavity].config.kind;
+    if (kind != "pneumatic" && kind != "hydraulic")
+      throw InputError(where + ": a " + kind + " chamber is not actuated (it enters fixed)");
+    actuators_.push_back(act);
+  }
+  J_ = problem.create_matrix();
+  HS_PETSC(KSPCreate(problem.comm(), &ksp_));
+  HS_PETSC(KSPSetFromOptions(ksp_));
+  for (int c = 0; c < cavities.size(); ++c) {
+    Y_.push_back(problem.create_vector());
+    if (cavities[c].has_weight()) Z_.push_back(problem.create_vector());
+  }
+  for (size_t a = 0; a < actuators_.size(); ++a) response_.push_back(problem.create_vector());
+}
+
+InverseController::~InverseController() {
+  KSPDestroy(&ksp_);
+  MatDestroy(&J_);
+  VecDestroy(&last_free_);
+  for (auto* list : {&Y_, &Z_, &response_, &lin_.g, &lin_.q})
+    for (auto& v : *list) VecDestroy(&v);
+}
+
+void InverseController::set_rest(Vec u) {
+  for (auto& a : actuators_)
+    a.rest_volume = problem_.enclosed_volume(cavities_[a.cavity].surface, u);
+  if (!last_free_) HS_PETSC(VecDuplicate(u, &last_free_));
+  HS_PETSC(VecCopy(u, last_free_));
+  last_pressures_ = cavities_.pressures();
+}
+
+// Newton from the corrected configuration: one linearisation away from equilibrium, it
+// nearly always converges at once. Where it does not (a large pressure change on a wall that
+// softens, near a limit point of the pressure), the pressures are walked from the last free
+// equilibrium to the new ones with the halving increments of the load stepping; past a limit
+// point no equilibrium exists, and the actuation stops at the last one reached.
+NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
+  const auto solve = [&](Vec x) {
+    problem_.apply_dirichlet(x, 1.0);
+    if (cavities_.linearized()) cavities_.freeze_weights(x, 1.0);
+    const NewtonResult r = newton_.solve(x, 1.0);
+    report.newton_iterations += r.iterations;
+    return r;
+  };
+  const std::vector<double> wanted = cavities_.pressures();
+  NewtonResult result = solve(u);
+  if (result.converged || !last_free_) {
+    if (result.converged) {
+      HS_PETSC(VecCopy(u, last_free_));
+      last_pressures_ = cavities_.pressures();
+    }
+    return result;
+  }
+  HS_PETSC(VecCopy(last_free_, u));
+  cavities_.set_pressures(last_pressures_);
+  const std::vector<double> from = last_pressures_;
+  auto set_actuation = [&](double t) {
+    std::vector<double> lambda = cavities_.pressures();
+    for (const auto& a : actuators_) {
+      Cavity& c = cavities_[a.cavity];
+      lambda[a.cavity] = from[a.cavity] + t * (wanted[a.cavity] - from[a.cavity]);
+      c.target = lambda[a.cavity];
+    }
+    cavities_.set_pressures(lambda);
+  };
+  struct Stop {};
+  SteppingStats stats;
+  auto attempt = [&](double t) {
+    const std::vector<double> before = cavities_.pressures();
+    set_actuation(t);
+    const NewtonResult r = solve(u);
+    if (r.converged) {
+      HS_PETSC(VecCopy(u, last_free_));
+      last_pressures_ = cavities_.pressures();
+    } else {
+      HS_PETSC(VecCopy(last_free_, u));
+      cavities_.set_pressures(before);
+      for (const auto& a : actuators_) cavities_[a.cavity].target = before[a.cavity];
+    }
+    result = r;
+    return r;
+  };
+  try {
+    advance_with_cutback(0.0, 1.0, config_.time.max_cutbacks, stats, attempt,
+                         [](double, const NewtonResult&) { throw Stop{}; });
+  } catch (const Stop&) {
+    // Held at the last equilibrium reached on the way: a bound of physics, not of the deck.
+    HS_PETSC(VecCopy(last_free_, u));
+    cavities_.set_pressures(last_pressures_);
+    for (const auto& a : actuators_) cavities_[a.cavity].target = last_pressures_[a.cavity];
+    result.converged = true;
+    report.limit_point = true;
+  }
+  return result;
+}
+
+ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget>& targets) {
+  ControlStepReport report;
+  const MPI_Comm comm = problem_.comm();
+  const double t_start = MPI_Wtime();
+  const auto& timers = problem_.timers();
+  const double assembly0 = timers.residual_s + timers.jacobian_s;
+  const double fluid0 = cavities_.fluid_weight_seconds();
+  const int m = cavities_.size(), n = num_actuators();
+
+  // Step 1: the free configuration at the current actuation.
+  for (const auto& a : actuators_) {
+    Cavity& c = cavities_[a.cavity];
+    c.control = CavityControl::pressure;
+    c.target = c.lambda;
+  }
+  const NewtonResult free = solve_free(u, report);
+  const double t_free = MPI_Wtime();
+  const double free_overhead =
+      timers.residual_s + timers.jacobian_s - assembly0 + cavities_.fluid_weight_seconds() - fluid0;
+  if (!free.converged)
+    throw SolveError("control step: the free configuration did not converge (" + free.reason +
+                     ", residual " + std::to_string(free.residual_norm) + ")");
+
+  // Step 2: one factorization at x_free and the response to each actuator.
+  std::vector<double> residual_controls;
+  Vec R = problem_.create_vector();
+  cavities_.residual(u, 1.0, R, residual_controls);  // volumes and weights at x_free
+  HS_PETSC(VecDestroy(&R));
+  if (!cavities_.linearize(u, 1.0, J_, lin_))
+    throw SolveError("control step: an element is inverted at the free configuration");
+  const double t_factor = MPI_Wtime();
+  HS_PETSC(KSPSetOperators(ksp_, J_, J_));
+  HS_PETSC(KSPSetUp(ksp_));
+  const double t_compliance = MPI_Wtime();
+  std::vector<Vec> columns;
+  std::vector<int> weighted;
+  for (int c = 0; c < m; ++c) {
+    HS_PETSC(KSPSolve(ksp_, lin_.g[c], Y_[c]));
+    columns.push_back(Y_[c]);
+  }
+  for (int c = 0, h = 0; c < m; ++c)
+    if (lin_.q[c]) {
+      HS_PETSC(KSPSolve(ksp_, lin_.q[c], Z_[h]));
+      columns.push_back(Z_[h++]);
+      weighted.push_back(c);
+    }
+  const int k = static_cast<int>(columns.size());
+  // Dense system for zeta = [dlambda (m); eta]: actuators' rows take their input, the other
+  // cavities keep their control (alpha g^T du + b dlambda = 0), eta_h = g_h^T du.
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(k, k), inputs = Eigen::MatrixXd::Zero(k, n);
+  std::vector<PetscScalar> dots(k);
+  std::vector<bool> actuated(m, false);
+  for (int a = 0; a < n; ++a) {
+    actuated[actuators_[a].cavity] = true;
+    inputs(actuators_[a].cavity, a) = 1;
+  }
+  for (int c = 0; c < m; ++c) {
+    if (actuated[c]) {
+      S(c, c) = 1;
+      continue;
+    }
+    HS_PETSC(VecMDot(lin_.g[c], k, columns.data(), dots.data()));
+    for (int j = 0; j < k; ++j) S(c, j) = lin_.alpha[c] * dots[j];
+    S(c, c) += lin_.b[c];
+  }
+  for (size_t w = 0; w < weighted.size(); ++w) {
+    const int row = m + static_cast<int>(w);
+    HS_PETSC(VecMDot(lin_.g[weighted[w]], k, columns.data(), dots.data()));
+    for (int j = 0; j < k; ++j) S(row, j) = dots[j];
+    S(row, row) -= 1;
+  }
+  const Eigen::MatrixXd zeta = S.fullPivLu().solve(inputs);  // k x n
+  for (int a = 0; a < n; ++a) {
+    HS_PETSC(VecSet(response_[a], 0.0));
+    const Eigen::VectorXd z = zeta.col(a);
+    HS_PETSC(VecMAXPY(response_[a], k, z.data(), columns.data()));
+  }
+  // Effector rows (weighted, controlled directions of the targeted effectors) and volumes.
+  const std::vector<double> x_free = effectors_.positions(u);
+  std::vector<double> rows_delta;
+  std::vector<std::vector<double>> rows_W;
+  std::vector<PetscScalar> wdots(n);
+  for (const auto& t : targets) {
+    const int e = effectors_.index(t.effector);
+    const auto& ec = effectors_.config(e);
+    for (int d = 0; d < 3; ++d) {
+      if (!ec.directions[d]) continue;
+      HS_PETSC(VecMDot(effectors_.row(e, d), n, response_.data(), wdots.data()));
+      std::vector<double> r(n);
+      for (int a = 0; a < n; ++a) r[a] = ec.weight * wdots[a];
+      rows_W.push_back(r);
+      rows_delta.push_back(ec.weight * (x_free[3 * e + d] - t.position[d]));
+    }
+  }
+  Eigen::MatrixXd W(rows_W.size(), n), growth(n, n);
+  Eigen::VectorXd delta(rows_W.size());
+  for (size_t r = 0; r < rows_W.size(); ++r) {
+    for (int a = 0; a < n; ++a) W(r, a) = rows_W[r][a];
+    delta(r) = rows_delta[r];
+  }
+  for (int a = 0; a < n; ++a) {
+    HS_PETSC(VecMDot(lin_.g[actuators_[a].cavity], n, response_.data(), wdots.data()));
+    for (int b = 0; b < n; ++b) growth(a, b) = wdots[b];
+  }
+  const double t_qp = MPI_Wtime();
+
+  // Step 3: the QP for the pressure changes.
+  Eigen::MatrixXd H = W.transpose() * W;
+  const double scale = std::max(H.trace() / std::max(n, 1), 1e-300);
+  H += config_.control->regularization * scale * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::VectorXd f = W.transpose() * delta;
+  std::vector<Eigen::RowVectorXd> rows;
+  std::vector<double> rhs;
+  std::vector<int> owner;  // actuator of each constraint row
+  auto bound = [&](const Eigen::RowVectorXd& row, double lower, int a) {
+    if (std::isfinite(lower) && lower > -1e299) {
+      rows.push_back(row);
+      rhs.push_back(lower);
+      owner.push_back(a);
+    }
+  };
+  for (int a = 0; a < n; ++a) {
+    const auto& b = actuators_[a].config;
+    const double lambda = cavities_[actuators_[a].cavity].lambda;
+    const double grown = cavities_[actuators_[a].cavity].volume - actuators_[a].rest_volume;
+    Eigen::RowVectorXd unit = Eigen::RowVectorXd::Zero(n);
+    unit(a) = 1;
+    bound(unit, b.min_pressure - lambda, a);
+    bound(-unit, lambda - b.max_pressure, a);
+    bound(unit, -b.max_pressure_change, a);
+    bound(-unit, -b.max_pressure_change, a);
+    bound(growth.row(a), b.min_volume_growth - grown, a);
+    bound(-growth.row(a), grown - b.max_volume_growth, a);
+  }
+  Eigen::MatrixXd A(rows.size(), n);
+  Eigen::VectorXd bvec(rows.size());
+  for (size_t r = 0; r < rows.size(); ++r) {
+    A.row(r) = rows[r];
+    bvec(r) = rhs[r];
+  }
+  QpResult qp = solve_qp(H, f, A, bvec);
+  report.qp_solved = qp.solved;
+  report.qp_status = qp.status;
+  Eigen::VectorXd dl = Eigen::VectorXd::Zero(n);
+  if (qp.solved) {
+    dl = qp.x;
+    report.kkt_residual = qp.kkt_residual;
+  }
+  report.saturated.assign(n, false);
+  for (int r : qp.active) report.saturated[owner[r]] = true;
+  const double t_correction = MPI_Wtime();
+
+  // Step 4: correction x = x_free + sum_a du_a dl_a, and the pressures of every cavity.
+  HS_PETSC(VecMAXPY(u, n, dl.data(), response_.data()));
+  std::vector<double> lambda = cavities_.pressures();
+  const Eigen::VectorXd dlambda = zeta.topRows(m) * dl;
+  for (int c = 0; c < m; ++c) lambda[c] += dlambda(c);
+  cavities_.set_pressures(lambda);
+  for (const auto& a : actuators_) cavities_[a.cavity].target = cavities_[a.cavity].lambda;
+  if (config_.control->newton_finish) {
+    problem_.apply_dirichlet(u, 1.0);
+    const NewtonResult r = newton_.solve(u, 1.0);
+    report.newton_iterations += r.iterations;
+    if (!r.converged)
+      throw SolveError("control step: Newton at the new actuation did not converge (" + r.reason +
+                       ")");
+  } else {
+    for (int c = 0; c < m; ++c)
+      cavities_[c].volume = problem_.enclosed_volume(cavities_[c].surface, u);
+  }
+  const double t_end = MPI_Wtime();
+
+  report.reached = effectors_.positions(u);
+  double error2 = 0;
+  for (const auto& t : targets) {
+    const int e = effectors_.index(t.effector);
+    for (int d = 0; d < 3; ++d)
+      if (effectors_.config(e).directions[d])
+        error2 += std::pow(report.reached[3 * e + d] - t.position[d], 2);
+  }
+  report.error = std::sqrt(error2);
+  for (const auto& a : actuators_) report.actuation.push_back(cavities_[a.cavity].lambda);
+  const double assembly = timers.residual_s + timers.jacobian_s - assembly0;
+  const double fluid = cavities_.fluid_weight_seconds() - fluid0;
+  report.assembly_ms = 1e3 * max_over_ranks(assembly, comm);
+  report.fluid_weight_ms = 1e3 * max_over_ranks(fluid, comm);
+  report.free_solve_ms = 1e3 * max_over_ranks(t_free - t_start - free_overhead, comm);
+  report.factorization_ms = 1e3 * max_over_ranks(t_compliance - t_factor, comm);
+  report.compliance_ms = 1e3 * max_over_ranks(t_qp - t_compliance, comm);
+  report.qp_ms = 1e3 * max_over_ranks(t_correction - t_qp, comm);
+  report.correction_ms = 1e3 * max_over_ranks(t_end - t_correction, comm);
+  report.total_ms = 1e3 * max_over_ranks(t_end - t_start, comm);
+  return report;
+}
+
+}  // namespace hs

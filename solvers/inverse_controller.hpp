@@ -1,0 +1,84 @@
+// The inverse controller of the paper (Section II, Steps 1-3) on hydrosoft's cavities:
+//   1. free: Newton at the current actuation (every actuator's pressure held) -> x_free;
+//   2. compliance: at x_free, one factorization of K, and the response du_k of the whole
+//      system to a unit pressure change of actuator k (the bordered elimination of
+//      solvers/bordered_newton.hpp: sealed chambers keep their gas or volume, the liquid's
+//      weight follows the volume, so a hydraulic actuator acts through the unified
+//      constraint of Section IV, made exact); W = J_e [du_1 .. du_n];
+//   3. a dense QP for the pressure changes dl: min 1/2 |W dl + delta_free|^2 + eps/2 |dl|^2
+//      (weights and directions of the effectors inside W), under the actuators' bounds
+//      (pressure, volume growth since rest, change per step);
+//   4. correction: x = x_free + sum_k du_k dl_k (the paper's equation 4), optionally
+//      finished by Newton at the new actuation.
+// docs/control.md derives it and says how each step is timed.
+#pragma once
+
+#include <petscksp.h>
+
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "solvers/bordered_newton.hpp"
+#include "solvers/cavity_system.hpp"
+#include "solvers/effectors.hpp"
+
+namespace hs {
+
+struct ControlStepReport {
+  std::vector<double> actuation;  // pressures of the actuators after the step (Pa)
+  std::vector<bool> saturated;    // per actuator: a bound of it is active in the QP
+  std::vector<double> reached;    // 3 per effector after the step
+  double error = 0;               // |x_e - target| over the targeted effectors (m)
+  double kkt_residual = 0;        // of the QP solution
+  bool qp_solved = true;
+  std::string qp_status;
+  // Milliseconds, slowest rank: assembly (all of the step's), fluid weight (all), the free
+  // Newton solve's own linear algebra, the factorization at x_free, compliance (the solves
+  // and dots of the responses), QP, correction (with Newton finishing: its solve), the step.
+  double assembly_ms = 0, fluid_weight_ms = 0, free_solve_ms = 0, factorization_ms = 0,
+         compliance_ms = 0, qp_ms = 0, correction_ms = 0, total_ms = 0;
+  int newton_iterations = 0;
+  // The free configuration could not reach the actuation of the last correction (a limit
+  // point of the pressure: no equilibrium there) and stayed at the last one reached.
+  bool limit_point = false;
+};
+
+class InverseController {
+ public:
+  // Collective. Checks the actuators (a pneumatic or hydraulic cavity each) and their bounds.
+  InverseController(const Config& config, Problem& problem, CavitySystem& cavities,
+                    BorderedNewton& newton, Effectors& effectors);
+  ~InverseController();
+  InverseController(const InverseController&) = delete;
+  InverseController& operator=(const InverseController&) = delete;
+
+  int num_actuators() const { return static_cast<int>(actuators_.size()); }
+  // Records the rest state's volumes (volume growth is counted from there).
+  void set_rest(Vec u);
+  // One control step towards `targets` from configuration u (updated in place).
+  ControlStepReport step(Vec u, const std::vector<ControlTarget>& targets);
+
+ private:
+  struct Actuator {
+    ActuatorConfig config;
+    int cavity = -1;
+    double rest_volume = 0;
+  };
+
+  NewtonResult solve_free(Vec u, ControlStepReport& report);
+
+  const Config& config_;
+  Problem& problem_;
+  CavitySystem& cavities_;
+  BorderedNewton& newton_;
+  Effectors& effectors_;
+  std::vector<Actuator> actuators_;
+  KSP ksp_ = nullptr;
+  Mat J_ = nullptr;
+  std::vector<Vec> Y_, Z_, response_;  // per cavity; per weighted cavity; per actuator
+  CavityLinearization lin_;
+  Vec last_free_ = nullptr;  // the last free equilibrium and its pressures
+  std::vector<double> last_pressures_;
+};
+
+}  // namespace hs
