@@ -131,6 +131,10 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       kkt_max = std::max(kkt_max, r.kkt_residual);
       unsolved += !r.qp_solved;
     }
+    // The reported position is the equilibrium at the final actuation, not the last
+    // step's linear prediction (the same when newton_finish is on).
+    controller.settle(u, r);
+    limit_point |= r.limit_point;
     recorder.record(first_time + ++set, u, 1.0);
     for (const auto& t : targets) {
       const int e = effectors.index(t.effector);

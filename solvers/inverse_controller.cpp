@@ -128,6 +128,20 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
   return result;
 }
 
+void InverseController::settle(Vec u, ControlStepReport& report) {
+  for (const auto& a : actuators_) {
+    cavities_[a.cavity].control = CavityControl::pressure;
+    cavities_[a.cavity].target = cavities_[a.cavity].lambda;
+  }
+  const NewtonResult r = solve_free(u, report);
+  if (!r.converged)
+    throw SolveError("control: the equilibrium at the final actuation did not converge (" +
+                     r.reason + ")");
+  report.reached = effectors_.positions(u);
+  report.actuation.clear();
+  for (const auto& a : actuators_) report.actuation.push_back(cavities_[a.cavity].lambda);
+}
+
 ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget>& targets) {
   ControlStepReport report;
   const MPI_Comm comm = problem_.comm();

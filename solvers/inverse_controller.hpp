@@ -57,6 +57,10 @@ class InverseController {
   void set_rest(Vec u);
   // One control step towards `targets` from configuration u (updated in place).
   ControlStepReport step(Vec u, const std::vector<ControlTarget>& targets);
+  // Equilibrium at the current actuation (the next step's free configuration, computed now):
+  // the position the effectors really reach, where a step's own report gives the linear
+  // prediction of its correction. Updates the report's reached, actuation, limit_point.
+  void settle(Vec u, ControlStepReport& report);
 
  private:
   struct Actuator {

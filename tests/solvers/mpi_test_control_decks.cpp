@@ -1,0 +1,104 @@
+// The control decks as users run them, on 1 and 2 ranks: the pneumatic and the hydraulic
+// finger reach different sets of the same targets (the liquid's weight lets the hydraulic
+// finger go lower and keeps it from the highest), reachable targets are met to 0.1 mm at
+// equilibrium, unreachable ones leave the actuator saturated at the bound; the pendulum
+// extends, contracts and bends; all ranks give what one rank gives.
+#include <gtest/gtest.h>
+
+#include "run_deck.hpp"
+
+namespace {
+
+using hs_test::run_deck;
+
+int world_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+// Target k of the summary met to 0.1 mm with no actuator saturated, or not met.
+void expect_reached(const nlohmann::json& s, int k, bool reached, const std::string& deck) {
+  const auto& t = s["targets"][k];
+  const double error = t["error_m"].get<double>();
+  bool saturated = false;
+  for (const auto& flag : t["saturated"]) saturated |= flag.get<bool>();
+  if (reached) {
+    EXPECT_LT(error, 1e-4) << deck << " target " << k;
+  } else {
+    EXPECT_GT(error, 2e-4) << deck << " target " << k;
+    EXPECT_TRUE(saturated) << deck << " target " << k;
+  }
+}
+
+void expect_same_targets(const nlohmann::json& a, const nlohmann::json& b) {
+  ASSERT_EQ(a["targets"].size(), b["targets"].size());
+  for (size_t k = 0; k < a["targets"].size(); ++k) {
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(a["targets"][k]["reached"][d].get<double>(),
+                  b["targets"][k]["reached"][d].get<double>(), 1e-9)
+          << "target " << k;
+    const auto &x = a["targets"][k]["actuation"], &y = b["targets"][k]["actuation"];
+    for (size_t i = 0; i < x.size(); ++i)
+      EXPECT_NEAR(x[i].get<double>(), y[i].get<double>(), 1e-4) << "target " << k;
+  }
+}
+
+TEST(ControlDecks, FingersReachDifferentTargets) {
+  // The decks' targets (tip height z): -12 mm both, -3 mm pneumatic only, +10 mm neither,
+  // -17.5 mm hydraulic only, -8 mm both, -30 mm neither.
+  const auto pneumatic = run_deck("finger_pneumatic.yaml", {}, "finger_pneumatic");
+  const auto hydraulic = run_deck("finger_hydraulic.yaml", {}, "finger_hydraulic");
+  const bool pneumatic_reaches[] = {true, true, false, false, true, false};
+  const bool hydraulic_reaches[] = {true, false, false, true, true, false};
+  for (int k = 0; k < 6; ++k) {
+    expect_reached(pneumatic, k, pneumatic_reaches[k], "pneumatic");
+    expect_reached(hydraulic, k, hydraulic_reaches[k], "hydraulic");
+  }
+  // Out of reach upwards both stop at the 30 kPa bound, the hydraulic finger lower; out of
+  // reach downwards both stop at 0 Pa, the hydraulic finger lower (its water's weight).
+  const auto z = [](const nlohmann::json& s, int k) {
+    return s["targets"][k]["reached"][2].get<double>();
+  };
+  EXPECT_NEAR(pneumatic["targets"][2]["actuation"][0].get<double>(), 30000, 1e-6);
+  EXPECT_NEAR(hydraulic["targets"][2]["actuation"][0].get<double>(), 30000, 1e-6);
+  EXPECT_GT(z(pneumatic, 2), z(hydraulic, 2) + 2e-3);
+  EXPECT_NEAR(pneumatic["targets"][5]["actuation"][0].get<double>(), 0, 1e-6);
+  EXPECT_LT(z(hydraulic, 5), z(pneumatic, 5) - 1e-3);
+  EXPECT_LT(pneumatic["qp"]["kkt_residual_max"].get<double>(), 1e-10);
+  EXPECT_LT(hydraulic["qp"]["kkt_residual_max"].get<double>(), 1e-10);
+  EXPECT_GT(hydraulic["step_time_ms"]["split_median"]["fluid_weight"].get<double>(), 0.0);
+  EXPECT_EQ(pneumatic["step_time_ms"]["split_median"]["fluid_weight"].get<double>(), 0.0);
+
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 1) return;
+  const auto one = run_deck("finger_hydraulic.yaml", {}, "finger_hydraulic_one", MPI_COMM_SELF);
+  if (world_rank() == 0) expect_same_targets(hydraulic, one);
+}
+
+TEST(ControlDecks, PendulumExtendsContractsAndBends) {
+  // Four actuators, three steered directions: extend, contract, bend to +x, and a target
+  // beyond the bounds.
+  const std::vector<std::string> o = {
+      "control.targets=[{bottom: [0, 0, -0.1015]}, {bottom: [0, 0, -0.1004]}, "
+      "{bottom: [0.002, 0, -0.1012]}, {bottom: [0.006, 0, -0.1]}]"};
+  const auto s = run_deck("pendulum.yaml", o, "pendulum");
+  for (int k : {0, 1, 2}) expect_reached(s, k, true, "pendulum");
+  expect_reached(s, 3, false, "pendulum");
+  // Extending fills all four alike; bending to +x fills the -x cavity (cavity_3) most and
+  // empties the +x one.
+  const auto p = [&](int k, int a) { return s["targets"][k]["actuation"][a].get<double>(); };
+  for (int a = 1; a < 4; ++a) EXPECT_NEAR(p(0, a), p(0, 0), 0.1 * p(0, 0));
+  EXPECT_GT(p(2, 2), p(2, 1));
+  EXPECT_GT(p(2, 2), p(2, 3));
+  EXPECT_LT(p(2, 0), 0.1 * p(2, 2));
+
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 1) return;
+  const auto one = run_deck("pendulum.yaml", o, "pendulum_one", MPI_COMM_SELF);
+  if (world_rank() == 0) expect_same_targets(s, one);
+}
+
+}  // namespace
