@@ -47,7 +47,7 @@ class RenderError(Exception):
 
 # ---------------------------------------------------------------- reading
 
-def read_summary(folder):
+def read_summary(folder, state_keys=("name", "tip_angle_deg", "step")):
     path = os.path.join(folder, "summary.json")
     if not os.path.isfile(path):
         raise RenderError(f"{path}: file not found (is '{folder}' a finished run's output folder?)")
@@ -60,7 +60,7 @@ def read_summary(folder):
     if not isinstance(states, list) or not states:
         raise RenderError(f"{path}: no \"states\" list (the deck needs a states section)")
     for i, s in enumerate(states):
-        for key in ("name", "tip_angle_deg", "step"):
+        for key in state_keys:
             if not isinstance(s, dict) or key not in s:
                 raise RenderError(f"{path}: states[{i}] has no \"{key}\"")
     return path, summary

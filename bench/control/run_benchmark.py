@@ -1,0 +1,95 @@
+#!/usr/bin/python3
+"""Time per control step of the control decks on a refinement series, split into its parts.
+
+    /usr/bin/python3 bench/control/run_benchmark.py [--np 1] [--repeats 3] [--largest]
+        [--out bench/control/results.csv]
+
+For each deck (finger_pneumatic, finger_hydraulic, pendulum) and mesh size h (the .geo's
+sizes: finger 364, 1,961 and 10,488 nodes, pendulum 2,063 and 10,493; --largest adds the
+~51k-node meshes, minutes each), runs `hydrosoft DECK` on NP ranks with two target sets of
+the deck (the first two) and 5 control steps each, REPEATS times, and reads summary.json's
+`step_time_ms` (median and p95 over the run's steps; the split medians: assembly, fluid
+weight, free solve, factorization, compliance, QP, correction). Reports the median over the
+repeats of each figure, as CSV and as a Markdown table. OPENBLAS_NUM_THREADS=1, so NP ranks
+use NP cores.
+"""
+import argparse
+import csv
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+CASES = [  # deck, h, nodes (meshes/*.geo headers)
+    ("finger_pneumatic", 0.006, 364), ("finger_pneumatic", 0.0026, 1961),
+    ("finger_pneumatic", 0.00135, 10488), ("finger_pneumatic", 0.00074, 51465),
+    ("finger_hydraulic", 0.006, 364), ("finger_hydraulic", 0.0026, 1961),
+    ("finger_hydraulic", 0.00135, 10488), ("finger_hydraulic", 0.00074, 51465),
+    ("pendulum", 0.0036, 2063), ("pendulum", 0.00185, 10493), ("pendulum", 0.00103, 51393),
+]
+PARTS = ["assembly", "fluid_weight", "free_solve", "factorization", "compliance", "qp",
+         "correction"]
+
+
+def run(deck, h, np_, folder):
+    cmd = ["mpirun", "--oversubscribe", "-np", str(np_)]
+    if os.geteuid() == 0:
+        cmd.append("--allow-run-as-root")
+    cmd += [os.path.join(ROOT, "build", "bin", "hydrosoft"), f"input/{deck}.yaml",
+            "--set", f"mesh.parameters.h={h}", "--set", "control.steps_per_target=5",
+            "--set", f"output.folder={folder}"]
+    # The first two target sets of the deck.
+    targets = {"pendulum": "[{bottom: [0, 0, -0.1015]}, {bottom: [0.002, 0, -0.1012]}]"}
+    cmd += ["--set", "control.targets=" + targets.get(
+        deck, "[{tip: [0.09, 0, -0.012]}, {tip: [0.09, 0, -0.008]}]")]
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+    p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"run_benchmark.py: {deck} h={h} failed:\n{p.stdout[-2000:]}{p.stderr[-2000:]}")
+    with open(os.path.join(folder, "summary.json")) as f:
+        return json.load(f)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--np", type=int, default=1)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--largest", action="store_true")
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "control", "results.csv"))
+    a = ap.parse_args()
+    rows = []
+    for deck, h, nodes in CASES:
+        if nodes > 50000 and not a.largest:
+            continue
+        reps = []
+        for r in range(a.repeats):
+            folder = os.path.join(tempfile.gettempdir(), f"hydrosoft_bench_control_{deck}_{r}")
+            reps.append(run(deck, h, a.np, folder))
+        st = [s["step_time_ms"] for s in reps]
+        row = {"deck": deck, "h": h, "nodes": nodes, "dofs": reps[0]["dofs"], "ranks": a.np,
+               "steps": st[0]["steps"],
+               "median_ms": statistics.median(s["median"] for s in st),
+               "p95_ms": statistics.median(s["p95"] for s in st)}
+        for part in PARTS:
+            row[part + "_ms"] = statistics.median(s["split_median"][part] for s in st)
+        rows.append(row)
+        print(row, flush=True)
+    tmp = a.out + ".tmp"
+    with open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        for row in rows:
+            w.writerow({k: ("%.3f" % v if isinstance(v, float) else v) for k, v in row.items()})
+    os.replace(tmp, a.out)
+    print("| deck | nodes | step median (ms) | p95 | " + " | ".join(PARTS) + " |")
+    print("|---|---|---|---|" + "---|" * len(PARTS))
+    for r in rows:
+        print(f"| {r['deck']} | {r['nodes']:,} | {r['median_ms']:.1f} | {r['p95_ms']:.1f} | " +
+              " | ".join("%.2f" % r[p + "_ms"] for p in PARTS) + " |")
+
+
+if __name__ == "__main__":
+    main()
