@@ -131,22 +131,36 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       kkt_max = std::max(kkt_max, r.kkt_residual);
       unsolved += !r.qp_solved;
     }
-    // The reported position is the equilibrium at the final actuation, not the last
-    // step's linear prediction (the same when newton_finish is on).
-    controller.settle(u, r);
-    limit_point |= r.limit_point;
+    // With the free configuration converged by Newton, the reported position is the
+    // equilibrium at the final actuation, not the last step's linear prediction (the same
+    // when newton_finish is on). The one_step mode never waits for Newton: it reports the
+    // prediction, and the next step's residual corrects it.
+    if (config.control->free_solve == "newton") {
+      controller.settle(u, r);
+      limit_point |= r.limit_point;
+    }
+    std::vector<double> equilibrium;
+    if (config.control->free_solve == "one_step" && config.control->check_equilibrium)
+      equilibrium = controller.equilibrium_positions(u);
     recorder.record(first_time + ++set, u, 1.0);
+    auto error_of = [&](const std::vector<double>& x, int e, const ControlTarget& t) {
+      double err2 = 0;
+      for (int d = 0; d < 3; ++d)
+        if (effectors.config(e).directions[d]) err2 += std::pow(x[3 * e + d] - t.position[d], 2);
+      return std::sqrt(err2);
+    };
     for (const auto& t : targets) {
       const int e = effectors.index(t.effector);
       nlohmann::json j;
       j["effector"] = t.effector;
       j["target"] = t.position;
       j["reached"] = {r.reached[3 * e], r.reached[3 * e + 1], r.reached[3 * e + 2]};
-      double err2 = 0;
-      for (int d = 0; d < 3; ++d)
-        if (effectors.config(e).directions[d])
-          err2 += std::pow(r.reached[3 * e + d] - t.position[d], 2);
-      j["error_m"] = std::sqrt(err2);
+      j["error_m"] = error_of(r.reached, e, t);
+      if (!equilibrium.empty()) {
+        j["equilibrium"] = {equilibrium[3 * e], equilibrium[3 * e + 1], equilibrium[3 * e + 2]};
+        j["equilibrium_error_m"] = error_of(equilibrium, e, t);
+      }
+      j["step_ms"] = r.total_ms;
       j["actuation"] = r.actuation;
       j["saturated"] = r.saturated;
       j["limit_point"] = limit_point;

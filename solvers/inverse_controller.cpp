@@ -45,12 +45,16 @@ InverseController::InverseController(const Config& config, Problem& problem, Cav
     if (cavities[c].has_weight()) Z_.push_back(problem.create_vector());
   }
   for (size_t a = 0; a < actuators_.size(); ++a) response_.push_back(problem.create_vector());
+  R_ = problem.create_vector();
+  a_ = problem.create_vector();
+  free_step_ = problem.create_vector();
 }
 
 InverseController::~InverseController() {
   KSPDestroy(&ksp_);
   MatDestroy(&J_);
   VecDestroy(&last_free_);
+  for (Vec* v : {&R_, &a_, &free_step_}) VecDestroy(v);
   for (auto* list : {&Y_, &Z_, &response_, &lin_.g, &lin_.q})
     for (auto& v : *list) VecDestroy(&v);
 }
@@ -142,6 +146,80 @@ void InverseController::settle(Vec u, ControlStepReport& report) {
   for (const auto& a : actuators_) report.actuation.push_back(cavities_[a.cavity].lambda);
 }
 
+// Y_c = K^-1 g_c, Z_h = K^-1 q_h with the current factorization; the dense system S of the
+// bordered elimination for zeta = [dlambda (m); eta]: du = -a + [Y Z] zeta, actuators' rows
+// take their input, the other cavities keep their control (alpha g^T du + b dlambda = -c),
+// eta_h = g_h^T du; and the response of the whole system to each actuator.
+void InverseController::factor_responses() {
+  const int m = cavities_.size(), n = num_actuators();
+  columns_.clear();
+  weighted_.clear();
+  for (int c = 0; c < m; ++c) {
+    HS_PETSC(KSPSolve(ksp_, lin_.g[c], Y_[c]));
+    columns_.push_back(Y_[c]);
+  }
+  for (int c = 0, h = 0; c < m; ++c)
+    if (lin_.q[c]) {
+      HS_PETSC(KSPSolve(ksp_, lin_.q[c], Z_[h]));
+      columns_.push_back(Z_[h++]);
+      weighted_.push_back(c);
+    }
+  const int k = static_cast<int>(columns_.size());
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(k, k), inputs = Eigen::MatrixXd::Zero(k, n);
+  std::vector<PetscScalar> dots(k);
+  actuated_.assign(m, false);
+  for (int a = 0; a < n; ++a) {
+    actuated_[actuators_[a].cavity] = true;
+    inputs(actuators_[a].cavity, a) = 1;
+  }
+  for (int c = 0; c < m; ++c) {
+    if (actuated_[c]) {
+      S(c, c) = 1;
+      continue;
+    }
+    HS_PETSC(VecMDot(lin_.g[c], k, columns_.data(), dots.data()));
+    for (int j = 0; j < k; ++j) S(c, j) = lin_.alpha[c] * dots[j];
+    S(c, c) += lin_.b[c];
+  }
+  for (size_t w = 0; w < weighted_.size(); ++w) {
+    const int row = m + static_cast<int>(w);
+    HS_PETSC(VecMDot(lin_.g[weighted_[w]], k, columns_.data(), dots.data()));
+    for (int j = 0; j < k; ++j) S(row, j) = dots[j];
+    S(row, row) -= 1;
+  }
+  S_lu_.compute(S);
+  zeta_ = S_lu_.solve(inputs);  // k x n
+  for (int a = 0; a < n; ++a) {
+    HS_PETSC(VecSet(response_[a], 0.0));
+    const Eigen::VectorXd z = zeta_.col(a);
+    HS_PETSC(VecMAXPY(response_[a], k, z.data(), columns_.data()));
+  }
+}
+
+std::vector<double> InverseController::equilibrium_positions(Vec u) {
+  const std::vector<double> pressures = cavities_.pressures();
+  std::vector<double> targets;
+  for (int c = 0; c < cavities_.size(); ++c) targets.push_back(cavities_[c].target);
+  Vec x = nullptr;
+  HS_PETSC(VecDuplicate(u, &x));
+  HS_PETSC(VecCopy(u, x));
+  for (const auto& a : actuators_) {
+    cavities_[a.cavity].control = CavityControl::pressure;
+    cavities_[a.cavity].target = cavities_[a.cavity].lambda;
+  }
+  problem_.apply_dirichlet(x, 1.0);
+  if (cavities_.linearized()) cavities_.freeze_weights(x, 1.0);
+  const NewtonResult r = newton_.solve(x, 1.0);
+  const std::vector<double> positions = effectors_.positions(x);
+  HS_PETSC(VecDestroy(&x));
+  cavities_.set_pressures(pressures);
+  for (int c = 0; c < cavities_.size(); ++c) cavities_[c].target = targets[c];
+  if (!r.converged)
+    throw SolveError("control: the equilibrium check at the current actuation did not converge (" +
+                     r.reason + ")");
+  return positions;
+}
+
 ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget>& targets) {
   ControlStepReport report;
   const MPI_Comm comm = problem_.comm();
@@ -151,74 +229,70 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   const double fluid0 = cavities_.fluid_weight_seconds();
   const int m = cavities_.size(), n = num_actuators();
 
-  // Step 1: the free configuration at the current actuation.
+  // Step 1: the free configuration at the current actuation, converged by Newton; in the
+  // one_step mode it is the first Newton step of step 2's linearisation instead.
+  const bool one_step = config_.control->free_solve == "one_step";
   for (const auto& a : actuators_) {
     Cavity& c = cavities_[a.cavity];
     c.control = CavityControl::pressure;
     c.target = c.lambda;
   }
-  const NewtonResult free = solve_free(u, report);
+  if (!one_step) {
+    const NewtonResult free = solve_free(u, report);
+    if (!free.converged)
+      throw SolveError("control step: the free configuration did not converge (" + free.reason +
+                       ", residual " + std::to_string(free.residual_norm) + ")");
+  }
   const double t_free = MPI_Wtime();
   const double free_overhead =
       timers.residual_s + timers.jacobian_s - assembly0 + cavities_.fluid_weight_seconds() - fluid0;
-  if (!free.converged)
-    throw SolveError("control step: the free configuration did not converge (" + free.reason +
-                     ", residual " + std::to_string(free.residual_norm) + ")");
 
-  // Step 2: one factorization at x_free and the response to each actuator.
-  std::vector<double> residual_controls;
-  Vec R = problem_.create_vector();
-  cavities_.residual(u, 1.0, R, residual_controls);  // volumes and weights at x_free
-  HS_PETSC(VecDestroy(&R));
-  if (!cavities_.linearize(u, 1.0, J_, lin_))
+  // Step 2: one linearisation, one factorization, and the response to each actuator. After
+  // Newton the residual is the converged one (the free step below is then round-off). With
+  // control.refactor_every N > 1 (one_step only) the tangent, its factorization and the
+  // responses are kept for N steps: the free step is then a modified-Newton step on the
+  // fresh residual, and W is the compliance of up to N - 1 steps ago.
+  std::vector<double> controls;
+  problem_.apply_dirichlet(u, 1.0);
+  if (!cavities_.residual(u, 1.0, R_, controls))
     throw SolveError("control step: an element is inverted at the free configuration");
-  const double t_factor = MPI_Wtime();
-  HS_PETSC(KSPSetOperators(ksp_, J_, J_));
-  HS_PETSC(KSPSetUp(ksp_));
-  const double t_compliance = MPI_Wtime();
-  std::vector<Vec> columns;
-  std::vector<int> weighted;
+  const bool refactor =
+      !one_step || steps_since_factorization_ + 1 >= config_.control->refactor_every || !factored_;
+  const double t_factor0 = MPI_Wtime();
+  double t_factor = t_factor0, t_compliance = t_factor0;
+  if (refactor) {
+    if (!cavities_.linearize(u, 1.0, J_, lin_))
+      throw SolveError("control step: an element is inverted at the free configuration");
+    t_factor = MPI_Wtime();
+    HS_PETSC(KSPSetOperators(ksp_, J_, J_));
+    HS_PETSC(KSPSetUp(ksp_));
+    t_compliance = MPI_Wtime();
+    factor_responses();
+    factored_ = true;
+    steps_since_factorization_ = 0;
+  } else {
+    ++steps_since_factorization_;
+  }
+  const int k = static_cast<int>(columns_.size());
+  HS_PETSC(KSPSolve(ksp_, R_, a_));
+  // The free step: the bordered elimination with the actuators' pressures held.
+  Eigen::VectorXd free_rhs = Eigen::VectorXd::Zero(k);
+  PetscScalar ga = 0;
   for (int c = 0; c < m; ++c) {
-    HS_PETSC(KSPSolve(ksp_, lin_.g[c], Y_[c]));
-    columns.push_back(Y_[c]);
+    if (actuated_[c]) continue;
+    HS_PETSC(VecDot(lin_.g[c], a_, &ga));
+    free_rhs(c) = -controls[c] + lin_.alpha[c] * ga;
   }
-  for (int c = 0, h = 0; c < m; ++c)
-    if (lin_.q[c]) {
-      HS_PETSC(KSPSolve(ksp_, lin_.q[c], Z_[h]));
-      columns.push_back(Z_[h++]);
-      weighted.push_back(c);
-    }
-  const int k = static_cast<int>(columns.size());
-  // Dense system for zeta = [dlambda (m); eta]: actuators' rows take their input, the other
-  // cavities keep their control (alpha g^T du + b dlambda = 0), eta_h = g_h^T du.
-  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(k, k), inputs = Eigen::MatrixXd::Zero(k, n);
-  std::vector<PetscScalar> dots(k);
-  std::vector<bool> actuated(m, false);
-  for (int a = 0; a < n; ++a) {
-    actuated[actuators_[a].cavity] = true;
-    inputs(actuators_[a].cavity, a) = 1;
+  for (size_t w = 0; w < weighted_.size(); ++w) {
+    HS_PETSC(VecDot(lin_.g[weighted_[w]], a_, &ga));
+    free_rhs(m + static_cast<int>(w)) = ga;
   }
-  for (int c = 0; c < m; ++c) {
-    if (actuated[c]) {
-      S(c, c) = 1;
-      continue;
-    }
-    HS_PETSC(VecMDot(lin_.g[c], k, columns.data(), dots.data()));
-    for (int j = 0; j < k; ++j) S(c, j) = lin_.alpha[c] * dots[j];
-    S(c, c) += lin_.b[c];
-  }
-  for (size_t w = 0; w < weighted.size(); ++w) {
-    const int row = m + static_cast<int>(w);
-    HS_PETSC(VecMDot(lin_.g[weighted[w]], k, columns.data(), dots.data()));
-    for (int j = 0; j < k; ++j) S(row, j) = dots[j];
-    S(row, row) -= 1;
-  }
-  const Eigen::MatrixXd zeta = S.fullPivLu().solve(inputs);  // k x n
-  for (int a = 0; a < n; ++a) {
-    HS_PETSC(VecSet(response_[a], 0.0));
-    const Eigen::VectorXd z = zeta.col(a);
-    HS_PETSC(VecMAXPY(response_[a], k, z.data(), columns.data()));
-  }
+  const Eigen::VectorXd zeta_free = S_lu_.solve(free_rhs);
+  HS_PETSC(VecCopy(a_, free_step_));
+  HS_PETSC(VecScale(free_step_, -1.0));
+  HS_PETSC(VecMAXPY(free_step_, k, zeta_free.data(), columns_.data()));
+  HS_PETSC(VecAXPY(u, 1.0, free_step_));  // x_free
+  for (int c = 0; c < m; ++c) cavities_[c].lambda += zeta_free(c);
   // Effector rows (weighted, controlled directions of the targeted effectors) and volumes.
   const std::vector<double> x_free = effectors_.positions(u);
   std::vector<double> rows_delta;
@@ -266,7 +340,10 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   for (int a = 0; a < n; ++a) {
     const auto& b = actuators_[a].config;
     const double lambda = cavities_[actuators_[a].cavity].lambda;
-    const double grown = cavities_[actuators_[a].cavity].volume - actuators_[a].rest_volume;
+    PetscScalar free_growth = 0;  // the free step's volume change (linear)
+    HS_PETSC(VecDot(lin_.g[actuators_[a].cavity], free_step_, &free_growth));
+    const double grown =
+        cavities_[actuators_[a].cavity].volume + free_growth - actuators_[a].rest_volume;
     Eigen::RowVectorXd unit = Eigen::RowVectorXd::Zero(n);
     unit(a) = 1;
     bound(unit, b.min_pressure - lambda, a);
@@ -297,7 +374,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // Step 4: correction x = x_free + sum_a du_a dl_a, and the pressures of every cavity.
   HS_PETSC(VecMAXPY(u, n, dl.data(), response_.data()));
   std::vector<double> lambda = cavities_.pressures();
-  const Eigen::VectorXd dlambda = zeta.topRows(m) * dl;
+  const Eigen::VectorXd dlambda = zeta_.topRows(m) * dl;
   for (int c = 0; c < m; ++c) lambda[c] += dlambda(c);
   cavities_.set_pressures(lambda);
   for (const auto& a : actuators_) cavities_[a.cavity].target = cavities_[a.cavity].lambda;

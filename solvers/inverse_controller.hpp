@@ -1,5 +1,6 @@
 // The inverse controller of the paper (Section II, Steps 1-3) on hydrosoft's cavities:
-//   1. free: Newton at the current actuation (every actuator's pressure held) -> x_free;
+//   1. free: Newton at the current actuation (every actuator's pressure held) -> x_free
+//      (control.free_solve: one_step takes the first Newton step of 2's factorization);
 //   2. compliance: at x_free, one factorization of K, and the response du_k of the whole
 //      system to a unit pressure change of actuator k (the bordered elimination of
 //      solvers/bordered_newton.hpp: sealed chambers keep their gas or volume, the liquid's
@@ -15,6 +16,7 @@
 
 #include <petscksp.h>
 
+#include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -61,6 +63,10 @@ class InverseController {
   // the position the effectors really reach, where a step's own report gives the linear
   // prediction of its correction. Updates the report's reached, actuation, limit_point.
   void settle(Vec u, ControlStepReport& report);
+  // The equilibrium at the current actuation, computed on a copy of u (u, the pressures and
+  // the controller's state are left as they were): the position a one_step controller's
+  // prediction stands for. Throws SolveError when Newton does not converge.
+  std::vector<double> equilibrium_positions(Vec u);
 
  private:
   struct Actuator {
@@ -70,6 +76,7 @@ class InverseController {
   };
 
   NewtonResult solve_free(Vec u, ControlStepReport& report);
+  void factor_responses();
 
   const Config& config_;
   Problem& problem_;
@@ -81,6 +88,15 @@ class InverseController {
   Mat J_ = nullptr;
   std::vector<Vec> Y_, Z_, response_;  // per cavity; per weighted cavity; per actuator
   CavityLinearization lin_;
+  Vec R_ = nullptr, a_ = nullptr, free_step_ = nullptr;  // residual, K^-1 R, the free step
+  // The responses of the last factorization (kept for control.refactor_every steps).
+  std::vector<Vec> columns_;
+  std::vector<int> weighted_;
+  std::vector<bool> actuated_;
+  Eigen::FullPivLU<Eigen::MatrixXd> S_lu_;
+  Eigen::MatrixXd zeta_;
+  bool factored_ = false;
+  int steps_since_factorization_ = 0;
   Vec last_free_ = nullptr;  // the last free equilibrium and its pressures
   std::vector<double> last_pressures_;
 };

@@ -11,35 +11,35 @@
 namespace hs {
 
 struct MeshConfig {
-  std::string file;            // .msh (gmsh 4.x) or .geo; resolved relative to the deck's folder
-  int order = 1;               // 1: Tet4, 2: Tet10
+  std::string file;  // .msh (gmsh 4.x) or .geo; resolved relative to the deck's folder
+  int order = 1;     // 1: Tet4, 2: Tet10
   std::map<std::string, double> parameters;  // .geo only: numbers set before meshing (e.g. h)
-  int refine = 0;              // .geo only: uniform refinements after meshing
+  int refine = 0;                            // .geo only: uniform refinements after meshing
 };
 
 struct MaterialConfig {
-  std::string group;           // volume physical group
-  std::string model;           // linear_elastic | corotational | saint_venant_kirchhoff |
-                               // neo_hookean | mooney_rivlin
-  double E = 0, nu = 0;        // given as E, nu or as mu, lambda; both pairs are filled in
+  std::string group;     // volume physical group
+  std::string model;     // linear_elastic | corotational | saint_venant_kirchhoff |
+                         // neo_hookean | mooney_rivlin
+  double E = 0, nu = 0;  // given as E, nu or as mu, lambda; both pairs are filled in
   double mu = 0, lambda = 0;
-  double c1 = 0, c2 = 0;       // Mooney-Rivlin: psi = c1 (I1b - 3) + c2 (I2b - 3) + volumetric;
-                               // default c1 = mu/2, c2 = 0 (then it is neo-Hookean-like)
-  double density = 0;          // kg/m^3
+  double c1 = 0, c2 = 0;  // Mooney-Rivlin: psi = c1 (I1b - 3) + c2 (I2b - 3) + volumetric;
+                          // default c1 = mu/2, c2 = 0 (then it is neo-Hookean-like)
+  double density = 0;     // kg/m^3
 };
 
 struct DirichletConfig {
-  std::string group;                      // any physical group; all its nodes are constrained
+  std::string group;  // any physical group; all its nodes are constrained
   std::array<bool, 3> components{true, true, true};  // which of x, y, z are prescribed
-  std::array<double, 3> value{0, 0, 0};   // prescribed displacement at full load
-  bool scaled = true;                     // follows the load factor (false: applied at once)
-  bool exact = false;                     // values from the deck's exact solution at the
-                                          // current load factor (verification decks)
+  std::array<double, 3> value{0, 0, 0};              // prescribed displacement at full load
+  bool scaled = true;  // follows the load factor (false: applied at once)
+  bool exact = false;  // values from the deck's exact solution at the
+                       // current load factor (verification decks)
 };
 
 struct PressureConfig {
-  std::string group;           // surface physical group
-  double value = 0;            // Pa at full load; positive pushes against the outward normal
+  std::string group;  // surface physical group
+  double value = 0;   // Pa at full load; positive pushes against the outward normal
 };
 
 struct TimeConfig {
@@ -51,7 +51,7 @@ struct TimeConfig {
   double end_time = 0;           // dynamic only
   std::string integrator = "newmark";  // dynamic: newmark | backward_euler
   double newmark_beta = 0.25, newmark_gamma = 0.5;
-  int max_cutbacks = 8;          // halvings of a failed load increment before giving up
+  int max_cutbacks = 8;  // halvings of a failed load increment before giving up
 };
 
 struct SolverConfig {
@@ -60,13 +60,13 @@ struct SolverConfig {
 };
 
 struct OutputConfig {
-  std::string folder;            // default: out/<deck name>, relative to the working directory
-  int every = 1;                 // write every n-th step (the last one always)
+  std::string folder;  // default: out/<deck name>, relative to the working directory
+  int every = 1;       // write every n-th step (the last one always)
 };
 
 struct ExactConfig {
-  std::string type;              // none | lame_sphere | cantilever_gravity | hydrostatic_block |
-                                 // neo_hookean_sphere | bimaterial_bar ("none" after parse_deck)
+  std::string type;  // none | lame_sphere | cantilever_gravity | hydrostatic_block |
+                     // neo_hookean_sphere | bimaterial_bar ("none" after parse_deck)
   std::map<std::string, double> parameters;  // e.g. a, b, p for lame_sphere
 };
 
@@ -82,13 +82,13 @@ struct FluidWeightConfig {
 
 // A closed surface of the mesh (boundary faces of a surface group) that holds gas or liquid.
 struct CavityConfig {
-  std::string group;              // surface physical group; its name is the cavity's name
+  std::string group;               // surface physical group; its name is the cavity's name
   std::string kind = "pneumatic";  // pneumatic | hydraulic | sealed_gas | sealed_volume
   // pneumatic / hydraulic control in the first state (ramped with the load factor): a gauge
   // pressure in Pa, or the volume added in m^3 (the pressure is then an unknown).
   double pressure = 0;
   std::optional<double> added_volume;
-  double density = 0;  // hydraulic: liquid density, kg/m^3 (0: weightless liquid)
+  double density = 0;              // hydraulic: liquid density, kg/m^3 (0: weightless liquid)
   FluidWeightConfig fluid_weight;  // hydraulic only
   // sealed_gas: p V = const with the absolute pressure; gauge pressure at the mesh's volume.
   double initial_pressure = 0;
@@ -118,9 +118,9 @@ struct TipConfig {
 struct EffectorConfig {
   std::string name;   // unique; target sets name it
   std::string point;  // a point physical group with one node, or empty: `position` is used
-  std::array<double, 3> position{0, 0, 0};  // a material point, in reference coordinates
+  std::array<double, 3> position{0, 0, 0};           // a material point, in reference coordinates
   std::array<bool, 3> directions{true, true, true};  // which of x, y, z are controlled
-  double weight = 1;  // > 0, on its squared error
+  double weight = 1;                                 // > 0, on its squared error
 };
 // A bound left at +-1e300 is no bound (the deck did not set it).
 struct ActuatorConfig {
@@ -140,15 +140,23 @@ struct ControlConfig {
   // One entry per target set, in order; a set names at least one effector, each at most
   // once, in the deck's order. Empty when the deck gives no targets.
   std::vector<std::vector<ControlTarget>> targets;
-  int steps_per_target = 10;    // control steps spent on each target set
+  int steps_per_target = 10;     // control steps spent on each target set
   double regularization = 1e-3;  // relative weight of |d lambda|^2 against the effector error
   bool newton_finish = false;    // end every step with Newton at the new actuation
+  // "newton": the free configuration converged by Newton at the held actuation; "one_step":
+  // the paper's real-time step, one linearisation (one assembly, one factorization) for the
+  // free motion and the compliance together.
+  std::string free_solve = "newton";
+  int refactor_every = 1;  // one_step: factorize the tangent every N steps (1: every step)
+  // one_step: after each target set, also solve for the equilibrium at its actuation (on a
+  // copy, outside the step times) and report its error: the prediction's real accuracy.
+  bool check_equilibrium = false;
   bool targets_from_stdin = false;  // `--targets -` on the command line (not a deck key)
 };
 
 struct Config {
-  std::string deck_path;         // as given on the command line
-  std::string deck_name;         // file stem, e.g. lame_sphere
+  std::string deck_path;  // as given on the command line
+  std::string deck_name;  // file stem, e.g. lame_sphere
   MeshConfig mesh;
   std::vector<MaterialConfig> materials;
   std::vector<DirichletConfig> dirichlet;

@@ -163,9 +163,9 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
   if (node.IsMap() && node["targets_from_stdin"])
     r.fail(child_key(key, "targets_from_stdin"), node["targets_from_stdin"],
            "not a deck key: the command line sets it (--targets -)");
-  r.check_map(
-      node, key,
-      {"effectors", "actuators", "targets", "steps_per_target", "regularization", "newton_finish"});
+  r.check_map(node, key,
+              {"effectors", "actuators", "targets", "steps_per_target", "regularization",
+               "newton_finish", "free_solve", "refactor_every", "check_equilibrium"});
   ControlConfig control;
   control.effectors =
       parse_effectors(r, required(r, node, key, "effectors"), child_key(key, "effectors"));
@@ -185,6 +185,17 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
   }
   if (const auto n = node["newton_finish"])
     control.newton_finish = r.boolean(n, "control.newton_finish");
+  if (const auto n = node["free_solve"])
+    control.free_solve = one_of(r, n, child_key(key, "free_solve"), {"newton", "one_step"});
+  if (const auto n = node["refactor_every"]) {
+    control.refactor_every = r.integer(n, "control.refactor_every");
+    require(control.refactor_every >= 1, r, n, "control.refactor_every",
+            "must be >= 1, got " + std::to_string(control.refactor_every));
+    require(control.refactor_every == 1 || control.free_solve == "one_step", r, n,
+            "control.refactor_every", "needs free_solve: one_step (Newton refactors every step)");
+  }
+  if (const auto n = node["check_equilibrium"])
+    control.check_equilibrium = r.boolean(n, "control.check_equilibrium");
   return control;
 }
 

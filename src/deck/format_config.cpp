@@ -208,6 +208,9 @@ void emit_control(YAML::Emitter& out, const ControlConfig& control) {
   out << YAML::Key << "steps_per_target" << YAML::Value << control.steps_per_target;
   emit_number(out, "regularization", control.regularization);
   out << YAML::Key << "newton_finish" << YAML::Value << control.newton_finish;
+  out << YAML::Key << "free_solve" << YAML::Value << control.free_solve;
+  out << YAML::Key << "refactor_every" << YAML::Value << control.refactor_every;
+  out << YAML::Key << "check_equilibrium" << YAML::Value << control.check_equilibrium;
   out << YAML::EndMap;
 }
 

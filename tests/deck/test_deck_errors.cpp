@@ -427,6 +427,7 @@ TEST_F(DeckErrors, ControlKeysAndTypes) {
        "expected a number, got 'small'"},
       {control_with("  newton_finish: maybe\n"), "control.newton_finish",
        "expected true or false, got 'maybe'"},
+      {control_with("  free_solve: fast\n"), "control.free_solve", "'fast'"},
       {control_with("  targets: {tip: [0, 0, 0]}\n"), "control.targets",
        "expected a list, got a map"},
       {control_with("  targets: [[0, 0, 0]]\n"), "control.targets[0]",

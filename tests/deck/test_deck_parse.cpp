@@ -120,6 +120,7 @@ control:
   steps_per_target: 25
   regularization: 0
   newton_finish: true
+  free_solve: one_step
 )";
 
 // The smallest control section: defaults for everything else.
@@ -243,6 +244,7 @@ void expect_same(const Config& a, const Config& b) {
   EXPECT_EQ(p.steps_per_target, q.steps_per_target);
   EXPECT_EQ(p.regularization, q.regularization);
   EXPECT_EQ(p.newton_finish, q.newton_finish);
+  EXPECT_EQ(p.free_solve, q.free_solve);
   EXPECT_EQ(p.targets_from_stdin, q.targets_from_stdin);
 }
 
@@ -459,6 +461,7 @@ TEST_F(DeckParse, ReadsControl) {
   EXPECT_EQ(control.steps_per_target, 25);
   EXPECT_EQ(control.regularization, 0);
   EXPECT_TRUE(control.newton_finish);
+  EXPECT_EQ(control.free_solve, "one_step");
   EXPECT_FALSE(control.targets_from_stdin);  // only the command line sets it
   // Control leaves the rest of the run as it was.
   EXPECT_EQ(c.cavities.size(), 3u);
@@ -486,6 +489,7 @@ TEST_F(DeckParse, ControlDefaults) {
   EXPECT_EQ(c.control->regularization, 1e-3);
   EXPECT_EQ(c.control->regularization, defaults.regularization);
   EXPECT_FALSE(c.control->newton_finish);
+  EXPECT_EQ(c.control->free_solve, "newton");
   EXPECT_FALSE(c.control->targets_from_stdin);
 }
 
