@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace hs {
 
@@ -69,7 +70,8 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   for (int it = 0;; ++it) {
     result.residual_norm = r_norm;
     if (!ok || !std::isfinite(r_norm)) {
-      result.reason = ok ? "residual not finite" : "inverted element";
+      const std::string collapse = cavities_.collapse_reason();
+      result.reason = ok ? "residual not finite" : collapse.empty() ? "inverted element" : collapse;
       break;
     }
     const double F = force_scale();
@@ -163,12 +165,13 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
     constraint_s_ += MPI_Wtime() - tc;
 
     // Full Newton steps, halved only where the trial leaves the domain (an inverted element,
-    // a value that is not finite). No descent test on |R|: a bending structure's first
-    // step from rest overshoots the residual by orders of magnitude (the spurious stretch
-    // of the linear rotation), and a merit test would crawl there; a diverging increment
-    // is caught by the iteration limit and cut back by the stepping.
+    // a cavity volume <= 0, a value that is not finite). No descent test on |R|: a bending
+    // structure's first step from rest overshoots the residual by orders of magnitude (the spurious
+    // stretch of the linear rotation), and a merit test would crawl there; a diverging increment is
+    // caught by the iteration limit and cut back by the stepping.
     double t = 1;
     bool accepted = false;
+    std::string collapse;  // the last trial's collapsed cavity, if that was why it was refused
     for (int halving = 0; halving <= 8; ++halving, t /= 2) {
       HS_PETSC(VecWAXPY(u_trial_, t, du_, u));
       std::vector<double> trial = lambda;
@@ -179,6 +182,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
       HS_PETSC(VecNorm(R_, NORM_2, &norm));
       bool finite = std::isfinite(norm);
       for (double x : c_trial) finite &= std::isfinite(x);
+      collapse = cavities_.collapse_reason();
       if (ok && finite) {
         HS_PETSC(VecCopy(u_trial_, u));
         lambda = trial;
@@ -191,7 +195,8 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
     if (!accepted) {
       cavities_.set_pressures(lambda);
       ok = cavities_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
-      result.reason = "every shortened step inverts an element";
+      result.reason = collapse.empty() ? "every shortened step inverts an element"
+                                       : "every shortened step fails: " + collapse;
       break;
     }
   }

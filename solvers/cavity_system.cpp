@@ -2,11 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "common/error.hpp"
 
 namespace hs {
 namespace {
+
+std::string format_si(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", x);
+  return text;
+}
 
 CavityControl control_of(const CavityConfig& c) {
   if (c.kind == "sealed_gas") return CavityControl::sealed_gas;
@@ -53,6 +61,14 @@ CavitySystem::CavitySystem(const Config& config, Problem& problem, const Mesh& m
                        "enclose a positive volume (is the group an outer boundary?)");
     c.volume = c.rest_volume = c.reference_volume;
     c.control = control_of(c.config);
+    // Walls cannot pass through each other (there is no contact), so a volume target <= 0
+    // has no solution; refuse it before any solve.
+    if (c.control == CavityControl::volume && !(c.reference_volume + *c.config.added_volume > 0))
+      throw InputError(config.deck_path + ": cavity '" + c.config.group + "': added_volume " +
+                       format_si(*c.config.added_volume) + " m^3 would leave it a volume of " +
+                       format_si(c.reference_volume + *c.config.added_volume) + " m^3 (it holds " +
+                       format_si(c.reference_volume) +
+                       " m^3 undeformed); a cavity's volume must stay > 0");
     if (c.control == CavityControl::sealed_gas) {
       c.lambda = c.config.initial_pressure;
       c.gas_constant = (c.config.initial_pressure + c.config.atmospheric_pressure) * c.volume;
@@ -126,12 +142,18 @@ void CavitySystem::freeze_weights(Vec u, double s) {
 
 bool CavitySystem::residual(Vec u, double s, Vec R, std::vector<double>& control) {
   control.resize(cavities_.size());
-  for (auto& c : cavities_) {
+  collapsed_ = -1;
+  for (size_t i = 0; i < cavities_.size(); ++i) {
+    Cavity& c = cavities_[i];
     problem_.set_surface_pressure(c.surface, c.lambda);
     c.volume = problem_.enclosed_volume(c.surface, u);
+    if (!(c.volume > 0) && collapsed_ < 0) collapsed_ = static_cast<int>(i);
   }
-  update_weights(u, s);
-  const bool ok = problem_.residual(u, s, R);
+  // A cavity whose walls have passed through each other (volume <= 0: nothing stops them,
+  // there is no contact) is outside the domain like an inverted element; its liquid's weight
+  // is not computed there.
+  if (collapsed_ < 0) update_weights(u, s);
+  const bool ok = problem_.residual(u, s, R) && collapsed_ < 0;
   for (size_t i = 0; i < cavities_.size(); ++i) {
     const Cavity& c = cavities_[i];
     switch (c.control) {
@@ -187,6 +209,13 @@ bool CavitySystem::linearize(Vec u, double s, Mat J, CavityLinearization& lin) {
     }
   }
   return ok;
+}
+
+std::string CavitySystem::collapse_reason() const {
+  if (collapsed_ < 0) return "";
+  const Cavity& c = cavities_[collapsed_];
+  return "cavity '" + c.config.group + "' reaches a volume of " + format_si(c.volume) +
+         " m^3 <= 0 (its walls pass through each other)";
 }
 
 double CavitySystem::control_scale(int i) const {

@@ -19,6 +19,7 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "deck/config.hpp"
@@ -67,8 +68,11 @@ class CavitySystem {
   std::vector<double> pressures() const;
   void set_pressures(const std::vector<double>& lambda);
 
-  // R(u, lambda; s) and the controls c (size()). Returns false on an inverted element.
+  // R(u, lambda; s) and the controls c (size()). Returns false on an inverted element or a
+  // cavity whose volume is not positive (collapse_reason() then names it).
   bool residual(Vec u, double s, Vec R, std::vector<double>& c);
+  // After a residual() that returned false: why, if a cavity's volume was <= 0; else "".
+  std::string collapse_reason() const;
   // Tangent and linearisation at (u, lambda; s), after a residual() at the same point.
   bool linearize(Vec u, double s, Mat J, CavityLinearization& lin);
   // Scale of each control equation for convergence tests and the line search.
@@ -91,6 +95,7 @@ class CavitySystem {
   std::vector<Cavity> cavities_;
   Vec weights_ = nullptr;  // sum of the cavities' W, the Problem's extra load
   bool linearized_ = false;
+  int collapsed_ = -1;  // the first cavity with volume <= 0 at the last residual(), or -1
   double weight_seconds_ = 0;
   int weight_calls_ = 0;
 };

@@ -83,7 +83,17 @@ class StateStepper {
         ramp.from = cav.lambda;
       } else {
         ramp.from = cav.volume;
+        const double added = ramp.to;
         ramp.to += cav.rest_volume;  // added volume is counted from the end of the first state
+        // Walls cannot pass through each other (no contact): a volume <= 0 has no solution.
+        if (!(ramp.to > 0)) {
+          std::ostringstream msg;
+          msg << config_.deck_path << ": state '" << plan.name << "': cavity '" << cav.config.group
+              << "': added_volume " << added << " m^3 would leave it a volume of " << ramp.to
+              << " m^3 (it holds " << cav.rest_volume
+              << " m^3 at the end of the first state); a cavity's volume must stay > 0";
+          throw InputError(msg.str());
+        }
       }
       cav.control = ramp.control;
     }
@@ -136,8 +146,20 @@ class StateStepper {
       msg << "state '" << plan_->name << "' at " << tau << " of the way: Newton did not converge ("
           << r.reason << ", residual " << r.residual_norm << " after " << r.iterations
           << " iterations, " << config_.time.max_cutbacks << " halvings of the increment)";
-      if (problem_.first_bad_element() >= 0)
+      // The element is named when inversion is the reason (a trial step that inverted one
+      // and was halved does not make it the cause of a failure by iteration count).
+      if (problem_.first_bad_element() >= 0 && r.reason.find("invert") != std::string::npos)
         msg << "; element " << problem_.first_bad_element() << " is inverted (det F <= 0)";
+      // A pressure ramped past the cavity's pressure extremum (the peak of an inflation, the
+      // buckling of walls under suction) has no equilibrium nearby.
+      for (int c = 0; c < cavities_.size(); ++c) {
+        const Cavity& cav = cavities_[c];
+        const bool ramped = plan_->ramps[c].active || (plan_->first && cav.config.pressure != 0);
+        if (ramped && cav.control == CavityControl::pressure && cav.target != 0)
+          msg << "; cavity '" << cav.config.group << "' was at " << cav.target
+              << " Pa on a pressure ramp (past a pressure peak or a buckling of the walls there "
+                 "is no equilibrium under pressure control: prescribe added_volume to pass it)";
+      }
       throw SolveError(msg.str());
     };
     advance_with_cutback(tau_, tau_to, config_.time.max_cutbacks, stats_, attempt, give_up);
