@@ -7,11 +7,7 @@
 #include "fem/shape.hpp"
 
 namespace hs {
-namespace {
 
-// The tetrahedron containing X and the shape-function values there, or false. The point is
-// located by the barycentric coordinates of the corners (straight-sided tetrahedra; for P2
-// meshes the corner simplex, exact where the edges are straight).
 bool locate(const Mesh& mesh, const std::array<double, 3>& X, std::vector<int64_t>& nodes,
             std::vector<double>& N) {
   const int npe = mesh.nodes_per_tet();
@@ -38,8 +34,6 @@ bool locate(const Mesh& mesh, const std::array<double, 3>& X, std::vector<int64_
   tet_shape(mesh.order, best_xi, N.data(), nullptr);
   return true;
 }
-
-}  // namespace
 
 Effectors::Effectors(const Config& config, Problem& problem) {
   const Mesh& mesh = problem.mesh();

@@ -16,6 +16,13 @@
 
 namespace hs {
 
+// The tetrahedron containing X (reference coordinates) and the shape-function values of its
+// nodes there, or false when X lies outside the mesh. Located by the barycentric
+// coordinates of the corners (straight-sided tetrahedra; for P2 meshes the corner simplex,
+// exact where the edges are straight); on a shared face or edge, the most inside one.
+bool locate(const Mesh& mesh, const std::array<double, 3>& X, std::vector<int64_t>& nodes,
+            std::vector<double>& N);
+
 class Effectors {
  public:
   // Collective. Throws InputError naming the effector when its point group does not hold

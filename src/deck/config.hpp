@@ -95,6 +95,16 @@ struct CavityConfig {
   double atmospheric_pressure = 101325;
 };
 
+// A cable (docs/control.md): a path of material points of the body the cable runs through
+// (reference coordinates, each located in its tetrahedron), optionally ending at a fixed
+// pull point in space (its motor); its tension pulls every point along the path.
+struct CableConfig {
+  std::string name;                           // unique among cables and cavities
+  std::vector<std::array<double, 3>> points;  // at least one; two with no pull point
+  std::optional<std::array<double, 3>> pull_point;
+  double force = 0;  // N, tension at the end of the first state (ramped), >= 0
+};
+
 // A later state of a run (after the first): the load stays at full, the named cavities'
 // controls ramp from their current values to these in `steps` increments.
 struct CavityTarget {
@@ -123,8 +133,12 @@ struct EffectorConfig {
   double weight = 1;                                 // > 0, on its squared error
 };
 // A bound left at +-1e300 is no bound (the deck did not set it).
+// A cable actuator keeps its bounds in the same fields: force (N) in the pressure bounds
+// (min_force defaults to 0: a cable cannot push), pull (its shortening since the rest state,
+// m) in the volume-growth bounds, force change per step in max_pressure_change.
 struct ActuatorConfig {
-  std::string cavity;  // the cavity it drives (a declared pneumatic or hydraulic one; unique)
+  std::string cavity;  // the cavity or cable it drives (a pneumatic or hydraulic cavity; unique)
+  bool cable = false;  // `cavity` names a cable
   double min_pressure = -1e300, max_pressure = 1e300;  // Pa, gauge; min <= max
   // m^3, since the rest state (the end of the deck's states); min <= max
   double min_volume_growth = -1e300, max_volume_growth = 1e300;
@@ -167,6 +181,7 @@ struct Config {
   OutputConfig output;
   ExactConfig exact;
   std::vector<CavityConfig> cavities;
+  std::vector<CableConfig> cables;
   // The run's states in order. Empty: one state "final" (load ramped over time.steps). The
   // first state always ramps the load (gravity, pressures, Dirichlet values, the cavities'
   // own controls) from 0 to 1; later states only move cavity controls.

@@ -72,8 +72,46 @@ void parse_bounds(const DeckReader& r, const YAML::Node& node, const std::string
                " (the lower bound must not exceed the upper one)");
 }
 
+// A cable actuator: force and pull bounds, kept in the pressure and volume-growth fields.
+ActuatorConfig parse_cable_actuator(const DeckReader& r, const YAML::Node& node,
+                                    const std::string& key,
+                                    const std::vector<CableConfig>& cables) {
+  r.check_map(node, key,
+              {"cable", "min_force", "max_force", "min_pull", "max_pull", "max_force_change"});
+  ActuatorConfig a;
+  a.cable = true;
+  a.min_pressure = 0;  // a cable cannot push
+  const YAML::Node cable = node["cable"];
+  const std::string ckey = child_key(key, "cable");
+  a.cavity = r.text(cable, ckey);
+  std::vector<std::string> names;
+  for (const auto& c : cables) names.push_back(c.name);
+  if (!contains(names, a.cavity))
+    r.fail(ckey, cable,
+           names.empty() ? "not a declared cable (the deck has no cables section)"
+                         : "not a declared cable (did you mean '" + nearest(a.cavity, names) +
+                               "'? cables: " + join(names) + ")");
+  parse_bounds(r, node, key, "min_force", "max_force", a.min_pressure, a.max_pressure);
+  if (a.min_pressure < 0)
+    r.fail(child_key(key, "min_force"), node["min_force"],
+           "must be >= 0 (a cable pulls, it cannot push), got " + format_number(a.min_pressure));
+  parse_bounds(r, node, key, "min_pull", "max_pull", a.min_volume_growth, a.max_volume_growth);
+  if (const auto n = node["max_force_change"]) {
+    a.max_pressure_change = r.number(n, child_key(key, "max_force_change"));
+    require(a.max_pressure_change > 0, r, n, child_key(key, "max_force_change"),
+            "must be > 0, got " + format_number(a.max_pressure_change));
+  }
+  return a;
+}
+
 ActuatorConfig parse_actuator(const DeckReader& r, const YAML::Node& node, const std::string& key,
-                              const std::vector<CavityConfig>& cavities) {
+                              const std::vector<CavityConfig>& cavities,
+                              const std::vector<CableConfig>& cables) {
+  if (node.IsMap() && node["cable"]) {
+    if (node["cavity"])
+      r.fail(child_key(key, "cable"), node["cable"], "give one of cavity and cable, not both");
+    return parse_cable_actuator(r, node, key, cables);
+  }
   r.check_map(node, key,
               {"cavity", "min_pressure", "max_pressure", "min_volume_growth", "max_volume_growth",
                "max_pressure_change"});
@@ -109,18 +147,20 @@ ActuatorConfig parse_actuator(const DeckReader& r, const YAML::Node& node, const
 
 std::vector<ActuatorConfig> parse_actuators(const DeckReader& r, const YAML::Node& node,
                                             const std::string& key,
-                                            const std::vector<CavityConfig>& cavities) {
+                                            const std::vector<CavityConfig>& cavities,
+                                            const std::vector<CableConfig>& cables) {
   r.check_list(node, key);
   require(node.size() > 0, r, node, key, "at least one actuator is required");
   std::vector<ActuatorConfig> actuators;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string akey = item_key(key, i);
-    actuators.push_back(parse_actuator(r, node[i], akey, cavities));
+    actuators.push_back(parse_actuator(r, node[i], akey, cavities, cables));
+    const char* what = actuators[i].cable ? "cable" : "cavity";
     for (size_t j = 0; j < i; ++j)
       if (actuators[j].cavity == actuators[i].cavity)
-        r.fail(child_key(akey, "cavity"), node[i]["cavity"],
-               "duplicate actuator cavity '" + actuators[i].cavity + "' (also in " +
-                   item_key(key, j) + ")");
+        r.fail(child_key(akey, what), node[i][what],
+               std::string("duplicate actuator ") + what + " '" + actuators[i].cavity +
+                   "' (also in " + item_key(key, j) + ")");
   }
   return actuators;
 }
@@ -158,7 +198,8 @@ std::vector<std::vector<ControlTarget>> parse_control_targets(
 }
 
 ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
-                            const std::vector<CavityConfig>& cavities) {
+                            const std::vector<CavityConfig>& cavities,
+                            const std::vector<CableConfig>& cables) {
   const std::string key = "control";
   if (node.IsMap() && node["targets_from_stdin"])
     r.fail(child_key(key, "targets_from_stdin"), node["targets_from_stdin"],
@@ -170,7 +211,7 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
   control.effectors =
       parse_effectors(r, required(r, node, key, "effectors"), child_key(key, "effectors"));
   control.actuators = parse_actuators(r, required(r, node, key, "actuators"),
-                                      child_key(key, "actuators"), cavities);
+                                      child_key(key, "actuators"), cavities, cables);
   if (const auto n = node["targets"])
     control.targets = parse_control_targets(r, n, child_key(key, "targets"), control.effectors);
   if (const auto n = node["steps_per_target"]) {
@@ -206,7 +247,7 @@ void parse_control_section(const DeckReader& r, const YAML::Node& root, Config& 
   if (c.time.type == "dynamic")
     forbid(r, root, "", "control",
            "control needs time.type static or quasi_static (time.type is dynamic)");
-  if (const auto n = root["control"]) c.control = parse_control(r, n, c.cavities);
+  if (const auto n = root["control"]) c.control = parse_control(r, n, c.cavities, c.cables);
 }
 
 }  // namespace hs

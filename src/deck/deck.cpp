@@ -7,6 +7,7 @@
 #include <set>
 
 #include "common/error.hpp"
+#include "deck/cable_section.hpp"
 #include "deck/cavity_sections.hpp"
 #include "deck/control_section.hpp"
 #include "deck/deck_reader.hpp"
@@ -303,8 +304,8 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (!root.IsMap())
     r.fail("(top level)", root, "expected a map of sections (mesh, materials, ...)");
   r.check_map(root, "",
-              {"mesh", "materials", "boundary", "loads", "cavities", "time", "states", "tip",
-               "control", "solver", "output", "exact"});
+              {"mesh", "materials", "boundary", "loads", "cavities", "cables", "time", "states",
+               "tip", "control", "solver", "output", "exact"});
 
   Config c;
   c.deck_path = path;
@@ -319,7 +320,8 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (const auto n = root["loads"]) parse_loads(r, n, c);
   if (const auto n = root["time"]) c.time = parse_time(r, n);
   parse_cavity_sections(r, root, c);
-  parse_control_section(r, root, c);  // its actuators are cavities
+  parse_cable_section(r, root, c);
+  parse_control_section(r, root, c);  // its actuators are cavities and cables
   if (const auto n = root["solver"]) c.solver = parse_solver(r, n);
   if (const auto n = root["output"]) c.output = parse_output(r, n);
   if (c.output.folder.empty()) c.output.folder = (fs::path("out") / c.deck_name).string();

@@ -136,6 +136,25 @@ void emit_cavities(YAML::Emitter& out, const std::vector<CavityConfig>& cavities
 }
 
 // Only when the deck gave states: an empty list is not a valid deck (one implicit state).
+void emit_cables(YAML::Emitter& out, const std::vector<CableConfig>& cables) {
+  out << YAML::Key << "cables" << YAML::Value << YAML::BeginSeq;
+  for (const auto& c : cables) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "name" << YAML::Value << c.name;
+    out << YAML::Key << "points" << YAML::Value << YAML::BeginSeq;
+    for (const auto& p : c.points) {
+      out << YAML::Flow << YAML::BeginSeq;
+      for (double x : p) out << x;
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndSeq;
+    if (c.pull_point) emit_numbers(out, "pull_point", c.pull_point->data(), 3);
+    emit_number(out, "force", c.force);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
 void emit_states(YAML::Emitter& out, const std::vector<StateConfig>& states) {
   if (states.empty()) return;
   out << YAML::Key << "states" << YAML::Value << YAML::BeginSeq;
@@ -186,12 +205,21 @@ void emit_control(YAML::Emitter& out, const ControlConfig& control) {
   out << YAML::Key << "actuators" << YAML::Value << YAML::BeginSeq;
   for (const auto& a : control.actuators) {
     out << YAML::BeginMap;
-    out << YAML::Key << "cavity" << YAML::Value << a.cavity;
-    emit_bound(out, "min_pressure", a.min_pressure, unset.min_pressure);
-    emit_bound(out, "max_pressure", a.max_pressure, unset.max_pressure);
-    emit_bound(out, "min_volume_growth", a.min_volume_growth, unset.min_volume_growth);
-    emit_bound(out, "max_volume_growth", a.max_volume_growth, unset.max_volume_growth);
-    emit_bound(out, "max_pressure_change", a.max_pressure_change, unset.max_pressure_change);
+    if (a.cable) {
+      out << YAML::Key << "cable" << YAML::Value << a.cavity;
+      emit_number(out, "min_force", a.min_pressure);
+      emit_bound(out, "max_force", a.max_pressure, unset.max_pressure);
+      emit_bound(out, "min_pull", a.min_volume_growth, unset.min_volume_growth);
+      emit_bound(out, "max_pull", a.max_volume_growth, unset.max_volume_growth);
+      emit_bound(out, "max_force_change", a.max_pressure_change, unset.max_pressure_change);
+    } else {
+      out << YAML::Key << "cavity" << YAML::Value << a.cavity;
+      emit_bound(out, "min_pressure", a.min_pressure, unset.min_pressure);
+      emit_bound(out, "max_pressure", a.max_pressure, unset.max_pressure);
+      emit_bound(out, "min_volume_growth", a.min_volume_growth, unset.min_volume_growth);
+      emit_bound(out, "max_volume_growth", a.max_volume_growth, unset.max_volume_growth);
+      emit_bound(out, "max_pressure_change", a.max_pressure_change, unset.max_pressure_change);
+    }
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
@@ -248,6 +276,7 @@ std::string format_config(const Config& c) {
   emit_loads(out, c);
   // Cavities, states and tip belong to static and quasi-static runs only.
   if (c.time.type != "dynamic") emit_cavities(out, c.cavities);
+  if (!c.cables.empty()) emit_cables(out, c.cables);
   emit_time(out, c.time, !c.states.empty());
   emit_states(out, c.states);
   if (c.tip) {

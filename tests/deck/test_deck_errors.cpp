@@ -572,5 +572,43 @@ TEST_F(DeckErrors, ErrorsGiveTheLineOfTheKey) {
                                 "incompressible, beyond a displacement formulation) (line 6)");
 }
 
+// The cables section and cable actuators: a cable "t" from the tip towards the base.
+std::string cables(const std::string& entry, const std::string& actuators = "[{cavity: c}]") {
+  return control(kTip, actuators) + "cables:\n  - " + entry + "\n";
+}
+const std::string kCable =
+    "{name: t, points: [[0.08, 0, 0], [0.02, 0, 0]], pull_point: [-0.01, 0, 0]}";
+
+TEST_F(DeckErrors, Cables) {
+  expect_errors({
+      {cables("{name: t, points: [[0.08, 0, 0]]}"), "cables[0].points",
+       "a cable needs at least two points, or one point and a pull_point (got 1 points and no "
+       "pull_point)"},
+      {cables("{name: t, points: [[0.08, 0, 0], [0.08, 0, 0]]}"), "cables[0].points[1]",
+       "coincides with the point before it"},
+      {cables("{name: t, points: [[0.08, 0, 0]], pull_point: [0.08, 0, 0]}"),
+       "cables[0].pull_point", "coincides with the point before it"},
+      {cables("{name: t, points: [[0.08, 0, 0], [0, 0, 0]], force: -1}"), "cables[0].force",
+       "must be >= 0 (a cable pulls, it cannot push), got -1"},
+      {cables("{name: c, points: [[0.08, 0, 0], [0, 0, 0]]}"), "cables[0].name",
+       "'c' is also a cavity's name"},
+      {cables("{name: t, points: [[0.08, 0], [0, 0, 0]]}"), "cables[0].points[0]",
+       "expected a list of 3 numbers, got 2"},
+      {cables("{name: t, point: [[0.08, 0, 0], [0, 0, 0]]}"), "cables[0].point", "unknown key"},
+      {cables(kCable, "[{cable: u}]"), "control.actuators[0].cable",
+       "not a declared cable (did you mean 't'? cables: t)"},
+      {cables(kCable, "[{cable: t, min_force: -1}]"), "control.actuators[0].min_force",
+       "must be >= 0 (a cable pulls, it cannot push)"},
+      {cables(kCable, "[{cable: t, max_pressure: 10}]"), "control.actuators[0].max_pressure",
+       "unknown key"},
+      {cables(kCable, "[{cable: t, min_pull: 0.01, max_pull: 0.005}]"),
+       "control.actuators[0].min_pull", "is 0.01 but max_pull is 0.005"},
+      {cables(kCable, "[{cable: t, cavity: c}]"), "control.actuators[0].cable",
+       "give one of cavity and cable, not both"},
+      {cables(kCable, "[{cable: t}, {cable: t}]"), "control.actuators[1].cable",
+       "duplicate actuator cable 't'"},
+  });
+}
+
 }  // namespace
 }  // namespace hs

@@ -1,0 +1,84 @@
+#include "solvers/cable.hpp"
+
+#include <cmath>
+
+#include "common/error.hpp"
+#include "solvers/effectors.hpp"
+#include "solvers/petsc_check.hpp"
+
+namespace hs {
+
+Cable::Cable(const CableConfig& config, Problem& problem, const std::string& deck_path)
+    : config_(config) {
+  const Mesh& mesh = problem.mesh();
+  const Distribution& dist = problem.distribution();
+  for (size_t i = 0; i < config.points.size(); ++i) {
+    const auto& X = config.points[i];
+    std::vector<int64_t> nodes;
+    std::vector<double> N;
+    if (!locate(mesh, X, nodes, N))
+      throw InputError(deck_path + ": cables '" + config.name + "' points[" + std::to_string(i) +
+                       "] (" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
+                       std::to_string(X[2]) + ") lies outside the mesh");
+    for (int d = 0; d < 3; ++d) {
+      reference_.push_back(X[d]);
+      Vec row = problem.create_vector();
+      if (dist.rank == 0)
+        for (size_t a = 0; a < nodes.size(); ++a)
+          HS_PETSC(VecSetValue(row, static_cast<PetscInt>(3 * dist.new_of_old[nodes[a]] + d), N[a],
+                               ADD_VALUES));
+      HS_PETSC(VecAssemblyBegin(row));
+      HS_PETSC(VecAssemblyEnd(row));
+      rows_.push_back(row);
+    }
+  }
+}
+
+Cable::~Cable() {
+  for (auto& v : rows_) VecDestroy(&v);
+}
+
+std::vector<double> Cable::positions(Vec u) const {
+  std::vector<PetscScalar> dots(rows_.size());
+  HS_PETSC(VecMDot(u, static_cast<PetscInt>(rows_.size()), rows_.data(), dots.data()));
+  std::vector<double> x(reference_);
+  for (size_t r = 0; r < rows_.size(); ++r) x[r] += dots[r];
+  return x;
+}
+
+// The polyline the cable follows: the material points, then the pull point (fixed).
+std::vector<std::array<double, 3>> Cable::path(const std::vector<double>& x) const {
+  std::vector<std::array<double, 3>> p;
+  for (size_t i = 0; i < x.size(); i += 3) p.push_back({x[i], x[i + 1], x[i + 2]});
+  if (config_.pull_point) p.push_back(*config_.pull_point);
+  return p;
+}
+
+double Cable::length(Vec u) const {
+  const auto p = path(positions(u));
+  double L = 0;
+  for (size_t i = 0; i + 1 < p.size(); ++i)
+    L += std::hypot(p[i + 1][0] - p[i][0], p[i + 1][1] - p[i][1], p[i + 1][2] - p[i][2]);
+  return L;
+}
+
+void Cable::pull_direction(Vec u, Vec g) const {
+  const auto p = path(positions(u));
+  const size_t points = rows_.size() / 3;  // path entries past these are the pull point
+  // -dL/dx_k: the unit vectors from x_k towards its neighbours on the path.
+  std::vector<PetscScalar> coeff(rows_.size(), 0.0);
+  for (size_t i = 0; i + 1 < p.size(); ++i) {
+    const double len =
+        std::hypot(p[i + 1][0] - p[i][0], p[i + 1][1] - p[i][1], p[i + 1][2] - p[i][2]);
+    for (int d = 0; d < 3; ++d) {
+      const double e = (p[i + 1][d] - p[i][d]) / len;
+      coeff[3 * i + d] += e;                            // x_i towards x_{i+1}
+      if (i + 1 < points) coeff[3 * (i + 1) + d] -= e;  // x_{i+1} towards x_i
+    }
+  }
+  HS_PETSC(VecSet(g, 0.0));
+  HS_PETSC(VecMAXPY(g, static_cast<PetscInt>(rows_.size()), coeff.data(),
+                    const_cast<Vec*>(rows_.data())));
+}
+
+}  // namespace hs

@@ -1,0 +1,46 @@
+// A cable actuator: a path of material points x_1 .. x_P of the body (each a point of a
+// tetrahedron, x_i = sum_a N_a (X_a + u_a)) and, optionally, a fixed pull point x_{P+1} in
+// space after the last one (the motor). Its length is
+//   L(u) = sum_i |x_{i+1} - x_i|   (the pull point's segment included),
+// and a tension T >= 0 puts the force -T dL/dx_i on each point: the ends are pulled along
+// the cable, a point in between (an eyelet) along the sum of its two unit directions, as a
+// frictionless cable would. In the cavity system a cable is one more constraint with
+// multiplier T and "volume" -L, so that its column g = -dL/du is the force of a unit
+// tension and the shortening (pull) plays the volume growth. docs/control.md has the rest.
+#pragma once
+
+#include <petscvec.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "deck/config.hpp"
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+class Cable {
+ public:
+  // Collective. Throws InputError naming the deck, the cable and the point when a point
+  // lies outside the mesh.
+  Cable(const CableConfig& config, Problem& problem, const std::string& deck_path);
+  ~Cable();
+  Cable(const Cable&) = delete;
+  Cable& operator=(const Cable&) = delete;
+
+  // Current positions of the cable's points (3 per point, every rank; collective).
+  std::vector<double> positions(Vec u) const;
+  double length(Vec u) const;
+  // g = -dL/du: the nodal forces of a unit tension (zero on no dof but the points' nodes).
+  void pull_direction(Vec u, Vec g) const;
+
+ private:
+  std::vector<std::array<double, 3>> path(const std::vector<double>& x) const;
+
+  CableConfig config_;
+  std::vector<double> reference_;  // 3 per point
+  std::vector<Vec> rows_;          // 3 per point: the point's coordinate as a row over u
+};
+
+}  // namespace hs

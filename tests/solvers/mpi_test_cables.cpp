@@ -1,0 +1,149 @@
+// Cables against exact geometry, on 1 and 2 ranks: the length of the path of material points
+// under an affine deformation (which P1 elements carry exactly), its derivative
+// g = -dL/du against central differences, the net force of a unit tension (the pull
+// point's direction, or zero for a cable between body points only); and the inverse
+// controller, which must find the tension of a forward run from the target it reached and
+// stop at a force bound it cannot pass.
+#include <gtest/gtest.h>
+#include <petscvec.h>
+
+#include <cmath>
+
+#include "common/error.hpp"
+#include "deck/deck.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/gmsh_io.hpp"
+#include "solvers/cable.hpp"
+#include "solvers/petsc_check.hpp"
+#include "solvers/problem.hpp"
+
+namespace {
+
+const std::string kSource = HYDROSOFT_SOURCE_DIR;
+
+struct Body {
+  hs::Config config;
+  hs::Mesh mesh;
+  hs::Distribution dist;
+  std::unique_ptr<hs::Problem> problem;
+  Body() {
+    config = hs::parse_deck(kSource + "/input/finger_pneumatic.yaml", {"mesh.parameters.h=0.006"});
+    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
+    int rank, size;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
+    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
+  }
+  // u = A X at every node (owned entries; the new numbering of the distribution).
+  Vec affine(const double A[3][3]) {
+    Vec u = problem->create_vector();
+    for (int64_t old = 0; old < mesh.num_nodes(); ++old) {
+      const int64_t id = dist.new_of_old[old];
+      if (id < dist.owned_offsets[dist.rank] || id >= dist.owned_offsets[dist.rank + 1]) continue;
+      for (int d = 0; d < 3; ++d) {
+        double v = 0;
+        for (int e = 0; e < 3; ++e) v += A[d][e] * mesh.x[3 * old + e];
+        HS_PETSC(VecSetValue(u, 3 * id + d, v, INSERT_VALUES));
+      }
+    }
+    HS_PETSC(VecAssemblyBegin(u));
+    HS_PETSC(VecAssemblyEnd(u));
+    return u;
+  }
+};
+
+hs::CableConfig bottom_cable(bool pull_point) {
+  hs::CableConfig c;
+  c.name = "tendon";
+  c.points = {{0.085, 0.002, -0.006}, {0.05, 0.0, -0.0065}, {0.012, -0.001, -0.006}};
+  if (pull_point) c.pull_point = std::array<double, 3>{-0.02, 0.0, -0.006};
+  return c;
+}
+
+double distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+
+TEST(Cables, LengthUnderAnAffineDeformationIsExact) {
+  Body b;
+  const double A[3][3] = {{0.02, -0.05, 0.01}, {0.03, -0.01, 0.04}, {-0.02, 0.06, 0.015}};
+  Vec u = b.affine(A);
+  for (bool pull : {false, true}) {
+    const hs::CableConfig config = bottom_cable(pull);
+    hs::Cable cable(config, *b.problem, "test");
+    auto map = [&](const std::array<double, 3>& X) {
+      std::array<double, 3> x;
+      for (int d = 0; d < 3; ++d) x[d] = X[d] + A[d][0] * X[0] + A[d][1] * X[1] + A[d][2] * X[2];
+      return x;
+    };
+    double L0 = 0, L = 0;
+    for (size_t i = 0; i + 1 < config.points.size(); ++i) {
+      L0 += distance(config.points[i], config.points[i + 1]);
+      L += distance(map(config.points[i]), map(config.points[i + 1]));
+    }
+    if (pull) {  // the pull point is fixed in space
+      L0 += distance(*config.pull_point, config.points.back());
+      L += distance(*config.pull_point, map(config.points.back()));
+    }
+    Vec zero = b.problem->create_vector();
+    EXPECT_NEAR(cable.length(zero), L0, 1e-15) << pull;
+    EXPECT_NEAR(cable.length(u), L, 1e-14) << pull;
+    VecDestroy(&zero);
+  }
+  VecDestroy(&u);
+}
+
+TEST(Cables, PullDirectionIsMinusTheLengthGradient) {
+  Body b;
+  const double A[3][3] = {{0.05, 0.02, -0.03}, {-0.04, 0.01, 0.02}, {0.03, -0.02, 0.04}};
+  const double B[3][3] = {{0.3, -0.1, 0.2}, {0.1, 0.4, -0.2}, {-0.3, 0.2, 0.1}};
+  Vec u = b.affine(A), du = b.affine(B), g = b.problem->create_vector();
+  Vec up = b.problem->create_vector(), um = b.problem->create_vector();
+  for (bool pull : {false, true}) {
+    hs::Cable cable(bottom_cable(pull), *b.problem, "test");
+    cable.pull_direction(u, g);
+    const double h = 1e-6;
+    VecWAXPY(up, h, du, u);
+    VecWAXPY(um, -h, du, u);
+    const double dL = (cable.length(up) - cable.length(um)) / (2 * h);
+    PetscScalar gdu = 0;
+    VecDot(g, du, &gdu);
+    EXPECT_NEAR(-gdu, dL, 1e-8 * std::abs(dL)) << pull;
+    // Net force of a unit tension: the sum of g over the x, y, z dofs. Between body points
+    // only, the cable is internal (zero); with a pull point, the unit vector towards it.
+    std::array<double, 3> net{0, 0, 0};
+    const PetscScalar* a;
+    PetscInt lo, hi;
+    VecGetOwnershipRange(g, &lo, &hi);
+    VecGetArrayRead(g, &a);
+    for (PetscInt i = lo; i < hi; ++i) net[i % 3] += a[i - lo];
+    VecRestoreArrayRead(g, &a);
+    MPI_Allreduce(MPI_IN_PLACE, net.data(), 3, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+    std::array<double, 3> expected{0, 0, 0};
+    if (pull) {
+      const auto x = cable.positions(u);
+      const std::array<double, 3> last{x[6], x[7], x[8]};
+      const auto& p = *bottom_cable(true).pull_point;
+      for (int d = 0; d < 3; ++d) expected[d] = (p[d] - last[d]) / distance(p, last);
+    }
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(net[d], expected[d], 1e-13) << pull << " " << d;
+  }
+  for (Vec* v : {&u, &du, &g, &up, &um}) VecDestroy(v);
+}
+
+TEST(Cables, OutsidePointIsRefused) {
+  Body b;
+  hs::CableConfig c = bottom_cable(true);
+  c.points[1] = {0.05, 0.0, 0.02};  // above the finger (T = 16 mm)
+  try {
+    hs::Cable cable(c, *b.problem, "deck.yaml");
+    FAIL() << "a point outside the mesh was accepted";
+  } catch (const hs::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cables 'tendon' points[1]"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("outside the mesh"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
