@@ -12,6 +12,16 @@ Cable::Cable(const CableConfig& config, Problem& problem, const std::string& dec
     : config_(config) {
   const Mesh& mesh = problem.mesh();
   const Distribution& dist = problem.distribution();
+  // Which dofs are constrained, on every rank (a mask of the whole vector, once).
+  Vec mask = problem.create_vector(), all = nullptr;
+  VecScatter to_all = nullptr;
+  HS_PETSC(VecSet(mask, 1.0));
+  problem.zero_constrained(mask);
+  HS_PETSC(VecScatterCreateToAll(mask, &to_all, &all));
+  HS_PETSC(VecScatterBegin(to_all, mask, all, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecScatterEnd(to_all, mask, all, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar* free_dof;
+  HS_PETSC(VecGetArrayRead(all, &free_dof));
   for (size_t i = 0; i < config.points.size(); ++i) {
     const auto& X = config.points[i];
     std::vector<int64_t> nodes;
@@ -20,6 +30,14 @@ Cable::Cable(const CableConfig& config, Problem& problem, const std::string& dec
       throw InputError(deck_path + ": cables '" + config.name + "' points[" + std::to_string(i) +
                        "] (" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
                        std::to_string(X[2]) + ") lies outside the mesh");
+    std::vector<PetscInt> dofs;
+    for (int64_t node : nodes)
+      for (int d = 0; d < 3; ++d) {
+        const PetscInt dof = static_cast<PetscInt>(3 * dist.new_of_old[node] + d);
+        dofs.push_back(free_dof[dof] != 0 ? dof : -1);
+      }
+    dofs_.push_back(dofs);
+    shape_.push_back(N);
     for (int d = 0; d < 3; ++d) {
       reference_.push_back(X[d]);
       Vec row = problem.create_vector();
@@ -32,6 +50,10 @@ Cable::Cable(const CableConfig& config, Problem& problem, const std::string& dec
       rows_.push_back(row);
     }
   }
+  HS_PETSC(VecRestoreArrayRead(all, &free_dof));
+  HS_PETSC(VecScatterDestroy(&to_all));
+  HS_PETSC(VecDestroy(&all));
+  HS_PETSC(VecDestroy(&mask));
 }
 
 Cable::~Cable() {
@@ -79,6 +101,38 @@ void Cable::pull_direction(Vec u, Vec g) const {
   HS_PETSC(VecSet(g, 0.0));
   HS_PETSC(VecMAXPY(g, static_cast<PetscInt>(rows_.size()), coeff.data(),
                     const_cast<Vec*>(rows_.data())));
+}
+
+void Cable::add_stiffness(Vec u, double T, Mat J) const {
+  const auto p = path(positions(u));
+  int rank = 0;
+  MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(J)), &rank);
+  if (rank != 0 || T == 0) return;
+  const size_t points = dofs_.size();
+  for (size_t i = 0; i + 1 < p.size(); ++i) {
+    std::array<double, 3> e;
+    const double len =
+        std::hypot(p[i + 1][0] - p[i][0], p[i + 1][1] - p[i][1], p[i + 1][2] - p[i][2]);
+    for (int d = 0; d < 3; ++d) e[d] = (p[i + 1][d] - p[i][d]) / len;
+    double P[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) P[a][b] = T * ((a == b) - e[a] * e[b]) / len;
+    // The segment's two ends (the pull point is fixed: only x_i then), with signs +1, -1.
+    std::vector<PetscInt> idx;
+    std::vector<double> w;  // N_a times the end's sign, per dof
+    for (size_t end = i; end <= i + 1 && end < points; ++end)
+      for (size_t a = 0; a < shape_[end].size(); ++a)
+        for (int d = 0; d < 3; ++d) {
+          idx.push_back(dofs_[end][3 * a + d]);
+          w.push_back((end == i ? 1.0 : -1.0) * shape_[end][a]);
+        }
+    const size_t n = idx.size();
+    std::vector<PetscScalar> block(n * n);
+    for (size_t r = 0; r < n; ++r)
+      for (size_t c = 0; c < n; ++c) block[r * n + c] = w[r] * w[c] * P[r % 3][c % 3];
+    HS_PETSC(MatSetValues(J, static_cast<PetscInt>(n), idx.data(), static_cast<PetscInt>(n),
+                          idx.data(), block.data(), ADD_VALUES));
+  }
 }
 
 }  // namespace hs

@@ -9,6 +9,7 @@
 // tension and the shortening (pull) plays the volume growth. docs/control.md has the rest.
 #pragma once
 
+#include <petscmat.h>
 #include <petscvec.h>
 
 #include <array>
@@ -34,6 +35,10 @@ class Cable {
   double length(Vec u) const;
   // g = -dL/du: the nodal forces of a unit tension (zero on no dof but the points' nodes).
   void pull_direction(Vec u, Vec g) const;
+  // J += T d2L/du2: the stiffness of a tension T turning with the path (per segment
+  // T (I - e e^T) / l between its two points), Dirichlet rows and columns left out. Adds
+  // entries (from rank 0) outside the mesh's pattern; the caller assembles J afterwards.
+  void add_stiffness(Vec u, double T, Mat J) const;
 
  private:
   std::vector<std::array<double, 3>> path(const std::vector<double>& x) const;
@@ -41,6 +46,10 @@ class Cable {
   CableConfig config_;
   std::vector<double> reference_;  // 3 per point
   std::vector<Vec> rows_;          // 3 per point: the point's coordinate as a row over u
+  // Per point: the global dofs of its element's nodes (3 per node, -1 where constrained)
+  // and the nodes' shape-function values there.
+  std::vector<std::vector<PetscInt>> dofs_;
+  std::vector<std::vector<double>> shape_;
 };
 
 }  // namespace hs

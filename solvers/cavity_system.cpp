@@ -84,9 +84,22 @@ CavitySystem::CavitySystem(const Config& config, Problem& problem, const Mesh& m
       }
     }
   }
+  // Cables after the cavities: tension-controlled constraints with "volume" -L.
+  for (const auto& cc : config.cables) {
+    Cavity c;
+    c.config.group = cc.name;
+    c.config.kind = "cable";
+    c.config.pressure = cc.force;  // the first state ramps it like a cavity pressure
+    c.cable = std::make_unique<Cable>(cc, problem, config.deck_path);
+    c.pull = problem.create_vector();
+    c.reference_volume = c.volume = c.rest_volume = -c.cable->length(zero);
+    c.control = CavityControl::pressure;
+    cavities_.push_back(std::move(c));
+  }
   HS_PETSC(VecDestroy(&zero));
-  const bool any_weight = std::any_of(cavities_.begin(), cavities_.end(),
-                                      [](const Cavity& c) { return c.has_weight(); });
+  const bool any_weight = std::any_of(cavities_.begin(), cavities_.end(), [](const Cavity& c) {
+    return c.has_weight() || c.is_cable();
+  });
   if (any_weight) {
     weights_ = problem.create_vector();
     problem.set_extra_load(weights_);
@@ -99,6 +112,7 @@ CavitySystem::~CavitySystem() {
   for (auto& c : cavities_) {
     VecDestroy(&c.W);
     VecDestroy(&c.frozen);
+    VecDestroy(&c.pull);
   }
 }
 
@@ -127,6 +141,12 @@ void CavitySystem::update_weights(Vec u, double s) {
     }
     HS_PETSC(VecAXPY(weights_, 1.0, c.W));
   }
+  // A cable's tension acts on its points as lambda (-dL/du), a load like the weights.
+  for (auto& c : cavities_)
+    if (c.is_cable()) {
+      c.cable->pull_direction(u, c.pull);
+      HS_PETSC(VecAXPY(weights_, c.lambda, c.pull));
+    }
 }
 
 void CavitySystem::freeze_weights(Vec u, double s) {
@@ -145,6 +165,10 @@ bool CavitySystem::residual(Vec u, double s, Vec R, std::vector<double>& control
   collapsed_ = -1;
   for (size_t i = 0; i < cavities_.size(); ++i) {
     Cavity& c = cavities_[i];
+    if (c.is_cable()) {
+      c.volume = -c.cable->length(u);
+      continue;
+    }
     problem_.set_surface_pressure(c.surface, c.lambda);
     c.volume = problem_.enclosed_volume(c.surface, u);
     if (!(c.volume > 0) && collapsed_ < 0) collapsed_ = static_cast<int>(i);
@@ -176,6 +200,20 @@ bool CavitySystem::residual(Vec u, double s, Vec R, std::vector<double>& control
 
 bool CavitySystem::linearize(Vec u, double s, Mat J, CavityLinearization& lin) {
   const bool ok = problem_.jacobian(u, s, J);
+  // A cable's tension turning with its path stiffens the body: lambda d2L/du2, which couples
+  // the nodes of consecutive cable points (outside the mesh's pattern: PETSc allocates the
+  // new entries once, on the first assembly).
+  bool cables = false;
+  for (const auto& c : cavities_)
+    if (c.is_cable()) {
+      if (!cables) HS_PETSC(MatSetOption(J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+      cables = true;
+      c.cable->add_stiffness(u, c.lambda, J);
+    }
+  if (cables) {
+    HS_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    HS_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  }
   const size_t m = cavities_.size();
   if (lin.g.size() != m) {
     lin.g.resize(m, nullptr);
@@ -189,7 +227,12 @@ bool CavitySystem::linearize(Vec u, double s, Mat J, CavityLinearization& lin) {
   lin.b.assign(m, 0.0);
   for (size_t i = 0; i < m; ++i) {
     const Cavity& c = cavities_[i];
-    problem_.volume_gradient(c.surface, u, lin.g[i]);
+    if (c.is_cable()) {
+      c.cable->pull_direction(u, lin.g[i]);
+      problem_.zero_constrained(lin.g[i]);
+    } else {
+      problem_.volume_gradient(c.surface, u, lin.g[i]);
+    }
     if (lin.q[i]) {  // dW = (W / V) g^T du: the weight follows the volume
       HS_PETSC(VecAXPBY(lin.q[i], 1.0 / c.volume, 0.0, c.W));
       problem_.zero_constrained(lin.q[i]);
@@ -209,6 +252,11 @@ bool CavitySystem::linearize(Vec u, double s, Mat J, CavityLinearization& lin) {
     }
   }
   return ok;
+}
+
+double CavitySystem::measure(int i, Vec u) const {
+  const Cavity& c = cavities_[i];
+  return c.is_cable() ? -c.cable->length(u) : problem_.enclosed_volume(c.surface, u);
 }
 
 std::string CavitySystem::collapse_reason() const {
@@ -232,7 +280,10 @@ double CavitySystem::control_scale(int i) const {
 
 nlohmann::json CavitySystem::parts() const {
   nlohmann::json p;
-  p["cavities"] = cavities_.size();
+  const auto cables = std::count_if(cavities_.begin(), cavities_.end(),
+                                    [](const Cavity& c) { return c.is_cable(); });
+  p["cavities"] = cavities_.size() - cables;
+  p["cables"] = cables;
   int weighted = 0;
   bool cuda = false;
   std::string method;
@@ -256,6 +307,13 @@ nlohmann::json CavitySystem::report() const {
     nlohmann::json j;
     j["name"] = c.config.group;
     j["kind"] = c.config.kind;
+    if (c.is_cable()) {
+      j["length"] = -c.volume;
+      j["pull"] = c.volume - c.rest_volume;  // shortening since the end of the first state
+      j["force"] = c.lambda;
+      list.push_back(j);
+      continue;
+    }
     j["volume"] = c.volume;
     j["volume_ml"] = c.volume * 1e6;
     j["added_volume_ml"] = (c.volume - c.rest_volume) * 1e6;

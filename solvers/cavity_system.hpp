@@ -12,6 +12,8 @@
 // frozen in shape at the start of a step and scaled with the volume, W = w V / v_c: the term
 // J_w^T lambda_w with J_w = w / v_c and lambda_w the volume change ("linearized").
 // Both linearise the weight as dW = (W / V) g^T du. docs/cavities.md derives it all.
+// Cables (docs/control.md) are constraints of the same form, appended after the cavities:
+// tension lambda, "volume" -L, g = -dL/du, controlled by their tension.
 #pragma once
 
 #include <petscmat.h>
@@ -23,6 +25,7 @@
 #include <vector>
 
 #include "deck/config.hpp"
+#include "solvers/cable.hpp"
 #include "solvers/cavity_weight.hpp"
 #include "solvers/problem.hpp"
 
@@ -41,10 +44,14 @@ struct Cavity {
   double rest_volume = 0;                // at the end of the first state
   double gas_constant = 0;               // sealed gas: (p_0 + p_atm) V_0
   std::unique_ptr<CavityWeight> weight;  // liquid with density > 0 only
-  Vec W = nullptr;                       // its nodal weights (current)
-  Vec frozen = nullptr;                  // linearized: weights at the start of the step
+  // A cable (kind "cable"): lambda its tension (N), volume -L (m), g = -dL/du its pull.
+  std::unique_ptr<Cable> cable;
+  Vec pull = nullptr;    // cable: -dL/du at the last residual
+  Vec W = nullptr;       // its nodal weights (current)
+  Vec frozen = nullptr;  // linearized: weights at the start of the step
   double frozen_volume = 0;
   bool has_weight() const { return weight != nullptr; }
+  bool is_cable() const { return cable != nullptr; }
 };
 
 // The linear algebra of one Newton step: the tangent J (with -lambda H), the columns g_c and
@@ -75,6 +82,9 @@ class CavitySystem {
   std::string collapse_reason() const;
   // Tangent and linearisation at (u, lambda; s), after a residual() at the same point.
   bool linearize(Vec u, double s, Mat J, CavityLinearization& lin);
+  // The "volume" of constraint c on configuration u: a cavity's enclosed volume, a cable's
+  // length with a minus sign (collective).
+  double measure(int c, Vec u) const;
   // Scale of each control equation for convergence tests and the line search.
   double control_scale(int c) const;
 

@@ -33,7 +33,7 @@ InverseController::InverseController(const Config& config, Problem& problem, Cav
     const std::string where = config.deck_path + ": control.actuators '" + a.cavity + "'";
     if (act.cavity < 0) throw InputError(where + ": no cavity of that name");
     const std::string& kind = cavities[act.cavity].config.kind;
-    if (kind != "pneumatic" && kind != "hydraulic")
+    if (kind != "pneumatic" && kind != "hydraulic" && kind != "cable")
       throw InputError(where + ": a " + kind + " chamber is not actuated (it enters fixed)");
     actuators_.push_back(act);
   }
@@ -60,8 +60,7 @@ InverseController::~InverseController() {
 }
 
 void InverseController::set_rest(Vec u) {
-  for (auto& a : actuators_)
-    a.rest_volume = problem_.enclosed_volume(cavities_[a.cavity].surface, u);
+  for (auto& a : actuators_) a.rest_volume = cavities_.measure(a.cavity, u);
   if (!last_free_) HS_PETSC(VecDuplicate(u, &last_free_));
   HS_PETSC(VecCopy(u, last_free_));
   last_pressures_ = cavities_.pressures();
@@ -386,8 +385,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
       throw SolveError("control step: Newton at the new actuation did not converge (" + r.reason +
                        ")");
   } else {
-    for (int c = 0; c < m; ++c)
-      cavities_[c].volume = problem_.enclosed_volume(cavities_[c].surface, u);
+    for (int c = 0; c < m; ++c) cavities_[c].volume = cavities_.measure(c, u);
   }
   const double t_end = MPI_Wtime();
 

@@ -52,8 +52,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   Problem problem(config, mesh, dist, comm, exact.get());
   // A scene with cavities or states runs the bordered Newton (displacements and cavity
   // pressures); any other the plain SNES. No cavity code runs in a scene without cavities.
-  const bool staged =
-      !config.cavities.empty() || !config.states.empty() || config.tip || config.control;
+  const bool staged = !config.cavities.empty() || !config.cables.empty() ||
+                      !config.states.empty() || config.tip || config.control;
   std::unique_ptr<CavitySystem> cavities;
   if (staged) cavities = std::make_unique<CavitySystem>(config, problem, mesh, dist);
   const bool symmetric = !problem.has_follower_loads();
@@ -179,6 +179,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
     summary["time_s"]["constraint"] = constraint;
   } else {
     summary["parts"] = {{"cavities", 0},
+                        {"cables", 0},
                         {"fluid_weight", {{"cavities", 0}, {"device", "none"}, {"method", "none"}}},
                         {"cuda_context", false}};
   }

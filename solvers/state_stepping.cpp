@@ -44,7 +44,9 @@ std::vector<StatePlan> plan_states(const Config& config) {
       for (int i = 1; i <= states[k].steps; ++i)
         p.taus.push_back(static_cast<double>(i) / states[k].steps);
     }
-    p.ramps.resize(config.cavities.size());
+    // One ramp per constraint of the CavitySystem: the cavities, then the cables (which the
+    // states do not ramp: they keep their first-state tension).
+    p.ramps.resize(config.cavities.size() + config.cables.size());
     for (size_t c = 0; c < config.cavities.size(); ++c) {
       auto it = states[k].cavities.find(config.cavities[c].group);
       if (it == states[k].cavities.end()) continue;
@@ -228,6 +230,7 @@ StateRun run_states(const Config& config, Problem& problem, CavitySystem& caviti
       state["tip_angle_deg"] = tip_angle_deg(problem, config.tip->group, config.gravity, u);
     double added = 0, change = 0;
     for (int c = 0; c < cavities.size(); ++c) {
+      if (cavities[c].is_cable()) continue;
       added += cavities[c].volume - cavities[c].rest_volume;
       change += cavities[c].volume - cavities[c].reference_volume;
     }

@@ -139,6 +139,13 @@ time: {type: dynamic, dt: 0.01, end_time: 0.5, newmark: {beta: 0.3025, gamma: 0.
 )";
 
 void expect_same(const Config& a, const Config& b) {
+  ASSERT_EQ(a.cables.size(), b.cables.size());
+  for (size_t i = 0; i < a.cables.size(); ++i) {
+    EXPECT_EQ(a.cables[i].name, b.cables[i].name);
+    EXPECT_EQ(a.cables[i].points, b.cables[i].points);
+    EXPECT_EQ(a.cables[i].pull_point, b.cables[i].pull_point);
+    EXPECT_EQ(a.cables[i].force, b.cables[i].force);
+  }
   EXPECT_EQ(a.mesh.file, b.mesh.file);
   EXPECT_EQ(a.mesh.order, b.mesh.order);
   EXPECT_EQ(a.mesh.parameters, b.mesh.parameters);
@@ -227,6 +234,7 @@ void expect_same(const Config& a, const Config& b) {
   ASSERT_EQ(p.actuators.size(), q.actuators.size());
   for (size_t i = 0; i < p.actuators.size(); ++i) {
     EXPECT_EQ(p.actuators[i].cavity, q.actuators[i].cavity);
+    EXPECT_EQ(p.actuators[i].cable, q.actuators[i].cable);
     EXPECT_EQ(p.actuators[i].min_pressure, q.actuators[i].min_pressure);
     EXPECT_EQ(p.actuators[i].max_pressure, q.actuators[i].max_pressure);
     EXPECT_EQ(p.actuators[i].min_volume_growth, q.actuators[i].min_volume_growth);
@@ -674,8 +682,9 @@ TEST(RepositoryDecks, AllParseAndRoundTrip) {
   EXPECT_GT(count, 0);
 }
 
-// The examples of docs/decks.md are valid decks: the cavity example, the control example, and
-// the complete example, also with its dynamic time section.
+// The examples of docs/decks.md are valid decks: the cavity example, the cables section (with
+// the control example), the control example, and the complete example, also with its
+// dynamic time section.
 TEST(DocumentedExample, Parses) {
   std::ifstream in(std::string(HYDROSOFT_SOURCE_DIR) + "/docs/decks.md");
   std::stringstream text;
@@ -687,7 +696,7 @@ TEST(DocumentedExample, Parses) {
     const size_t end = doc.find(close, at);
     blocks.push_back(doc.substr(at, end - at));
   }
-  ASSERT_EQ(blocks.size(), 4u);
+  ASSERT_EQ(blocks.size(), 5u);
   TempFolder tmp;
   tmp.write("meshes/lame_sphere.geo", "");
   tmp.write("meshes/cylinder.geo", "");
@@ -697,7 +706,14 @@ TEST(DocumentedExample, Parses) {
   ASSERT_EQ(cavity.states.size(), 2u);
   EXPECT_EQ(cavity.states[1].cavities.at("cavity").added_volume, 1.5e-5);
   EXPECT_EQ(cavity.time.steps, 4);
+  // The cables example is a section: it joins the control example's deck.
+  const std::string cables = blocks[1];
+  blocks.erase(blocks.begin() + 1);
   const Config control = parse_deck(tmp.write("input/control.yaml", blocks[1]));
+  const Config with_cable = parse_deck(tmp.write("input/cable.yaml", blocks[1] + cables));
+  ASSERT_EQ(with_cable.cables.size(), 1u);
+  EXPECT_EQ(with_cable.cables[0].points.size(), 4u);
+  EXPECT_EQ(with_cable.cables[0].pull_point->at(0), -0.02);
   ASSERT_TRUE(control.control.has_value());
   EXPECT_EQ(control.control->effectors[0].point, "effector");
   EXPECT_EQ(control.control->actuators[0].max_volume_growth, 2.0e-5);

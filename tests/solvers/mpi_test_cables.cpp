@@ -10,10 +10,12 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "control_scene.hpp"
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "solvers/cable.hpp"
+#include "solvers/inverse_controller.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/problem.hpp"
 
@@ -144,6 +146,100 @@ TEST(Cables, OutsidePointIsRefused) {
         << e.what();
     EXPECT_NE(std::string(e.what()).find("outside the mesh"), std::string::npos) << e.what();
   }
+}
+
+// The finger of input/finger_cable.yaml (its tendon, no cavity), effector at the tip.
+struct CableScene : hs_test::ControlScene {
+  explicit CableScene(double max_force)
+      : ControlScene("finger_cable.yaml", {0.09, 0.0, 0.0}, actuator(max_force),
+                     {"mesh.parameters.h=0.006"}) {}
+  static hs::ActuatorConfig actuator(double max_force) {
+    hs::ActuatorConfig a;
+    a.cavity = "tendon";
+    a.cable = true;
+    a.min_pressure = 0;
+    a.max_pressure = max_force;
+    return a;
+  }
+};
+
+TEST(Cables, ControllerFindsTheTensionOfAForwardRun) {
+  CableScene s(10.0);
+  const double tension = 0.6;  // N
+  const auto target = s.forward(tension);
+  ASSERT_LT(target[2], -0.015);  // the tendon curls the finger down, below its rest
+  Vec u = s.problem->create_vector();
+  VecCopy(s.rest, u);
+  hs::InverseController controller(s.config, *s.problem, *s.cavities, *s.newton, *s.effectors);
+  controller.set_rest(u);
+  hs::ControlStepReport r;
+  for (int k = 0; k < 8; ++k) r = controller.step(u, {{"tip", target}});
+  EXPECT_LT(r.error, 1e-4);
+  EXPECT_NEAR(r.actuation[0], tension, 1e-3 * tension);
+  EXPECT_FALSE(r.saturated[0]);
+  EXPECT_LT(r.kkt_residual, 1e-8);
+  VecDestroy(&u);
+}
+
+TEST(Cables, ACableCannotPush) {
+  // A target above the rest position would need a push: the tension stays at 0, saturated,
+  // and the tip stays where it hangs.
+  CableScene s(10.0);
+  const auto rest = s.forward(0.0);
+  Vec u = s.problem->create_vector();
+  VecCopy(s.rest, u);
+  hs::InverseController controller(s.config, *s.problem, *s.cavities, *s.newton, *s.effectors);
+  controller.set_rest(u);
+  hs::ControlStepReport r;
+  for (int k = 0; k < 4; ++k) r = controller.step(u, {{"tip", {0.09, 0.0, rest[2] + 0.005}}});
+  EXPECT_EQ(r.actuation[0], 0.0);
+  EXPECT_TRUE(r.saturated[0]);
+  EXPECT_NEAR(r.reached[2], rest[2], 1e-9);
+  VecDestroy(&u);
+}
+
+TEST(Cables, TangentWithTheCableStiffnessMatchesDifferences) {
+  // J du against central differences of the residual, with a tension on the cable: the
+  // cable's turning stiffness T (I - e e^T) / l is in J (without it the two differ by
+  // about T / l per unit displacement of its points).
+  CableScene s(10.0);
+  hs::Cavity& cable = (*s.cavities)[0];
+  cable.lambda = 0.8;
+  Vec u = s.problem->create_vector(), du = s.problem->create_vector();
+  VecCopy(s.rest, u);
+  const double B[3][3] = {{0.3, -0.1, 0.2}, {0.1, 0.4, -0.2}, {-0.3, 0.2, 0.1}};
+  PetscInt lo, hi;
+  VecGetOwnershipRange(du, &lo, &hi);
+  for (PetscInt i = lo; i < hi; ++i)
+    VecSetValue(du, i, 1e-3 * B[i % 3][(i / 3) % 3], INSERT_VALUES);
+  VecAssemblyBegin(du);
+  VecAssemblyEnd(du);
+  s.problem->zero_constrained(du);
+  Mat J = s.problem->create_matrix();
+  hs::CavityLinearization lin;
+  std::vector<double> c;
+  Vec R = s.problem->create_vector(), Rp = s.problem->create_vector(),
+      Rm = s.problem->create_vector(), up = s.problem->create_vector(),
+      Jdu = s.problem->create_vector();
+  ASSERT_TRUE(s.cavities->residual(u, 1.0, R, c));
+  ASSERT_TRUE(s.cavities->linearize(u, 1.0, J, lin));
+  MatMult(J, du, Jdu);
+  const double h = 1e-4;
+  VecWAXPY(up, h, du, u);
+  s.cavities->residual(up, 1.0, Rp, c);
+  VecWAXPY(up, -h, du, u);
+  s.cavities->residual(up, 1.0, Rm, c);
+  VecAXPY(Rp, -1.0, Rm);
+  VecScale(Rp, 1.0 / (2 * h));
+  PetscReal ref = 0, diff = 0;
+  VecNorm(Rp, NORM_2, &ref);
+  VecAXPY(Rp, -1.0, Jdu);
+  VecNorm(Rp, NORM_2, &diff);
+  EXPECT_LT(diff, 1e-6 * ref) << diff << " of " << ref;
+  for (Vec* v : {&u, &du, &R, &Rp, &Rm, &up, &Jdu}) VecDestroy(v);
+  MatDestroy(&J);
+  for (auto& v : lin.g) VecDestroy(&v);
+  for (auto& v : lin.q) VecDestroy(&v);
 }
 
 }  // namespace

@@ -9,84 +9,20 @@
 #include <cmath>
 #include <filesystem>
 
-#include "deck/deck.hpp"
-#include "mesh/distribution.hpp"
-#include "mesh/gmsh_io.hpp"
-#include "solvers/bordered_newton.hpp"
-#include "solvers/cavity_system.hpp"
-#include "solvers/effectors.hpp"
+#include "control_scene.hpp"
 #include "solvers/inverse_controller.hpp"
-#include "solvers/newton_solver.hpp"
-#include "solvers/problem.hpp"
 
 namespace {
 
-const std::string kSource = HYDROSOFT_SOURCE_DIR;
-
-// The cylinder at rest under gravity, ready for forward runs and for the controller.
-struct Scene {
-  hs::Config config;
-  hs::Mesh mesh;
-  hs::Distribution dist;
-  std::unique_ptr<hs::Problem> problem;
-  std::unique_ptr<hs::CavitySystem> cavities;
-  std::unique_ptr<hs::BorderedNewton> newton;
-  std::unique_ptr<hs::Effectors> effectors;
-  Vec rest = nullptr;
-
-  Scene(const std::string& deck, double max_pressure) {
-    config = hs::parse_deck(kSource + "/input/" + deck, {});
-    hs::ControlConfig control;
-    hs::EffectorConfig tip;
-    tip.name = "tip";
-    tip.position = {0.0, 0.0, -0.15};  // centre of the free end face
-    control.effectors = {tip};
-    hs::ActuatorConfig actuator;
-    actuator.cavity = "cavity";
-    actuator.max_pressure = max_pressure;
-    control.actuators = {actuator};
-    control.newton_finish = true;
-    config.control = control;
-    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-    int rank, size;
-    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-    MPI_Comm_size(PETSC_COMM_WORLD, &size);
-    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
-    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
-    cavities = std::make_unique<hs::CavitySystem>(config, *problem, mesh, dist);
-    hs::set_solver_options(config.solver, false);
-    newton = std::make_unique<hs::BorderedNewton>(*problem, *cavities);
-    effectors = std::make_unique<hs::Effectors>(config, *problem);
-    rest = problem->create_vector();
-    Vec f = problem->create_vector();
-    problem->external_load(rest, 1.0, f);
-    PetscReal norm = 0;
-    VecNorm(f, NORM_2, &norm);
-    VecDestroy(&f);
-    newton->set_load_norm(norm);
-    for (double s : {0.25, 0.5, 0.75, 1.0}) solve_at_pressure(rest, 0.0, s);
-  }
-  ~Scene() { VecDestroy(&rest); }
-
-  void solve_at_pressure(Vec u, double p, double s = 1.0) {
-    hs::Cavity& c = (*cavities)[0];
-    c.control = hs::CavityControl::pressure;
-    c.target = c.lambda = p;
-    problem->apply_dirichlet(u, s);
-    if (cavities->linearized()) cavities->freeze_weights(u, s);
-    const auto r = newton->solve(u, s);
-    ASSERT_TRUE(r.converged) << r.reason;
-  }
-
-  // The tip's position after a forward run to pressure p from rest.
-  std::array<double, 3> forward(double p) {
-    Vec u = problem->create_vector();
-    VecCopy(rest, u);
-    for (int k = 1; k <= 4; ++k) solve_at_pressure(u, p * k / 4);
-    const auto x = effectors->positions(u);
-    VecDestroy(&u);
-    (*cavities)[0].lambda = 0;
-    return {x[0], x[1], x[2]};
+// A cylinder with its cavity as the actuator, the effector at the centre of the free end.
+struct Scene : hs_test::ControlScene {
+  Scene(const std::string& deck, double max_pressure)
+      : ControlScene(deck, {0.0, 0.0, -0.15}, actuator(max_pressure)) {}
+  static hs::ActuatorConfig actuator(double max_pressure) {
+    hs::ActuatorConfig a;
+    a.cavity = "cavity";
+    a.max_pressure = max_pressure;
+    return a;
   }
 };
 

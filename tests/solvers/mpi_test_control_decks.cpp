@@ -2,7 +2,8 @@
 // finger reach different sets of the same targets (the liquid's weight lets the hydraulic
 // finger go lower and keeps it from the highest), reachable targets are met to 0.1 mm at
 // equilibrium, unreachable ones leave the actuator saturated at the bound; the pendulum
-// extends, contracts and bends; all ranks give what one rank gives.
+// extends, contracts and bends; the tendon-driven finger curls down and cannot push; all
+// ranks give what one rank gives.
 #include <gtest/gtest.h>
 
 #include "run_deck.hpp"
@@ -99,6 +100,18 @@ TEST(ControlDecks, PendulumExtendsContractsAndBends) {
   if (size == 1) return;
   const auto one = run_deck("pendulum.yaml", o, "pendulum_one", MPI_COMM_SELF);
   if (world_rank() == 0) expect_same_targets(s, one);
+}
+
+TEST(ControlDecks, CableFingerCurlsDownAndCannotPush) {
+  const auto s = run_deck("finger_cable.yaml", {}, "finger_cable");
+  expect_reached(s, 0, true, "cable");
+  expect_reached(s, 1, true, "cable");
+  expect_reached(s, 2, false, "cable");
+  const auto force = [&](int k) { return s["targets"][k]["actuation"][0].get<double>(); };
+  EXPECT_GT(force(1), force(0));  // lower takes more tension
+  EXPECT_EQ(force(2), 0.0);       // above the rest position: no push
+  EXPECT_EQ(s["parts"]["cables"].get<int>(), 1);
+  EXPECT_EQ(s["cavities"][0]["kind"], "cable");
 }
 
 }  // namespace

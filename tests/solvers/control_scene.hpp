@@ -1,0 +1,90 @@
+// A scene for controller tests: a deck at rest under gravity (4 load steps), one effector
+// and one actuator (constraint 0 of the cavity system: the deck's first cavity, or its
+// cable when it has no cavity), with forward runs at a given actuation to make targets.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <petscsnes.h>
+
+#include <array>
+#include <memory>
+#include <string>
+
+#include "deck/deck.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/gmsh_io.hpp"
+#include "solvers/bordered_newton.hpp"
+#include "solvers/cavity_system.hpp"
+#include "solvers/effectors.hpp"
+#include "solvers/newton_solver.hpp"
+#include "solvers/problem.hpp"
+
+namespace hs_test {
+
+struct ControlScene {
+  hs::Config config;
+  hs::Mesh mesh;
+  hs::Distribution dist;
+  std::unique_ptr<hs::Problem> problem;
+  std::unique_ptr<hs::CavitySystem> cavities;
+  std::unique_ptr<hs::BorderedNewton> newton;
+  std::unique_ptr<hs::Effectors> effectors;
+  Vec rest = nullptr;
+
+  // deck: a file of input/; effector: its reference position; actuator: its bounds.
+  ControlScene(const std::string& deck, const std::array<double, 3>& effector,
+               hs::ActuatorConfig actuator, const std::vector<std::string>& overrides = {}) {
+    config = hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + deck, overrides);
+    hs::ControlConfig control;
+    hs::EffectorConfig tip;
+    tip.name = "tip";
+    tip.position = effector;
+    control.effectors = {tip};
+    control.actuators = {actuator};
+    control.newton_finish = true;
+    config.control = control;
+    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
+    int rank, size;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
+    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
+    cavities = std::make_unique<hs::CavitySystem>(config, *problem, mesh, dist);
+    hs::set_solver_options(config.solver, false);
+    newton = std::make_unique<hs::BorderedNewton>(*problem, *cavities);
+    effectors = std::make_unique<hs::Effectors>(config, *problem);
+    rest = problem->create_vector();
+    Vec f = problem->create_vector();
+    problem->external_load(rest, 1.0, f);
+    PetscReal norm = 0;
+    VecNorm(f, NORM_2, &norm);
+    VecDestroy(&f);
+    newton->set_load_norm(norm);
+    for (double s : {0.25, 0.5, 0.75, 1.0}) solve_at(rest, 0.0, s);
+  }
+  ~ControlScene() { VecDestroy(&rest); }
+
+  // Equilibrium at actuation p of constraint 0 (pressure or tension), load factor s.
+  void solve_at(Vec u, double p, double s = 1.0) {
+    hs::Cavity& c = (*cavities)[0];
+    c.control = hs::CavityControl::pressure;
+    c.target = c.lambda = p;
+    problem->apply_dirichlet(u, s);
+    if (cavities->linearized()) cavities->freeze_weights(u, s);
+    const auto r = newton->solve(u, s);
+    ASSERT_TRUE(r.converged) << r.reason;
+  }
+
+  // The effector's position after a forward run to actuation p from rest (4 increments).
+  std::array<double, 3> forward(double p) {
+    Vec u = problem->create_vector();
+    VecCopy(rest, u);
+    for (int k = 1; k <= 4; ++k) solve_at(u, p * k / 4);
+    const auto x = effectors->positions(u);
+    VecDestroy(&u);
+    (*cavities)[0].lambda = 0;
+    return {x[0], x[1], x[2]};
+  }
+};
+
+}  // namespace hs_test
