@@ -38,17 +38,8 @@ Cable::Cable(const CableConfig& config, Problem& problem, const std::string& dec
       }
     dofs_.push_back(dofs);
     shape_.push_back(N);
-    for (int d = 0; d < 3; ++d) {
-      reference_.push_back(X[d]);
-      Vec row = problem.create_vector();
-      if (dist.rank == 0)
-        for (size_t a = 0; a < nodes.size(); ++a)
-          HS_PETSC(VecSetValue(row, static_cast<PetscInt>(3 * dist.new_of_old[nodes[a]] + d), N[a],
-                               ADD_VALUES));
-      HS_PETSC(VecAssemblyBegin(row));
-      HS_PETSC(VecAssemblyEnd(row));
-      rows_.push_back(row);
-    }
+    for (int d = 0; d < 3; ++d) reference_.push_back(X[d]);
+    append_point_rows(problem, nodes, N, rows_);
   }
   HS_PETSC(VecRestoreArrayRead(all, &free_dof));
   HS_PETSC(VecScatterDestroy(&to_all));

@@ -163,6 +163,7 @@ void CavitySystem::freeze_weights(Vec u, double s) {
 bool CavitySystem::residual(Vec u, double s, Vec R, std::vector<double>& control) {
   control.resize(cavities_.size());
   collapsed_ = -1;
+  const double t0 = MPI_Wtime();
   for (size_t i = 0; i < cavities_.size(); ++i) {
     Cavity& c = cavities_[i];
     if (c.is_cable()) {
@@ -173,6 +174,7 @@ bool CavitySystem::residual(Vec u, double s, Vec R, std::vector<double>& control
     c.volume = problem_.enclosed_volume(c.surface, u);
     if (!(c.volume > 0) && collapsed_ < 0) collapsed_ = static_cast<int>(i);
   }
+  build_seconds_ += MPI_Wtime() - t0;
   // A cavity whose walls have passed through each other (volume <= 0: nothing stops them,
   // there is no contact) is outside the domain like an inverted element; its liquid's weight
   // is not computed there.
@@ -200,6 +202,7 @@ bool CavitySystem::residual(Vec u, double s, Vec R, std::vector<double>& control
 
 bool CavitySystem::linearize(Vec u, double s, Mat J, CavityLinearization& lin) {
   const bool ok = problem_.jacobian(u, s, J);
+  const double t0 = MPI_Wtime();
   // A cable's tension turning with its path stiffens the body: lambda d2L/du2, which couples
   // the nodes of consecutive cable points (outside the mesh's pattern: PETSc allocates the
   // new entries once, on the first assembly).
@@ -251,6 +254,7 @@ bool CavitySystem::linearize(Vec u, double s, Mat J, CavityLinearization& lin) {
         break;
     }
   }
+  build_seconds_ += MPI_Wtime() - t0;
   return ok;
 }
 

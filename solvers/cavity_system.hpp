@@ -94,6 +94,9 @@ class CavitySystem {
 
   // Fluid-weight seconds and calls so far, and what ran (for summary.json).
   double fluid_weight_seconds() const { return weight_seconds_; }
+  // Seconds spent building the constraints: cavity volumes and cable lengths, their
+  // gradients g (J_p^T), the weight columns q, the cables' stiffness (not the FEM assembly).
+  double constraint_build_seconds() const { return build_seconds_; }
   int fluid_weight_calls() const { return weight_calls_; }
   nlohmann::json parts() const;
   nlohmann::json report() const;  // [{name, kind, volume, pressure, fluid_weight_total}]
@@ -107,6 +110,7 @@ class CavitySystem {
   bool linearized_ = false;
   int collapsed_ = -1;  // the first cavity with volume <= 0 at the last residual(), or -1
   double weight_seconds_ = 0;
+  double build_seconds_ = 0;
   int weight_calls_ = 0;
 };
 

@@ -37,7 +37,6 @@ bool locate(const Mesh& mesh, const std::array<double, 3>& X, std::vector<int64_
 
 Effectors::Effectors(const Config& config, Problem& problem) {
   const Mesh& mesh = problem.mesh();
-  const Distribution& dist = problem.distribution();
   if (!config.control) return;
   for (const auto& e : config.control->effectors) {
     std::vector<int64_t> nodes;
@@ -64,15 +63,23 @@ Effectors::Effectors(const Config& config, Problem& problem) {
       double X = 0;
       for (size_t a = 0; a < nodes.size(); ++a) X += N[a] * mesh.x[3 * nodes[a] + d];
       reference_.push_back(X);
-      Vec row = problem.create_vector();
-      if (dist.rank == 0)
-        for (size_t a = 0; a < nodes.size(); ++a)
-          HS_PETSC(VecSetValue(row, static_cast<PetscInt>(3 * dist.new_of_old[nodes[a]] + d), N[a],
-                               ADD_VALUES));
-      HS_PETSC(VecAssemblyBegin(row));
-      HS_PETSC(VecAssemblyEnd(row));
-      rows_.push_back(row);
     }
+    append_point_rows(problem, nodes, N, rows_);
+  }
+}
+
+void append_point_rows(Problem& problem, const std::vector<int64_t>& nodes,
+                       const std::vector<double>& N, std::vector<Vec>& rows) {
+  const Distribution& dist = problem.distribution();
+  for (int d = 0; d < 3; ++d) {
+    Vec row = problem.create_vector();
+    if (dist.rank == 0)
+      for (size_t a = 0; a < nodes.size(); ++a)
+        HS_PETSC(VecSetValue(row, static_cast<PetscInt>(3 * dist.new_of_old[nodes[a]] + d), N[a],
+                             ADD_VALUES));
+    HS_PETSC(VecAssemblyBegin(row));
+    HS_PETSC(VecAssemblyEnd(row));
+    rows.push_back(row);
   }
 }
 

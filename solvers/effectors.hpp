@@ -23,6 +23,11 @@ namespace hs {
 bool locate(const Mesh& mesh, const std::array<double, 3>& X, std::vector<int64_t>& nodes,
             std::vector<double>& N);
 
+// The three coordinates of the material point sum_a N_a (X_a + u_a) as rows over u:
+// distributed vectors with N_a at the dofs (a, d), appended to `rows` (collective).
+void append_point_rows(Problem& problem, const std::vector<int64_t>& nodes,
+                       const std::vector<double>& N, std::vector<Vec>& rows);
+
 class Effectors {
  public:
   // Collective. Throws InputError naming the effector when its point group does not hold

@@ -54,7 +54,7 @@ InverseController::~InverseController() {
   KSPDestroy(&ksp_);
   MatDestroy(&J_);
   VecDestroy(&last_free_);
-  for (Vec* v : {&R_, &a_, &free_step_}) VecDestroy(v);
+  for (Vec* v : {&R_, &a_, &free_step_, &step_start_}) VecDestroy(v);
   for (auto* list : {&Y_, &Z_, &response_, &lin_.g, &lin_.q})
     for (auto& v : *list) VecDestroy(&v);
 }
@@ -253,10 +253,31 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // fresh residual, and W is the compliance of up to N - 1 steps ago.
   std::vector<double> controls;
   problem_.apply_dirichlet(u, 1.0);
-  if (!cavities_.residual(u, 1.0, R_, controls))
-    throw SolveError("control step: an element is inverted at the free configuration");
-  const bool refactor =
-      !one_step || steps_since_factorization_ + 1 >= config_.control->refactor_every || !factored_;
+  bool ok = cavities_.residual(u, 1.0, R_, controls);
+  PetscReal r_norm = 0;
+  HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
+  ok &= std::isfinite(r_norm);
+  // A correction made with a kept (stale) factorization can overshoot: then go back to the
+  // start of the last step and take it again with a fresh one. A residual that grew since
+  // the last factorization also asks for a fresh one.
+  bool stale_failed = false;
+  if (!ok && one_step && steps_since_factorization_ > 0 && step_start_) {
+    HS_PETSC(VecCopy(step_start_, u));
+    cavities_.set_pressures(step_start_pressures_);
+    for (const auto& a : actuators_) cavities_[a.cavity].target = cavities_[a.cavity].lambda;
+    ok = cavities_.residual(u, 1.0, R_, controls);
+    HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
+    stale_failed = true;
+  }
+  if (!ok) throw SolveError("control step: an element is inverted at the free configuration");
+  if (one_step) {
+    if (!step_start_) HS_PETSC(VecDuplicate(u, &step_start_));
+    HS_PETSC(VecCopy(u, step_start_));
+    step_start_pressures_ = cavities_.pressures();
+  }
+  const bool refactor = !one_step || !factored_ || stale_failed ||
+                        steps_since_factorization_ + 1 >= config_.control->refactor_every ||
+                        r_norm > residual_at_factorization_;
   const double t_factor0 = MPI_Wtime();
   double t_factor = t_factor0, t_compliance = t_factor0;
   if (refactor) {
@@ -269,6 +290,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     factor_responses();
     factored_ = true;
     steps_since_factorization_ = 0;
+    residual_at_factorization_ = r_norm;
   } else {
     ++steps_since_factorization_;
   }

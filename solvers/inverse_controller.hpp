@@ -97,6 +97,9 @@ class InverseController {
   Eigen::MatrixXd zeta_;
   bool factored_ = false;
   int steps_since_factorization_ = 0;
+  double residual_at_factorization_ = 0;  // |R| at the start of that step
+  Vec step_start_ = nullptr;              // one_step: u and pressures at the last step's start
+  std::vector<double> step_start_pressures_;
   Vec last_free_ = nullptr;  // the last free equilibrium and its pressures
   std::vector<double> last_pressures_;
 };

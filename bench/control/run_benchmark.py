@@ -4,10 +4,13 @@
     /usr/bin/python3 bench/control/run_benchmark.py [--np 1] [--repeats 3] [--largest]
         [--out bench/control/results.csv]
 
-For each deck (finger_pneumatic, finger_hydraulic, pendulum) and mesh size h (the .geo's
-sizes: finger 364, 1,961 and 10,488 nodes, pendulum 2,063 and 10,493; --largest adds the
-~51k-node meshes, minutes each), runs `hydrosoft DECK` on NP ranks with two target sets of
-the deck (the first two) and 5 control steps each, REPEATS times, and reads summary.json's
+For each deck (finger_pneumatic, finger_hydraulic, finger_cable, pendulum), mesh size h
+(the .geo's sizes: finger 364, 1,961 and 10,488 nodes, pendulum 2,063 and 10,493;
+--largest adds the ~51k-node meshes, minutes each) and control mode (newton: the free
+configuration converged by Newton; one_step: one linearisation per step; the kept
+factorization of refactor_every is for slow tracking and is timed by
+scripts/track_circle.py instead), runs `hydrosoft DECK` on NP ranks with two
+reachable target sets and 5 control steps each, REPEATS times, and reads summary.json's
 `step_time_ms` (median and p95 over the run's steps; the split medians: assembly, fluid
 weight, free solve, factorization, compliance, QP, correction). Reports the median over the
 repeats of each figure, as CSV and as a Markdown table. OPENBLAS_NUM_THREADS=1, so NP ranks
@@ -28,21 +31,25 @@ CASES = [  # deck, h, nodes (meshes/*.geo headers)
     ("finger_pneumatic", 0.00135, 10488), ("finger_pneumatic", 0.00074, 51465),
     ("finger_hydraulic", 0.006, 364), ("finger_hydraulic", 0.0026, 1961),
     ("finger_hydraulic", 0.00135, 10488), ("finger_hydraulic", 0.00074, 51465),
+    ("finger_cable", 0.0026, 1961), ("finger_cable", 0.00135, 10488),
     ("pendulum", 0.0036, 2063), ("pendulum", 0.00185, 10493), ("pendulum", 0.00103, 51393),
 ]
+MODES = [("newton", 1), ("one_step", 1)]
 PARTS = ["assembly", "fluid_weight", "free_solve", "factorization", "compliance", "qp",
          "correction"]
 
 
-def run(deck, h, np_, folder):
+def run(deck, h, np_, folder, mode):
     cmd = ["mpirun", "--oversubscribe", "-np", str(np_)]
     if os.geteuid() == 0:
         cmd.append("--allow-run-as-root")
     cmd += [os.path.join(ROOT, "build", "bin", "hydrosoft"), f"input/{deck}.yaml",
             "--set", f"mesh.parameters.h={h}", "--set", "control.steps_per_target=5",
+            "--set", f"control.free_solve={mode[0]}", "--set", f"control.refactor_every={mode[1]}",
             "--set", f"output.folder={folder}"]
     # The first two target sets of the deck.
-    targets = {"pendulum": "[{bottom: [0, 0, -0.1015]}, {bottom: [0.002, 0, -0.1012]}]"}
+    targets = {"pendulum": "[{bottom: [0, 0, -0.1015]}, {bottom: [0.002, 0, -0.1012]}]",
+               "finger_cable": "[{tip: [0.09, 0, -0.02]}, {tip: [0.09, 0, -0.025]}]"}
     cmd += ["--set", "control.targets=" + targets.get(
         deck, "[{tip: [0.09, 0, -0.012]}, {tip: [0.09, 0, -0.008]}]")]
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
@@ -64,19 +71,22 @@ def main():
     for deck, h, nodes in CASES:
         if nodes > 50000 and not a.largest:
             continue
-        reps = []
-        for r in range(a.repeats):
-            folder = os.path.join(tempfile.gettempdir(), f"hydrosoft_bench_control_{deck}_{r}")
-            reps.append(run(deck, h, a.np, folder))
-        st = [s["step_time_ms"] for s in reps]
-        row = {"deck": deck, "h": h, "nodes": nodes, "dofs": reps[0]["dofs"], "ranks": a.np,
-               "steps": st[0]["steps"],
-               "median_ms": statistics.median(s["median"] for s in st),
-               "p95_ms": statistics.median(s["p95"] for s in st)}
-        for part in PARTS:
-            row[part + "_ms"] = statistics.median(s["split_median"][part] for s in st)
-        rows.append(row)
-        print(row, flush=True)
+        for mode in MODES:
+            reps = []
+            for r in range(a.repeats):
+                folder = os.path.join(tempfile.gettempdir(),
+                                      f"hydrosoft_bench_control_{deck}_{r}")
+                reps.append(run(deck, h, a.np, folder, mode))
+            st = [s["step_time_ms"] for s in reps]
+            row = {"deck": deck, "h": h, "nodes": nodes, "dofs": reps[0]["dofs"],
+                   "ranks": a.np, "mode": mode[0] + ("" if mode[1] == 1 else f"/{mode[1]}"),
+                   "steps": st[0]["steps"],
+                   "median_ms": statistics.median(s["median"] for s in st),
+                   "p95_ms": statistics.median(s["p95"] for s in st)}
+            for part in PARTS:
+                row[part + "_ms"] = statistics.median(s["split_median"][part] for s in st)
+            rows.append(row)
+            print(row, flush=True)
     tmp = a.out + ".tmp"
     with open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
@@ -84,10 +94,11 @@ def main():
         for row in rows:
             w.writerow({k: ("%.3f" % v if isinstance(v, float) else v) for k, v in row.items()})
     os.replace(tmp, a.out)
-    print("| deck | nodes | step median (ms) | p95 | " + " | ".join(PARTS) + " |")
-    print("|---|---|---|---|" + "---|" * len(PARTS))
+    print("| deck | nodes | mode | step median (ms) | p95 | " + " | ".join(PARTS) + " |")
+    print("|---|---|---|---|---|" + "---|" * len(PARTS))
     for r in rows:
-        print(f"| {r['deck']} | {r['nodes']:,} | {r['median_ms']:.1f} | {r['p95_ms']:.1f} | " +
+        print(f"| {r['deck']} | {r['nodes']:,} | {r['mode']} | {r['median_ms']:.1f} | "
+              f"{r['p95_ms']:.1f} | " +
               " | ".join("%.2f" % r[p + "_ms"] for p in PARTS) + " |")
 
 

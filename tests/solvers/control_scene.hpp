@@ -7,6 +7,7 @@
 #include <petscsnes.h>
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -21,11 +22,27 @@
 
 namespace hs_test {
 
-struct ControlScene {
+// A deck of input/ read, meshed, distributed over PETSC_COMM_WORLD, and its Problem.
+struct DeckProblem {
   hs::Config config;
   hs::Mesh mesh;
   hs::Distribution dist;
   std::unique_ptr<hs::Problem> problem;
+
+  DeckProblem(const std::string& deck, const std::vector<std::string>& overrides,
+              const std::function<void(hs::Config&)>& adjust = nullptr) {
+    config = hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + deck, overrides);
+    if (adjust) adjust(config);
+    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
+    int rank, size;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
+    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
+  }
+};
+
+struct ControlScene : DeckProblem {
   std::unique_ptr<hs::CavitySystem> cavities;
   std::unique_ptr<hs::BorderedNewton> newton;
   std::unique_ptr<hs::Effectors> effectors;
@@ -33,22 +50,17 @@ struct ControlScene {
 
   // deck: a file of input/; effector: its reference position; actuator: its bounds.
   ControlScene(const std::string& deck, const std::array<double, 3>& effector,
-               hs::ActuatorConfig actuator, const std::vector<std::string>& overrides = {}) {
-    config = hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + deck, overrides);
-    hs::ControlConfig control;
-    hs::EffectorConfig tip;
-    tip.name = "tip";
-    tip.position = effector;
-    control.effectors = {tip};
-    control.actuators = {actuator};
-    control.newton_finish = true;
-    config.control = control;
-    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-    int rank, size;
-    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-    MPI_Comm_size(PETSC_COMM_WORLD, &size);
-    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
-    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
+               hs::ActuatorConfig actuator, const std::vector<std::string>& overrides = {})
+      : DeckProblem(deck, overrides, [&](hs::Config& config) {
+          hs::ControlConfig control;
+          hs::EffectorConfig tip;
+          tip.name = "tip";
+          tip.position = effector;
+          control.effectors = {tip};
+          control.actuators = {actuator};
+          control.newton_finish = true;
+          config.control = control;
+        }) {
     cavities = std::make_unique<hs::CavitySystem>(config, *problem, mesh, dist);
     hs::set_solver_options(config.solver, false);
     newton = std::make_unique<hs::BorderedNewton>(*problem, *cavities);

@@ -23,20 +23,8 @@ namespace {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
-struct Body {
-  hs::Config config;
-  hs::Mesh mesh;
-  hs::Distribution dist;
-  std::unique_ptr<hs::Problem> problem;
-  Body() {
-    config = hs::parse_deck(kSource + "/input/finger_pneumatic.yaml", {"mesh.parameters.h=0.006"});
-    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-    int rank, size;
-    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-    MPI_Comm_size(PETSC_COMM_WORLD, &size);
-    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
-    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
-  }
+struct Body : hs_test::DeckProblem {
+  Body() : DeckProblem("finger_pneumatic.yaml", {"mesh.parameters.h=0.006"}) {}
   // u = A X at every node (owned entries; the new numbering of the distribution).
   Vec affine(const double A[3][3]) {
     Vec u = problem->create_vector();
