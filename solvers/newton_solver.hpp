@@ -15,7 +15,8 @@ namespace hs {
 
 // Puts the preset's and the deck's options into PETSc's options database, leaving every
 // option that the command line already set untouched.
-void set_solver_options(const SolverConfig& solver, bool symmetric_tangent);
+void set_solver_options(const SolverConfig& solver, bool symmetric_tangent,
+                        bool definite_tangent = true);
 
 struct NewtonResult {
   bool converged = false;

@@ -93,6 +93,14 @@ class Problem {
 
   const AssemblyTimers& timers() const { return timers_; }
   bool has_follower_loads() const { return !pressure_faces_.empty(); }
+  // Pressure loads of the deck (open surfaces: not conservative, so their load stiffness is
+  // not symmetric). A cavity's pressure on its closed walls is conservative (the potential
+  // -p V): its load stiffness p d2V/du2 is symmetric.
+  bool has_open_surface_pressure() const {
+    for (const auto& s : pressure_faces_)
+      if (s.scaled) return true;
+    return false;
+  }
 
   // Cavity walls (solvers/cavity.hpp). A cavity surface is a follower pressure surface whose
   // pressure is set directly (not scaled by the load factor); returns its index.

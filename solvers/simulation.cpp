@@ -56,8 +56,10 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
                       !config.states.empty() || config.tip || config.control;
   std::unique_ptr<CavitySystem> cavities;
   if (staged) cavities = std::make_unique<CavitySystem>(config, problem, mesh, dist);
-  const bool symmetric = !problem.has_follower_loads();
-  set_solver_options(config.solver, symmetric);
+  // Symmetric unless the deck puts a follower pressure on an open surface; CG only without
+  // any pressure stiffness (a cavity's can make the tangent indefinite near a limit point).
+  set_solver_options(config.solver, !problem.has_open_surface_pressure(),
+                     !problem.has_follower_loads());
   std::unique_ptr<NewtonSolver> newton;
   std::unique_ptr<BorderedNewton> bordered;
   if (staged)
