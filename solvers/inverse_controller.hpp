@@ -39,6 +39,13 @@ struct ControlStepReport {
   // and dots of the responses), QP, correction (with Newton finishing: its solve), the step.
   double assembly_ms = 0, fluid_weight_ms = 0, free_solve_ms = 0, factorization_ms = 0,
          compliance_ms = 0, qp_ms = 0, correction_ms = 0, total_ms = 0;
+  // The parts of total_ms by their names in summary.json's step_time_ms.split_median.
+  std::vector<std::pair<std::string, double>> parts() const {
+    return {{"assembly", assembly_ms},     {"fluid_weight", fluid_weight_ms},
+            {"free_solve", free_solve_ms}, {"factorization", factorization_ms},
+            {"compliance", compliance_ms}, {"qp", qp_ms},
+            {"correction", correction_ms}};
+  }
   int newton_iterations = 0;
   // The free configuration could not reach the actuation of the last correction (a limit
   // point of the pressure: no equilibrium there) and stayed at the last one reached.

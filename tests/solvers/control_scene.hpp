@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
@@ -17,6 +18,7 @@
 #include "solvers/bordered_newton.hpp"
 #include "solvers/cavity_system.hpp"
 #include "solvers/effectors.hpp"
+#include "solvers/inverse_controller.hpp"
 #include "solvers/newton_solver.hpp"
 #include "solvers/problem.hpp"
 
@@ -85,6 +87,21 @@ struct ControlScene : DeckProblem {
     if (cavities->linearized()) cavities->freeze_weights(u, s);
     const auto r = newton->solve(u, s);
     ASSERT_TRUE(r.converged) << r.reason;
+  }
+
+  // `steps` control steps from rest towards `target`: the last step's report, and the
+  // equilibrium at its actuation in `equilibrium` when asked.
+  hs::ControlStepReport drive(const std::array<double, 3>& target, int steps,
+                              std::vector<double>* equilibrium = nullptr) {
+    Vec u = problem->create_vector();
+    VecCopy(rest, u);
+    hs::InverseController controller(config, *problem, *cavities, *newton, *effectors);
+    controller.set_rest(u);
+    hs::ControlStepReport r;
+    for (int k = 0; k < steps; ++k) r = controller.step(u, {{"tip", target}});
+    if (equilibrium) *equilibrium = controller.equilibrium_positions(u);
+    VecDestroy(&u);
+    return r;
   }
 
   // The effector's position after a forward run to actuation p from rest (4 increments).

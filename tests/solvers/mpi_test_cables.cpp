@@ -156,17 +156,11 @@ TEST(Cables, ControllerFindsTheTensionOfAForwardRun) {
   const double tension = 0.6;  // N
   const auto target = s.forward(tension);
   ASSERT_LT(target[2], -0.015);  // the tendon curls the finger down, below its rest
-  Vec u = s.problem->create_vector();
-  VecCopy(s.rest, u);
-  hs::InverseController controller(s.config, *s.problem, *s.cavities, *s.newton, *s.effectors);
-  controller.set_rest(u);
-  hs::ControlStepReport r;
-  for (int k = 0; k < 8; ++k) r = controller.step(u, {{"tip", target}});
+  const hs::ControlStepReport r = s.drive(target, 8);
   EXPECT_LT(r.error, 1e-4);
   EXPECT_NEAR(r.actuation[0], tension, 1e-3 * tension);
   EXPECT_FALSE(r.saturated[0]);
   EXPECT_LT(r.kkt_residual, 1e-8);
-  VecDestroy(&u);
 }
 
 TEST(Cables, ACableCannotPush) {
@@ -174,16 +168,10 @@ TEST(Cables, ACableCannotPush) {
   // and the tip stays where it hangs.
   CableScene s(10.0);
   const auto rest = s.forward(0.0);
-  Vec u = s.problem->create_vector();
-  VecCopy(s.rest, u);
-  hs::InverseController controller(s.config, *s.problem, *s.cavities, *s.newton, *s.effectors);
-  controller.set_rest(u);
-  hs::ControlStepReport r;
-  for (int k = 0; k < 4; ++k) r = controller.step(u, {{"tip", {0.09, 0.0, rest[2] + 0.005}}});
+  const hs::ControlStepReport r = s.drive({0.09, 0.0, rest[2] + 0.005}, 4);
   EXPECT_EQ(r.actuation[0], 0.0);
   EXPECT_TRUE(r.saturated[0]);
   EXPECT_NEAR(r.reached[2], rest[2], 1e-9);
-  VecDestroy(&u);
 }
 
 TEST(Cables, TangentWithTheCableStiffnessMatchesDifferences) {

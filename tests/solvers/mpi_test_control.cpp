@@ -33,15 +33,9 @@ void expect_reaches(const std::string& deck, const std::string& free_solve = "ne
   s.config.control->refactor_every = refactor_every;
   const double p = 3000;
   const auto target = s.forward(p);
-  Vec u = s.problem->create_vector();
-  VecCopy(s.rest, u);
-  hs::InverseController controller(s.config, *s.problem, *s.cavities, *s.newton, *s.effectors);
-  controller.set_rest(u);
-  hs::ControlStepReport r;
-  for (int k = 0; k < 8; ++k) r = controller.step(u, {{"tip", target}});
+  std::vector<double> x;  // the equilibrium at the final actuation (one_step reports a prediction)
+  const hs::ControlStepReport r = s.drive(target, 8, &x);
   EXPECT_LT(r.error, 1e-4) << deck;
-  // The equilibrium at the final actuation (the one_step mode reports a prediction).
-  const auto x = controller.equilibrium_positions(u);
   double error2 = 0;
   for (int d = 0; d < 3; ++d) error2 += std::pow(x[d] - target[d], 2);
   EXPECT_LT(std::sqrt(error2), 1e-4) << deck << " " << free_solve << " " << refactor_every;
@@ -49,7 +43,6 @@ void expect_reaches(const std::string& deck, const std::string& free_solve = "ne
   EXPECT_FALSE(r.saturated[0]);
   EXPECT_TRUE(r.qp_solved);
   EXPECT_LT(r.kkt_residual, 1e-8);
-  VecDestroy(&u);
 }
 
 TEST(Control, PneumaticCylinderReachesAForwardRunsTarget) { expect_reaches("cylinder_air.yaml"); }
@@ -68,17 +61,11 @@ TEST(Control, UnreachableTargetSaturatesAtTheBound) {
   Scene s("cylinder_air.yaml", bound);
   const auto at_bound = s.forward(bound);
   const auto beyond = s.forward(2.5 * bound);
-  Vec u = s.problem->create_vector();
-  VecCopy(s.rest, u);
-  hs::InverseController controller(s.config, *s.problem, *s.cavities, *s.newton, *s.effectors);
-  controller.set_rest(u);
-  hs::ControlStepReport r;
-  for (int k = 0; k < 8; ++k) r = controller.step(u, {{"tip", beyond}});
+  const hs::ControlStepReport r = s.drive(beyond, 8);
   EXPECT_NEAR(r.actuation[0], bound, 1e-6 * bound);
   EXPECT_TRUE(r.saturated[0]);
   for (int d = 0; d < 3; ++d) EXPECT_NEAR(r.reached[d], at_bound[d], 1e-4) << d;
   EXPECT_GT(r.error, 1e-3);  // the target really is out of reach
-  VecDestroy(&u);
 }
 
 }  // namespace
