@@ -5,7 +5,9 @@
 // (median of the repeats); GPU: CUDA events around replays of the captured CUDA graph of one
 // call (median of 50 replays, after two warm-up calls), and the whole call with its transfers.
 //
-//   bench_fluidweight [--meshes DIR] [--out FILE] [--quick] [--targets]
+//   bench_fluidweight [--meshes DIR] [--out FILE] [--quick] [--targets] [--fused]
+// --targets: the cases only; --fused: the tiled and fused kernels (and automatic's
+// choice) side by side on small and large meshes.
 // DIR holds armadillo.obj and the other meshes of docs/fluidweight.md (skipped when absent).
 #include <algorithm>
 #include <cmath>
@@ -29,6 +31,7 @@ namespace {
 std::ofstream json;
 bool quick = false;
 bool only_targets = false;  // --targets: the cases only
+bool only_fused = false;    // --fused: tiled against fused
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -122,7 +125,9 @@ const std::vector<std::pair<fw::Kernel, fw::Precision>> kVariants = {
     {fw::Kernel::tiled, fw::Precision::float64}};
 
 std::string short_name(fw::Kernel k, fw::Precision p) {
-  std::string n = k == fw::Kernel::leveraging ? "lev" : k == fw::Kernel::tiled ? "tiled" : "tri";
+  std::string n = k == fw::Kernel::leveraging          ? "lev"
+                  : k == fw::Kernel::triangle_parallel ? "tri"
+                                                       : fw::to_string(k);
   return n + (p == fw::Precision::float32 ? " f32" : " f64");
 }
 
@@ -318,22 +323,32 @@ void targets(const std::map<std::string, fw::SurfaceMesh>& files, const fw::Surf
   std::vector<fw::SurfaceMesh> spheres;
   for (int c = 0; c < 4; ++c) spheres.push_back(rotated_copy(sphere, 0.3 * c, 3.0 * c));
   cases.push_back({"4 spheres 200^2", {spheres, 200}});
-  std::printf("\n### Targets\n\n| case | kernel | us (run 1) | us (run 2) | volume | unmatched |\n"
-              "|---|---|---|---|---|---|\n");
+  std::printf(
+      "\n### Targets\n\n| case | kernel | us (run 1) | us (run 2) | volume | unmatched |\n"
+      "|---|---|---|---|---|---|\n");
   for (auto& [name, c] : cases) {
     if (!gpu) break;
-    for (auto p : {fw::Precision::float32, fw::Precision::float64}) {
-      Timed a = time_gpu(c.first, c.second, fw::Kernel::tiled, p);
-      Timed b = time_gpu(c.first, c.second, fw::Kernel::tiled, p);
-      long long unmatched = 0;
-      for (auto& r : a.results) unmatched += r.unmatched_columns;
-      std::printf("| %s | %s | %.1f | %.1f | %.9g | %lld |\n", name.c_str(),
-                  short_name(fw::Kernel::tiled, p).c_str(), 1000 * a.ms, 1000 * b.ms,
-                  a.results.front().column_volume, unmatched);
-      record(kv("targets", name) + ", " + kv("kernel", short_name(fw::Kernel::tiled, p)) + ", " +
-             kv("us", 1000 * a.ms) + ", " + kv("us2", 1000 * b.ms) + ", " +
-             kv("volume", a.results.front().column_volume));
-      std::fflush(stdout);
+    for (auto k : {fw::Kernel::tiled, fw::Kernel::fused}) {
+      for (auto p : {fw::Precision::float32, fw::Precision::float64}) {
+        Timed a, b;
+        try {
+          a = time_gpu(c.first, c.second, k, p);
+          b = time_gpu(c.first, c.second, k, p);
+        } catch (const fw::DeviceError& e) {
+          std::printf("| %s | %s | - | - | (%s) | |\n", name.c_str(), short_name(k, p).c_str(),
+                      e.what());
+          continue;
+        }
+        long long unmatched = 0;
+        for (auto& r : a.results) unmatched += r.unmatched_columns;
+        std::printf("| %s | %s | %.1f | %.1f | %.9g | %lld |\n", name.c_str(),
+                    short_name(k, p).c_str(), 1000 * a.ms, 1000 * b.ms,
+                    a.results.front().column_volume, unmatched);
+        record(kv("targets", name) + ", " + kv("kernel", short_name(k, p)) + ", " +
+               kv("us", 1000 * a.ms) + ", " + kv("us2", 1000 * b.ms) + ", " +
+               kv("volume", a.results.front().column_volume));
+        std::fflush(stdout);
+      }
     }
   }
   if (files.count("armadillo.obj")) {
@@ -342,6 +357,49 @@ void targets(const std::map<std::string, fw::SurfaceMesh>& files, const fw::Surf
       std::printf("| armadillo %d^2 | CPU 1 thread | %.2f ms | | %.9g | %lld |\n", n, t.ms,
                   t.results.front().column_volume, t.results.front().unmatched_columns);
       record(kv("targets", "armadillo cpu1 " + std::to_string(n)) + ", " + kv("ms", t.ms));
+    }
+  }
+}
+
+// The tiled and fused kernels side by side (and the automatic choice, f32), graph replays.
+void fused_comparison(const std::map<std::string, fw::SurfaceMesh>& files,
+                      const fw::SurfaceMesh& sphere) {
+  std::vector<std::pair<std::string, std::vector<fw::SurfaceMesh>>> cases = {
+      {"sphere", {sphere}},
+      {"uneven sphere (5, 20)", {fw::shapes::uneven_sphere(5, 20.0)}},
+      {"sphere level 5", {fw::shapes::icosphere(5)}}};
+  std::vector<fw::SurfaceMesh> spheres;
+  for (int c = 0; c < 4; ++c) spheres.push_back(rotated_copy(sphere, 0.3 * c, 3.0 * c));
+  cases.push_back({"4 spheres", spheres});
+  for (const char* name : {"tray_bottom.stl", "fertility.off", "armadillo.obj"}) {
+    if (files.count(name)) cases.push_back({name, {files.at(name)}});
+  }
+  std::printf(
+      "\n### Tiled against fused (GPU us, graph replay)\n\n| mesh | grid | tiled f32 | "
+      "fused f32 | tiled f64 | fused f64 | automatic f32 |\n|---|---|---|---|---|---|---|\n");
+  std::vector<int> grids = {30, 100, 200, 500, 1000};
+  if (quick) grids = {200, 1000};
+  for (const auto& [label, cavities] : cases) {
+    for (int n : grids) {
+      std::printf("| %s | %d^2 |", label.c_str(), n);
+      std::string fields = kv("table", "fused") + ", " + kv("mesh", label) + ", " + kv("grid", n);
+      for (auto [k, p] : std::vector<std::pair<fw::Kernel, fw::Precision>>{
+               {fw::Kernel::tiled, fw::Precision::float32},
+               {fw::Kernel::fused, fw::Precision::float32},
+               {fw::Kernel::tiled, fw::Precision::float64},
+               {fw::Kernel::fused, fw::Precision::float64},
+               {fw::Kernel::automatic, fw::Precision::float32}}) {
+        try {
+          Timed g = time_gpu(cavities, n, k, p);
+          std::printf(" %.1f |", 1000 * g.ms);
+          fields += ", " + kv(short_name(k, p) + " us", 1000 * g.ms);
+        } catch (const fw::DeviceError&) {
+          std::printf(" - |");
+        }
+      }
+      std::printf("\n");
+      std::fflush(stdout);
+      record(fields);
     }
   }
 }
@@ -360,8 +418,12 @@ int main(int argc, char** argv) {
       quick = true;
     else if (a == "--targets")
       only_targets = true;
+    else if (a == "--fused")
+      only_fused = true;
     else {
-      std::fprintf(stderr, "usage: bench_fluidweight [--meshes DIR] [--out FILE] [--quick] [--targets]\n");
+      std::fprintf(
+          stderr,
+          "usage: bench_fluidweight [--meshes DIR] [--out FILE] [--quick] [--targets] [--fused]\n");
       return 2;
     }
   }
@@ -381,6 +443,10 @@ int main(int argc, char** argv) {
   const fw::SurfaceMesh sphere = fw::shapes::icosphere(4);
   if (only_targets) {
     targets(files, sphere, gpu);
+    return 0;
+  }
+  if (only_fused) {
+    if (gpu) fused_comparison(files, sphere);
     return 0;
   }
   table_one("sphere, radius 1", sphere, gpu, threads);

@@ -186,6 +186,10 @@ std::string to_string(Kernel k) {
       return "leveraging";
     case Kernel::triangle_parallel:
       return "triangle_parallel";
+    case Kernel::fused:
+      return "fused";
+    case Kernel::automatic:
+      return "automatic";
     default:
       return "tiled";
   }
@@ -211,10 +215,12 @@ Method parse_method(const std::string& name) {
 }
 
 Kernel parse_kernel(const std::string& name) {
-  for (Kernel k : {Kernel::leveraging, Kernel::triangle_parallel, Kernel::tiled}) {
+  for (Kernel k : {Kernel::leveraging, Kernel::triangle_parallel, Kernel::tiled, Kernel::fused,
+                   Kernel::automatic}) {
     if (name == to_string(k)) return k;
   }
-  throw InputError("kernel: '" + name + "' is not one of leveraging, triangle_parallel, tiled");
+  throw InputError("kernel: '" + name +
+                   "' is not one of leveraging, triangle_parallel, tiled, fused, automatic");
 }
 
 Precision parse_precision(const std::string& name) {

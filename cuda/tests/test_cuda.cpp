@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 
 #include "support.hpp"
 
@@ -125,7 +126,9 @@ INSTANTIATE_TEST_SUITE_P(
                     Variant{fw::Kernel::triangle_parallel, fw::Precision::float64},
                     Variant{fw::Kernel::triangle_parallel, fw::Precision::float32},
                     Variant{fw::Kernel::tiled, fw::Precision::float64},
-                    Variant{fw::Kernel::tiled, fw::Precision::float32}),
+                    Variant{fw::Kernel::tiled, fw::Precision::float32},
+                    Variant{fw::Kernel::fused, fw::Precision::float64},
+                    Variant{fw::Kernel::fused, fw::Precision::float32}),
     [](const testing::TestParamInfo<Variant>& info) { return name(info.param); });
 
 // Tiles of 8 and 16 columns, and a tile list that must grow (a coarse mesh at a fine grid
@@ -144,6 +147,70 @@ TEST(Cuda, TiledKernelTileSizesAndGrowth) {
                                  "tile " + std::to_string(tile) + " grid " + std::to_string(n));
       }
     }
+  }
+}
+
+// The fused kernel keeps two sets of accumulators and assumes each cavity's orientation from
+// the previous call: graph replays between calls (an odd number of them), moving vertices, a
+// cavity turned inside out (mirrored: its signed volume changes sign) and back, tiles of 8, 16
+// and 32 columns, and a list of a tile's triangles that must grow.
+TEST(Cuda, FusedKernelAcrossCallsAndReplays) {
+  SKIP_WITHOUT_GPU();
+  const std::vector<SurfaceMesh> cavities = {
+      fw::shapes::icosphere(4), translated(fw::shapes::torus(1, 0.3, 30, 12), {4, 1, 0}),
+      flipped(fw::shapes::icosphere(2)), comb(5)};
+  auto mirrored = [](const SurfaceMesh& m) {
+    SurfaceMesh r = m;
+    for (size_t k = 0; k < r.vertices.size(); k += 3) r.vertices[k] = -r.vertices[k];
+    return r;
+  };
+  for (fw::Precision p : {fw::Precision::float64, fw::Precision::float32}) {
+    for (int n : {7, 200}) {
+      fw::Context context(cuda_options({fw::Kernel::fused, p}, n));
+      context.set_cavities(cavities);
+      for (int step = 0; step < 5; ++step) {
+        std::vector<SurfaceMesh> moved;
+        for (size_t c = 0; c < cavities.size(); ++c) {
+          SurfaceMesh m = transformed(cavities[c], rotation({1, 2, 3}, 0.3 * step));
+          // Cavity 1 is mirrored at steps 2 and 3: the orientation flips twice.
+          moved.push_back(c == 1 && (step == 2 || step == 3) ? mirrored(m) : m);
+        }
+        std::vector<const double*> positions;
+        for (const SurfaceMesh& m : moved) positions.push_back(m.vertices.data());
+        context.set_positions(positions);
+        const std::vector<Result>& results = context.compute();
+        for (size_t c = 0; c < cavities.size(); ++c) {
+          Result ref = fw::compute(moved[c], options(fw::Implementation::cpu_reference, n));
+          expect_matches_reference(results[c], ref, p,
+                                   "grid " + std::to_string(n) + " cavity " + std::to_string(c) +
+                                       " step " + std::to_string(step));
+        }
+        EXPECT_EQ(context.time_device_replays(step + 1).size(), static_cast<size_t>(step + 1));
+      }
+    }
+  }
+  // Tiles of 8, 16 and 32 columns; a fine mesh whose tiles keep more triangles than the first
+  // list holds.
+  SurfaceMesh fine = fw::shapes::icosphere(5);
+  for (const char* tile : {"8", "16", "32"}) {
+    setenv("FLUIDWEIGHT_FUSED_TILE", tile, 1);
+    for (int n : {20, 300}) {
+      Result ref = fw::compute(fine, options(fw::Implementation::cpu_reference, n));
+      Result gpu = fw::compute(fine, cuda_options({fw::Kernel::fused, fw::Precision::float64}, n));
+      expect_matches_reference(gpu, ref, fw::Precision::float64,
+                               std::string("tile ") + tile + " grid " + std::to_string(n));
+    }
+  }
+  unsetenv("FLUIDWEIGHT_FUSED_TILE");
+}
+
+// automatic: the fused kernel for small cavities, the tiled one for large ones; both right.
+TEST(Cuda, AutomaticKernel) {
+  SKIP_WITHOUT_GPU();
+  for (const SurfaceMesh& m : {fw::shapes::icosphere(3), fw::shapes::icosphere(6)}) {
+    Result ref = fw::compute(m, options(fw::Implementation::cpu_reference, 150));
+    Result gpu = fw::compute(m, cuda_options({fw::Kernel::automatic, fw::Precision::float64}, 150));
+    expect_matches_reference(gpu, ref, fw::Precision::float64, "automatic");
   }
 }
 

@@ -93,6 +93,12 @@ class Backend : public DeviceBackend {
     check(cudaEventCreate(&start_), "cudaEventCreate");
     check(cudaEventCreate(&stop_), "cudaEventCreate");
     tile_bits_ = options.tile == 8 ? 3 : options.tile == 16 ? 4 : (options.grid >= 128 ? 4 : 3);
+    kernel_ = options.kernel;
+    // Diagnostic, timing only: FLUIDWEIGHT_FUSED_TILE=8|16|32 sets the fused kernel's tile.
+    if (const char* tile = std::getenv("FLUIDWEIGHT_FUSED_TILE")) {
+      const int t = std::atoi(tile);
+      fused_preferred_bits_ = t == 8 ? 3 : t == 16 ? 4 : 5;
+    }
     // Diagnostic, timing only: FLUIDWEIGHT_TILE_BLOCKS=k runs the tiled kernel as a persistent
     // grid of k blocks per multiprocessor (0: one block per tile).
     if (const char* blocks = std::getenv("FLUIDWEIGHT_TILE_BLOCKS")) {
@@ -101,7 +107,7 @@ class Backend : public DeviceBackend {
   }
 
   ~Backend() override {
-    if (graph_) cudaGraphExecDestroy(graph_);
+    invalidate();
     cudaEventDestroy(start_);
     cudaEventDestroy(stop_);
     cudaStreamDestroy(stream_);
@@ -154,12 +160,17 @@ class Backend : public DeviceBackend {
     candidates_.reserve(setup_blocks_);
     big_count_.reserve(1);
     big_list_.reserve(num_triangles_);
+    kernel_ = options_.kernel;
+    if (options_.method == Method::column &&
+        (kernel_ == Kernel::fused || kernel_ == Kernel::automatic)) {
+      set_fused_cavities(cavities, triangle_begin);
+    }
     if (options_.method == Method::column) {
-      if (options_.kernel == Kernel::tiled) {
+      if (kernel_ == Kernel::tiled) {
         tiles_per_side_ = (n + (1 << tile_bits_) - 1) >> tile_bits_;
         tile_count_.reserve(static_cast<size_t>(num_cavities_) * tiles_per_side_ * tiles_per_side_);
         reserve_tiles();
-      } else {
+      } else if (kernel_ != Kernel::fused) {
         column_count_.reserve(static_cast<size_t>(num_cavities_) * n * n, true);
         reserve_columns();
       }
@@ -180,22 +191,26 @@ class Backend : public DeviceBackend {
     const bool hydro = options_.method == Method::hydrostatic;
     const size_t values = (hydro ? 3 : 1) * static_cast<size_t>(num_vertices_);
     for (int attempt = 0;; ++attempt) {
-      if (!graph_) capture();
+      if (!graphs_[0]) capture();
+      // The fused kernel alternates between two sets of accumulators (parity).
+      const int parity = fused() ? parity_ : 0;
+      parity_ ^= fused() ? 1 : 0;
       check(cudaEventRecord(start_, stream_), "cudaEventRecord");
-      check(cudaGraphLaunch(graph_, stream_), "cudaGraphLaunch");
+      check(cudaGraphLaunch(graphs_[parity], stream_), "cudaGraphLaunch");
       check(cudaEventRecord(stop_, stream_), "cudaEventRecord");
-      check(cudaMemcpyAsync(host_out_.get(), out_.get(), values * sizeof(Real),
+      check(cudaMemcpyAsync(host_out_.get(), (parity ? out2_ : out_).get(), values * sizeof(Real),
                             cudaMemcpyDeviceToHost, stream_),
             "download forces");
-      check(cudaMemcpyAsync(host_states_.get(), states_.get(),
+      check(cudaMemcpyAsync(host_states_.get(), (parity ? states2_ : states_).get(),
                             num_cavities_ * sizeof(gpu::CavityState), cudaMemcpyDeviceToHost,
                             stream_),
             "download volumes");
-      check(cudaMemcpyAsync(host_status_.get(), status_.get(), sizeof(gpu::Status),
-                            cudaMemcpyDeviceToHost, stream_),
+      check(cudaMemcpyAsync(host_status_.get(), (parity ? status2_ : status_).get(),
+                            sizeof(gpu::Status), cudaMemcpyDeviceToHost, stream_),
             "download status");
       check(cudaStreamSynchronize(stream_), "kernels");
-      if (!grow(*host_status_.get()) || attempt == 4) break;
+      const bool reoriented = fused() && check_orientation();
+      if (!(grow(*host_status_.get()) || reoriented) || attempt == 4) break;
     }
     float ms = 0;
     check(cudaEventElapsedTime(&ms, start_, stop_), "cudaEventElapsedTime");
@@ -218,7 +233,7 @@ class Backend : public DeviceBackend {
       }
       out[c].column_volume = s.grid.cell_area * sum_heights;
       out[c].unmatched_columns = unmatched;
-      signed_volumes[c] = s.signed_volume;
+      signed_volumes[c] = fused() ? fused_volume(s) : s.signed_volume;
     }
   }
 
@@ -227,13 +242,24 @@ class Backend : public DeviceBackend {
   void print_stage_times() {
     const gpu::Batch<Real> b = batch();
     const bool hydro = options_.method == Method::hydrostatic;
-    const bool tiled = !hydro && options_.kernel == Kernel::tiled;
+    const bool tiled = !hydro && kernel_ == Kernel::tiled;
     const int zero_out = (hydro ? 3 : 1) * num_vertices_;
     const int zero_tiles = tiled ? num_cavities_ * tiles_per_side_ * tiles_per_side_ : 0;
-    std::vector<std::function<void()>> stages = {
-        [&] { gpu::launch_reduce(b, zero_out, zero_tiles, stream_); }};
-    std::vector<std::string> names = {"reduce"};
-    if (hydro) {
+    std::vector<std::function<void()>> stages;
+    std::vector<std::string> names;
+    // The fused kernel with the accumulators of the call just made (it clears the next ones).
+    const int last = parity_ ^ 1;
+    const gpu::Batch<Real> fb = fused() ? fused_batch(last) : b;
+    const gpu::FusedArgs<Real> fa = fused() ? fused_args(last) : gpu::FusedArgs<Real>{};
+    if (fused()) {
+      stages.push_back([&] { gpu::launch_fused(fb, fa, fused_tile_bits_, stream_); });
+      names.push_back("fused");
+    } else {
+      stages.push_back([&] { gpu::launch_reduce(b, zero_out, zero_tiles, stream_); });
+      names.push_back("reduce");
+    }
+    if (fused()) {
+    } else if (hydro) {
       stages.push_back([&] { gpu::launch_hydrostatic(b, stream_); });
       names.push_back("hydrostatic");
     } else if (tiled) {
@@ -243,7 +269,7 @@ class Backend : public DeviceBackend {
     } else {
       stages.push_back([&] { gpu::launch_setup(b, false, stream_); });
       stages.push_back(
-          [&] { gpu::launch_raster(b, options_.kernel == Kernel::leveraging, sms_, stream_); });
+          [&] { gpu::launch_raster(b, kernel_ == Kernel::leveraging, sms_, stream_); });
       stages.push_back([&] { gpu::launch_columns(b, stream_); });
       names.insert(names.end(), {"setup", "raster", "columns"});
     }
@@ -271,11 +297,13 @@ class Backend : public DeviceBackend {
   }
 
   std::vector<double> time_replays(int repeats) override {
-    if (!graph_) capture();
+    if (!graphs_[0]) capture();
     std::vector<double> ms;
     for (int r = 0; r < repeats; ++r) {
+      const int parity = fused() ? parity_ : 0;
+      parity_ ^= fused() ? 1 : 0;
       check(cudaEventRecord(start_, stream_), "cudaEventRecord");
-      check(cudaGraphLaunch(graph_, stream_), "cudaGraphLaunch");
+      check(cudaGraphLaunch(graphs_[parity], stream_), "cudaGraphLaunch");
       check(cudaEventRecord(stop_, stream_), "cudaEventRecord");
       check(cudaEventSynchronize(stop_), "replay");
       float t = 0;
@@ -287,8 +315,116 @@ class Backend : public DeviceBackend {
 
  private:
   void invalidate() {
-    if (graph_) cudaGraphExecDestroy(graph_);
-    graph_ = nullptr;
+    for (cudaGraphExec_t& g : graphs_) {
+      if (g) cudaGraphExecDestroy(g);
+      g = nullptr;
+    }
+  }
+
+  bool fused() const { return options_.method == Method::column && kernel_ == Kernel::fused; }
+
+  // The fused kernel's inputs: corners packed per triangle, vertex ranges, the orientation
+  // assumed per cavity; both sets of accumulators cleared. Chooses its tile, or (automatic)
+  // the tiled kernel where the cavities are too large for it.
+  void set_fused_cavities(const std::vector<CavityView>& cavities,
+                          const std::vector<int>& triangle_begin) {
+    (void)triangle_begin;
+    std::vector<unsigned long long> corners;
+    std::vector<int> begin(1, 0);
+    max_vertices_ = 0;
+    int max_triangles = 0;
+    for (const CavityView& v : cavities) {
+      for (int t = 0; t < v.num_triangles; ++t) {
+        const int* c = v.triangles + 3 * t;
+        corners.push_back(static_cast<unsigned long long>(c[0]) |
+                          (static_cast<unsigned long long>(c[1]) << 21) |
+                          (static_cast<unsigned long long>(c[2]) << 42));
+      }
+      begin.push_back(begin.back() + v.num_vertices);
+      max_vertices_ = std::max(max_vertices_, v.num_vertices);
+      max_triangles = std::max(max_triangles, v.num_triangles);
+    }
+    const bool fits = max_vertices_ < (1 << 21) && choose_fused_tile();
+    if (kernel_ == Kernel::automatic) {
+      kernel_ = fits && max_triangles <= kAutomaticMaxTriangles ? Kernel::fused : Kernel::tiled;
+    } else if (!fits) {
+      throw DeviceError("cuda: a cavity of " + std::to_string(max_vertices_) +
+                        " vertices does not fit the fused kernel's shared memory (use tiled)");
+    }
+    if (kernel_ != Kernel::fused) return;
+    corners_.upload(corners);
+    vertex_begin_all_.upload(begin);
+    host_orientation_.assign(num_cavities_, 1);
+    orientation_.upload(host_orientation_);
+    const size_t values = 3 * static_cast<size_t>(num_vertices_);
+    out_.reserve(values, true);
+    out2_.reserve(values, true);
+    states_.reserve(num_cavities_, true);
+    states2_.reserve(num_cavities_, true);
+    status_.reserve(1, true);
+    status2_.reserve(1, true);
+    parity_ = 0;
+  }
+
+  // The largest tile, from the preferred one down, whose shared memory the device gives.
+  bool choose_fused_tile() {
+    for (int bits = fused_preferred_bits_ > 0 ? fused_preferred_bits_ : fused_auto_bits();
+         bits >= 3; --bits) {
+      const size_t bytes = gpu::fused_shared_bytes<Real>(bits, max_vertices_,
+                                                         fused_column_capacity_, item_capacity_);
+      if (bytes <= static_cast<size_t>(max_shared_) && gpu::allow_fused_shared<Real>(bits, bytes)) {
+        fused_tile_bits_ = bits;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  int fused_auto_bits() const { return options_.grid >= 128 ? 5 : 4; }
+
+  double fused_volume(const gpu::CavityState& s) const {
+    double v = 0;
+    for (int k = 0; k < gpu::kStripes; ++k) v += s.volume6[k];
+    return v / 6.0;
+  }
+
+  // After a fused call: true (and the assumed orientations corrected) when a cavity's signed
+  // volume has the other sign than the one its Step 2 assumed.
+  bool check_orientation() {
+    bool changed = false;
+    for (int c = 0; c < num_cavities_; ++c) {
+      const int sign = fused_volume(host_states_.get()[c]) < 0 ? -1 : 1;
+      if (sign != host_orientation_[c]) {
+        host_orientation_[c] = sign;
+        changed = true;
+      }
+    }
+    if (changed) orientation_.upload(host_orientation_);
+    return changed;
+  }
+
+  gpu::Batch<Real> fused_batch(int parity) {
+    gpu::Batch<Real> b = batch();
+    b.out = (parity ? out2_ : out_).get();
+    b.cavities = (parity ? states2_ : states_).get();
+    b.status = (parity ? status2_ : status_).get();
+    b.column_capacity = fused_column_capacity_;
+    return b;
+  }
+
+  gpu::FusedArgs<Real> fused_args(int parity) {
+    gpu::FusedArgs<Real> f{};
+    f.corners = corners_.get();
+    f.vertex_begin = vertex_begin_all_.get();
+    f.orientation = orientation_.get();
+    f.tiles_per_side = (options_.grid + (1 << fused_tile_bits_) - 1) >> fused_tile_bits_;
+    f.item_capacity = item_capacity_;
+    f.max_vertices = max_vertices_;
+    f.next_out = (parity ? out_ : out2_).get();
+    f.next_out_count = num_vertices_;
+    f.next_cavities = (parity ? states_ : states2_).get();
+    f.next_status = (parity ? status_ : status2_).get();
+    return f;
   }
 
   void reserve_tiles() {
@@ -312,6 +448,35 @@ class Backend : public DeviceBackend {
 
   // Grows what overflowed; true when the call must run again.
   bool grow(const gpu::Status& s) {
+    if (fused()) {
+      bool again = false;
+      if (s.max_tile_count > item_capacity_) {
+        item_capacity_ = next_power_of_two(s.max_tile_count);
+        again = true;
+      }
+      if (s.max_column_hits > fused_column_capacity_) {
+        fused_column_capacity_ = (s.max_column_hits + 3) / 4 * 4;
+        again = true;
+      }
+      if (again) {
+        if (!choose_fused_tile()) {
+          if (options_.kernel != Kernel::automatic) {
+            throw DeviceError("cuda: a column crosses the surface " +
+                              std::to_string(s.max_column_hits) +
+                              " times: too many hits for the fused kernel's shared memory");
+          }
+          // Automatic: the tiled kernel takes over.
+          kernel_ = Kernel::tiled;
+          column_capacity_ = std::max(column_capacity_, fused_column_capacity_);
+          tiles_per_side_ = (options_.grid + (1 << tile_bits_) - 1) >> tile_bits_;
+          tile_count_.reserve(static_cast<size_t>(num_cavities_) * tiles_per_side_ *
+                              tiles_per_side_);
+          reserve_tiles();
+        }
+        invalidate();
+      }
+      return again;
+    }
     bool again = false;
     if (s.max_tile_count > tile_capacity_) {
       tile_capacity_ = next_power_of_two(s.max_tile_count);
@@ -324,7 +489,7 @@ class Backend : public DeviceBackend {
       again = true;
     }
     if (again) {
-      if (options_.kernel == Kernel::tiled) {
+      if (kernel_ == Kernel::tiled) {
         reserve_tiles();
       } else {
         reserve_columns();
@@ -380,11 +545,21 @@ class Backend : public DeviceBackend {
   void capture() {
     const gpu::Batch<Real> b = batch();
     const bool hydro = options_.method == Method::hydrostatic;
-    const bool tiled = !hydro && options_.kernel == Kernel::tiled;
+    const bool tiled = !hydro && kernel_ == Kernel::tiled;
     const int zero_out = (hydro ? 3 : 1) * num_vertices_;
     const int zero_tiles = tiled ? num_cavities_ * tiles_per_side_ * tiles_per_side_ : 0;
     const char* stages_env = std::getenv("FLUIDWEIGHT_GRAPH_STAGES");
     const int stages = stages_env ? std::atoi(stages_env) : 4;
+    if (fused()) {
+      for (int parity = 0; parity < 2; ++parity) {
+        check(cudaStreamBeginCapture(stream_, cudaStreamCaptureModeThreadLocal), "begin capture");
+        if (stages >= 1) {
+          gpu::launch_fused(fused_batch(parity), fused_args(parity), fused_tile_bits_, stream_);
+        }
+        end_capture(graphs_[parity]);
+      }
+      return;
+    }
     check(cudaStreamBeginCapture(stream_, cudaStreamCaptureModeThreadLocal), "begin capture");
     if (stages >= 1) gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
     if (hydro) {
@@ -395,15 +570,19 @@ class Backend : public DeviceBackend {
     } else {
       if (stages >= 2) gpu::launch_setup(b, false, stream_);
       if (stages >= 3) {
-        gpu::launch_raster(b, options_.kernel == Kernel::leveraging, sms_, stream_);
+        gpu::launch_raster(b, kernel_ == Kernel::leveraging, sms_, stream_);
       }
       if (stages >= 4) gpu::launch_columns(b, stream_);
     }
+    end_capture(graphs_[0]);
+  }
+
+  void end_capture(cudaGraphExec_t& exec) {
     cudaGraph_t graph = nullptr;
     cudaError_t launched = cudaGetLastError();
     check(cudaStreamEndCapture(stream_, &graph), "end capture");
     check(launched, "kernel launch");
-    check(cudaGraphInstantiate(&graph_, graph, 0), "cudaGraphInstantiate");
+    check(cudaGraphInstantiate(&exec, graph, 0), "cudaGraphInstantiate");
     cudaGraphDestroy(graph);
   }
 
@@ -412,11 +591,22 @@ class Backend : public DeviceBackend {
   int device_ = 0, sms_ = 1, max_shared_ = 48 * 1024;
   cudaStream_t stream_ = nullptr;
   cudaEvent_t start_ = nullptr, stop_ = nullptr;
-  cudaGraphExec_t graph_ = nullptr;
+  cudaGraphExec_t graphs_[2] = {nullptr, nullptr};  // fused: one per set of accumulators
+  Kernel kernel_ = Kernel::tiled;                   // the kernel in use (automatic resolved)
   int num_cavities_ = 0, num_vertices_ = 0, num_triangles_ = 0, num_jobs_ = 0, setup_blocks_ = 1;
   std::vector<int> vertex_begin_;
   int tile_blocks_per_sm_ = 0;  // tiled kernel: persistent grid of this many blocks an SM, or 0
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
+  // Fused kernel: tile (bits), hits per column, triangles a tile keeps, the vertex table, the
+  // call's set of accumulators, the orientation each cavity's Step 2 assumes.
+  static constexpr int kAutomaticMaxTriangles = 20000;
+  int fused_tile_bits_ = 5, fused_preferred_bits_ = 0, fused_column_capacity_ = 4,
+      item_capacity_ = 1024, max_vertices_ = 0, parity_ = 0;
+  std::vector<int> host_orientation_;
+  DeviceArray<unsigned long long> corners_;
+  DeviceArray<int> vertex_begin_all_, orientation_;
+  DeviceArray<gpu::CavityState> states2_;
+  DeviceArray<gpu::Status> status2_;
 
   DeviceArray<double> xyz_, partials_;
   DeviceArray<int> triangles_, tri_cavity_, job_begin_, cavity_vertex_begin_,
@@ -425,7 +615,7 @@ class Backend : public DeviceBackend {
   DeviceArray<gpu::CavityState> states_;
   DeviceArray<gpu::Status> status_;
   DeviceArray<gpu::DevTri<Real>> tris_;
-  DeviceArray<Real> out_, column_z_;
+  DeviceArray<Real> out_, out2_, column_z_;
   DeviceArray<int> column_count_, column_tag_, tile_count_, tile_list_, big_list_, big_count_;
   DeviceArray<unsigned long long> candidates_;
   PinnedArray<double> host_xyz_;

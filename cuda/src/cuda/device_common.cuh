@@ -70,6 +70,7 @@ struct CavityState {
   double signed_volume;
   double sum_heights[kStripes];            // column volume = cell area * their sum
   unsigned long long unmatched[kStripes];  // columns whose floors and ceilings do not pair
+  double volume6[kStripes];                // fused kernel: 6 x signed volume, by stripes
 };
 
 // Overflows of the fixed-capacity buffers: the host grows them and runs again.
@@ -146,6 +147,24 @@ __device__ inline Real height_at(const DevTri<Real>& t, const int64_t e[3]) {
 
 __device__ inline bool is_floor(int flags) { return (flags >> 3) & 1; }
 
+// What the fused kernel reads beside the Batch (kernels_fused.cu). Its accumulators (Batch's
+// out, cavities, status) alternate between two sets from call to call: each call clears the
+// set of the next one, so that no other kernel or memset is needed.
+template <typename Real>
+struct FusedArgs {
+  const unsigned long long* corners;  // per triangle: its corners' indices in the cavity, 21
+                                      // bits each
+  const int* vertex_begin;            // first vertex of each cavity, and the total
+  const int* orientation;             // per cavity, +1 or -1: the sign assumed for Step 2
+  int tiles_per_side;                 // blocks along a side of a cavity's grid
+  int item_capacity;                  // triangles of a block's tile kept for Step 5
+  int max_vertices;                   // vertices of the largest cavity (shared vertex table)
+  Real* next_out;                     // the next call's accumulators, cleared by this one
+  int next_out_count;
+  CavityState* next_cavities;
+  Status* next_status;
+};
+
 // Host launchers (one translation unit each).
 constexpr int kSetupBlock = 256;  // threads a block of the setup and hydrostatic kernels
 
@@ -162,6 +181,16 @@ template <typename Real>
 void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStream_t stream);
 template <typename Real>
 void launch_hydrostatic(const Batch<Real>& b, cudaStream_t stream);
+// The fused kernel: one launch for Steps 1-5, a block per tile of 1 << tile_bits columns
+// (tile_bits 3, 4 or 5).
+template <typename Real>
+void launch_fused(const Batch<Real>& b, const FusedArgs<Real>& f, int tile_bits,
+                  cudaStream_t stream);
+template <typename Real>
+size_t fused_shared_bytes(int tile_bits, int max_vertices, int column_capacity, int item_capacity);
+// Raises the fused kernel's dynamic shared memory limit; false when the device refuses.
+template <typename Real>
+bool allow_fused_shared(int tile_bits, size_t bytes);
 // Dynamic shared memory of tile_kernel; the host raises the kernel's limit to it.
 template <typename Real>
 size_t tile_shared_bytes(int tile_bits, int column_capacity);

@@ -10,23 +10,21 @@
 // from its average c, here exact per tile. Hits go to per-column slots in shared memory; then
 // each thread resolves one column (Step 5) and only the nodal weights leave the chip.
 #include <algorithm>
-
 #include <cub/block/block_reduce.cuh>
 #include <cub/block/block_scan.cuh>
 
 #include "resolve.cuh"
+#include "tile_raster.cuh"
 
 namespace fluidweight::detail::gpu {
 namespace {
 
-// A round's triangles, staged in shared memory (structure of arrays: no bank conflicts). The
-// height plane is set up once per triangle when it is staged: z0 at the first candidate
-// (ci, cj) of its rectangle in the tile, dzi and dzj its steps along a row and a column.
+// A round's triangles, staged in shared memory for the raster (tile_raster.cuh), with the
+// vertices and triangle indices that Step 5 needs for the last round's floors.
 template <typename Real, int N>
 struct Staged {
-  int x[3][N], y[3][N], vertex[3][N];
-  int flags[N], tri[N], ci[N], cj[N], width[N], offset[N + 1];
-  Real z0[N], dzi[N], dzj[N];
+  RasterStage<Real, N> r;
+  int vertex[3][N], tri[N];
 };
 
 // Floors for Step 5: the last round's triangles from shared memory, earlier ones from global.
@@ -45,9 +43,11 @@ struct TileFloors {
     FloorAtColumn f;
     f.key = s.tri[k];
     for (int c = 0; c < 3; ++c) f.vertex[c] = s.vertex[c][k];
-    f.e[0] = edge_function(s.x[1][k], s.y[1][k], s.x[2][k], s.y[2][k], px, py);
-    f.e[1] = edge_function(s.x[2][k], s.y[2][k], s.x[0][k], s.y[0][k], px, py);
-    f.e[2] = edge_function(s.x[0][k], s.y[0][k], s.x[1][k], s.y[1][k], px, py);
+    const auto& x = s.r.x;
+    const auto& y = s.r.y;
+    f.e[0] = edge_function(x[1][k], y[1][k], x[2][k], y[2][k], px, py);
+    f.e[1] = edge_function(x[2][k], y[2][k], x[0][k], y[0][k], px, py);
+    f.e[2] = edge_function(x[0][k], y[0][k], x[1][k], y[1][k], px, py);
     return f;
   }
 };
@@ -114,112 +114,32 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
     {
       // The height plane at the first candidate and its steps, once per triangle, so that a
       // thread entering the triangle needs no division.
-      const int px = column_centre(ci, sub_bits), py = column_centre(cj, sub_bits);
-      Real area = 0, z0 = 0, zi = 0, zj = 0;
+      Real z0 = 0, zi = 0, zj = 0;
       if (count > 0) {
-        for (int c = 0; c < 3; ++c) {
-          const int p = (c + 1) % 3, q = (c + 2) % 3;
-          const int64_t ec = edge_function(t.x[p], t.y[p], t.x[q], t.y[q], px, py);
-          const int64_t di = -static_cast<int64_t>(t.y[q] - t.y[p]) << sub_bits;
-          const int64_t dj = static_cast<int64_t>(t.x[q] - t.x[p]) << sub_bits;
-          area += static_cast<Real>(ec);
-          z0 += static_cast<Real>(ec) * t.z[c];
-          zi += static_cast<Real>(di) * t.z[c];
-          zj += static_cast<Real>(dj) * t.z[c];
-        }
-        const Real inv = Real(1) / area;
-        z0 *= inv;
-        zi *= inv;
-        zj *= inv;
+        const Real z[3] = {t.z[0], t.z[1], t.z[2]};
+        height_plane(t.x, t.y, z, ci, cj, sub_bits, z0, zi, zj);
       }
-      s.z0[k] = z0;
-      s.dzi[k] = zi;
-      s.dzj[k] = zj;
+      s.r.z0[k] = z0;
+      s.r.dzi[k] = zi;
+      s.r.dzj[k] = zj;
     }
     for (int c = 0; c < 3; ++c) {
-      s.x[c][k] = t.x[c];
-      s.y[c][k] = t.y[c];
+      s.r.x[c][k] = t.x[c];
+      s.r.y[c][k] = t.y[c];
       s.vertex[c][k] = t.vertex[c];
     }
-    s.flags[k] = t.flags;
+    s.r.flags[k] = t.flags;
     s.tri[k] = tri;
-    s.ci[k] = ci;
-    s.cj[k] = cj;
-    s.width[k] = width;
-    s.offset[k] = offset;
-    if (k == 0) s.offset[kThreads] = total;
+    s.r.ci[k] = ci;
+    s.r.cj[k] = cj;
+    s.r.width[k] = width;
+    s.r.offset[k] = offset;
+    if (k == 0) s.r.offset[kThreads] = total;
     __syncthreads();
 
     // Steps 3-4: an equal, contiguous share of the candidates per thread.
-    const int share = (b.diagnostic_phases & 1) ? (total + kThreads - 1) / kThreads : 0;
-    int f = threadIdx.x * share;
-    const int end = min(f + share, total);
-    if (f < end) {
-      int lo = 0, hi = kThreads - 1;  // the last triangle whose candidates start at or before f
-      while (lo < hi) {
-        int mid = (lo + hi + 1) >> 1;
-        if (s.offset[mid] <= f) {
-          lo = mid;
-        } else {
-          hi = mid - 1;
-        }
-      }
-      // Walk the share; on each new triangle, its edge functions and height at the first
-      // candidate and their steps along a row and at a row's end (exact integer steps).
-      int item = lo - 1, next = s.offset[lo], li = 0, w = 1, col = 0, tag = 0;
-      int64_t e[3], step[3], wrap[3], e_min[3];
-      Real z = 0, dz = 0, dz_wrap = 0;
-      for (; f < end; ++f) {
-        if (f >= next) {
-          do {
-            ++item;
-            next = s.offset[item + 1];
-          } while (f >= next);
-          // Entering a triangle: its edge functions at this candidate and their steps; the
-          // height from the plane staged with it (no division, no 64-bit conversions).
-          w = s.width[item];
-          const int q0 = f - s.offset[item];
-          // q0 < TILE^2 and w <= TILE: the float quotient is exact after truncation.
-          const int lj = __float2int_rz(__fdividef(static_cast<float>(q0) + 0.5f, static_cast<float>(w)));
-          li = q0 - lj * w;
-          const int i = s.ci[item] + li, j = s.cj[item] + lj;
-          const int px = column_centre(i, sub_bits), py = column_centre(j, sub_bits);
-          const int flags = s.flags[item];
-          for (int c = 0; c < 3; ++c) {
-            const int p = (c + 1) % 3, q = (c + 2) % 3;
-            const int xp = s.x[p][item], yp = s.y[p][item];
-            const int xq = s.x[q][item], yq = s.y[q][item];
-            e[c] = edge_function(xp, yp, xq, yq, px, py);
-            step[c] = -static_cast<int64_t>(yq - yp) << sub_bits;
-            wrap[c] = (static_cast<int64_t>(xq - xp) << sub_bits) - step[c] * (w - 1);
-            e_min[c] = (flags >> c) & 1;
-          }
-          dz = s.dzi[item];
-          const Real dzj = s.dzj[item];
-          z = s.z0[item] + dz * static_cast<Real>(li) + dzj * static_cast<Real>(lj);
-          dz_wrap = dzj - dz * static_cast<Real>(w - 1);
-          col = (j - tj0) * TILE + (i - ti0);
-          tag = is_floor(flags) ? ~(first + item) : first + item;
-        }
-        if (e[0] >= e_min[0] && e[1] >= e_min[1] && e[2] >= e_min[2]) {
-          const int slot = atomicAdd(&s_count[col], 1);
-          if (slot < capacity) {
-            s_z[slot * kThreads + col] = z;
-            s_tag[slot * kThreads + col] = tag;
-          }
-        }
-        if (++li == w) {
-          li = 0;
-          col += TILE - (w - 1);
-          z += dz_wrap;
-          for (int c = 0; c < 3; ++c) e[c] += wrap[c];
-        } else {
-          col += 1;
-          z += dz;
-          for (int c = 0; c < 3; ++c) e[c] += step[c];
-        }
-      }
-    }
+    raster_share<Real, TILE>(s.r, kThreads, (b.diagnostic_phases & 1) ? total : 0, first, ti0, tj0,
+                             sub_bits, s_z, s_tag, s_count, capacity);
     if (first + kThreads >= items) break;
   }
   __syncthreads();
@@ -256,7 +176,9 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   const int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
   int tile = blockIdx.x;
   if (tile >= tiles) return;
-  auto entry = [&](int t) { return b.tile_list[static_cast<size_t>(t) * b.tile_capacity + threadIdx.x]; };
+  auto entry = [&](int t) {
+    return b.tile_list[static_cast<size_t>(t) * b.tile_capacity + threadIdx.x];
+  };
   int listed = b.tile_count[tile], first_entry = entry(tile);
   while (true) {
     const int next = tile + gridDim.x;
