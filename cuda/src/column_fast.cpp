@@ -4,12 +4,19 @@
 // A band of rows keeps the triangles that cross the current row (an active list, as scanline
 // rasterizers do). A triangle is set up when it becomes active: its snapped edge functions at
 // its first column and their steps along a row and a column, its height plane. On each row it
-// finds its span of covered columns (exactly, with the fill rule) and drops one hit per column
-// into a small per-column buffer. The row's columns are then resolved: a floor and a ceiling
-// (the usual case) make one section; more hits are sorted and paired as in the reference. A
-// section's height goes into three moments of its floor triangle (sum h, sum h di, sum h dj,
-// held in the active entry); barycentric coordinates are linear in the column indices, so when
-// the triangle leaves the band its nodal weights follow from the moments.
+// finds its covered columns (exactly, with the fill rule) and drops one hit per column into
+// per-column buffers. The row's columns are then resolved: a floor and a ceiling (the usual
+// case) make one section; more hits are sorted and paired as in the reference. A section's
+// height goes into three moments of its floor triangle (sum h, sum h di, sum h dj, held in the
+// active entry); barycentric coordinates are linear in the column indices, so when the triangle
+// leaves the band its nodal weights follow from the moments.
+//
+// Layout, for one core (measured: bench/fluidweight/NOTES.md, CPU rows). The sweep touches, per
+// row, every active entry and every covered column, so both are kept small and dense: active
+// entries in one array (a retired one is replaced by the last), hits in planes of one value per
+// column (the first floor of every column side by side, then the second...), so that the usual
+// row touches a few kilobytes. Spans and hits are found and written without data-dependent
+// branches (bit masks, fixed chunks, a sorting network), which mispredicted a few times a row.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -22,79 +29,149 @@
 namespace fluidweight::detail {
 namespace {
 
-constexpr int kSlots = 6;        // floors (and ceilings) a column keeps sorted before spilling
-constexpr int kNarrowSpan = 12;  // rows of a narrower box are scanned column by column
+constexpr int kPlanes = 4;      // hits of each kind a column keeps in the row buffer; more spill
+constexpr int kChunk = 8;       // columns a triangle tests together, without branches
+constexpr int kWrite = 4;       // covered columns it writes together
+constexpr int kPrefetch = 8;    // records read ahead of their activation
+constexpr int kScanWidth = 64;  // wider boxes find their spans by division
 
-// A triangle crossing the current row. E_k(i, j) = e[k] + di[k] (i - i0) + dj[k] (j - row).
+// A triangle with columns after Steps 1-2: what it needs to become active (64 bytes, one
+// cache line). Built in input order, where a triangle's vertices are near each other in memory.
+struct alignas(64) TriangleRecord {
+  int x[3], y[3];  // snapped corners, counter-clockwise
+  double z[3];     // their heights above the lowest vertex
+  int vertex[3];   // their vertices
+  unsigned flags;  // bit k (0-2): e_min[k] = 1, the edge is neither top nor left; bit 3: a floor
+};
+
+// A triangle crossing the current row. E_k(i, j) = e[k] + di[k] (i - i0) + dj[k] (j - row) +
+// e_min[k]: the fill-rule thresholds are folded into e, so a centre is covered when all three
+// are >= 0.
 struct Active {
-  int64_t e[3], di[3], dj[3], e_min[3];
-  int64_t e_ref[3];     // E_k at (i0, j_ref), the row where the moments start
-  double z, dzi, dzj;   // height at (i0, current row) and its steps
-  double m0, mi, mj;    // sum h, sum h (i - i0), sum h (j - j_ref) over this band's sections
-  double weight_scale;  // rho |g| cell area / twice the snapped area
-  int i0, i1, j1, j_ref;
-  int vertex[3];  // counter-clockwise corners' vertices
+  int64_t e[3], di[3], dj[3];
+  double z, dzi, dzj;     // height at (i0, current row) and its steps
+  double m0, mi, mj;      // sum h, sum h (i - i0), sum h (j - j_ref) over the sections it floors
+  int i0, i1, j1, j_ref;  // its columns, last row, and the row where it became active
+  int triangle;           // input index, of its record
   bool bottom;
 };
 
-// A triangle after Step 1, stored in order of its first row.
-struct TriangleRecord {
-  int x[3], y[3];  // snapped corners, input order
-  int vertex[3];
-  int row0, row1;  // rows of its box (row0 > row1: it covers no column)
-  double z[3];     // heights above the lowest vertex
-};
-
-struct RowHit {
+struct Spilled {
+  int column;
   double z;
-  int slot;  // index of the active entry
+  int index;
 };
 
-// Per-column hits of the current row, floors and ceilings apart, each kept sorted by height.
-struct RowBuffer {
+// Hits of the current row, of one kind (floors or ceilings), unsorted: the c-th hit of column i
+// is at c stride + i (planes, so that the first hits of a row's columns lie side by side), or
+// in `spill` beyond kPlanes. One more plane and kChunk more columns than used take the
+// writes of columns that a chunk tests but the triangle does not cover.
+struct RowHits {
+  int stride = 0;
   std::vector<int> count;
-  std::vector<RowHit> slots;
-  std::vector<std::pair<int, RowHit>> spill;  // beyond kSlots in a column (rare)
+  std::vector<double> z;
+  std::vector<int> index;  // of the active entry
+  std::vector<Spilled> spill;
 
-  void resize(int n) {
-    count.assign(n, 0);
-    slots.resize(static_cast<size_t>(n) * kSlots);
+  void resize(int columns) {
+    stride = columns + kChunk;
+    count.assign(stride, 0);
+    z.resize(static_cast<size_t>(stride) * (kPlanes + 1));
+    index.resize(static_cast<size_t>(stride) * (kPlanes + 1));
     spill.clear();
   }
-  void add(int i, RowHit hit) {
-    int c = count[i]++;
-    if (c >= kSlots) {
-      spill.emplace_back(i, hit);
-      return;
+  // Column i's hits into z_out and index_out (count[i] of them), sorted by height.
+  void gather(int i, double* z_out, int* index_out) const {
+    const int m = count[i];
+    for (int c = 0; c < std::min(m, kPlanes); ++c) {
+      z_out[c] = z[static_cast<size_t>(c) * stride + i];
+      index_out[c] = index[static_cast<size_t>(c) * stride + i];
     }
-    RowHit* s = &slots[static_cast<size_t>(i) * kSlots];
-    while (c > 0 && s[c - 1].z > hit.z) {
-      s[c] = s[c - 1];
-      --c;
+    if (m > kPlanes) {
+      int c = kPlanes;
+      for (const Spilled& s : spill) {
+        if (s.column == i) {
+          z_out[c] = s.z;
+          index_out[c++] = s.index;
+        }
+      }
     }
-    s[c] = hit;
-  }
-  // The column's hits, sorted, in `out` (only needed when it spilled).
-  void gather(int i, std::vector<RowHit>& out) const {
-    out.assign(&slots[static_cast<size_t>(i) * kSlots],
-               &slots[static_cast<size_t>(i) * kSlots] + kSlots);
-    for (const auto& [col, hit] : spill) {
-      if (col == i) out.push_back(hit);
+    // Insertion sort: a column has a few hits.
+    for (int c = 1; c < m; ++c) {
+      const double zc = z_out[c];
+      const int ic = index_out[c];
+      int d = c;
+      for (; d > 0 && z_out[d - 1] > zc; --d) {
+        z_out[d] = z_out[d - 1];
+        index_out[d] = index_out[d - 1];
+      }
+      z_out[d] = zc;
+      index_out[d] = ic;
     }
-    std::sort(out.begin(), out.end(), [](const RowHit& a, const RowHit& b) { return a.z < b.z; });
   }
 };
 
 // Buffers of one worker thread, kept between calls.
 struct Worker {
-  RowBuffer floors, ceilings;
-  std::vector<Active> pool;  // active entries stay in place while active
-  std::vector<int> live, free;
-  std::vector<double> weights;  // one per vertex
-  std::vector<RowHit> spilled_floors, spilled_ceilings;
+  RowHits floors, ceilings;
+  std::vector<Active> active;  // the first `live` entries are the active triangles
+  int live = 0;
+  std::vector<double> weights;      // one per vertex
+  std::vector<double> column_z[2];  // a column's floors (0) or ceilings (1), sorted
+  std::vector<int> column_index[2];
   double sum_heights = 0.0;
   long long unmatched = 0;
 };
+
+void prefetch(const void* p) {
+#if defined(__GNUC__)
+  __builtin_prefetch(p);
+#else
+  (void)p;
+#endif
+}
+
+// Lowest and highest set bit of a non-zero mask.
+int lowest_bit(uint64_t m) {
+#if defined(__GNUC__)
+  return __builtin_ctzll(m);
+#else
+  int b = 0;
+  while (!((m >> b) & 1)) ++b;
+  return b;
+#endif
+}
+int highest_bit(uint64_t m) {
+#if defined(__GNUC__)
+  return 63 - __builtin_clzll(m);
+#else
+  int b = 63;
+  while (!((m >> b) & 1)) --b;
+  return b;
+#endif
+}
+
+// Sorts four heights (and their indices, when given) by a sorting network: compare-exchanges
+// without branches, whose outcome depends on the data.
+static_assert(kPlanes == 4, "sort4 sorts a column's planes");
+void sort4(double* z, int* index) {
+  auto exchange = [&](int a, int b) {
+    const bool swap = z[b] < z[a];
+    const double za = z[a], zb = z[b];
+    z[a] = swap ? zb : za;
+    z[b] = swap ? za : zb;
+    if (index) {
+      const int ia = index[a], ib = index[b];
+      index[a] = swap ? ib : ia;
+      index[b] = swap ? ia : ib;
+    }
+  };
+  exchange(0, 1);
+  exchange(2, 3);
+  exchange(0, 2);
+  exchange(1, 3);
+  exchange(1, 2);
+}
 
 // Floor division for the span bounds (b > 0).
 int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -105,20 +182,27 @@ struct FastColumn::Impl {
   explicit Impl(int threads)
       : pool(threads), workers(pool.size()), automatic_threads(threads == 0) {}
 
-  void sweep_band(const GridParams& grid, double rho_g, int band, Worker& w);
-  void activate(const GridParams& grid, double rho_g, const TriangleRecord& r, int j, Worker& w);
-  void retire(int slot, Worker& w);
-  void raster_row(Active& a, int& lo, int& hi, Worker& w, int slot);
+  void sweep_band(int band, Worker& w);
+  void activate(int t, int j, Worker& w);
+  void retire(const Active& a, int j, Worker& w);
+  void raster_row(const Active& a, int k, int& lo, int& hi, Worker& w);
   void resolve_row(int j, int lo, int hi, Worker& w);
 
   ThreadPool pool;
   std::vector<Worker> workers;
+  // The call's grid, and per vertex its snapped coordinates and height.
+  GridParams grid;
+  double rho_g = 0.0;
   std::vector<int> sx, sy;
   std::vector<double> z;
-  std::vector<int> row0, row1;             // rows of each triangle's box (row0 > row1: no column)
-  std::vector<int> order;                  // triangles with columns, by first row
-  std::vector<TriangleRecord> sorted;      // their records, in that order
-  std::vector<int> band_start, band_list;  // indices into `sorted`
+  std::vector<TriangleRecord> records;  // per triangle, valid for those with columns
+  std::vector<int> row0;                // first row of each triangle's box, -1: no column
+  // Triangles with columns by first row: those of row j are order[row_start[j] ..
+  // row_start[j + 1]).
+  std::vector<int> row_start, order;
+  // Bands: rows [b band_rows, (b + 1) band_rows); triangles starting in an earlier band and
+  // reaching band b are carried[carried_start[b] .. carried_start[b + 1]).
+  std::vector<int> carried_start, carried;
   int band_rows = 1, num_bands = 1;
   bool automatic_threads;  // threads = 0: all of them, but one for small problems
 };
@@ -126,155 +210,215 @@ struct FastColumn::Impl {
 FastColumn::FastColumn(int threads) : impl_(std::make_unique<Impl>(threads)) {}
 FastColumn::~FastColumn() = default;
 
-void FastColumn::Impl::activate(const GridParams& grid, double rho_g, const TriangleRecord& r,
-                                int j, Worker& w) {
-  SnappedTriangle tri{};
-  setup_triangle(r.x, r.y, grid.orientation, grid.n, grid.sub_bits, &tri);
-  int slot;
-  if (w.free.empty()) {
-    slot = static_cast<int>(w.pool.size());
-    w.pool.emplace_back();
-  } else {
-    slot = w.free.back();
-    w.free.pop_back();
-  }
-  Active& a = w.pool[slot];
-  const int s = grid.sub_bits;
-  int64_t e[3];
-  covers(tri, column_centre(tri.i0, s), column_centre(j, s), e);
+// Sets up triangle t on row j (its first row, or the first row of the band): its box as
+// setup_triangle finds it, its edge functions at (i0, j) and their steps, its height plane.
+void FastColumn::Impl::activate(int t, int j, Worker& w) {
+  const TriangleRecord& r = records[t];
+  if (w.live == static_cast<int>(w.active.size())) w.active.emplace_back();
+  Active& a = w.active[w.live++];
+  const int s = grid.sub_bits, half = 1 << (s - 1);
+  const int xmin = std::min({r.x[0], r.x[1], r.x[2]}), xmax = std::max({r.x[0], r.x[1], r.x[2]});
+  a.i0 = std::max(0, -((half - xmin) >> s));
+  a.i1 = std::min(grid.n - 1, (xmax - half) >> s);
+  a.j1 = std::min(grid.n - 1, (std::max({r.y[0], r.y[1], r.y[2]}) - half) >> s);
+  a.j_ref = j;
+  a.triangle = t;
+  a.bottom = (r.flags >> 3) & 1;
+  const int px = column_centre(a.i0, s), py = column_centre(j, s);
   const int64_t unit = int64_t{1} << s;
+  int64_t area2 = 0;
   double z0 = 0, dzi = 0, dzj = 0;
-  for (int k = 0; k < 3; ++k) {
-    int p = (k + 1) % 3, q = (k + 2) % 3;
-    a.e[k] = a.e_ref[k] = e[k];
-    a.di[k] = -static_cast<int64_t>(tri.y[q] - tri.y[p]) * unit;
-    a.dj[k] = static_cast<int64_t>(tri.x[q] - tri.x[p]) * unit;
-    a.e_min[k] = tri.e_min[k];
-    const int c = tri.corner[k];  // 0, 1 or 2
-    a.vertex[k] = c == 0 ? r.vertex[0] : c == 1 ? r.vertex[1] : r.vertex[2];
-    double zk = c == 0 ? r.z[0] : c == 1 ? r.z[1] : r.z[2];
-    z0 += static_cast<double>(e[k]) * zk;
-    dzi += static_cast<double>(a.di[k]) * zk;
-    dzj += static_cast<double>(a.dj[k]) * zk;
-  }
-  double inv = 1.0 / static_cast<double>(tri.area2);
+  auto edge = [&](int k, int p, int q) {  // edge k goes from corner p to corner q
+    const int64_t dx = r.x[q] - r.x[p], dy = r.y[q] - r.y[p];
+    const int64_t e = dx * (py - r.y[p]) - dy * (px - r.x[p]);
+    a.e[k] = e - ((r.flags >> k) & 1);
+    a.di[k] = -dy * unit;
+    a.dj[k] = dx * unit;
+    area2 += e;
+    z0 += static_cast<double>(e) * r.z[k];
+    dzi += static_cast<double>(a.di[k]) * r.z[k];
+    dzj += static_cast<double>(a.dj[k]) * r.z[k];
+  };
+  edge(0, 1, 2);
+  edge(1, 2, 0);
+  edge(2, 0, 1);
+  const double inv = 1.0 / static_cast<double>(area2);  // the edge functions sum to 2 area
   a.z = z0 * inv;
   a.dzi = dzi * inv;
   a.dzj = dzj * inv;
   a.m0 = a.mi = a.mj = 0.0;
-  a.weight_scale = rho_g * grid.cell_area * inv;
-  a.i0 = tri.i0;
-  a.i1 = tri.i1;
-  a.j1 = tri.j1;
-  a.j_ref = j;
-  a.bottom = tri.bottom;
-  w.live.push_back(slot);
 }
 
-void FastColumn::Impl::retire(int slot, Worker& w) {
-  const Active& a = w.pool[slot];
-  if (a.bottom && a.m0 != 0.0) {
-    for (int k = 0; k < 3; ++k) {
-      w.weights[a.vertex[k]] += a.weight_scale * (static_cast<double>(a.e_ref[k]) * a.m0 +
-                                                  static_cast<double>(a.di[k]) * a.mi +
-                                                  static_cast<double>(a.dj[k]) * a.mj);
-    }
+// Gives a floor's sections to its nodes; j is the row its edge functions are at. The edge
+// functions at (i0, j_ref) are those of barycentric coordinates times twice the area, which
+// is their sum at any point.
+void FastColumn::Impl::retire(const Active& a, int j, Worker& w) {
+  if (!a.bottom || a.m0 == 0.0) return;
+  const TriangleRecord& r = records[a.triangle];
+  int64_t e_ref[3], area2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    e_ref[k] = a.e[k] + ((r.flags >> k) & 1) - a.dj[k] * (j - a.j_ref);
+    area2 += e_ref[k];
   }
-  w.free.push_back(slot);
+  const double scale = rho_g * grid.cell_area / static_cast<double>(area2);
+  for (int k = 0; k < 3; ++k) {
+    w.weights[r.vertex[k]] +=
+        scale * (static_cast<double>(e_ref[k]) * a.m0 + static_cast<double>(a.di[k]) * a.mi +
+                 static_cast<double>(a.dj[k]) * a.mj);
+  }
 }
 
-// Drops the hits of one active triangle on the current row.
-void FastColumn::Impl::raster_row(Active& a, int& lo, int& hi, Worker& w, int slot) {
-  int first = a.i0, last = a.i1;
-  if (last - first >= kNarrowSpan) {
-    // The span, edge by edge: E_k(i) = e[k] + di[k] (i - i0) >= e_min[k].
-    for (int k = 0; k < 3 && first <= last; ++k) {
-      int64_t need = a.e_min[k] - a.e[k];
-      if (a.di[k] > 0) {
-        if (need > 0) first = std::max<int64_t>(first, a.i0 - floor_div(-need, a.di[k]));
-      } else if (a.di[k] < 0) {
-        last = std::min<int64_t>(last, a.i0 + floor_div(-need, -a.di[k]));
-      } else if (need > 0) {
-        last = first - 1;
+// Drops the hits of active entry k on the current row.
+void FastColumn::Impl::raster_row(const Active& a, int k, int& lo, int& hi, Worker& w) {
+  RowHits& hits = a.bottom ? w.floors : w.ceilings;
+  int* count = hits.count.data();
+  double* zs = hits.z.data();
+  int* index = hits.index.data();
+  const size_t stride = hits.stride;
+  int first, last;
+  if (a.i1 - a.i0 < kScanWidth) {
+    // The covered columns as a bit mask, testing every column of the box kChunk at a time
+    // without branches: a centre is covered when its edge functions are all >= 0, i.e. when
+    // their bitwise or is not negative. The covered columns of a row are contiguous. Boxes are
+    // a few columns wide at the grids used: this costs less than a scan for the span ends,
+    // whose exits are mispredicted.
+    const int64_t di0 = a.di[0], di1 = a.di[1], di2 = a.di[2];
+    int64_t e0 = a.e[0], e1 = a.e[1], e2 = a.e[2];
+    uint64_t mask = 0;
+    for (int c = 0; c <= a.i1 - a.i0; c += kChunk) {
+      for (int u = c; u < c + kChunk; ++u) {
+        mask |= (static_cast<uint64_t>(~(e0 | e1 | e2)) >> 63) << u;
+        e0 += di0;
+        e1 += di1;
+        e2 += di2;
       }
     }
-  } else {
-    // Narrow: find the span by testing the columns.
-    int64_t e0 = a.e[0], e1 = a.e[1], e2 = a.e[2];
-    int i = a.i0;
-    for (; i <= a.i1; ++i, e0 += a.di[0], e1 += a.di[1], e2 += a.di[2]) {
-      if (e0 >= a.e_min[0] && e1 >= a.e_min[1] && e2 >= a.e_min[2]) break;
+    if (mask == 0) return;
+    first = a.i0 + lowest_bit(mask);
+    last = a.i0 + highest_bit(mask);
+    // The span's hits, kWrite columns at a time: a column past the span writes to the slot
+    // after its last hit (or to the spare plane) and keeps its count.
+    const double z0 = a.z, dzi = a.dzi;
+    for (int i = first; i <= last; i += kWrite) {
+      for (int c = i; c < i + kWrite; ++c) {
+        const int covered = c <= last;
+        const double zc = z0 + dzi * (c - a.i0);  // not stepped: no chain of additions
+        const int n = count[c];
+        const size_t at = static_cast<size_t>(std::min(n, kPlanes)) * stride + c;
+        zs[at] = zc;
+        index[at] = k;
+        count[c] = n + covered;
+        if (covered && n >= kPlanes) hits.spill.push_back({c, zc, k});
+      }
     }
-    first = i;
-    for (; i <= a.i1; ++i, e0 += a.di[0], e1 += a.di[1], e2 += a.di[2]) {
-      if (!(e0 >= a.e_min[0] && e1 >= a.e_min[1] && e2 >= a.e_min[2])) break;
-    }
-    last = i - 1;
+    lo = std::min(lo, first);
+    hi = std::max(hi, last);
+    return;
   }
-  if (first > last) return;
-  RowBuffer& buffer = a.bottom ? w.floors : w.ceilings;
+  // Wide boxes: the span edge by edge, E_k(i) = e[k] + di[k] (i - i0) >= 0.
+  first = a.i0;
+  last = a.i1;
+  for (int q = 0; q < 3 && first <= last; ++q) {
+    if (a.di[q] > 0) {
+      if (a.e[q] < 0) first = std::max<int64_t>(first, a.i0 - floor_div(a.e[q], a.di[q]));
+    } else if (a.di[q] < 0) {
+      last = std::min<int64_t>(last, a.i0 + floor_div(a.e[q], -a.di[q]));
+    } else if (a.e[q] < 0) {
+      last = first - 1;
+    }
+  }
   double zi = a.z + a.dzi * (first - a.i0);
-  for (int i = first; i <= last; ++i, zi += a.dzi) buffer.add(i, RowHit{zi, slot});
+  for (int i = first; i <= last; ++i, zi += a.dzi) {
+    const int n = count[i]++;
+    if (n < kPlanes) {
+      zs[n * stride + i] = zi;
+      index[n * stride + i] = k;
+    } else {
+      hits.spill.push_back({i, zi, k});
+    }
+  }
   lo = std::min(lo, first);
   hi = std::max(hi, last);
 }
 
-void FastColumn::Impl::sweep_band(const GridParams& grid, double rho_g, int band, Worker& w) {
-  const int n = grid.n;
-  const int ja = band * band_rows, jb = std::min(n, ja + band_rows);
-  w.live.clear();
-  int next = band_start[band];
-  const int end = band_start[band + 1];
+void FastColumn::Impl::sweep_band(int band, Worker& w) {
+  const int ja = band * band_rows, jb = std::min(grid.n, ja + band_rows);
+  w.live = 0;
+  for (int c = carried_start[band]; c < carried_start[band + 1]; ++c) activate(carried[c], ja, w);
   for (int j = ja; j < jb; ++j) {
-    while (next < end && sorted[band_list[next]].row0 <= j) {
-      const TriangleRecord& r = sorted[band_list[next++]];
-      if (r.row1 >= j) activate(grid, rho_g, r, j, w);
+    for (int c = row_start[j]; c < row_start[j + 1]; ++c) {
+      // Records are read in first-row order, at random in memory: ask for them ahead.
+      if (c + kPrefetch < static_cast<int>(order.size())) prefetch(&records[order[c + kPrefetch]]);
+      activate(order[c], j, w);
     }
-    int lo = n, hi = -1;
-    for (size_t k = 0; k < w.live.size();) {
-      int slot = w.live[k];
-      Active& a = w.pool[slot];
+    int lo = grid.n, hi = -1;
+    for (int k = 0; k < w.live;) {
+      Active& a = w.active[k];
       if (a.j1 < j) {
-        retire(slot, w);
-        w.live[k] = w.live.back();
-        w.live.pop_back();
+        retire(a, j, w);
+        a = w.active[--w.live];
         continue;
       }
-      raster_row(a, lo, hi, w, slot);
+      raster_row(a, k, lo, hi, w);
       for (int q = 0; q < 3; ++q) a.e[q] += a.dj[q];
       a.z += a.dzj;
       ++k;
     }
     resolve_row(j, lo, hi, w);
   }
-  for (int slot : w.live) retire(slot, w);
-  w.live.clear();
+  for (int k = 0; k < w.live; ++k) retire(w.active[k], jb, w);
+  w.live = 0;
 }
 
 void FastColumn::Impl::resolve_row(int j, int lo, int hi, Worker& w) {
-  auto add_section = [&](int slot, double h, int i) {
-    Active& a = w.pool[slot];
+  auto add_section = [&](int k, double h, int i) {
+    Active& a = w.active[k];
     a.m0 += h;
     a.mi += h * (i - a.i0);
     a.mj += h * (j - a.j_ref);
     w.sum_heights += h;
   };
-  RowBuffer &floors = w.floors, &ceilings = w.ceilings;
+  RowHits &floors = w.floors, &ceilings = w.ceilings;
   for (int i = lo; i <= hi; ++i) {
     const int nf = floors.count[i], nc = ceilings.count[i];
-    if (nf == 0 && nc == 0) continue;
-    floors.count[i] = ceilings.count[i] = 0;
-    if (nf != nc) ++w.unmatched;
-    const RowHit* f = &floors.slots[static_cast<size_t>(i) * kSlots];
-    const RowHit* c = &ceilings.slots[static_cast<size_t>(i) * kSlots];
-    if (nf > kSlots || nc > kSlots) {
-      floors.gather(i, w.spilled_floors);
-      ceilings.gather(i, w.spilled_ceilings);
-      f = w.spilled_floors.data();
-      c = w.spilled_ceilings.data();
+    if (nf == 1 && nc == 1) {  // the usual column: one section
+      floors.count[i] = ceilings.count[i] = 0;
+      add_section(floors.index[i], ceilings.z[i] - floors.z[i], i);
+      continue;
     }
+    if (nf == 0 && nc == 0) continue;
+    if (nf != nc) ++w.unmatched;
     // The k-th lowest floor pairs with the k-th lowest ceiling.
-    for (int k = 0; k < std::min(nf, nc); ++k) add_section(f[k].slot, c[k].z - f[k].z, i);
+    if (nf <= kPlanes && nc <= kPlanes) {
+      // A few hits: padded to kPlanes with infinite heights and sorted by a fixed network.
+      const double inf = std::numeric_limits<double>::infinity();
+      double fz[kPlanes], cz[kPlanes];
+      int fk[kPlanes];
+      for (int c = 0; c < kPlanes; ++c) {
+        const size_t at = static_cast<size_t>(c) * floors.stride + i;
+        fz[c] = c < nf ? floors.z[at] : inf;
+        fk[c] = floors.index[at];
+        cz[c] = c < nc ? ceilings.z[at] : inf;
+      }
+      sort4(fz, fk);
+      sort4(cz, nullptr);
+      floors.count[i] = ceilings.count[i] = 0;
+      for (int k = 0; k < std::min(nf, nc); ++k) add_section(fk[k], cz[k] - fz[k], i);
+      continue;
+    }
+    for (int kind = 0; kind < 2; ++kind) {
+      const int m = std::max(nf, nc);
+      if (static_cast<int>(w.column_z[kind].size()) < m) {
+        w.column_z[kind].resize(m);
+        w.column_index[kind].resize(m);
+      }
+      (kind == 0 ? floors : ceilings)
+          .gather(i, w.column_z[kind].data(), w.column_index[kind].data());
+    }
+    floors.count[i] = ceilings.count[i] = 0;
+    const double *fz = w.column_z[0].data(), *cz = w.column_z[1].data();
+    const int* fk = w.column_index[0].data();
+    for (int k = 0; k < std::min(nf, nc); ++k) add_section(fk[k], cz[k] - fz[k], i);
   }
   floors.spill.clear();
   ceilings.spill.clear();
@@ -305,7 +449,7 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   out.unmatched_columns = 0;
 
   // Step 1: the projected box and the signed volume (its sign is the orientation), then the
-  // snapped vertices and the triangles' records.
+  // snapped vertices and each triangle's rows.
   std::vector<std::array<double, 7>> partial(threads);
   parallel([&](int index) {
     int begin, end;
@@ -342,8 +486,10 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     box[6] += partial[k][6];
   }
   volume = box[6] / 6.0;
-  const GridParams grid = make_grid(box[0], box[1], box[2], box[3], box[4], box[5], n, volume);
+  m.grid = make_grid(box[0], box[1], box[2], box[3], box[4], box[5], n, volume);
+  const GridParams& grid = m.grid;
   if (grid.empty) return;
+  m.rho_g = rho_g;
   const int s = grid.sub_bits, units = n << s;
   m.sx.resize(nv);
   m.sy.resize(nv);
@@ -358,68 +504,69 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
       m.z[v] = dot_rn(p, frame.up) - grid.u0;
     }
   });
-  // Each triangle's rows (input order, where vertices are near each other in memory), then
-  // the records built directly in first-row order (a counting sort of the indices).
+  // Step 2 per triangle, in input order: its record, and its first row (or none).
+  m.records.resize(nt);
   m.row0.resize(nt);
-  m.row1.resize(nt);
   parallel([&](int index) {
     int begin, end;
     slice(nt, index, begin, end);
-    const int half = 1 << (s - 1);
     for (int t = begin; t < end; ++t) {
       const int* v = cavity.triangles + 3 * t;
-      int x0 = m.sx[v[0]], x1 = m.sx[v[1]], x2 = m.sx[v[2]];
-      int y0 = m.sy[v[0]], y1 = m.sy[v[1]], y2 = m.sy[v[2]];
-      int xmin = std::min({x0, x1, x2}), xmax = std::max({x0, x1, x2});
-      int ymin = std::min({y0, y1, y2}), ymax = std::max({y0, y1, y2});
-      bool has_columns = ((xmax - half) >> s) >= -((half - xmin) >> s) &&
-                         edge_function(x0, y0, x1, y1, x2, y2) != 0;
-      m.row0[t] = -((half - ymin) >> s);
-      m.row1[t] = has_columns ? std::min(n - 1, (ymax - half) >> s) : -1;
-    }
-  });
-  std::vector<int> first(n + 1, 0);
-  for (int t = 0; t < nt; ++t) {
-    if (m.row0[t] <= m.row1[t]) ++first[m.row0[t] + 1];
-  }
-  for (int j = 0; j < n; ++j) first[j + 1] += first[j];
-  m.order.resize(first[n]);
-  for (int t = 0; t < nt; ++t) {
-    if (m.row0[t] <= m.row1[t]) m.order[first[m.row0[t]]++] = t;
-  }
-  m.sorted.resize(m.order.size());
-  parallel([&](int index) {
-    int begin, end;
-    slice(static_cast<int>(m.order.size()), index, begin, end);
-    for (int k = begin; k < end; ++k) {
-      const int t = m.order[k];
-      const int* v = cavity.triangles + 3 * t;
-      TriangleRecord& r = m.sorted[k];
-      for (int c = 0; c < 3; ++c) {
-        r.x[c] = m.sx[v[c]];
-        r.y[c] = m.sy[v[c]];
-        r.z[c] = m.z[v[c]];
-        r.vertex[c] = v[c];
+      const int x[3] = {m.sx[v[0]], m.sx[v[1]], m.sx[v[2]]};
+      const int y[3] = {m.sy[v[0]], m.sy[v[1]], m.sy[v[2]]};
+      SnappedTriangle tri{};
+      const bool has_columns = setup_triangle(x, y, grid.orientation, n, s, &tri) &&
+                               tri.i0 <= tri.i1 && tri.j0 <= tri.j1;
+      m.row0[t] = has_columns ? tri.j0 : -1;
+      if (!has_columns) continue;
+      TriangleRecord& r = m.records[t];
+      r.flags = tri.bottom ? 8u : 0u;
+      for (int k = 0; k < 3; ++k) {
+        r.x[k] = tri.x[k];
+        r.y[k] = tri.y[k];
+        r.vertex[k] = v[tri.corner[k]];
+        r.z[k] = m.z[r.vertex[k]];
+        r.flags |= static_cast<unsigned>(tri.e_min[k]) << k;
       }
-      r.row0 = m.row0[t];
-      r.row1 = m.row1[t];
     }
   });
-  const int count = static_cast<int>(m.sorted.size());
+  // Triangles with columns by first row (a counting sort).
+  m.row_start.assign(n + 1, 0);
+  for (int t = 0; t < nt; ++t) {
+    if (m.row0[t] >= 0) ++m.row_start[m.row0[t] + 1];
+  }
+  for (int j = 0; j < n; ++j) m.row_start[j + 1] += m.row_start[j];
+  m.order.resize(m.row_start[n]);
+  {
+    std::vector<int> fill(m.row_start.begin(), m.row_start.end() - 1);
+    for (int t = 0; t < nt; ++t) {
+      if (m.row0[t] >= 0) m.order[fill[m.row0[t]]++] = t;
+    }
+  }
   m.num_bands = threads == 1 ? 1 : std::min(n, 8 * threads);
   m.band_rows = (n + m.num_bands - 1) / m.num_bands;
   m.num_bands = (n + m.band_rows - 1) / m.band_rows;
-  m.band_start.assign(m.num_bands + 1, 0);
-  for (const TriangleRecord& r : m.sorted) {
-    for (int b = r.row0 / m.band_rows; b <= r.row1 / m.band_rows; ++b) ++m.band_start[b + 1];
-  }
-  for (int b = 0; b < m.num_bands; ++b) m.band_start[b + 1] += m.band_start[b];
-  m.band_list.resize(m.band_start[m.num_bands]);
-  {
-    std::vector<int> fill(m.band_start.begin(), m.band_start.end() - 1);
-    for (int k = 0; k < count; ++k) {
-      const TriangleRecord& r = m.sorted[k];
-      for (int b = r.row0 / m.band_rows; b <= r.row1 / m.band_rows; ++b) m.band_list[fill[b]++] = k;
+  m.carried_start.assign(m.num_bands + 1, 0);
+  m.carried.clear();
+  if (m.num_bands > 1) {
+    // Triangles reaching a later band than that of their first row, by band.
+    const int half = 1 << (s - 1);
+    auto last_row = [&](int t) {
+      const TriangleRecord& r = m.records[t];
+      return std::min(n - 1, (std::max({r.y[0], r.y[1], r.y[2]}) - half) >> s);
+    };
+    for (int t : m.order) {
+      for (int b = m.row0[t] / m.band_rows + 1; b <= last_row(t) / m.band_rows; ++b) {
+        ++m.carried_start[b + 1];
+      }
+    }
+    for (int b = 0; b < m.num_bands; ++b) m.carried_start[b + 1] += m.carried_start[b];
+    m.carried.resize(m.carried_start[m.num_bands]);
+    std::vector<int> fill(m.carried_start.begin(), m.carried_start.end() - 1);
+    for (int t : m.order) {
+      for (int b = m.row0[t] / m.band_rows + 1; b <= last_row(t) / m.band_rows; ++b) {
+        m.carried[fill[b]++] = t;
+      }
     }
   }
 
@@ -432,15 +579,19 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     w.weights.assign(nv, 0.0);
     w.sum_heights = 0.0;
     w.unmatched = 0;
-    for (int b; (b = next_band++) < m.num_bands;) m.sweep_band(grid, rho_g, b, w);
+    for (int b; (b = next_band++) < m.num_bands;) m.sweep_band(b, w);
   });
-  parallel([&](int index) {
-    int begin, end;
-    slice(nv, index, begin, end);
-    for (int k = 0; k < threads; ++k) {
-      for (int v = begin; v < end; ++v) out.values[v] += m.workers[k].weights[v];
-    }
-  });
+  if (threads == 1) {
+    out.values.swap(m.workers[0].weights);
+  } else {
+    parallel([&](int index) {
+      int begin, end;
+      slice(nv, index, begin, end);
+      for (int k = 0; k < threads; ++k) {
+        for (int v = begin; v < end; ++v) out.values[v] += m.workers[k].weights[v];
+      }
+    });
+  }
   double sum_heights = 0.0;
   for (int k = 0; k < threads; ++k) {
     sum_heights += m.workers[k].sum_heights;
