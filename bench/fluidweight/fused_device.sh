@@ -20,7 +20,7 @@ if [ "${TILES:-1}" = 1 ]; then
   for c in "sphere 200" "sphere 1000"; do
     set -- $c
     for k in tiled:float32 fused:float32 fused:float64; do
-      for t in ${FUSED_TILES:-16 32}; do
+      for t in ${FUSED_TILES:-16}; do
         r=$(FLUIDWEIGHT_FUSED_TILE=$t FLUIDWEIGHT_REPLAYS=200 "$D/bin/fluidweight" "$M/$1.obj" \
           --grid $2 --device cuda --kernel $k 2>&1 >/dev/null | tr '\n' ' ')
         echo "$1 $2 $k tile $t: $r"
@@ -30,18 +30,21 @@ if [ "${TILES:-1}" = 1 ]; then
   done
 fi
 if [ "${PHASES:-1}" = 1 ]; then
-  # Prefixes of the fused kernel (FLUIDWEIGHT_TILE_PHASES): 7 box and volume only, 0 also the
-  # vertex table, the triangle filter and the set-up rounds, 1 also Steps 3-4, 3 everything.
-  for c in "sphere 200 16" "sphere 200 32"; do
-    set -- $c
-    line="$1 $2 fused:float32 tile $3 phases"
-    for ph in 7 0 1 3; do
-      r=$(FLUIDWEIGHT_TILE_PHASES=$ph FLUIDWEIGHT_FUSED_TILE=$3 FLUIDWEIGHT_REPLAYS=200 \
-        "$D/bin/fluidweight" "$M/$1.obj" --grid $2 --device cuda --kernel fused:float32 2>&1 \
-        >/dev/null | sed -E 's/graph replay median //')
-      line="$line $ph: $r"
+  # Prefixes of the fused kernel (FLUIDWEIGHT_TILE_PHASES): 8 the launch alone, 16 up to the
+  # cluster's first barrier (box, volume), 32 up to the vertex table, 4 also the triangles'
+  # set-up and binning... 7 without the raster rounds, 0 also the rounds without testing
+  # candidates, 1 also Steps 3-4, 3 everything; for each cluster shape of CLUSTERS.
+  for case in ${CASES:-sphere:200}; do
+    for cl in ${CLUSTERS:-auto 1,1 4,1}; do
+      line="${case/:/ } fused:float32 cluster $cl phases"
+      for ph in 8 16 32 7 0 1 3; do
+        r=$(FLUIDWEIGHT_FUSED_CLUSTER=$([ $cl = auto ] || echo $cl) FLUIDWEIGHT_TILE_PHASES=$ph \
+          FLUIDWEIGHT_REPLAYS=200 "$D/bin/fluidweight" "$M/${case%%:*}.obj" --grid ${case##*:} \
+          --device cuda --kernel fused:float32 2>&1 >/dev/null | sed -E 's/graph replay median //')
+        line="$line $ph: $r"
+      done
+      echo "$line"
     done
-    echo "$line"
   done
 fi
 [ "${TARGETS:-1}" = 1 ] && "$D/bin/bench_fluidweight" --meshes "$M" --targets \

@@ -152,8 +152,8 @@ TEST(Cuda, TiledKernelTileSizesAndGrowth) {
 
 // The fused kernel keeps two sets of accumulators and assumes each cavity's orientation from
 // the previous call: graph replays between calls (an odd number of them), moving vertices, a
-// cavity turned inside out (mirrored: its signed volume changes sign) and back, tiles of 8, 16
-// and 32 columns, and a list of a tile's triangles that must grow.
+// cavity turned inside out (mirrored: its signed volume changes sign) and back, tiles of 8 and 16
+// columns, and a list of a tile's triangles that must grow.
 TEST(Cuda, FusedKernelAcrossCallsAndReplays) {
   SKIP_WITHOUT_GPU();
   const std::vector<SurfaceMesh> cavities = {
@@ -189,10 +189,10 @@ TEST(Cuda, FusedKernelAcrossCallsAndReplays) {
       }
     }
   }
-  // Tiles of 8, 16 and 32 columns; a fine mesh whose tiles keep more triangles than the first
-  // list holds.
+  // Tiles of 8 and 16 columns; a fine mesh whose tiles keep more triangles than the first list
+  // holds.
   SurfaceMesh fine = fw::shapes::icosphere(5);
-  for (const char* tile : {"8", "16", "32"}) {
+  for (const char* tile : {"8", "16"}) {
     setenv("FLUIDWEIGHT_FUSED_TILE", tile, 1);
     for (int n : {20, 300}) {
       Result ref = fw::compute(fine, options(fw::Implementation::cpu_reference, n));

@@ -9,6 +9,8 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "../device.hpp"
 #include "device_common.cuh"
@@ -97,7 +99,7 @@ class Backend : public DeviceBackend {
     // Diagnostic, timing only: FLUIDWEIGHT_FUSED_TILE=8|16|32 sets the fused kernel's tile.
     if (const char* tile = std::getenv("FLUIDWEIGHT_FUSED_TILE")) {
       const int t = std::atoi(tile);
-      fused_preferred_bits_ = t == 8 ? 3 : t == 16 ? 4 : 5;
+      fused_preferred_bits_ = t == 8 ? 3 : 4;
     }
     // Diagnostic, timing only: FLUIDWEIGHT_TILE_BLOCKS=k runs the tiled kernel as a persistent
     // grid of k blocks per multiprocessor (0: one block per tile).
@@ -346,10 +348,16 @@ class Backend : public DeviceBackend {
     }
     const bool fits = max_vertices_ < (1 << 21) && choose_fused_tile();
     if (kernel_ == Kernel::automatic) {
-      kernel_ = fits && max_triangles <= kAutomaticMaxTriangles ? Kernel::fused : Kernel::tiled;
+      // The fused kernel sets up every triangle once per cluster of tiles: worth it while that
+      // redundant work stays small (docs/fluidweight.md, "When each kernel wins").
+      const int tiles = (options_.grid + (1 << fused_tile_bits_) - 1) >> fused_tile_bits_;
+      const double clusters = static_cast<double>(tiles) * tiles / (cluster_x_ * cluster_y_);
+      kernel_ =
+          fits && clusters * max_triangles <= kAutomaticMaxWork ? Kernel::fused : Kernel::tiled;
     } else if (!fits) {
-      throw DeviceError("cuda: a cavity of " + std::to_string(max_vertices_) +
-                        " vertices does not fit the fused kernel's shared memory (use tiled)");
+      throw DeviceError(
+          "cuda: the cavities do not fit the fused kernel's shared memory (use "
+          "tiled)");
     }
     if (kernel_ != Kernel::fused) return;
     corners_.upload(corners);
@@ -366,21 +374,46 @@ class Backend : public DeviceBackend {
     parity_ = 0;
   }
 
-  // The largest tile, from the preferred one down, whose shared memory the device gives.
+  // The tile (the preferred one, else 16 columns from N = 128 on, else 8) and the cluster of
+  // tiles: the most blocks (up to 16) for the least padding of the grid to whole clusters, among
+  // the shapes whose shared memory the device gives.
   bool choose_fused_tile() {
-    for (int bits = fused_preferred_bits_ > 0 ? fused_preferred_bits_ : fused_auto_bits();
+    for (int bits = fused_preferred_bits_ > 0 ? fused_preferred_bits_
+                                              : (options_.grid >= 128 ? 4 : 3);
          bits >= 3; --bits) {
-      const size_t bytes = gpu::fused_shared_bytes<Real>(bits, max_vertices_,
-                                                         fused_column_capacity_, item_capacity_);
-      if (bytes <= static_cast<size_t>(max_shared_) && gpu::allow_fused_shared<Real>(bits, bytes)) {
-        fused_tile_bits_ = bits;
-        return true;
+      const int tiles = (options_.grid + (1 << bits) - 1) >> bits;
+      std::vector<std::pair<double, std::pair<int, int>>> shapes;
+      for (int cx = 1; cx <= std::min(tiles, 16); ++cx) {
+        for (int cy = 1; cy <= std::min(tiles, 16 / cx); ++cy) {
+          const double waste = static_cast<double>((tiles + cx - 1) / cx * cx) *
+                               ((tiles + cy - 1) / cy * cy) / (static_cast<double>(tiles) * tiles);
+          shapes.push_back({-(cx * cy) / (waste * waste), {cx, cy}});
+        }
+      }
+      std::sort(shapes.begin(), shapes.end());
+      // Diagnostic, timing only: FLUIDWEIGHT_FUSED_CLUSTER=cx,cy tries that shape first.
+      if (const char* forced = std::getenv("FLUIDWEIGHT_FUSED_CLUSTER")) {
+        int cx = 1, cy = 1;
+        if (std::sscanf(forced, "%d,%d", &cx, &cy) == 2)
+          shapes.insert(shapes.begin(), {0.0, {cx, cy}});
+      }
+      for (const auto& shape : shapes) {
+        const int cx = shape.second.first, cy = shape.second.second;
+        const int slice = (max_vertices_ + cx * cy - 1) / (cx * cy);
+        const size_t bytes = gpu::fused_shared_bytes<Real>(bits, std::max(slice, 1),
+                                                           fused_column_capacity_, item_capacity_);
+        if (bytes > static_cast<size_t>(max_shared_)) continue;
+        if (gpu::fused_clusters<Real>(bits, cx, cy, bytes) > 0) {
+          fused_tile_bits_ = bits;
+          cluster_x_ = cx;
+          cluster_y_ = cy;
+          slice_vertices_ = std::max(slice, 1);
+          return true;
+        }
       }
     }
     return false;
   }
-
-  int fused_auto_bits() const { return options_.grid >= 128 ? 5 : 4; }
 
   double fused_volume(const gpu::CavityState& s) const {
     double v = 0;
@@ -418,8 +451,10 @@ class Backend : public DeviceBackend {
     f.vertex_begin = vertex_begin_all_.get();
     f.orientation = orientation_.get();
     f.tiles_per_side = (options_.grid + (1 << fused_tile_bits_) - 1) >> fused_tile_bits_;
+    f.cluster_x = cluster_x_;
+    f.cluster_y = cluster_y_;
+    f.slice_vertices = slice_vertices_;
     f.item_capacity = item_capacity_;
-    f.max_vertices = max_vertices_;
     f.next_out = (parity ? out_ : out2_).get();
     f.next_out_count = num_vertices_;
     f.next_cavities = (parity ? states_ : states2_).get();
@@ -599,9 +634,10 @@ class Backend : public DeviceBackend {
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
   // Fused kernel: tile (bits), hits per column, triangles a tile keeps, the vertex table, the
   // call's set of accumulators, the orientation each cavity's Step 2 assumes.
-  static constexpr int kAutomaticMaxTriangles = 20000;
-  int fused_tile_bits_ = 5, fused_preferred_bits_ = 0, fused_column_capacity_ = 4,
-      item_capacity_ = 1024, max_vertices_ = 0, parity_ = 0;
+  static constexpr double kAutomaticMaxWork = 2e5;
+  int fused_tile_bits_ = 4, fused_preferred_bits_ = 0, fused_column_capacity_ = 4,
+      item_capacity_ = 512, max_vertices_ = 0, parity_ = 0, cluster_x_ = 1, cluster_y_ = 1,
+      slice_vertices_ = 1;
   std::vector<int> host_orientation_;
   DeviceArray<unsigned long long> corners_;
   DeviceArray<int> vertex_begin_all_, orientation_;

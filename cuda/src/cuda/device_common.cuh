@@ -156,9 +156,11 @@ struct FusedArgs {
                                       // bits each
   const int* vertex_begin;            // first vertex of each cavity, and the total
   const int* orientation;             // per cavity, +1 or -1: the sign assumed for Step 2
-  int tiles_per_side;                 // blocks along a side of a cavity's grid
-  int item_capacity;                  // triangles of a block's tile kept for Step 5
-  int max_vertices;                   // vertices of the largest cavity (shared vertex table)
+  int tiles_per_side;                 // tiles along a side of a cavity's grid
+  int cluster_x, cluster_y;           // tiles of a thread-block cluster (the grid is padded to
+                                      // whole clusters)
+  int slice_vertices;                 // vertices each block of a cluster snaps
+  int item_capacity;                  // triangles a tile keeps
   Real* next_out;                     // the next call's accumulators, cleared by this one
   int next_out_count;
   CavityState* next_cavities;
@@ -182,15 +184,17 @@ void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStre
 template <typename Real>
 void launch_hydrostatic(const Batch<Real>& b, cudaStream_t stream);
 // The fused kernel: one launch for Steps 1-5, a block per tile of 1 << tile_bits columns
-// (tile_bits 3, 4 or 5).
+// (tile_bits 3 or 4), in clusters of f.cluster_x x f.cluster_y blocks.
 template <typename Real>
 void launch_fused(const Batch<Real>& b, const FusedArgs<Real>& f, int tile_bits,
                   cudaStream_t stream);
 template <typename Real>
-size_t fused_shared_bytes(int tile_bits, int max_vertices, int column_capacity, int item_capacity);
-// Raises the fused kernel's dynamic shared memory limit; false when the device refuses.
+size_t fused_shared_bytes(int tile_bits, int slice_vertices, int column_capacity,
+                          int item_capacity);
+// Raises the fused kernel's shared memory limit and allows clusters over 8 blocks; then the
+// number of clusters of that shape the device holds at once (0: it cannot run one).
 template <typename Real>
-bool allow_fused_shared(int tile_bits, size_t bytes);
+int fused_clusters(int tile_bits, int cluster_x, int cluster_y, size_t bytes);
 // Dynamic shared memory of tile_kernel; the host raises the kernel's limit to it.
 template <typename Real>
 size_t tile_shared_bytes(int tile_bits, int column_capacity);
