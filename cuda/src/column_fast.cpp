@@ -29,18 +29,22 @@
 namespace fluidweight::detail {
 namespace {
 
-constexpr int kPlanes = 4;      // hits of each kind a column keeps in the row buffer; more spill
-constexpr int kChunk = 8;       // columns a triangle tests together, without branches
-constexpr int kWrite = 4;       // covered columns it writes together
-constexpr int kPrefetch = 8;    // records read ahead of their activation
-constexpr int kScanWidth = 64;  // wider boxes find their spans by division
+constexpr int kPlanes = 4;     // hits of each kind a column keeps in the row buffer; more spill
+constexpr int kWrite = 4;      // covered columns it writes together
+constexpr int kPrefetch = 8;   // triangles whose vertices are asked for ahead of activation
+constexpr int kScanWidth = 8;  // boxes up to this wide test every column; wider ones divide
 
-// A triangle with columns after Steps 1-2: what it needs to become active (64 bytes, one
-// cache line). Built in input order, where a triangle's vertices are near each other in memory.
-struct alignas(64) TriangleRecord {
-  int x[3], y[3];  // snapped corners, counter-clockwise
-  double z[3];     // their heights above the lowest vertex
-  int vertex[3];   // their vertices
+// A vertex after Step 1: snapped coordinates and height above the lowest vertex.
+struct SnappedVertex {
+  int x, y;
+  double z;
+};
+
+// A triangle with columns after Step 2, in first-row order: its vertices counter-clockwise and
+// flags. 16 bytes: the sweep reads them one after another and gathers the vertices (a
+// triangle's vertices are near each other in memory, and there are half as many).
+struct SortedTriangle {
+  int vertex[3];
   unsigned flags;  // bit k (0-2): e_min[k] = 1, the edge is neither top nor left; bit 3: a floor
 };
 
@@ -64,8 +68,8 @@ struct Spilled {
 
 // Hits of the current row, of one kind (floors or ceilings), unsorted: the c-th hit of column i
 // is at c stride + i (planes, so that the first hits of a row's columns lie side by side), or
-// in `spill` beyond kPlanes. One more plane and kChunk more columns than used take the
-// writes of columns that a chunk tests but the triangle does not cover.
+// in `spill` beyond kPlanes. One more plane and kWrite more columns than used take the writes
+// that a chunk of kWrite columns makes past the end of a span.
 struct RowHits {
   int stride = 0;
   std::vector<int> count;
@@ -74,7 +78,7 @@ struct RowHits {
   std::vector<Spilled> spill;
 
   void resize(int columns) {
-    stride = columns + kChunk;
+    stride = columns + kWrite;
     count.assign(stride, 0);
     z.resize(static_cast<size_t>(stride) * (kPlanes + 1));
     index.resize(static_cast<size_t>(stride) * (kPlanes + 1));
@@ -193,13 +197,13 @@ struct FastColumn::Impl {
   // The call's grid, and per vertex its snapped coordinates and height.
   GridParams grid;
   double rho_g = 0.0;
-  std::vector<int> sx, sy;
-  std::vector<double> z;
-  std::vector<TriangleRecord> records;  // per triangle, valid for those with columns
-  std::vector<int> row0;                // first row of each triangle's box, -1: no column
-  // Triangles with columns by first row: those of row j are order[row_start[j] ..
+  std::vector<SnappedVertex> vertices;
+  std::vector<int> row0;        // first row of each triangle's box, -1: no column
+  std::vector<unsigned> flags;  // SortedTriangle::flags, and bit 4: corners 1 and 2 swapped
+  // Triangles with columns by first row: those of row j are sorted[row_start[j] ..
   // row_start[j + 1]).
-  std::vector<int> row_start, order;
+  std::vector<int> row_start;
+  std::vector<SortedTriangle> sorted;
   // Bands: rows [b band_rows, (b + 1) band_rows); triangles starting in an earlier band and
   // reaching band b are carried[carried_start[b] .. carried_start[b + 1]).
   std::vector<int> carried_start, carried;
@@ -213,7 +217,19 @@ FastColumn::~FastColumn() = default;
 // Sets up triangle t on row j (its first row, or the first row of the band): its box as
 // setup_triangle finds it, its edge functions at (i0, j) and their steps, its height plane.
 void FastColumn::Impl::activate(int t, int j, Worker& w) {
-  const TriangleRecord& r = records[t];
+  const SortedTriangle& st = sorted[t];
+  struct {
+    int x[3], y[3];
+    double z[3];
+    unsigned flags;
+  } r;
+  for (int k = 0; k < 3; ++k) {
+    const SnappedVertex& p = vertices[st.vertex[k]];
+    r.x[k] = p.x;
+    r.y[k] = p.y;
+    r.z[k] = p.z;
+  }
+  r.flags = st.flags;
   if (w.live == static_cast<int>(w.active.size())) w.active.emplace_back();
   Active& a = w.active[w.live++];
   const int s = grid.sub_bits, half = 1 << (s - 1);
@@ -254,7 +270,7 @@ void FastColumn::Impl::activate(int t, int j, Worker& w) {
 // is their sum at any point.
 void FastColumn::Impl::retire(const Active& a, int j, Worker& w) {
   if (!a.bottom || a.m0 == 0.0) return;
-  const TriangleRecord& r = records[a.triangle];
+  const SortedTriangle& r = sorted[a.triangle];
   int64_t e_ref[3], area2 = 0;
   for (int k = 0; k < 3; ++k) {
     e_ref[k] = a.e[k] + ((r.flags >> k) & 1) - a.dj[k] * (j - a.j_ref);
@@ -277,21 +293,19 @@ void FastColumn::Impl::raster_row(const Active& a, int k, int& lo, int& hi, Work
   const size_t stride = hits.stride;
   int first, last;
   if (a.i1 - a.i0 < kScanWidth) {
-    // The covered columns as a bit mask, testing every column of the box kChunk at a time
-    // without branches: a centre is covered when its edge functions are all >= 0, i.e. when
-    // their bitwise or is not negative. The covered columns of a row are contiguous. Boxes are
-    // a few columns wide at the grids used: this costs less than a scan for the span ends,
-    // whose exits are mispredicted.
+    // Narrow box: its kScanWidth columns tested without branches, as a bit mask. A centre is
+    // covered when its edge functions are all >= 0, i.e. when their bitwise or is not
+    // negative; the covered columns of a row are contiguous. Measured against a scan for the
+    // span ends (mispredicted exits) and against the divisions below (armadillo 1000^2: boxes
+    // ~7 columns wide), and against masks of up to 64 columns (slower on wider boxes).
     const int64_t di0 = a.di[0], di1 = a.di[1], di2 = a.di[2];
     int64_t e0 = a.e[0], e1 = a.e[1], e2 = a.e[2];
     uint64_t mask = 0;
-    for (int c = 0; c <= a.i1 - a.i0; c += kChunk) {
-      for (int u = c; u < c + kChunk; ++u) {
-        mask |= (static_cast<uint64_t>(~(e0 | e1 | e2)) >> 63) << u;
-        e0 += di0;
-        e1 += di1;
-        e2 += di2;
-      }
+    for (int u = 0; u < kScanWidth; ++u) {
+      mask |= (static_cast<uint64_t>(~(e0 | e1 | e2)) >> 63) << u;
+      e0 += di0;
+      e1 += di1;
+      e2 += di2;
     }
     if (mask == 0) return;
     first = a.i0 + lowest_bit(mask);
@@ -347,9 +361,11 @@ void FastColumn::Impl::sweep_band(int band, Worker& w) {
   for (int c = carried_start[band]; c < carried_start[band + 1]; ++c) activate(carried[c], ja, w);
   for (int j = ja; j < jb; ++j) {
     for (int c = row_start[j]; c < row_start[j + 1]; ++c) {
-      // Records are read in first-row order, at random in memory: ask for them ahead.
-      if (c + kPrefetch < static_cast<int>(order.size())) prefetch(&records[order[c + kPrefetch]]);
-      activate(order[c], j, w);
+      // Vertices are read at random in memory: ask for them ahead.
+      if (c + kPrefetch < static_cast<int>(sorted.size())) {
+        for (int v : sorted[c + kPrefetch].vertex) prefetch(&vertices[v]);
+      }
+      activate(c, j, w);
     }
     int lo = grid.n, hi = -1;
     for (int k = 0; k < w.live;) {
@@ -491,43 +507,34 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   if (grid.empty) return;
   m.rho_g = rho_g;
   const int s = grid.sub_bits, units = n << s;
-  m.sx.resize(nv);
-  m.sy.resize(nv);
-  m.z.resize(nv);
+  m.vertices.resize(nv);
   parallel([&](int index) {
     int begin, end;
     slice(nv, index, begin, end);
     for (int v = begin; v < end; ++v) {
       Vec3 p = load_vec3(cavity.xyz, v);
-      m.sx[v] = snap(dot_rn(p, frame.e1), grid.a0, grid.scale_a, units);
-      m.sy[v] = snap(dot_rn(p, frame.e2), grid.b0, grid.scale_b, units);
-      m.z[v] = dot_rn(p, frame.up) - grid.u0;
+      m.vertices[v] = {snap(dot_rn(p, frame.e1), grid.a0, grid.scale_a, units),
+                       snap(dot_rn(p, frame.e2), grid.b0, grid.scale_b, units),
+                       dot_rn(p, frame.up) - grid.u0};
     }
   });
-  // Step 2 per triangle, in input order: its record, and its first row (or none).
-  m.records.resize(nt);
+  // Step 2 per triangle, in input order: its first row (or none) and flags.
   m.row0.resize(nt);
+  m.flags.resize(nt);
   parallel([&](int index) {
     int begin, end;
     slice(nt, index, begin, end);
     for (int t = begin; t < end; ++t) {
       const int* v = cavity.triangles + 3 * t;
-      const int x[3] = {m.sx[v[0]], m.sx[v[1]], m.sx[v[2]]};
-      const int y[3] = {m.sy[v[0]], m.sy[v[1]], m.sy[v[2]]};
+      const SnappedVertex &a = m.vertices[v[0]], &b = m.vertices[v[1]], &c = m.vertices[v[2]];
+      const int x[3] = {a.x, b.x, c.x}, y[3] = {a.y, b.y, c.y};
       SnappedTriangle tri{};
       const bool has_columns = setup_triangle(x, y, grid.orientation, n, s, &tri) &&
                                tri.i0 <= tri.i1 && tri.j0 <= tri.j1;
       m.row0[t] = has_columns ? tri.j0 : -1;
-      if (!has_columns) continue;
-      TriangleRecord& r = m.records[t];
-      r.flags = tri.bottom ? 8u : 0u;
-      for (int k = 0; k < 3; ++k) {
-        r.x[k] = tri.x[k];
-        r.y[k] = tri.y[k];
-        r.vertex[k] = v[tri.corner[k]];
-        r.z[k] = m.z[r.vertex[k]];
-        r.flags |= static_cast<unsigned>(tri.e_min[k]) << k;
-      }
+      unsigned f = (tri.bottom ? 8u : 0u) | (tri.corner[1] == 2 ? 16u : 0u);
+      for (int k = 0; k < 3; ++k) f |= static_cast<unsigned>(tri.e_min[k]) << k;
+      m.flags[t] = f;
     }
   });
   // Triangles with columns by first row (a counting sort).
@@ -536,11 +543,15 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     if (m.row0[t] >= 0) ++m.row_start[m.row0[t] + 1];
   }
   for (int j = 0; j < n; ++j) m.row_start[j + 1] += m.row_start[j];
-  m.order.resize(m.row_start[n]);
+  m.sorted.resize(m.row_start[n]);
   {
     std::vector<int> fill(m.row_start.begin(), m.row_start.end() - 1);
     for (int t = 0; t < nt; ++t) {
-      if (m.row0[t] >= 0) m.order[fill[m.row0[t]]++] = t;
+      if (m.row0[t] < 0) continue;
+      const int* v = cavity.triangles + 3 * t;
+      const bool flip = m.flags[t] & 16u;
+      m.sorted[fill[m.row0[t]]++] = {{v[0], flip ? v[2] : v[1], flip ? v[1] : v[2]},
+                                     m.flags[t] & 15u};
     }
   }
   m.num_bands = threads == 1 ? 1 : std::min(n, 8 * threads);
@@ -551,21 +562,26 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   if (m.num_bands > 1) {
     // Triangles reaching a later band than that of their first row, by band.
     const int half = 1 << (s - 1);
-    auto last_row = [&](int t) {
-      const TriangleRecord& r = m.records[t];
-      return std::min(n - 1, (std::max({r.y[0], r.y[1], r.y[2]}) - half) >> s);
+    auto last_row = [&](int c) {
+      const int* v = m.sorted[c].vertex;
+      const int ymax = std::max({m.vertices[v[0]].y, m.vertices[v[1]].y, m.vertices[v[2]].y});
+      return std::min(n - 1, (ymax - half) >> s);
     };
-    for (int t : m.order) {
-      for (int b = m.row0[t] / m.band_rows + 1; b <= last_row(t) / m.band_rows; ++b) {
-        ++m.carried_start[b + 1];
+    for (int j = 0; j < n; ++j) {
+      for (int c = m.row_start[j]; c < m.row_start[j + 1]; ++c) {
+        for (int b = j / m.band_rows + 1; b <= last_row(c) / m.band_rows; ++b) {
+          ++m.carried_start[b + 1];
+        }
       }
     }
     for (int b = 0; b < m.num_bands; ++b) m.carried_start[b + 1] += m.carried_start[b];
     m.carried.resize(m.carried_start[m.num_bands]);
     std::vector<int> fill(m.carried_start.begin(), m.carried_start.end() - 1);
-    for (int t : m.order) {
-      for (int b = m.row0[t] / m.band_rows + 1; b <= last_row(t) / m.band_rows; ++b) {
-        m.carried[fill[b]++] = t;
+    for (int j = 0; j < n; ++j) {
+      for (int c = m.row_start[j]; c < m.row_start[j + 1]; ++c) {
+        for (int b = j / m.band_rows + 1; b <= last_row(c) / m.band_rows; ++b) {
+          m.carried[fill[b]++] = c;
+        }
       }
     }
   }
