@@ -30,7 +30,6 @@ namespace fluidweight::detail {
 namespace {
 
 constexpr int kPlanes = 4;     // hits of each kind a column keeps in the row buffer; more spill
-constexpr int kWrite = 4;      // covered columns it writes together
 constexpr int kPrefetch = 8;   // triangles whose vertices are asked for ahead of activation
 constexpr int kScanWidth = 8;  // boxes up to this wide test every column; wider ones divide
 
@@ -68,8 +67,7 @@ struct Spilled {
 
 // Hits of the current row, of one kind (floors or ceilings), unsorted: the c-th hit of column i
 // is at c stride + i (planes, so that the first hits of a row's columns lie side by side), or
-// in `spill` beyond kPlanes. One more plane and kWrite more columns than used take the writes
-// that a chunk of kWrite columns makes past the end of a span.
+// in `spill` beyond kPlanes.
 struct RowHits {
   int stride = 0;
   std::vector<int> count;
@@ -78,10 +76,10 @@ struct RowHits {
   std::vector<Spilled> spill;
 
   void resize(int columns) {
-    stride = columns + kWrite;
+    stride = columns;
     count.assign(stride, 0);
-    z.resize(static_cast<size_t>(stride) * (kPlanes + 1));
-    index.resize(static_cast<size_t>(stride) * (kPlanes + 1));
+    z.resize(static_cast<size_t>(stride) * kPlanes);
+    index.resize(static_cast<size_t>(stride) * kPlanes);
     spill.clear();
   }
   // Column i's hits into z_out and index_out (count[i] of them), sorted by height.
@@ -310,36 +308,20 @@ void FastColumn::Impl::raster_row(const Active& a, int k, int& lo, int& hi, Work
     if (mask == 0) return;
     first = a.i0 + lowest_bit(mask);
     last = a.i0 + highest_bit(mask);
-    // The span's hits, kWrite columns at a time: a column past the span writes to the slot
-    // after its last hit (or to the spare plane) and keeps its count.
-    const double z0 = a.z, dzi = a.dzi;
-    for (int i = first; i <= last; i += kWrite) {
-      for (int c = i; c < i + kWrite; ++c) {
-        const int covered = c <= last;
-        const double zc = z0 + dzi * (c - a.i0);  // not stepped: no chain of additions
-        const int n = count[c];
-        const size_t at = static_cast<size_t>(std::min(n, kPlanes)) * stride + c;
-        zs[at] = zc;
-        index[at] = k;
-        count[c] = n + covered;
-        if (covered && n >= kPlanes) hits.spill.push_back({c, zc, k});
+  } else {
+    // Wide boxes: the span edge by edge, E_k(i) = e[k] + di[k] (i - i0) >= 0.
+    first = a.i0;
+    last = a.i1;
+    for (int q = 0; q < 3 && first <= last; ++q) {
+      if (a.di[q] > 0) {
+        if (a.e[q] < 0) first = std::max<int64_t>(first, a.i0 - floor_div(a.e[q], a.di[q]));
+      } else if (a.di[q] < 0) {
+        last = std::min<int64_t>(last, a.i0 + floor_div(a.e[q], -a.di[q]));
+      } else if (a.e[q] < 0) {
+        last = first - 1;
       }
     }
-    lo = std::min(lo, first);
-    hi = std::max(hi, last);
-    return;
-  }
-  // Wide boxes: the span edge by edge, E_k(i) = e[k] + di[k] (i - i0) >= 0.
-  first = a.i0;
-  last = a.i1;
-  for (int q = 0; q < 3 && first <= last; ++q) {
-    if (a.di[q] > 0) {
-      if (a.e[q] < 0) first = std::max<int64_t>(first, a.i0 - floor_div(a.e[q], a.di[q]));
-    } else if (a.di[q] < 0) {
-      last = std::min<int64_t>(last, a.i0 + floor_div(a.e[q], -a.di[q]));
-    } else if (a.e[q] < 0) {
-      last = first - 1;
-    }
+    if (first > last) return;
   }
   double zi = a.z + a.dzi * (first - a.i0);
   for (int i = first; i <= last; ++i, zi += a.dzi) {
