@@ -30,14 +30,14 @@ if [ "${TILES:-1}" = 1 ]; then
   done
 fi
 if [ "${PHASES:-1}" = 1 ]; then
-  # Prefixes of the fused kernel (FLUIDWEIGHT_TILE_PHASES): 8 the launch alone, 16 up to the
-  # cluster's first barrier (box, volume), 32 up to the vertex table, 4 also the triangles'
-  # set-up and binning... 7 without the raster rounds, 0 also the rounds without testing
+  # Prefixes of the fused kernel (FLUIDWEIGHT_TILE_PHASES): 8 the launch alone, 64 ten cluster
+  # barriers, 16 up to the cluster's first barrier (box), 32 up to the vertex table, 7 also
+  # the last barrier and the sums (no Step 2), 0 also Step 2 and the rounds without testing
   # candidates, 1 also Steps 3-4, 3 everything; for each cluster shape of CLUSTERS.
   for case in ${CASES:-sphere:200}; do
     for cl in ${CLUSTERS:-auto 1,1 4,1}; do
       line="${case/:/ } fused:float32 cluster $cl phases"
-      for ph in 8 16 32 7 0 1 3; do
+      for ph in 8 64 16 32 7 0 1 3; do
         r=$(FLUIDWEIGHT_FUSED_CLUSTER=$([ $cl = auto ] || echo $cl) FLUIDWEIGHT_TILE_PHASES=$ph \
           FLUIDWEIGHT_REPLAYS=200 "$D/bin/fluidweight" "$M/${case%%:*}.obj" --grid ${case##*:} \
           --device cuda --kernel fused:float32 2>&1 >/dev/null | sed -E 's/graph replay median //')

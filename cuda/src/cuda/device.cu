@@ -330,7 +330,7 @@ class Backend : public DeviceBackend {
   // the tiled kernel where the cavities are too large for it.
   void set_fused_cavities(const std::vector<CavityView>& cavities,
                           const std::vector<int>& triangle_begin) {
-    (void)triangle_begin;
+    triangle_begin_ = triangle_begin;
     std::vector<unsigned long long> corners;
     std::vector<int> begin(1, 0);
     max_vertices_ = 0;
@@ -350,13 +350,24 @@ class Backend : public DeviceBackend {
     if (kernel_ == Kernel::automatic) {
       // The fused kernel sets up every triangle once per cluster of tiles: worth it while that
       // redundant work stays small (docs/fluidweight.md, "When each kernel wins").
+      // Also while all its blocks run at once: a second wave costs more than the tiled
+      // kernel's prefix (measured: four spheres at 200^2).
       const int tiles = (options_.grid + (1 << fused_tile_bits_) - 1) >> fused_tile_bits_;
       const double clusters = static_cast<double>(tiles) * tiles / (cluster_x_ * cluster_y_);
-      kernel_ =
-          fits && clusters * max_triangles <= kAutomaticMaxWork ? Kernel::fused : Kernel::tiled;
+      const long long blocks = static_cast<long long>((tiles + cluster_x_ - 1) / cluster_x_) *
+                               cluster_x_ * ((tiles + cluster_y_ - 1) / cluster_y_) * cluster_y_ *
+                               num_cavities_;
+      const long long resident =
+          static_cast<long long>(resident_clusters_) * cluster_x_ * cluster_y_;
+      // Tiles of 8 columns (N < 128) give blocks of 64 threads: too few for Step 2 (measured).
+      kernel_ = fits && fused_tile_bits_ == 4 && clusters * max_triangles <= kAutomaticMaxWork &&
+                        blocks <= resident
+                    ? Kernel::fused
+                    : Kernel::tiled;
     } else if (!fits) {
       throw DeviceError(
-          "cuda: the cavities do not fit the fused kernel's shared memory (use "
+          "cuda: the cavities (their tiles' triangles and hits) do not fit the fused kernel's "
+          "shared memory (use "
           "tiled)");
     }
     if (kernel_ != Kernel::fused) return;
@@ -403,7 +414,9 @@ class Backend : public DeviceBackend {
         const size_t bytes = gpu::fused_shared_bytes<Real>(bits, std::max(slice, 1),
                                                            fused_column_capacity_, item_capacity_);
         if (bytes > static_cast<size_t>(max_shared_)) continue;
-        if (gpu::fused_clusters<Real>(bits, cx, cy, bytes) > 0) {
+        const int resident = gpu::fused_clusters<Real>(bits, cx, cy, bytes);
+        if (resident > 0) {
+          resident_clusters_ = resident;
           fused_tile_bits_ = bits;
           cluster_x_ = cx;
           cluster_y_ = cy;
@@ -449,6 +462,10 @@ class Backend : public DeviceBackend {
     gpu::FusedArgs<Real> f{};
     f.corners = corners_.get();
     f.vertex_begin = vertex_begin_all_.get();
+    for (int c = 0; c <= std::min(num_cavities_, gpu::FusedArgs<Real>::kInlineCavities); ++c) {
+      f.inline_vertex_begin[c] = vertex_begin_[c];
+      f.inline_triangle_begin[c] = triangle_begin_[c];
+    }
     f.orientation = orientation_.get();
     f.tiles_per_side = (options_.grid + (1 << fused_tile_bits_) - 1) >> fused_tile_bits_;
     f.cluster_x = cluster_x_;
@@ -496,9 +513,9 @@ class Backend : public DeviceBackend {
       if (again) {
         if (!choose_fused_tile()) {
           if (options_.kernel != Kernel::automatic) {
-            throw DeviceError("cuda: a column crosses the surface " +
-                              std::to_string(s.max_column_hits) +
-                              " times: too many hits for the fused kernel's shared memory");
+            throw DeviceError("cuda: a tile's triangles (" + std::to_string(s.max_tile_count) +
+                              ") or a column's hits (" + std::to_string(s.max_column_hits) +
+                              ") do not fit the fused kernel's shared memory (use tiled)");
           }
           // Automatic: the tiled kernel takes over.
           kernel_ = Kernel::tiled;
@@ -637,8 +654,8 @@ class Backend : public DeviceBackend {
   static constexpr double kAutomaticMaxWork = 2e5;
   int fused_tile_bits_ = 4, fused_preferred_bits_ = 0, fused_column_capacity_ = 4,
       item_capacity_ = 512, max_vertices_ = 0, parity_ = 0, cluster_x_ = 1, cluster_y_ = 1,
-      slice_vertices_ = 1;
-  std::vector<int> host_orientation_;
+      slice_vertices_ = 1, resident_clusters_ = 0;
+  std::vector<int> host_orientation_, triangle_begin_;
   DeviceArray<unsigned long long> corners_;
   DeviceArray<int> vertex_begin_all_, orientation_;
   DeviceArray<gpu::CavityState> states2_;

@@ -155,13 +155,17 @@ struct FusedArgs {
   const unsigned long long* corners;  // per triangle: its corners' indices in the cavity, 21
                                       // bits each
   const int* vertex_begin;            // first vertex of each cavity, and the total
-  const int* orientation;             // per cavity, +1 or -1: the sign assumed for Step 2
-  int tiles_per_side;                 // tiles along a side of a cavity's grid
-  int cluster_x, cluster_y;           // tiles of a thread-block cluster (the grid is padded to
-                                      // whole clusters)
-  int slice_vertices;                 // vertices each block of a cluster snaps
-  int item_capacity;                  // triangles a tile keeps
-  Real* next_out;                     // the next call's accumulators, cleared by this one
+  // The same ranges for the first kInlineCavities cavities (and those of their triangles),
+  // in the kernel's parameters: no load before the first loads.
+  static constexpr int kInlineCavities = 16;
+  int inline_vertex_begin[kInlineCavities + 1], inline_triangle_begin[kInlineCavities + 1];
+  const int* orientation;    // per cavity, +1 or -1: the sign assumed for Step 2
+  int tiles_per_side;        // tiles along a side of a cavity's grid
+  int cluster_x, cluster_y;  // tiles of a thread-block cluster (the grid is padded to
+                             // whole clusters)
+  int slice_vertices;        // vertices each block of a cluster snaps
+  int item_capacity;         // triangles a tile keeps
+  Real* next_out;            // the next call's accumulators, cleared by this one
   int next_out_count;
   CavityState* next_cavities;
   Status* next_status;

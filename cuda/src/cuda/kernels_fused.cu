@@ -143,21 +143,20 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
   int* s_tag = reinterpret_cast<int*>(dynamic + layout.hit_tag);
   int* s_count = reinterpret_cast<int*>(dynamic + layout.hit_count);
 
-  const int v0 = f.vertex_begin[cavity], num_vertices = f.vertex_begin[cavity + 1] - v0;
-  const int t0 = b.cavity_triangle_begin[cavity];
-  const int num_triangles = b.cavity_triangle_begin[cavity + 1] - t0;
+  const bool inline_ranges = cavity < FusedArgs<Real>::kInlineCavities;
+  const int v0 = inline_ranges ? f.inline_vertex_begin[cavity] : f.vertex_begin[cavity];
+  const int num_vertices =
+      (inline_ranges ? f.inline_vertex_begin[cavity + 1] : f.vertex_begin[cavity + 1]) - v0;
+  const int t0 = inline_ranges ? f.inline_triangle_begin[cavity] : b.cavity_triangle_begin[cavity];
+  const int num_triangles =
+      (inline_ranges ? f.inline_triangle_begin[cavity + 1] : b.cavity_triangle_begin[cavity + 1]) -
+      t0;
   // This block's vertices (slice of the table) and triangles (Step 2), by its rank.
   const int vs0 = min(rank * slice, num_vertices), vs1 = min(vs0 + slice, num_vertices);
   const int ts0 = static_cast<int>(static_cast<long long>(num_triangles) * rank / ranks);
   const int ts1 = static_cast<int>(static_cast<long long>(num_triangles) * (rank + 1) / ranks);
 
-  // This block's slice of the signed volume (relative to the cavity's first vertex).
-  const int vol0 = static_cast<int>(static_cast<long long>(num_triangles) * block / blocks);
-  const int vol1 = static_cast<int>(static_cast<long long>(num_triangles) * (block + 1) / blocks);
-
   // Loads that depend on nothing, issued first: this thread's first vertex and triangles.
-  const unsigned long long packed_volume =
-      vol0 + tid < vol1 ? __ldg(&f.corners[t0 + vol0 + tid]) : 0ull;
   const bool own_vertex = vs0 + tid < vs1;
   const Vec3 p = load_vec3(b.xyz, v0 + (own_vertex ? vs0 + tid : 0));
   const bool own_triangle = ts0 + tid < ts1;
@@ -165,6 +164,10 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
   const Vec3 origin = load_vec3(b.xyz, v0);
 
   if (b.diagnostic_phases & 8) return;  // diagnostic: the launch alone
+  if (b.diagnostic_phases & 64) {       // diagnostic: the cost of 10 cluster barriers
+    for (int k = 0; k < 10; ++k) cluster.sync();
+    return;
+  }
   // The next call's accumulators.
   {
     const int stride = blocks * gridDim.z * kThreads;
@@ -213,15 +216,10 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
     if (lane < 6) part_box[lane] = box[lane];  // lanes hold the same box after the xor tree
   }
   if (tid == 0) kept_count = 0;
-  // This block's slice of the signed volume, while the other blocks reach the barrier.
+  // The signed volume (relative to the cavity's first vertex) is summed by the blocks of the
+  // cavity's first cluster, each over its slice of the triangles (Step 2 below).
+  const bool volume_cluster = tx < f.cluster_x && ty < f.cluster_y;
   double volume6 = 0.0;
-  for (int t = vol0 + tid; t < vol1; t += kThreads) {
-    int c[3];
-    unpack_corners(t == vol0 + tid ? packed_volume : f.corners[t0 + t], c);
-    const Vec3 a = load_vec3(b.xyz, v0 + c[0]), q = load_vec3(b.xyz, v0 + c[1]),
-               r = load_vec3(b.xyz, v0 + c[2]);
-    volume6 += signed_volume6(a, q, r, origin);
-  }
   cluster.sync();
   if (b.diagnostic_phases & 16) {  // diagnostic: up to the first barrier of the cluster
     if (volume6 == 12345.0) b.out[0] = 0;
@@ -274,12 +272,24 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
 
   // Step 2 for this block's slice of the triangles; each goes to the items of the cluster's
   // tiles that its box meets.
-  if (!grid.empty && !(b.diagnostic_phases & 4)) {
+  if (!(b.diagnostic_phases & 4)) {
     const int ctx1 = min(cx0 + f.cluster_x, f.tiles_per_side) - 1;
     const int cty1 = min(cy0 + f.cluster_y, f.tiles_per_side) - 1;
     for (int t = ts0 + tid; t < ts1; t += kThreads) {
       int c[3];
       unpack_corners(t == ts0 + tid ? packed : __ldg(&f.corners[t0 + t]), c);
+      // The volume's positions are loaded first and used last: their latency overlaps the
+      // reads of the vertex table.
+      Vec3 pa{}, pb{}, pc{};
+      if (volume_cluster) {
+        pa = load_vec3(b.xyz, v0 + c[0]);
+        pb = load_vec3(b.xyz, v0 + c[1]);
+        pc = load_vec3(b.xyz, v0 + c[2]);
+      }
+      if (grid.empty) {
+        if (volume_cluster) volume6 += signed_volume6(pa, pb, pc, origin);
+        continue;
+      }
       int sx[3], sy[3];
       Real z[3];
       for (int k = 0; k < 3; ++k) {
@@ -289,6 +299,7 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
         sx[k] = q.x;
         sy[k] = q.y;
       }
+      if (volume_cluster) volume6 += signed_volume6(pa, pb, pc, origin);
       SnappedTriangle st;
       if (!setup_triangle(sx, sy, grid.orientation, grid.n, sub_bits, &st)) continue;
       const int x0 = max(st.i0 >> kTileBits, cx0), x1 = min(st.i1 >> kTileBits, ctx1);
