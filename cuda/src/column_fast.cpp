@@ -510,10 +510,21 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
       const int* v = cavity.triangles + 3 * t;
       const SnappedVertex &a = m.vertices[v[0]], &b = m.vertices[v[1]], &c = m.vertices[v[2]];
       const int x[3] = {a.x, b.x, c.x}, y[3] = {a.y, b.y, c.y};
+      // Most triangles cover no column at coarse grids: a box test first, then the setup.
+      const int half = 1 << (s - 1);
+      const int xmin = std::min({a.x, b.x, c.x}), xmax = std::max({a.x, b.x, c.x});
+      const int ymin = std::min({a.y, b.y, c.y}), ymax = std::max({a.y, b.y, c.y});
+      m.row0[t] = -1;
+      if (((xmax - half) >> s) < -((half - xmin) >> s) ||
+          ((ymax - half) >> s) < -((half - ymin) >> s)) {
+        continue;
+      }
       SnappedTriangle tri{};
-      const bool has_columns = setup_triangle(x, y, grid.orientation, n, s, &tri) &&
-                               tri.i0 <= tri.i1 && tri.j0 <= tri.j1;
-      m.row0[t] = has_columns ? tri.j0 : -1;
+      if (!setup_triangle(x, y, grid.orientation, n, s, &tri) || tri.i0 > tri.i1 ||
+          tri.j0 > tri.j1) {
+        continue;
+      }
+      m.row0[t] = tri.j0;
       unsigned f = (tri.bottom ? 8u : 0u) | (tri.corner[1] == 2 ? 16u : 0u);
       for (int k = 0; k < 3; ++k) f |= static_cast<unsigned>(tri.e_min[k]) << k;
       m.flags[t] = f;
