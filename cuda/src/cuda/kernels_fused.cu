@@ -168,20 +168,6 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
     for (int k = 0; k < 10; ++k) cluster.sync();
     return;
   }
-  // The next call's accumulators.
-  {
-    const int stride = blocks * gridDim.z * kThreads;
-    const int first = (cavity * blocks + block) * kThreads + tid;
-    for (int k = first; k < f.next_out_count; k += stride) f.next_out[k] = 0;
-    for (int k = first; k < b.num_cavities * kStripes; k += stride) {
-      CavityState& s = f.next_cavities[k / kStripes];
-      s.sum_heights[k % kStripes] = 0.0;
-      s.unmatched[k % kStripes] = 0;
-      s.volume6[k % kStripes] = 0.0;
-    }
-    if (first == 0) *f.next_status = Status{0, 0, {0, 0}};
-  }
-
   // Step 1: the box of this block's vertices, then of the cluster's (all of them).
   double box[6] = {INFINITY, -INFINITY, INFINITY, -INFINITY, INFINITY, -INFINITY};
   for (int v = vs0 + tid; v < vs1; v += kThreads) {
@@ -220,7 +206,24 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
   // cavity's first cluster, each over its slice of the triangles (Step 2 below).
   const bool volume_cluster = tx < f.cluster_x && ty < f.cluster_y;
   double volume6 = 0.0;
-  cluster.sync();
+  // The cluster's barrier is split: the clearing of the next call's accumulators runs while
+  // the other blocks arrive.
+  cluster.barrier_arrive();
+  // The next call's accumulators.
+  {
+    const int stride = blocks * gridDim.z * kThreads;
+    const int first = (cavity * blocks + block) * kThreads + tid;
+    for (int k = first; k < f.next_out_count; k += stride) f.next_out[k] = 0;
+    for (int k = first; k < b.num_cavities * kStripes; k += stride) {
+      CavityState& s = f.next_cavities[k / kStripes];
+      s.sum_heights[k % kStripes] = 0.0;
+      s.unmatched[k % kStripes] = 0;
+      s.volume6[k % kStripes] = 0.0;
+    }
+    if (first == 0) *f.next_status = Status{0, 0, {0, 0}};
+  }
+
+  cluster.barrier_wait();
   if (b.diagnostic_phases & 16) {  // diagnostic: up to the first barrier of the cluster
     if (volume6 == 12345.0) b.out[0] = 0;
     return;
@@ -263,8 +266,9 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
       table_z[v - vs0] = static_cast<Real>(dot_rn(q, b.frame.up) - grid.u0);
     }
   }
+  cluster.barrier_arrive();
   s_count[tid] = 0;
-  cluster.sync();
+  cluster.barrier_wait();
   if (b.diagnostic_phases & 32) {  // diagnostic: up to the vertex table
     if (volume6 == 12345.0) b.out[0] = 0;
     return;
