@@ -353,12 +353,13 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
       const int k = first + tid;
       int count = 0, ci = 0, cj = 0, width = 0, flags = 0;
       int x[3] = {0, 0, 0}, y[3] = {0, 0, 0};
-      Real z0 = 0, dzi = 0, dzj = 0;
+      Real z[3] = {0, 0, 0};
       if (k < kept) {
         const Item<Real>& t = items[k];
         for (int q = 0; q < 3; ++q) {
           x[q] = t.x[q];
           y[q] = t.y[q];
+          z[q] = t.z[q];
         }
         flags = t.flags;
         // The box's columns, as setup_triangle found them (the grid clamps nothing inside the
@@ -369,30 +370,17 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
         cj = max(-((half - ymin) >> sub_bits), tj0);
         width = min((xmax - half) >> sub_bits, ti1) - ci + 1;
         const int height = min((ymax - half) >> sub_bits, tj1) - cj + 1;
-        if (width > 0 && height > 0) {
-          count = width * height;
-          const Real z[3] = {t.z[0], t.z[1], t.z[2]};
-          height_plane(x, y, z, ci, cj, sub_bits, z0, dzi, dzj);
-        }
+        if (width > 0 && height > 0) count = width * height;
       }
       int offset, total;
       Scan(scan_storage).ExclusiveSum(count, offset, total);
-      for (int q = 0; q < 3; ++q) {
-        stage.x[q][tid] = x[q];
-        stage.y[q][tid] = y[q];
-      }
-      stage.flags[tid] = flags;
-      stage.ci[tid] = ci;
-      stage.cj[tid] = cj;
-      stage.width[tid] = width;
+      stage_entry<Real, TILE>(stage, tid, x, y, z, flags, k, ci, cj, count > 0 ? width : 0, ti0,
+                              tj0, sub_bits, 0);
       stage.offset[tid] = offset;
       if (tid == 0) stage.offset[kThreads] = total;
-      stage.z0[tid] = z0;
-      stage.dzi[tid] = dzi;
-      stage.dzj[tid] = dzj;
       __syncthreads();
-      raster_share<Real, TILE>(stage, kThreads, (b.diagnostic_phases & 1) ? total : 0, first, ti0,
-                               tj0, sub_bits, s_z, s_tag, s_count, capacity);
+      raster_round<Real, TILE>(stage, kThreads, (b.diagnostic_phases & 1) ? total : 0, s_z, s_tag,
+                               s_count, capacity);
       __syncthreads();  // the stage and the scan storage are free again
     }
   }

@@ -3,12 +3,12 @@
 // The setup kernel has listed, for each tile, the triangles whose box meets it (triangles over
 // very many tiles sit in one list that every tile reads). A block takes its tile's triangles a
 // round of TILE^2 at a time: each triangle's candidates are the columns of its box inside the
-// tile; an exclusive scan of their counts lays all candidates of the round end to end, and each
-// thread tests an equal, contiguous share of them, finding its first triangle by binary search
-// (a load-balanced search). So a triangle covering the whole tile and one covering a single
-// column cost the same per candidate, whatever the mix: the balance the leveraging kernel gets
-// from its average c, here exact per tile. Hits go to per-column slots in shared memory; then
-// each thread resolves one column (Step 5) and only the nodal weights leave the chip.
+// tile; an exclusive scan of their counts lays all candidates of the round end to end, and the
+// block's warps take them 32 at a time, one a lane (tile_raster.cuh). So a triangle covering
+// the whole tile and one covering a single column cost the same per candidate, whatever the
+// mix: the balance the leveraging kernel gets from its average c, here exact per tile. Hits go
+// to per-column slots in shared memory; then each thread resolves one column (Step 5) and only
+// the nodal weights leave the chip.
 #include <algorithm>
 #include <cub/block/block_reduce.cuh>
 #include <cub/block/block_scan.cuh>
@@ -19,15 +19,17 @@
 namespace fluidweight::detail::gpu {
 namespace {
 
-// A round's triangles, staged in shared memory for the raster (tile_raster.cuh), with the
-// vertices and triangle indices that Step 5 needs for the last round's floors.
+// A round's triangles, staged in shared memory for the raster (tile_raster.cuh), with what
+// Step 5 needs of the last round's floors: corner 0 (x in the raster stage's spare word of
+// dy, y here; the other corners follow from the edge vectors) and the vertices.
 template <typename Real, int N>
 struct Staged {
   RasterStage<Real, N> r;
-  int vertex[3][N], tri[N];
+  int y0[N], vertex[3][N];
 };
 
 // Floors for Step 5: the last round's triangles from shared memory, earlier ones from global.
+// The key that the warp's lanes match on is the item (unique in the tile) in both cases.
 template <typename Real, int N>
 struct TileFloors {
   const Batch<Real>& b;
@@ -37,17 +39,21 @@ struct TileFloors {
   __device__ FloorAtColumn operator()(int item, int px, int py) const {
     if (item < staged_first) {
       int tri = item < listed ? list[item] : b.big_list[item - listed];
-      return GlobalFloors<Real>{b}(tri, px, py);
+      FloorAtColumn f = GlobalFloors<Real>{b}(tri, px, py);
+      f.key = item;
+      return f;
     }
     const int k = item - staged_first;
     FloorAtColumn f;
-    f.key = s.tri[k];
+    f.key = item;
     for (int c = 0; c < 3; ++c) f.vertex[c] = s.vertex[c][k];
-    const auto& x = s.r.x;
-    const auto& y = s.r.y;
-    f.e[0] = edge_function(x[1][k], y[1][k], x[2][k], y[2][k], px, py);
-    f.e[1] = edge_function(x[2][k], y[2][k], x[0][k], y[0][k], px, py);
-    f.e[2] = edge_function(x[0][k], y[0][k], x[1][k], y[1][k], px, py);
+    const int4 dx = s.r.dx[k], dy = s.r.dy[k];
+    // Corner 1 = corner 0 + edge 2's vector, corner 2 = corner 1 + edge 0's.
+    const int x0 = dy.w, y0 = s.y0[k];
+    const int x1 = x0 + dx.z, y1 = y0 + dy.z, x2 = x1 + dx.x, y2 = y1 + dy.x;
+    f.e[0] = edge_function(x1, y1, x2, y2, px, py);
+    f.e[1] = edge_function(x2, y2, x0, y0, px, py);
+    f.e[2] = edge_function(x0, y0, x1, y1, px, py);
     return f;
   }
 };
@@ -112,34 +118,19 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
     Scan(storage.scan).ExclusiveSum(count, offset, total);
     const int k = threadIdx.x;
     {
-      // The height plane at the first candidate and its steps, once per triangle, so that a
-      // thread entering the triangle needs no division.
-      Real z0 = 0, zi = 0, zj = 0;
-      if (count > 0) {
-        const Real z[3] = {t.z[0], t.z[1], t.z[2]};
-        height_plane(t.x, t.y, z, ci, cj, sub_bits, z0, zi, zj);
-      }
-      s.r.z0[k] = z0;
-      s.r.dzi[k] = zi;
-      s.r.dzj[k] = zj;
+      const Real z[3] = {t.z[0], t.z[1], t.z[2]};
+      stage_entry<Real, TILE>(s.r, k, t.x, t.y, z, t.flags, first + k, ci, cj,
+                              count > 0 ? width : 0, ti0, tj0, sub_bits, t.x[0]);
     }
-    for (int c = 0; c < 3; ++c) {
-      s.r.x[c][k] = t.x[c];
-      s.r.y[c][k] = t.y[c];
-      s.vertex[c][k] = t.vertex[c];
-    }
-    s.r.flags[k] = t.flags;
-    s.tri[k] = tri;
-    s.r.ci[k] = ci;
-    s.r.cj[k] = cj;
-    s.r.width[k] = width;
+    s.y0[k] = t.y[0];
+    for (int c = 0; c < 3; ++c) s.vertex[c][k] = t.vertex[c];
     s.r.offset[k] = offset;
     if (k == 0) s.r.offset[kThreads] = total;
     __syncthreads();
 
-    // Steps 3-4: an equal, contiguous share of the candidates per thread.
-    raster_share<Real, TILE>(s.r, kThreads, (b.diagnostic_phases & 1) ? total : 0, first, ti0, tj0,
-                             sub_bits, s_z, s_tag, s_count, capacity);
+    // Steps 3-4: the round's candidates dealt out to the warps, 32 at a time.
+    raster_round<Real, TILE>(s.r, kThreads, (b.diagnostic_phases & 1) ? total : 0, s_z, s_tag,
+                             s_count, capacity);
     if (first + kThreads >= items) break;
   }
   __syncthreads();
