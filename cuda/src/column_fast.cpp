@@ -1,37 +1,41 @@
-// Column method, CPU fast path: the same columns, pairs and weights as column_reference, by row
+// Column method, CPU fast path: the same columns, pairs and weights as column_reference, by
 // sweeps over bands of rows on worker threads.
 //
-// A band of rows keeps the triangles that cross the current row (an active list, as scanline
-// rasterizers do). A triangle is set up when it becomes active: its snapped edge functions at
-// its first column and their steps along a row and a column, its height plane. On each row it
-// finds its covered columns (exactly, with the fill rule) and drops one hit per column into
-// per-column buffers. The row's columns are then resolved: a floor and a ceiling (the usual
-// case) make one section; more hits are sorted and paired as in the reference. A section's
-// height goes into three moments of its floor triangle (sum h, sum h di, sum h dj, held in the
-// active entry); barycentric coordinates are linear in the column indices, so when the triangle
-// leaves the band its nodal weights follow from the moments.
+// Step 1 and Step 2 run over the vertices and triangles; the triangles with columns are then
+// sorted by first row (a counting sort). A band is swept row by row: the triangles whose first
+// row is the current one are rasterized (all their rows at once, into a ring of pending rows:
+// column_fast_rows.hpp), then the current row, which no later triangle reaches, is resolved:
+// its columns' floors and ceilings are sorted and paired, and each section's height goes into
+// three moments of its floor triangle (sum h, sum h di, sum h dj). Barycentric coordinates are
+// linear in the column indices, so each floor's nodal weights follow from its moments once, at
+// the end of the band.
 //
-// Layout, for one core (measured: bench/fluidweight/NOTES.md, CPU rows). The sweep touches, per
-// row, every active entry and every covered column, so both are kept small and dense: active
-// entries in one array (a retired one is replaced by the last), hits in planes of one value per
-// column (the first floor of every column side by side, then the second...), so that the usual
-// row touches a few kilobytes. Spans and hits are found and written without data-dependent
-// branches (bit masks, fixed chunks, a sorting network), which mispredicted a few times a row.
+// Layout, for one core (measured: bench/fluidweight/NOTES.md, CPU rows). Each triangle is set
+// up once and its rows are visited in one go, so nothing is kept or updated per row for it;
+// hits go into planes of one value per column (the first floor of every column side by side,
+// then the second...), written and resolved 8 columns at a time without data-dependent
+// branches (AVX-512 where the processor has it).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 
+#include "column_fast_rows.hpp"
 #include "cpu.hpp"
 #include "thread_pool.hpp"
 
 namespace fluidweight::detail {
 namespace {
 
-constexpr int kPlanes = 4;     // hits of each kind a column keeps in the row buffer; more spill
-constexpr int kPrefetch = 8;   // triangles whose vertices are asked for ahead of activation
-constexpr int kScanWidth = 8;  // boxes up to this wide test every column; wider ones divide
+using rows::FloorMoments;
+using rows::Raster;
+
+constexpr int kPrefetch = 8;        // triangles whose vertices are asked for ahead of their setup
+constexpr int kPrefetchAhead = 16;  // the same, in the passes of Steps 1 and 2 over the triangles
+constexpr int kMaxRingRows = 32;    // rows a triangle is rasterized at once, at most
+constexpr size_t kRingBytes = 4 << 20;  // and the ring's size, at most
 
 // A vertex after Step 1: snapped coordinates and height above the lowest vertex.
 struct SnappedVertex {
@@ -47,82 +51,24 @@ struct SortedTriangle {
   unsigned flags;  // bit k (0-2): e_min[k] = 1, the edge is neither top nor left; bit 3: a floor
 };
 
-// A triangle crossing the current row. E_k(i, j) = e[k] + di[k] (i - i0) + dj[k] (j - row) +
-// e_min[k]: the fill-rule thresholds are folded into e, so a centre is covered when all three
-// are >= 0.
-struct Active {
-  int64_t e[3], di[3], dj[3];
-  double z, dzi, dzj;     // height at (i0, current row) and its steps
-  double m0, mi, mj;      // sum h, sum h (i - i0), sum h (j - j_ref) over the sections it floors
-  int i0, i1, j1, j_ref;  // its columns, last row, and the row where it became active
-  int triangle;           // input index, of its record
-  bool bottom;
-};
-
-struct Spilled {
-  int column;
-  double z;
-  int index;
-};
-
-// Hits of the current row, of one kind (floors or ceilings), unsorted: the c-th hit of column i
-// is at c stride + i (planes, so that the first hits of a row's columns lie side by side), or
-// in `spill` beyond kPlanes.
-struct RowHits {
-  int stride = 0;
-  std::vector<int> count;
-  std::vector<double> z;
-  std::vector<int> index;  // of the active entry
-  std::vector<Spilled> spill;
-
-  void resize(int columns) {
-    stride = columns;
-    count.assign(stride, 0);
-    z.resize(static_cast<size_t>(stride) * kPlanes);
-    index.resize(static_cast<size_t>(stride) * kPlanes);
-    spill.clear();
-  }
-  // Column i's hits into z_out and index_out (count[i] of them), sorted by height.
-  void gather(int i, double* z_out, int* index_out) const {
-    const int m = count[i];
-    for (int c = 0; c < std::min(m, kPlanes); ++c) {
-      z_out[c] = z[static_cast<size_t>(c) * stride + i];
-      index_out[c] = index[static_cast<size_t>(c) * stride + i];
-    }
-    if (m > kPlanes) {
-      int c = kPlanes;
-      for (const Spilled& s : spill) {
-        if (s.column == i) {
-          z_out[c] = s.z;
-          index_out[c++] = s.index;
-        }
-      }
-    }
-    // Insertion sort: a column has a few hits.
-    for (int c = 1; c < m; ++c) {
-      const double zc = z_out[c];
-      const int ic = index_out[c];
-      int d = c;
-      for (; d > 0 && z_out[d - 1] > zc; --d) {
-        z_out[d] = z_out[d - 1];
-        index_out[d] = index_out[d - 1];
-      }
-      z_out[d] = zc;
-      index_out[d] = ic;
-    }
-  }
+// What a floor needs at the end to turn its moments into nodal weights: its edge functions at
+// its origin (twice the area times the barycentric coordinates there) and their steps.
+struct FloorSetup {
+  int64_t e[3];
+  int dx[3], dy[3];
+  int triangle;  // in `sorted`
 };
 
 // Buffers of one worker thread, kept between calls.
 struct Worker {
-  RowHits floors, ceilings;
-  std::vector<Active> active;  // the first `live` entries are the active triangles
-  int live = 0;
-  std::vector<double> weights;      // one per vertex
-  std::vector<double> column_z[2];  // a column's floors (0) or ceilings (1), sorted
-  std::vector<int> column_index[2];
-  double sum_heights = 0.0;
-  long long unmatched = 0;
+  rows::RowRing ring;
+  std::vector<FloorMoments> moments;  // per floor rasterized in the band
+  std::vector<FloorSetup> setups;
+  std::vector<std::vector<Raster>> pending;  // per ring slot: tall triangles going on there
+  std::vector<Raster> taken;
+  rows::ColumnScratch scratch;
+  std::vector<double> weights;  // one per vertex
+  rows::RowTotals totals;
 };
 
 void prefetch(const void* p) {
@@ -133,65 +79,38 @@ void prefetch(const void* p) {
 #endif
 }
 
-// Lowest and highest set bit of a non-zero mask.
-int lowest_bit(uint64_t m) {
-#if defined(__GNUC__)
-  return __builtin_ctzll(m);
-#else
-  int b = 0;
-  while (!((m >> b) & 1)) ++b;
-  return b;
+#if defined(FLUIDWEIGHT_AVX512)
+// The AVX-512 kernels unless the processor lacks them or FLUIDWEIGHT_CPU_SIMD=0 (for tests
+// and timing of the portable ones).
+bool use_avx512() {
+  const char* env = std::getenv("FLUIDWEIGHT_CPU_SIMD");
+  return !(env && std::strcmp(env, "0") == 0) && rows::avx512_available();
+}
 #endif
-}
-int highest_bit(uint64_t m) {
-#if defined(__GNUC__)
-  return 63 - __builtin_clzll(m);
-#else
-  int b = 63;
-  while (!((m >> b) & 1)) --b;
-  return b;
-#endif
-}
-
-// Sorts four heights (and their indices, when given) by a sorting network: compare-exchanges
-// without branches, whose outcome depends on the data.
-static_assert(kPlanes == 4, "sort4 sorts a column's planes");
-void sort4(double* z, int* index) {
-  auto exchange = [&](int a, int b) {
-    const bool swap = z[b] < z[a];
-    const double za = z[a], zb = z[b];
-    z[a] = swap ? zb : za;
-    z[b] = swap ? za : zb;
-    if (index) {
-      const int ia = index[a], ib = index[b];
-      index[a] = swap ? ib : ia;
-      index[b] = swap ? ia : ib;
-    }
-  };
-  exchange(0, 1);
-  exchange(2, 3);
-  exchange(0, 2);
-  exchange(1, 3);
-  exchange(1, 2);
-}
-
-// Floor division for the span bounds (b > 0).
-int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 }  // namespace
 
 struct FastColumn::Impl {
   explicit Impl(int threads)
-      : pool(threads), workers(pool.size()), automatic_threads(threads == 0) {}
+      : pool(threads), workers(pool.size()), automatic_threads(threads == 0) {
+#if defined(FLUIDWEIGHT_AVX512)
+    if (use_avx512()) {
+      raster = rows::raster_avx512;
+      resolve = rows::resolve_avx512;
+    }
+#endif
+  }
 
   void sweep_band(int band, Worker& w);
-  void activate(int t, int j, Worker& w);
-  void retire(const Active& a, int j, Worker& w);
-  void raster_row(const Active& a, int k, int& lo, int& hi, Worker& w);
-  void resolve_row(int j, int lo, int hi, Worker& w);
+  void start(int t, int j, int jb, Worker& w);
+  void raster_block(Raster& r, int jb, Worker& w);
+  void finish_floors(Worker& w);
 
   ThreadPool pool;
   std::vector<Worker> workers;
+  void (*raster)(Raster&, int, rows::RowRing&) = rows::raster_portable;
+  void (*resolve)(int, rows::RowRing&, FloorMoments*, rows::ColumnScratch&,
+                  rows::RowTotals&) = rows::resolve_portable;
   // The call's grid, and per vertex its snapped coordinates and height.
   GridParams grid;
   double rho_g = 0.0;
@@ -206,6 +125,7 @@ struct FastColumn::Impl {
   // reaching band b are carried[carried_start[b] .. carried_start[b + 1]).
   std::vector<int> carried_start, carried;
   int band_rows = 1, num_bands = 1;
+  int ring_rows = 1;       // rows a triangle is rasterized at once
   bool automatic_threads;  // threads = 0: all of them, but one for small problems
 };
 
@@ -213,213 +133,110 @@ FastColumn::FastColumn(int threads) : impl_(std::make_unique<Impl>(threads)) {}
 FastColumn::~FastColumn() = default;
 
 // Sets up triangle t on row j (its first row, or the first row of the band): its box as
-// setup_triangle finds it, its edge functions at (i0, j) and their steps, its height plane.
-void FastColumn::Impl::activate(int t, int j, Worker& w) {
+// setup_triangle finds it, its edge functions at (i0, j) and their steps, its height plane;
+// a floor gets a record for its moments. Then rasterizes it.
+void FastColumn::Impl::start(int t, int j, int jb, Worker& w) {
   const SortedTriangle& st = sorted[t];
-  struct {
-    int x[3], y[3];
-    double z[3];
-    unsigned flags;
-  } r;
+  int x[3], y[3];
+  double z[3];
   for (int k = 0; k < 3; ++k) {
     const SnappedVertex& p = vertices[st.vertex[k]];
-    r.x[k] = p.x;
-    r.y[k] = p.y;
-    r.z[k] = p.z;
+    x[k] = p.x;
+    y[k] = p.y;
+    z[k] = p.z;
   }
-  r.flags = st.flags;
-  if (w.live == static_cast<int>(w.active.size())) w.active.emplace_back();
-  Active& a = w.active[w.live++];
+  Raster r;
   const int s = grid.sub_bits, half = 1 << (s - 1);
-  const int xmin = std::min({r.x[0], r.x[1], r.x[2]}), xmax = std::max({r.x[0], r.x[1], r.x[2]});
-  a.i0 = std::max(0, -((half - xmin) >> s));
-  a.i1 = std::min(grid.n - 1, (xmax - half) >> s);
-  a.j1 = std::min(grid.n - 1, (std::max({r.y[0], r.y[1], r.y[2]}) - half) >> s);
-  a.j_ref = j;
-  a.triangle = t;
-  a.bottom = (r.flags >> 3) & 1;
-  const int px = column_centre(a.i0, s), py = column_centre(j, s);
+  const int xmin = std::min({x[0], x[1], x[2]}), xmax = std::max({x[0], x[1], x[2]});
+  r.i0 = std::max(0, -((half - xmin) >> s));
+  r.i1 = std::min(grid.n - 1, (xmax - half) >> s);
+  r.j1 = std::min(grid.n - 1, (std::max({y[0], y[1], y[2]}) - half) >> s);
+  r.row = j;
+  const int px = column_centre(r.i0, s), py = column_centre(j, s);
   const int64_t unit = int64_t{1} << s;
-  int64_t area2 = 0;
+  int64_t area2 = 0, e[3];
+  int dx[3], dy[3];
   double z0 = 0, dzi = 0, dzj = 0;
-  auto edge = [&](int k, int p, int q) {  // edge k goes from corner p to corner q
-    const int64_t dx = r.x[q] - r.x[p], dy = r.y[q] - r.y[p];
-    const int64_t e = dx * (py - r.y[p]) - dy * (px - r.x[p]);
-    a.e[k] = e - ((r.flags >> k) & 1);
-    a.di[k] = -dy * unit;
-    a.dj[k] = dx * unit;
-    area2 += e;
-    z0 += static_cast<double>(e) * r.z[k];
-    dzi += static_cast<double>(a.di[k]) * r.z[k];
-    dzj += static_cast<double>(a.dj[k]) * r.z[k];
-  };
-  edge(0, 1, 2);
-  edge(1, 2, 0);
-  edge(2, 0, 1);
+  for (int k = 0; k < 3; ++k) {  // edge k goes from corner k + 1 to corner k + 2
+    const int p = k == 2 ? 0 : k + 1, q = k == 0 ? 2 : k - 1;
+    dx[k] = x[q] - x[p];
+    dy[k] = y[q] - y[p];
+    e[k] = int64_t{dx[k]} * (py - y[p]) - int64_t{dy[k]} * (px - x[p]);
+    r.e[k] = e[k] - ((st.flags >> k) & 1);
+    r.di[k] = -dy[k] * unit;
+    r.dj[k] = dx[k] * unit;
+    area2 += e[k];
+    z0 += static_cast<double>(e[k]) * z[k];
+    dzi += static_cast<double>(r.di[k]) * z[k];
+    dzj += static_cast<double>(r.dj[k]) * z[k];
+  }
   const double inv = 1.0 / static_cast<double>(area2);  // the edge functions sum to 2 area
-  a.z = z0 * inv;
-  a.dzi = dzi * inv;
-  a.dzj = dzj * inv;
-  a.m0 = a.mi = a.mj = 0.0;
+  r.z = z0 * inv;
+  r.dzi = dzi * inv;
+  r.dzj = dzj * inv;
+  r.floor = -1;
+  if ((st.flags >> 3) & 1) {
+    r.floor = static_cast<int>(w.moments.size());
+    w.moments.push_back({0.0, 0.0, 0.0, r.i0, j});
+    w.setups.push_back({{e[0], e[1], e[2]}, {dx[0], dx[1], dx[2]}, {dy[0], dy[1], dy[2]}, t});
+  }
+  raster_block(r, jb, w);
 }
 
-// Gives a floor's sections to its nodes; j is the row its edge functions are at. The edge
-// functions at (i0, j_ref) are those of barycentric coordinates times twice the area, which
-// is their sum at any point.
-void FastColumn::Impl::retire(const Active& a, int j, Worker& w) {
-  if (!a.bottom || a.m0 == 0.0) return;
-  const SortedTriangle& r = sorted[a.triangle];
-  int64_t e_ref[3], area2 = 0;
-  for (int k = 0; k < 3; ++k) {
-    e_ref[k] = a.e[k] + ((r.flags >> k) & 1) - a.dj[k] * (j - a.j_ref);
-    area2 += e_ref[k];
-  }
-  const double scale = rho_g * grid.cell_area / static_cast<double>(area2);
-  for (int k = 0; k < 3; ++k) {
-    w.weights[r.vertex[k]] +=
-        scale * (static_cast<double>(e_ref[k]) * a.m0 + static_cast<double>(a.di[k]) * a.mi +
-                 static_cast<double>(a.dj[k]) * a.mj);
-  }
+// Rasterizes the rows of r from r.row that the ring holds, up to the band's end; a triangle
+// with rows left goes on when the sweep reaches them.
+void FastColumn::Impl::raster_block(Raster& r, int jb, Worker& w) {
+  const int last = std::min({r.j1, r.row + ring_rows - 1, jb - 1});
+  raster(r, last - r.row + 1, w.ring);
+  if (r.row <= r.j1 && r.row < jb) w.pending[r.row & (ring_rows - 1)].push_back(r);
 }
 
-// Drops the hits of active entry k on the current row.
-void FastColumn::Impl::raster_row(const Active& a, int k, int& lo, int& hi, Worker& w) {
-  RowHits& hits = a.bottom ? w.floors : w.ceilings;
-  int* count = hits.count.data();
-  double* zs = hits.z.data();
-  int* index = hits.index.data();
-  const size_t stride = hits.stride;
-  int first, last;
-  if (a.i1 - a.i0 < kScanWidth) {
-    // Narrow box: its kScanWidth columns tested without branches, as a bit mask. A centre is
-    // covered when its edge functions are all >= 0, i.e. when their bitwise or is not
-    // negative; the covered columns of a row are contiguous. Measured against a scan for the
-    // span ends (mispredicted exits) and against the divisions below (armadillo 1000^2: boxes
-    // ~7 columns wide), and against masks of up to 64 columns (slower on wider boxes).
-    const int64_t di0 = a.di[0], di1 = a.di[1], di2 = a.di[2];
-    int64_t e0 = a.e[0], e1 = a.e[1], e2 = a.e[2];
-    uint64_t mask = 0;
-    for (int u = 0; u < kScanWidth; ++u) {
-      mask |= (static_cast<uint64_t>(~(e0 | e1 | e2)) >> 63) << u;
-      e0 += di0;
-      e1 += di1;
-      e2 += di2;
-    }
-    if (mask == 0) return;
-    first = a.i0 + lowest_bit(mask);
-    last = a.i0 + highest_bit(mask);
-  } else {
-    // Wide boxes: the span edge by edge, E_k(i) = e[k] + di[k] (i - i0) >= 0.
-    first = a.i0;
-    last = a.i1;
-    for (int q = 0; q < 3 && first <= last; ++q) {
-      if (a.di[q] > 0) {
-        if (a.e[q] < 0) first = std::max<int64_t>(first, a.i0 - floor_div(a.e[q], a.di[q]));
-      } else if (a.di[q] < 0) {
-        last = std::min<int64_t>(last, a.i0 + floor_div(a.e[q], -a.di[q]));
-      } else if (a.e[q] < 0) {
-        last = first - 1;
-      }
-    }
-    if (first > last) return;
-  }
-  double zi = a.z + a.dzi * (first - a.i0);
-  for (int i = first; i <= last; ++i, zi += a.dzi) {
-    const int n = count[i]++;
-    if (n < kPlanes) {
-      zs[n * stride + i] = zi;
-      index[n * stride + i] = k;
-    } else {
-      hits.spill.push_back({i, zi, k});
+// Gives each floor's sections to its nodes: the edge functions at (i0 + di, j0 + dj) are
+// e + di (i step) + dj (j step), barycentric coordinates times twice the area.
+void FastColumn::Impl::finish_floors(Worker& w) {
+  const int64_t unit = int64_t{1} << grid.sub_bits;
+  for (size_t f = 0; f < w.moments.size(); ++f) {
+    const FloorMoments& m = w.moments[f];
+    if (m.m0 == 0.0 && m.mi == 0.0 && m.mj == 0.0) continue;
+    const FloorSetup& st = w.setups[f];
+    const double scale = rho_g * grid.cell_area / static_cast<double>(st.e[0] + st.e[1] + st.e[2]);
+    const int* v = sorted[st.triangle].vertex;
+    for (int k = 0; k < 3; ++k) {
+      w.weights[v[k]] += scale * (static_cast<double>(st.e[k]) * m.m0 -
+                                  static_cast<double>(st.dy[k] * unit) * m.mi +
+                                  static_cast<double>(st.dx[k] * unit) * m.mj);
     }
   }
-  lo = std::min(lo, first);
-  hi = std::max(hi, last);
+  w.moments.clear();
+  w.setups.clear();
 }
 
 void FastColumn::Impl::sweep_band(int band, Worker& w) {
   const int ja = band * band_rows, jb = std::min(grid.n, ja + band_rows);
-  w.live = 0;
-  for (int c = carried_start[band]; c < carried_start[band + 1]; ++c) activate(carried[c], ja, w);
   for (int j = ja; j < jb; ++j) {
+    // Triangles going on at row j first: those started below queue for row j + ring_rows, in
+    // the same slot.
+    std::vector<Raster>& going_on = w.pending[j & (ring_rows - 1)];
+    if (!going_on.empty()) {
+      w.taken.swap(going_on);
+      for (Raster& r : w.taken) raster_block(r, jb, w);
+      w.taken.clear();
+    }
+    if (j == ja) {
+      for (int c = carried_start[band]; c < carried_start[band + 1]; ++c) {
+        start(carried[c], ja, jb, w);
+      }
+    }
     for (int c = row_start[j]; c < row_start[j + 1]; ++c) {
       // Vertices are read at random in memory: ask for them ahead.
       if (c + kPrefetch < static_cast<int>(sorted.size())) {
         for (int v : sorted[c + kPrefetch].vertex) prefetch(&vertices[v]);
       }
-      activate(c, j, w);
+      start(c, j, jb, w);
     }
-    int lo = grid.n, hi = -1;
-    for (int k = 0; k < w.live;) {
-      Active& a = w.active[k];
-      if (a.j1 < j) {
-        retire(a, j, w);
-        a = w.active[--w.live];
-        continue;
-      }
-      raster_row(a, k, lo, hi, w);
-      for (int q = 0; q < 3; ++q) a.e[q] += a.dj[q];
-      a.z += a.dzj;
-      ++k;
-    }
-    resolve_row(j, lo, hi, w);
+    resolve(j, w.ring, w.moments.data(), w.scratch, w.totals);
   }
-  for (int k = 0; k < w.live; ++k) retire(w.active[k], jb, w);
-  w.live = 0;
-}
-
-void FastColumn::Impl::resolve_row(int j, int lo, int hi, Worker& w) {
-  auto add_section = [&](int k, double h, int i) {
-    Active& a = w.active[k];
-    a.m0 += h;
-    a.mi += h * (i - a.i0);
-    a.mj += h * (j - a.j_ref);
-    w.sum_heights += h;
-  };
-  RowHits &floors = w.floors, &ceilings = w.ceilings;
-  for (int i = lo; i <= hi; ++i) {
-    const int nf = floors.count[i], nc = ceilings.count[i];
-    if (nf == 1 && nc == 1) {  // the usual column: one section
-      floors.count[i] = ceilings.count[i] = 0;
-      add_section(floors.index[i], ceilings.z[i] - floors.z[i], i);
-      continue;
-    }
-    if (nf == 0 && nc == 0) continue;
-    if (nf != nc) ++w.unmatched;
-    // The k-th lowest floor pairs with the k-th lowest ceiling.
-    if (nf <= kPlanes && nc <= kPlanes) {
-      // A few hits: padded to kPlanes with infinite heights and sorted by a fixed network.
-      const double inf = std::numeric_limits<double>::infinity();
-      double fz[kPlanes], cz[kPlanes];
-      int fk[kPlanes];
-      for (int c = 0; c < kPlanes; ++c) {
-        const size_t at = static_cast<size_t>(c) * floors.stride + i;
-        fz[c] = c < nf ? floors.z[at] : inf;
-        fk[c] = floors.index[at];
-        cz[c] = c < nc ? ceilings.z[at] : inf;
-      }
-      sort4(fz, fk);
-      sort4(cz, nullptr);
-      floors.count[i] = ceilings.count[i] = 0;
-      for (int k = 0; k < std::min(nf, nc); ++k) add_section(fk[k], cz[k] - fz[k], i);
-      continue;
-    }
-    for (int kind = 0; kind < 2; ++kind) {
-      const int m = std::max(nf, nc);
-      if (static_cast<int>(w.column_z[kind].size()) < m) {
-        w.column_z[kind].resize(m);
-        w.column_index[kind].resize(m);
-      }
-      (kind == 0 ? floors : ceilings)
-          .gather(i, w.column_z[kind].data(), w.column_index[kind].data());
-    }
-    floors.count[i] = ceilings.count[i] = 0;
-    const double *fz = w.column_z[0].data(), *cz = w.column_z[1].data();
-    const int* fk = w.column_index[0].data();
-    for (int k = 0; k < std::min(nf, nc); ++k) add_section(fk[k], cz[k] - fz[k], i);
-  }
-  floors.spill.clear();
-  ceilings.spill.clear();
+  finish_floors(w);
 }
 
 void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double rho_g,
@@ -465,6 +282,10 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     slice(nt, index, begin, end);
     Vec3 o = load_vec3(cavity.xyz, 0);
     for (int t = begin; t < end; ++t) {
+      if (t + kPrefetchAhead < end) {
+        for (int k = 0; k < 3; ++k)
+          prefetch(cavity.xyz + 3 * cavity.triangles[3 * (t + kPrefetchAhead) + k]);
+      }
       const int* v = cavity.triangles + 3 * t;
       Vec3 a = load_vec3(cavity.xyz, v[0]), b = load_vec3(cavity.xyz, v[1]),
            c = load_vec3(cavity.xyz, v[2]);
@@ -503,32 +324,48 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   // Step 2 per triangle, in input order: its first row (or none) and flags.
   m.row0.resize(nt);
   m.flags.resize(nt);
+  std::vector<int> tallest(threads, 1);  // rows of the tallest box
   parallel([&](int index) {
     int begin, end;
     slice(nt, index, begin, end);
+    int tall = 1;
     for (int t = begin; t < end; ++t) {
+      // setup_triangle's box, orientation and fill-rule thresholds without branches: floors and
+      // ceilings, flipped or not, come in random order and mispredicted a few times a triangle.
+      // Meshes may list their vertices in any order: those of later triangles are asked for
+      // ahead.
+      if (t + kPrefetchAhead < end) {
+        for (int k = 0; k < 3; ++k)
+          prefetch(&m.vertices[cavity.triangles[3 * (t + kPrefetchAhead) + k]]);
+      }
       const int* v = cavity.triangles + 3 * t;
       const SnappedVertex &a = m.vertices[v[0]], &b = m.vertices[v[1]], &c = m.vertices[v[2]];
-      const int x[3] = {a.x, b.x, c.x}, y[3] = {a.y, b.y, c.y};
-      // Most triangles cover no column at coarse grids: a box test first, then the setup.
       const int half = 1 << (s - 1);
       const int xmin = std::min({a.x, b.x, c.x}), xmax = std::max({a.x, b.x, c.x});
       const int ymin = std::min({a.y, b.y, c.y}), ymax = std::max({a.y, b.y, c.y});
-      m.row0[t] = -1;
-      if (((xmax - half) >> s) < -((half - xmin) >> s) ||
-          ((ymax - half) >> s) < -((half - ymin) >> s)) {
-        continue;
+      // Snapped coordinates lie in [0, N 2^s]: the box needs no clamping to the grid.
+      const int i0 = -((half - xmin) >> s), i1 = (xmax - half) >> s;
+      const int j0 = -((half - ymin) >> s), j1 = (ymax - half) >> s;
+      const int64_t area2 = edge_function(a.x, a.y, b.x, b.y, c.x, c.y);
+      const bool covers = area2 != 0 && i0 <= i1 && j0 <= j1;
+      m.row0[t] = covers ? j0 : -1;
+      tall = std::max(tall, covers ? j1 - j0 + 1 : 1);
+      // Counter-clockwise corners: 1 and 2 swapped when the input order is clockwise.
+      const bool flip = area2 < 0;
+      const bool bottom = (area2 > 0) != (grid.orientation > 0);
+      const int x[3] = {a.x, flip ? c.x : b.x, flip ? b.x : c.x};
+      const int y[3] = {a.y, flip ? c.y : b.y, flip ? b.y : c.y};
+      unsigned f = (bottom ? 8u : 0u) | (flip ? 16u : 0u);
+      for (int k = 0; k < 3; ++k) {
+        const int p = k == 2 ? 0 : k + 1, q = k == 0 ? 2 : k - 1;
+        const int dx = x[q] - x[p], dy = y[q] - y[p];
+        // Top edge: horizontal, going left (interior below). Left edge: going down.
+        const unsigned top_left = (dy < 0) | ((dy == 0) & (dx < 0));
+        f |= (top_left ^ 1u) << k;
       }
-      SnappedTriangle tri{};
-      if (!setup_triangle(x, y, grid.orientation, n, s, &tri) || tri.i0 > tri.i1 ||
-          tri.j0 > tri.j1) {
-        continue;
-      }
-      m.row0[t] = tri.j0;
-      unsigned f = (tri.bottom ? 8u : 0u) | (tri.corner[1] == 2 ? 16u : 0u);
-      for (int k = 0; k < 3; ++k) f |= static_cast<unsigned>(tri.e_min[k]) << k;
       m.flags[t] = f;
     }
+    tallest[index] = tall;
   });
   // Triangles with columns by first row (a counting sort).
   m.row_start.assign(n + 1, 0);
@@ -579,15 +416,23 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     }
   }
 
-  // Steps 2-5, band by band.
+  // The ring holds the rows of the tallest box, so that most triangles are rasterized at once,
+  // within bounds that keep it in the cache; taller triangles go on in later blocks.
+  const int tall = *std::max_element(tallest.begin(), tallest.end());
+  m.ring_rows = 1;
+  while (m.ring_rows < std::min(tall, kMaxRingRows)) m.ring_rows *= 2;
+  const size_t row_bytes =
+      (static_cast<size_t>(n) + 16) * (2 + 2 * 8 * rows::kPlanes + 4 * rows::kPlanes);
+  while (m.ring_rows > 1 && m.ring_rows * row_bytes > kRingBytes) m.ring_rows /= 2;
+
+  // Steps 3-5, band by band.
   std::atomic<int> next_band{0};
   parallel([&](int index) {
     Worker& w = m.workers[index];
-    w.floors.resize(n);
-    w.ceilings.resize(n);
+    w.ring.resize(m.ring_rows, n);
+    w.pending.resize(m.ring_rows);
     w.weights.assign(nv, 0.0);
-    w.sum_heights = 0.0;
-    w.unmatched = 0;
+    w.totals = rows::RowTotals();
     for (int b; (b = next_band++) < m.num_bands;) m.sweep_band(b, w);
   });
   if (threads == 1) {
@@ -603,8 +448,8 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   }
   double sum_heights = 0.0;
   for (int k = 0; k < threads; ++k) {
-    sum_heights += m.workers[k].sum_heights;
-    out.unmatched_columns += m.workers[k].unmatched;
+    sum_heights += m.workers[k].totals.sum_heights;
+    out.unmatched_columns += m.workers[k].totals.unmatched;
   }
   out.column_volume = grid.cell_area * sum_heights;
 }

@@ -1,0 +1,541 @@
+// Column method, CPU fast path: Steps 3-5 on a ring of rows (used by column_fast.cpp only).
+//
+// A triangle is rasterized a block of rows at a time (all its rows when it spans no more rows
+// than the ring holds), in 8-column chunks whose covered columns come out as a bit mask of the
+// signs of the three edge functions. Its hits go into the ring row of each covered row: a count
+// per column and kind (floors, ceilings) and kPlanes planes of heights (and, for floors, of
+// floor records), so that the c-th hit of column i is at [c][i]; further hits spill into a list.
+// A row is resolved once no triangle can still reach it (every triangle whose first row is at
+// or above it has been rasterized): its columns' floors and ceilings are sorted (a sorting
+// network over the planes, 8 columns at a time with AVX-512) and paired, and each section's
+// height goes into three moments of its floor record. Barycentric coordinates are linear in
+// the column indices, so the floor's nodal weights follow from the moments once, at the end.
+//
+// Every kernel has a portable form and, on x86-64 with GCC or Clang, an AVX-512 form chosen at
+// run time; both cover the same columns (integer edge functions) and give the same sections
+// (heights differ in rounding only).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <vector>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(FLUIDWEIGHT_NO_AVX512)
+#define FLUIDWEIGHT_AVX512 1
+#include <immintrin.h>
+#endif
+
+namespace fluidweight::detail::rows {
+
+constexpr int kPlanes = 4;  // hits of each kind a column keeps in its planes; more spill
+constexpr int kChunk = 8;   // columns tested together
+constexpr int kWide = 24;   // boxes this wide or wider find their span by division first
+
+// A triangle being rasterized. E_k(i, row) = e[k] + di[k] (i - i0) with the fill-rule
+// thresholds folded into e, so a centre is covered when the three are >= 0.
+struct Raster {
+  int64_t e[3], di[3], dj[3];
+  double z, dzi, dzj;  // height at (i0, row) and its steps
+  int i0, i1, j1;      // box columns and last row
+  int row;             // the row e and z are at
+  int floor;           // its floor record, or -1 for a ceiling
+};
+
+// A floor's sections: sum h, sum h (i - i0), sum h (j - j0) from its origin (i0, j0).
+struct FloorMoments {
+  double m0, mi, mj;
+  int i0, j0;
+};
+
+struct Spilled {
+  int column, floor;
+  double z;
+};
+
+// Vectors whose data starts on a cache line, so that aligned chunks of columns do not split
+// lines.
+template <class T>
+struct LineAllocator {
+  using value_type = T;
+  LineAllocator() = default;
+  template <class U>
+  LineAllocator(const LineAllocator<U>&) {}
+  T* allocate(size_t n) {
+    return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(64)));
+  }
+  void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(64)); }
+  bool operator==(const LineAllocator&) const { return true; }
+  bool operator!=(const LineAllocator&) const { return false; }
+};
+template <class T>
+using LineVector = std::vector<T, LineAllocator<T>>;
+
+// The rows not yet resolved, in `rows` slots (a power of two; row j in slot j & (rows - 1)).
+struct RowRing {
+  int rows = 0, width = 0;       // width: columns, padded for whole chunks
+  LineVector<uint8_t> count[2];  // [slot width + i]; kind 0 floors, 1 ceilings; saturates
+  LineVector<double> z[2];       // [(slot kPlanes + c) width + i]
+  LineVector<int> floor;         // floor records, laid out as z[0]
+  std::vector<int> lo, hi;       // columns that may hold hits, per slot
+  std::vector<std::vector<Spilled>> spill[2];
+
+  void resize(int num_rows, int n) {
+    rows = num_rows;
+    width = (n + 2 * kChunk - 1) / kChunk * kChunk;
+    for (int kind = 0; kind < 2; ++kind) {
+      count[kind].assign(static_cast<size_t>(rows) * width, 0);
+      z[kind].resize(static_cast<size_t>(rows) * kPlanes * width);
+      spill[kind].resize(rows);
+      for (auto& s : spill[kind]) s.clear();
+    }
+    floor.resize(static_cast<size_t>(rows) * kPlanes * width);
+    lo.assign(rows, std::numeric_limits<int>::max());
+    hi.assign(rows, -1);
+  }
+};
+
+// What resolving rows adds up.
+struct RowTotals {
+  double sum_heights = 0.0;
+  long long unmatched = 0;
+};
+
+inline int lowest_bit(uint64_t m) {
+#if defined(__GNUC__)
+  return __builtin_ctzll(m);
+#else
+  int b = 0;
+  while (!((m >> b) & 1)) ++b;
+  return b;
+#endif
+}
+inline int highest_bit(uint64_t m) {
+#if defined(__GNUC__)
+  return 63 - __builtin_clzll(m);
+#else
+  int b = 63;
+  while (!((m >> b) & 1)) --b;
+  return b;
+#endif
+}
+
+// Floor division for the span bounds (b > 0).
+inline int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// The covered columns [first, last] of a wide box on the raster's row, edge by edge.
+inline bool wide_span(const Raster& r, int& first, int& last) {
+  int64_t f = r.i0, l = r.i1;
+  for (int q = 0; q < 3 && f <= l; ++q) {
+    if (r.di[q] > 0) {
+      if (r.e[q] < 0) f = std::max<int64_t>(f, r.i0 - floor_div(r.e[q], r.di[q]));
+    } else if (r.di[q] < 0) {
+      l = std::min<int64_t>(l, r.i0 + floor_div(r.e[q], -r.di[q]));
+    } else if (r.e[q] < 0) {
+      l = f - 1;
+    }
+  }
+  first = static_cast<int>(f);
+  last = static_cast<int>(l);
+  return f <= l;
+}
+
+inline void add_section(FloorMoments& f, double h, int i, int j) {
+  f.m0 += h;
+  f.mi += h * (i - f.i0);
+  f.mj += h * (j - f.j0);
+}
+
+// Portable raster: `rows` rows from r.row, advancing r.
+inline void raster_portable(Raster& r, int rows, RowRing& ring) {
+  const int kind = r.floor < 0 ? 1 : 0;
+  const size_t w = ring.width;
+  for (int q = 0; q < rows; ++q, ++r.row) {
+    int first, last;
+    bool any;
+    if (r.i1 - r.i0 < kWide) {
+      // Every column of the box, as a bit mask: covered when no edge function is negative.
+      uint64_t mask = 0;
+      int64_t e0 = r.e[0], e1 = r.e[1], e2 = r.e[2];
+      for (int u = 0; u <= r.i1 - r.i0; ++u, e0 += r.di[0], e1 += r.di[1], e2 += r.di[2]) {
+        mask |= (static_cast<uint64_t>(~(e0 | e1 | e2)) >> 63) << u;
+      }
+      any = mask != 0;
+      if (any) {
+        first = r.i0 + lowest_bit(mask);
+        last = r.i0 + highest_bit(mask);
+      }
+    } else {
+      any = wide_span(r, first, last);
+    }
+    if (any) {
+      const int slot = r.row & (ring.rows - 1);
+      uint8_t* count = ring.count[kind].data() + slot * w;
+      double* zs = ring.z[kind].data() + slot * kPlanes * w;
+      int* fl = ring.floor.data() + slot * kPlanes * w;
+      double zi = r.z + r.dzi * (first - r.i0);
+      for (int i = first; i <= last; ++i, zi += r.dzi) {
+        const int c = count[i];
+        if (c < kPlanes) {
+          zs[c * w + i] = zi;
+          if (kind == 0) fl[c * w + i] = r.floor;
+        } else {
+          ring.spill[kind][slot].push_back({i, r.floor, zi});
+        }
+        count[i] = static_cast<uint8_t>(c + (c < 255));
+      }
+      ring.lo[slot] = std::min(ring.lo[slot], first);
+      ring.hi[slot] = std::max(ring.hi[slot], last);
+    }
+    for (int k = 0; k < 3; ++k) r.e[k] += r.dj[k];
+    r.z += r.dzj;
+  }
+}
+
+// Column i of a slot (planes and spilled hits, `at` the next spilled entry of each kind in
+// column order): its floors and ceilings sorted, the k-th lowest of each paired.
+struct ColumnScratch {
+  std::vector<double> z[2];
+  std::vector<int> floor;
+};
+inline void resolve_column(int slot, int i, int j, RowRing& ring, size_t at[2],
+                           FloorMoments* moments, ColumnScratch& s, RowTotals& totals) {
+  const size_t w = ring.width;
+  int n[2];
+  for (int kind = 0; kind < 2; ++kind) {
+    uint8_t& count = ring.count[kind][slot * w + i];
+    const int planes = std::min<int>(count, kPlanes);
+    count = 0;
+    const std::vector<Spilled>& spill = ring.spill[kind][slot];
+    size_t& a = at[kind];
+    while (a < spill.size() && spill[a].column < i) ++a;
+    size_t b = a;
+    while (b < spill.size() && spill[b].column == i) ++b;
+    n[kind] = planes + static_cast<int>(b - a);
+    if (static_cast<int>(s.z[kind].size()) < n[kind]) {
+      s.z[kind].resize(n[kind]);
+      s.floor.resize(std::max<size_t>(s.floor.size(), n[kind]));
+    }
+    double* z = s.z[kind].data();
+    int* f = s.floor.data();
+    for (int c = 0; c < planes; ++c) {
+      z[c] = ring.z[kind][(slot * kPlanes + c) * w + i];
+      if (kind == 0) f[c] = ring.floor[(slot * kPlanes + c) * w + i];
+    }
+    for (int c = planes; a < b; ++a, ++c) {
+      z[c] = spill[a].z;
+      if (kind == 0) f[c] = spill[a].floor;
+    }
+    // Insertion sort: a column has a few hits.
+    for (int c = 1; c < n[kind]; ++c) {
+      const double zc = z[c];
+      const int fc = kind == 0 ? f[c] : 0;
+      int d = c;
+      for (; d > 0 && z[d - 1] > zc; --d) {
+        z[d] = z[d - 1];
+        if (kind == 0) f[d] = f[d - 1];
+      }
+      z[d] = zc;
+      if (kind == 0) f[d] = fc;
+    }
+  }
+  if (n[0] != n[1]) ++totals.unmatched;
+  for (int k = 0; k < std::min(n[0], n[1]); ++k) {
+    const double h = s.z[1][k] - s.z[0][k];
+    add_section(moments[s.floor[k]], h, i, j);
+    totals.sum_heights += h;
+  }
+}
+
+// Spilled hits in column order, so that columns can find theirs in one pass.
+inline void sort_spill(RowRing& ring, int slot) {
+  for (int kind = 0; kind < 2; ++kind) {
+    std::vector<Spilled>& s = ring.spill[kind][slot];
+    if (s.size() > 1) {
+      std::stable_sort(s.begin(), s.end(),
+                       [](const Spilled& a, const Spilled& b) { return a.column < b.column; });
+    }
+  }
+}
+
+// Portable resolution of row j.
+inline void resolve_portable(int j, RowRing& ring, FloorMoments* moments, ColumnScratch& s,
+                             RowTotals& totals) {
+  const int slot = j & (ring.rows - 1);
+  const int lo = ring.lo[slot], hi = ring.hi[slot];
+  ring.lo[slot] = std::numeric_limits<int>::max();
+  ring.hi[slot] = -1;
+  if (lo > hi) return;
+  sort_spill(ring, slot);
+  const size_t w = ring.width;
+  const uint8_t *fc = ring.count[0].data() + slot * w, *cc = ring.count[1].data() + slot * w;
+  const double *fz = ring.z[0].data() + slot * kPlanes * w,
+               *cz = ring.z[1].data() + slot * kPlanes * w;
+  const int* fl = ring.floor.data() + slot * kPlanes * w;
+  size_t at[2] = {0, 0};
+  for (int i = lo; i <= hi; ++i) {
+    const int nf = fc[i], nc = cc[i];
+    if (nf == 1 && nc == 1) {  // the usual column: one section
+      ring.count[0][slot * w + i] = ring.count[1][slot * w + i] = 0;
+      const double h = cz[i] - fz[i];
+      add_section(moments[fl[i]], h, i, j);
+      totals.sum_heights += h;
+    } else if (nf | nc) {
+      resolve_column(slot, i, j, ring, at, moments, s, totals);
+    }
+  }
+  ring.spill[0][slot].clear();
+  ring.spill[1][slot].clear();
+}
+
+#if defined(FLUIDWEIGHT_AVX512)
+// GCC 12 warns inside its own intrinsics (min, max, compress read an undefined vector).
+#if !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#define FW_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,bmi,bmi2,popcnt")))
+
+inline bool avx512_available() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+         __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
+}
+
+// Spilled hits of a chunk (lanes in `over`), kept out of line: rare.
+__attribute__((noinline)) inline void spill_chunk(std::vector<Spilled>& spill, unsigned over,
+                                                  int col, int floor, const double* z) {
+  for (; over; over &= over - 1) {
+    const int u = lowest_bit(over);
+    spill.push_back({col + u, floor, z[u]});
+  }
+}
+
+// The ring's arrays of one slot, for one kind of hits.
+struct SlotView {
+  uint8_t* count;
+  double* z;
+  int* floor;
+};
+
+// Hits of the chunk of columns col .. col + 7 (covered where m is set) into the planes of one
+// slot: lane u to the plane of its column's count, or to the spill list. Planes 0 and 1 are
+// written without a branch (a second hit of a kind is common: non-convex meshes).
+template <bool kFloor>
+FW_AVX512 inline void write_chunk(const SlotView& v, size_t w, int col, __mmask8 m, __m512d z,
+                                  __m256i floor_index, std::vector<Spilled>& spill, int floor) {
+  const __m128i c = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.count + col));
+  const __mmask8 k0 = static_cast<__mmask8>(_mm_mask_cmpeq_epi8_mask(m, c, _mm_setzero_si128()));
+  const __mmask8 k1 = static_cast<__mmask8>(_mm_mask_cmpeq_epi8_mask(m, c, _mm_set1_epi8(1)));
+  _mm512_mask_storeu_pd(v.z + col, k0, z);
+  _mm512_mask_storeu_pd(v.z + w + col, k1, z);
+  if (kFloor) {
+    _mm256_mask_storeu_epi32(v.floor + col, k0, floor_index);
+    _mm256_mask_storeu_epi32(v.floor + w + col, k1, floor_index);
+  }
+  if (_mm_mask_cmpgt_epu8_mask(m, c, _mm_set1_epi8(1))) {
+    for (int p = 2; p < kPlanes; ++p) {
+      const __mmask8 k = static_cast<__mmask8>(_mm_mask_cmpeq_epi8_mask(m, c, _mm_set1_epi8(p)));
+      _mm512_mask_storeu_pd(v.z + p * w + col, k, z);
+      if (kFloor) _mm256_mask_storeu_epi32(v.floor + p * w + col, k, floor_index);
+    }
+    const unsigned over = _mm_mask_cmpge_epu8_mask(m, c, _mm_set1_epi8(kPlanes)) & 0xFFu;
+    if (over) {
+      alignas(64) double zl[kChunk];
+      _mm512_store_pd(zl, z);
+      spill_chunk(spill, over, col, floor, zl);
+    }
+  }
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(v.count + col),
+                   _mm_mask_adds_epu8(c, m, c, _mm_set1_epi8(1)));
+}
+
+// Rasterizes `rows` rows of r from r.row (kFloor: r is a floor), advancing r: the box's chunks
+// of 8 columns from i0 (a number fixed for the triangle, so that the loop is predicted), each
+// tested in registers, the covered lanes written with masks. Boxes of kWide columns or more
+// find their span by division first. The raster's fields are copied into locals: stores
+// through the byte counts could alias them.
+template <bool kFloor>
+FW_AVX512 void raster_avx512_kind(Raster& r, int rows, RowRing& ring) {
+  constexpr int kind = kFloor ? 0 : 1;
+  const size_t w = ring.width;
+  const int mask_rows = ring.rows - 1;
+  const __m512i iota = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+  const int64_t di0 = r.di[0], di1 = r.di[1], di2 = r.di[2];
+  const int64_t dj0 = r.dj[0], dj1 = r.dj[1], dj2 = r.dj[2];
+  const __m512i lane0 = _mm512_mullo_epi64(_mm512_set1_epi64(di0), iota);
+  const __m512i lane1 = _mm512_mullo_epi64(_mm512_set1_epi64(di1), iota);
+  const __m512i lane2 = _mm512_mullo_epi64(_mm512_set1_epi64(di2), iota);
+  const __m512i step0 = _mm512_set1_epi64(kChunk * di0);
+  const __m512i step1 = _mm512_set1_epi64(kChunk * di1);
+  const __m512i step2 = _mm512_set1_epi64(kChunk * di2);
+  const double dzi = r.dzi, dzj = r.dzj;
+  const __m512d lane_z = _mm512_mul_pd(_mm512_set1_pd(dzi), _mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256i floor_index = _mm256_set1_epi32(r.floor);
+  const int i0 = r.i0, i1 = r.i1, floor = r.floor;
+  const bool wide = i1 - i0 >= kWide;
+  uint8_t* const count = ring.count[kind].data();
+  double* const zs = ring.z[kind].data();
+  int* const fl = ring.floor.data();
+  int* const lo = ring.lo.data();
+  int* const hi = ring.hi.data();
+  int64_t e0 = r.e[0], e1 = r.e[1], e2 = r.e[2];
+  double z = r.z;
+  int row = r.row;
+  for (int q = 0; q < rows; ++q, ++row, e0 += dj0, e1 += dj1, e2 += dj2, z += dzj) {
+    const int slot = row & mask_rows;
+    const SlotView v{count + slot * w, zs + slot * kPlanes * w, fl + slot * kPlanes * w};
+    std::vector<Spilled>& spill = ring.spill[kind][slot];
+    int first = i0, last = i1;
+    int64_t f0 = e0, f1 = e1, f2 = e2;
+    if (wide) {
+      Raster at = r;
+      at.e[0] = e0;
+      at.e[1] = e1;
+      at.e[2] = e2;
+      if (!wide_span(at, first, last)) continue;
+      f0 += di0 * (first - i0);
+      f1 += di1 * (first - i0);
+      f2 += di2 * (first - i0);
+    }
+    __m512i v0 = _mm512_add_epi64(_mm512_set1_epi64(f0), lane0);
+    __m512i v1 = _mm512_add_epi64(_mm512_set1_epi64(f1), lane1);
+    __m512i v2 = _mm512_add_epi64(_mm512_set1_epi64(f2), lane2);
+    for (int col = first; col <= last; col += kChunk) {
+      const __mmask8 m = static_cast<__mmask8>(
+          ~_mm512_movepi64_mask(_mm512_or_si512(_mm512_or_si512(v0, v1), v2)));
+      // Heights from the box's first column by one product (no sums drifting along a row).
+      const __m512d zv = _mm512_add_pd(_mm512_set1_pd(z + dzi * (col - i0)), lane_z);
+      write_chunk<kFloor>(v, w, col, m, zv, floor_index, spill, floor);
+      v0 = _mm512_add_epi64(v0, step0);
+      v1 = _mm512_add_epi64(v1, step1);
+      v2 = _mm512_add_epi64(v2, step2);
+    }
+    lo[slot] = std::min(lo[slot], first);
+    hi[slot] = std::max(hi[slot], last);
+  }
+  r.e[0] = e0;
+  r.e[1] = e1;
+  r.e[2] = e2;
+  r.z = z;
+  r.row = row;
+}
+
+FW_AVX512 inline void raster_avx512(Raster& r, int rows, RowRing& ring) {
+  if (r.floor >= 0) {
+    raster_avx512_kind<true>(r, rows, ring);
+  } else {
+    raster_avx512_kind<false>(r, rows, ring);
+  }
+}
+
+// Sections of one plane of a chunk (lanes in `m`) added to their floors.
+FW_AVX512 inline void add_sections(__mmask8 m, __m512d h, __m256i floor, int col, int j,
+                                   FloorMoments* moments, __m512d& sum) {
+  sum = _mm512_mask_add_pd(sum, m, sum, h);
+  alignas(64) double hl[kChunk];
+  alignas(32) int fl[kChunk];
+  _mm512_store_pd(hl, _mm512_maskz_compress_pd(m, h));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(fl), _mm256_maskz_compress_epi32(m, floor));
+  alignas(32) int il[kChunk];
+  _mm256_store_si256(
+      reinterpret_cast<__m256i*>(il),
+      _mm256_maskz_compress_epi32(
+          m, _mm256_add_epi32(_mm256_set1_epi32(col), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7))));
+  const int n = _mm_popcnt_u32(m);
+  for (int s = 0; s < n; ++s) add_section(moments[fl[s]], hl[s], il[s], j);
+}
+
+// A compare-exchange of a sorting network on planes x < y of 8 columns: floor heights a with
+// their records o, ceiling heights b.
+FW_AVX512 inline void exchange(__m512d* a, __m512d* b, __m256i* o, int x, int y) {
+  const __mmask8 k = _mm512_cmp_pd_mask(a[y], a[x], _CMP_LT_OQ);
+  const __m512d ax = a[x];
+  a[x] = _mm512_mask_blend_pd(k, a[x], a[y]);
+  a[y] = _mm512_mask_blend_pd(k, a[y], ax);
+  const __m256i ox = o[x];
+  o[x] = _mm256_mask_blend_epi32(k, o[x], o[y]);
+  o[y] = _mm256_mask_blend_epi32(k, o[y], ox);
+  const __m512d bx = b[x];
+  b[x] = _mm512_min_pd(b[x], b[y]);
+  b[y] = _mm512_max_pd(b[y], bx);
+}
+
+FW_AVX512 inline void resolve_avx512(int j, RowRing& ring, FloorMoments* moments, ColumnScratch& s,
+                                     RowTotals& totals) {
+  const int slot = j & (ring.rows - 1);
+  const int lo = ring.lo[slot], hi = ring.hi[slot];
+  ring.lo[slot] = std::numeric_limits<int>::max();
+  ring.hi[slot] = -1;
+  if (lo > hi) return;
+  sort_spill(ring, slot);
+  const size_t w = ring.width;
+  uint8_t *fc = ring.count[0].data() + slot * w, *cc = ring.count[1].data() + slot * w;
+  const double* fz = ring.z[0].data() + slot * kPlanes * w;
+  const double* cz = ring.z[1].data() + slot * kPlanes * w;
+  const int* fl = ring.floor.data() + slot * kPlanes * w;
+  const __m512d inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());
+  __m512d sum = _mm512_setzero_pd();
+  long long unmatched = 0;
+  size_t at[2] = {0, 0};
+  for (int col = lo & ~(kChunk - 1); col <= hi; col += kChunk) {
+    const __m128i f = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(fc + col));
+    const __m128i c = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(cc + col));
+    const __m128i both = _mm_or_si128(f, c);
+    if (!(_mm_cmpneq_epi8_mask(both, _mm_setzero_si128()) & 0xFFu)) continue;
+    const unsigned many = _mm_cmpgt_epu8_mask(both, _mm_set1_epi8(1)) & 0xFFu;
+    if (!many) {
+      // At most one hit of each kind: one section where there are both.
+      const __mmask8 m =
+          static_cast<__mmask8>(_mm_cmpeq_epi8_mask(_mm_and_si128(f, c), _mm_set1_epi8(1)));
+      const __m512d h = _mm512_sub_pd(_mm512_loadu_pd(cz + col), _mm512_loadu_pd(fz + col));
+      add_sections(m, h, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(fl + col)), col, j,
+                   moments, sum);
+    } else if (!(_mm_cmpgt_epu8_mask(_mm_max_epu8(f, c), _mm_set1_epi8(kPlanes)) & 0xFFu)) {
+      // Up to kPlanes of each: planes padded with infinite heights, sorted by a network.
+      __m512d a[kPlanes], b[kPlanes];
+      __m256i o[kPlanes];
+      for (int p = 0; p < kPlanes; ++p) {
+        const __mmask8 kf = static_cast<__mmask8>(_mm_cmpgt_epu8_mask(f, _mm_set1_epi8(p)));
+        const __mmask8 kc = static_cast<__mmask8>(_mm_cmpgt_epu8_mask(c, _mm_set1_epi8(p)));
+        a[p] = _mm512_mask_loadu_pd(inf, kf, fz + p * w + col);
+        b[p] = _mm512_mask_loadu_pd(inf, kc, cz + p * w + col);
+        o[p] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(fl + p * w + col));
+      }
+      exchange(a, b, o, 0, 1);
+      exchange(a, b, o, 2, 3);
+      exchange(a, b, o, 0, 2);
+      exchange(a, b, o, 1, 3);
+      exchange(a, b, o, 1, 2);
+      const __m128i pairs = _mm_min_epu8(f, c);
+      for (int p = 0; p < kPlanes; ++p) {
+        const __mmask8 m = static_cast<__mmask8>(_mm_cmpgt_epu8_mask(pairs, _mm_set1_epi8(p)));
+        if (m) add_sections(m, _mm512_sub_pd(b[p], a[p]), o[p], col, j, moments, sum);
+      }
+    } else {
+      // Spilled hits: column by column.
+      RowTotals t;
+      for (int i = col; i < col + kChunk; ++i) {
+        if (fc[i] | cc[i]) resolve_column(slot, i, j, ring, at, moments, s, t);
+      }
+      totals.sum_heights += t.sum_heights;
+      totals.unmatched += t.unmatched;
+      continue;  // resolve_column cleared the counts and counted unmatched columns itself
+    }
+    unmatched += _mm_popcnt_u32(_mm_cmpneq_epi8_mask(f, c) & 0xFFu);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(fc + col), _mm_setzero_si128());
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(cc + col), _mm_setzero_si128());
+  }
+  totals.sum_heights += _mm512_reduce_add_pd(sum);
+  totals.unmatched += unmatched;
+  ring.spill[0][slot].clear();
+  ring.spill[1][slot].clear();
+}
+#if !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+#endif
+
+}  // namespace fluidweight::detail::rows
