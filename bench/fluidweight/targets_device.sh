@@ -27,7 +27,7 @@ for c in "armadillo.obj 1000" "armadillo.obj 1500" "sphere 200"; do
   mesh="$M/$1"; [ "$1" = sphere ] && mesh="$M/sphere.obj"
   [ -f "$mesh" ] || continue
   line="$1 $2 tiled:float32 prefixes:"
-  for k in 1 2 3; do
+  for k in 1 2 3 4; do
     t=$(FLUIDWEIGHT_TILE_BLOCKS=${STAGE_BLOCKS:-0} FLUIDWEIGHT_GRAPH_STAGES=$k FLUIDWEIGHT_REPLAYS=200 \
       "$BUILD/bin/fluidweight" "$mesh" --grid $2 --device cuda --kernel tiled:float32 2>&1 >/dev/null \
       | sed -E 's/graph replay median //')

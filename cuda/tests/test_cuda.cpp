@@ -150,6 +150,49 @@ TEST(Cuda, TiledKernelTileSizesAndGrowth) {
   }
 }
 
+// The tiled kernel's tiles taken heaviest first, in the order the previous call's counts give
+// (order_kernel): forced on at a grid where it is off by default (a batch whose vertices move,
+// so that each call's order comes from other counts; tiles of 8 and 16), and on by itself at
+// 900^2.
+TEST(Cuda, TiledKernelHeaviestTilesFirst) {
+  SKIP_WITHOUT_GPU();
+  const std::vector<SurfaceMesh> cavities = {
+      fw::shapes::uneven_sphere(4, 12.0), translated(fw::shapes::torus(1, 0.3, 30, 12), {4, 0, 0}),
+      comb(5)};
+  setenv("FLUIDWEIGHT_TILE_ORDER", "1", 1);
+  for (int tile : {8, 16}) {
+    for (fw::Precision p : {fw::Precision::float64, fw::Precision::float32}) {
+      Options o = cuda_options({fw::Kernel::tiled, p}, 201);
+      o.tile = tile;
+      fw::Context context(o);
+      context.set_cavities(cavities);
+      for (int step = 0; step < 3; ++step) {
+        std::vector<SurfaceMesh> moved;
+        std::vector<const double*> positions;
+        for (const SurfaceMesh& c : cavities) {
+          moved.push_back(transformed(c, rotation({1, 2, 3}, 0.4 * step)));
+        }
+        for (const SurfaceMesh& m : moved) positions.push_back(m.vertices.data());
+        context.set_positions(positions);
+        const std::vector<Result>& results = context.compute();
+        for (size_t c = 0; c < cavities.size(); ++c) {
+          Result ref = fw::compute(moved[c], options(fw::Implementation::cpu_reference, 201));
+          expect_matches_reference(results[c], ref, p,
+                                   "tile " + std::to_string(tile) + " cavity " + std::to_string(c) +
+                                       " step " + std::to_string(step));
+        }
+      }
+    }
+  }
+  unsetenv("FLUIDWEIGHT_TILE_ORDER");
+  SurfaceMesh sphere = fw::shapes::icosphere(4);
+  Result ref = fw::compute(sphere, options(fw::Implementation::cpu_reference, 900));
+  for (fw::Precision p : {fw::Precision::float64, fw::Precision::float32}) {
+    expect_matches_reference(fw::compute(sphere, cuda_options({fw::Kernel::tiled, p}, 900)), ref, p,
+                             "grid 900");
+  }
+}
+
 // The fused kernel keeps two sets of accumulators and assumes each cavity's orientation from
 // the previous call: graph replays between calls (an odd number of them), moving vertices, a
 // cavity turned inside out (mirrored: its signed volume changes sign) and back, tiles of 8 and 16

@@ -94,6 +94,9 @@ class Backend : public DeviceBackend {
     check(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "cudaStreamCreate");
     check(cudaEventCreate(&start_), "cudaEventCreate");
     check(cudaEventCreate(&stop_), "cudaEventCreate");
+    check(cudaStreamCreateWithFlags(&side_, cudaStreamNonBlocking), "cudaStreamCreate");
+    check(cudaEventCreateWithFlags(&fork_, cudaEventDisableTiming), "cudaEventCreate");
+    check(cudaEventCreateWithFlags(&join_, cudaEventDisableTiming), "cudaEventCreate");
     tile_bits_ = options.tile == 8 ? 3 : options.tile == 16 ? 4 : (options.grid >= 128 ? 4 : 3);
     kernel_ = options.kernel;
     // Diagnostic, timing only: FLUIDWEIGHT_FUSED_TILE=8|16|32 sets the fused kernel's tile.
@@ -106,12 +109,20 @@ class Backend : public DeviceBackend {
     if (const char* blocks = std::getenv("FLUIDWEIGHT_TILE_BLOCKS")) {
       tile_blocks_per_sm_ = std::atoi(blocks);
     }
+    // Diagnostic, timing only: FLUIDWEIGHT_TILE_ORDER=0|1 turns the tiled kernel's
+    // heaviest-first tile order off or on whatever the number of tiles.
+    if (const char* order = std::getenv("FLUIDWEIGHT_TILE_ORDER")) {
+      tile_order_env_ = std::atoi(order) != 0 ? 1 : 0;
+    }
   }
 
   ~Backend() override {
     invalidate();
     cudaEventDestroy(start_);
     cudaEventDestroy(stop_);
+    cudaEventDestroy(fork_);
+    cudaEventDestroy(join_);
+    cudaStreamDestroy(side_);
     cudaStreamDestroy(stream_);
   }
 
@@ -194,11 +205,13 @@ class Backend : public DeviceBackend {
     const size_t values = (hydro ? 3 : 1) * static_cast<size_t>(num_vertices_);
     for (int attempt = 0;; ++attempt) {
       if (!graphs_[0]) capture();
-      // The fused kernel alternates between two sets of accumulators (parity).
-      const int parity = fused() ? parity_ : 0;
-      parity_ ^= fused() ? 1 : 0;
+      // Two graphs used by alternate calls (alternating()); the fused kernel's also alternate
+      // between two sets of accumulators.
+      const int graph = alternating() ? parity_ : 0;
+      parity_ ^= alternating() ? 1 : 0;
+      const int parity = fused() ? graph : 0;
       check(cudaEventRecord(start_, stream_), "cudaEventRecord");
-      check(cudaGraphLaunch(graphs_[parity], stream_), "cudaGraphLaunch");
+      check(cudaGraphLaunch(graphs_[graph], stream_), "cudaGraphLaunch");
       check(cudaEventRecord(stop_, stream_), "cudaEventRecord");
       check(cudaMemcpyAsync(host_out_.get(), (parity ? out2_ : out_).get(), values * sizeof(Real),
                             cudaMemcpyDeviceToHost, stream_),
@@ -266,8 +279,13 @@ class Backend : public DeviceBackend {
       names.push_back("hydrostatic");
     } else if (tiled) {
       stages.push_back([&] { gpu::launch_setup(b, true, stream_); });
+      names.push_back("setup+bin");
       stages.push_back([&] { gpu::launch_tiles(b, sms_, tile_blocks_per_sm_, stream_); });
-      names.insert(names.end(), {"setup+bin", "tiles"});
+      names.push_back("tiles");
+      if (b.tile_order) {
+        stages.push_back([&] { launch_tile_order(1, stream_); });
+        names.push_back("order");
+      }
     } else {
       stages.push_back([&] { gpu::launch_setup(b, false, stream_); });
       stages.push_back(
@@ -302,10 +320,10 @@ class Backend : public DeviceBackend {
     if (!graphs_[0]) capture();
     std::vector<double> ms;
     for (int r = 0; r < repeats; ++r) {
-      const int parity = fused() ? parity_ : 0;
-      parity_ ^= fused() ? 1 : 0;
+      const int graph = alternating() ? parity_ : 0;
+      parity_ ^= alternating() ? 1 : 0;
       check(cudaEventRecord(start_, stream_), "cudaEventRecord");
-      check(cudaGraphLaunch(graphs_[parity], stream_), "cudaGraphLaunch");
+      check(cudaGraphLaunch(graphs_[graph], stream_), "cudaGraphLaunch");
       check(cudaEventRecord(stop_, stream_), "cudaEventRecord");
       check(cudaEventSynchronize(stop_), "replay");
       float t = 0;
@@ -324,6 +342,10 @@ class Backend : public DeviceBackend {
   }
 
   bool fused() const { return options_.method == Method::column && kernel_ == Kernel::fused; }
+
+  // Alternate calls replay two graphs: the fused kernel's two sets of accumulators, or the tiled
+  // kernel's two tile orders (one read by the call's tiles, the other written for the next).
+  bool alternating() const { return fused() || use_tile_order(); }
 
   // The fused kernel's inputs: corners packed per triangle, vertex ranges, the orientation
   // assumed per cavity; both sets of accumulators cleared. Chooses its tile, or (automatic)
@@ -479,9 +501,35 @@ class Backend : public DeviceBackend {
     return f;
   }
 
+  // The tiled kernel takes its tiles heaviest first when they need more than two waves of
+  // blocks: otherwise the last blocks started decide the kernel's end (measured: a quarter of
+  // the SMs' time idle at the end at the armadillo's 1000^2). The order is the previous call's
+  // counts sorted (order_kernel, one block: 17.6 us when it ran between setup and tiles),
+  // made beside this call's tile kernel; a control loop's surfaces move little from call to
+  // call, and any order of the tiles gives the same result.
+  bool use_tile_order() const {
+    if (options_.method != Method::column || kernel_ != Kernel::tiled) return false;
+    const int tiles = num_cavities_ * tiles_per_side_ * tiles_per_side_;
+    if (tiles > gpu::max_ordered_tiles()) return false;
+    if (tile_order_env_ >= 0) return tile_order_env_ == 1;
+    const size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
+    const int per_sm = std::max(1, gpu::tile_resident_blocks<Real>(tile_bits_, shared));
+    return tiles > 2 * per_sm * sms_;
+  }
+
+  void launch_tile_order(int into, cudaStream_t stream) {
+    gpu::launch_tile_order(tile_count_.get(), num_cavities_ * tiles_per_side_ * tiles_per_side_,
+                           (into ? tile_order2_ : tile_order_).get(), stream);
+  }
+
   void reserve_tiles() {
     size_t tiles = static_cast<size_t>(num_cavities_) * tiles_per_side_ * tiles_per_side_;
     tile_list_.reserve(tiles * tile_capacity_);
+    // Both orders start as the grid's (the first call has no counts before it).
+    std::vector<int> identity(tiles);
+    for (size_t t = 0; t < tiles; ++t) identity[t] = static_cast<int>(t);
+    tile_order_.upload(identity);
+    tile_order2_.upload(identity);
     size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
     if (shared > static_cast<size_t>(max_shared_) - 16 * 1024) {
       throw DeviceError("cuda: a column crosses the surface more than " +
@@ -587,6 +635,7 @@ class Backend : public DeviceBackend {
     b.tile_capacity = tile_capacity_;
     b.big_list = big_list_.get();
     b.big_count = big_count_.get();
+    b.tile_order = use_tile_order() ? tile_order_.get() : nullptr;
     const char* phases = std::getenv("FLUIDWEIGHT_TILE_PHASES");  // diagnostic, timing only
     b.diagnostic_phases = phases ? std::atoi(phases) : 3;
     return b;
@@ -616,6 +665,26 @@ class Backend : public DeviceBackend {
     if (stages >= 1) gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
     if (hydro) {
       if (stages >= 2) gpu::launch_hydrostatic(b, stream_);
+    } else if (tiled && b.tile_order) {
+      // Graph g's tiles read order g; the order kernel, forked beside them, writes the other.
+      for (int g = 0; g < 2; ++g) {
+        gpu::Batch<Real> bg = b;
+        bg.tile_order = (g ? tile_order2_ : tile_order_).get();
+        if (g == 1) {
+          check(cudaStreamBeginCapture(stream_, cudaStreamCaptureModeThreadLocal), "begin capture");
+          if (stages >= 1) gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
+        }
+        if (stages >= 2) gpu::launch_setup(bg, true, stream_);
+        // The order's node is made first, so that its one block starts before the tiles'.
+        check(cudaEventRecord(fork_, stream_), "cudaEventRecord");
+        check(cudaStreamWaitEvent(side_, fork_, 0), "cudaStreamWaitEvent");
+        if (stages >= 4) launch_tile_order(g ^ 1, side_);
+        check(cudaEventRecord(join_, side_), "cudaEventRecord");
+        if (stages >= 3) gpu::launch_tiles(bg, sms_, tile_blocks_per_sm_, stream_);
+        check(cudaStreamWaitEvent(stream_, join_, 0), "cudaStreamWaitEvent");
+        end_capture(graphs_[g]);
+      }
+      return;
     } else if (tiled) {
       if (stages >= 2) gpu::launch_setup(b, true, stream_);
       if (stages >= 3) gpu::launch_tiles(b, sms_, tile_blocks_per_sm_, stream_);
@@ -641,13 +710,15 @@ class Backend : public DeviceBackend {
   Options options_;
   Frame frame_;
   int device_ = 0, sms_ = 1, max_shared_ = 48 * 1024;
-  cudaStream_t stream_ = nullptr;
+  cudaStream_t stream_ = nullptr, side_ = nullptr;  // side_: the tile order's branch
+  cudaEvent_t fork_ = nullptr, join_ = nullptr;
   cudaEvent_t start_ = nullptr, stop_ = nullptr;
   cudaGraphExec_t graphs_[2] = {nullptr, nullptr};  // fused: one per set of accumulators
   Kernel kernel_ = Kernel::tiled;                   // the kernel in use (automatic resolved)
   int num_cavities_ = 0, num_vertices_ = 0, num_triangles_ = 0, num_jobs_ = 0, setup_blocks_ = 1;
   std::vector<int> vertex_begin_;
   int tile_blocks_per_sm_ = 0;  // tiled kernel: persistent grid of this many blocks an SM, or 0
+  int tile_order_env_ = -1;     // FLUIDWEIGHT_TILE_ORDER, or -1
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
   // Fused kernel: tile (bits), hits per column, triangles a tile keeps, the vertex table, the
   // call's set of accumulators, the orientation each cavity's Step 2 assumes.
@@ -669,7 +740,8 @@ class Backend : public DeviceBackend {
   DeviceArray<gpu::Status> status_;
   DeviceArray<gpu::DevTri<Real>> tris_;
   DeviceArray<Real> out_, out2_, column_z_;
-  DeviceArray<int> column_count_, column_tag_, tile_count_, tile_list_, big_list_, big_count_;
+  DeviceArray<int> column_count_, column_tag_, tile_count_, tile_list_, big_list_, big_count_,
+      tile_order_, tile_order2_;
   DeviceArray<unsigned long long> candidates_;
   PinnedArray<double> host_xyz_;
   PinnedArray<Real> host_out_;

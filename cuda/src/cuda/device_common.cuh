@@ -124,6 +124,7 @@ struct Batch {
   int tile_capacity;
   int* big_list;  // triangles over many tiles, read by every tile
   int* big_count;
+  const int* tile_order;  // positions of the tiles for the blocks (heaviest first), or null
   int diagnostic_phases;  // tiled kernel, for timing only: bit 0 raster, bit 1 resolve
 };
 
@@ -204,5 +205,12 @@ template <typename Real>
 size_t tile_shared_bytes(int tile_bits, int column_capacity);
 template <typename Real>
 void allow_tile_shared(size_t bytes);
+// Blocks of tile_kernel an SM holds with that much dynamic shared memory.
+template <typename Real>
+int tile_resident_blocks(int tile_bits, size_t shared);
+// The tile order (kernels_tiled.cu, order_kernel): all tiles by decreasing count, empty ones
+// last; for at most max_ordered_tiles() tiles.
+int max_ordered_tiles();
+void launch_tile_order(const int* count, int tiles, int* order, cudaStream_t stream);
 
 }  // namespace fluidweight::detail::gpu

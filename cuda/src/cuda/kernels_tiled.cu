@@ -158,32 +158,104 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
   }
 }
 
-// A block takes tiles blockIdx.x, blockIdx.x + gridDim.x, ... (one tile when the grid has a
-// block per tile; a persistent grid of the blocks the GPU holds at once otherwise). The next
-// tile's count and first list entries are loaded before this one is worked on, so an empty
-// tile costs no round trip and a full one starts with its triangles' loads.
+// A block takes the tiles at positions blockIdx.x, blockIdx.x + gridDim.x, ... of the tile
+// order (order_kernel's, or the grid's when there is none): one tile when the grid has a block
+// per tile; a persistent grid of the blocks the GPU holds at once otherwise. The next tile's
+// count and first list entries are loaded before this one is worked on, so an empty tile costs
+// no round trip and a full one starts with its triangles' loads.
 template <typename Real, int TILE>
 __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_kernel(Batch<Real> b) {
   const int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
-  int tile = blockIdx.x;
-  if (tile >= tiles) return;
+  int index = blockIdx.x;
+  if (index >= tiles) return;
+  auto tile_at = [&](int k) { return b.tile_order ? b.tile_order[k] : k; };
   auto entry = [&](int t) {
     return b.tile_list[static_cast<size_t>(t) * b.tile_capacity + threadIdx.x];
   };
+  int tile = tile_at(index);
   int listed = b.tile_count[tile], first_entry = entry(tile);
   while (true) {
-    const int next = tile + gridDim.x;
-    int next_listed = 0, next_entry = 0;
-    if (next < tiles) {
+    const int next_index = index + gridDim.x;
+    int next = -1, next_listed = 0, next_entry = 0;
+    if (next_index < tiles) {
+      next = tile_at(next_index);
       next_listed = b.tile_count[next];
       next_entry = entry(next);
     }
     tile_columns<Real, TILE>(b, tile, listed, first_entry);
-    if (next >= tiles) break;
+    if (next < 0) break;
     __syncthreads();  // shared memory is reused by the next tile
+    index = next_index;
     tile = next;
     listed = next_listed;
     first_entry = next_entry;
+  }
+}
+
+// The tiles by decreasing number of listed triangles into `order` (the host makes this call's
+// order the next call's, see use_tile_order in device.cu): the hardware starts blocks in grid
+// order, so the longest tiles start in the first wave instead of ending the kernel alone on a
+// few SMs (longest first). Eight classes by powers of two suffice (a scheduling model with the
+// armadillo's tiles at 1000^2 and 1500^2: within 5 % of sorting by candidates); empty tiles
+// come last. One small block, so that it finds room beside the tile kernel's blocks early (a
+// block of 1024 threads waited for an SM to empty, at the tile kernel's end); at most
+// kMaxOrderedTiles tiles (the host checks). Classes are counted by warp ballots, one a class.
+constexpr int kOrderThreads = 256, kOrderClasses = 8, kMaxOrderedTiles = 16384;
+
+__device__ __forceinline__ int order_class(int count) {
+  if (count <= 0) return kOrderClasses - 1;
+  const int log2 = 31 - __clz(count);  // 256 or more: class 0, ..., 1-7: class 6
+  return min(kOrderClasses - 2, max(0, 8 - log2));
+}
+
+__global__ void __launch_bounds__(kOrderThreads)
+    order_kernel(const int* count, int tiles, int* order) {
+  __shared__ unsigned char cls[kMaxOrderedTiles];
+  __shared__ int total[kOrderClasses], first[kOrderClasses];
+  const int lane = threadIdx.x & 31;
+  if (threadIdx.x < kOrderClasses) total[threadIdx.x] = 0;
+  // Classes, four loads a thread in flight, and the warp's tiles of each (lane c counts c).
+  int mine = 0;
+  for (int base = 0; base < tiles; base += 4 * kOrderThreads) {
+    int k[4];
+#pragma unroll
+    for (int q = 0; q < 4; ++q) {
+      const int t = base + q * kOrderThreads + threadIdx.x;
+      k[q] = t < tiles ? order_class(__ldg(&count[t])) : -1;
+    }
+#pragma unroll
+    for (int q = 0; q < 4; ++q) {
+      const int t = base + q * kOrderThreads + threadIdx.x;
+      if (k[q] >= 0) cls[t] = static_cast<unsigned char>(k[q]);
+#pragma unroll
+      for (int c = 0; c < kOrderClasses; ++c) {
+        const int n = __popc(__ballot_sync(kFullMask, k[q] == c));
+        if (lane == c) mine += n;
+      }
+    }
+  }
+  __syncthreads();
+  int run = lane < kOrderClasses ? atomicAdd(&total[lane], mine) : 0;  // the warp's place
+  __syncthreads();
+  if (threadIdx.x == 0) {
+    int sum = 0;
+    for (int c = 0; c < kOrderClasses; ++c) {
+      first[c] = sum;
+      sum += total[c];
+    }
+  }
+  __syncthreads();
+  if (lane < kOrderClasses) run += first[lane];
+  const unsigned below = (1u << lane) - 1;
+  for (int t = threadIdx.x; t < (tiles + 31) / 32 * 32; t += kOrderThreads) {
+    const int k = t < tiles ? cls[t] : -1;
+#pragma unroll
+    for (int c = 0; c < kOrderClasses; ++c) {
+      const unsigned m = __ballot_sync(kFullMask, k == c);
+      const int at = __shfl_sync(kFullMask, run, c);
+      if (k == c) order[at + __popc(m & below)] = t;
+      if (lane == c) run += __popc(m);
+    }
   }
 }
 
@@ -222,11 +294,30 @@ void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStre
   }
 }
 
+template <typename Real>
+int tile_resident_blocks(int tile_bits, size_t shared) {
+  int fit = 0;
+  if (tile_bits == 3) {
+    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&fit, tile_kernel<Real, 8>, 64, shared);
+  } else {
+    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&fit, tile_kernel<Real, 16>, 256, shared);
+  }
+  return fit;
+}
+
+int max_ordered_tiles() { return kMaxOrderedTiles; }
+
+void launch_tile_order(const int* count, int tiles, int* order, cudaStream_t stream) {
+  order_kernel<<<1, kOrderThreads, 0, stream>>>(count, tiles, order);
+}
+
 template size_t tile_shared_bytes<float>(int, int);
 template size_t tile_shared_bytes<double>(int, int);
 template void allow_tile_shared<float>(size_t);
 template void allow_tile_shared<double>(size_t);
 template void launch_tiles<float>(const Batch<float>&, int, int, cudaStream_t);
 template void launch_tiles<double>(const Batch<double>&, int, int, cudaStream_t);
+template int tile_resident_blocks<float>(int, size_t);
+template int tile_resident_blocks<double>(int, size_t);
 
 }  // namespace fluidweight::detail::gpu
