@@ -62,8 +62,11 @@ struct FloorSetup {
 // Buffers of one worker thread, kept between calls.
 struct Worker {
   rows::RowRing ring;
-  std::vector<FloorMoments> moments;  // per floor rasterized in the band
+  // Per floor rasterized in the band, the first `floors` (sized once for the band: no
+  // capacity check per triangle).
+  std::vector<FloorMoments> moments;
   std::vector<FloorSetup> setups;
+  int floors = 0;
   std::vector<std::vector<Raster>> pending;  // per ring slot: tall triangles going on there
   std::vector<Raster> taken;
   rows::ColumnScratch scratch;
@@ -176,9 +179,9 @@ void FastColumn::Impl::start(int t, int j, int jb, Worker& w) {
   r.dzj = dzj * inv;
   r.floor = -1;
   if ((st.flags >> 3) & 1) {
-    r.floor = static_cast<int>(w.moments.size());
-    w.moments.push_back({0.0, 0.0, 0.0, r.i0, j});
-    w.setups.push_back({{e[0], e[1], e[2]}, {dx[0], dx[1], dx[2]}, {dy[0], dy[1], dy[2]}, t});
+    r.floor = w.floors++;
+    w.moments[r.floor] = {0.0, 0.0, 0.0, r.i0, j};
+    w.setups[r.floor] = {{e[0], e[1], e[2]}, {dx[0], dx[1], dx[2]}, {dy[0], dy[1], dy[2]}, t};
   }
   raster_block(r, jb, w);
 }
@@ -195,7 +198,7 @@ void FastColumn::Impl::raster_block(Raster& r, int jb, Worker& w) {
 // e + di (i step) + dj (j step), barycentric coordinates times twice the area.
 void FastColumn::Impl::finish_floors(Worker& w) {
   const int64_t unit = int64_t{1} << grid.sub_bits;
-  for (size_t f = 0; f < w.moments.size(); ++f) {
+  for (int f = 0; f < w.floors; ++f) {
     const FloorMoments& m = w.moments[f];
     if (m.m0 == 0.0 && m.mi == 0.0 && m.mj == 0.0) continue;
     const FloorSetup& st = w.setups[f];
@@ -207,12 +210,16 @@ void FastColumn::Impl::finish_floors(Worker& w) {
                                   static_cast<double>(st.dx[k] * unit) * m.mj);
     }
   }
-  w.moments.clear();
-  w.setups.clear();
+  w.floors = 0;
 }
 
 void FastColumn::Impl::sweep_band(int band, Worker& w) {
   const int ja = band * band_rows, jb = std::min(grid.n, ja + band_rows);
+  const size_t most = carried_start[band + 1] - carried_start[band] + row_start[jb] - row_start[ja];
+  if (w.moments.size() < most) {
+    w.moments.resize(most);
+    w.setups.resize(most);
+  }
   for (int j = ja; j < jb; ++j) {
     // Triangles going on at row j first: those started below queue for row j + ring_rows, in
     // the same slot.

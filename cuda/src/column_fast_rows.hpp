@@ -23,7 +23,8 @@
 #include <new>
 #include <vector>
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(FLUIDWEIGHT_NO_AVX512)
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && \
+    !defined(FLUIDWEIGHT_NO_AVX512)
 #define FLUIDWEIGHT_AVX512 1
 #include <immintrin.h>
 #endif
@@ -325,7 +326,8 @@ struct SlotView {
 // written without a branch (a second hit of a kind is common: non-convex meshes).
 template <bool kFloor>
 FW_AVX512 inline void write_chunk(const SlotView& v, size_t w, int col, __mmask8 m, __m512d z,
-                                  __m256i floor_index, std::vector<Spilled>& spill, int floor) {
+                                  __m256i floor_index, std::vector<Spilled>& spill, int floor,
+                                  int column_offset = 0) {
   const __m128i c = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.count + col));
   const __mmask8 k0 = static_cast<__mmask8>(_mm_mask_cmpeq_epi8_mask(m, c, _mm_setzero_si128()));
   const __mmask8 k1 = static_cast<__mmask8>(_mm_mask_cmpeq_epi8_mask(m, c, _mm_set1_epi8(1)));
@@ -345,7 +347,7 @@ FW_AVX512 inline void write_chunk(const SlotView& v, size_t w, int col, __mmask8
     if (over) {
       alignas(64) double zl[kChunk];
       _mm512_store_pd(zl, z);
-      spill_chunk(spill, over, col, floor, zl);
+      spill_chunk(spill, over, column_offset + col, floor, zl);
     }
   }
   _mm_storel_epi64(reinterpret_cast<__m128i*>(v.count + col),
@@ -423,10 +425,67 @@ FW_AVX512 void raster_avx512_kind(Raster& r, int rows, RowRing& ring) {
   r.row = row;
 }
 
+// Boxes of up to kNarrow chunks: their chunks' edge functions and heights are kept in
+// registers and stepped from row to row, so that a row costs little more than its writes.
+template <bool kFloor, int kNarrow>
+FW_AVX512 void raster_avx512_narrow(Raster& r, int rows, RowRing& ring) {
+  constexpr int kind = kFloor ? 0 : 1;
+  const size_t w = ring.width;
+  const int mask_rows = ring.rows - 1;
+  const __m512i iota = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+  __m512i v[kNarrow][3];
+  __m512i step[3];
+  for (int k = 0; k < 3; ++k) {
+    step[k] = _mm512_set1_epi64(r.dj[k]);
+    v[0][k] = _mm512_add_epi64(_mm512_set1_epi64(r.e[k]),
+                               _mm512_mullo_epi64(_mm512_set1_epi64(r.di[k]), iota));
+    for (int c = 1; c < kNarrow; ++c) {
+      v[c][k] = _mm512_add_epi64(v[c - 1][k], _mm512_set1_epi64(kChunk * r.di[k]));
+    }
+  }
+  __m512d zv[kNarrow];
+  zv[0] = _mm512_add_pd(_mm512_set1_pd(r.z), _mm512_mul_pd(_mm512_set1_pd(r.dzi),
+                                                           _mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7)));
+  for (int c = 1; c < kNarrow; ++c) {
+    zv[c] = _mm512_add_pd(zv[0], _mm512_set1_pd(r.dzi * (kChunk * c)));
+  }
+  const __m512d zstep = _mm512_set1_pd(r.dzj);
+  const __m256i floor_index = _mm256_set1_epi32(r.floor);
+  const int i0 = r.i0, i1 = r.i1, floor = r.floor;
+  uint8_t* const count = ring.count[kind].data() + i0;
+  double* const zs = ring.z[kind].data() + i0;
+  int* const fl = ring.floor.data() + i0;
+  int* const lo = ring.lo.data();
+  int* const hi = ring.hi.data();
+  int row = r.row;
+  for (int q = 0; q < rows; ++q, ++row) {
+    const int slot = row & mask_rows;
+    const SlotView sv{count + slot * w, zs + slot * kPlanes * w, fl + slot * kPlanes * w};
+    for (int c = 0; c < kNarrow; ++c) {
+      const __mmask8 m = static_cast<__mmask8>(
+          ~_mm512_movepi64_mask(_mm512_or_si512(_mm512_or_si512(v[c][0], v[c][1]), v[c][2])));
+      write_chunk<kFloor>(sv, w, kChunk * c, m, zv[c], floor_index, ring.spill[kind][slot], floor,
+                          i0);
+      for (int k = 0; k < 3; ++k) v[c][k] = _mm512_add_epi64(v[c][k], step[k]);
+      zv[c] = _mm512_add_pd(zv[c], zstep);
+    }
+    lo[slot] = std::min(lo[slot], i0);
+    hi[slot] = std::max(hi[slot], i1);
+  }
+  for (int k = 0; k < 3; ++k) r.e[k] += r.dj[k] * rows;
+  r.z += r.dzj * rows;
+  r.row = row;
+}
+
 FW_AVX512 inline void raster_avx512(Raster& r, int rows, RowRing& ring) {
+  const int chunks = (r.i1 - r.i0) / kChunk + 1;
   if (r.floor >= 0) {
+    if (chunks == 1) return raster_avx512_narrow<true, 1>(r, rows, ring);
+    if (chunks == 2) return raster_avx512_narrow<true, 2>(r, rows, ring);
     raster_avx512_kind<true>(r, rows, ring);
   } else {
+    if (chunks == 1) return raster_avx512_narrow<false, 1>(r, rows, ring);
+    if (chunks == 2) return raster_avx512_narrow<false, 2>(r, rows, ring);
     raster_avx512_kind<false>(r, rows, ring);
   }
 }
