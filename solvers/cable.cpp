@@ -41,6 +41,16 @@ Cable::Cable(const CableConfig& config, Problem& problem, const std::string& dec
     for (int d = 0; d < 3; ++d) reference_.push_back(X[d]);
     append_point_rows(problem, nodes, N, rows_);
   }
+  // The turning stiffness couples the points of each segment (the last one ends at the
+  // fixed pull point, if any): one block of the tangent each, set by rank 0.
+  int rank = 0;
+  MPI_Comm_rank(problem.comm(), &rank);
+  const size_t segments = dofs_.size() - 1 + (config_.pull_point ? 1 : 0);
+  for (size_t i = 0; rank == 0 && i < segments; ++i) {
+    std::vector<PetscInt> ends(dofs_[i]);
+    if (i + 1 < dofs_.size()) ends.insert(ends.end(), dofs_[i + 1].begin(), dofs_[i + 1].end());
+    couplings_.push_back(problem.add_coupling(std::move(ends)));
+  }
   HS_PETSC(VecRestoreArrayRead(all, &free_dof));
   HS_PETSC(VecScatterDestroy(&to_all));
   HS_PETSC(VecDestroy(&all));
@@ -94,11 +104,9 @@ void Cable::pull_direction(Vec u, Vec g) const {
                     const_cast<Vec*>(rows_.data())));
 }
 
-void Cable::add_stiffness(Vec u, double T, Mat J) const {
+void Cable::set_stiffness(Vec u, double T, Problem& problem) const {
   const auto p = path(positions(u));
-  int rank = 0;
-  MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(J)), &rank);
-  if (rank != 0 || T == 0) return;
+  if (couplings_.empty()) return;  // ranks other than 0
   const size_t points = dofs_.size();
   for (size_t i = 0; i + 1 < p.size(); ++i) {
     std::array<double, 3> e;
@@ -109,20 +117,15 @@ void Cable::add_stiffness(Vec u, double T, Mat J) const {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) P[a][b] = T * ((a == b) - e[a] * e[b]) / len;
     // The segment's two ends (the pull point is fixed: only x_i then), with signs +1, -1.
-    std::vector<PetscInt> idx;
     std::vector<double> w;  // N_a times the end's sign, per dof
     for (size_t end = i; end <= i + 1 && end < points; ++end)
       for (size_t a = 0; a < shape_[end].size(); ++a)
-        for (int d = 0; d < 3; ++d) {
-          idx.push_back(dofs_[end][3 * a + d]);
-          w.push_back((end == i ? 1.0 : -1.0) * shape_[end][a]);
-        }
-    const size_t n = idx.size();
+        for (int d = 0; d < 3; ++d) w.push_back((end == i ? 1.0 : -1.0) * shape_[end][a]);
+    const size_t n = w.size();
     std::vector<PetscScalar> block(n * n);
     for (size_t r = 0; r < n; ++r)
       for (size_t c = 0; c < n; ++c) block[r * n + c] = w[r] * w[c] * P[r % 3][c % 3];
-    HS_PETSC(MatSetValues(J, static_cast<PetscInt>(n), idx.data(), static_cast<PetscInt>(n),
-                          idx.data(), block.data(), ADD_VALUES));
+    problem.set_coupling(couplings_[i], block);
   }
 }
 

@@ -35,10 +35,11 @@ class Cable {
   double length(Vec u) const;
   // g = -dL/du: the nodal forces of a unit tension (zero on no dof but the points' nodes).
   void pull_direction(Vec u, Vec g) const;
-  // J += T d2L/du2: the stiffness of a tension T turning with the path (per segment
-  // T (I - e e^T) / l between its two points), Dirichlet rows and columns left out. Adds
-  // entries (from rank 0) outside the mesh's pattern; the caller assembles J afterwards.
-  void add_stiffness(Vec u, double T, Mat J) const;
+  // T d2L/du2: the stiffness of a tension T turning with the path (per segment
+  // T (I - e e^T) / l between its two points), Dirichlet rows and columns left out. Sets the
+  // problem's coupling blocks that the constructor registered (one per segment, rank 0), so
+  // the next tangent holds it. Collective.
+  void set_stiffness(Vec u, double T, Problem& problem) const;
 
  private:
   std::vector<std::array<double, 3>> path(const std::vector<double>& x) const;
@@ -50,6 +51,7 @@ class Cable {
   // and the nodes' shape-function values there.
   std::vector<std::vector<PetscInt>> dofs_;
   std::vector<std::vector<double>> shape_;
+  std::vector<int> couplings_;  // rank 0: the problem's coupling block of each segment
 };
 
 }  // namespace hs

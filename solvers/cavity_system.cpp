@@ -201,22 +201,13 @@ bool CavitySystem::residual(Vec u, double s, Vec R, std::vector<double>& control
 }
 
 bool CavitySystem::linearize(Vec u, double s, Mat J, CavityLinearization& lin) {
+  // A cable's tension turning with its path stiffens the body: lambda d2L/du2, which couples
+  // the nodes of consecutive cable points (blocks the cable registered with the problem,
+  // given before the tangent is assembled).
+  for (const auto& c : cavities_)
+    if (c.is_cable()) c.cable->set_stiffness(u, c.lambda, problem_);
   const bool ok = problem_.jacobian(u, s, J);
   const double t0 = MPI_Wtime();
-  // A cable's tension turning with its path stiffens the body: lambda d2L/du2, which couples
-  // the nodes of consecutive cable points (outside the mesh's pattern: PETSc allocates the
-  // new entries once, on the first assembly).
-  bool cables = false;
-  for (const auto& c : cavities_)
-    if (c.is_cable()) {
-      if (!cables) HS_PETSC(MatSetOption(J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-      cables = true;
-      c.cable->add_stiffness(u, c.lambda, J);
-    }
-  if (cables) {
-    HS_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
-    HS_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
-  }
   const size_t m = cavities_.size();
   if (lin.g.size() != m) {
     lin.g.resize(m, nullptr);

@@ -258,10 +258,13 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
   ok &= std::isfinite(r_norm);
   // A correction made with a kept (stale) factorization can overshoot: then go back to the
-  // start of the last step and take it again with a fresh one. A residual that grew since
-  // the last factorization also asks for a fresh one.
+  // start of the last step and take it again with a fresh one. Overshooting is an inverted
+  // element, or a residual ten times the one at the last factorization: on the hydraulic
+  // finger one stale step took it from 0.5 to ~140, and a fresh step taken from there
+  // inverted an element. A residual that grew less also asks for a fresh factorization.
+  const bool overshoot = !ok || r_norm > 10 * residual_at_factorization_;
   bool stale_failed = false;
-  if (!ok && one_step && steps_since_factorization_ > 0 && step_start_) {
+  if (overshoot && one_step && steps_since_factorization_ > 0 && step_start_) {
     HS_PETSC(VecCopy(step_start_, u));
     cavities_.set_pressures(step_start_pressures_);
     for (const auto& a : actuators_) cavities_[a.cavity].target = cavities_[a.cavity].lambda;

@@ -142,41 +142,82 @@ void Problem::face_dofs(const int32_t* nodes, int n, PetscInt* idx) const {
     }
 }
 
-Mat Problem::create_matrix() const {
-  // Preallocation from the node graph of the whole (replicated) mesh: an owned row couples
-  // with every node of every tetrahedron that contains it, whichever rank assembles it.
-  const int64_t begin = dist_.owned_offsets[dist_.rank], end = dist_.owned_offsets[dist_.rank + 1];
-  const int64_t nowned = end - begin;
-  std::vector<std::vector<int64_t>> neighbours(nowned);
-  const int64_t ntet = mesh_.num_tets();
-  for (int64_t t = 0; t < ntet; ++t) {
-    const int64_t* tet = &mesh_.tets[t * npe_];
-    for (int a = 0; a < npe_; ++a) {
-      const int64_t row = dist_.new_of_old[tet[a]];
-      if (row < begin || row >= end) continue;
-      auto& list = neighbours[row - begin];
-      for (int b = 0; b < npe_; ++b) list.push_back(dist_.new_of_old[tet[b]]);
+// Assembly by coordinates: every element, face, Dirichlet diagonal and coupling block is one
+// run of entries whose position PETSc resolves once (MatSetPreallocationCOO, which also
+// communicates entries of rows owned elsewhere); each tangent then writes its values straight
+// into that array and hands it over in one MatSetValuesCOO. Adding blocks one by one with
+// MatSetValues searched the row of every entry again on every assembly: three times slower on
+// the control step's tangent (docs/architecture.md, Assembly of the tangent).
+void Problem::tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) const {
+  rows.clear();
+  cols.clear();
+  auto block = [&](const PetscInt* idx, int n) {
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c) {
+        rows.push_back(idx[r]);  // negative (Dirichlet) indices are ignored by PETSc
+        cols.push_back(idx[c]);
+      }
+  };
+  PetscInt idx[30];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    dof_indices(e, idx);
+    block(idx, 3 * npe_);
+  }
+  const int npf = mesh_.nodes_per_face();
+  for (const auto& surface : pressure_faces_)
+    for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
+      face_dofs(&surface.faces[f * npf], npf, idx);
+      block(idx, 3 * npf);
     }
-  }
-  std::vector<PetscInt> dnnz(nowned), onnz(nowned);
-  for (int64_t i = 0; i < nowned; ++i) {
-    auto& list = neighbours[i];
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    PetscInt d = 0;
-    for (int64_t c : list) d += (c >= begin && c < end);
-    dnnz[i] = d;
-    onnz[i] = static_cast<PetscInt>(list.size()) - d;
-    std::vector<int64_t>().swap(list);
-  }
+  for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
+    if (constrained_[l]) {
+      rows.push_back(global_dof_[l]);
+      cols.push_back(global_dof_[l]);
+    }
+  for (const auto& dofs : couplings_) block(dofs.data(), static_cast<int>(dofs.size()));
+}
+
+int Problem::add_coupling(std::vector<PetscInt> dofs) {
+  if (pattern_fixed_)
+    throw std::logic_error("Problem::add_coupling after the tangent's matrix was created");
+  coupling_values_.emplace_back(dofs.size() * dofs.size(), 0.0);
+  couplings_.push_back(std::move(dofs));
+  return static_cast<int>(couplings_.size()) - 1;
+}
+
+void Problem::set_coupling(int k, const std::vector<PetscScalar>& values) {
+  if (values.size() != coupling_values_.at(k).size())
+    throw std::logic_error("Problem::set_coupling: wrong number of values");
+  coupling_values_[k] = values;
+}
+
+size_t Problem::num_face_entries() const {
+  const size_t nf = 3 * mesh_.nodes_per_face();
+  size_t faces = 0;
+  for (const auto& surface : pressure_faces_) faces += surface.faces.size() / (nf / 3);
+  return faces * nf * nf;
+}
+
+void Problem::fill_constraint_entries(PetscScalar* value) const {
+  for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
+    if (constrained_[l]) *value++ = 1.0;
+  for (const auto& block : coupling_values_) value = std::copy(block.begin(), block.end(), value);
+}
+
+Mat Problem::create_matrix() {
+  pattern_fixed_ = true;
+  const int64_t nowned = dist_.num_owned();
+  std::vector<PetscInt> rows, cols;
+  tangent_entries(rows, cols);
+  tangent_values_.assign(rows.size(), 0.0);
   Mat A;
   HS_PETSC(MatCreate(comm_, &A));
   HS_PETSC(MatSetSizes(A, 3 * nowned, 3 * nowned, PETSC_DETERMINE, PETSC_DETERMINE));
   HS_PETSC(MatSetBlockSize(A, 3));
   HS_PETSC(MatSetType(A, MATAIJ));
   HS_PETSC(MatSetFromOptions(A));
-  HS_PETSC(MatXAIJSetPreallocation(A, 3, dnnz.data(), onnz.data(), nullptr, nullptr));
-  HS_PETSC(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  HS_PETSC(
+      MatSetPreallocationCOO(A, static_cast<PetscCount>(rows.size()), rows.data(), cols.data()));
 
   // Rigid-body modes from the reference coordinates of the owned nodes.
   Vec coords;
@@ -194,22 +235,23 @@ Mat Problem::create_matrix() const {
   return A;
 }
 
-Mat Problem::create_mass_matrix() const {
+// The consistent mass matrix in the tangent's pattern (element blocks, unit diagonal on
+// Dirichlet rows, zero elsewhere), by coordinates like the tangent.
+Mat Problem::create_mass_matrix() {
   Mat M = create_matrix();
+  std::vector<PetscScalar> values(tangent_values_.size(), 0.0);
+  PetscScalar* value = values.data();
   const int n = 3 * npe_;
-  std::vector<double> X(n), Me(n * n);
-  std::vector<PetscInt> idx(n);
-  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-    element_coordinates(e, X.data());
+  double X[30];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e, value += n * n) {
+    element_coordinates(e, X);
     const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-    tet_mass(mesh_.order, X.data(), m.density, Me.data());
-    dof_indices(e, idx.data());
-    HS_PETSC(MatSetValues(M, n, idx.data(), n, idx.data(), Me.data(), ADD_VALUES));
+    tet_mass(mesh_.order, X, m.density, value);
   }
+  value += num_face_entries();
   for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
-    if (constrained_[l]) HS_PETSC(MatSetValue(M, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
-  HS_PETSC(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
-  HS_PETSC(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
+    if (constrained_[l]) *value++ = 1.0;
+  HS_PETSC(MatSetValuesCOO(M, values.data(), INSERT_VALUES));
   return M;
 }
 
@@ -294,6 +336,8 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
 }
 
 int Problem::add_cavity_surface(const std::string& group) {
+  if (pattern_fixed_)
+    throw std::logic_error("Problem::add_cavity_surface after the tangent's matrix was created");
   PressureSurface s;
   s.value = 0;
   s.scaled = false;
@@ -391,48 +435,40 @@ bool Problem::residual(Vec u, double s, Vec R) {
 
 bool Problem::jacobian(Vec u, double s, Mat J) {
   const double t0 = MPI_Wtime();
-  HS_PETSC(MatZeroEntries(J));
   bool ok = true;
+  // Values in the order of tangent_entries; kernels write their blocks in place.
+  PetscScalar* value = tangent_values_.data();
   {
     LocalView view(u, u_work_);
     const PetscScalar* ua = view.values();
     const int n = 3 * npe_;
     double X[30], ue[30], re[30];
-    std::vector<double> Ke(n * n);
-    PetscInt idx[30];
-    for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    for (size_t e = 0; e < dist_.local_tets.size(); ++e, value += n * n) {
       element_coordinates(e, X);
       element_displacement(ua, e, ue);
       const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-      const ElementOutput out = tet_internal_force(mesh_.order, X, ue, m, re, Ke.data());
+      const ElementOutput out = tet_internal_force(mesh_.order, X, ue, m, re, value);
       if (!out.valid && ok) {
         ok = false;
         bad_element_ = dist_.local_tets[e];
       }
-      dof_indices(e, idx);
-      HS_PETSC(MatSetValues(J, n, idx, n, idx, Ke.data(), ADD_VALUES));
     }
     const int npf = mesh_.nodes_per_face();
     const int nf = 3 * npf;
     double xf[18], ff[18];
-    std::vector<double> Kf(nf * nf);
     for (const auto& surface : pressure_faces_) {
-      for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
+      for (size_t f = 0; f < surface.faces.size() / npf; ++f, value += nf * nf) {
         const int32_t* nodes = &surface.faces[f * npf];
         for (int a = 0; a < npf; ++a)
           for (int d = 0; d < 3; ++d)
             xf[3 * a + d] = X_local_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
-        face_pressure(mesh_.order, xf, pressure_at(surface, s), ff, Kf.data());
-        for (double& k : Kf) k = -k;  // R = ... - f_pressure
-        face_dofs(nodes, npf, idx);
-        HS_PETSC(MatSetValues(J, nf, idx, nf, idx, Kf.data(), ADD_VALUES));
+        face_pressure(mesh_.order, xf, pressure_at(surface, s), ff, value);
+        for (int k = 0; k < nf * nf; ++k) value[k] = -value[k];  // R = ... - f_pressure
       }
     }
   }
-  for (int64_t l = 0; l < 3 * dist_.num_owned(); ++l)
-    if (constrained_[l]) HS_PETSC(MatSetValue(J, global_dof_[l], global_dof_[l], 1.0, ADD_VALUES));
-  HS_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
-  HS_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  fill_constraint_entries(value);
+  HS_PETSC(MatSetValuesCOO(J, tangent_values_.data(), INSERT_VALUES));
   if (inertia_) HS_PETSC(MatAXPY(J, inertia_->c, inertia_->M, SUBSET_NONZERO_PATTERN));
 
   int local_ok = ok, global_ok = 0;

@@ -1,11 +1,11 @@
 // The discrete problem one rank works on (equation 1 of the paper without actuators):
 //   R(u; s) = f_int(u) - s f_body - f_pressure(u; s) [+ c M (u - u_pred)] = 0,
 // s the load factor. Its PETSc objects: ghosted block vectors (3 dofs per node, the
-// layout of hs::Distribution) and a preallocated AIJ matrix of block size 3 with the
-// rigid-body near-null space attached. Dirichlet dofs keep their rows: R_D = u_D - g_D(s)
-// and identity rows/columns in the tangent, so the tangent stays symmetric when the
-// physics is (the solution always satisfies the constraints before a Newton solve,
-// hence the zeroed columns lose nothing).
+// layout of hs::Distribution) and an AIJ matrix of block size 3 with the rigid-body
+// near-null space attached, assembled by coordinates (see tangent_entries). Dirichlet dofs keep
+// their rows: R_D = u_D - g_D(s) and identity rows/columns in the tangent, so the tangent stays
+// symmetric when the physics is (the solution always satisfies the constraints before a Newton
+// solve, hence the zeroed columns lose nothing).
 #pragma once
 
 #include <petscmat.h>
@@ -50,8 +50,10 @@ class Problem {
   PetscInt num_global_dofs() const { return 3 * static_cast<PetscInt>(dist_.num_global()); }
 
   Vec create_vector() const;  // ghosted, zeroed
-  Mat create_matrix() const;  // preallocated, near-null space attached
-  Mat create_mass_matrix() const;
+  // The tangent's matrix: its pattern given once by coordinates (tangent_entries), the
+  // near-null space attached. After the first one, no cavity surface or coupling may be added.
+  Mat create_matrix();
+  Mat create_mass_matrix();
 
   // Sets the Dirichlet dofs of u to their prescribed values at load factor s.
   void apply_dirichlet(Vec u, double s) const;
@@ -117,6 +119,12 @@ class Problem {
   // int n da over the deformed faces of a surface group (summed over ranks): its area times
   // its mean outward normal.
   std::array<double, 3> area_vector(const std::string& group, Vec u);
+  // Registers a block of the tangent that another term provides (a cable's turning
+  // stiffness): all pairs of `dofs` (global, -1 skipped), on the rank that will set it.
+  // Returns its index. set_coupling gives its values (row-major, |dofs|^2) for the next
+  // tangents; zero until set.
+  int add_coupling(std::vector<PetscInt> dofs);
+  void set_coupling(int k, const std::vector<PetscScalar>& values);
   // Zeroes the Dirichlet dofs of a vector (owned entries).
   void zero_constrained(Vec v) const;
   double total_mass() const;
@@ -140,6 +148,13 @@ class Problem {
   void face_dofs(const int32_t* face, int npf, PetscInt* idx) const;
   double prescribed_value(int64_t local_dof, double s) const;
   bool assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy);
+  // The tangent's entries by coordinates, in the order jacobian() fills their values: element
+  // blocks, pressure-face blocks, Dirichlet diagonals, registered couplings.
+  void tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) const;
+  // Writes the values of the entries after the faces (Dirichlet diagonals, couplings) from
+  // `value` on.
+  void fill_constraint_entries(PetscScalar* value) const;
+  size_t num_face_entries() const;
 
   MPI_Comm comm_;
   const Mesh& mesh_;
@@ -158,6 +173,10 @@ class Problem {
   std::vector<PetscInt> ghost_blocks_;
   const InertiaTerm* inertia_ = nullptr;
   Vec extra_load_ = nullptr;
+  std::vector<std::vector<PetscInt>> couplings_;
+  std::vector<std::vector<PetscScalar>> coupling_values_;
+  std::vector<PetscScalar> tangent_values_;  // one per entry of tangent_entries
+  bool pattern_fixed_ = false;               // a matrix exists: no new surfaces or couplings
   Vec u_work_ = nullptr, r_work_ = nullptr;
   int64_t bad_element_ = -1;
   AssemblyTimers timers_;
