@@ -292,10 +292,11 @@ inline void resolve_portable(int j, RowRing& ring, FloorMoments* moments, Column
 }
 
 #if defined(FLUIDWEIGHT_AVX512)
-// GCC 12 warns inside its own intrinsics (min, max, compress read an undefined vector).
+// GCC 12 warns inside its own intrinsics (several start from an undefined vector).
 #if !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 #define FW_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,bmi,bmi2,popcnt")))
 
@@ -490,15 +491,29 @@ FW_AVX512 inline void raster_avx512(Raster& r, int rows, RowRing& ring) {
   }
 }
 
-// Sections of one plane of a chunk (lanes in `m`) added to their floors.
+// Sections of one plane of a chunk (lanes in `m`) added to their floors. When they all share
+// one floor (wide triangles) the chunk is summed in registers; otherwise section by section.
 FW_AVX512 inline void add_sections(__mmask8 m, __m512d h, __m256i floor, int col, int j,
                                    FloorMoments* moments, __m512d& sum) {
   sum = _mm512_mask_add_pd(sum, m, sum, h);
+  const int leader =
+      _mm256_extract_epi32(_mm256_permutexvar_epi32(_mm256_set1_epi32(lowest_bit(m)), floor), 0);
+  if (_mm256_mask_cmpeq_epi32_mask(m, floor, _mm256_set1_epi32(leader)) == m) {
+    FloorMoments& f = moments[leader];
+    const __m512d hk = _mm512_maskz_mov_pd(m, h);
+    const double sh = _mm512_reduce_add_pd(hk);
+    const __m512d di =
+        _mm512_add_pd(_mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7), _mm512_set1_pd(col - f.i0));
+    f.m0 += sh;
+    f.mi += _mm512_reduce_add_pd(_mm512_mul_pd(hk, di));
+    f.mj += sh * (j - f.j0);
+    return;
+  }
   alignas(64) double hl[kChunk];
   alignas(32) int fl[kChunk];
+  alignas(32) int il[kChunk];
   _mm512_store_pd(hl, _mm512_maskz_compress_pd(m, h));
   _mm256_store_si256(reinterpret_cast<__m256i*>(fl), _mm256_maskz_compress_epi32(m, floor));
-  alignas(32) int il[kChunk];
   _mm256_store_si256(
       reinterpret_cast<__m256i*>(il),
       _mm256_maskz_compress_epi32(
