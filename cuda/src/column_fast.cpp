@@ -70,6 +70,9 @@ struct Worker {
   std::vector<std::vector<Raster>> pending;  // per ring slot: tall triangles going on there
   std::vector<Raster> taken;
   rows::ColumnScratch scratch;
+#if defined(FLUIDWEIGHT_AVX512)
+  rows::SetupBatch batch;
+#endif
   std::vector<double> weights;  // one per vertex
   rows::RowTotals totals;
 };
@@ -98,6 +101,7 @@ struct FastColumn::Impl {
       : pool(threads), workers(pool.size()), automatic_threads(threads == 0) {
 #if defined(FLUIDWEIGHT_AVX512)
     if (use_avx512()) {
+      avx512 = true;
       raster = rows::raster_avx512;
       resolve = rows::resolve_avx512;
     }
@@ -106,11 +110,13 @@ struct FastColumn::Impl {
 
   void sweep_band(int band, Worker& w);
   void start(int t, int j, int jb, Worker& w);
+  void start_row(int j, int jb, Worker& w);
   void raster_block(Raster& r, int jb, Worker& w);
   void finish_floors(Worker& w);
 
   ThreadPool pool;
   std::vector<Worker> workers;
+  bool avx512 = false;
   void (*raster)(Raster&, int, rows::RowRing&) = rows::raster_portable;
   void (*resolve)(int, rows::RowRing&, FloorMoments*, rows::ColumnScratch&,
                   rows::RowTotals&) = rows::resolve_portable;
@@ -186,6 +192,64 @@ void FastColumn::Impl::start(int t, int j, int jb, Worker& w) {
   raster_block(r, jb, w);
 }
 
+// Starts the triangles whose first row is j: 8 set up together with AVX-512, else one by one.
+void FastColumn::Impl::start_row(int j, int jb, Worker& w) {
+  const int begin = row_start[j], end = row_start[j + 1];
+#if defined(FLUIDWEIGHT_AVX512)
+  if (avx512) {
+    static_assert(sizeof(SortedTriangle) == 16 && sizeof(SnappedVertex) == 16,
+                  "setup_avx512 reads 16-byte records");
+    rows::SetupBatch& b = w.batch;
+    const int s = grid.sub_bits;
+    for (int c = begin; c < end; c += rows::kChunk) {
+      const int lanes = std::min(rows::kChunk, end - c);
+      for (int u = 0; u < lanes && c + kPrefetch + u < static_cast<int>(sorted.size()); ++u) {
+        for (int v : sorted[c + kPrefetch + u].vertex) prefetch(&vertices[v]);
+      }
+      rows::setup_avx512(reinterpret_cast<const int*>(sorted.data() + c), lanes,
+                         reinterpret_cast<const int*>(vertices.data()), j, s, grid.n, b);
+      for (int u = 0; u < lanes; ++u) {
+        Raster r;
+        for (int k = 0; k < 3; ++k) {
+          r.e[k] = b.e[k][u];
+          r.di[k] = b.di[k][u];
+          r.dj[k] = b.dj[k][u];
+        }
+        r.z = b.z[u];
+        r.dzi = b.dzi[u];
+        r.dzj = b.dzj[u];
+        r.i0 = b.i0[u];
+        r.i1 = b.i1[u];
+        r.j1 = b.j1[u];
+        r.row = j;
+        r.floor = -1;
+        const unsigned flags = b.flags[u];
+        if ((flags >> 3) & 1) {
+          r.floor = w.floors++;
+          w.moments[r.floor] = {0.0, 0.0, 0.0, r.i0, j};
+          FloorSetup& f = w.setups[r.floor];
+          for (int k = 0; k < 3; ++k) {
+            f.e[k] = r.e[k] + ((flags >> k) & 1);
+            f.dx[k] = static_cast<int>(r.dj[k] >> s);
+            f.dy[k] = static_cast<int>(-r.di[k] >> s);
+          }
+          f.triangle = c + u;
+        }
+        raster_block(r, jb, w);
+      }
+    }
+    return;
+  }
+#endif
+  for (int c = begin; c < end; ++c) {
+    // Vertices are read at random in memory: ask for them ahead.
+    if (c + kPrefetch < static_cast<int>(sorted.size())) {
+      for (int v : sorted[c + kPrefetch].vertex) prefetch(&vertices[v]);
+    }
+    start(c, j, jb, w);
+  }
+}
+
 // Rasterizes the rows of r from r.row that the ring holds, up to the band's end; a triangle
 // with rows left goes on when the sweep reaches them.
 void FastColumn::Impl::raster_block(Raster& r, int jb, Worker& w) {
@@ -234,13 +298,7 @@ void FastColumn::Impl::sweep_band(int band, Worker& w) {
         start(carried[c], ja, jb, w);
       }
     }
-    for (int c = row_start[j]; c < row_start[j + 1]; ++c) {
-      // Vertices are read at random in memory: ask for them ahead.
-      if (c + kPrefetch < static_cast<int>(sorted.size())) {
-        for (int v : sorted[c + kPrefetch].vertex) prefetch(&vertices[v]);
-      }
-      start(c, j, jb, w);
-    }
+    start_row(j, jb, w);
     resolve(j, w.ring, w.moments.data(), w.scratch, w.totals);
   }
   finish_floors(w);

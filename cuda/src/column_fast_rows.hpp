@@ -426,6 +426,75 @@ FW_AVX512 void raster_avx512_kind(Raster& r, int rows, RowRing& ring) {
   r.row = row;
 }
 
+// Step 2 set-ups of up to 8 triangles (the raster of each, as FastColumn's start() finds it)
+// computed together: `triangle` points to 16-byte records (three counter-clockwise vertices and
+// flags), `vertex` to 16-byte snapped vertices (x, y, then the height as a double).
+struct SetupBatch {
+  alignas(64) int64_t e[3][kChunk], di[3][kChunk], dj[3][kChunk];
+  alignas(64) double z[kChunk], dzi[kChunk], dzj[kChunk];
+  alignas(32) int i0[kChunk], i1[kChunk], j1[kChunk], flags[kChunk];
+};
+
+FW_AVX512 inline void setup_avx512(const int* triangle, int lanes, const int* vertex, int j, int s,
+                                   int n, SetupBatch& b) {
+  const __mmask8 live = static_cast<__mmask8>((1u << lanes) - 1);
+  const __m256i zero = _mm256_setzero_si256();
+  const __m256i records = _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28);
+  const __m128i shift = _mm_cvtsi32_si128(s);
+  __m256i x[3], y[3];
+  __m512d z[3];
+  for (int k = 0; k < 3; ++k) {
+    const __m256i v = _mm256_mmask_i32gather_epi32(zero, live, records, triangle + k, 4);
+    const __m256i words = _mm256_slli_epi32(v, 2);
+    x[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex, 4);
+    y[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex + 1, 4);
+    z[k] = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), live, _mm256_slli_epi32(v, 1),
+                                    reinterpret_cast<const double*>(vertex) + 1, 8);
+  }
+  const __m256i flags = _mm256_mmask_i32gather_epi32(zero, live, records, triangle + 3, 4);
+  const __m256i half = _mm256_set1_epi32(1 << (s - 1));
+  const __m256i xmin = _mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]);
+  const __m256i xmax = _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]);
+  const __m256i ymax = _mm256_max_epi32(_mm256_max_epi32(y[0], y[1]), y[2]);
+  const __m256i last = _mm256_set1_epi32(n - 1);
+  const __m256i i0 = _mm256_max_epi32(
+      zero, _mm256_sub_epi32(zero, _mm256_sra_epi32(_mm256_sub_epi32(half, xmin), shift)));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(b.i0), i0);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(b.i1),
+                     _mm256_min_epi32(last, _mm256_sra_epi32(_mm256_sub_epi32(xmax, half), shift)));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(b.j1),
+                     _mm256_min_epi32(last, _mm256_sra_epi32(_mm256_sub_epi32(ymax, half), shift)));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(b.flags), flags);
+  const __m256i px = _mm256_add_epi32(_mm256_sll_epi32(i0, shift), half);
+  const __m256i py = _mm256_set1_epi32((j << s) + (1 << (s - 1)));
+  __m512i area2 = _mm512_setzero_si512();
+  __m512d z0 = _mm512_setzero_pd(), dzi = _mm512_setzero_pd(), dzj = _mm512_setzero_pd();
+  for (int k = 0; k < 3; ++k) {  // edge k goes from corner k + 1 to corner k + 2
+    const int p = k == 2 ? 0 : k + 1, q = k == 0 ? 2 : k - 1;
+    const __m512i dx = _mm512_cvtepi32_epi64(_mm256_sub_epi32(x[q], x[p]));
+    const __m512i dy = _mm512_cvtepi32_epi64(_mm256_sub_epi32(y[q], y[p]));
+    const __m512i e =
+        _mm512_sub_epi64(_mm512_mul_epi32(dx, _mm512_cvtepi32_epi64(_mm256_sub_epi32(py, y[p]))),
+                         _mm512_mul_epi32(dy, _mm512_cvtepi32_epi64(_mm256_sub_epi32(px, x[p]))));
+    const __m512i fold =
+        _mm512_cvtepi32_epi64(_mm256_and_si256(_mm256_srli_epi32(flags, k), _mm256_set1_epi32(1)));
+    const __m512i di = _mm512_sub_epi64(_mm512_setzero_si512(), _mm512_sll_epi64(dy, shift));
+    const __m512i dj = _mm512_sll_epi64(dx, shift);
+    _mm512_store_si512(b.e[k], _mm512_sub_epi64(e, fold));
+    _mm512_store_si512(b.di[k], di);
+    _mm512_store_si512(b.dj[k], dj);
+    area2 = _mm512_add_epi64(area2, e);
+    z0 = _mm512_add_pd(z0, _mm512_mul_pd(_mm512_cvtepi64_pd(e), z[k]));
+    dzi = _mm512_add_pd(dzi, _mm512_mul_pd(_mm512_cvtepi64_pd(di), z[k]));
+    dzj = _mm512_add_pd(dzj, _mm512_mul_pd(_mm512_cvtepi64_pd(dj), z[k]));
+  }
+  // Lanes past `lanes` divide by zero: never read.
+  const __m512d inv = _mm512_div_pd(_mm512_set1_pd(1.0), _mm512_cvtepi64_pd(area2));
+  _mm512_store_pd(b.z, _mm512_mul_pd(z0, inv));
+  _mm512_store_pd(b.dzi, _mm512_mul_pd(dzi, inv));
+  _mm512_store_pd(b.dzj, _mm512_mul_pd(dzj, inv));
+}
+
 // Boxes of up to kNarrow chunks: their chunks' edge functions and heights are kept in
 // registers and stepped from row to row, so that a row costs little more than its writes.
 template <bool kFloor, int kNarrow>
