@@ -10,7 +10,6 @@
 // to per-column slots in shared memory; then each thread resolves one column (Step 5) and only
 // the nodal weights leave the chip.
 #include <algorithm>
-#include <cub/block/block_reduce.cuh>
 #include <cub/block/block_scan.cuh>
 
 #include "resolve.cuh"
@@ -66,13 +65,9 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
                                              int first_entry) {
   constexpr int kThreads = TILE * TILE;  // also the columns of a tile
   using Scan = cub::BlockScan<int, kThreads>;
-  using Reduce = cub::BlockReduce<double, kThreads>;
-  using ReduceCount = cub::BlockReduce<unsigned, kThreads>;
-  __shared__ union {
-    typename Scan::TempStorage scan;
-    typename Reduce::TempStorage reduce;
-    typename ReduceCount::TempStorage count;
-  } storage;
+  __shared__ typename Scan::TempStorage scan_storage;
+  __shared__ double warp_sum[kThreads / 32];
+  __shared__ unsigned warp_unmatched[kThreads / 32];
   __shared__ Staged<Real, kThreads> s;
   extern __shared__ __align__(16) unsigned char dynamic[];
   const int capacity = b.column_capacity;
@@ -115,7 +110,7 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
     }
     __syncthreads();  // the previous round is done with the staged triangles
     int offset, total;
-    Scan(storage.scan).ExclusiveSum(count, offset, total);
+    Scan(scan_storage).ExclusiveSum(count, offset, total);
     const int k = threadIdx.x;
     {
       const Real z[3] = {t.z[0], t.z[1], t.z[2]};
@@ -147,11 +142,24 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
   resolve_column(b, ColumnHits<Real>{s_z + threadIdx.x, s_tag + threadIdx.x, kThreads}, n, i, j,
                  grid, sum_heights, unmatched,
                  TileFloors<Real, kThreads>{b, s, list, listed, first});
+  // The block's sums: warp shuffles, then one barrier (cub's two block reductions took two
+  // more and their own).
+  for (int d = 16; d > 0; d >>= 1) {
+    sum_heights += __shfl_xor_sync(kFullMask, sum_heights, d);
+    unmatched += __shfl_xor_sync(kFullMask, unmatched, d);
+  }
+  if ((threadIdx.x & 31) == 0) {
+    warp_sum[threadIdx.x / 32] = sum_heights;
+    warp_unmatched[threadIdx.x / 32] = unmatched;
+  }
   __syncthreads();
-  double sum = Reduce(storage.reduce).Sum(sum_heights);
-  __syncthreads();
-  unsigned u = ReduceCount(storage.count).Sum(unmatched);
   if (threadIdx.x == 0) {
+    double sum = 0.0;
+    unsigned u = 0;
+    for (int w = 0; w < kThreads / 32; ++w) {
+      sum += warp_sum[w];
+      u += warp_unmatched[w];
+    }
     const int stripe = tile % kStripes;
     if (sum != 0.0) atomicAdd(&b.cavities[cavity].sum_heights[stripe], sum);
     if (u) atomicAdd(&b.cavities[cavity].unmatched[stripe], static_cast<unsigned long long>(u));
