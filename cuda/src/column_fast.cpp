@@ -393,6 +393,14 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   parallel([&](int index) {
     int begin, end;
     slice(nt, index, begin, end);
+#if defined(FLUIDWEIGHT_AVX512)
+    if (m.avx512) {
+      tallest[index] = rows::step2_avx512(cavity.triangles, begin, end,
+                                          reinterpret_cast<const int*>(m.vertices.data()), s,
+                                          grid.orientation, m.row0.data(), m.flags.data());
+      return;
+    }
+#endif
     int tall = 1;
     for (int t = begin; t < end; ++t) {
       // setup_triangle's box, orientation and fill-rule thresholds without branches: floors and

@@ -426,6 +426,77 @@ FW_AVX512 void raster_avx512_kind(Raster& r, int rows, RowRing& ring) {
   r.row = row;
 }
 
+// Step 2 of triangles [begin, end) (input order, `triangle` 3 vertex indices each), 8 at a
+// time: as the portable loop in column_fast.cpp, the first row of each triangle's box, or -1
+// when it covers no column, and its flags (fill-rule thresholds, floor, corners swapped).
+// Returns the most rows of a box.
+FW_AVX512 inline int step2_avx512(const int* triangle, int begin, int end, const int* vertex, int s,
+                                  int orientation, int* row0, unsigned* flags) {
+  const __m256i zero = _mm256_setzero_si256();
+  const __m256i one = _mm256_set1_epi32(1);
+  const __m256i half = _mm256_set1_epi32(1 << (s - 1));
+  const __m128i shift = _mm_cvtsi32_si128(s);
+  const __m256i records = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+  __m256i tall = one;
+  for (int t = begin; t < end; t += kChunk) {
+    const int lanes = std::min(kChunk, end - t);
+    const __mmask8 live = static_cast<__mmask8>((1u << lanes) - 1);
+    __m256i x[3], y[3];
+    for (int k = 0; k < 3; ++k) {
+      const __m256i v = _mm256_mmask_i32gather_epi32(zero, live, records, triangle + 3 * t + k, 4);
+      const __m256i words = _mm256_slli_epi32(v, 2);
+      x[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex, 4);
+      y[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex + 1, 4);
+    }
+    const __m256i xmin = _mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]);
+    const __m256i xmax = _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]);
+    const __m256i ymin = _mm256_min_epi32(_mm256_min_epi32(y[0], y[1]), y[2]);
+    const __m256i ymax = _mm256_max_epi32(_mm256_max_epi32(y[0], y[1]), y[2]);
+    const __m256i i0 =
+        _mm256_sub_epi32(zero, _mm256_sra_epi32(_mm256_sub_epi32(half, xmin), shift));
+    const __m256i i1 = _mm256_sra_epi32(_mm256_sub_epi32(xmax, half), shift);
+    const __m256i j0 =
+        _mm256_sub_epi32(zero, _mm256_sra_epi32(_mm256_sub_epi32(half, ymin), shift));
+    const __m256i j1 = _mm256_sra_epi32(_mm256_sub_epi32(ymax, half), shift);
+    // area2 = (x1 - x0)(y2 - y0) - (y1 - y0)(x2 - x0), exact in 64 bits.
+    const __m512i area2 =
+        _mm512_sub_epi64(_mm512_mul_epi32(_mm512_cvtepi32_epi64(_mm256_sub_epi32(x[1], x[0])),
+                                          _mm512_cvtepi32_epi64(_mm256_sub_epi32(y[2], y[0]))),
+                         _mm512_mul_epi32(_mm512_cvtepi32_epi64(_mm256_sub_epi32(y[1], y[0])),
+                                          _mm512_cvtepi32_epi64(_mm256_sub_epi32(x[2], x[0]))));
+    const __mmask8 positive = _mm512_cmpgt_epi64_mask(area2, _mm512_setzero_si512());
+    const __mmask8 flip = _mm512_cmplt_epi64_mask(area2, _mm512_setzero_si512());
+    const __mmask8 covers = static_cast<__mmask8>(
+        (positive | flip) & ~_mm256_cmpgt_epi32_mask(i0, i1) & ~_mm256_cmpgt_epi32_mask(j0, j1));
+    _mm256_mask_storeu_epi32(row0 + t, live,
+                             _mm256_mask_blend_epi32(covers, _mm256_set1_epi32(-1), j0));
+    tall = _mm256_mask_max_epi32(tall, covers & live, tall,
+                                 _mm256_add_epi32(_mm256_sub_epi32(j1, j0), one));
+    // Counter-clockwise corners: 1 and 2 swapped where the input order is clockwise.
+    const __m256i cx[3] = {x[0], _mm256_mask_blend_epi32(flip, x[1], x[2]),
+                           _mm256_mask_blend_epi32(flip, x[2], x[1])};
+    const __m256i cy[3] = {y[0], _mm256_mask_blend_epi32(flip, y[1], y[2]),
+                           _mm256_mask_blend_epi32(flip, y[2], y[1])};
+    const __mmask8 bottom = orientation > 0 ? flip : positive;
+    __m256i f = _mm256_or_si256(_mm256_maskz_mov_epi32(bottom, _mm256_set1_epi32(8)),
+                                _mm256_maskz_mov_epi32(flip, _mm256_set1_epi32(16)));
+    for (int k = 0; k < 3; ++k) {
+      const int p = k == 2 ? 0 : k + 1, q = k == 0 ? 2 : k - 1;
+      const __m256i dx = _mm256_sub_epi32(cx[q], cx[p]), dy = _mm256_sub_epi32(cy[q], cy[p]);
+      // Top edge: horizontal, going left (interior below). Left edge: going down.
+      const __mmask8 top_left =
+          _mm256_cmpgt_epi32_mask(zero, dy) |
+          (_mm256_cmpeq_epi32_mask(dy, zero) & _mm256_cmpgt_epi32_mask(zero, dx));
+      f = _mm256_or_si256(
+          f, _mm256_maskz_mov_epi32(static_cast<__mmask8>(~top_left), _mm256_set1_epi32(1 << k)));
+    }
+    _mm256_mask_storeu_epi32(flags + t, live, f);
+  }
+  alignas(32) int lanes_tall[kChunk];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes_tall), tall);
+  return *std::max_element(lanes_tall, lanes_tall + kChunk);
+}
+
 // Step 2 set-ups of up to 8 triangles (the raster of each, as FastColumn's start() finds it)
 // computed together: `triangle` points to 16-byte records (three counter-clockwise vertices and
 // flags), `vertex` to 16-byte snapped vertices (x, y, then the height as a double).
