@@ -149,41 +149,45 @@ inline void add_section(FloorMoments& f, double h, int i, int j) {
   f.mj += h * (j - f.j0);
 }
 
-// Portable raster: `rows` rows from r.row, advancing r.
+// Portable raster: `rows` rows from r.row, advancing r. Boxes narrower than 8 columns test all
+// 8 (a loop of fixed length, without branches), wider ones divide. The raster's fields are
+// copied into locals: stores through the byte counts could alias them.
 inline void raster_portable(Raster& r, int rows, RowRing& ring) {
   const int kind = r.floor < 0 ? 1 : 0;
   const size_t w = ring.width;
+  const int64_t di0 = r.di[0], di1 = r.di[1], di2 = r.di[2];
+  const int i0 = r.i0, floor = r.floor;
+  const double dzi = r.dzi;
+  const bool narrow = r.i1 - r.i0 < kChunk;
   for (int q = 0; q < rows; ++q, ++r.row) {
-    int first, last;
-    bool any;
-    if (r.i1 - r.i0 < kWide) {
-      // Every column of the box, as a bit mask: covered when no edge function is negative.
+    int first = 0, last = -1;
+    if (narrow) {
       uint64_t mask = 0;
       int64_t e0 = r.e[0], e1 = r.e[1], e2 = r.e[2];
-      for (int u = 0; u <= r.i1 - r.i0; ++u, e0 += r.di[0], e1 += r.di[1], e2 += r.di[2]) {
+      for (int u = 0; u < kChunk; ++u, e0 += di0, e1 += di1, e2 += di2) {
         mask |= (static_cast<uint64_t>(~(e0 | e1 | e2)) >> 63) << u;
       }
-      any = mask != 0;
-      if (any) {
-        first = r.i0 + lowest_bit(mask);
-        last = r.i0 + highest_bit(mask);
+      if (mask) {
+        first = i0 + lowest_bit(mask);
+        last = i0 + highest_bit(mask);
       }
-    } else {
-      any = wide_span(r, first, last);
+    } else if (!wide_span(r, first, last)) {
+      last = first - 1;
     }
-    if (any) {
+    if (first <= last) {
       const int slot = r.row & (ring.rows - 1);
       uint8_t* count = ring.count[kind].data() + slot * w;
       double* zs = ring.z[kind].data() + slot * kPlanes * w;
       int* fl = ring.floor.data() + slot * kPlanes * w;
-      double zi = r.z + r.dzi * (first - r.i0);
-      for (int i = first; i <= last; ++i, zi += r.dzi) {
+      const double z = r.z;
+      for (int i = first; i <= last; ++i) {
+        const double zi = z + dzi * (i - i0);
         const int c = count[i];
         if (c < kPlanes) {
           zs[c * w + i] = zi;
-          if (kind == 0) fl[c * w + i] = r.floor;
+          if (kind == 0) fl[c * w + i] = floor;
         } else {
-          ring.spill[kind][slot].push_back({i, r.floor, zi});
+          ring.spill[kind][slot].push_back({i, floor, zi});
         }
         count[i] = static_cast<uint8_t>(c + (c < 255));
       }
@@ -193,6 +197,28 @@ inline void raster_portable(Raster& r, int rows, RowRing& ring) {
     for (int k = 0; k < 3; ++k) r.e[k] += r.dj[k];
     r.z += r.dzj;
   }
+}
+
+// Sorts four heights (and their floor records, when given) by a sorting network:
+// compare-exchanges without branches, whose outcome depends on the data.
+static_assert(kPlanes == 4, "sort4 sorts a column's planes");
+inline void sort4(double* z, int* floor) {
+  auto exchange = [&](int a, int b) {
+    const bool swap = z[b] < z[a];
+    const double za = z[a], zb = z[b];
+    z[a] = swap ? zb : za;
+    z[b] = swap ? za : zb;
+    if (floor) {
+      const int fa = floor[a], fb = floor[b];
+      floor[a] = swap ? fb : fa;
+      floor[b] = swap ? fa : fb;
+    }
+  };
+  exchange(0, 1);
+  exchange(2, 3);
+  exchange(0, 2);
+  exchange(1, 3);
+  exchange(1, 2);
 }
 
 // Column i of a slot (planes and spilled hits, `at` the next spilled entry of each kind in
@@ -283,6 +309,24 @@ inline void resolve_portable(int j, RowRing& ring, FloorMoments* moments, Column
       const double h = cz[i] - fz[i];
       add_section(moments[fl[i]], h, i, j);
       totals.sum_heights += h;
+    } else if (nf <= kPlanes && nc <= kPlanes && (nf | nc)) {
+      // A few hits: padded to kPlanes with infinite heights and sorted by a fixed network.
+      ring.count[0][slot * w + i] = ring.count[1][slot * w + i] = 0;
+      const double inf = std::numeric_limits<double>::infinity();
+      double a[kPlanes], b[kPlanes];
+      int f[kPlanes];
+      for (int c = 0; c < kPlanes; ++c) {
+        a[c] = c < nf ? fz[c * w + i] : inf;
+        f[c] = fl[c * w + i];
+        b[c] = c < nc ? cz[c * w + i] : inf;
+      }
+      sort4(a, f);
+      sort4(b, nullptr);
+      if (nf != nc) ++totals.unmatched;
+      for (int k = 0; k < std::min(nf, nc); ++k) {
+        add_section(moments[f[k]], b[k] - a[k], i, j);
+        totals.sum_heights += b[k] - a[k];
+      }
     } else if (nf | nc) {
       resolve_column(slot, i, j, ring, at, moments, s, totals);
     }
