@@ -345,6 +345,13 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
       }
     }
     slice(nt, index, begin, end);
+#if defined(FLUIDWEIGHT_AVX512)
+    if (m.avx512) {
+      box[6] = rows::volume_avx512(cavity.triangles, begin, end, cavity.xyz);
+      partial[index] = box;
+      return;
+    }
+#endif
     Vec3 o = load_vec3(cavity.xyz, 0);
     for (int t = begin; t < end; ++t) {
       if (t + kPrefetchAhead < end) {
@@ -440,23 +447,23 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     }
     tallest[index] = tall;
   });
-  // Triangles with columns by first row (a counting sort).
-  m.row_start.assign(n + 1, 0);
-  for (int t = 0; t < nt; ++t) {
-    if (m.row0[t] >= 0) ++m.row_start[m.row0[t] + 1];
-  }
-  for (int j = 0; j < n; ++j) m.row_start[j + 1] += m.row_start[j];
-  m.sorted.resize(m.row_start[n]);
+  // Triangles by first row (a counting sort). Those without columns (row0 = -1) are sorted too,
+  // into a bucket before row 0, so that neither loop branches on them (at coarse grids half the
+  // triangles have no column, in random order).
+  m.row_start.assign(n + 2, 0);
+  for (int t = 0; t < nt; ++t) ++m.row_start[m.row0[t] + 2];
+  for (int b = 0; b <= n; ++b) m.row_start[b + 1] += m.row_start[b];
+  m.sorted.resize(nt);
   {
     std::vector<int> fill(m.row_start.begin(), m.row_start.end() - 1);
     for (int t = 0; t < nt; ++t) {
-      if (m.row0[t] < 0) continue;
       const int* v = cavity.triangles + 3 * t;
       const bool flip = m.flags[t] & 16u;
-      m.sorted[fill[m.row0[t]]++] = {{v[0], flip ? v[2] : v[1], flip ? v[1] : v[2]},
-                                     m.flags[t] & 15u};
+      m.sorted[fill[m.row0[t] + 1]++] = {{v[0], flip ? v[2] : v[1], flip ? v[1] : v[2]},
+                                         m.flags[t] & 15u};
     }
   }
+  m.row_start.erase(m.row_start.begin());  // row j: [row_start[j], row_start[j + 1])
   m.num_bands = threads == 1 ? 1 : std::min(n, 8 * threads);
   m.band_rows = (n + m.num_bands - 1) / m.num_bands;
   m.num_bands = (n + m.band_rows - 1) / m.band_rows;
