@@ -5,16 +5,17 @@
         [--out bench/control/results.csv]
 
 For each deck (finger_pneumatic, finger_hydraulic, finger_cable, pendulum), mesh size h
-(the .geo's sizes: finger 364, 1,961 and 10,488 nodes, pendulum 2,063 and 10,493;
---largest adds the ~51k-node meshes, minutes each) and control mode (newton: the free
-configuration converged by Newton; one_step: one linearisation per step; the kept
-factorization of refactor_every is for slow tracking and is timed by
-scripts/track_circle.py instead), runs `hydrosoft DECK` on NP ranks with two
+(the .geo's sizes: finger 364, 1,961 and 10,488 nodes, pendulum 2,063 and 10,493) and
+control mode (newton: the free configuration converged by Newton; one_step: one
+linearisation per step; one_step/4: the same with the factorization kept for up to 4
+steps, on the meshes of up to ~2,000 nodes), runs `hydrosoft DECK` on NP ranks with two
 reachable target sets and 5 control steps each, REPEATS times, and reads summary.json's
 `step_time_ms` (median and p95 over the run's steps; the split medians: assembly, fluid
 weight, free solve, factorization, compliance, QP, correction). Reports the median over the
-repeats of each figure, as CSV and as a Markdown table. OPENBLAS_NUM_THREADS=1, so NP ranks
-use NP cores.
+repeats of each figure, as CSV and as a Markdown table. --largest runs only the ~51k-node
+meshes, in one_step mode (a factorization there takes seconds; newton would take an hour).
+Rows measured replace the rows of the same deck, nodes and mode in the CSV; the others
+stay. OPENBLAS_NUM_THREADS=1, so NP ranks use NP cores.
 """
 import argparse
 import csv
@@ -34,7 +35,8 @@ CASES = [  # deck, h, nodes (meshes/*.geo headers)
     ("finger_cable", 0.0026, 1961), ("finger_cable", 0.00135, 10488),
     ("pendulum", 0.0036, 2063), ("pendulum", 0.00185, 10493), ("pendulum", 0.00103, 51393),
 ]
-MODES = [("newton", 1), ("one_step", 1)]
+MODES = [("newton", 1), ("one_step", 1), ("one_step", 4)]
+KEPT_UP_TO = 2100  # nodes: the kept factorization is the real-time mode of small meshes
 PARTS = ["assembly", "fluid_weight", "free_solve", "factorization", "compliance", "qp",
          "correction"]
 
@@ -69,9 +71,13 @@ def main():
     a = ap.parse_args()
     rows = []
     for deck, h, nodes in CASES:
-        if nodes > 50000 and not a.largest:
+        if (nodes > 50000) != a.largest:
             continue
         for mode in MODES:
+            if a.largest and mode != ("one_step", 1):
+                continue
+            if mode[1] > 1 and nodes > KEPT_UP_TO:
+                continue
             reps = []
             for r in range(a.repeats):
                 folder = os.path.join(tempfile.gettempdir(),
@@ -87,19 +93,38 @@ def main():
                 row[part + "_ms"] = statistics.median(s["split_median"][part] for s in st)
             rows.append(row)
             print(row, flush=True)
+    rows = merged(a.out, rows)
     tmp = a.out + ".tmp"
     with open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         for row in rows:
-            w.writerow({k: ("%.3f" % v if isinstance(v, float) else v) for k, v in row.items()})
+            w.writerow({k: (("%g" if k == "h" else "%.3f") % float(v)
+                            if isinstance(v, float) else v) for k, v in row.items()})
     os.replace(tmp, a.out)
     print("| deck | nodes | mode | step median (ms) | p95 | " + " | ".join(PARTS) + " |")
     print("|---|---|---|---|---|" + "---|" * len(PARTS))
     for r in rows:
-        print(f"| {r['deck']} | {r['nodes']:,} | {r['mode']} | {r['median_ms']:.1f} | "
-              f"{r['p95_ms']:.1f} | " +
-              " | ".join("%.2f" % r[p + "_ms"] for p in PARTS) + " |")
+        print(f"| {r['deck']} | {int(r['nodes']):,} | {r['mode']} | {float(r['median_ms']):.1f} | "
+              f"{float(r['p95_ms']):.1f} | " +
+              " | ".join("%.2f" % float(r[p + "_ms"]) for p in PARTS) + " |")
+
+
+def merged(path, new_rows):
+    """The CSV's rows with those measured now replaced or added, in the order of CASES."""
+    key = lambda r: (r["deck"], int(r["nodes"]), r["mode"])
+    rows = {}
+    if os.path.exists(path):
+        with open(path, newline="") as f:
+            for r in csv.DictReader(f):
+                rows[key(r)] = {k: (float(v) if k == "h" or k.endswith("_ms") else v)
+                                for k, v in r.items()}
+    for r in new_rows:
+        rows[key(r)] = r
+    order = {(d, n): i for i, (d, _, n) in enumerate(CASES)}
+    modes = [m[0] + ("" if m[1] == 1 else f"/{m[1]}") for m in MODES]
+    return sorted(rows.values(), key=lambda r: (order.get((r["deck"], int(r["nodes"])), 99),
+                                                modes.index(r["mode"])))
 
 
 if __name__ == "__main__":
