@@ -104,16 +104,14 @@ __device__ __forceinline__ void raster_round(const RasterStage<Real, N>& s, int 
       if (before < 32) break;
       item += 32;
     }
-    // This lane's entry: `item` plus how many of those 32 start at or before its candidate
-    // (a binary search over the lanes), then a walk for windows where more entries start.
+    // This lane's entry: `item`, the `before` entries starting at or before the window, and
+    // those starting inside it at or before the lane's candidate: bits of the positions where
+    // they start (one reduction, no chain of shuffles; entries without candidates share a
+    // start with the next one and are then found by the walk below).
     const int f = base + lane;
-    int pos = 0;
-#pragma unroll
-    for (int step = 16; step > 0; step >>= 1) {
-      const int v = __shfl_sync(kFullMask, o, pos + step - 1);
-      if (v <= f) pos += step;
-    }
-    int own = item + pos;
+    const unsigned starts =
+        __reduce_or_sync(kFullMask, o > base && o - base < 32 ? 1u << (o - base) : 0u);
+    int own = item + before + __popc(starts & (0xffffffffu >> (31 - lane)));
     item += before;
     if (f >= total) continue;
     while (s.offset[own + 1] <= f) ++own;
