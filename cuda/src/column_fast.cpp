@@ -34,7 +34,7 @@ using rows::Raster;
 
 constexpr int kPrefetch = 8;        // triangles whose vertices are asked for ahead of their setup
 constexpr int kPrefetchAhead = 16;  // the same, in the passes of Steps 1 and 2 over the triangles
-constexpr int kMaxRingRows = 32;    // rows a triangle is rasterized at once, at most
+constexpr int kMaxRingRows = 16;    // rows a triangle is rasterized at once, at most
 constexpr size_t kRingBytes = 4 << 20;  // and the ring's size, at most
 
 // A vertex after Step 1: snapped coordinates and height above the lowest vertex.
