@@ -195,6 +195,9 @@ void InverseController::factor_responses() {
   }
 }
 
+// On a copy, by the free solve: Newton from the prediction, or, where a kept factorization
+// left the prediction too far off for Newton (a few steps of 5 kPa on the hydraulic finger),
+// the pressures walked from the last equilibrium found here (or the rest state).
 std::vector<double> InverseController::equilibrium_positions(Vec u) {
   const std::vector<double> pressures = cavities_.pressures();
   std::vector<double> targets;
@@ -206,16 +209,18 @@ std::vector<double> InverseController::equilibrium_positions(Vec u) {
     cavities_[a.cavity].control = CavityControl::pressure;
     cavities_[a.cavity].target = cavities_[a.cavity].lambda;
   }
-  problem_.apply_dirichlet(x, 1.0);
-  if (cavities_.linearized()) cavities_.freeze_weights(x, 1.0);
-  const NewtonResult r = newton_.solve(x, 1.0);
+  ControlStepReport report;
+  const NewtonResult r = solve_free(x, report);
   const std::vector<double> positions = effectors_.positions(x);
   HS_PETSC(VecDestroy(&x));
   cavities_.set_pressures(pressures);
   for (int c = 0; c < cavities_.size(); ++c) cavities_[c].target = targets[c];
-  if (!r.converged)
-    throw SolveError("control: the equilibrium check at the current actuation did not converge (" +
-                     r.reason + ")");
+  if (!r.converged || report.limit_point)
+    throw SolveError(
+        "control: the equilibrium check found no equilibrium at the current "
+        "actuation (" +
+        (report.limit_point ? std::string("a limit point of the pressure on the way") : r.reason) +
+        ")");
   return positions;
 }
 

@@ -16,6 +16,15 @@ repeats of each figure, as CSV and as a Markdown table. --largest runs only the 
 meshes, in one_step mode (a factorization there takes seconds; newton would take an hour).
 Rows measured replace the rows of the same deck, nodes and mode in the CSV; the others
 stay. OPENBLAS_NUM_THREADS=1, so NP ranks use NP cores.
+
+    /usr/bin/python3 bench/control/run_benchmark.py --tracking [--repeats 3]
+
+times the real-time use instead: both fingers (1,961 nodes) follow the tip height from -12
+to -8 mm and back in 0.2 mm targets, one control step each (40 steps, after 10 steps that
+bring it from rest to -12 mm), with the factorization kept for N = 1, 4 and 10 steps;
+besides the step times (the 40 steps; the split medians over all 50) it reports the largest
+error of the prediction and of the equilibrium at each target's actuation
+(check_equilibrium, solved outside the step times). Writes bench/control/tracking.csv.
 """
 import argparse
 import csv
@@ -41,7 +50,7 @@ PARTS = ["assembly", "fluid_weight", "free_solve", "factorization", "compliance"
          "correction"]
 
 
-def run(deck, h, np_, folder, mode):
+def run(deck, h, np_, folder, mode, targets=None, extra=()):
     cmd = ["mpirun", "--oversubscribe", "-np", str(np_)]
     if os.geteuid() == 0:
         cmd.append("--allow-run-as-root")
@@ -49,11 +58,12 @@ def run(deck, h, np_, folder, mode):
             "--set", f"mesh.parameters.h={h}", "--set", "control.steps_per_target=5",
             "--set", f"control.free_solve={mode[0]}", "--set", f"control.refactor_every={mode[1]}",
             "--set", f"output.folder={folder}"]
-    # The first two target sets of the deck.
-    targets = {"pendulum": "[{bottom: [0, 0, -0.1015]}, {bottom: [0.002, 0, -0.1012]}]",
-               "finger_cable": "[{tip: [0.09, 0, -0.02]}, {tip: [0.09, 0, -0.025]}]"}
-    cmd += ["--set", "control.targets=" + targets.get(
-        deck, "[{tip: [0.09, 0, -0.012]}, {tip: [0.09, 0, -0.008]}]")]
+    if targets is None:
+        targets = "control.targets=" + {
+            "pendulum": "[{bottom: [0, 0, -0.1015]}, {bottom: [0.002, 0, -0.1012]}]",
+            "finger_cable": "[{tip: [0.09, 0, -0.02]}, {tip: [0.09, 0, -0.025]}]"}.get(
+            deck, "[{tip: [0.09, 0, -0.012]}, {tip: [0.09, 0, -0.008]}]")
+    cmd += ["--set", targets, *extra]
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
     if p.returncode != 0:
@@ -67,8 +77,11 @@ def main():
     ap.add_argument("--np", type=int, default=1)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--largest", action="store_true")
+    ap.add_argument("--tracking", action="store_true")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "control", "results.csv"))
     a = ap.parse_args()
+    if a.tracking:
+        return tracking(a)
     rows = []
     for deck, h, nodes in CASES:
         if (nodes > 50000) != a.largest:
@@ -108,6 +121,50 @@ def main():
         print(f"| {r['deck']} | {int(r['nodes']):,} | {r['mode']} | {float(r['median_ms']):.1f} | "
               f"{float(r['p95_ms']):.1f} | " +
               " | ".join("%.2f" % float(r[p + "_ms"]) for p in PARTS) + " |")
+
+
+def tracking(a):
+    """The fingers following a slow sweep of the tip height, one control step a target."""
+    lead = 10  # steps that take the finger from rest to the sweep's start, left out below
+    heights = [-0.012 + 0.0002 * k for k in range(21)]
+    heights = [-0.012] * lead + heights[1:] + heights[-2::-1]
+    targets = "control.targets=[" + ", ".join(
+        "{tip: [0.09, 0, %.4f]}" % z for z in heights) + "]"
+    extra = ("--set", "control.steps_per_target=1", "--set", "control.check_equilibrium=true")
+    rows = []
+    for deck in ("finger_pneumatic", "finger_hydraulic"):
+        for n in (1, 4, 10):
+            reps = []
+            for r in range(a.repeats):
+                folder = os.path.join(tempfile.gettempdir(), f"hydrosoft_bench_track_{deck}_{r}")
+                reps.append(run(deck, 0.0026, a.np, folder, ("one_step", n), targets, extra))
+            st = [s["step_time_ms"] for s in reps]
+            t = reps[0]["targets"][lead:]
+            # One step a target: each target's step_ms is its step's time.
+            times = [sorted(x["step_ms"] for x in s["targets"][lead:]) for s in reps]
+            row = {"deck": deck, "nodes": 1961, "refactor_every": n, "steps": len(t),
+                   "median_ms": statistics.median(statistics.median(v) for v in times),
+                   "p95_ms": statistics.median(v[int(0.95 * (len(v) - 1))] for v in times),
+                   "max_prediction_error_mm": 1e3 * max(x["error_m"] for x in t),
+                   "max_equilibrium_error_mm": 1e3 * max(x["equilibrium_error_m"] for x in t)}
+            for part in PARTS:
+                row[part + "_ms"] = statistics.median(s["split_median"][part] for s in st)
+            rows.append(row)
+            print(row, flush=True)
+    out = os.path.join(os.path.dirname(a.out), "tracking.csv")
+    with open(out + ".tmp", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        for row in rows:
+            w.writerow({k: ("%.4f" % v if isinstance(v, float) else v) for k, v in row.items()})
+    os.replace(out + ".tmp", out)
+    print("| deck | refactor_every | step median (ms) | p95 | max prediction error (mm) | "
+          "max equilibrium error (mm) | " + " | ".join(PARTS) + " |")
+    print("|---|---|---|---|---|---|" + "---|" * len(PARTS))
+    for r in rows:
+        print(f"| {r['deck']} | {r['refactor_every']} | {r['median_ms']:.2f} | {r['p95_ms']:.1f} | "
+              f"{r['max_prediction_error_mm']:.4f} | {r['max_equilibrium_error_mm']:.4f} | " +
+              " | ".join("%.2f" % r[p + "_ms"] for p in PARTS) + " |")
 
 
 def merged(path, new_rows):
