@@ -22,7 +22,7 @@
 #include <functional>
 #include <limits>
 
-#include "column_fast_rows.hpp"
+#include "column_fast_avx512.hpp"
 #include "cpu.hpp"
 #include "thread_pool.hpp"
 
