@@ -18,10 +18,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <limits>
 
+#include "column_fast_avx2.hpp"
 #include "column_fast_avx512.hpp"
 #include "cpu.hpp"
 #include "thread_pool.hpp"
@@ -85,27 +85,41 @@ void prefetch(const void* p) {
 #endif
 }
 
-#if defined(FLUIDWEIGHT_AVX512)
-// The AVX-512 kernels unless the processor lacks them or FLUIDWEIGHT_CPU_SIMD=0 (for tests
-// and timing of the portable ones).
-bool use_avx512() {
+// The kernels' instruction set: FLUIDWEIGHT_CPU_SIMD=0 (portable), 2 (AVX2), 512 (AVX-512),
+// for tests and timing; else the widest the processor has.
+int simd_level() {
   const char* env = std::getenv("FLUIDWEIGHT_CPU_SIMD");
-  return !(env && std::strcmp(env, "0") == 0) && rows::avx512_available();
-}
+  const int asked = env ? std::atoi(env) : 512;
+#if defined(FLUIDWEIGHT_AVX512)
+  if (asked >= 512 && rows::avx512_available()) return 512;
 #endif
+#if defined(FLUIDWEIGHT_AVX2)
+  if (asked >= 2 && rows::avx2_available()) return 2;
+#endif
+  (void)asked;
+  return 0;
+}
 
 }  // namespace
 
 struct FastColumn::Impl {
   explicit Impl(int threads)
       : pool(threads), workers(pool.size()), automatic_threads(threads == 0) {
+    const int level = simd_level();
 #if defined(FLUIDWEIGHT_AVX512)
-    if (use_avx512()) {
+    if (level == 512) {
       avx512 = true;
       raster = rows::raster_avx512;
       resolve = rows::resolve_avx512;
     }
 #endif
+#if defined(FLUIDWEIGHT_AVX2)
+    if (level == 2) {
+      raster = rows::raster_avx2;
+      resolve = rows::resolve_avx2;
+    }
+#endif
+    (void)level;
   }
 
   void sweep_band(int band, Worker& w);

@@ -35,13 +35,6 @@ __attribute__((noinline)) inline void spill_chunk(std::vector<Spilled>& spill, u
   }
 }
 
-// The ring's arrays of one slot, for one kind of hits.
-struct SlotView {
-  uint8_t* count;
-  double* z;
-  int* floor;
-};
-
 // Hits of the chunk of columns col .. col + 7 (covered where m is set) into the planes of one
 // slot: lane u to the plane of its column's count, or to the spill list. Planes 0 and 1 are
 // written without a branch (a second hit of a kind is common: non-convex meshes).

@@ -92,6 +92,13 @@ struct RowRing {
   }
 };
 
+// The ring's arrays of one slot, for one kind of hits.
+struct SlotView {
+  uint8_t* count;
+  double* z;
+  int* floor;
+};
+
 // What resolving rows adds up.
 struct RowTotals {
   double sum_heights = 0.0;
@@ -281,6 +288,45 @@ inline void sort_spill(RowRing& ring, int slot) {
   }
 }
 
+// Column i of a slot resolved alone (the portable resolution's loop body; `at` as for
+// resolve_column).
+inline void resolve_one(int slot, int i, int j, RowRing& ring, size_t at[2], FloorMoments* moments,
+                        ColumnScratch& s, RowTotals& totals) {
+  const size_t w = ring.width;
+  uint8_t& fcount = ring.count[0][slot * w + i];
+  uint8_t& ccount = ring.count[1][slot * w + i];
+  const int nf = fcount, nc = ccount;
+  const double* fz = ring.z[0].data() + slot * kPlanes * w + i;
+  const double* cz = ring.z[1].data() + slot * kPlanes * w + i;
+  const int* fl = ring.floor.data() + slot * kPlanes * w + i;
+  if (nf == 1 && nc == 1) {  // the usual column: one section
+    fcount = ccount = 0;
+    const double h = cz[0] - fz[0];
+    add_section(moments[fl[0]], h, i, j);
+    totals.sum_heights += h;
+  } else if (nf <= kPlanes && nc <= kPlanes && (nf | nc)) {
+    // A few hits: padded to kPlanes with infinite heights and sorted by a fixed network.
+    fcount = ccount = 0;
+    const double inf = std::numeric_limits<double>::infinity();
+    double a[kPlanes], b[kPlanes];
+    int f[kPlanes];
+    for (int c = 0; c < kPlanes; ++c) {
+      a[c] = c < nf ? fz[c * w] : inf;
+      f[c] = fl[c * w];
+      b[c] = c < nc ? cz[c * w] : inf;
+    }
+    sort4(a, f);
+    sort4(b, nullptr);
+    if (nf != nc) ++totals.unmatched;
+    for (int k = 0; k < std::min(nf, nc); ++k) {
+      add_section(moments[f[k]], b[k] - a[k], i, j);
+      totals.sum_heights += b[k] - a[k];
+    }
+  } else if (nf | nc) {
+    resolve_column(slot, i, j, ring, at, moments, s, totals);
+  }
+}
+
 // Portable resolution of row j.
 inline void resolve_portable(int j, RowRing& ring, FloorMoments* moments, ColumnScratch& s,
                              RowTotals& totals) {
@@ -290,41 +336,8 @@ inline void resolve_portable(int j, RowRing& ring, FloorMoments* moments, Column
   ring.hi[slot] = -1;
   if (lo > hi) return;
   sort_spill(ring, slot);
-  const size_t w = ring.width;
-  const uint8_t *fc = ring.count[0].data() + slot * w, *cc = ring.count[1].data() + slot * w;
-  const double *fz = ring.z[0].data() + slot * kPlanes * w,
-               *cz = ring.z[1].data() + slot * kPlanes * w;
-  const int* fl = ring.floor.data() + slot * kPlanes * w;
   size_t at[2] = {0, 0};
-  for (int i = lo; i <= hi; ++i) {
-    const int nf = fc[i], nc = cc[i];
-    if (nf == 1 && nc == 1) {  // the usual column: one section
-      ring.count[0][slot * w + i] = ring.count[1][slot * w + i] = 0;
-      const double h = cz[i] - fz[i];
-      add_section(moments[fl[i]], h, i, j);
-      totals.sum_heights += h;
-    } else if (nf <= kPlanes && nc <= kPlanes && (nf | nc)) {
-      // A few hits: padded to kPlanes with infinite heights and sorted by a fixed network.
-      ring.count[0][slot * w + i] = ring.count[1][slot * w + i] = 0;
-      const double inf = std::numeric_limits<double>::infinity();
-      double a[kPlanes], b[kPlanes];
-      int f[kPlanes];
-      for (int c = 0; c < kPlanes; ++c) {
-        a[c] = c < nf ? fz[c * w + i] : inf;
-        f[c] = fl[c * w + i];
-        b[c] = c < nc ? cz[c * w + i] : inf;
-      }
-      sort4(a, f);
-      sort4(b, nullptr);
-      if (nf != nc) ++totals.unmatched;
-      for (int k = 0; k < std::min(nf, nc); ++k) {
-        add_section(moments[f[k]], b[k] - a[k], i, j);
-        totals.sum_heights += b[k] - a[k];
-      }
-    } else if (nf | nc) {
-      resolve_column(slot, i, j, ring, at, moments, s, totals);
-    }
-  }
+  for (int i = lo; i <= hi; ++i) resolve_one(slot, i, j, ring, at, moments, s, totals);
   ring.spill[0][slot].clear();
   ring.spill[1][slot].clear();
 }
