@@ -20,6 +20,10 @@
 #include <thread>
 #include <vector>
 
+#ifdef __linux__
+#include <sched.h>
+#endif
+
 #include "fluidweight/fluidweight.hpp"
 #include "fluidweight/mesh_io.hpp"
 #include "fluidweight/shapes.hpp"
@@ -66,8 +70,31 @@ struct Timed {
   double call_ms = NAN;  // GPU: median whole call (upload, graph, download)
 };
 
+// One-thread CPU figures are taken on one core: the calling thread (the fast path's only
+// worker with one thread) is pinned to the last core for the call and then released.
+struct PinToLastCore {
+#ifdef __linux__
+  cpu_set_t before;
+  bool pinned = false;
+  explicit PinToLastCore(bool on) {
+    const int cores = static_cast<int>(std::thread::hardware_concurrency());
+    if (!on || cores < 2 || sched_getaffinity(0, sizeof before, &before) != 0) return;
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cores - 1, &one);
+    pinned = sched_setaffinity(0, sizeof one, &one) == 0;
+  }
+  ~PinToLastCore() {
+    if (pinned) sched_setaffinity(0, sizeof before, &before);
+  }
+#else
+  explicit PinToLastCore(bool) {}
+#endif
+};
+
 Timed time_cpu(const std::vector<fw::SurfaceMesh>& cavities, int n, int threads,
                fw::Method method = fw::Method::column) {
+  PinToLastCore pin(threads == 1);
   fw::Options o = base(n);
   o.implementation = fw::Implementation::cpu_fast;
   o.threads = threads;
