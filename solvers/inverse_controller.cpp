@@ -235,7 +235,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
 
   // Step 1: the free configuration at the current actuation, converged by Newton; in the
   // one_step mode it is the first Newton step of step 2's linearisation instead.
-  const bool one_step = config_.control->free_solve == "one_step";
+  const bool one_step = config_.control->free_solve == "one_step" && !retake_converged_;
   for (const auto& a : actuators_) {
     Cavity& c = cavities_[a.cavity];
     c.control = CavityControl::pressure;
@@ -283,7 +283,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     HS_PETSC(VecCopy(u, step_start_));
     step_start_pressures_ = cavities_.pressures();
   }
-  const bool refactor = !one_step || !factored_ || stale_failed ||
+  const bool refactor = !one_step || !factored_ || stale_failed || force_refactor_ ||
                         steps_since_factorization_ + 1 >= config_.control->refactor_every ||
                         r_norm > residual_at_factorization_;
   const double t_factor0 = MPI_Wtime();
@@ -417,6 +417,20 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   } else {
     for (int c = 0; c < m; ++c) cavities_[c].volume = cavities_.measure(c, u);
   }
+  // A one-linearisation correction that inverts an element is taken again at once, so that
+  // no step hands out (or writes) an inverted body: with a fresh factorization if it used a
+  // kept one, else with the free configuration converged by Newton (a step from a state far
+  // from equilibrium can overshoot even with a fresh tangent). The failed attempt's time
+  // counts in the step's total.
+  if (one_step && !problem_.orientation_preserved(u)) {
+    HS_PETSC(VecCopy(step_start_, u));
+    cavities_.set_pressures(step_start_pressures_);
+    (refactor ? retake_converged_ : force_refactor_) = true;
+    ControlStepReport again = step(u, targets);
+    again.total_ms += 1e3 * max_over_ranks(MPI_Wtime() - t_start, comm);
+    return again;
+  }
+  force_refactor_ = retake_converged_ = false;
   const double t_end = MPI_Wtime();
 
   report.reached = effectors_.positions(u);

@@ -103,6 +103,9 @@ class InverseController {
   Eigen::FullPivLU<Eigen::MatrixXd> S_lu_;
   Eigen::MatrixXd zeta_;
   bool factored_ = false;
+  // The last one_step correction inverted an element: take the step again with a fresh
+  // factorization, or (if it had one) with the free configuration converged.
+  bool force_refactor_ = false, retake_converged_ = false;
   int steps_since_factorization_ = 0;
   double residual_at_factorization_ = 0;  // |R| at the start of that step
   Vec step_start_ = nullptr;              // one_step: u and pressures at the last step's start

@@ -506,6 +506,16 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
   HS_PETSC(VecDestroy(&uw));
 }
 
+bool Problem::orientation_preserved(Vec u) const {
+  std::vector<double> von_mises, J;
+  element_fields(u, von_mises, J);
+  int ok = 1;
+  for (size_t e = 0; e < J.size(); ++e) ok &= std::isfinite(von_mises[e]) && J[e] > 0;
+  int all = 0;
+  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, comm_);
+  return all;
+}
+
 std::vector<double> Problem::gather_nodal(Vec v) const {
   const int nowned = static_cast<int>(dist_.num_owned());
   const PetscScalar* a;

@@ -82,6 +82,11 @@ class Problem {
     return X_local_[3 * local_node + d];
   }
 
+  // Whether every tetrahedron keeps its orientation on configuration u (J > 0 and a finite
+  // stress at its centroid; over all ranks): the cheap check of a configuration no residual
+  // has seen.
+  bool orientation_preserved(Vec u) const;
+
   // Per local tetrahedron: von Mises stress and J at the centroid.
   void element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const;
 

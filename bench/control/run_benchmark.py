@@ -20,9 +20,9 @@ stay. OPENBLAS_NUM_THREADS=1, so NP ranks use NP cores.
     /usr/bin/python3 bench/control/run_benchmark.py --tracking [--repeats 3]
 
 times the real-time use instead: both fingers (1,961 nodes) follow the tip height from -12
-to -8 mm and back in 0.2 mm targets, one control step each (40 steps, after 10 steps that
+to -8 mm and back in 0.2 mm targets, one control step each (40 steps, after 20 steps that
 bring it from rest to -12 mm), with the factorization kept for N = 1, 4 and 10 steps;
-besides the step times (the 40 steps; the split medians over all 50) it reports the largest
+besides the step times (the 40 steps; the split medians over all 60) it reports the largest
 error of the prediction and of the equilibrium at each target's actuation
 (check_equilibrium, solved outside the step times). Writes bench/control/tracking.csv.
 """
@@ -125,7 +125,7 @@ def main():
 
 def tracking(a):
     """The fingers following a slow sweep of the tip height, one control step a target."""
-    lead = 10  # steps that take the finger from rest to the sweep's start, left out below
+    lead = 20  # steps that take the finger from rest to the sweep's start, left out below
     heights = [-0.012 + 0.0002 * k for k in range(21)]
     heights = [-0.012] * lead + heights[1:] + heights[-2::-1]
     targets = "control.targets=[" + ", ".join(
