@@ -221,12 +221,8 @@ FW_AVX2 inline double sum4(__m256d v) {
 // column by column as the portable resolution does.
 FW_AVX2 inline void resolve_avx2(int j, RowRing& ring, FloorMoments* moments, ColumnScratch& s,
                                  RowTotals& totals) {
-  const int slot = j & (ring.rows - 1);
-  const int lo = ring.lo[slot], hi = ring.hi[slot];
-  ring.lo[slot] = std::numeric_limits<int>::max();
-  ring.hi[slot] = -1;
-  if (lo > hi) return;
-  sort_spill(ring, slot);
+  int slot, lo, hi;
+  if (!take_row(j, ring, slot, lo, hi)) return;
   const size_t w = ring.width;
   uint8_t *fc = ring.count[0].data() + slot * w, *cc = ring.count[1].data() + slot * w;
   const double* fz = ring.z[0].data() + slot * kPlanes * w;

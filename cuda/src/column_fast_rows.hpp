@@ -327,15 +327,24 @@ inline void resolve_one(int slot, int i, int j, RowRing& ring, size_t at[2], Flo
   }
 }
 
+// Takes row j's columns [lo, hi] off the ring (false when it has none), its spilled hits
+// sorted: the start of every resolution kernel.
+inline bool take_row(int j, RowRing& ring, int& slot, int& lo, int& hi) {
+  slot = j & (ring.rows - 1);
+  lo = ring.lo[slot];
+  hi = ring.hi[slot];
+  ring.lo[slot] = std::numeric_limits<int>::max();
+  ring.hi[slot] = -1;
+  if (lo > hi) return false;
+  sort_spill(ring, slot);
+  return true;
+}
+
 // Portable resolution of row j.
 inline void resolve_portable(int j, RowRing& ring, FloorMoments* moments, ColumnScratch& s,
                              RowTotals& totals) {
-  const int slot = j & (ring.rows - 1);
-  const int lo = ring.lo[slot], hi = ring.hi[slot];
-  ring.lo[slot] = std::numeric_limits<int>::max();
-  ring.hi[slot] = -1;
-  if (lo > hi) return;
-  sort_spill(ring, slot);
+  int slot, lo, hi;
+  if (!take_row(j, ring, slot, lo, hi)) return;
   size_t at[2] = {0, 0};
   for (int i = lo; i <= hi; ++i) resolve_one(slot, i, j, ring, at, moments, s, totals);
   ring.spill[0][slot].clear();
