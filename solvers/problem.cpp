@@ -84,6 +84,7 @@ Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dis
     element_coordinates(e, X.data());
     const auto& m = materials_[mesh.tet_volume[dist.local_tets[e]]];
     tet_body_force(mesh.order, X.data(), m.density, config.gravity, &body_force_[e * 3 * npe_]);
+    if (mesh.order == 1) p1_geometry_.push_back(tet_p1_geometry(X.data()));
   }
 
   for (const auto& pc : config.pressures) {
@@ -121,6 +122,15 @@ void Problem::element_coordinates(int64_t e, double* X) const {
   const int32_t* nodes = &dist_.tet_nodes[e * npe_];
   for (int a = 0; a < npe_; ++a)
     for (int d = 0; d < 3; ++d) X[3 * a + d] = X_local_[3 * nodes[a] + d];
+}
+
+ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const {
+  double X[30], ue[30];
+  element_displacement(ua, e, ue);
+  const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+  if (!p1_geometry_.empty()) return tet_internal_force_p1(p1_geometry_[e], ue, m, r, K);
+  element_coordinates(e, X);
+  return tet_internal_force(mesh_.order, X, ue, m, r, K);
 }
 
 void Problem::element_displacement(const PetscScalar* u_local, int64_t e, double* u) const {
@@ -296,14 +306,11 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
   double local_energy = 0;
   assemble_local(u, out, [&](const PetscScalar* ua, PetscScalar* ra) {
     const int n = 3 * npe_;
-    double X[30], ue[30], re[30];
+    double re[30];
     for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
       const int32_t* nodes = &dist_.tet_nodes[e * npe_];
       if (a != 0) {
-        element_coordinates(e, X);
-        element_displacement(ua, e, ue);
-        const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-        const ElementOutput out_e = tet_internal_force(mesh_.order, X, ue, m, re, nullptr);
+        const ElementOutput out_e = element_force(e, ua, re, nullptr);
         local_energy += out_e.energy;
         if (!out_e.valid && ok) {
           ok = false;
@@ -442,12 +449,9 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
     LocalView view(u, u_work_);
     const PetscScalar* ua = view.values();
     const int n = 3 * npe_;
-    double X[30], ue[30], re[30];
+    double re[30];
     for (size_t e = 0; e < dist_.local_tets.size(); ++e, value += n * n) {
-      element_coordinates(e, X);
-      element_displacement(ua, e, ue);
-      const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-      const ElementOutput out = tet_internal_force(mesh_.order, X, ue, m, re, value);
+      const ElementOutput out = element_force(e, ua, re, value);
       if (!out.valid && ok) {
         ok = false;
         bad_element_ = dist_.local_tets[e];
@@ -507,10 +511,20 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
 }
 
 bool Problem::orientation_preserved(Vec u) const {
-  std::vector<double> von_mises, J;
-  element_fields(u, von_mises, J);
+  Vec uw;
+  HS_PETSC(VecDuplicate(u_work_, &uw));
   int ok = 1;
-  for (size_t e = 0; e < J.size(); ++e) ok &= std::isfinite(von_mises[e]) && J[e] > 0;
+  {
+    LocalView view(u, uw);
+    const PetscScalar* ua = view.values();
+    double X[30], ue[30];
+    for (size_t e = 0; e < dist_.local_tets.size() && ok; ++e) {
+      element_coordinates(e, X);
+      element_displacement(ua, e, ue);
+      ok = tet_orientation_preserved(mesh_.order, X, ue);
+    }
+  }
+  HS_PETSC(VecDestroy(&uw));
   int all = 0;
   MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, comm_);
   return all;

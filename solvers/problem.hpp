@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "deck/config.hpp"
+#include "fem/element.hpp"
 #include "materials/material.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/mesh.hpp"
@@ -82,9 +83,9 @@ class Problem {
     return X_local_[3 * local_node + d];
   }
 
-  // Whether every tetrahedron keeps its orientation on configuration u (J > 0 and a finite
-  // stress at its centroid; over all ranks): the cheap check of a configuration no residual
-  // has seen.
+  // Whether every tetrahedron keeps its orientation on configuration u (J > 0 at its
+  // centroid, so a finite stress; over all ranks): the cheap check of a configuration no
+  // residual has seen, from positions alone.
   bool orientation_preserved(Vec u) const;
 
   // Per local tetrahedron: von Mises stress and J at the centroid.
@@ -153,6 +154,8 @@ class Problem {
   void face_dofs(const int32_t* face, int npf, PetscInt* idx) const;
   double prescribed_value(int64_t local_dof, double s) const;
   bool assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy);
+  // Internal force (and tangent, K not null) of local tet e at local displacements ua.
+  ElementOutput element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const;
   // The tangent's entries by coordinates, in the order jacobian() fills their values: element
   // blocks, pressure-face blocks, Dirichlet diagonals, registered couplings.
   void tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) const;
@@ -173,7 +176,8 @@ class Problem {
   std::vector<char> scaled_;                   // per local dof: follows the load factor
   std::vector<char> from_exact_;               // per local dof: value from exact_
   const ExactSolution* exact_;
-  std::vector<double> body_force_;  // per local tet: npe*3, at full load
+  std::vector<double> body_force_;       // per local tet: npe*3, at full load
+  std::vector<P1Geometry> p1_geometry_;  // per local tet of a P1 mesh (empty for P2)
   std::vector<PressureSurface> pressure_faces_;
   std::vector<PetscInt> ghost_blocks_;
   const InertiaTerm* inertia_ = nullptr;

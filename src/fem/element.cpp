@@ -77,6 +77,20 @@ void mirror_lower_blocks(double* K) {
         for (int k = 0; k < 3; ++k) K[(3 * b + k) * n + 3 * a + i] = K[(3 * a + i) * n + 3 * b + k];
 }
 
+// One quadrature point of the internal force: G holds grad N_a in column a, wdV its weight
+// times the volume it stands for; adds to R, to K (when given) and to the energy.
+template <int NPE>
+void add_internal_force_point(const NodeMatrix<NPE>& G, double wdV, const NodeMatrix<NPE>& Um,
+                              const MaterialParameters& m, NodeMatrix<NPE>& R, double* K,
+                              ElementOutput& out) {
+  const Mat3 H = Um * G.transpose();  // F - I
+  const StressResult s = stress_from_displacement_gradient(m, H, K != nullptr);
+  if (!std::isfinite(s.psi)) out.valid = false;
+  out.energy += wdV * s.psi;
+  R.noalias() += wdV * s.P * G;
+  if (K) add_stiffness<NPE>(s.A, G, wdV, K);
+}
+
 template <int NPE>
 ElementOutput internal_force(const double* X, const double* u, const MaterialParameters& m,
                              double* r, double* K) {
@@ -91,12 +105,7 @@ ElementOutput internal_force(const double* X, const double* u, const MaterialPar
     Mat3 J;
     const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
     const NodeMatrix<NPE> G = J.inverse().transpose() * t.dN[q];  // grad N_a in column a
-    const Mat3 H = Um * G.transpose();                            // F - I
-    const StressResult s = stress_from_displacement_gradient(m, H, K != nullptr);
-    if (!std::isfinite(s.psi)) out.valid = false;
-    out.energy += wdV * s.psi;
-    R.noalias() += wdV * s.P * G;
-    if (K) add_stiffness<NPE>(s.A, G, wdV, K);
+    add_internal_force_point<NPE>(G, wdV, Um, m, R, K, out);
   }
   Eigen::Map<NodeMatrix<NPE>> r_out(r);
   r_out = R;
@@ -162,7 +171,41 @@ ElementFields fields(const double* X, const double* u, const MaterialParameters&
   return out;
 }
 
+template <int NPE>
+bool orientation_preserved(const double* X, const double* u) {
+  const auto& t = tet_tables<NPE>(1);  // the centroid
+  const NodeMatrix<NPE> x =
+      Eigen::Map<const NodeMatrix<NPE>>(X) + Eigen::Map<const NodeMatrix<NPE>>(u);
+  const Mat3 dx = x * t.dN[0].transpose();
+  return dx.determinant() > 0;  // false for NaN too
+}
+
 }  // namespace
+
+P1Geometry tet_p1_geometry(const double* X) {
+  const auto& t = tet_tables<4>(1);  // one point: grad N is constant on a P1 element
+  const NodeMatrix<4> Xm = Eigen::Map<const NodeMatrix<4>>(X);
+  Mat3 J;
+  P1Geometry g;
+  g.volume = t.weights[0] * reference_jacobian<4>(Xm, t.dN[0], J);
+  Eigen::Map<NodeMatrix<4>> grad(g.grad);
+  grad = J.inverse().transpose() * t.dN[0];
+  return g;
+}
+
+ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u,
+                                    const MaterialParameters& m, double* r, double* K) {
+  const NodeMatrix<4> G = Eigen::Map<const NodeMatrix<4>>(g.grad);
+  const NodeMatrix<4> Um = Eigen::Map<const NodeMatrix<4>>(u);
+  NodeMatrix<4> R = NodeMatrix<4>::Zero();
+  if (K) std::fill(K, K + 144, 0.0);
+  ElementOutput out;
+  add_internal_force_point<4>(G, g.volume, Um, m, R, K, out);
+  Eigen::Map<NodeMatrix<4>> r_out(r);
+  r_out = R;
+  if (K) mirror_lower_blocks<4>(K);
+  return out;
+}
 
 ElementOutput tet_internal_force(int order, const double* X, const double* u,
                                  const MaterialParameters& m, double* r, double* K) {
@@ -181,6 +224,11 @@ void tet_mass(int order, const double* X, double rho, double* M) {
 
 double tet_volume(int order, const double* X) {
   return tet_num_nodes(order) == 4 ? volume<4>(X) : volume<10>(X);
+}
+
+bool tet_orientation_preserved(int order, const double* X, const double* u) {
+  return tet_num_nodes(order) == 4 ? orientation_preserved<4>(X, u)
+                                   : orientation_preserved<10>(X, u);
 }
 
 ElementFields tet_fields(int order, const double* X, const double* u, const MaterialParameters& m) {

@@ -22,6 +22,19 @@ struct ElementOutput {
 ElementOutput tet_internal_force(int order, const double* X, const double* u,
                                  const MaterialParameters& m, double* r, double* K);
 
+// A P1 element's reference geometry, which no configuration changes: grad N_a (column a of
+// a 3 x 4 column-major array) and the volume. Kept per element by the assembly, it spares
+// tet_internal_force_p1 the reference Jacobian and its inverse at every call.
+struct P1Geometry {
+  double grad[12];
+  double volume;
+};
+P1Geometry tet_p1_geometry(const double* X);  // throws InputError as tet_internal_force
+
+// tet_internal_force(1, X, ...) from the element's P1Geometry (the same numbers).
+ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u,
+                                    const MaterialParameters& m, double* r, double* K);
+
 // Consistent nodal body force f_a = int rho g N_a dV (reference configuration).
 void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,
                     double* f);
@@ -45,6 +58,12 @@ void face_pressure(int order, const double* x, double p, double* f, double* K);
 // term J_p^T of the paper) and its Hessian that force's load stiffness; on one face they
 // differ (terms on its edges, which cancel between neighbours).
 double face_enclosed_volume(int order, const double* x);
+
+// det F at the element centroid > 0 (and finite), from positions alone: det F is
+// det(dx/dxi) / det(dX/dxi), and det(dX/dxi) > 0 on every accepted mesh, so only the sign
+// of the deformed Jacobian is needed. For the laws here a finite u with det F > 0 gives a
+// finite stress, so this is the inversion check of a step at a tenth of tet_fields' cost.
+bool tet_orientation_preserved(int order, const double* X, const double* u);
 
 // Element values for output, at the element centroid: deformation gradient F, Cauchy
 // von Mises stress and J = det F.

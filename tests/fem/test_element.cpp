@@ -167,6 +167,25 @@ TEST_P(FiniteStrainElement, InvertedElementIsReported) {
       tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr).valid);
 }
 
+// The assembly's P1 path reads the reference geometry kept per element: it must give the
+// generic routine's force and tangent for every law, at a large strain.
+TEST(P1Geometry, KeptGeometryGivesTheSameForceAndTangent) {
+  const std::vector<double> X = distorted_tet(1);
+  std::vector<double> u(12);
+  for (int k = 0; k < 12; ++k) u[k] = 0.05 * std::sin(1.7 * k + 0.3);
+  const P1Geometry g = tet_p1_geometry(X.data());
+  for (MaterialModel model : kAllModels) {
+    const MaterialParameters m = parameters(model);
+    std::vector<double> r(12), K(144), r1(12), K1(144);
+    const ElementOutput a = tet_internal_force(1, X.data(), u.data(), m, r.data(), K.data());
+    const ElementOutput b = tet_internal_force_p1(g, u.data(), m, r1.data(), K1.data());
+    EXPECT_NEAR(a.energy, b.energy, 1e-14 * std::abs(a.energy)) << material_model_name(model);
+    for (int k = 0; k < 12; ++k) EXPECT_NEAR(r[k], r1[k], 1e-13 * max_abs(r));
+    for (int k = 0; k < 144; ++k) EXPECT_NEAR(K[k], K1[k], 1e-13 * max_abs(K));
+  }
+  EXPECT_NEAR(g.volume, tet_volume(1, X.data()), 1e-15);
+}
+
 std::vector<Case> finite_strain_cases() {
   std::vector<Case> cases;
   for (const Case& c : all_cases())
@@ -208,6 +227,30 @@ TEST_P(Order, InvertedReferenceElementIsAnInputError) {
                                   r.data(), nullptr),
                InputError);
   EXPECT_THROW(tet_volume(order, X.data()), InputError);
+}
+
+// The step's inversion check reads positions only; it must agree with det F of tet_fields
+// (a different computation: F from the reference gradients) as a vertex is pushed through
+// the opposite face, and refuse a non-finite displacement.
+TEST_P(Order, OrientationCheckAgreesWithDetF) {
+  const int order = GetParam(), n = 3 * (order == 1 ? 4 : 10);
+  const std::vector<double> X = distorted_tet(order);
+  const MaterialParameters m = parameters(MaterialModel::NeoHookean);
+  int inverted = 0;
+  for (double dz = 0.5; dz > -3.0; dz -= 0.0625) {
+    std::vector<double> u(n, 0.0);
+    u[3 * 3 + 2] = dz;
+    if (order == 2)
+      for (int node : {7, 8, 9}) u[3 * node + 2] = dz / 2;
+    const double J = tet_fields(order, X.data(), u.data(), m).J;
+    if (std::abs(J) < 1e-12) continue;  // on the face: either answer is round-off
+    EXPECT_EQ(tet_orientation_preserved(order, X.data(), u.data()), J > 0) << "dz " << dz;
+    inverted += J < 0;
+  }
+  EXPECT_GT(inverted, 10);  // the sweep went through the face
+  std::vector<double> u(n, 0.0);
+  u[4] = std::nan("");
+  EXPECT_FALSE(tet_orientation_preserved(order, X.data(), u.data()));
 }
 
 INSTANTIATE_TEST_SUITE_P(Elements, Order, ::testing::Values(1, 2));
