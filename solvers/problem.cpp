@@ -303,6 +303,7 @@ void Problem::assemble_local(Vec u, Vec out, F add) {
 // and faces. Returns false on an inverted element.
 bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy) {
   bool ok = true;
+  int64_t bad = -1;
   double local_energy = 0;
   assemble_local(u, out, [&](const PetscScalar* ua, PetscScalar* ra) {
     const int n = 3 * npe_;
@@ -314,7 +315,7 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
         local_energy += out_e.energy;
         if (!out_e.valid && ok) {
           ok = false;
-          bad_element_ = dist_.local_tets[e];
+          bad = dist_.local_tets[e];
         }
         for (int k = 0; k < n; ++k) ra[3 * nodes[k / 3] + k % 3] += a * re[k];
       }
@@ -337,9 +338,14 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
   });
   if (b != 0 && extra_load_) HS_PETSC(VecAXPY(out, b, extra_load_));
   if (energy) MPI_Allreduce(&local_energy, energy, 1, MPI_DOUBLE, MPI_SUM, comm_);
-  int local_ok = ok, global_ok = 0;
-  MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
-  return global_ok;
+  return record_inverted(bad);
+}
+
+bool Problem::record_inverted(int64_t local_bad) {
+  long long bad = local_bad;
+  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_LONG_LONG, MPI_MAX, comm_);
+  inverted_element_ = bad;
+  return bad < 0;
 }
 
 int Problem::add_cavity_surface(const std::string& group) {
@@ -442,7 +448,7 @@ bool Problem::residual(Vec u, double s, Vec R) {
 
 bool Problem::jacobian(Vec u, double s, Mat J) {
   const double t0 = MPI_Wtime();
-  bool ok = true;
+  int64_t bad = -1;
   // Values in the order of tangent_entries; kernels write their blocks in place.
   PetscScalar* value = tangent_values_.data();
   {
@@ -452,10 +458,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
     double re[30];
     for (size_t e = 0; e < dist_.local_tets.size(); ++e, value += n * n) {
       const ElementOutput out = element_force(e, ua, re, value);
-      if (!out.valid && ok) {
-        ok = false;
-        bad_element_ = dist_.local_tets[e];
-      }
+      if (!out.valid && bad < 0) bad = dist_.local_tets[e];
     }
     const int npf = mesh_.nodes_per_face();
     const int nf = 3 * npf;
@@ -475,11 +478,10 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
   HS_PETSC(MatSetValuesCOO(J, tangent_values_.data(), INSERT_VALUES));
   if (inertia_) HS_PETSC(MatAXPY(J, inertia_->c, inertia_->M, SUBSET_NONZERO_PATTERN));
 
-  int local_ok = ok, global_ok = 0;
-  MPI_Allreduce(&local_ok, &global_ok, 1, MPI_INT, MPI_MIN, comm_);
+  const bool ok = record_inverted(bad);
   timers_.jacobian_s += MPI_Wtime() - t0;
   ++timers_.jacobian_calls;
-  return global_ok;
+  return ok;
 }
 
 void Problem::internal_force(Vec u, Vec f, double* energy) {

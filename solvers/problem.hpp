@@ -60,10 +60,11 @@ class Problem {
   void apply_dirichlet(Vec u, double s) const;
 
   // Residual and tangent. Return false if an element is inverted (det F <= 0) or a
-  // value is not finite; first_bad_element() then names it (mesh index, -1 if none).
+  // value is not finite; inverted_element() then names one such element on every rank (its
+  // mesh index, the highest of them), and is -1 after an evaluation that found none.
   bool residual(Vec u, double s, Vec R);
   bool jacobian(Vec u, double s, Mat J);
-  int64_t first_bad_element() const { return bad_element_; }
+  int64_t inverted_element() const { return inverted_element_; }
 
   void set_inertia(const InertiaTerm* inertia) { inertia_ = inertia; }
 
@@ -154,6 +155,9 @@ class Problem {
   void face_dofs(const int32_t* face, int npf, PetscInt* idx) const;
   double prescribed_value(int64_t local_dof, double s) const;
   bool assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy);
+  // Collective: agrees on this rank's inverted element (-1: none) with the others, records
+  // it and returns whether there is none.
+  bool record_inverted(int64_t local_bad);
   // Internal force (and tangent, K not null) of local tet e at local displacements ua.
   ElementOutput element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const;
   // The tangent's entries by coordinates, in the order jacobian() fills their values: element
@@ -187,7 +191,7 @@ class Problem {
   std::vector<PetscScalar> tangent_values_;  // one per entry of tangent_entries
   bool pattern_fixed_ = false;               // a matrix exists: no new surfaces or couplings
   Vec u_work_ = nullptr, r_work_ = nullptr;
-  int64_t bad_element_ = -1;
+  int64_t inverted_element_ = -1;  // of the last residual or tangent, over all ranks
   AssemblyTimers timers_;
 };
 

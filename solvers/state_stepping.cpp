@@ -150,8 +150,8 @@ class StateStepper {
           << " iterations, " << config_.time.max_cutbacks << " halvings of the increment)";
       // The element is named when inversion is the reason (a trial step that inverted one
       // and was halved does not make it the cause of a failure by iteration count).
-      if (problem_.first_bad_element() >= 0 && r.reason.find("invert") != std::string::npos)
-        msg << "; element " << problem_.first_bad_element() << " is inverted (det F <= 0)";
+      if (problem_.inverted_element() >= 0 && r.reason.find("invert") != std::string::npos)
+        msg << "; element " << problem_.inverted_element() << " is inverted (det F <= 0)";
       // A pressure ramped past the cavity's pressure extremum (the peak of an inflation, the
       // buckling of walls under suction) has no equilibrium nearby.
       for (int c = 0; c < cavities_.size(); ++c) {

@@ -24,8 +24,8 @@ namespace {
   std::ostringstream msg;
   msg << "step " << step << " (" << where << "): Newton did not converge (" << r.reason
       << ", residual " << r.residual_norm << " after " << r.iterations << " iterations)";
-  if (problem.first_bad_element() >= 0)
-    msg << "; element " << problem.first_bad_element() << " is inverted (det F <= 0)";
+  if (problem.inverted_element() >= 0)
+    msg << "; element " << problem.inverted_element() << " is inverted (det F <= 0)";
   throw SolveError(msg.str());
 }
 

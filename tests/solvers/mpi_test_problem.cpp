@@ -105,6 +105,39 @@ INSTANTIATE_TEST_SUITE_P(Models, TangentTest,
                                                               "mooney_rivlin",
                                                               "saint_venant_kirchhoff")));
 
+// An evaluation that meets inverted elements names one, the same on every rank; the next
+// evaluation without any clears it (an earlier trial step must not be blamed later).
+TEST(InvertedElement, NamedOnEveryRankAndClearedByTheNextEvaluation) {
+  Fixture f({"materials[0].model=neo_hookean"});  // linear elasticity never inverts
+  hs::Problem problem(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+  Vec u = problem.create_vector(), R = problem.create_vector();
+  Mat J = problem.create_matrix();
+  const auto agreed = [&](int64_t e) {
+    long long lo = e, hi = e;
+    MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_LONG_LONG, MPI_MIN, PETSC_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_LONG_LONG, MPI_MAX, PETSC_COMM_WORLD);
+    return lo == hi;
+  };
+  fill_random(u, 5.0, 3);  // ten times the element size: many elements turn inside out
+  EXPECT_FALSE(problem.residual(u, 1.0, R));
+  EXPECT_GE(problem.inverted_element(), 0);
+  EXPECT_LT(problem.inverted_element(), f.mesh.num_tets());
+  EXPECT_TRUE(agreed(problem.inverted_element()));
+  fill_random(u, 1e-4, 4);
+  EXPECT_TRUE(problem.residual(u, 1.0, R));
+  EXPECT_EQ(problem.inverted_element(), -1);
+  fill_random(u, 5.0, 5);
+  EXPECT_FALSE(problem.jacobian(u, 1.0, J));
+  EXPECT_GE(problem.inverted_element(), 0);
+  EXPECT_TRUE(agreed(problem.inverted_element()));
+  fill_random(u, 1e-4, 6);
+  EXPECT_TRUE(problem.jacobian(u, 1.0, J));
+  EXPECT_EQ(problem.inverted_element(), -1);
+  MatDestroy(&J);
+  VecDestroy(&u);
+  VecDestroy(&R);
+}
+
 TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {
   PetscOptionsSetValue(nullptr, "-ksp_type", "bcgs");  // as if given on the command line
   hs::SolverConfig solver;
