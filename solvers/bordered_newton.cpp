@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "solvers/multi_solve.hpp"
+
 namespace hs {
 
 BorderedNewton::BorderedNewton(Problem& problem, CavitySystem& cavities)
@@ -110,21 +112,17 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
     }
     const double tc = MPI_Wtime();
     HS_PETSC(KSPSetOperators(ksp_, J_, J_));
-    auto ksp_solve = [&](Vec rhs, Vec x) {
-      HS_PETSC(KSPSolve(ksp_, rhs, x));
-      KSPConvergedReason reason;
-      HS_PETSC(KSPGetConvergedReason(ksp_, &reason));
-      PetscInt its = 0;
-      HS_PETSC(KSPGetIterationNumber(ksp_, &its));
-      result.linear_iterations += static_cast<int>(its);
-      return reason >= 0;
-    };
-    bool linear_ok = ksp_solve(R_, a_);
+    std::vector<Vec> rhs_columns{R_}, solutions{a_};
     for (int i = 0; i < m; ++i) {
       HS_PETSC(VecNorm(lin_.g[i], NORM_2, &g_norm[i]));
-      linear_ok &= ksp_solve(lin_.g[i], Y_[i]);
-      if (Z_[i]) linear_ok &= ksp_solve(lin_.q[i], Z_[i]);
+      rhs_columns.push_back(lin_.g[i]);
+      solutions.push_back(Y_[i]);
+      if (Z_[i]) {
+        rhs_columns.push_back(lin_.q[i]);
+        solutions.push_back(Z_[i]);
+      }
     }
+    const bool linear_ok = solve_columns(ksp_, rhs_columns, solutions, &result.linear_iterations);
     if (!linear_ok) {
       result.reason = "linear solve failed";
       break;

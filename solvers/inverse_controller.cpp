@@ -6,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "control/qp.hpp"
+#include "solvers/multi_solve.hpp"
 #include "solvers/stepping.hpp"
 
 namespace hs {
@@ -149,20 +150,26 @@ void InverseController::settle(Vec u, ControlStepReport& report) {
 // bordered elimination for zeta = [dlambda (m); eta]: du = -a + [Y Z] zeta, actuators' rows
 // take their input, the other cavities keep their control (alpha g^T du + b dlambda = -c),
 // eta_h = g_h^T du; and the response of the whole system to each actuator.
+// a_ = K^-1 R_ is solved with them, all through the factors at once.
 void InverseController::factor_responses() {
   const int m = cavities_.size(), n = num_actuators();
   columns_.clear();
   weighted_.clear();
+  std::vector<Vec> rhs{R_};
   for (int c = 0; c < m; ++c) {
-    HS_PETSC(KSPSolve(ksp_, lin_.g[c], Y_[c]));
+    rhs.push_back(lin_.g[c]);
     columns_.push_back(Y_[c]);
   }
   for (int c = 0, h = 0; c < m; ++c)
     if (lin_.q[c]) {
-      HS_PETSC(KSPSolve(ksp_, lin_.q[c], Z_[h]));
+      rhs.push_back(lin_.q[c]);
       columns_.push_back(Z_[h++]);
       weighted_.push_back(c);
     }
+  std::vector<Vec> solutions{a_};
+  solutions.insert(solutions.end(), columns_.begin(), columns_.end());
+  if (!solve_columns(ksp_, rhs, solutions))
+    throw SolveError("control step: the factorization of the tangent failed");
   const int k = static_cast<int>(columns_.size());
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(k, k), inputs = Eigen::MatrixXd::Zero(k, n);
   std::vector<PetscScalar> dots(k);
@@ -303,7 +310,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     ++steps_since_factorization_;
   }
   const int k = static_cast<int>(columns_.size());
-  HS_PETSC(KSPSolve(ksp_, R_, a_));
+  if (!refactor) HS_PETSC(KSPSolve(ksp_, R_, a_));  // else solved with the responses
   // The free step: the bordered elimination with the actuators' pressures held.
   Eigen::VectorXd free_rhs = Eigen::VectorXd::Zero(k);
   PetscScalar ga = 0;

@@ -11,6 +11,7 @@
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "solvers/multi_solve.hpp"
 #include "solvers/newton_solver.hpp"
 #include "solvers/problem.hpp"
 
@@ -137,6 +138,62 @@ TEST(InvertedElement, NamedOnEveryRankAndClearedByTheNextEvaluation) {
   VecDestroy(&u);
   VecDestroy(&R);
 }
+
+// Several right-hand sides through one factorization at once give what one solve each gives,
+// with a direct solver (MatMatSolve) and with an iterative one (a solve per column).
+class SolveColumns : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SolveColumns, EqualOneSolveEach) {
+  Fixture f({"materials[0].model=neo_hookean"});
+  hs::Problem problem(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+  Vec u = problem.create_vector();
+  fill_random(u, 0.01, 7);
+  problem.apply_dirichlet(u, 1.0);
+  Mat J = problem.create_matrix();
+  ASSERT_TRUE(problem.jacobian(u, 1.0, J));
+  KSP ksp;
+  KSPCreate(PETSC_COMM_WORLD, &ksp);
+  KSPSetOperators(ksp, J, J);
+  PC pc;
+  KSPGetPC(ksp, &pc);
+  if (GetParam() == "mumps") {
+    KSPSetType(ksp, KSPPREONLY);
+    PCSetType(pc, PCCHOLESKY);
+    PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
+  } else {
+    KSPSetType(ksp, KSPCG);
+    PCSetType(pc, PCGAMG);
+    KSPSetTolerances(ksp, 1e-12, PETSC_DEFAULT, PETSC_DEFAULT, 1000);
+  }
+  std::vector<Vec> b(3), x(3), y(3);
+  for (int j = 0; j < 3; ++j) {
+    b[j] = problem.create_vector();
+    x[j] = problem.create_vector();
+    y[j] = problem.create_vector();
+    fill_random(b[j], 1.0, 10 + j);
+    problem.zero_constrained(b[j]);
+  }
+  int iterations = 0;
+  ASSERT_TRUE(hs::solve_columns(ksp, b, x, &iterations));
+  EXPECT_EQ(iterations > 0, GetParam() != "mumps");
+  for (int j = 0; j < 3; ++j) {
+    KSPSolve(ksp, b[j], y[j]);
+    PetscReal ny = 0, nd = 0;
+    VecNorm(y[j], NORM_2, &ny);
+    VecAXPY(y[j], -1.0, x[j]);
+    VecNorm(y[j], NORM_2, &nd);
+    EXPECT_LT(nd, 1e-9 * ny) << "column " << j;
+    EXPECT_GT(ny, 0.0);
+    VecDestroy(&b[j]);
+    VecDestroy(&x[j]);
+    VecDestroy(&y[j]);
+  }
+  KSPDestroy(&ksp);
+  MatDestroy(&J);
+  VecDestroy(&u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, SolveColumns, ::testing::Values("mumps", "gamg"));
 
 TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {
   PetscOptionsSetValue(nullptr, "-ksp_type", "bcgs");  // as if given on the command line
