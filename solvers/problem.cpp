@@ -302,7 +302,6 @@ void Problem::assemble_local(Vec u, Vec out, F add) {
 // out = a f_int(u) + b (s f_body + f_pressure(u; s) + f_extra), assembled over local elements
 // and faces. Returns false on an inverted element.
 bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy) {
-  bool ok = true;
   int64_t bad = -1;
   double local_energy = 0;
   assemble_local(u, out, [&](const PetscScalar* ua, PetscScalar* ra) {
@@ -313,10 +312,7 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
       if (a != 0) {
         const ElementOutput out_e = element_force(e, ua, re, nullptr);
         local_energy += out_e.energy;
-        if (!out_e.valid && ok) {
-          ok = false;
-          bad = dist_.local_tets[e];
-        }
+        if (!out_e.valid && bad < 0) bad = dist_.local_tets[e];
         for (int k = 0; k < n; ++k) ra[3 * nodes[k / 3] + k % 3] += a * re[k];
       }
       if (b != 0) {
