@@ -91,26 +91,37 @@ void add_internal_force_point(const NodeMatrix<NPE>& G, double wdV, const NodeMa
   if (K) add_stiffness<NPE>(s.A, G, wdV, K);
 }
 
-template <int NPE>
-ElementOutput internal_force(const double* X, const double* u, const MaterialParameters& m,
-                             double* r, double* K) {
+// The internal force of an element whose quadrature points are given by `points`, called
+// with a function add(G, wdV) that it calls once per point.
+template <int NPE, class Points>
+ElementOutput integrate_internal_force(const double* u, const MaterialParameters& m, double* r,
+                                       double* K, Points points) {
   constexpr int n = 3 * NPE;
-  const auto& t = tet_tables<NPE>(degrees<NPE>().stiffness);
-  const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
   const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
   NodeMatrix<NPE> R = NodeMatrix<NPE>::Zero();
   if (K) std::fill(K, K + n * n, 0.0);
   ElementOutput out;
-  for (size_t q = 0; q < t.weights.size(); ++q) {
-    Mat3 J;
-    const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
-    const NodeMatrix<NPE> G = J.inverse().transpose() * t.dN[q];  // grad N_a in column a
+  points([&](const NodeMatrix<NPE>& G, double wdV) {
     add_internal_force_point<NPE>(G, wdV, Um, m, R, K, out);
-  }
+  });
   Eigen::Map<NodeMatrix<NPE>> r_out(r);
   r_out = R;
   if (K) mirror_lower_blocks<NPE>(K);
   return out;
+}
+
+template <int NPE>
+ElementOutput internal_force(const double* X, const double* u, const MaterialParameters& m,
+                             double* r, double* K) {
+  const auto& t = tet_tables<NPE>(degrees<NPE>().stiffness);
+  const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
+  return integrate_internal_force<NPE>(u, m, r, K, [&](auto add) {
+    for (size_t q = 0; q < t.weights.size(); ++q) {
+      Mat3 J;
+      const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
+      add(J.inverse().transpose() * t.dN[q], wdV);  // grad N_a in column a
+    }
+  });
 }
 
 template <int NPE>
@@ -195,16 +206,8 @@ P1Geometry tet_p1_geometry(const double* X) {
 
 ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u,
                                     const MaterialParameters& m, double* r, double* K) {
-  const NodeMatrix<4> G = Eigen::Map<const NodeMatrix<4>>(g.grad);
-  const NodeMatrix<4> Um = Eigen::Map<const NodeMatrix<4>>(u);
-  NodeMatrix<4> R = NodeMatrix<4>::Zero();
-  if (K) std::fill(K, K + 144, 0.0);
-  ElementOutput out;
-  add_internal_force_point<4>(G, g.volume, Um, m, R, K, out);
-  Eigen::Map<NodeMatrix<4>> r_out(r);
-  r_out = R;
-  if (K) mirror_lower_blocks<4>(K);
-  return out;
+  return integrate_internal_force<4>(
+      u, m, r, K, [&](auto add) { add(Eigen::Map<const NodeMatrix<4>>(g.grad), g.volume); });
 }
 
 ElementOutput tet_internal_force(int order, const double* X, const double* u,
