@@ -290,7 +290,7 @@ class Backend : public DeviceBackend {
       stages.push_back([&] { gpu::launch_setup(b, false, stream_); });
       stages.push_back(
           [&] { gpu::launch_raster(b, kernel_ == Kernel::leveraging, sms_, stream_); });
-      stages.push_back([&] { gpu::launch_columns(b, stream_); });
+      stages.push_back([&] { gpu::launch_columns(b, max_shared_, stream_); });
       names.insert(names.end(), {"setup", "raster", "columns"});
     }
     std::vector<cudaEvent_t> events(stages.size() + 1);
@@ -542,6 +542,12 @@ class Backend : public DeviceBackend {
   }
 
   void reserve_columns() {
+    if (gpu::column_shared_bytes<Real>(column_capacity_, 32) >
+        static_cast<size_t>(max_shared_) - 8 * 1024) {
+      throw DeviceError("cuda: a column crosses the surface more than " +
+                        std::to_string(column_capacity_) +
+                        " times: too many hits for the column kernel's shared memory");
+    }
     size_t columns = static_cast<size_t>(num_cavities_) * options_.grid * options_.grid;
     column_z_.reserve(columns * column_capacity_);
     column_tag_.reserve(columns * column_capacity_);
@@ -694,7 +700,7 @@ class Backend : public DeviceBackend {
       if (stages >= 3) {
         gpu::launch_raster(b, kernel_ == Kernel::leveraging, sms_, stream_);
       }
-      if (stages >= 4) gpu::launch_columns(b, stream_);
+      if (stages >= 4) gpu::launch_columns(b, max_shared_, stream_);
     }
     end_capture(graphs_[0]);
   }

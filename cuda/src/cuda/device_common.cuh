@@ -182,8 +182,12 @@ template <typename Real>
 void launch_setup(const Batch<Real>& b, bool bin_to_tiles, cudaStream_t stream);
 template <typename Real>
 void launch_raster(const Batch<Real>& b, bool leveraging, int num_sms, cudaStream_t stream);
+// Step 5 of the paper kernels; max_shared: the device's shared memory a block may opt into.
 template <typename Real>
-void launch_columns(const Batch<Real>& b, cudaStream_t stream);
+void launch_columns(const Batch<Real>& b, int max_shared, cudaStream_t stream);
+// Shared memory of column_kernel with blocks of `block` columns.
+template <typename Real>
+size_t column_shared_bytes(int column_capacity, int block);
 template <typename Real>
 void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStream_t stream);
 template <typename Real>
