@@ -247,12 +247,17 @@ TEST(Cuda, FusedKernelAcrossCallsAndReplays) {
   unsetenv("FLUIDWEIGHT_FUSED_TILE");
 }
 
-// automatic: the fused kernel for small cavities, the tiled one for large ones; both right.
+// automatic: the fused kernel for a small cavity (1280 triangles at 150^2), leveraging for a
+// fine mesh on a coarse grid (81920 triangles, about one column each at 150^2), the tiled one
+// for a large cavity on a fine grid (the same at 400^2); all right.
 TEST(Cuda, AutomaticKernel) {
   SKIP_WITHOUT_GPU();
-  for (const SurfaceMesh& m : {fw::shapes::icosphere(3), fw::shapes::icosphere(6)}) {
-    Result ref = fw::compute(m, options(fw::Implementation::cpu_reference, 150));
-    Result gpu = fw::compute(m, cuda_options({fw::Kernel::automatic, fw::Precision::float64}, 150));
+  const std::pair<SurfaceMesh, int> cases[] = {{fw::shapes::icosphere(3), 150},
+                                               {fw::shapes::icosphere(6), 150},
+                                               {fw::shapes::icosphere(6), 400}};
+  for (const auto& [m, n] : cases) {
+    Result ref = fw::compute(m, options(fw::Implementation::cpu_reference, n));
+    Result gpu = fw::compute(m, cuda_options({fw::Kernel::automatic, fw::Precision::float64}, n));
     expect_matches_reference(gpu, ref, fw::Precision::float64, "automatic");
   }
 }

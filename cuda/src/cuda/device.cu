@@ -82,6 +82,51 @@ int next_power_of_two(int x) {
   return p;
 }
 
+// Candidate columns a triangle's projected box holds, from positions (before the first call,
+// for automatic's choice): the mean over all triangles of a batch and the largest.
+struct CandidateCounts {
+  double mean = 0;
+  double max = 0;
+};
+
+CandidateCounts candidate_counts(const std::vector<CavityView>& cavities, const Frame& frame,
+                                 int n) {
+  CandidateCounts counts;
+  long long triangles = 0;
+  double sum = 0;
+  for (const CavityView& v : cavities) {
+    std::vector<double> a(v.num_vertices), b(v.num_vertices);
+    double a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
+    for (int k = 0; k < v.num_vertices; ++k) {
+      const double* x = v.xyz + 3 * k;
+      a[k] = x[0] * frame.e1.x + x[1] * frame.e1.y + x[2] * frame.e1.z;
+      b[k] = x[0] * frame.e2.x + x[1] * frame.e2.y + x[2] * frame.e2.z;
+      a0 = std::min(a0, a[k]), a1 = std::max(a1, a[k]);
+      b0 = std::min(b0, b[k]), b1 = std::max(b1, b[k]);
+    }
+    const double wa = (a1 - a0) / n, wb = (b1 - b0) / n;
+    if (!(wa > 0 && wb > 0)) continue;
+    // Columns whose centres (index + 1/2) lie in [lo, hi], in units of a column.
+    auto columns = [](double lo, double hi) {
+      return std::max(0.0, std::floor(hi - 0.5) - std::ceil(lo - 0.5) + 1);
+    };
+    for (int t = 0; t < v.num_triangles; ++t) {
+      const int* c = v.triangles + 3 * t;
+      const double amin = std::min({a[c[0]], a[c[1]], a[c[2]]}),
+                   amax = std::max({a[c[0]], a[c[1]], a[c[2]]});
+      const double bmin = std::min({b[c[0]], b[c[1]], b[c[2]]}),
+                   bmax = std::max({b[c[0]], b[c[1]], b[c[2]]});
+      const double box =
+          columns((amin - a0) / wa, (amax - a0) / wa) * columns((bmin - b0) / wb, (bmax - b0) / wb);
+      sum += box;
+      counts.max = std::max(counts.max, box);
+    }
+    triangles += v.num_triangles;
+  }
+  counts.mean = triangles ? sum / triangles : 0;
+  return counts;
+}
+
 template <typename Real>
 class Backend : public DeviceBackend {
  public:
@@ -174,6 +219,17 @@ class Backend : public DeviceBackend {
     big_count_.reserve(1);
     big_list_.reserve(num_triangles_);
     kernel_ = options_.kernel;
+    if (options_.method == Method::column && kernel_ == Kernel::automatic) {
+      // Fine meshes on coarse grids: most triangles cover no column or one, nothing needs
+      // balancing, and the paper's kernel skips the binning and tiles that the tiled and fused
+      // kernels pay for (armadillo at 30^2-200^2: 31-39 against 43-71 us; docs/fluidweight.md,
+      // "When each kernel wins"). Only while no box is large: leveraging's k comes from the
+      // mean, and a few large boxes among small ones would each be walked by one thread.
+      const CandidateCounts c = candidate_counts(cavities, frame_, n);
+      if (c.mean <= kAutomaticLeveragingMean && c.max <= kAutomaticLeveragingMax) {
+        kernel_ = Kernel::leveraging;
+      }
+    }
     if (options_.method == Method::column &&
         (kernel_ == Kernel::fused || kernel_ == Kernel::automatic)) {
       set_fused_cavities(cavities, triangle_begin);
@@ -730,6 +786,9 @@ class Backend : public DeviceBackend {
   // Fused kernel: tile (bits), hits per column, triangles a tile keeps, the vertex table, the
   // call's set of accumulators, the orientation each cavity's Step 2 assumes.
   static constexpr double kAutomaticMaxWork = 2e5;
+  // Automatic takes leveraging when the mean candidate count a triangle is at most this and
+  // no triangle's box holds more columns than the second.
+  static constexpr double kAutomaticLeveragingMean = 4, kAutomaticLeveragingMax = 64;
   int fused_tile_bits_ = 4, fused_preferred_bits_ = 0, fused_column_capacity_ = 4,
       item_capacity_ = 512, max_vertices_ = 0, parity_ = 0, cluster_x_ = 1, cluster_y_ = 1,
       slice_vertices_ = 1, resident_clusters_ = 0;

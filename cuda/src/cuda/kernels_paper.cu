@@ -7,10 +7,9 @@
 // triangle's candidates id mod k, id mod k + k, ... in one launch of k n threads (run here as a
 // grid-stride loop over those virtual threads, since k is known only on the device).
 // triangle_parallel_kernel is the baseline: one thread walks a whole box.
-#include <cub/block/block_reduce.cuh>
-
 #include <algorithm>
 #include <climits>
+#include <cub/block/block_reduce.cuh>
 
 #include "resolve.cuh"
 
@@ -45,8 +44,8 @@ __device__ inline void raster_candidates(const Batch<Real>& b, const DevTri<Real
 #pragma unroll
     for (int q = 0; q < kBatch; ++q) {
       int64_t e[3];
-      hit[q] = cur < box &&
-               covers_column(t, column_centre(i, sub_bits), column_centre(j, sub_bits), e);
+      hit[q] =
+          cur < box && covers_column(t, column_centre(i, sub_bits), column_centre(j, sub_bits), e);
       col[q] = first + static_cast<size_t>(j) * b.n + i;
       z[q] = hit[q] ? height_at(t, e) : Real(0);
       cur += k;
@@ -85,8 +84,9 @@ __device__ inline void leveraging_threads(const Batch<Real>& b, Index k, Index t
     const Index box = static_cast<Index>(width) * height;
     const Index cur = id - tri * k;  // this thread's first candidate: id mod k
     if (cur >= box) continue;
-    raster_candidates(b, t, static_cast<int>(tri), cur, box, k, t.i0 + static_cast<int>(cur % width),
-                      t.j0 + cur / width, static_cast<int>(k % width), k / width);
+    raster_candidates(b, t, static_cast<int>(tri), cur, box, k,
+                      t.i0 + static_cast<int>(cur % width), t.j0 + cur / width,
+                      static_cast<int>(k % width), k / width);
   }
 }
 
