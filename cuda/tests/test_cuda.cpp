@@ -193,11 +193,12 @@ TEST(Cuda, TiledKernelHeaviestTilesFirst) {
   }
 }
 
-// The fused kernel keeps two sets of accumulators and assumes each cavity's orientation from
-// the previous call: graph replays between calls (an odd number of them), moving vertices, a
-// cavity turned inside out (mirrored: its signed volume changes sign) and back, tiles of 8 and 16
+// Every column kernel assumes each cavity's orientation from the previous call (checked after
+// it), and the fused kernel keeps two sets of accumulators: graph replays between calls (an
+// odd number of them), moving vertices, a cavity turned inside out (mirrored: its signed volume
+// changes sign) and back, for fused, tiled and leveraging; for fused also tiles of 8 and 16
 // columns, and a list of a tile's triangles that must grow.
-TEST(Cuda, FusedKernelAcrossCallsAndReplays) {
+TEST(Cuda, AssumedOrientationAcrossCallsAndReplays) {
   SKIP_WITHOUT_GPU();
   const std::vector<SurfaceMesh> cavities = {
       fw::shapes::icosphere(4), translated(fw::shapes::torus(1, 0.3, 30, 12), {4, 1, 0}),
@@ -207,28 +208,31 @@ TEST(Cuda, FusedKernelAcrossCallsAndReplays) {
     for (size_t k = 0; k < r.vertices.size(); k += 3) r.vertices[k] = -r.vertices[k];
     return r;
   };
-  for (fw::Precision p : {fw::Precision::float64, fw::Precision::float32}) {
-    for (int n : {7, 200}) {
-      fw::Context context(cuda_options({fw::Kernel::fused, p}, n));
-      context.set_cavities(cavities);
-      for (int step = 0; step < 5; ++step) {
-        std::vector<SurfaceMesh> moved;
-        for (size_t c = 0; c < cavities.size(); ++c) {
-          SurfaceMesh m = transformed(cavities[c], rotation({1, 2, 3}, 0.3 * step));
-          // Cavity 1 is mirrored at steps 2 and 3: the orientation flips twice.
-          moved.push_back(c == 1 && (step == 2 || step == 3) ? mirrored(m) : m);
+  for (fw::Kernel kernel : {fw::Kernel::fused, fw::Kernel::tiled, fw::Kernel::leveraging}) {
+    for (fw::Precision p : {fw::Precision::float64, fw::Precision::float32}) {
+      for (int n : {7, 200}) {
+        fw::Context context(cuda_options({kernel, p}, n));
+        context.set_cavities(cavities);
+        for (int step = 0; step < 5; ++step) {
+          std::vector<SurfaceMesh> moved;
+          for (size_t c = 0; c < cavities.size(); ++c) {
+            SurfaceMesh m = transformed(cavities[c], rotation({1, 2, 3}, 0.3 * step));
+            // Cavity 1 is mirrored at steps 2 and 3: the orientation flips twice.
+            moved.push_back(c == 1 && (step == 2 || step == 3) ? mirrored(m) : m);
+          }
+          std::vector<const double*> positions;
+          for (const SurfaceMesh& m : moved) positions.push_back(m.vertices.data());
+          context.set_positions(positions);
+          const std::vector<Result>& results = context.compute();
+          for (size_t c = 0; c < cavities.size(); ++c) {
+            Result ref = fw::compute(moved[c], options(fw::Implementation::cpu_reference, n));
+            expect_matches_reference(results[c], ref, p,
+                                     "kernel " + std::to_string(static_cast<int>(kernel)) +
+                                         " grid " + std::to_string(n) + " cavity " +
+                                         std::to_string(c) + " step " + std::to_string(step));
+          }
+          EXPECT_EQ(context.time_device_replays(step + 1).size(), static_cast<size_t>(step + 1));
         }
-        std::vector<const double*> positions;
-        for (const SurfaceMesh& m : moved) positions.push_back(m.vertices.data());
-        context.set_positions(positions);
-        const std::vector<Result>& results = context.compute();
-        for (size_t c = 0; c < cavities.size(); ++c) {
-          Result ref = fw::compute(moved[c], options(fw::Implementation::cpu_reference, n));
-          expect_matches_reference(results[c], ref, p,
-                                   "grid " + std::to_string(n) + " cavity " + std::to_string(c) +
-                                       " step " + std::to_string(step));
-        }
-        EXPECT_EQ(context.time_device_replays(step + 1).size(), static_cast<size_t>(step + 1));
       }
     }
   }

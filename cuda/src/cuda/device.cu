@@ -159,6 +159,10 @@ class Backend : public DeviceBackend {
     if (const char* order = std::getenv("FLUIDWEIGHT_TILE_ORDER")) {
       tile_order_env_ = std::atoi(order) != 0 ? 1 : 0;
     }
+    // Diagnostic, timing only: FLUIDWEIGHT_OVERLAP=0|1|2 launches no kernel overlapped
+    // (launch_overlapped: each starts when the one before it has ended), setup_kernel only,
+    // or also the tile, raster and column kernels, instead of overlap_level()'s choice.
+    if (const char* overlap = std::getenv("FLUIDWEIGHT_OVERLAP")) overlap_ = std::atoi(overlap);
   }
 
   ~Backend() override {
@@ -186,7 +190,10 @@ class Backend : public DeviceBackend {
       for (int b = 0; b < v.num_vertices; b += kItemsPerJob) {
         jobs.push_back({c, 0, offset + b, offset + std::min(v.num_vertices, b + kItemsPerJob)});
       }
-      for (int b = 0; b < v.num_triangles; b += kItemsPerJob) {
+      // The signed volume's triangle ranges only where Step 2 does not assume the
+      // orientation (assumed_orientation()): the hydrostatic load needs it first.
+      for (int b = 0; options_.method == Method::hydrostatic && b < v.num_triangles;
+           b += kItemsPerJob) {
         jobs.push_back({c, 1, first_triangle + b,
                         first_triangle + std::min(v.num_triangles, b + kItemsPerJob)});
       }
@@ -230,6 +237,10 @@ class Backend : public DeviceBackend {
         kernel_ = Kernel::leveraging;
       }
     }
+    // Every column kernel assumes each cavity's orientation (+1 at first, then the sign the
+    // previous call found) and runs the call again when the signed volume disagrees.
+    host_orientation_.assign(num_cavities_, 1);
+    orientation_.upload(host_orientation_);
     if (options_.method == Method::column &&
         (kernel_ == Kernel::fused || kernel_ == Kernel::automatic)) {
       set_fused_cavities(cavities, triangle_begin);
@@ -280,7 +291,7 @@ class Backend : public DeviceBackend {
                             sizeof(gpu::Status), cudaMemcpyDeviceToHost, stream_),
             "download status");
       check(cudaStreamSynchronize(stream_), "kernels");
-      const bool reoriented = fused() && check_orientation();
+      const bool reoriented = assumed_orientation() && check_orientation();
       if (!(grow(*host_status_.get()) || reoriented) || attempt == 4) break;
     }
     float ms = 0;
@@ -304,7 +315,7 @@ class Backend : public DeviceBackend {
       }
       out[c].column_volume = s.grid.cell_area * sum_heights;
       out[c].unmatched_columns = unmatched;
-      signed_volumes[c] = fused() ? fused_volume(s) : s.signed_volume;
+      signed_volumes[c] = assumed_orientation() ? fused_volume(s) : s.signed_volume;
     }
   }
 
@@ -399,6 +410,11 @@ class Backend : public DeviceBackend {
 
   bool fused() const { return options_.method == Method::column && kernel_ == Kernel::fused; }
 
+  // Step 2 takes each cavity's orientation from orientation_ (checked after the call) rather
+  // than from reduce_kernel's signed volume: every column kernel (the signed volume's gathers
+  // of three corners a triangle were the longest part of reduce_kernel, on every call's path).
+  bool assumed_orientation() const { return options_.method == Method::column; }
+
   // Alternate calls replay two graphs: the fused kernel's two sets of accumulators, or the tiled
   // kernel's two tile orders (one read by the call's tiles, the other written for the next).
   bool alternating() const { return fused() || use_tile_order(); }
@@ -451,8 +467,6 @@ class Backend : public DeviceBackend {
     if (kernel_ != Kernel::fused) return;
     corners_.upload(corners);
     vertex_begin_all_.upload(begin);
-    host_orientation_.assign(num_cavities_, 1);
-    orientation_.upload(host_orientation_);
     const size_t values = 3 * static_cast<size_t>(num_vertices_);
     out_.reserve(values, true);
     out2_.reserve(values, true);
@@ -506,14 +520,16 @@ class Backend : public DeviceBackend {
     return false;
   }
 
+  // The signed volume summed by stripes (fused_kernel and setup_kernel with an assumed
+  // orientation).
   double fused_volume(const gpu::CavityState& s) const {
     double v = 0;
     for (int k = 0; k < gpu::kStripes; ++k) v += s.volume6[k];
     return v / 6.0;
   }
 
-  // After a fused call: true (and the assumed orientations corrected) when a cavity's signed
-  // volume has the other sign than the one its Step 2 assumed.
+  // After a call: true (and the assumed orientations corrected) when a cavity's signed volume
+  // has the other sign than the one its Step 2 assumed.
   bool check_orientation() {
     bool changed = false;
     for (int c = 0; c < num_cavities_; ++c) {
@@ -572,6 +588,19 @@ class Backend : public DeviceBackend {
     const size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
     const int per_sm = std::max(1, gpu::tile_resident_blocks<Real>(tile_bits_, shared));
     return tiles > per_sm * sms_;
+  }
+
+  // Which kernels start overlapped with the one before them (launch_overlapped; measured in
+  // one run, bench/fluidweight/NOTES.md version 16): setup_kernel always (its corner loads
+  // and launch overlap reduce_kernel's end: armadillo at 1000^2 -1 to -1.5 us, leveraging at
+  // 200^2 -2); the tile kernel only without the tile order (sphere 200^2 -1.3 us; with the
+  // order its waiting blocks fill the GPU before the order kernel's one block starts, which
+  // then ends after the tiles: 1000^2 +10 us, 1500^2 +24, whatever the block's priority); the
+  // paper's raster and column kernels not (leveraging at 200^2 2 us slower than setup only).
+  int overlap_level() const {
+    if (overlap_ >= 0) return overlap_;
+    return options_.method == Method::column && kernel_ == Kernel::tiled && !use_tile_order() ? 2
+                                                                                              : 1;
   }
 
   void launch_tile_order(int into, cudaStream_t stream) {
@@ -699,6 +728,8 @@ class Backend : public DeviceBackend {
     b.big_list = big_list_.get();
     b.big_count = big_count_.get();
     b.tile_order = use_tile_order() ? tile_order_.get() : nullptr;
+    b.orientation = assumed_orientation() ? orientation_.get() : nullptr;
+    b.overlap = overlap_level();
     const char* phases = std::getenv("FLUIDWEIGHT_TILE_PHASES");  // diagnostic, timing only
     b.diagnostic_phases = phases ? std::atoi(phases) : 3;
     return b;
@@ -782,6 +813,7 @@ class Backend : public DeviceBackend {
   std::vector<int> vertex_begin_;
   int tile_blocks_per_sm_ = 0;  // tiled kernel: persistent grid of this many blocks an SM, or 0
   int tile_order_env_ = -1;     // FLUIDWEIGHT_TILE_ORDER, or -1
+  int overlap_ = -1;            // FLUIDWEIGHT_OVERLAP, or -1
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
   // Fused kernel: tile (bits), hits per column, triangles a tile keeps, the vertex table, the
   // call's set of accumulators, the orientation each cavity's Step 2 assumes.

@@ -17,6 +17,7 @@
 #include <cuda_runtime.h>
 
 #include <cstdint>
+#include <utility>
 
 #include "../geometry.hpp"
 
@@ -125,6 +126,12 @@ struct Batch {
   int* big_list;  // triangles over many tiles, read by every tile
   int* big_count;
   const int* tile_order;  // positions of the tiles for the blocks (heaviest first), or null
+  // Step 2's orientation assumed per cavity (+1 or -1; the host checks it against the signed
+  // volume that setup_kernel sums into CavityState::volume6 and runs the call again when it
+  // was wrong), or null: from the signed volume of reduce_kernel's partials.
+  const int* orientation;
+  int overlap;  // host: kernels launched overlapped (launch_overlapped): 0 none, 1 setup_kernel,
+                // 2 also the tile, raster and column kernels
   int diagnostic_phases;  // tiled kernel, for timing only: bit 0 raster, bit 1 resolve
 };
 
@@ -147,6 +154,15 @@ __device__ inline Real height_at(const DevTri<Real>& t, const int64_t e[3]) {
 }
 
 __device__ inline bool is_floor(int flags) { return (flags >> 3) & 1; }
+
+// 6 x the signed volume of the tetrahedron (origin, a, b, c), as reduce_kernel sums it.
+__device__ __forceinline__ double signed_volume6(const Vec3& a, const Vec3& b, const Vec3& c,
+                                                 const Vec3& o) {
+  const double ax = a.x - o.x, ay = a.y - o.y, az = a.z - o.z;
+  const double bx = b.x - o.x, by = b.y - o.y, bz = b.z - o.z;
+  const double cx = c.x - o.x, cy = c.y - o.y, cz = c.z - o.z;
+  return ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+}
 
 // What the fused kernel reads beside the Batch (kernels_fused.cu). Its accumulators (Batch's
 // out, cavities, status) alternate between two sets from call to call: each call clears the
@@ -171,6 +187,36 @@ struct FusedArgs {
   CavityState* next_cavities;
   Status* next_status;
 };
+
+// Programmatic dependent launch (Hopper): a kernel launched by launch_overlapped may start
+// while the kernel before it in the stream still runs, once every block of that one has
+// called let_next_start() (or ended); it must call wait_previous() before it reads or writes
+// anything the previous kernel reads or writes, and may only load inputs set before the call
+// ahead of it. wait_previous() waits for the previous kernel's end and its memory; both are
+// no-ops in a kernel launched the ordinary way. This saves a launch gap and the ramp between
+// two kernels, and the next kernel's first loads overlap the previous kernel's end.
+__device__ __forceinline__ void wait_previous() {
+  asm volatile("griddepcontrol.wait;" ::: "memory");
+}
+__device__ __forceinline__ void let_next_start() {
+  asm volatile("griddepcontrol.launch_dependents;" ::: "memory");
+}
+
+template <typename... Params, typename... Args>
+void launch_overlapped(bool overlap, void (*kernel)(Params...), dim3 grid, dim3 block,
+                       size_t shared, cudaStream_t stream, Args&&... args) {
+  cudaLaunchAttribute attribute[1];
+  attribute[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
+  attribute[0].val.programmaticStreamSerializationAllowed = overlap ? 1 : 0;
+  cudaLaunchConfig_t config{};
+  config.gridDim = grid;
+  config.blockDim = block;
+  config.dynamicSmemBytes = shared;
+  config.stream = stream;
+  config.attrs = attribute;
+  config.numAttrs = 1;
+  cudaLaunchKernelEx(&config, kernel, std::forward<Args>(args)...);  // errors: end_capture
+}
 
 // Host launchers (one translation unit each).
 constexpr int kSetupBlock = 256;  // threads a block of the setup and hydrostatic kernels

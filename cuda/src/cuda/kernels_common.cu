@@ -42,11 +42,14 @@ using BoxReduce = cub::BlockReduce<Box, kBlock>;
 
 // Step 1: each block reduces a range of one cavity's vertices (projected box) or triangles
 // (signed volume, relative to the cavity's first vertex) into its partial. All blocks also
-// clear the accumulators of the call.
+// clear the accumulators of the call. With an assumed orientation (Batch::orientation) the
+// host gives no triangle ranges: setup_kernel sums the signed volume from the corners it
+// loads anyway, off this kernel's path.
 template <typename Real>
 __global__ void __launch_bounds__(kBlock)
     reduce_kernel(Batch<Real> b, int zero_out_count, int zero_tile_count) {
   __shared__ typename BoxReduce::TempStorage storage;
+  let_next_start();  // setup_kernel's blocks load their corners meanwhile
   const int stride = gridDim.x * blockDim.x;
   const int first = blockIdx.x * blockDim.x + threadIdx.x;
   for (int k = first; k < zero_out_count; k += stride) b.out[k] = 0;
@@ -54,6 +57,7 @@ __global__ void __launch_bounds__(kBlock)
   for (int k = first; k < b.num_cavities * kStripes; k += stride) {
     b.cavities[k / kStripes].sum_heights[k % kStripes] = 0.0;
     b.cavities[k / kStripes].unmatched[k % kStripes] = 0;
+    b.cavities[k / kStripes].volume6[k % kStripes] = 0.0;
   }
   if (first == 0) {
     *b.status = Status{0, 0, {0, 0}};
@@ -99,6 +103,7 @@ __device__ int block_grids(const Batch<Real>& b, int first_triangle, int last_tr
   __shared__ typename BoxReduce::TempStorage storage;
   const int c0 = b.tri_cavity[first_triangle], c1 = b.tri_cavity[last_triangle];
   for (int c = c0; c <= c1 && c - c0 < max_grids; ++c) {
+    const int assumed = b.orientation ? b.orientation[c] : 0;
     Box sum = empty_box();
     for (int k = b.cavity_job_begin[c] + threadIdx.x; k < b.cavity_job_begin[c + 1];
          k += blockDim.x) {
@@ -108,7 +113,7 @@ __device__ int block_grids(const Batch<Real>& b, int first_triangle, int last_tr
     }
     sum = BoxReduce(storage).Reduce(sum, BoxOp());
     if (threadIdx.x == 0) {
-      double volume = sum.v[6] / 6.0;
+      const double volume = assumed ? assumed : sum.v[6] / 6.0;  // its sign is the orientation
       grids[c - c0] =
           make_grid(sum.v[0], sum.v[1], sum.v[2], sum.v[3], sum.v[4], sum.v[5], b.n, volume);
       const int owner = b.cavity_triangle_begin[c];
@@ -165,6 +170,23 @@ __device__ bool make_devtri(const Batch<Real>& b, const int (&v)[3], const Vec3 
   return s.i0 <= s.i1 && s.j0 <= s.j1;
 }
 
+// The signed volume (6 x, relative to the cavity's first vertex) of the lanes' triangles,
+// summed over the warp when all its lanes hold one cavity, into the cavity's striped
+// accumulators (the host checks its sign against the orientation Step 2 assumed).
+template <typename Real>
+__device__ void add_signed_volume(const Batch<Real>& b, bool valid, int cavity, const Vec3 (&p)[3],
+                                  const Vec3& origin) {
+  double v6 = valid ? signed_volume6(p[0], p[1], p[2], origin) : 0.0;
+  const int stripe = (blockIdx.x * (kBlock / 32) + threadIdx.x / 32) % kStripes;
+  const int first = __shfl_sync(kFullMask, cavity, 0);
+  if (__all_sync(kFullMask, cavity == first || !valid)) {
+    for (int d = 16; d > 0; d >>= 1) v6 += __shfl_xor_sync(kFullMask, v6, d);
+    if ((threadIdx.x & 31) == 0 && first >= 0) atomicAdd(&b.cavities[first].volume6[stripe], v6);
+  } else if (valid) {
+    atomicAdd(&b.cavities[cavity].volume6[stripe], v6);
+  }
+}
+
 // Appends each lane's triangle t to the tiles tile[0..kLaneTiles) (-1: none). The warp's lanes
 // with the same tile take consecutive places after one atomic (counting past the capacity:
 // the host grows it); all atomics of all rounds are in flight together.
@@ -202,13 +224,16 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
   const int last = min(first + static_cast<int>(blockDim.x), b.num_triangles) - 1;
   const int t = first + threadIdx.x;
   // The triangle's corners first: their loads are in flight while the grid is reduced.
-  int v[3] = {0, 0, 0}, cavity = 0;
-  Vec3 p[3] = {};
+  int v[3] = {0, 0, 0}, cavity = -1;
+  Vec3 p[3] = {}, origin = {};
   if (t < b.num_triangles) {
     cavity = b.tri_cavity[t];
     for (int k = 0; k < 3; ++k) v[k] = b.triangles[3 * t + k];
     for (int k = 0; k < 3; ++k) p[k] = load_vec3(b.xyz, v[k]);
+    if (b.orientation) origin = load_vec3(b.xyz, b.cavity_vertex_begin[cavity]);
   }
+  let_next_start();
+  wait_previous();  // reduce_kernel's partials and cleared accumulators
   const int c0 = block_grids(b, first, last, grids, kMaxBlockCavities);
   DevTri<Real> d;
   bool valid = false;
@@ -216,6 +241,7 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
     valid = make_devtri(b, v, p, cavity, grids[cavity - c0], d);
     staged[threadIdx.x] = d;
   }
+  if (b.orientation) add_signed_volume(b, t < b.num_triangles, cavity, p, origin);
   // The block's triangles leave in consecutive 16-byte pieces (coalesced).
   __syncthreads();
   {
@@ -321,7 +347,8 @@ void launch_reduce(const Batch<Real>& b, int zero_out_count, int zero_tile_count
 
 template <typename Real>
 void launch_setup(const Batch<Real>& b, bool bin_to_tiles, cudaStream_t stream) {
-  setup_kernel<Real><<<b.setup_blocks, kBlock, 0, stream>>>(b, bin_to_tiles);
+  launch_overlapped(b.overlap >= 1, setup_kernel<Real>, b.setup_blocks, kBlock, 0, stream, b,
+                    bin_to_tiles);
 }
 
 template <typename Real>

@@ -94,15 +94,6 @@ struct ItemFloors {
   }
 };
 
-// 6 x the signed volume of the tetrahedron (origin, a, b, c), as reduce_kernel sums it.
-__device__ __forceinline__ double signed_volume6(const Vec3& a, const Vec3& b, const Vec3& c,
-                                                 const Vec3& o) {
-  const double ax = a.x - o.x, ay = a.y - o.y, az = a.z - o.z;
-  const double bx = b.x - o.x, by = b.y - o.y, bz = b.z - o.z;
-  const double cx = c.x - o.x, cy = c.y - o.y, cz = c.z - o.z;
-  return ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
-}
-
 // Blocks an SM should hold (registers; shared memory allows about three of 256 threads).
 constexpr int min_blocks(int tile) { return tile == 16 ? 3 : 12; }
 

@@ -92,6 +92,8 @@ __global__ void __launch_bounds__(kBlock) leveraging_kernel(Batch<Real> b) {
   using Reduce = cub::BlockReduce<unsigned long long, kBlock>;
   __shared__ typename Reduce::TempStorage storage;
   __shared__ unsigned long long candidates;
+  let_next_start();
+  wait_previous();  // setup_kernel's triangles (launch_overlapped)
   unsigned long long sum = 0;
   for (int k = threadIdx.x; k < b.setup_blocks; k += blockDim.x) sum += b.candidates[k];
   sum = Reduce(storage).Sum(sum);
@@ -110,6 +112,8 @@ __global__ void __launch_bounds__(kBlock) leveraging_kernel(Batch<Real> b) {
 
 template <typename Real>
 __global__ void __launch_bounds__(kBlock) triangle_parallel_kernel(Batch<Real> b) {
+  let_next_start();
+  wait_previous();  // setup_kernel's triangles (launch_overlapped)
   const int tri = blockIdx.x * blockDim.x + threadIdx.x;
   if (tri >= b.num_triangles) return;
   const DevTri<Real> t = load_tri(&b.tris[tri]);
@@ -132,6 +136,7 @@ __global__ void __launch_bounds__(Block) column_kernel(Batch<Real> b) {
   __shared__ typename Reduce::TempStorage storage;
   __shared__ typename ReduceCount::TempStorage count_storage;
   extern __shared__ __align__(16) unsigned char staged[];  // column_capacity hits a thread
+  wait_previous();  // the raster kernel's hits (launch_overlapped)
   Real* staged_z = reinterpret_cast<Real*>(staged);
   int* staged_tag = reinterpret_cast<int*>(staged_z + b.column_capacity * Block);
   const int cavity = blockIdx.y;
@@ -188,7 +193,7 @@ void launch_column_kernel(const Batch<Real>& b, size_t shared, cudaStream_t stre
                        static_cast<int>(shared));
   const size_t per_cavity = static_cast<size_t>(b.n) * b.n;
   const dim3 blocks(static_cast<unsigned>((per_cavity + Block - 1) / Block), b.num_cavities);
-  column_kernel<Real, Block><<<blocks, Block, shared, stream>>>(b);
+  launch_overlapped(b.overlap >= 2, column_kernel<Real, Block>, blocks, Block, shared, stream, b);
 }
 
 }  // namespace
@@ -196,10 +201,10 @@ void launch_column_kernel(const Batch<Real>& b, size_t shared, cudaStream_t stre
 template <typename Real>
 void launch_raster(const Batch<Real>& b, bool leveraging, int num_sms, cudaStream_t stream) {
   if (leveraging) {
-    leveraging_kernel<Real><<<num_sms * 8, kBlock, 0, stream>>>(b);
+    launch_overlapped(b.overlap >= 2, leveraging_kernel<Real>, num_sms * 8, kBlock, 0, stream, b);
   } else {
     int blocks = (b.num_triangles + kBlock - 1) / kBlock;
-    triangle_parallel_kernel<Real><<<blocks, kBlock, 0, stream>>>(b);
+    launch_overlapped(b.overlap >= 2, triangle_parallel_kernel<Real>, blocks, kBlock, 0, stream, b);
   }
 }
 

@@ -180,7 +180,8 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   auto entry = [&](int t) {
     return b.tile_list[static_cast<size_t>(t) * b.tile_capacity + threadIdx.x];
   };
-  int tile = tile_at(index);
+  int tile = tile_at(index);  // the order was written by an earlier call
+  wait_previous();            // setup_kernel's lists
   int listed = b.tile_count[tile], first_entry = entry(tile);
   while (true) {
     const int next_index = index + gridDim.x;
@@ -296,9 +297,11 @@ void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStre
     return std::max(1, std::min(tiles, num_sms * std::min(std::max(fit, 1), blocks_per_sm)));
   };
   if (b.tile_bits == 3) {
-    tile_kernel<Real, 8><<<grid(tile_kernel<Real, 8>, 64), 64, shared, stream>>>(b);
+    launch_overlapped(b.overlap >= 2, tile_kernel<Real, 8>, grid(tile_kernel<Real, 8>, 64), 64,
+                      shared, stream, b);
   } else {
-    tile_kernel<Real, 16><<<grid(tile_kernel<Real, 16>, 256), 256, shared, stream>>>(b);
+    launch_overlapped(b.overlap >= 2, tile_kernel<Real, 16>, grid(tile_kernel<Real, 16>, 256), 256,
+                      shared, stream, b);
   }
 }
 

@@ -1,0 +1,45 @@
+#!/bin/bash
+# Runs on the GPU machine: builds the working tree's cuda/ (into /tmp/b1) and a previous
+# version's (OLD_SRC, a folder holding cuda/ and bench/fluidweight/, e.g. made here by
+# `git archive REV cuda bench/fluidweight | tar -x -C .device-carry/v0`; into /tmp/b0) side by
+# side, runs the new build's CUDA tests, then ab_device.sh over CASES with both binaries and
+# the VARIANTS given ("name=ENV=value,ENV2=value ...": the new binary under that environment), ROUNDS
+# times, alternated; then, with TARGETS=1, bench_fluidweight --targets of both (twice each,
+# alternated). Output files go to $OUT.
+set -u
+OLD_SRC=${OLD_SRC:-.device-carry/v0}
+OUT=${OUT:-/tmp/fluidweight-out}
+mkdir -p "$OUT"
+nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm,temperature.gpu --format=csv,noheader
+start=$(date +%s)
+(cmake -S "$OLD_SRC/cuda" -B /tmp/b0 -DCMAKE_BUILD_TYPE=Release > "$OUT/build0.log" 2>&1 &&
+  cmake --build /tmp/b0 -j8 --target fluidweight bench_fluidweight >> "$OUT/build0.log" 2>&1) &
+(cmake -S cuda -B /tmp/b1 -DCMAKE_BUILD_TYPE=Release > "$OUT/build1.log" 2>&1 &&
+  cmake --build /tmp/b1 -j8 >> "$OUT/build1.log" 2>&1) &
+wait
+echo "builds: $(( $(date +%s) - start )) s"
+grep -E "error|warning" "$OUT/build1.log" | head -20
+[ -x /tmp/b0/bin/fluidweight ] && [ -x /tmp/b1/bin/fluidweight ] || { tail -30 "$OUT"/build*.log; exit 1; }
+start=$(date +%s)
+/tmp/b1/tests/fluidweight_test_cuda > "$OUT/test_cuda.log" 2>&1
+echo "CUDA tests exit code $? ($(( $(date +%s) - start )) s)"
+grep -E "^\[  (PASSED|FAILED|SKIPPED) |FAILED TEST" "$OUT/test_cuda.log"
+grep -B3 -A12 "Failure" "$OUT/test_cuda.log" | head -60
+BINS="old=/tmp/b0/bin/fluidweight new=/tmp/b1/bin/fluidweight"
+for v in ${VARIANTS:-}; do
+  name=${v%%=*}
+  printf '#!/bin/sh\nexport %s\nexec /tmp/b1/bin/fluidweight "$@"\n' "$(echo "${v#*=}" | tr , ' ')" \
+    > "/tmp/$name.sh"
+  chmod +x "/tmp/$name.sh"
+  BINS="$BINS $name=/tmp/$name.sh"
+done
+BINS="$BINS" bash bench/fluidweight/ab_device.sh | tee "$OUT/ab.txt"
+if [ "${TARGETS:-0}" = 1 ]; then
+  for r in 1 2; do
+    for b in b0 b1; do
+      /tmp/$b/bin/bench_fluidweight --meshes "${MESHES:-.device-carry/meshes}" --targets \
+        --out "$OUT/targets_${b}_$r.jsonl" | grep -E "^\|" | grep -v "case\|---\|CPU" |
+        sed "s/^/$b /"
+    done
+  done
+fi
