@@ -5,7 +5,8 @@
 # side, runs the new build's CUDA tests, then ab_device.sh over CASES with both binaries and
 # the VARIANTS given ("name=ENV=value,ENV2=value ...": the new binary under that environment), ROUNDS
 # times, alternated; then, with TARGETS=1, bench_fluidweight --targets of both (twice each,
-# alternated). Output files go to $OUT.
+# alternated); with FUSED=1, bench_fluidweight --fused of the new build. OLD_TARGETS=" "
+# builds and runs the previous version's tests too. Output files go to $OUT.
 set -u
 OLD_SRC=${OLD_SRC:-.device-carry/v0}
 OUT=${OUT:-/tmp/fluidweight-out}
@@ -13,7 +14,8 @@ mkdir -p "$OUT"
 nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm,temperature.gpu --format=csv,noheader
 start=$(date +%s)
 (cmake -S "$OLD_SRC/cuda" -B /tmp/b0 -DCMAKE_BUILD_TYPE=Release > "$OUT/build0.log" 2>&1 &&
-  cmake --build /tmp/b0 -j8 --target fluidweight bench_fluidweight >> "$OUT/build0.log" 2>&1) &
+  cmake --build /tmp/b0 -j8 ${OLD_TARGETS:---target fluidweight bench_fluidweight} \
+    >> "$OUT/build0.log" 2>&1) &
 (cmake -S cuda -B /tmp/b1 -DCMAKE_BUILD_TYPE=Release > "$OUT/build1.log" 2>&1 &&
   cmake --build /tmp/b1 -j8 >> "$OUT/build1.log" 2>&1) &
 wait
@@ -25,6 +27,10 @@ start=$(date +%s)
 echo "CUDA tests exit code $? ($(( $(date +%s) - start )) s)"
 grep -E "^\[  (PASSED|FAILED|SKIPPED) |FAILED TEST" "$OUT/test_cuda.log"
 grep -B3 -A12 "Failure" "$OUT/test_cuda.log" | head -60
+if [ -x /tmp/b0/tests/fluidweight_test_cuda ]; then
+  /tmp/b0/tests/fluidweight_test_cuda > "$OUT/test_cuda_old.log" 2>&1
+  echo "old CUDA tests exit code $?"; grep -E "^\[  (PASSED|FAILED) |FAILED TEST" "$OUT/test_cuda_old.log"
+fi
 BINS="old=/tmp/b0/bin/fluidweight new=/tmp/b1/bin/fluidweight"
 for v in ${VARIANTS:-}; do
   name=${v%%=*}
@@ -42,4 +48,9 @@ if [ "${TARGETS:-0}" = 1 ]; then
         sed "s/^/$b /"
     done
   done
+fi
+if [ "${FUSED:-0}" = 1 ]; then
+  timeout 300 /tmp/b1/bin/bench_fluidweight --meshes "${MESHES:-.device-carry/meshes}" --fused \
+    --out "$OUT/fused_b1.jsonl" > "$OUT/fused_b1.md"
+  grep -E "^\|" "$OUT/fused_b1.md"
 fi

@@ -251,7 +251,7 @@ TEST(Cuda, AssumedOrientationAcrossCallsAndReplays) {
   unsetenv("FLUIDWEIGHT_FUSED_TILE");
 }
 
-// automatic: the fused kernel for a small cavity (1280 triangles at 150^2), leveraging for a
+// automatic: the tiled kernel for a small cavity (1280 triangles at 150^2), leveraging for a
 // fine mesh on a coarse grid (81920 triangles, about one column each at 150^2), the tiled one
 // for a large cavity on a fine grid (the same at 400^2); all right.
 TEST(Cuda, AutomaticKernel) {

@@ -38,7 +38,8 @@ enum class Method { column, hydrostatic };
 enum class Implementation { cpu_reference, cpu_fast, cuda };
 // CUDA kernels for Steps 3-4 (see docs/fluidweight.md): the paper's leveraging kernel, one
 // thread per triangle, tiles with a load-balanced search inside each tile, Steps 1-5 fused in
-// one launch (small cavities), or automatic: fused where it fits and is faster, else tiled.
+// one launch (small cavities), or automatic: leveraging for fine meshes on coarse grids, else
+// tiled.
 enum class Kernel { leveraging, triangle_parallel, tiled, fused, automatic };
 enum class Precision { float32, float64 };
 

@@ -163,6 +163,10 @@ class Backend : public DeviceBackend {
     // (launch_overlapped: each starts when the one before it has ended), setup_kernel only,
     // or also the tile, raster and column kernels, instead of overlap_level()'s choice.
     if (const char* overlap = std::getenv("FLUIDWEIGHT_OVERLAP")) overlap_ = std::atoi(overlap);
+    // Diagnostic, timing only: FLUIDWEIGHT_TILE_ROUND=1|2 makes the tiled kernel stage TILE^2
+    // or TILE^2 / 2 triangles a round instead of half_round()'s choice.
+    if (const char* round = std::getenv("FLUIDWEIGHT_TILE_ROUND"))
+      tile_round_env_ = std::atoi(round);
   }
 
   ~Backend() override {
@@ -232,17 +236,20 @@ class Backend : public DeviceBackend {
       // kernels pay for (armadillo at 30^2-200^2: 31-39 against 43-71 us; docs/fluidweight.md,
       // "When each kernel wins"). Only while no box is large: leveraging's k comes from the
       // mean, and a few large boxes among small ones would each be walked by one thread.
+      // Otherwise tiled: since its setup and tile kernels start overlapped with the kernel
+      // before them (version 16), it is faster than the fused kernel on every case where
+      // automatic took that one (sphere at 200^2 18.9 against 19.9 us, the CAD tray 22.3
+      // against 22.9, fertility 28.4 against 31.9: bench/fluidweight/NOTES.md).
       const CandidateCounts c = candidate_counts(cavities, frame_, n);
-      if (c.mean <= kAutomaticLeveragingMean && c.max <= kAutomaticLeveragingMax) {
-        kernel_ = Kernel::leveraging;
-      }
+      kernel_ = c.mean <= kAutomaticLeveragingMean && c.max <= kAutomaticLeveragingMax
+                    ? Kernel::leveraging
+                    : Kernel::tiled;
     }
     // Every column kernel assumes each cavity's orientation (+1 at first, then the sign the
     // previous call found) and runs the call again when the signed volume disagrees.
     host_orientation_.assign(num_cavities_, 1);
     orientation_.upload(host_orientation_);
-    if (options_.method == Method::column &&
-        (kernel_ == Kernel::fused || kernel_ == Kernel::automatic)) {
+    if (options_.method == Method::column && kernel_ == Kernel::fused) {
       set_fused_cavities(cavities, triangle_begin);
     }
     if (options_.method == Method::column) {
@@ -420,15 +427,13 @@ class Backend : public DeviceBackend {
   bool alternating() const { return fused() || use_tile_order(); }
 
   // The fused kernel's inputs: corners packed per triangle, vertex ranges, the orientation
-  // assumed per cavity; both sets of accumulators cleared. Chooses its tile, or (automatic)
-  // the tiled kernel where the cavities are too large for it.
+  // assumed per cavity; both sets of accumulators cleared. Chooses its tile.
   void set_fused_cavities(const std::vector<CavityView>& cavities,
                           const std::vector<int>& triangle_begin) {
     triangle_begin_ = triangle_begin;
     std::vector<unsigned long long> corners;
     std::vector<int> begin(1, 0);
     max_vertices_ = 0;
-    int max_triangles = 0;
     for (const CavityView& v : cavities) {
       for (int t = 0; t < v.num_triangles; ++t) {
         const int* c = v.triangles + 3 * t;
@@ -438,33 +443,14 @@ class Backend : public DeviceBackend {
       }
       begin.push_back(begin.back() + v.num_vertices);
       max_vertices_ = std::max(max_vertices_, v.num_vertices);
-      max_triangles = std::max(max_triangles, v.num_triangles);
     }
     const bool fits = max_vertices_ < (1 << 21) && choose_fused_tile();
-    if (kernel_ == Kernel::automatic) {
-      // The fused kernel sets up every triangle once per cluster of tiles: worth it while that
-      // redundant work stays small (docs/fluidweight.md, "When each kernel wins").
-      // Also while all its blocks run at once: a second wave costs more than the tiled
-      // kernel's prefix (measured: four spheres at 200^2).
-      const int tiles = (options_.grid + (1 << fused_tile_bits_) - 1) >> fused_tile_bits_;
-      const double clusters = static_cast<double>(tiles) * tiles / (cluster_x_ * cluster_y_);
-      const long long blocks = static_cast<long long>((tiles + cluster_x_ - 1) / cluster_x_) *
-                               cluster_x_ * ((tiles + cluster_y_ - 1) / cluster_y_) * cluster_y_ *
-                               num_cavities_;
-      const long long resident =
-          static_cast<long long>(resident_clusters_) * cluster_x_ * cluster_y_;
-      // Tiles of 8 columns (N < 128) give blocks of 64 threads: too few for Step 2 (measured).
-      kernel_ = fits && fused_tile_bits_ == 4 && clusters * max_triangles <= kAutomaticMaxWork &&
-                        blocks <= resident
-                    ? Kernel::fused
-                    : Kernel::tiled;
-    } else if (!fits) {
+    if (!fits) {
       throw DeviceError(
           "cuda: the cavities (their tiles' triangles and hits) do not fit the fused kernel's "
           "shared memory (use "
           "tiled)");
     }
-    if (kernel_ != Kernel::fused) return;
     corners_.upload(corners);
     vertex_begin_all_.upload(begin);
     const size_t values = 3 * static_cast<size_t>(num_vertices_);
@@ -508,7 +494,6 @@ class Backend : public DeviceBackend {
         if (bytes > static_cast<size_t>(max_shared_)) continue;
         const int resident = gpu::fused_clusters<Real>(bits, cx, cy, bytes);
         if (resident > 0) {
-          resident_clusters_ = resident;
           fused_tile_bits_ = bits;
           cluster_x_ = cx;
           cluster_y_ = cy;
@@ -586,8 +571,22 @@ class Backend : public DeviceBackend {
     if (tiles > gpu::max_ordered_tiles()) return false;
     if (tile_order_env_ >= 0) return tile_order_env_ == 1;
     const size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
-    const int per_sm = std::max(1, gpu::tile_resident_blocks<Real>(tile_bits_, shared));
+    const int per_sm =
+        std::max(1, gpu::tile_resident_blocks<Real>(tile_bits_, half_round(), shared));
     return tiles > per_sm * sms_;
+  }
+
+  // The tiled kernel stages half as many triangles a round (TILE^2 / 2) when that lets an SM
+  // hold more of its blocks (many hit slots a column, as the armadillo's 20 at 1500^2: 3 -> 4
+  // blocks in float32); a tile of more triangles then takes more rounds. Tiles of 16 columns
+  // only: with tiles of 8 (N < 128) the blocks an SM holds are not what limits, and the rounds
+  // of 32 triangles doubled (armadillo at 30^2 38 -> 50 us).
+  bool half_round() const {
+    if (tile_round_env_ > 0) return tile_round_env_ == 2;
+    if (tile_bits_ != 4) return false;
+    const size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
+    return gpu::tile_resident_blocks<Real>(tile_bits_, true, shared) >
+           gpu::tile_resident_blocks<Real>(tile_bits_, false, shared);
   }
 
   // Which kernels start overlapped with the one before them (launch_overlapped; measured in
@@ -595,12 +594,19 @@ class Backend : public DeviceBackend {
   // and launch overlap reduce_kernel's end: armadillo at 1000^2 -1 to -1.5 us, leveraging at
   // 200^2 -2); the tile kernel only without the tile order (sphere 200^2 -1.3 us; with the
   // order its waiting blocks fill the GPU before the order kernel's one block starts, which
-  // then ends after the tiles: 1000^2 +10 us, 1500^2 +24, whatever the block's priority); the
-  // paper's raster and column kernels not (leveraging at 200^2 2 us slower than setup only).
+  // then ends after the tiles: 1000^2 +10 us, 1500^2 +24, whatever the block's priority) and
+  // only with few triangles a tile (armadillo at 100^2-200^2, 512 a tile: +3 us, the early
+  // blocks of a few heavy tiles placed beside the setup kernel's); the paper's raster and
+  // column kernels not (leveraging at 200^2 2 us slower than setup only).
   int overlap_level() const {
     if (overlap_ >= 0) return overlap_;
-    return options_.method == Method::column && kernel_ == Kernel::tiled && !use_tile_order() ? 2
-                                                                                              : 1;
+    const long long tiles =
+        static_cast<long long>(num_cavities_) * tiles_per_side_ * tiles_per_side_;
+    const bool light = num_triangles_ <= kOverlapTrianglesPerTile * tiles;
+    return options_.method == Method::column && kernel_ == Kernel::tiled && !use_tile_order() &&
+                   light
+               ? 2
+               : 1;
   }
 
   void launch_tile_order(int into, cudaStream_t stream) {
@@ -652,18 +658,9 @@ class Backend : public DeviceBackend {
       }
       if (again) {
         if (!choose_fused_tile()) {
-          if (options_.kernel != Kernel::automatic) {
-            throw DeviceError("cuda: a tile's triangles (" + std::to_string(s.max_tile_count) +
-                              ") or a column's hits (" + std::to_string(s.max_column_hits) +
-                              ") do not fit the fused kernel's shared memory (use tiled)");
-          }
-          // Automatic: the tiled kernel takes over.
-          kernel_ = Kernel::tiled;
-          column_capacity_ = std::max(column_capacity_, fused_column_capacity_);
-          tiles_per_side_ = (options_.grid + (1 << tile_bits_) - 1) >> tile_bits_;
-          tile_count_.reserve(static_cast<size_t>(num_cavities_) * tiles_per_side_ *
-                              tiles_per_side_);
-          reserve_tiles();
+          throw DeviceError("cuda: a tile's triangles (" + std::to_string(s.max_tile_count) +
+                            ") or a column's hits (" + std::to_string(s.max_column_hits) +
+                            ") do not fit the fused kernel's shared memory (use tiled)");
         }
         invalidate();
       }
@@ -730,6 +727,7 @@ class Backend : public DeviceBackend {
     b.tile_order = use_tile_order() ? tile_order_.get() : nullptr;
     b.orientation = assumed_orientation() ? orientation_.get() : nullptr;
     b.overlap = overlap_level();
+    b.half_round = half_round();
     const char* phases = std::getenv("FLUIDWEIGHT_TILE_PHASES");  // diagnostic, timing only
     b.diagnostic_phases = phases ? std::atoi(phases) : 3;
     return b;
@@ -814,16 +812,19 @@ class Backend : public DeviceBackend {
   int tile_blocks_per_sm_ = 0;  // tiled kernel: persistent grid of this many blocks an SM, or 0
   int tile_order_env_ = -1;     // FLUIDWEIGHT_TILE_ORDER, or -1
   int overlap_ = -1;            // FLUIDWEIGHT_OVERLAP, or -1
+  int tile_round_env_ = 0;      // FLUIDWEIGHT_TILE_ROUND (1 whole, 2 half), or 0
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
   // Fused kernel: tile (bits), hits per column, triangles a tile keeps, the vertex table, the
   // call's set of accumulators, the orientation each cavity's Step 2 assumes.
-  static constexpr double kAutomaticMaxWork = 2e5;
   // Automatic takes leveraging when the mean candidate count a triangle is at most this and
   // no triangle's box holds more columns than the second.
   static constexpr double kAutomaticLeveragingMean = 4, kAutomaticLeveragingMax = 64;
+  // The tile kernel starts overlapped with the setup kernel up to this many triangles a tile
+  // on average (overlap_level()).
+  static constexpr long long kOverlapTrianglesPerTile = 64;
   int fused_tile_bits_ = 4, fused_preferred_bits_ = 0, fused_column_capacity_ = 4,
       item_capacity_ = 512, max_vertices_ = 0, parity_ = 0, cluster_x_ = 1, cluster_y_ = 1,
-      slice_vertices_ = 1, resident_clusters_ = 0;
+      slice_vertices_ = 1;
   std::vector<int> host_orientation_, triangle_begin_;
   DeviceArray<unsigned long long> corners_;
   DeviceArray<int> vertex_begin_all_, orientation_;

@@ -133,6 +133,7 @@ struct Batch {
   int overlap;  // host: kernels launched overlapped (launch_overlapped): 0 none, 1 setup_kernel,
                 // 2 also the tile, raster and column kernels
   int diagnostic_phases;  // tiled kernel, for timing only: bit 0 raster, bit 1 resolve
+  int half_round;         // tiled kernel: stage TILE^2 / 2 triangles a round, not TILE^2
 };
 
 // Snapped centre coordinates and edge functions of a DevTri at column (i, j).
@@ -255,9 +256,10 @@ template <typename Real>
 size_t tile_shared_bytes(int tile_bits, int column_capacity);
 template <typename Real>
 void allow_tile_shared(size_t bytes);
-// Blocks of tile_kernel an SM holds with that much dynamic shared memory.
+// Blocks of tile_kernel an SM holds with that much dynamic shared memory (half_round: the
+// kernel that stages half as many triangles at a time, Batch::half_round).
 template <typename Real>
-int tile_resident_blocks(int tile_bits, size_t shared);
+int tile_resident_blocks(int tile_bits, bool half_round, size_t shared);
 // The tile order (kernels_tiled.cu, order_kernel): all tiles by decreasing count, empty ones
 // last; for at most max_ordered_tiles() tiles.
 int max_ordered_tiles();

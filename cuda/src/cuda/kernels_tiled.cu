@@ -60,7 +60,9 @@ struct TileFloors {
 // One tile: Steps 3-5 of its columns. `listed` and `first_entry` (this thread's first list
 // entry, read before the count was known: the list has room for at least kThreads entries and
 // an entry past the count is not used) were loaded by the caller, ahead of time.
-template <typename Real, int TILE>
+// ROUND: triangles staged at a time (TILE^2, or half of it for less shared memory: more
+// blocks an SM where the hit slots are many).
+template <typename Real, int TILE, int ROUND>
 __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int listed,
                                              int first_entry) {
   constexpr int kThreads = TILE * TILE;  // also the columns of a tile
@@ -68,9 +70,11 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
   __shared__ typename Scan::TempStorage scan_storage;
   __shared__ double warp_sum[kThreads / 32];
   __shared__ unsigned warp_unmatched[kThreads / 32];
-  __shared__ Staged<Real, kThreads> s;
+  __shared__ Staged<Real, ROUND> s;
   extern __shared__ __align__(16) unsigned char dynamic[];
   const int capacity = b.column_capacity;
+  // Threads that stage a triangle (all of them with a whole round: no test compiled in).
+  const bool stager = ROUND == kThreads || static_cast<int>(threadIdx.x) < ROUND;
   Real* s_z = reinterpret_cast<Real*>(dynamic);  // slot * kThreads + column
   int* s_tag = reinterpret_cast<int*>(s_z + capacity * kThreads);
   int* s_count = s_tag + capacity * kThreads;
@@ -92,12 +96,12 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
   s_count[threadIdx.x] = 0;
 
   int first = 0;
-  for (;; first += kThreads) {
+  for (;; first += ROUND) {
     // This round's triangles and their candidate rectangles inside the tile.
     const int e = first + threadIdx.x;
     int tri = 0, count = 0, ci = 0, cj = 0, width = 0;
     DevTri<Real> t{};
-    if (e < items) {
+    if (stager && e < items) {
       tri = e < listed ? (first == 0 ? first_entry : list[e]) : b.big_list[e - listed];
       t = load_tri(&b.tris[tri]);
       if (cavity_of(t.flags) == cavity) {
@@ -112,21 +116,21 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
     int offset, total;
     Scan(scan_storage).ExclusiveSum(count, offset, total);
     const int k = threadIdx.x;
-    {
+    if (stager) {
       const Real z[3] = {t.z[0], t.z[1], t.z[2]};
       stage_entry<Real, TILE>(s.r, k, t.x, t.y, z, t.flags, first + k, ci, cj,
                               count > 0 ? width : 0, ti0, tj0, sub_bits, t.x[0]);
+      s.y0[k] = t.y[0];
+      for (int c = 0; c < 3; ++c) s.vertex[c][k] = t.vertex[c];
+      s.r.offset[k] = offset;
     }
-    s.y0[k] = t.y[0];
-    for (int c = 0; c < 3; ++c) s.vertex[c][k] = t.vertex[c];
-    s.r.offset[k] = offset;
-    if (k == 0) s.r.offset[kThreads] = total;
+    if (k == 0) s.r.offset[ROUND] = total;
     __syncthreads();
 
     // Steps 3-4: the round's candidates dealt out to the warps, 32 at a time.
-    raster_round<Real, TILE>(s.r, kThreads, (b.diagnostic_phases & 1) ? total : 0, s_z, s_tag,
-                             s_count, capacity);
-    if (first + kThreads >= items) break;
+    raster_round<Real, TILE>(s.r, ROUND, (b.diagnostic_phases & 1) ? total : 0, s_z, s_tag, s_count,
+                             capacity);
+    if (first + ROUND >= items) break;
   }
   __syncthreads();
 
@@ -140,8 +144,7 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
   double sum_heights = 0.0;
   unsigned unmatched = 0;
   resolve_column(b, ColumnHits<Real>{s_z + threadIdx.x, s_tag + threadIdx.x, kThreads}, n, i, j,
-                 grid, sum_heights, unmatched,
-                 TileFloors<Real, kThreads>{b, s, list, listed, first});
+                 grid, sum_heights, unmatched, TileFloors<Real, ROUND>{b, s, list, listed, first});
   // The block's sums: warp shuffles, then one barrier (cub's two block reductions took two
   // more and their own).
   for (int d = 16; d > 0; d >>= 1) {
@@ -171,7 +174,7 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
 // per tile; a persistent grid of the blocks the GPU holds at once otherwise. The next tile's
 // count and first list entries are loaded before this one is worked on, so an empty tile costs
 // no round trip and a full one starts with its triangles' loads.
-template <typename Real, int TILE>
+template <typename Real, int TILE, int ROUND>
 __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_kernel(Batch<Real> b) {
   const int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
   int index = blockIdx.x;
@@ -191,7 +194,7 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
       next_listed = b.tile_count[next];
       next_entry = entry(next);
     }
-    tile_columns<Real, TILE>(b, tile, listed, first_entry);
+    tile_columns<Real, TILE, ROUND>(b, tile, listed, first_entry);
     if (next < 0) break;
     __syncthreads();  // shared memory is reused by the next tile
     index = next_index;
@@ -276,12 +279,32 @@ size_t tile_shared_bytes(int tile_bits, int column_capacity) {
   return column_capacity * columns * (sizeof(Real) + sizeof(int)) + columns * sizeof(int);
 }
 
+// f(kernel, threads) with the tile kernel of that tile and round.
+template <typename Real, typename F>
+void with_tile_kernel(int tile_bits, bool half_round, F&& f) {
+  if (tile_bits == 3) {
+    if (half_round) {
+      f(tile_kernel<Real, 8, 32>, 64);
+    } else {
+      f(tile_kernel<Real, 8, 64>, 64);
+    }
+  } else if (half_round) {
+    f(tile_kernel<Real, 16, 128>, 256);
+  } else {
+    f(tile_kernel<Real, 16, 256>, 256);
+  }
+}
+
 template <typename Real>
 void allow_tile_shared(size_t bytes) {
-  cudaFuncSetAttribute(tile_kernel<Real, 8>, cudaFuncAttributeMaxDynamicSharedMemorySize,
-                       static_cast<int>(bytes));
-  cudaFuncSetAttribute(tile_kernel<Real, 16>, cudaFuncAttributeMaxDynamicSharedMemorySize,
-                       static_cast<int>(bytes));
+  for (int bits : {3, 4}) {
+    for (bool half : {false, true}) {
+      with_tile_kernel<Real>(bits, half, [&](auto kernel, int) {
+        cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize,
+                             static_cast<int>(bytes));
+      });
+    }
+  }
 }
 
 // blocks_per_sm > 0: a persistent grid of that many blocks per multiprocessor (at most the
@@ -296,23 +319,17 @@ void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStre
     cudaOccupancyMaxActiveBlocksPerMultiprocessor(&fit, kernel, threads, shared);
     return std::max(1, std::min(tiles, num_sms * std::min(std::max(fit, 1), blocks_per_sm)));
   };
-  if (b.tile_bits == 3) {
-    launch_overlapped(b.overlap >= 2, tile_kernel<Real, 8>, grid(tile_kernel<Real, 8>, 64), 64,
-                      shared, stream, b);
-  } else {
-    launch_overlapped(b.overlap >= 2, tile_kernel<Real, 16>, grid(tile_kernel<Real, 16>, 256), 256,
-                      shared, stream, b);
-  }
+  with_tile_kernel<Real>(b.tile_bits, b.half_round, [&](auto kernel, int threads) {
+    launch_overlapped(b.overlap >= 2, kernel, grid(kernel, threads), threads, shared, stream, b);
+  });
 }
 
 template <typename Real>
-int tile_resident_blocks(int tile_bits, size_t shared) {
+int tile_resident_blocks(int tile_bits, bool half_round, size_t shared) {
   int fit = 0;
-  if (tile_bits == 3) {
-    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&fit, tile_kernel<Real, 8>, 64, shared);
-  } else {
-    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&fit, tile_kernel<Real, 16>, 256, shared);
-  }
+  with_tile_kernel<Real>(tile_bits, half_round, [&](auto kernel, int threads) {
+    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&fit, kernel, threads, shared);
+  });
   return fit;
 }
 
@@ -328,7 +345,7 @@ template void allow_tile_shared<float>(size_t);
 template void allow_tile_shared<double>(size_t);
 template void launch_tiles<float>(const Batch<float>&, int, int, cudaStream_t);
 template void launch_tiles<double>(const Batch<double>&, int, int, cudaStream_t);
-template int tile_resident_blocks<float>(int, size_t);
-template int tile_resident_blocks<double>(int, size_t);
+template int tile_resident_blocks<float>(int, bool, size_t);
+template int tile_resident_blocks<double>(int, bool, size_t);
 
 }  // namespace fluidweight::detail::gpu
