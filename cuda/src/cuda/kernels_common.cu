@@ -102,11 +102,20 @@ __device__ int block_grids(const Batch<Real>& b, int first_triangle, int last_tr
                            GridParams* grids, int max_grids) {
   __shared__ typename BoxReduce::TempStorage storage;
   const int c0 = b.tri_cavity[first_triangle], c1 = b.tri_cavity[last_triangle];
+  // The first cavity's job range, owner and assumed orientation are the call's inputs: loaded
+  // while the previous kernel may still run (launch_overlapped), its partials after it.
+  int begin = b.cavity_job_begin[c0], end = b.cavity_job_begin[c0 + 1];
+  int owner = b.cavity_triangle_begin[c0], assumed = b.orientation ? b.orientation[c0] : 0;
+  wait_previous();  // reduce_kernel's partials (a no-op in a kernel launched the ordinary way)
   for (int c = c0; c <= c1 && c - c0 < max_grids; ++c) {
-    const int assumed = b.orientation ? b.orientation[c] : 0;
+    if (c > c0) {
+      begin = b.cavity_job_begin[c];
+      end = b.cavity_job_begin[c + 1];
+      owner = b.cavity_triangle_begin[c];
+      assumed = b.orientation ? b.orientation[c] : 0;
+    }
     Box sum = empty_box();
-    for (int k = b.cavity_job_begin[c] + threadIdx.x; k < b.cavity_job_begin[c + 1];
-         k += blockDim.x) {
+    for (int k = begin + threadIdx.x; k < end; k += blockDim.x) {
       Box p;
       for (int q = 0; q < 7; ++q) p.v[q] = b.partials[q * b.num_jobs + k];
       sum = BoxOp()(sum, p);
@@ -116,7 +125,6 @@ __device__ int block_grids(const Batch<Real>& b, int first_triangle, int last_tr
       const double volume = assumed ? assumed : sum.v[6] / 6.0;  // its sign is the orientation
       grids[c - c0] =
           make_grid(sum.v[0], sum.v[1], sum.v[2], sum.v[3], sum.v[4], sum.v[5], b.n, volume);
-      const int owner = b.cavity_triangle_begin[c];
       if (owner >= first_triangle && owner <= last_triangle) {
         b.cavities[c].grid = grids[c - c0];
         b.cavities[c].signed_volume = volume;
@@ -233,7 +241,7 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
     if (b.orientation) origin = load_vec3(b.xyz, b.cavity_vertex_begin[cavity]);
   }
   let_next_start();
-  wait_previous();  // reduce_kernel's partials and cleared accumulators
+  // block_grids waits for reduce_kernel (its partials and cleared accumulators).
   const int c0 = block_grids(b, first, last, grids, kMaxBlockCavities);
   DevTri<Real> d;
   bool valid = false;
