@@ -558,9 +558,9 @@ class Backend : public DeviceBackend {
     return f;
   }
 
-  // The tiled kernel takes its tiles heaviest first when they need more than one wave of
-  // blocks: otherwise the last blocks started decide the kernel's end (measured: a quarter of
-  // the SMs' time idle at the end at the armadillo's 1000^2; four spheres at 200^2, 1.3 waves,
+  // The tiled kernel takes its tiles heaviest first when they need more than one and a half
+  // waves of blocks: otherwise the last blocks started decide the kernel's end (measured: a quarter
+  // of the SMs' time idle at the end at the armadillo's 1000^2; four spheres at 200^2, 1.3 waves,
   // 27.0 -> 26.6 us). The order is the previous call's
   // counts sorted (order_kernel, one block: 17.6 us when it ran between setup and tiles),
   // made beside this call's tile kernel; a control loop's surfaces move little from call to
@@ -573,7 +573,11 @@ class Backend : public DeviceBackend {
     const size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
     const int per_sm =
         std::max(1, gpu::tile_resident_blocks<Real>(tile_bits_, half_round(), shared));
-    return tiles > per_sm * sms_;
+    // From one and a half waves on: below, the tiles gain more from starting overlapped with
+    // the setup kernel (overlap_level(), not with the order) than from the order (four spheres
+    // at 200^2, 1.3 waves: 24.3 -> 23.7 us without the order; sphere at 500^2, 1.9 waves:
+    // 26.2 -> 27.2).
+    return 2 * tiles > 3 * per_sm * sms_;
   }
 
   // The tiled kernel stages half as many triangles a round (TILE^2 / 2) when that lets an SM
