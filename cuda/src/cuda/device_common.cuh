@@ -1,12 +1,13 @@
 // Data shared by the CUDA kernels (docs/fluidweight.md, "CUDA kernels").
 //
 // One call runs as a captured CUDA graph of three or four kernels over all cavities at once:
-//   1. reduce_kernel: Step 1's projected boxes and the signed volumes (orientation) as block
-//      partials; it also clears the accumulators.
+//   1. reduce_kernel: Step 1's projected boxes (and for the hydrostatic load the signed
+//      volumes) as block partials; it also clears the accumulators.
 //   2. setup kernels: each block first reduces the partials of its cavities into their grids
 //      (every block alike, so no block waits for another); then Step 2 per triangle (snapped
-//      corners, floor or ceiling, candidate box), and for the tiled kernel the binning of
-//      triangles to tiles of columns.
+//      corners, floor or ceiling under the assumed orientation, candidate box; the signed
+//      volume summed for the host's check), and for the tiled kernel the binning of triangles
+//      to tiles of columns. It starts overlapped with reduce_kernel (launch_overlapped).
 // Many blocks adding to one address serialise (about 20 ns each on the H100 measured), so
 // sums over blocks go to partials or to kStripes addresses, never to one.
 //   3. Steps 3-5: the leveraging or triangle-parallel raster kernel writing hits per column to
