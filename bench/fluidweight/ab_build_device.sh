@@ -6,7 +6,9 @@
 # the VARIANTS given ("name=ENV=value,ENV2=value ...": the new binary under that environment), ROUNDS
 # times, alternated; then, with TARGETS=1, bench_fluidweight --targets of both (twice each,
 # alternated); with FUSED=1, bench_fluidweight --fused of the new build. OLD_TARGETS=" "
-# builds and runs the previous version's tests too. Output files go to $OUT.
+# builds and runs the previous version's tests too. MID_SRCS="name=folder ..." (folders like
+# OLD_SRC) builds further versions into /tmp/bm_name, run under that name between old and new.
+# Output files go to $OUT.
 set -u
 OLD_SRC=${OLD_SRC:-.device-carry/v0}
 B0=${B0:-/tmp/b0}  # a fresh folder for each OLD_SRC (git archive keeps old file times)
@@ -19,6 +21,12 @@ start=$(date +%s)
     >> "$OUT/build0.log" 2>&1) &
 (cmake -S cuda -B /tmp/b1 -DCMAKE_BUILD_TYPE=Release > "$OUT/build1.log" 2>&1 &&
   cmake --build /tmp/b1 -j8 >> "$OUT/build1.log" 2>&1) &
+for m in ${MID_SRCS:-}; do
+  (cmake -S "${m#*=}/cuda" -B "/tmp/bm_${m%%=*}" -DCMAKE_BUILD_TYPE=Release \
+    > "/tmp/build_${m%%=*}.log" 2>&1 &&
+    cmake --build "/tmp/bm_${m%%=*}" -j8 --target fluidweight bench_fluidweight \
+      >> "/tmp/build_${m%%=*}.log" 2>&1) &
+done
 wait
 echo "builds: $(( $(date +%s) - start )) s"
 grep -E "error|warning" "$OUT/build1.log" | head -20
@@ -32,7 +40,12 @@ if [ -x $B0/tests/fluidweight_test_cuda ]; then
   $B0/tests/fluidweight_test_cuda > "$OUT/test_cuda_old.log" 2>&1
   echo "old CUDA tests exit code $?"; grep -E "^\[  (PASSED|FAILED) |FAILED TEST" "$OUT/test_cuda_old.log"
 fi
-BINS="old=$B0/bin/fluidweight new=/tmp/b1/bin/fluidweight"
+BINS="old=$B0/bin/fluidweight"
+for m in ${MID_SRCS:-}; do
+  [ -x "/tmp/bm_${m%%=*}/bin/fluidweight" ] || { tail -20 "/tmp/build_${m%%=*}.log"; continue; }
+  BINS="$BINS ${m%%=*}=/tmp/bm_${m%%=*}/bin/fluidweight"
+done
+BINS="$BINS new=/tmp/b1/bin/fluidweight"
 for v in ${VARIANTS:-}; do
   name=${v%%=*}
   printf '#!/bin/sh\nexport %s\nexec /tmp/b1/bin/fluidweight "$@"\n' "$(echo "${v#*=}" | tr , ' ')" \

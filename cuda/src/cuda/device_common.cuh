@@ -26,41 +26,45 @@ namespace fluidweight::detail::gpu {
 
 constexpr unsigned kFullMask = 0xffffffffu;
 
-// Triangle after Steps 1-2 (written by the setup kernels). Empty box (i0 > i1) when it covers
-// no column. 80 bytes, moved with 16-byte loads and stores (load_tri, store_tri).
+// Triangle after Steps 1-2 (written by the setup kernels). Empty box (i0 = j0 = 1, i1 = j1 = 0)
+// when it covers no column. The box in 16 bits (columns < kMaxGrid = 2^16): 64 bytes in f32
+// (the setup kernel writes and the tiles read 86k of them at every call on the armadillo),
+// 80 in f64; moved with 16-byte loads and stores (load_tri, store_tri).
 template <typename Real>
 struct alignas(16) DevTri {
-  int x[3], y[3];      // snapped corners, counter-clockwise
-  int flags;           // bits 0-2: edge k needs E_k >= 1 (not top-left); bit 3: floor;
-                       // bits 4-31: cavity
-  int i0, i1, j0, j1;  // columns whose centres lie in the box
-  int vertex[3];       // global vertex indices of those corners
-  Real z[3];           // heights of the corners above the cavity's lowest vertex
+  int x[3], y[3];                 // snapped corners, counter-clockwise
+  int flags;                      // bits 0-2: edge k needs E_k >= 1 (not top-left); bit 3: floor;
+                                  // bits 4-31: cavity
+  unsigned short i0, i1, j0, j1;  // columns whose centres lie in the box
+  int vertex[3];                  // global vertex indices of those corners
+  Real z[3];                      // heights of the corners above the cavity's lowest vertex
 };
-static_assert(sizeof(DevTri<float>) == 80 && sizeof(DevTri<double>) == 80, "DevTri layout");
+static_assert(sizeof(DevTri<float>) == 64 && sizeof(DevTri<double>) == 80, "DevTri layout");
 
 template <typename Real>
 __device__ inline DevTri<Real> load_tri(const DevTri<Real>* p) {
+  constexpr int kPieces = sizeof(DevTri<Real>) / 16;
   union {
-    int4 v[5];
+    int4 v[kPieces];
     DevTri<Real> t;
   } u;
   const int4* src = reinterpret_cast<const int4*>(p);
 #pragma unroll
-  for (int k = 0; k < 5; ++k) u.v[k] = __ldg(src + k);
+  for (int k = 0; k < kPieces; ++k) u.v[k] = __ldg(src + k);
   return u.t;
 }
 
 template <typename Real>
 __device__ inline void store_tri(DevTri<Real>* p, const DevTri<Real>& t) {
+  constexpr int kPieces = sizeof(DevTri<Real>) / 16;
   union {
-    int4 v[5];
+    int4 v[kPieces];
     DevTri<Real> t;
   } u;
   u.t = t;
   int4* dst = reinterpret_cast<int4*>(p);
 #pragma unroll
-  for (int k = 0; k < 5; ++k) dst[k] = u.v[k];
+  for (int k = 0; k < kPieces; ++k) dst[k] = u.v[k];
 }
 
 __device__ inline int cavity_of(int flags) { return flags >> 4; }
