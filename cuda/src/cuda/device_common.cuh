@@ -161,7 +161,8 @@ __device__ inline Real height_at(const DevTri<Real>& t, const int64_t e[3]) {
 
 __device__ inline bool is_floor(int flags) { return (flags >> 3) & 1; }
 
-// 6 x the signed volume of the tetrahedron (origin, a, b, c), as reduce_kernel sums it.
+// 6 x the signed volume of the tetrahedron (o, a, b, c): reduce_kernel, setup_kernel and
+// fused_kernel sum it alike.
 __device__ __forceinline__ double signed_volume6(const Vec3& a, const Vec3& b, const Vec3& c,
                                                  const Vec3& o) {
   const double ax = a.x - o.x, ay = a.y - o.y, az = a.z - o.z;

@@ -79,11 +79,8 @@ __global__ void __launch_bounds__(kBlock)
     Vec3 o = load_vec3(b.xyz, b.cavity_vertex_begin[job.cavity]);
     for (int t = job.begin + threadIdx.x; t < job.end; t += blockDim.x) {
       const int* v = b.triangles + 3 * t;
-      Vec3 a = load_vec3(b.xyz, v[0]), q = load_vec3(b.xyz, v[1]), c = load_vec3(b.xyz, v[2]);
-      double ax = a.x - o.x, ay = a.y - o.y, az = a.z - o.z;
-      double bx = q.x - o.x, by = q.y - o.y, bz = q.z - o.z;
-      double cx = c.x - o.x, cy = c.y - o.y, cz = c.z - o.z;
-      box.v[6] += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+      box.v[6] +=
+          signed_volume6(load_vec3(b.xyz, v[0]), load_vec3(b.xyz, v[1]), load_vec3(b.xyz, v[2]), o);
     }
   }
   box = BoxReduce(storage).Reduce(box, BoxOp());
