@@ -32,7 +32,7 @@ namespace {
 using rows::FloorMoments;
 using rows::Raster;
 
-constexpr int kPrefetch = 8;        // triangles whose vertices are asked for ahead of their setup
+constexpr int kPrefetch = 24;       // triangles whose vertices are asked for ahead of their setup
 constexpr int kPrefetchAhead = 16;  // the same, in the passes of Steps 1 and 2 over the triangles
 constexpr int kMaxRingRows = 16;    // rows a triangle is rasterized at once, at most
 constexpr size_t kRingBytes = 4 << 20;  // and the ring's size, at most
@@ -57,6 +57,7 @@ struct FloorSetup {
   int64_t e[3];
   int dx[3], dy[3];
   int triangle;  // in `sorted`
+  int i0, j0;    // the origin
 };
 
 // Buffers of one worker thread, kept between calls.
@@ -138,11 +139,14 @@ struct FastColumn::Impl {
   GridParams grid;
   double rho_g = 0.0;
   std::vector<SnappedVertex> vertices;
-  std::vector<int> row0;        // first row of each triangle's box, -1: no column
-  std::vector<unsigned> flags;  // SortedTriangle::flags, and bit 4: corners 1 and 2 swapped
+  std::vector<int> row0;  // first row of each triangle's box, -1: no column
+  // SortedTriangle::flags, and bit 4: corners 1 and 2 swapped; bits 5-6: box chunks - 1, at
+  // most 2 (the raster kernel's class)
+  std::vector<unsigned> flags;
   // Triangles with columns by first row: those of row j are sorted[row_start[j] ..
   // row_start[j + 1]).
   std::vector<int> row_start;
+  std::vector<int> bucket_start;  // the counting sort's, by row and class
   std::vector<SortedTriangle> sorted;
   // Bands: rows [b band_rows, (b + 1) band_rows); triangles starting in an earlier band and
   // reaching band b are carried[carried_start[b] .. carried_start[b + 1]).
@@ -200,8 +204,9 @@ void FastColumn::Impl::start(int t, int j, int jb, Worker& w) {
   r.floor = -1;
   if ((st.flags >> 3) & 1) {
     r.floor = w.floors++;
-    w.moments[r.floor] = {0.0, 0.0, 0.0, r.i0, j};
-    w.setups[r.floor] = {{e[0], e[1], e[2]}, {dx[0], dx[1], dx[2]}, {dy[0], dy[1], dy[2]}, t};
+    w.moments[r.floor] = {0.0, 0.0, 0.0, 0.0};
+    w.setups[r.floor] = {
+        {e[0], e[1], e[2]}, {dx[0], dx[1], dx[2]}, {dy[0], dy[1], dy[2]}, t, r.i0, j};
   }
   raster_block(r, jb, w);
 }
@@ -240,8 +245,10 @@ void FastColumn::Impl::start_row(int j, int jb, Worker& w) {
         const unsigned flags = b.flags[u];
         if ((flags >> 3) & 1) {
           r.floor = w.floors++;
-          w.moments[r.floor] = {0.0, 0.0, 0.0, r.i0, j};
+          w.moments[r.floor] = {0.0, 0.0, 0.0, 0.0};
           FloorSetup& f = w.setups[r.floor];
+          f.i0 = r.i0;
+          f.j0 = j;
           for (int k = 0; k < 3; ++k) {
             f.e[k] = r.e[k] + ((flags >> k) & 1);
             f.dx[k] = static_cast<int>(r.dj[k] >> s);
@@ -277,15 +284,22 @@ void FastColumn::Impl::raster_block(Raster& r, int jb, Worker& w) {
 void FastColumn::Impl::finish_floors(Worker& w) {
   const int64_t unit = int64_t{1} << grid.sub_bits;
   for (int f = 0; f < w.floors; ++f) {
+    // The nodes' weights are updated at random (the armadillo lists its vertices in random
+    // order): asked for ahead.
+    if (f + kPrefetchAhead < w.floors) {
+      for (int v : sorted[w.setups[f + kPrefetchAhead].triangle].vertex) prefetch(&w.weights[v]);
+    }
     const FloorMoments& m = w.moments[f];
     if (m.m0 == 0.0 && m.mi == 0.0 && m.mj == 0.0) continue;
     const FloorSetup& st = w.setups[f];
     const double scale = rho_g * grid.cell_area / static_cast<double>(st.e[0] + st.e[1] + st.e[2]);
     const int* v = sorted[st.triangle].vertex;
+    // The moments about the floor's origin.
+    const double mi = m.mi - st.i0 * m.m0, mj = m.mj - st.j0 * m.m0;
     for (int k = 0; k < 3; ++k) {
-      w.weights[v[k]] += scale * (static_cast<double>(st.e[k]) * m.m0 -
-                                  static_cast<double>(st.dy[k] * unit) * m.mi +
-                                  static_cast<double>(st.dx[k] * unit) * m.mj);
+      w.weights[v[k]] +=
+          scale * (static_cast<double>(st.e[k]) * m.m0 - static_cast<double>(st.dy[k] * unit) * mi +
+                   static_cast<double>(st.dx[k] * unit) * mj);
     }
   }
   w.floors = 0;
@@ -449,7 +463,8 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
       const bool bottom = (area2 > 0) != (grid.orientation > 0);
       const int x[3] = {a.x, flip ? c.x : b.x, flip ? b.x : c.x};
       const int y[3] = {a.y, flip ? c.y : b.y, flip ? b.y : c.y};
-      unsigned f = (bottom ? 8u : 0u) | (flip ? 16u : 0u);
+      unsigned f = (bottom ? 8u : 0u) | (flip ? 16u : 0u) |
+                   (static_cast<unsigned>(std::min(2, std::max(0, i1 - i0) / rows::kChunk)) << 5);
       for (int k = 0; k < 3; ++k) {
         const int p = k == 2 ? 0 : k + 1, q = k == 0 ? 2 : k - 1;
         const int dx = x[q] - x[p], dy = y[q] - y[p];
@@ -461,23 +476,30 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
     }
     tallest[index] = tall;
   });
-  // Triangles by first row (a counting sort). Those without columns (row0 = -1) are sorted too,
-  // into a bucket before row 0, so that neither loop branches on them (at coarse grids half the
+  // Triangles by first row (a counting sort), and within a row by kind and width class, so
+  // that the sweep's branches on them (floor or ceiling, which raster kernel) are predicted:
+  // in input order they are random. Those without columns (row0 = -1) are sorted too, into
+  // buckets before row 0, so that neither loop branches on them (at coarse grids half the
   // triangles have no column, in random order).
-  m.row_start.assign(n + 2, 0);
-  for (int t = 0; t < nt; ++t) ++m.row_start[m.row0[t] + 2];
-  for (int b = 0; b <= n; ++b) m.row_start[b + 1] += m.row_start[b];
+  constexpr int kClasses = 6;
+  auto bucket = [&m](int t) {
+    const unsigned f = m.flags[t];
+    return (m.row0[t] + 1) * kClasses + static_cast<int>(((f >> 3) & 1u) * 3 + ((f >> 5) & 3u));
+  };
+  std::vector<int>& start = m.bucket_start;
+  start.assign((n + 1) * kClasses + 1, 0);
+  for (int t = 0; t < nt; ++t) ++start[bucket(t) + 1];
+  for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
   m.sorted.resize(nt);
-  {
-    std::vector<int> fill(m.row_start.begin(), m.row_start.end() - 1);
-    for (int t = 0; t < nt; ++t) {
-      const int* v = cavity.triangles + 3 * t;
-      const bool flip = m.flags[t] & 16u;
-      m.sorted[fill[m.row0[t] + 1]++] = {{v[0], flip ? v[2] : v[1], flip ? v[1] : v[2]},
-                                         m.flags[t] & 15u};
-    }
+  for (int t = 0; t < nt; ++t) {
+    const int* v = cavity.triangles + 3 * t;
+    const bool flip = m.flags[t] & 16u;
+    m.sorted[start[bucket(t)]++] = {{v[0], flip ? v[2] : v[1], flip ? v[1] : v[2]},
+                                    m.flags[t] & 15u};
   }
-  m.row_start.erase(m.row_start.begin());  // row j: [row_start[j], row_start[j + 1])
+  // Each bucket's start moved to the next one's: row j is [row_start[j], row_start[j + 1]).
+  m.row_start.resize(n + 1);
+  for (int j = 0; j <= n; ++j) m.row_start[j] = start[(j + 1) * kClasses - 1];
   m.num_bands = threads == 1 ? 1 : std::min(n, 8 * threads);
   m.band_rows = (n + m.num_bands - 1) / m.num_bands;
   m.num_bands = (n + m.band_rows - 1) / m.band_rows;

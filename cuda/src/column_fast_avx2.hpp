@@ -269,8 +269,8 @@ FW_AVX2 inline void resolve_avx2(int j, RowRing& ring, FloorMoments* moments, Co
           _mm256_mul_pd(h[0], lane), _mm256_mul_pd(h[1], _mm256_add_pd(lane, _mm256_set1_pd(4)))));
       FloorMoments& r = moments[leader];
       r.m0 += s0;
-      r.mi += s1 + s0 * (col - r.i0);
-      r.mj += s0 * (j - r.j0);
+      r.mi += s1 + s0 * col;
+      r.mj += s0 * j;
     } else {
       for (unsigned b = m; b; b &= b - 1) {
         const int i = col + lowest_bit(b);

@@ -139,6 +139,8 @@ FW_AVX512 void raster_avx512_kind(Raster& r, int rows, RowRing& ring) {
   r.row = row;
 }
 
+constexpr int kAhead = 32;  // triangles whose vertices are asked for ahead in the passes below
+
 // Six times the signed volume of triangles [begin, end) (coordinates relative to vertex 0, as
 // the portable loop in column_fast.cpp), 8 triangles at a time; summed in lanes.
 FW_AVX512 inline double volume_avx512(const int* triangle, int begin, int end, const double* xyz) {
@@ -146,6 +148,11 @@ FW_AVX512 inline double volume_avx512(const int* triangle, int begin, int end, c
   const __m512d o[3] = {_mm512_set1_pd(xyz[0]), _mm512_set1_pd(xyz[1]), _mm512_set1_pd(xyz[2])};
   __m512d sum = _mm512_setzero_pd();
   for (int t = begin; t < end; t += kChunk) {
+    // The armadillo lists its faces' vertices in random order: gathers wait on the cache
+    // unless the vertices of later triangles are asked for ahead.
+    for (int u = 3 * (t + kAhead); u < 3 * std::min(end, t + kAhead + kChunk); ++u) {
+      __builtin_prefetch(xyz + 3 * triangle[u]);
+    }
     const __mmask8 live = static_cast<__mmask8>((1u << std::min(kChunk, end - t)) - 1);
     __m512d p[3][3];  // p[corner][axis]
     for (int k = 0; k < 3; ++k) {
@@ -184,6 +191,9 @@ FW_AVX512 inline int step2_avx512(const int* triangle, int begin, int end, const
   const __m256i records = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
   __m256i tall = one;
   for (int t = begin; t < end; t += kChunk) {
+    for (int u = 3 * (t + kAhead); u < 3 * std::min(end, t + kAhead + kChunk); ++u) {
+      __builtin_prefetch(vertex + 4 * triangle[u]);
+    }
     const int lanes = std::min(kChunk, end - t);
     const __mmask8 live = static_cast<__mmask8>((1u << lanes) - 1);
     __m256i x[3], y[3];
@@ -223,8 +233,12 @@ FW_AVX512 inline int step2_avx512(const int* triangle, int begin, int end, const
     const __m256i cy[3] = {y[0], _mm256_mask_blend_epi32(flip, y[1], y[2]),
                            _mm256_mask_blend_epi32(flip, y[2], y[1])};
     const __mmask8 bottom = orientation > 0 ? flip : positive;
+    const __m256i chunks =
+        _mm256_min_epi32(_mm256_set1_epi32(2),
+                         _mm256_srli_epi32(_mm256_max_epi32(zero, _mm256_sub_epi32(i1, i0)), 3));
     __m256i f = _mm256_or_si256(_mm256_maskz_mov_epi32(bottom, _mm256_set1_epi32(8)),
                                 _mm256_maskz_mov_epi32(flip, _mm256_set1_epi32(16)));
+    f = _mm256_or_si256(f, _mm256_slli_epi32(chunks, 5));
     for (int k = 0; k < 3; ++k) {
       const int p = k == 2 ? 0 : k + 1, q = k == 0 ? 2 : k - 1;
       const __m256i dx = _mm256_sub_epi32(cx[q], cx[p]), dy = _mm256_sub_epi32(cy[q], cy[p]);
@@ -377,34 +391,45 @@ FW_AVX512 inline void raster_avx512(Raster& r, int rows, RowRing& ring) {
 }
 
 // Sections of one plane of a chunk (lanes in `m`) added to their floors. When they all share
-// one floor (wide triangles) the chunk is summed in registers; otherwise section by section.
+// one floor (wide triangles) the chunk is summed in registers; otherwise each lane's (h, h i,
+// h j) is laid out as a 32-byte record and added to its floor's in one load, add and store.
 FW_AVX512 inline void add_sections(__mmask8 m, __m512d h, __m256i floor, int col, int j,
                                    FloorMoments* moments, __m512d& sum) {
   sum = _mm512_mask_add_pd(sum, m, sum, h);
   const int leader =
       _mm256_extract_epi32(_mm256_permutexvar_epi32(_mm256_set1_epi32(lowest_bit(m)), floor), 0);
+  const __m512d hk = _mm512_maskz_mov_pd(m, h);
+  const __m512d hi =
+      _mm512_mul_pd(hk, _mm512_add_pd(_mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7), _mm512_set1_pd(col)));
   if (_mm256_mask_cmpeq_epi32_mask(m, floor, _mm256_set1_epi32(leader)) == m) {
-    FloorMoments& f = moments[leader];
-    const __m512d hk = _mm512_maskz_mov_pd(m, h);
+    // One 32-byte update as below: a scalar store into a record that a later 32-byte load
+    // reads could not be forwarded.
+    double* f = &moments[leader].m0;
     const double sh = _mm512_reduce_add_pd(hk);
-    const __m512d di =
-        _mm512_add_pd(_mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7), _mm512_set1_pd(col - f.i0));
-    f.m0 += sh;
-    f.mi += _mm512_reduce_add_pd(_mm512_mul_pd(hk, di));
-    f.mj += sh * (j - f.j0);
+    _mm256_store_pd(f, _mm256_add_pd(_mm256_load_pd(f),
+                                     _mm256_setr_pd(sh, _mm512_reduce_add_pd(hi), sh * j, 0.0)));
     return;
   }
-  alignas(64) double hl[kChunk];
+  const __m512d hj = _mm512_mul_pd(hk, _mm512_set1_pd(j));
+  // (h, h i) of lanes 0-3 and 4-7 interleaved, then each lane's pair followed by h j twice.
+  const __m512d lo = _mm512_permutex2var_pd(hk, _mm512_setr_epi64(0, 8, 1, 9, 2, 10, 3, 11), hi);
+  const __m512d up = _mm512_permutex2var_pd(hk, _mm512_setr_epi64(4, 12, 5, 13, 6, 14, 7, 15), hi);
+  alignas(64) double record[kChunk][4];
+  _mm512_store_pd(record[0],
+                  _mm512_permutex2var_pd(lo, _mm512_setr_epi64(0, 1, 8, 8, 2, 3, 9, 9), hj));
+  _mm512_store_pd(record[2],
+                  _mm512_permutex2var_pd(lo, _mm512_setr_epi64(4, 5, 10, 10, 6, 7, 11, 11), hj));
+  _mm512_store_pd(record[4],
+                  _mm512_permutex2var_pd(up, _mm512_setr_epi64(0, 1, 12, 12, 2, 3, 13, 13), hj));
+  _mm512_store_pd(record[6],
+                  _mm512_permutex2var_pd(up, _mm512_setr_epi64(4, 5, 14, 14, 6, 7, 15, 15), hj));
   alignas(32) int fl[kChunk];
-  alignas(32) int il[kChunk];
-  _mm512_store_pd(hl, _mm512_maskz_compress_pd(m, h));
-  _mm256_store_si256(reinterpret_cast<__m256i*>(fl), _mm256_maskz_compress_epi32(m, floor));
-  _mm256_store_si256(
-      reinterpret_cast<__m256i*>(il),
-      _mm256_maskz_compress_epi32(
-          m, _mm256_add_epi32(_mm256_set1_epi32(col), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7))));
-  const int n = _mm_popcnt_u32(m);
-  for (int s = 0; s < n; ++s) add_section(moments[fl[s]], hl[s], il[s], j);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(fl), floor);
+  for (unsigned b = m; b; b &= b - 1) {
+    const int u = lowest_bit(b);
+    double* f = &moments[fl[u]].m0;
+    _mm256_store_pd(f, _mm256_add_pd(_mm256_load_pd(f), _mm256_load_pd(record[u])));
+  }
 }
 
 // A compare-exchange of a sorting network on planes x < y of 8 columns: floor heights a with

@@ -39,10 +39,11 @@ struct Raster {
   int floor;           // its floor record, or -1 for a ceiling
 };
 
-// A floor's sections: sum h, sum h (i - i0), sum h (j - j0) from its origin (i0, j0).
-struct FloorMoments {
-  double m0, mi, mj;
-  int i0, j0;
+// A floor's sections: sum h, sum h i, sum h j (column indices from the grid's corner, so that
+// a section's update needs nothing of its floor but the record: one 32-byte add with AVX-512);
+// the fourth is padding.
+struct alignas(32) FloorMoments {
+  double m0, mi, mj, pad;
 };
 
 struct Spilled {
@@ -146,8 +147,8 @@ inline bool wide_span(const Raster& r, int& first, int& last) {
 
 inline void add_section(FloorMoments& f, double h, int i, int j) {
   f.m0 += h;
-  f.mi += h * (i - f.i0);
-  f.mj += h * (j - f.j0);
+  f.mi += h * i;
+  f.mj += h * j;
 }
 
 // Portable raster: `rows` rows from r.row, advancing r. Boxes narrower than 8 columns test all
