@@ -6,7 +6,7 @@
 // row is the current one are rasterized (all their rows at once, into a ring of pending rows:
 // column_fast_rows.hpp), then the current row, which no later triangle reaches, is resolved:
 // its columns' floors and ceilings are sorted and paired, and each section's height goes into
-// three moments of its floor triangle (sum h, sum h di, sum h dj). Barycentric coordinates are
+// three moments of its floor triangle (sum h, sum h i, sum h j). Barycentric coordinates are
 // linear in the column indices, so each floor's nodal weights follow from its moments once, at
 // the end of the band.
 //

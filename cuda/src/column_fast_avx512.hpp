@@ -95,8 +95,6 @@ FW_AVX512 void raster_avx512_kind(Raster& r, int rows, RowRing& ring) {
   uint8_t* const count = ring.count[kind].data();
   double* const zs = ring.z[kind].data();
   int* const fl = ring.floor.data();
-  int* const lo = ring.lo.data();
-  int* const hi = ring.hi.data();
   int64_t e0 = r.e[0], e1 = r.e[1], e2 = r.e[2];
   double z = r.z;
   int row = r.row;
@@ -129,8 +127,6 @@ FW_AVX512 void raster_avx512_kind(Raster& r, int rows, RowRing& ring) {
       v1 = _mm512_add_epi64(v1, step1);
       v2 = _mm512_add_epi64(v2, step2);
     }
-    lo[slot] = std::min(lo[slot], first);
-    hi[slot] = std::max(hi[slot], last);
   }
   r.e[0] = e0;
   r.e[1] = e1;
@@ -351,12 +347,10 @@ FW_AVX512 void raster_avx512_narrow(Raster& r, int rows, RowRing& ring) {
   }
   const __m512d zstep = _mm512_set1_pd(r.dzj);
   const __m256i floor_index = _mm256_set1_epi32(r.floor);
-  const int i0 = r.i0, i1 = r.i1, floor = r.floor;
+  const int i0 = r.i0, floor = r.floor;
   uint8_t* const count = ring.count[kind].data() + i0;
   double* const zs = ring.z[kind].data() + i0;
   int* const fl = ring.floor.data() + i0;
-  int* const lo = ring.lo.data();
-  int* const hi = ring.hi.data();
   int row = r.row;
   for (int q = 0; q < rows; ++q, ++row) {
     const int slot = row & mask_rows;
@@ -369,8 +363,6 @@ FW_AVX512 void raster_avx512_narrow(Raster& r, int rows, RowRing& ring) {
       for (int k = 0; k < 3; ++k) v[c][k] = _mm512_add_epi64(v[c][k], step[k]);
       zv[c] = _mm512_add_pd(zv[c], zstep);
     }
-    lo[slot] = std::min(lo[slot], i0);
-    hi[slot] = std::max(hi[slot], i1);
   }
   for (int k = 0; k < 3; ++k) r.e[k] += r.dj[k] * rows;
   r.z += r.dzj * rows;
@@ -423,11 +415,16 @@ FW_AVX512 inline void add_sections(__mmask8 m, __m512d h, __m256i floor, int col
                   _mm512_permutex2var_pd(up, _mm512_setr_epi64(0, 1, 12, 12, 2, 3, 13, 13), hj));
   _mm512_store_pd(record[6],
                   _mm512_permutex2var_pd(up, _mm512_setr_epi64(4, 5, 14, 14, 6, 7, 15, 15), hj));
-  alignas(32) int fl[kChunk];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(fl), floor);
-  for (unsigned b = m; b; b &= b - 1) {
-    const int u = lowest_bit(b);
-    double* f = &moments[fl[u]].m0;
+  // All eight lanes, those without a section into a record of their own: a loop of fixed
+  // length, whose exit is predicted.
+  alignas(32) double unused[4];
+  alignas(64) double* to[kChunk];
+  _mm512_store_si512(to,
+                     _mm512_mask_add_epi64(_mm512_set1_epi64(reinterpret_cast<int64_t>(unused)), m,
+                                           _mm512_set1_epi64(reinterpret_cast<int64_t>(moments)),
+                                           _mm512_slli_epi64(_mm512_cvtepi32_epi64(floor), 5)));
+  for (int u = 0; u < kChunk; ++u) {
+    double* f = to[u];
     _mm256_store_pd(f, _mm256_add_pd(_mm256_load_pd(f), _mm256_load_pd(record[u])));
   }
 }
@@ -449,8 +446,10 @@ FW_AVX512 inline void exchange(__m512d* a, __m512d* b, __m256i* o, int x, int y)
 
 FW_AVX512 inline void resolve_avx512(int j, RowRing& ring, FloorMoments* moments, ColumnScratch& s,
                                      RowTotals& totals) {
-  int slot, lo, hi;
-  if (!take_row(j, ring, slot, lo, hi)) return;
+  // Every chunk of the row: testing the empty ones costs less than keeping the range of
+  // columns with hits per row in the raster (two loads and stores a triangle-row).
+  const int slot = j & (ring.rows - 1), lo = 0, hi = ring.width - kChunk - 1;
+  sort_spill(ring, slot);
   const size_t w = ring.width;
   uint8_t *fc = ring.count[0].data() + slot * w, *cc = ring.count[1].data() + slot * w;
   const double* fz = ring.z[0].data() + slot * kPlanes * w;

@@ -75,7 +75,7 @@ struct RowRing {
   LineVector<uint8_t> count[2];  // [slot width + i]; kind 0 floors, 1 ceilings; saturates
   LineVector<double> z[2];       // [(slot kPlanes + c) width + i]
   LineVector<int> floor;         // floor records, laid out as z[0]
-  std::vector<int> lo, hi;       // columns that may hold hits, per slot
+  std::vector<int> lo, hi;       // columns that may hold hits, per slot (not kept by AVX-512)
   std::vector<std::vector<Spilled>> spill[2];
 
   void resize(int num_rows, int n) {
