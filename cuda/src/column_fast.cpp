@@ -126,7 +126,9 @@ struct FastColumn::Impl {
   void sweep_band(int band, Worker& w);
   void start(int t, int j, int jb, Worker& w);
   void start_row(int j, int jb, Worker& w);
-  void raster_block(Raster& r, int jb, Worker& w);
+  template <class Kernel>
+  void raster_block(Raster& r, int jb, Worker& w, Kernel kernel);
+  void raster_block(Raster& r, int jb, Worker& w) { raster_block(r, jb, w, raster); }
   void finish_floors(Worker& w);
 
   ThreadPool pool;
@@ -256,7 +258,7 @@ void FastColumn::Impl::start_row(int j, int jb, Worker& w) {
           }
           f.triangle = c + u;
         }
-        raster_block(r, jb, w);
+        raster_block(r, jb, w, rows::raster_avx512);
       }
     }
     return;
@@ -273,9 +275,10 @@ void FastColumn::Impl::start_row(int j, int jb, Worker& w) {
 
 // Rasterizes the rows of r from r.row that the ring holds, up to the band's end; a triangle
 // with rows left goes on when the sweep reaches them.
-void FastColumn::Impl::raster_block(Raster& r, int jb, Worker& w) {
+template <class Kernel>
+inline void FastColumn::Impl::raster_block(Raster& r, int jb, Worker& w, Kernel kernel) {
   const int last = std::min({r.j1, r.row + ring_rows - 1, jb - 1});
-  raster(r, last - r.row + 1, w.ring);
+  kernel(r, last - r.row + 1, w.ring);
   if (r.row <= r.j1 && r.row < jb) w.pending[r.row & (ring_rows - 1)].push_back(r);
 }
 
