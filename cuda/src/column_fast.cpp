@@ -43,6 +43,14 @@ struct SnappedVertex {
   double z;
 };
 
+// A vertex as Step 2 reads it: snapped coordinates, and frame coordinates relative to the
+// grid's corner for the signed volume, summed in the same pass (its gathers of three vertices a
+// triangle are those of Step 2). 32 bytes: one cache line holds a vertex.
+struct Step2Vertex {
+  int x, y;
+  double a, b, u;
+};
+
 // A triangle with columns after Step 2, in first-row order: its vertices counter-clockwise and
 // flags. 16 bytes: the sweep reads them one after another and gathers the vertices (a
 // triangle's vertices are near each other in memory, and there are half as many).
@@ -141,6 +149,7 @@ struct FastColumn::Impl {
   GridParams grid;
   double rho_g = 0.0;
   std::vector<SnappedVertex> vertices;
+  std::vector<Step2Vertex> step2_vertices;
   std::vector<int> row0;  // first row of each triangle's box, -1: no column
   // SortedTriangle::flags, and bit 4: corners 1 and 2 swapped; bits 5-6: box chunks - 1, at
   // most 2 (the raster kernel's class)
@@ -156,6 +165,18 @@ struct FastColumn::Impl {
   int band_rows = 1, num_bands = 1;
   int ring_rows = 1;       // rows a triangle is rasterized at once
   bool automatic_threads;  // threads = 0: all of them, but one for small problems
+  // Step 2's orientation is assumed per cavity (by its triangle array) to be the one its
+  // previous call found, +1 at first, so that the signed volume can be summed in Step 2's pass;
+  // Step 2 is run again where the sign disagrees (a cavity turned inside out).
+  std::vector<std::pair<const int*, int>> orientations;
+  int& orientation_of(const int* triangles) {
+    for (auto& o : orientations) {
+      if (o.first == triangles) return o.second;
+    }
+    if (orientations.size() >= 64) orientations.clear();  // contexts re-created cavities
+    orientations.push_back({triangles, 1});
+    return orientations.back().second;
+  }
 };
 
 FastColumn::FastColumn(int threads) : impl_(std::make_unique<Impl>(threads)) {}
@@ -359,14 +380,14 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
   out.column_volume = 0.0;
   out.unmatched_columns = 0;
 
-  // Step 1: the projected box and the signed volume (its sign is the orientation), then the
-  // snapped vertices and each triangle's rows.
-  std::vector<std::array<double, 7>> partial(threads);
+  // Step 1: the projected box, then the snapped vertices and each triangle's rows; the signed
+  // volume (its sign is the orientation) is summed in Step 2.
+  std::vector<std::array<double, 6>> partial(threads);
   parallel([&](int index) {
     int begin, end;
     slice(nv, index, begin, end);
     double inf = std::numeric_limits<double>::infinity();
-    std::array<double, 7> box{inf, -inf, inf, -inf, inf, -inf, 0.0};
+    std::array<double, 6> box{inf, -inf, inf, -inf, inf, -inf};
     for (int v = begin; v < end; ++v) {
       Vec3 p = load_vec3(cavity.xyz, v);
       double c[3] = {dot_rn(p, frame.e1), dot_rn(p, frame.e2), dot_rn(p, frame.up)};
@@ -375,71 +396,59 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
         box[2 * d + 1] = std::max(box[2 * d + 1], c[d]);
       }
     }
-    slice(nt, index, begin, end);
-#if defined(FLUIDWEIGHT_AVX512)
-    if (m.avx512) {
-      box[6] = rows::volume_avx512(cavity.triangles, begin, end, cavity.xyz);
-      partial[index] = box;
-      return;
-    }
-#endif
-    Vec3 o = load_vec3(cavity.xyz, 0);
-    for (int t = begin; t < end; ++t) {
-      if (t + kPrefetchAhead < end) {
-        for (int k = 0; k < 3; ++k)
-          prefetch(cavity.xyz + 3 * cavity.triangles[3 * (t + kPrefetchAhead) + k]);
-      }
-      const int* v = cavity.triangles + 3 * t;
-      Vec3 a = load_vec3(cavity.xyz, v[0]), b = load_vec3(cavity.xyz, v[1]),
-           c = load_vec3(cavity.xyz, v[2]);
-      double ax = a.x - o.x, ay = a.y - o.y, az = a.z - o.z;
-      double bx = b.x - o.x, by = b.y - o.y, bz = b.z - o.z;
-      double cx = c.x - o.x, cy = c.y - o.y, cz = c.z - o.z;
-      box[6] += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
-    }
     partial[index] = box;
   });
-  std::array<double, 7> box = partial[0];
+  std::array<double, 6> box = partial[0];
   for (int k = 1; k < threads; ++k) {
     for (int d = 0; d < 6; d += 2) {
       box[d] = std::min(box[d], partial[k][d]);
       box[d + 1] = std::max(box[d + 1], partial[k][d + 1]);
     }
-    box[6] += partial[k][6];
   }
-  volume = box[6] / 6.0;
-  m.grid = make_grid(box[0], box[1], box[2], box[3], box[4], box[5], n, volume);
-  const GridParams& grid = m.grid;
-  if (grid.empty) return;
+  int& orientation = m.orientation_of(cavity.triangles);
+  m.grid = make_grid(box[0], box[1], box[2], box[3], box[4], box[5], n, orientation);
+  GridParams& grid = m.grid;
+  if (grid.empty) {
+    volume = signed_volume(cavity);
+    return;
+  }
   m.rho_g = rho_g;
   const int s = grid.sub_bits, units = n << s;
   m.vertices.resize(nv);
+  m.step2_vertices.resize(nv);
   parallel([&](int index) {
     int begin, end;
     slice(nv, index, begin, end);
     for (int v = begin; v < end; ++v) {
       Vec3 p = load_vec3(cavity.xyz, v);
-      m.vertices[v] = {snap(dot_rn(p, frame.e1), grid.a0, grid.scale_a, units),
-                       snap(dot_rn(p, frame.e2), grid.b0, grid.scale_b, units),
-                       dot_rn(p, frame.up) - grid.u0};
+      const double a = dot_rn(p, frame.e1), b = dot_rn(p, frame.e2),
+                   u = dot_rn(p, frame.up) - grid.u0;
+      const int x = snap(a, grid.a0, grid.scale_a, units),
+                y = snap(b, grid.b0, grid.scale_b, units);
+      m.vertices[v] = {x, y, u};
+      m.step2_vertices[v] = {x, y, a - grid.a0, b - grid.b0, u};
     }
   });
-  // Step 2 per triangle, in input order: its first row (or none) and flags.
+  // Step 2 per triangle, in input order: its first row (or none) and flags; and the signed
+  // volume.
   m.row0.resize(nt);
   m.flags.resize(nt);
   std::vector<int> tallest(threads, 1);  // rows of the tallest box
-  parallel([&](int index) {
+  std::vector<double> volume6(threads, 0.0);
+  auto step2 = [&](int index) {
     int begin, end;
     slice(nt, index, begin, end);
 #if defined(FLUIDWEIGHT_AVX512)
     if (m.avx512) {
-      tallest[index] = rows::step2_avx512(cavity.triangles, begin, end,
-                                          reinterpret_cast<const int*>(m.vertices.data()), s,
-                                          grid.orientation, m.row0.data(), m.flags.data());
+      static_assert(sizeof(Step2Vertex) == 32, "step2_avx512 reads 32-byte records");
+      tallest[index] = rows::step2_avx512(
+          cavity.triangles, begin, end, reinterpret_cast<const int*>(m.step2_vertices.data()), s,
+          grid.orientation, m.row0.data(), m.flags.data(), volume6[index]);
       return;
     }
 #endif
     int tall = 1;
+    double sum = 0.0;
     for (int t = begin; t < end; ++t) {
       // setup_triangle's box, orientation and fill-rule thresholds without branches: floors and
       // ceilings, flipped or not, come in random order and mispredicted a few times a triangle.
@@ -447,10 +456,13 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
       // ahead.
       if (t + kPrefetchAhead < end) {
         for (int k = 0; k < 3; ++k)
-          prefetch(&m.vertices[cavity.triangles[3 * (t + kPrefetchAhead) + k]]);
+          prefetch(&m.step2_vertices[cavity.triangles[3 * (t + kPrefetchAhead) + k]]);
       }
       const int* v = cavity.triangles + 3 * t;
-      const SnappedVertex &a = m.vertices[v[0]], &b = m.vertices[v[1]], &c = m.vertices[v[2]];
+      const Step2Vertex &a = m.step2_vertices[v[0]], &b = m.step2_vertices[v[1]],
+                        &c = m.step2_vertices[v[2]];
+      sum += a.a * (b.b * c.u - b.u * c.b) + a.b * (b.u * c.a - b.a * c.u) +
+             a.u * (b.a * c.b - b.b * c.a);
       const int half = 1 << (s - 1);
       const int xmin = std::min({a.x, b.x, c.x}), xmax = std::max({a.x, b.x, c.x});
       const int ymin = std::min({a.y, b.y, c.y}), ymax = std::max({a.y, b.y, c.y});
@@ -478,7 +490,16 @@ void FastColumn::run(const CavityView& cavity, const Frame& frame, int n, double
       m.flags[t] = f;
     }
     tallest[index] = tall;
-  });
+    volume6[index] = sum;
+  };
+  parallel(step2);
+  double sum6 = 0.0;
+  for (double v : volume6) sum6 += v;
+  volume = sum6 / 6.0;
+  if ((volume < 0 ? -1 : 1) != grid.orientation) {
+    orientation = grid.orientation = -grid.orientation;
+    parallel(step2);
+  }
   // Triangles by first row (a counting sort), and within a row by kind and width class, so
   // that the sweep's branches on them (floor or ceiling, which raster kernel) are predicted:
   // in input order they are random. Those without columns (row0 = -1) are sorted too, into

@@ -137,49 +137,16 @@ FW_AVX512 void raster_avx512_kind(Raster& r, int rows, RowRing& ring) {
 
 constexpr int kAhead = 32;  // triangles whose vertices are asked for ahead in the passes below
 
-// Six times the signed volume of triangles [begin, end) (coordinates relative to vertex 0, as
-// the portable loop in column_fast.cpp), 8 triangles at a time; summed in lanes.
-FW_AVX512 inline double volume_avx512(const int* triangle, int begin, int end, const double* xyz) {
-  const __m256i records = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
-  const __m512d o[3] = {_mm512_set1_pd(xyz[0]), _mm512_set1_pd(xyz[1]), _mm512_set1_pd(xyz[2])};
-  __m512d sum = _mm512_setzero_pd();
-  for (int t = begin; t < end; t += kChunk) {
-    // The armadillo lists its faces' vertices in random order: gathers wait on the cache
-    // unless the vertices of later triangles are asked for ahead.
-    for (int u = 3 * (t + kAhead); u < 3 * std::min(end, t + kAhead + kChunk); ++u) {
-      __builtin_prefetch(xyz + 3 * triangle[u]);
-    }
-    const __mmask8 live = static_cast<__mmask8>((1u << std::min(kChunk, end - t)) - 1);
-    __m512d p[3][3];  // p[corner][axis]
-    for (int k = 0; k < 3; ++k) {
-      const __m256i v = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), live, records,
-                                                     triangle + 3 * t + k, 4);
-      const __m256i at = _mm256_mullo_epi32(v, _mm256_set1_epi32(3));
-      for (int d = 0; d < 3; ++d) {
-        p[k][d] = _mm512_sub_pd(_mm512_mask_i32gather_pd(o[d], live, at, xyz + d, 8), o[d]);
-      }
-    }
-    const __m512d(&a)[3] = p[0];
-    const __m512d(&b)[3] = p[1];
-    const __m512d(&c)[3] = p[2];
-    // ax (by cz - bz cy) + ay (bz cx - bx cz) + az (bx cy - by cx)
-    const __m512d t0 =
-        _mm512_mul_pd(a[0], _mm512_sub_pd(_mm512_mul_pd(b[1], c[2]), _mm512_mul_pd(b[2], c[1])));
-    const __m512d t1 =
-        _mm512_mul_pd(a[1], _mm512_sub_pd(_mm512_mul_pd(b[2], c[0]), _mm512_mul_pd(b[0], c[2])));
-    const __m512d t2 =
-        _mm512_mul_pd(a[2], _mm512_sub_pd(_mm512_mul_pd(b[0], c[1]), _mm512_mul_pd(b[1], c[0])));
-    sum = _mm512_mask_add_pd(sum, live, sum, _mm512_add_pd(_mm512_add_pd(t0, t1), t2));
-  }
-  return _mm512_reduce_add_pd(sum);
-}
-
 // Step 2 of triangles [begin, end) (input order, `triangle` 3 vertex indices each), 8 at a
 // time: as the portable loop in column_fast.cpp, the first row of each triangle's box, or -1
-// when it covers no column, and its flags (fill-rule thresholds, floor, corners swapped).
-// Returns the most rows of a box.
+// when it covers no column, and its flags (fill-rule thresholds, floor, corners swapped), and
+// six times their signed volume into `volume6`. `vertex` points to 32-byte records: snapped x
+// and y, then the frame coordinates a, b, u (doubles, relative to the box's corner). Returns
+// the most rows of a box.
 FW_AVX512 inline int step2_avx512(const int* triangle, int begin, int end, const int* vertex, int s,
-                                  int orientation, int* row0, unsigned* flags) {
+                                  int orientation, int* row0, unsigned* flags, double& volume6) {
+  const double* coord = reinterpret_cast<const double*>(vertex) + 1;
+  __m512d sum = _mm512_setzero_pd();
   const __m256i zero = _mm256_setzero_si256();
   const __m256i one = _mm256_set1_epi32(1);
   const __m256i half = _mm256_set1_epi32(1 << (s - 1));
@@ -188,16 +155,34 @@ FW_AVX512 inline int step2_avx512(const int* triangle, int begin, int end, const
   __m256i tall = one;
   for (int t = begin; t < end; t += kChunk) {
     for (int u = 3 * (t + kAhead); u < 3 * std::min(end, t + kAhead + kChunk); ++u) {
-      __builtin_prefetch(vertex + 4 * triangle[u]);
+      __builtin_prefetch(vertex + 8 * triangle[u]);
     }
     const int lanes = std::min(kChunk, end - t);
     const __mmask8 live = static_cast<__mmask8>((1u << lanes) - 1);
     __m256i x[3], y[3];
+    __m512d p[3][3];  // p[corner][axis]
     for (int k = 0; k < 3; ++k) {
       const __m256i v = _mm256_mmask_i32gather_epi32(zero, live, records, triangle + 3 * t + k, 4);
-      const __m256i words = _mm256_slli_epi32(v, 2);
+      const __m256i words = _mm256_slli_epi32(v, 3);
       x[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex, 4);
       y[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex + 1, 4);
+      const __m256i quads = _mm256_slli_epi32(v, 2);
+      for (int d = 0; d < 3; ++d) {
+        p[k][d] = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), live, quads, coord + d, 8);
+      }
+    }
+    {
+      const __m512d(&a)[3] = p[0];
+      const __m512d(&b)[3] = p[1];
+      const __m512d(&c)[3] = p[2];
+      // a.(b x c); lanes past the end gathered zeros.
+      const __m512d t0 =
+          _mm512_mul_pd(a[0], _mm512_sub_pd(_mm512_mul_pd(b[1], c[2]), _mm512_mul_pd(b[2], c[1])));
+      const __m512d t1 =
+          _mm512_mul_pd(a[1], _mm512_sub_pd(_mm512_mul_pd(b[2], c[0]), _mm512_mul_pd(b[0], c[2])));
+      const __m512d t2 =
+          _mm512_mul_pd(a[2], _mm512_sub_pd(_mm512_mul_pd(b[0], c[1]), _mm512_mul_pd(b[1], c[0])));
+      sum = _mm512_add_pd(sum, _mm512_add_pd(_mm512_add_pd(t0, t1), t2));
     }
     const __m256i xmin = _mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]);
     const __m256i xmax = _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]);
@@ -247,6 +232,7 @@ FW_AVX512 inline int step2_avx512(const int* triangle, int begin, int end, const
     }
     _mm256_mask_storeu_epi32(flags + t, live, f);
   }
+  volume6 = _mm512_reduce_add_pd(sum);
   alignas(32) int lanes_tall[kChunk];
   _mm256_store_si256(reinterpret_cast<__m256i*>(lanes_tall), tall);
   return *std::max_element(lanes_tall, lanes_tall + kChunk);

@@ -64,6 +64,51 @@ TEST(ColumnFast, ContextFollowsMovingVertices) {
   EXPECT_LT(force_difference(second, fw::compute(b, o)), 1e-13);
 }
 
+// Step 2 assumes each cavity's orientation to be the one its previous call found: a cavity
+// turned inside out (mirrored: its signed volume changes sign) and back within one context,
+// beside a cavity that keeps its orientation, with every kernel level.
+TEST(ColumnFast, ContextFollowsCavityTurnedInsideOut) {
+  const std::vector<SurfaceMesh> cavities = {
+      translated(fw::shapes::torus(1, 0.3, 30, 12), {4, 1, 0}), flipped(fw::shapes::icosphere(2))};
+  auto mirrored = [](const SurfaceMesh& m) {
+    SurfaceMesh r = m;
+    for (size_t k = 0; k < r.vertices.size(); k += 3) r.vertices[k] = -r.vertices[k];
+    return r;
+  };
+  for (const char* level : {"0", "2", "512"}) {
+    setenv("FLUIDWEIGHT_CPU_SIMD", level, 1);
+    for (int threads : {1, 2}) {
+      Options o = options(fw::Implementation::cpu_fast, 70);
+      o.threads = threads;
+      fw::Context context(o);
+      context.set_cavities(cavities);
+      for (int step = 0; step < 5; ++step) {
+        std::vector<SurfaceMesh> moved;
+        for (size_t c = 0; c < cavities.size(); ++c) {
+          SurfaceMesh m = transformed(cavities[c], rotation({1, 2, 3}, 0.3 * step));
+          // Cavity 0 is mirrored at steps 1 and 2, cavity 1 at step 3.
+          const bool mirror = c == 0 ? step == 1 || step == 2 : step == 3;
+          moved.push_back(mirror ? mirrored(m) : m);
+        }
+        context.set_positions({moved[0].vertices.data(), moved[1].vertices.data()});
+        const std::vector<Result>& results = context.compute();
+        for (size_t c = 0; c < cavities.size(); ++c) {
+          SCOPED_TRACE(std::string("level ") + level + " threads " + std::to_string(threads) +
+                       " step " + std::to_string(step) + " cavity " + std::to_string(c));
+          Result ref = fw::compute(moved[c], options(fw::Implementation::cpu_reference, 70));
+          EXPECT_NEAR(results[c].signed_volume, ref.signed_volume,
+                      1e-12 * std::fabs(ref.signed_volume));
+          EXPECT_NEAR(results[c].column_volume, ref.column_volume,
+                      1e-12 * std::fabs(ref.signed_volume));
+          EXPECT_EQ(results[c].unmatched_columns, 0);
+          EXPECT_LT(force_difference(results[c], ref), 1e-11);
+        }
+      }
+    }
+  }
+  unsetenv("FLUIDWEIGHT_CPU_SIMD");
+}
+
 TEST(ColumnFast, BatchEqualsSeparateCalls) {
   std::vector<SurfaceMesh> cavities = {fw::shapes::icosphere(3), e_shape(),
                                        translated(fw::shapes::torus(1, 0.3, 30, 12), {5, 0, 0})};
