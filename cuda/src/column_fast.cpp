@@ -45,8 +45,8 @@ struct SnappedVertex {
 
 // A vertex as Step 2 reads it: snapped coordinates, and frame coordinates relative to the
 // grid's corner for the signed volume, summed in the same pass (its gathers of three vertices a
-// triangle are those of Step 2). 32 bytes: one cache line holds a vertex.
-struct Step2Vertex {
+// triangle are those of Step 2). 32 bytes, aligned: a vertex is one load, within a cache line.
+struct alignas(32) Step2Vertex {
   int x, y;
   double a, b, u;
 };

@@ -145,13 +145,11 @@ constexpr int kAhead = 32;  // triangles whose vertices are asked for ahead in t
 // the most rows of a box.
 FW_AVX512 inline int step2_avx512(const int* triangle, int begin, int end, const int* vertex, int s,
                                   int orientation, int* row0, unsigned* flags, double& volume6) {
-  const double* coord = reinterpret_cast<const double*>(vertex) + 1;
   __m512d sum = _mm512_setzero_pd();
   const __m256i zero = _mm256_setzero_si256();
   const __m256i one = _mm256_set1_epi32(1);
   const __m256i half = _mm256_set1_epi32(1 << (s - 1));
   const __m128i shift = _mm_cvtsi32_si128(s);
-  const __m256i records = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
   __m256i tall = one;
   for (int t = begin; t < end; t += kChunk) {
     for (int u = 3 * (t + kAhead); u < 3 * std::min(end, t + kAhead + kChunk); ++u) {
@@ -159,30 +157,51 @@ FW_AVX512 inline int step2_avx512(const int* triangle, int begin, int end, const
     }
     const int lanes = std::min(kChunk, end - t);
     const __mmask8 live = static_cast<__mmask8>((1u << lanes) - 1);
+    // The last chunk's missing triangles repeat its first, so that every load is valid.
+    const int* tri = triangle + 3 * t;
+    int padded[3 * kChunk];
+    if (lanes < kChunk) {
+      for (int u = 0; u < 3 * kChunk; ++u) padded[u] = tri[u < 3 * lanes ? u : u % 3];
+      tri = padded;
+    }
+    // Each corner's 8 records loaded whole (a gather per field cost more than the loads'
+    // misses) and transposed: (x y, a, b, u) of lanes 0-3 and 4-7, then the halves joined.
     __m256i x[3], y[3];
     __m512d p[3][3];  // p[corner][axis]
     for (int k = 0; k < 3; ++k) {
-      const __m256i v = _mm256_mmask_i32gather_epi32(zero, live, records, triangle + 3 * t + k, 4);
-      const __m256i words = _mm256_slli_epi32(v, 3);
-      x[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex, 4);
-      y[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex + 1, 4);
-      const __m256i quads = _mm256_slli_epi32(v, 2);
-      for (int d = 0; d < 3; ++d) {
-        p[k][d] = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), live, quads, coord + d, 8);
+      __m512i two[4];
+      for (int h = 0; h < 4; ++h) {
+        const int* r0 = vertex + 8 * tri[3 * (2 * h) + k];
+        const int* r1 = vertex + 8 * tri[3 * (2 * h + 1) + k];
+        two[h] = _mm512_inserti64x4(
+            _mm512_castsi256_si512(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r0))),
+            _mm256_loadu_si256(reinterpret_cast<const __m256i*>(r1)), 1);
       }
+      const __m512i even = _mm512_setr_epi64(0, 4, 8, 12, 1, 5, 9, 13);
+      const __m512i odd = _mm512_setr_epi64(2, 6, 10, 14, 3, 7, 11, 15);
+      const __m512i lo0 = _mm512_permutex2var_epi64(two[0], even, two[1]);  // xy 0-3, a 0-3
+      const __m512i lo1 = _mm512_permutex2var_epi64(two[0], odd, two[1]);   // b 0-3, u 0-3
+      const __m512i hi0 = _mm512_permutex2var_epi64(two[2], even, two[3]);
+      const __m512i hi1 = _mm512_permutex2var_epi64(two[2], odd, two[3]);
+      const __m512i xy = _mm512_shuffle_i64x2(lo0, hi0, 0x44);
+      x[k] = _mm512_cvtepi64_epi32(xy);
+      y[k] = _mm512_cvtepi64_epi32(_mm512_srli_epi64(xy, 32));
+      p[k][0] = _mm512_castsi512_pd(_mm512_shuffle_i64x2(lo0, hi0, 0xEE));
+      p[k][1] = _mm512_castsi512_pd(_mm512_shuffle_i64x2(lo1, hi1, 0x44));
+      p[k][2] = _mm512_castsi512_pd(_mm512_shuffle_i64x2(lo1, hi1, 0xEE));
     }
     {
       const __m512d(&a)[3] = p[0];
       const __m512d(&b)[3] = p[1];
       const __m512d(&c)[3] = p[2];
-      // a.(b x c); lanes past the end gathered zeros.
+      // a.(b x c), of live lanes only.
       const __m512d t0 =
           _mm512_mul_pd(a[0], _mm512_sub_pd(_mm512_mul_pd(b[1], c[2]), _mm512_mul_pd(b[2], c[1])));
       const __m512d t1 =
           _mm512_mul_pd(a[1], _mm512_sub_pd(_mm512_mul_pd(b[2], c[0]), _mm512_mul_pd(b[0], c[2])));
       const __m512d t2 =
           _mm512_mul_pd(a[2], _mm512_sub_pd(_mm512_mul_pd(b[0], c[1]), _mm512_mul_pd(b[1], c[0])));
-      sum = _mm512_add_pd(sum, _mm512_add_pd(_mm512_add_pd(t0, t1), t2));
+      sum = _mm512_mask_add_pd(sum, live, sum, _mm512_add_pd(_mm512_add_pd(t0, t1), t2));
     }
     const __m256i xmin = _mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]);
     const __m256i xmax = _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]);
