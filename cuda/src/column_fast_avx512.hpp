@@ -268,21 +268,39 @@ struct SetupBatch {
 
 FW_AVX512 inline void setup_avx512(const int* triangle, int lanes, const int* vertex, int j, int s,
                                    int n, SetupBatch& b) {
-  const __mmask8 live = static_cast<__mmask8>((1u << lanes) - 1);
   const __m256i zero = _mm256_setzero_si256();
-  const __m256i records = _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28);
   const __m128i shift = _mm_cvtsi32_si128(s);
+  // Records loaded whole and transposed (a gather per field cost more): the lanes past
+  // `lanes` read vertex 0, and their results are never read.
+  alignas(64) int padded[4 * kChunk];
+  if (lanes < kChunk) {
+    for (int u = 0; u < 4 * kChunk; ++u) padded[u] = u < 4 * lanes ? triangle[u] : 0;
+    triangle = padded;
+  }
+  const __m512i t0 = _mm512_loadu_si512(triangle), t1 = _mm512_loadu_si512(triangle + 16);
+  const __m512i fields = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 0, 0, 0, 0, 0, 0, 0, 0);
+  const __m256i flags = _mm512_castsi512_si256(
+      _mm512_permutex2var_epi32(t0, _mm512_add_epi32(fields, _mm512_set1_epi32(3)), t1));
   __m256i x[3], y[3];
   __m512d z[3];
   for (int k = 0; k < 3; ++k) {
-    const __m256i v = _mm256_mmask_i32gather_epi32(zero, live, records, triangle + k, 4);
-    const __m256i words = _mm256_slli_epi32(v, 2);
-    x[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex, 4);
-    y[k] = _mm256_mmask_i32gather_epi32(zero, live, words, vertex + 1, 4);
-    z[k] = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), live, _mm256_slli_epi32(v, 1),
-                                    reinterpret_cast<const double*>(vertex) + 1, 8);
+    auto record = [&](int u) {
+      return _mm_loadu_si128(reinterpret_cast<const __m128i*>(vertex + 4 * triangle[4 * u + k]));
+    };
+    __m512i half_records[2];  // (x y, z) of lanes 0-3 and 4-7
+    for (int h = 0; h < 2; ++h) {
+      __m512i r = _mm512_castsi128_si512(record(4 * h));
+      r = _mm512_inserti32x4(r, record(4 * h + 1), 1);
+      r = _mm512_inserti32x4(r, record(4 * h + 2), 2);
+      half_records[h] = _mm512_inserti32x4(r, record(4 * h + 3), 3);
+    }
+    const __m512i xy = _mm512_permutex2var_epi64(
+        half_records[0], _mm512_setr_epi64(0, 2, 4, 6, 8, 10, 12, 14), half_records[1]);
+    x[k] = _mm512_cvtepi64_epi32(xy);
+    y[k] = _mm512_cvtepi64_epi32(_mm512_srli_epi64(xy, 32));
+    z[k] = _mm512_castsi512_pd(_mm512_permutex2var_epi64(
+        half_records[0], _mm512_setr_epi64(1, 3, 5, 7, 9, 11, 13, 15), half_records[1]));
   }
-  const __m256i flags = _mm256_mmask_i32gather_epi32(zero, live, records, triangle + 3, 4);
   const __m256i half = _mm256_set1_epi32(1 << (s - 1));
   const __m256i xmin = _mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]);
   const __m256i xmax = _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]);
