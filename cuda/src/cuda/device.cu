@@ -255,7 +255,8 @@ class Backend : public DeviceBackend {
     if (options_.method == Method::column) {
       if (kernel_ == Kernel::tiled) {
         tiles_per_side_ = (n + (1 << tile_bits_) - 1) >> tile_bits_;
-        tile_count_.reserve(static_cast<size_t>(num_cavities_) * tiles_per_side_ * tiles_per_side_);
+        tile_count_.reserve(static_cast<size_t>(num_cavities_) * tiles_per_side_ * tiles_per_side_ *
+                            gpu::kCountStride);
         reserve_tiles();
       } else if (kernel_ != Kernel::fused) {
         column_count_.reserve(static_cast<size_t>(num_cavities_) * n * n, true);

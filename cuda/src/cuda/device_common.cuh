@@ -69,6 +69,14 @@ __device__ inline void store_tri(DevTri<Real>* p, const DevTri<Real>& t) {
 
 __device__ inline int cavity_of(int flags) { return flags >> 4; }
 
+// Each tile's list count in its own 32-byte sector: the setup kernel's warps bin neighbouring
+// tiles at the same moment, and counts packed eight to a sector queued their returning atomics
+// behind each other at the L2 (armadillo at 1000^2: setup 2 us longer, at 200^2 4 us).
+constexpr int kCountStride = 8;
+__device__ __forceinline__ size_t count_slot(int tile) {
+  return static_cast<size_t>(tile) * kCountStride;
+}
+
 constexpr int kStripes = 32;  // accumulators a block adds to: blockIdx.x % kStripes
 
 struct CavityState {
@@ -125,8 +133,8 @@ struct Batch {
   // Tiled kernel.
   int tile_bits;  // tile edge = 1 << tile_bits columns
   int tiles_per_side;
-  int* tile_count;
-  int* tile_list;  // tile * tile_capacity + k
+  int* tile_count;  // tile t's count at count_slot(t)
+  int* tile_list;   // tile * tile_capacity + k
   int tile_capacity;
   int* big_list;  // triangles over many tiles, read by every tile
   int* big_count;

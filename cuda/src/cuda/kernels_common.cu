@@ -53,7 +53,7 @@ __global__ void __launch_bounds__(kBlock)
   const int stride = gridDim.x * blockDim.x;
   const int first = blockIdx.x * blockDim.x + threadIdx.x;
   for (int k = first; k < zero_out_count; k += stride) b.out[k] = 0;
-  for (int k = first; k < zero_tile_count; k += stride) b.tile_count[k] = 0;
+  for (int k = first; k < zero_tile_count; k += stride) b.tile_count[count_slot(k)] = 0;
   for (int k = first; k < b.num_cavities * kStripes; k += stride) {
     b.cavities[k / kStripes].sum_heights[k % kStripes] = 0.0;
     b.cavities[k / kStripes].unmatched[k % kStripes] = 0;
@@ -194,26 +194,31 @@ __device__ void add_signed_volume(const Batch<Real>& b, bool valid, int cavity, 
   }
 }
 
-// Appends each lane's triangle t to the tiles tile[0..kLaneTiles) (-1: none). The warp's lanes
-// with the same tile take consecutive places after one atomic (counting past the capacity:
-// the host grows it); all atomics of all rounds are in flight together.
+// Appends each lane's triangle t to the tiles tile[0..kLaneTiles) (-1: none): `tiles` tiles of a
+// box `width` tiles wide from tile[0] (both at most kLaneTiles: 4 bits each in the key). Lanes
+// whose boxes start in the same tile with the same shape list the same tiles, so one match on
+// (first tile, shape) groups them for all their tiles (a match per tile waited for four
+// matches in a row, ~10 % of the kernel's stall samples); lanes whose boxes overlap only
+// partly take their places by separate atomics (more atomics, each still counting a whole
+// group; past the capacity the host grows it).
 __device__ void bin_lane_tiles(int* tile_count, int* tile_list, int capacity,
-                               const int (&tile)[kLaneTiles], int t) {
+                               const int (&tile)[kLaneTiles], int tiles, int width, int t) {
   const int lane = threadIdx.x & 31;
-  unsigned peers[kLaneTiles];
+  const long long key =
+      tile[0] >= 0 ? (static_cast<long long>(tile[0]) << 8) | (width << 4) | tiles : -1ll - lane;
+  const unsigned peers = __match_any_sync(kFullMask, key);
+  const int leader = __ffs(peers) - 1;
   int base[kLaneTiles];
 #pragma unroll
   for (int q = 0; q < kLaneTiles; ++q) {
-    peers[q] = __match_any_sync(kFullMask, tile[q] >= 0 ? tile[q] : -1 - lane);
     base[q] = 0;
-    if (tile[q] >= 0 && lane == __ffs(peers[q]) - 1) {
-      base[q] = atomicAdd(&tile_count[tile[q]], __popc(peers[q]));
-    }
+    if (tile[q] >= 0 && lane == leader)
+      base[q] = atomicAdd(&tile_count[count_slot(tile[q])], __popc(peers));
   }
+  const int rank = __popc(peers & ((1u << lane) - 1));
 #pragma unroll
   for (int q = 0; q < kLaneTiles; ++q) {
-    int start = __shfl_sync(kFullMask, base[q], __ffs(peers[q]) - 1);
-    int pos = start + __popc(peers[q] & ((1u << lane) - 1));
+    const int pos = __shfl_sync(kFullMask, base[q], leader) + rank;
     if (tile[q] >= 0 && pos < capacity) {
       tile_list[static_cast<size_t>(tile[q]) * capacity + pos] = t;
     }
@@ -295,7 +300,7 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
   for (int q = 0; q < kLaneTiles; ++q) {
     tile[q] = own && q < tiles ? base + (ty0 + q / width) * b.tiles_per_side + tx0 + q % width : -1;
   }
-  bin_lane_tiles(b.tile_count, b.tile_list, b.tile_capacity, tile, t);
+  bin_lane_tiles(b.tile_count, b.tile_list, b.tile_capacity, tile, own ? tiles : 0, width, t);
   // Larger boxes: the warp's (triangle, tile) pairs laid end to end and shared by its lanes,
   // several pairs in flight at once.
   const int lane = threadIdx.x & 31;
@@ -322,7 +327,7 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
                      __shfl_sync(kFullMask, tx0, owner) + q % w;
     const int tri = __shfl_sync(kFullMask, t, owner);
     if (p < total) {
-      const int pos = atomicAdd(&b.tile_count[tile], 1);
+      const int pos = atomicAdd(&b.tile_count[count_slot(tile)], 1);
       if (pos < b.tile_capacity)
         b.tile_list[static_cast<size_t>(tile) * b.tile_capacity + pos] = tri;
     }

@@ -185,13 +185,13 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   };
   int tile = tile_at(index);  // the order was written by an earlier call
   wait_previous();            // setup_kernel's lists
-  int listed = b.tile_count[tile], first_entry = entry(tile);
+  int listed = b.tile_count[count_slot(tile)], first_entry = entry(tile);
   while (true) {
     const int next_index = index + gridDim.x;
     int next = -1, next_listed = 0, next_entry = 0;
     if (next_index < tiles) {
       next = tile_at(next_index);
-      next_listed = b.tile_count[next];
+      next_listed = b.tile_count[count_slot(next)];
       next_entry = entry(next);
     }
     tile_columns<Real, TILE, ROUND>(b, tile, listed, first_entry);
@@ -233,7 +233,7 @@ __global__ void __launch_bounds__(kOrderThreads)
 #pragma unroll
     for (int q = 0; q < 4; ++q) {
       const int t = base + q * kOrderThreads + threadIdx.x;
-      k[q] = t < tiles ? order_class(__ldg(&count[t])) : -1;
+      k[q] = t < tiles ? order_class(__ldg(&count[count_slot(t)])) : -1;
     }
 #pragma unroll
     for (int q = 0; q < 4; ++q) {
