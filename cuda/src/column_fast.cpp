@@ -251,35 +251,50 @@ void FastColumn::Impl::start_row(int j, int jb, Worker& w) {
       rows::setup_avx512(reinterpret_cast<const int*>(sorted.data() + c), lanes,
                          reinterpret_cast<const int*>(vertices.data()), j, s, grid.n, b);
       for (int u = 0; u < lanes; ++u) {
-        Raster r;
-        for (int k = 0; k < 3; ++k) {
-          r.e[k] = b.e[k][u];
-          r.di[k] = b.di[k][u];
-          r.dj[k] = b.dj[k][u];
-        }
-        r.z = b.z[u];
-        r.dzi = b.dzi[u];
-        r.dzj = b.dzj[u];
-        r.i0 = b.i0[u];
-        r.i1 = b.i1[u];
-        r.j1 = b.j1[u];
-        r.row = j;
-        r.floor = -1;
+        // A Raster from the batch, `rows` rows on: for boxes of more than two chunks and for
+        // triangles going on later only.
+        auto raster_at = [&](int rows, int floor) {
+          Raster r;
+          for (int k = 0; k < 3; ++k) {
+            r.e[k] = b.e[k][u] + b.dj[k][u] * rows;
+            r.di[k] = b.di[k][u];
+            r.dj[k] = b.dj[k][u];
+          }
+          r.z = b.z[u] + b.dzj[u] * rows;
+          r.dzi = b.dzi[u];
+          r.dzj = b.dzj[u];
+          r.i0 = b.i0[u];
+          r.i1 = b.i1[u];
+          r.j1 = b.j1[u];
+          r.row = j + rows;
+          r.floor = floor;
+          return r;
+        };
+        int floor = -1;
         const unsigned flags = b.flags[u];
         if ((flags >> 3) & 1) {
-          r.floor = w.floors++;
-          w.moments[r.floor] = {0.0, 0.0, 0.0, 0.0};
-          FloorSetup& f = w.setups[r.floor];
-          f.i0 = r.i0;
+          floor = w.floors++;
+          w.moments[floor] = {0.0, 0.0, 0.0, 0.0};
+          FloorSetup& f = w.setups[floor];
+          f.i0 = b.i0[u];
           f.j0 = j;
           for (int k = 0; k < 3; ++k) {
-            f.e[k] = r.e[k] + ((flags >> k) & 1);
-            f.dx[k] = static_cast<int>(r.dj[k] >> s);
-            f.dy[k] = static_cast<int>(-r.di[k] >> s);
+            f.e[k] = b.e[k][u] + ((flags >> k) & 1);
+            f.dx[k] = static_cast<int>(b.dj[k][u] >> s);
+            f.dy[k] = static_cast<int>(-b.di[k][u] >> s);
           }
           f.triangle = c + u;
         }
-        raster_block(r, jb, w, rows::raster_avx512);
+        if (b.i1[u] - b.i0[u] >= 2 * rows::kChunk) {
+          Raster r = raster_at(0, floor);
+          raster_block(r, jb, w, rows::raster_avx512);
+          continue;
+        }
+        const int j1 = b.j1[u], last = std::min({j1, j + ring_rows - 1, jb - 1});
+        rows::raster_lane_avx512(b, u, j, floor, last - j + 1, w.ring);
+        if (last < j1 && last + 1 < jb) {
+          w.pending[(last + 1) & (ring_rows - 1)].push_back(raster_at(last - j + 1, floor));
+        }
       }
     }
     return;

@@ -346,8 +346,9 @@ FW_AVX512 inline void setup_avx512(const int* triangle, int lanes, const int* ve
 
 // Boxes of up to kNarrow chunks: their chunks' edge functions and heights are kept in
 // registers and stepped from row to row, so that a row costs little more than its writes.
-template <bool kFloor, int kNarrow>
-FW_AVX512 void raster_avx512_narrow(Raster& r, int rows, RowRing& ring) {
+// `p` gives the triangle's fields (a Raster, or a lane of a SetupBatch: no copy to a Raster).
+template <bool kFloor, int kNarrow, class Fields>
+FW_AVX512 inline void narrow_rows(const Fields& p, int rows, RowRing& ring) {
   constexpr int kind = kFloor ? 0 : 1;
   const size_t w = ring.width;
   const int mask_rows = ring.rows - 1;
@@ -355,26 +356,27 @@ FW_AVX512 void raster_avx512_narrow(Raster& r, int rows, RowRing& ring) {
   __m512i v[kNarrow][3];
   __m512i step[3];
   for (int k = 0; k < 3; ++k) {
-    step[k] = _mm512_set1_epi64(r.dj[k]);
-    v[0][k] = _mm512_add_epi64(_mm512_set1_epi64(r.e[k]),
-                               _mm512_mullo_epi64(_mm512_set1_epi64(r.di[k]), iota));
+    step[k] = _mm512_set1_epi64(p.dj(k));
+    v[0][k] = _mm512_add_epi64(_mm512_set1_epi64(p.e(k)),
+                               _mm512_mullo_epi64(_mm512_set1_epi64(p.di(k)), iota));
     for (int c = 1; c < kNarrow; ++c) {
-      v[c][k] = _mm512_add_epi64(v[c - 1][k], _mm512_set1_epi64(kChunk * r.di[k]));
+      v[c][k] = _mm512_add_epi64(v[c - 1][k], _mm512_set1_epi64(kChunk * p.di(k)));
     }
   }
   __m512d zv[kNarrow];
-  zv[0] = _mm512_add_pd(_mm512_set1_pd(r.z), _mm512_mul_pd(_mm512_set1_pd(r.dzi),
-                                                           _mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7)));
+  zv[0] =
+      _mm512_add_pd(_mm512_set1_pd(p.z()),
+                    _mm512_mul_pd(_mm512_set1_pd(p.dzi()), _mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7)));
   for (int c = 1; c < kNarrow; ++c) {
-    zv[c] = _mm512_add_pd(zv[0], _mm512_set1_pd(r.dzi * (kChunk * c)));
+    zv[c] = _mm512_add_pd(zv[0], _mm512_set1_pd(p.dzi() * (kChunk * c)));
   }
-  const __m512d zstep = _mm512_set1_pd(r.dzj);
-  const __m256i floor_index = _mm256_set1_epi32(r.floor);
-  const int i0 = r.i0, floor = r.floor;
+  const __m512d zstep = _mm512_set1_pd(p.dzj());
+  const int i0 = p.i0(), floor = p.floor();
+  const __m256i floor_index = _mm256_set1_epi32(floor);
   uint8_t* const count = ring.count[kind].data() + i0;
   double* const zs = ring.z[kind].data() + i0;
   int* const fl = ring.floor.data() + i0;
-  int row = r.row;
+  int row = p.row();
   for (int q = 0; q < rows; ++q, ++row) {
     const int slot = row & mask_rows;
     const SlotView sv{count + slot * w, zs + slot * kPlanes * w, fl + slot * kPlanes * w};
@@ -387,9 +389,62 @@ FW_AVX512 void raster_avx512_narrow(Raster& r, int rows, RowRing& ring) {
       zv[c] = _mm512_add_pd(zv[c], zstep);
     }
   }
+}
+
+struct RasterFields {
+  const Raster& r;
+  int64_t e(int k) const { return r.e[k]; }
+  int64_t di(int k) const { return r.di[k]; }
+  int64_t dj(int k) const { return r.dj[k]; }
+  double z() const { return r.z; }
+  double dzi() const { return r.dzi; }
+  double dzj() const { return r.dzj; }
+  int i0() const { return r.i0; }
+  int row() const { return r.row; }
+  int floor() const { return r.floor; }
+};
+
+struct LaneFields {
+  const SetupBatch& b;
+  int u, first_row, floor_record;
+  int64_t e(int k) const { return b.e[k][u]; }
+  int64_t di(int k) const { return b.di[k][u]; }
+  int64_t dj(int k) const { return b.dj[k][u]; }
+  double z() const { return b.z[u]; }
+  double dzi() const { return b.dzi[u]; }
+  double dzj() const { return b.dzj[u]; }
+  int i0() const { return b.i0[u]; }
+  int row() const { return first_row; }
+  int floor() const { return floor_record; }
+};
+
+template <bool kFloor, int kNarrow>
+FW_AVX512 void raster_avx512_narrow(Raster& r, int rows, RowRing& ring) {
+  narrow_rows<kFloor, kNarrow>(RasterFields{r}, rows, ring);
   for (int k = 0; k < 3; ++k) r.e[k] += r.dj[k] * rows;
   r.z += r.dzj * rows;
-  r.row = row;
+  r.row += rows;
+}
+
+template <bool kFloor, int kNarrow>
+FW_AVX512 void raster_lane_narrow(const SetupBatch& b, int u, int row, int floor, int rows,
+                                  RowRing& ring) {
+  narrow_rows<kFloor, kNarrow>(LaneFields{b, u, row, floor}, rows, ring);
+}
+
+// Rows [row, row + rows) of lane u of a set-up batch, a box of at most two chunks (floor: its
+// record, or -1), straight from the batch: the triangles of a row are set up 8 at a time and
+// most are rasterized whole at once, so copying each to a Raster first cost more than the
+// rare ones going on later need.
+FW_AVX512 inline void raster_lane_avx512(const SetupBatch& b, int u, int row, int floor, int rows,
+                                         RowRing& ring) {
+  const bool one = b.i1[u] - b.i0[u] < kChunk;
+  if (floor >= 0) {
+    if (one) return raster_lane_narrow<true, 1>(b, u, row, floor, rows, ring);
+    return raster_lane_narrow<true, 2>(b, u, row, floor, rows, ring);
+  }
+  if (one) return raster_lane_narrow<false, 1>(b, u, row, floor, rows, ring);
+  raster_lane_narrow<false, 2>(b, u, row, floor, rows, ring);
 }
 
 FW_AVX512 inline void raster_avx512(Raster& r, int rows, RowRing& ring) {
