@@ -167,6 +167,10 @@ class Backend : public DeviceBackend {
     // or TILE^2 / 2 triangles a round instead of half_round()'s choice.
     if (const char* round = std::getenv("FLUIDWEIGHT_TILE_ROUND"))
       tile_round_env_ = std::atoi(round);
+    // Diagnostic, timing only: FLUIDWEIGHT_TILE_EMPTY_GROUP=0 gives each of the previous
+    // call's empty tiles its own block again (group_empty_tiles()).
+    if (const char* group = std::getenv("FLUIDWEIGHT_TILE_EMPTY_GROUP"))
+      tile_group_env_ = std::atoi(group) != 0 ? 1 : 0;
   }
 
   ~Backend() override {
@@ -581,6 +585,15 @@ class Backend : public DeviceBackend {
     return 2 * tiles > 3 * per_sm * sms_;
   }
 
+  // With the tile order, the blocks past the previous call's first empty position check
+  // several of those tiles each (tile_kernel): half of the armadillo's tiles at 1500^2 are
+  // empty, and their blocks took ~9 waves of block slots (NOTES.md version 24: 1500^2 -2.5 us
+  // in float32, -4.6 in float64).
+  bool group_empty_tiles() const {
+    if (!use_tile_order()) return false;
+    return tile_group_env_ != 0;
+  }
+
   // The tiled kernel stages half as many triangles a round (TILE^2 / 2) when that lets an SM
   // hold more of its blocks (many hit slots a column, as the armadillo's 20 at 1500^2: 3 -> 4
   // blocks in float32); a tile of more triangles then takes more rounds. Tiles of 16 columns
@@ -622,9 +635,10 @@ class Backend : public DeviceBackend {
   void reserve_tiles() {
     size_t tiles = static_cast<size_t>(num_cavities_) * tiles_per_side_ * tiles_per_side_;
     tile_list_.reserve(tiles * tile_capacity_);
-    // Both orders start as the grid's (the first call has no counts before it).
-    std::vector<int> identity(tiles);
-    for (size_t t = 0; t < tiles; ++t) identity[t] = static_cast<int>(t);
+    // Both orders start as the grid's (the first call has no counts before it); entry `tiles`
+    // is where the tiles empty at the previous call begin: none yet.
+    std::vector<int> identity(tiles + 1);
+    for (size_t t = 0; t <= tiles; ++t) identity[t] = static_cast<int>(t);
     tile_order_.upload(identity);
     tile_order2_.upload(identity);
     size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
@@ -733,6 +747,7 @@ class Backend : public DeviceBackend {
     b.orientation = assumed_orientation() ? orientation_.get() : nullptr;
     b.overlap = overlap_level();
     b.half_round = half_round();
+    b.group_empty = group_empty_tiles();
     const char* phases = std::getenv("FLUIDWEIGHT_TILE_PHASES");  // diagnostic, timing only
     b.diagnostic_phases = phases ? std::atoi(phases) : 3;
     return b;
@@ -818,6 +833,7 @@ class Backend : public DeviceBackend {
   int tile_order_env_ = -1;     // FLUIDWEIGHT_TILE_ORDER, or -1
   int overlap_ = -1;            // FLUIDWEIGHT_OVERLAP, or -1
   int tile_round_env_ = 0;      // FLUIDWEIGHT_TILE_ROUND (1 whole, 2 half), or 0
+  int tile_group_env_ = -1;     // FLUIDWEIGHT_TILE_EMPTY_GROUP, or -1
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
   // Fused kernel: tile (bits), hits per column, triangles a tile keeps, the vertex table, the
   // call's set of accumulators, the orientation each cavity's Step 2 assumes.

@@ -147,6 +147,8 @@ struct Batch {
                 // 2 also the tile, raster and column kernels
   int diagnostic_phases;  // tiled kernel, for timing only: bit 0 raster, bit 1 resolve
   int half_round;         // tiled kernel: stage TILE^2 / 2 triangles a round, not TILE^2
+  int group_empty;        // tiled kernel with tile_order: blocks check the previous call's empty
+                          // tiles several at a time
 };
 
 // Snapped centre coordinates and edge functions of a DevTri at column (i, j).

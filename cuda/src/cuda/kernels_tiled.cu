@@ -169,11 +169,22 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
   }
 }
 
-// A block takes the tiles at positions blockIdx.x, blockIdx.x + gridDim.x, ... of the tile
-// order (order_kernel's, or the grid's when there is none): one tile when the grid has a block
-// per tile; a persistent grid of the blocks the GPU holds at once otherwise. The next tile's
-// count and first list entries are loaded before this one is worked on, so an empty tile costs
-// no round trip and a full one starts with its triangles' loads.
+// Tiles empty at the previous call (the last positions of the order) are checked this many to a
+// block (Batch::group_empty): a block of an empty tile costs its launch and two dependent loads
+// (order, count) while it holds one of the SM's few block slots, and over half of the
+// armadillo's tiles at 1000^2-1500^2 are empty: several waves of such blocks.
+constexpr int kEmptyGroup = 8;
+
+// A block takes the tiles at positions blockIdx.x, blockIdx.x + step, ... before end of the
+// tile order (order_kernel's, or the grid's when there is none); step is the grid's size: one
+// tile when the grid has a block per tile, a persistent grid of the blocks the GPU holds at once
+// otherwise. With Batch::group_empty (an order and a block per tile), block first_empty + g
+// (first_empty: the previous call's first empty position, order[tiles]) checks positions
+// first_empty + kEmptyGroup g and the next ones together and, should any of them not be empty
+// now (the cavity moved), takes them one after another (step 1) from the first such to the last;
+// the blocks left without positions exit after one load. The next tile's count and first list
+// entries are loaded before this one is worked on, so an empty tile costs no round trip and a
+// full one starts with its triangles' loads.
 template <typename Real, int TILE, int ROUND>
 __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_kernel(Batch<Real> b) {
   const int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
@@ -183,13 +194,33 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   auto entry = [&](int t) {
     return b.tile_list[static_cast<size_t>(t) * b.tile_capacity + threadIdx.x];
   };
-  int tile = tile_at(index);  // the order was written by an earlier call
-  wait_previous();            // setup_kernel's lists
+  // Both written by an earlier call, so loaded before the wait and together.
+  int tile = tile_at(index);
+  const int first_empty = b.group_empty && b.tile_order && static_cast<int>(gridDim.x) == tiles
+                              ? b.tile_order[tiles]
+                              : tiles;
+  int step = gridDim.x, end = tiles;
+  if (index >= first_empty) {
+    const int first = first_empty + (index - first_empty) * kEmptyGroup;
+    if (first >= tiles) return;
+    const int lane = threadIdx.x & 31;
+    const int t = lane < kEmptyGroup && first + lane < tiles ? b.tile_order[first + lane] : -1;
+    wait_previous();  // setup_kernel's lists
+    const int big = *b.big_count, n = t >= 0 ? b.tile_count[count_slot(t)] : 0;
+    const unsigned work = __ballot_sync(kFullMask, t >= 0 && (n > 0 || big > 0));
+    if (!work) return;
+    index = first + __ffs(work) - 1;
+    tile = __shfl_sync(kFullMask, t, __ffs(work) - 1);
+    step = 1;
+    end = first + 32 - __clz(work);
+  } else {
+    wait_previous();  // setup_kernel's lists
+  }
   int listed = b.tile_count[count_slot(tile)], first_entry = entry(tile);
   while (true) {
-    const int next_index = index + gridDim.x;
+    const int next_index = index + step;
     int next = -1, next_listed = 0, next_entry = 0;
-    if (next_index < tiles) {
+    if (next_index < end) {
       next = tile_at(next_index);
       next_listed = b.tile_count[count_slot(next)];
       next_entry = entry(next);
@@ -255,6 +286,7 @@ __global__ void __launch_bounds__(kOrderThreads)
       first[c] = sum;
       sum += total[c];
     }
+    order[tiles] = first[kOrderClasses - 1];  // the empty tiles' first position (tile_kernel)
   }
   __syncthreads();
   if (lane < kOrderClasses) run += first[lane];
