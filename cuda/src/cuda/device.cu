@@ -628,7 +628,8 @@ class Backend : public DeviceBackend {
   }
 
   void launch_tile_order(int into, cudaStream_t stream) {
-    gpu::launch_tile_order(tile_count_.get(), num_cavities_ * tiles_per_side_ * tiles_per_side_,
+    gpu::launch_tile_order(tile_count_.get(), big_count_.get(),
+                           num_cavities_ * tiles_per_side_ * tiles_per_side_,
                            (into ? tile_order2_ : tile_order_).get(), stream);
   }
 

@@ -279,6 +279,7 @@ int tile_resident_blocks(int tile_bits, bool half_round, size_t shared);
 // The tile order (kernels_tiled.cu, order_kernel): all tiles by decreasing count, empty ones
 // last; for at most max_ordered_tiles() tiles.
 int max_ordered_tiles();
-void launch_tile_order(const int* count, int tiles, int* order, cudaStream_t stream);
+void launch_tile_order(const int* count, const int* big_count, int tiles, int* order,
+                       cudaStream_t stream);
 
 }  // namespace fluidweight::detail::gpu

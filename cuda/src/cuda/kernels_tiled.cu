@@ -252,7 +252,7 @@ __device__ __forceinline__ int order_class(int count) {
 }
 
 __global__ void __launch_bounds__(kOrderThreads)
-    order_kernel(const int* count, int tiles, int* order) {
+    order_kernel(const int* count, const int* big_count, int tiles, int* order) {
   __shared__ unsigned char cls[kMaxOrderedTiles];
   __shared__ int total[kOrderClasses], first[kOrderClasses];
   const int lane = threadIdx.x & 31;
@@ -286,7 +286,10 @@ __global__ void __launch_bounds__(kOrderThreads)
       first[c] = sum;
       sum += total[c];
     }
-    order[tiles] = first[kOrderClasses - 1];  // the empty tiles' first position (tile_kernel)
+    // The empty tiles' first position (tile_kernel), or none where triangles over many tiles
+    // give every tile work: a block would then take its group's eight tiles one after another
+    // (the uneven sphere at 1000^2: 76 -> 84 us).
+    order[tiles] = *big_count > 0 ? tiles : first[kOrderClasses - 1];
   }
   __syncthreads();
   if (lane < kOrderClasses) run += first[lane];
@@ -367,8 +370,9 @@ int tile_resident_blocks(int tile_bits, bool half_round, size_t shared) {
 
 int max_ordered_tiles() { return kMaxOrderedTiles; }
 
-void launch_tile_order(const int* count, int tiles, int* order, cudaStream_t stream) {
-  order_kernel<<<1, kOrderThreads, 0, stream>>>(count, tiles, order);
+void launch_tile_order(const int* count, const int* big_count, int tiles, int* order,
+                       cudaStream_t stream) {
+  order_kernel<<<1, kOrderThreads, 0, stream>>>(count, big_count, tiles, order);
 }
 
 template size_t tile_shared_bytes<float>(int, int);
