@@ -422,8 +422,19 @@ int main(int argc, char** argv) {
   cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, 0);
   const int coop_blocks = per_sm * sms;
 
+  // The binned skeleton's work: (triangle, tile) pairs of one call, counted before the tiles.
+  launch(box_kernel, m.reduce_blocks, s, false, m);
+  launch(setup_kernel<true>, tri_blocks, s, false, m);
+  std::vector<int> counts(static_cast<size_t>(tiles) * kStride);
+  check(cudaMemcpy(counts.data(), m.count, counts.size() * sizeof(int), cudaMemcpyDeviceToHost),
+        "counts");
+  long pairs = 0, busy = 0;
+  for (int t = 0; t < tiles; ++t) pairs += counts[t * kStride], busy += counts[t * kStride] > 0;
+  launch(tile_kernel, tiles, s, false, m);  // clears the counts
+  check(cudaStreamSynchronize(s), "pairs");
   std::printf("%s N=%d cavities=%d tile=%d: %d vertices, %d triangles, %d tiles, %d box blocks\n",
               argv[1], n, cavities, tile_side, m.vertices, m.triangles, tiles, m.reduce_blocks);
+  std::printf("  binning: %ld (triangle, tile) pairs, %ld tiles with triangles\n", pairs, busy);
   auto report = [](const char* what, float us) { std::printf("  %-40s %7.2f us\n", what, us); };
   report("floor (1 empty kernel)", time_graph(s, [&] { empty_kernel<<<1, 32, 0, s>>>(); }));
   report("read (1 kernel: corners, a store each)",
