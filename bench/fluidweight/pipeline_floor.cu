@@ -10,18 +10,19 @@
 // each written in its cheapest form. Graph replays between CUDA events, medians.
 //
 //   floor       one empty kernel
+//   read        one kernel: each triangle's corners loaded, one coalesced store a triangle
 //   touch       one kernel: each triangle's corners loaded, one atomic a corner (no box)
 //   box+touch   two kernels (programmatic dependent launch): box partials; every block
 //               reduces them, then as `touch`
 //   box+bin+tiles  three kernels: as `box+touch` but each triangle is counted and listed in
-//               the tiles its box meets (padded counts) with a 32-byte record; then one block
-//               a tile loads its count, list and records and adds one value to each listed
-//               floor's three vertices; `pdl` also starts the tile kernel overlapped
+//               the tiles its box meets (padded counts) with a 16-byte record; then one block
+//               a tile loads its count, list (at most kListCap entries) and records and adds
+//               one value to each listed floor's three vertices; timed also with the tile
+//               kernel started overlapped
 //   cooperative one cooperative kernel, grid barriers between box, binning and tiles (tiles by
 //               stride over the resident blocks)
 //   redundant   one kernel, a block a tile: every block reduces the whole box itself and reads
 //               every triangle, keeping those over its tile (the fused design without clusters)
-//
 //   box + hits + columns  the plain port: three kernels, every third candidate of a triangle's
 //               box appended to its column's global slots by an atomic, then a thread a column
 //
@@ -33,9 +34,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <vector>
-
 #include <cub/block/block_reduce.cuh>
+#include <vector>
 
 #include "fluidweight/mesh_io.hpp"
 
@@ -55,20 +55,20 @@ void check(cudaError_t e, const char* what) {
 }
 
 struct Mesh {
-  const double* xyz;    // 3 a vertex
-  const int* tri;       // 3 a triangle
+  const double* xyz;                  // 3 a vertex
+  const int* tri;                     // 3 a triangle
   int vertices, triangles, cavities;  // each cavity has vertices / cavities vertices, alike
-  int n;                // grid N
-  int tile;             // tile side in columns
-  int tiles_side;       // tiles along a side, per cavity
-  float4* partials;     // per reduce block: min e1, max e1, min e2, max e2
+  int n;                              // grid N
+  int tile;                           // tile side in columns
+  int tiles_side;                     // tiles along a side, per cavity
+  float4* partials;                   // per reduce block: min e1, max e1, min e2, max e2
   int reduce_blocks;
-  int* count;           // per tile, padded
-  int* list;            // per tile, kListCap entries
-  float4* records;      // per triangle: snapped box as floats, floor flag
-  float* out;           // per vertex
-  int* column_count;    // per column (global-hits skeleton)
-  int* column_hits;     // per column, 4 slots
+  int* count;         // per tile, padded
+  int* list;          // per tile, kListCap entries
+  float4* records;    // per triangle: snapped box as floats, floor flag
+  float* out;         // per vertex
+  int* column_count;  // per column (global-hits skeleton)
+  int* column_hits;   // per column, 4 slots
 };
 
 struct Box {
@@ -154,8 +154,8 @@ __device__ TriBox tri_box(const Corners& c, const Box& b, int n) {
     const float i = (c.e1[k] - b.v[0]) * si, j = (c.e2[k] - b.v[2]) * sj;
     lo_i = fminf(lo_i, i), hi_i = fmaxf(hi_i, i), lo_j = fminf(lo_j, j), hi_j = fmaxf(hi_j, j);
   }
-  const float cross = (c.e1[1] - c.e1[0]) * (c.e2[2] - c.e2[0]) -
-                      (c.e1[2] - c.e1[0]) * (c.e2[1] - c.e2[0]);
+  const float cross =
+      (c.e1[1] - c.e1[0]) * (c.e2[2] - c.e2[0]) - (c.e1[2] - c.e1[0]) * (c.e2[1] - c.e2[0]);
   TriBox t;
   t.i0 = max(0, __float2int_ru(lo_i - 0.5f));
   t.i1 = min(n - 1, __float2int_rd(hi_i - 0.5f));
@@ -382,7 +382,8 @@ int main(int argc, char** argv) {
       xyz.push_back(mesh.vertices[3 * v + 2]);
     }
     for (int t = 0; t < per_t; ++t)
-      for (int k = 0; k < 3; ++k) tri.push_back(mesh.triangles[3 * std::min(t, nt - 1) + k] + c * nv);
+      for (int k = 0; k < 3; ++k)
+        tri.push_back(mesh.triangles[3 * std::min(t, nt - 1) + k] + c * nv);
   }
   Mesh m{};
   m.vertices = nv * cavities;
