@@ -6,7 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "deck/config.hpp"
-#include "deck/deck_reader.hpp"
+#include "common/deck_reader.hpp"
 
 namespace hs {
 

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "deck/config.hpp"
-#include "deck/deck_reader.hpp"
+#include "common/deck_reader.hpp"
 
 namespace hs {
 

@@ -10,7 +10,7 @@
 #include "deck/cable_section.hpp"
 #include "deck/cavity_sections.hpp"
 #include "deck/control_section.hpp"
-#include "deck/deck_reader.hpp"
+#include "common/deck_reader.hpp"
 #include "deck/overrides.hpp"
 #include "io/output.hpp"
 

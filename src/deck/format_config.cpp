@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "deck/deck.hpp"
-#include "deck/deck_reader.hpp"
+#include "common/deck_reader.hpp"
 
 namespace hs {
 namespace {

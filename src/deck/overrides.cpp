@@ -3,7 +3,7 @@
 #include <cctype>
 
 #include "common/error.hpp"
-#include "deck/deck_reader.hpp"
+#include "common/deck_reader.hpp"
 
 namespace hs {
 namespace {

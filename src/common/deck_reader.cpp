@@ -1,4 +1,4 @@
-#include "deck/deck_reader.hpp"
+#include "common/deck_reader.hpp"
 
 #include <algorithm>
 #include <charconv>
