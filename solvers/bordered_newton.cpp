@@ -9,19 +9,19 @@
 
 namespace hs {
 
-BorderedNewton::BorderedNewton(Problem& problem, CavitySystem& cavities)
-    : problem_(problem), cavities_(cavities) {
+BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints)
+    : problem_(problem), constraints_(constraints) {
   J_ = problem.create_matrix();
   R_ = problem.create_vector();
   HS_PETSC(VecDuplicate(R_, &a_));
   HS_PETSC(VecDuplicate(R_, &du_));
   HS_PETSC(VecDuplicate(R_, &u_trial_));
-  for (int c = 0; c < cavities.size(); ++c) {
+  for (int c = 0; c < constraints.size(); ++c) {
     Vec y;
     HS_PETSC(VecDuplicate(R_, &y));
     Y_.push_back(y);
     Vec z = nullptr;
-    if (cavities[c].has_weight()) HS_PETSC(VecDuplicate(R_, &z));
+    if (constraints[c].measure_load()) HS_PETSC(VecDuplicate(R_, &z));
     Z_.push_back(z);
   }
   HS_PETSC(KSPCreate(problem.comm(), &ksp_));
@@ -48,10 +48,10 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   const double t0 = MPI_Wtime();
   const auto& timers = problem_.timers();
   const double assembly_before = timers.residual_s + timers.jacobian_s;
-  const int m = cavities_.size();
+  const int m = constraints_.size();
   NewtonResult result;
   std::vector<double> c, c_trial, g_norm(m, 0.0);
-  std::vector<double> lambda = cavities_.pressures();
+  std::vector<double> lambda = constraints_.multipliers();
 
   auto force_scale = [&]() {
     double F = load_norm_;
@@ -60,11 +60,11 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   };
   auto controls_met = [&](const std::vector<double>& cc) {
     for (int i = 0; i < m; ++i)
-      if (std::abs(cc[i]) > 1e-10 * cavities_.control_scale(i)) return false;
+      if (std::abs(cc[i]) > 1e-10 * constraints_.control_scale(i)) return false;
     return true;
   };
 
-  bool ok = cavities_.residual(u, s, R_, c);
+  bool ok = constraints_.residual(u, s, R_, c);
   PetscReal r_norm = 0;
   HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
   const double r0 = r_norm;
@@ -72,7 +72,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   for (int it = 0;; ++it) {
     result.residual_norm = r_norm;
     if (!ok || !std::isfinite(r_norm)) {
-      const std::string collapse = cavities_.collapse_reason();
+      const std::string collapse = constraints_.collapse_reason();
       result.reason = ok ? "residual not finite" : collapse.empty() ? "inverted element" : collapse;
       break;
     }
@@ -81,7 +81,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
       HS_PETSC(PetscPrintf(problem_.comm(), "  %2d |R| %.3e (tol %.3e)", it, r_norm, 1e-9 * F));
       for (int i = 0; i < m; ++i)
         HS_PETSC(PetscPrintf(problem_.comm(), "  c%d/C %.3e p %.6g", i,
-                             std::abs(c[i]) / cavities_.control_scale(i), lambda[i]));
+                             std::abs(c[i]) / constraints_.control_scale(i), lambda[i]));
       HS_PETSC(PetscPrintf(problem_.comm(), "\n"));
     }
     if ((r_norm <= 1e-9 * F || (it > 0 && r_norm <= 1e-8 * r0)) && controls_met(c)) {
@@ -106,7 +106,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
     ++result.iterations;
 
     // Linearise, factor once, and solve for R, every g_c and every q_h.
-    if (!cavities_.linearize(u, s, J_, lin_)) {
+    if (!constraints_.linearize(u, s, J_, lin_)) {
       result.reason = "inverted element";
       break;
     }
@@ -174,13 +174,13 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
       HS_PETSC(VecWAXPY(u_trial_, t, du_, u));
       std::vector<double> trial = lambda;
       for (int i = 0; i < m; ++i) trial[i] += t * zeta(i);
-      cavities_.set_pressures(trial);
-      ok = cavities_.residual(u_trial_, s, R_, c_trial);
+      constraints_.set_multipliers(trial);
+      ok = constraints_.residual(u_trial_, s, R_, c_trial);
       PetscReal norm = 0;
       HS_PETSC(VecNorm(R_, NORM_2, &norm));
       bool finite = std::isfinite(norm);
       for (double x : c_trial) finite &= std::isfinite(x);
-      collapse = cavities_.collapse_reason();
+      collapse = constraints_.collapse_reason();
       if (ok && finite) {
         HS_PETSC(VecCopy(u_trial_, u));
         lambda = trial;
@@ -191,8 +191,8 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
       }
     }
     if (!accepted) {
-      cavities_.set_pressures(lambda);
-      ok = cavities_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
+      constraints_.set_multipliers(lambda);
+      ok = constraints_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
       result.reason = collapse.empty() ? "every shortened step inverts an element"
                                        : "every shortened step fails: " + collapse;
       break;

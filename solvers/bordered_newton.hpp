@@ -1,5 +1,5 @@
 // Newton's method for the displacements and the cavity pressures together (the bordered
-// system of solvers/cavity_system.hpp). Each iteration solves
+// system of solvers/constraints/constraint_set.hpp). Each iteration solves
 //   [ J    -G ] [du     ]     [R]          J du = -R + G dlambda + Q eta
 //   [ A     B ] [dlambda] = - [c],  with   eta_h = g_h^T du (hydraulic cavities, Q = W / V)
 // by block elimination: one factorization of the sparse tangent J (PETSc KSP, from the options
@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "solvers/cavity_system.hpp"
+#include "solvers/constraints/constraint_set.hpp"
 #include "solvers/newton_solver.hpp"
 
 namespace hs {
 
 class BorderedNewton {
  public:
-  BorderedNewton(Problem& problem, CavitySystem& cavities);
+  BorderedNewton(Problem& problem, ConstraintSet& constraints);
   ~BorderedNewton();
   BorderedNewton(const BorderedNewton&) = delete;
   BorderedNewton& operator=(const BorderedNewton&) = delete;
@@ -37,12 +37,12 @@ class BorderedNewton {
 
  private:
   Problem& problem_;
-  CavitySystem& cavities_;
+  ConstraintSet& constraints_;
   KSP ksp_ = nullptr;
   Mat J_ = nullptr;
   Vec R_ = nullptr, a_ = nullptr, du_ = nullptr, u_trial_ = nullptr;
   std::vector<Vec> Y_, Z_;
-  CavityLinearization lin_;
+  ConstraintLinearization lin_;
   double load_norm_ = 0, solve_s_ = 0, constraint_s_ = 0;
   int max_it_ = 30;
   bool monitor_ = false;  // -hs_newton_monitor: one line per iteration

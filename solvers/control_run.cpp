@@ -93,12 +93,12 @@ std::vector<ControlTarget> parse_target_line(const std::string& line, const Effe
   return {t};
 }
 
-ControlLoop::ControlLoop(const Config& config, Problem& problem, CavitySystem& cavities,
+ControlLoop::ControlLoop(const Config& config, Problem& problem, ConstraintSet& constraints,
                          BorderedNewton& newton)
     : config_(config),
       problem_(problem),
       effectors_(config, problem),
-      controller_(config, problem, cavities, newton, effectors_) {}
+      controller_(config, problem, constraints, newton, effectors_) {}
 
 nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_time) {
   const Config& config = config_;
@@ -133,12 +133,12 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
     // equilibrium at the final actuation, not the last step's linear prediction (the same
     // when newton_finish is on). The one_step mode never waits for Newton: it reports the
     // prediction, and the next step's residual corrects it.
-    if (config.control->free_solve == "newton") {
+    if (config.control->free_solve == FreeSolve::newton) {
       controller.settle(u, r);
       limit_point |= r.limit_point;
     }
     std::vector<double> equilibrium;
-    if (config.control->free_solve == "one_step" && config.control->check_equilibrium)
+    if (config.control->free_solve == FreeSolve::one_step && config.control->check_equilibrium)
       equilibrium = controller.equilibrium_positions(u);
     recorder.record(first_time + ++set, u, 1.0);
     auto error_of = [&](const std::vector<double>& x, int e, const ControlTarget& t) {

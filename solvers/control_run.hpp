@@ -22,7 +22,7 @@ std::vector<ControlTarget> parse_target_line(const std::string& line, const Effe
 // exactly one node) or actuator (a sealed chamber, an unknown cavity) stops the run first.
 class ControlLoop {
  public:
-  ControlLoop(const Config& config, Problem& problem, CavitySystem& cavities,
+  ControlLoop(const Config& config, Problem& problem, ConstraintSet& constraints,
               BorderedNewton& newton);
   // From configuration u at the end of the states (the rest state): every target set,
   // recorded as one output step each after first_time. Returns the summary keys

@@ -19,31 +19,31 @@ double max_over_ranks(double x, MPI_Comm comm) {
 
 }  // namespace
 
-InverseController::InverseController(const Config& config, Problem& problem, CavitySystem& cavities,
-                                     BorderedNewton& newton, Effectors& effectors)
+InverseController::InverseController(const Config& config, Problem& problem,
+                                     ConstraintSet& constraints, BorderedNewton& newton,
+                                     Effectors& effectors)
     : config_(config),
       problem_(problem),
-      cavities_(cavities),
+      constraints_(constraints),
       newton_(newton),
       effectors_(effectors) {
   for (const auto& a : config.control->actuators) {
     Actuator act;
     act.config = a;
-    for (int c = 0; c < cavities.size(); ++c)
-      if (cavities[c].config.group == a.cavity) act.cavity = c;
-    const std::string where = config.deck_path + ": control.actuators '" + a.cavity + "'";
-    if (act.cavity < 0) throw InputError(where + ": no cavity of that name");
-    const std::string& kind = cavities[act.cavity].config.kind;
-    if (kind != "pneumatic" && kind != "hydraulic" && kind != "cable")
-      throw InputError(where + ": a " + kind + " chamber is not actuated (it enters fixed)");
+    act.constraint = constraints.find(a.constraint);
+    const std::string where = config.deck_path + ": control.actuators '" + a.constraint + "'";
+    if (act.constraint < 0) throw InputError(where + ": no cavity or cable of that name");
+    if (!constraints[act.constraint].actuated())
+      throw InputError(where + ": a " + constraints[act.constraint].kind() +
+                       " chamber is not actuated (it enters fixed)");
     actuators_.push_back(act);
   }
   J_ = problem.create_matrix();
   HS_PETSC(KSPCreate(problem.comm(), &ksp_));
   HS_PETSC(KSPSetFromOptions(ksp_));
-  for (int c = 0; c < cavities.size(); ++c) {
+  for (int c = 0; c < constraints.size(); ++c) {
     Y_.push_back(problem.create_vector());
-    if (cavities[c].has_weight()) Z_.push_back(problem.create_vector());
+    if (constraints[c].measure_load()) Z_.push_back(problem.create_vector());
   }
   for (size_t a = 0; a < actuators_.size(); ++a) response_.push_back(problem.create_vector());
   R_ = problem.create_vector();
@@ -61,10 +61,10 @@ InverseController::~InverseController() {
 }
 
 void InverseController::set_rest(Vec u) {
-  for (auto& a : actuators_) a.rest_volume = cavities_.measure(a.cavity, u);
+  for (auto& a : actuators_) a.rest_measure = constraints_.measure(a.constraint, u);
   if (!last_free_) HS_PETSC(VecDuplicate(u, &last_free_));
   HS_PETSC(VecCopy(u, last_free_));
-  last_pressures_ = cavities_.pressures();
+  last_pressures_ = constraints_.multipliers();
 }
 
 // Newton from the corrected configuration: one linearisation away from equilibrium, it
@@ -75,45 +75,45 @@ void InverseController::set_rest(Vec u) {
 NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
   const auto solve = [&](Vec x) {
     problem_.apply_dirichlet(x, 1.0);
-    if (cavities_.linearized()) cavities_.freeze_weights(x, 1.0);
+    if (constraints_.linearized()) constraints_.freeze_weights(x, 1.0);
     const NewtonResult r = newton_.solve(x, 1.0);
     report.newton_iterations += r.iterations;
     return r;
   };
-  const std::vector<double> wanted = cavities_.pressures();
+  const std::vector<double> wanted = constraints_.multipliers();
   NewtonResult result = solve(u);
   if (result.converged || !last_free_) {
     if (result.converged) {
       HS_PETSC(VecCopy(u, last_free_));
-      last_pressures_ = cavities_.pressures();
+      last_pressures_ = constraints_.multipliers();
     }
     return result;
   }
   HS_PETSC(VecCopy(last_free_, u));
-  cavities_.set_pressures(last_pressures_);
+  constraints_.set_multipliers(last_pressures_);
   const std::vector<double> from = last_pressures_;
   auto set_actuation = [&](double t) {
-    std::vector<double> lambda = cavities_.pressures();
+    std::vector<double> lambda = constraints_.multipliers();
     for (const auto& a : actuators_) {
-      Cavity& c = cavities_[a.cavity];
-      lambda[a.cavity] = from[a.cavity] + t * (wanted[a.cavity] - from[a.cavity]);
-      c.target = lambda[a.cavity];
+      Constraint& c = constraints_[a.constraint];
+      lambda[a.constraint] = from[a.constraint] + t * (wanted[a.constraint] - from[a.constraint]);
+      c.target = lambda[a.constraint];
     }
-    cavities_.set_pressures(lambda);
+    constraints_.set_multipliers(lambda);
   };
   struct Stop {};
   SteppingStats stats;
   auto attempt = [&](double t) {
-    const std::vector<double> before = cavities_.pressures();
+    const std::vector<double> before = constraints_.multipliers();
     set_actuation(t);
     const NewtonResult r = solve(u);
     if (r.converged) {
       HS_PETSC(VecCopy(u, last_free_));
-      last_pressures_ = cavities_.pressures();
+      last_pressures_ = constraints_.multipliers();
     } else {
       HS_PETSC(VecCopy(last_free_, u));
-      cavities_.set_pressures(before);
-      for (const auto& a : actuators_) cavities_[a.cavity].target = before[a.cavity];
+      constraints_.set_multipliers(before);
+      for (const auto& a : actuators_) constraints_[a.constraint].target = before[a.constraint];
     }
     result = r;
     return r;
@@ -124,8 +124,9 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
   } catch (const Stop&) {
     // Held at the last equilibrium reached on the way: a bound of physics, not of the deck.
     HS_PETSC(VecCopy(last_free_, u));
-    cavities_.set_pressures(last_pressures_);
-    for (const auto& a : actuators_) cavities_[a.cavity].target = last_pressures_[a.cavity];
+    constraints_.set_multipliers(last_pressures_);
+    for (const auto& a : actuators_)
+      constraints_[a.constraint].target = last_pressures_[a.constraint];
     result.converged = true;
     report.limit_point = true;
   }
@@ -134,8 +135,8 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
 
 void InverseController::settle(Vec u, ControlStepReport& report) {
   for (const auto& a : actuators_) {
-    cavities_[a.cavity].control = CavityControl::pressure;
-    cavities_[a.cavity].target = cavities_[a.cavity].lambda;
+    constraints_[a.constraint].control = Constraint::Control::multiplier;
+    constraints_[a.constraint].target = constraints_[a.constraint].lambda;
   }
   const NewtonResult r = solve_free(u, report);
   if (!r.converged)
@@ -143,7 +144,7 @@ void InverseController::settle(Vec u, ControlStepReport& report) {
                      r.reason + ")");
   report.reached = effectors_.positions(u);
   report.actuation.clear();
-  for (const auto& a : actuators_) report.actuation.push_back(cavities_[a.cavity].lambda);
+  for (const auto& a : actuators_) report.actuation.push_back(constraints_[a.constraint].lambda);
 }
 
 // Y_c = K^-1 g_c, Z_h = K^-1 q_h with the current factorization; the dense system S of the
@@ -152,7 +153,7 @@ void InverseController::settle(Vec u, ControlStepReport& report) {
 // eta_h = g_h^T du; and the response of the whole system to each actuator.
 // a_ = K^-1 R_ is solved with them, all through the factors at once.
 void InverseController::factor_responses() {
-  const int m = cavities_.size(), n = num_actuators();
+  const int m = constraints_.size(), n = num_actuators();
   columns_.clear();
   weighted_.clear();
   std::vector<Vec> rhs{R_};
@@ -175,8 +176,8 @@ void InverseController::factor_responses() {
   std::vector<PetscScalar> dots(k);
   actuated_.assign(m, false);
   for (int a = 0; a < n; ++a) {
-    actuated_[actuators_[a].cavity] = true;
-    inputs(actuators_[a].cavity, a) = 1;
+    actuated_[actuators_[a].constraint] = true;
+    inputs(actuators_[a].constraint, a) = 1;
   }
   for (int c = 0; c < m; ++c) {
     if (actuated_[c]) {
@@ -206,22 +207,22 @@ void InverseController::factor_responses() {
 // left the prediction too far off for Newton (a few steps of 5 kPa on the hydraulic finger),
 // the pressures walked from the last equilibrium found here (or the rest state).
 std::vector<double> InverseController::equilibrium_positions(Vec u) {
-  const std::vector<double> pressures = cavities_.pressures();
+  const std::vector<double> pressures = constraints_.multipliers();
   std::vector<double> targets;
-  for (int c = 0; c < cavities_.size(); ++c) targets.push_back(cavities_[c].target);
+  for (int c = 0; c < constraints_.size(); ++c) targets.push_back(constraints_[c].target);
   Vec x = nullptr;
   HS_PETSC(VecDuplicate(u, &x));
   HS_PETSC(VecCopy(u, x));
   for (const auto& a : actuators_) {
-    cavities_[a.cavity].control = CavityControl::pressure;
-    cavities_[a.cavity].target = cavities_[a.cavity].lambda;
+    constraints_[a.constraint].control = Constraint::Control::multiplier;
+    constraints_[a.constraint].target = constraints_[a.constraint].lambda;
   }
   ControlStepReport report;
   const NewtonResult r = solve_free(x, report);
   const std::vector<double> positions = effectors_.positions(x);
   HS_PETSC(VecDestroy(&x));
-  cavities_.set_pressures(pressures);
-  for (int c = 0; c < cavities_.size(); ++c) cavities_[c].target = targets[c];
+  constraints_.set_multipliers(pressures);
+  for (int c = 0; c < constraints_.size(); ++c) constraints_[c].target = targets[c];
   if (!r.converged || report.limit_point)
     throw SolveError(
         "control: the equilibrium check found no equilibrium at the current "
@@ -237,15 +238,15 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   const double t_start = MPI_Wtime();
   const auto& timers = problem_.timers();
   const double assembly0 = timers.residual_s + timers.jacobian_s;
-  const double fluid0 = cavities_.fluid_weight_seconds();
-  const int m = cavities_.size(), n = num_actuators();
+  const double fluid0 = constraints_.fluid_weight_seconds();
+  const int m = constraints_.size(), n = num_actuators();
 
   // Step 1: the free configuration at the current actuation, converged by Newton; in the
   // one_step mode it is the first Newton step of step 2's linearisation instead.
-  const bool one_step = config_.control->free_solve == "one_step" && !retake_converged_;
+  const bool one_step = config_.control->free_solve == FreeSolve::one_step && !retake_converged_;
   for (const auto& a : actuators_) {
-    Cavity& c = cavities_[a.cavity];
-    c.control = CavityControl::pressure;
+    Constraint& c = constraints_[a.constraint];
+    c.control = Constraint::Control::multiplier;
     c.target = c.lambda;
   }
   if (!one_step) {
@@ -255,8 +256,8 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
                        ", residual " + std::to_string(free.residual_norm) + ")");
   }
   const double t_free = MPI_Wtime();
-  const double free_overhead =
-      timers.residual_s + timers.jacobian_s - assembly0 + cavities_.fluid_weight_seconds() - fluid0;
+  const double free_overhead = timers.residual_s + timers.jacobian_s - assembly0 +
+                               constraints_.fluid_weight_seconds() - fluid0;
 
   // Step 2: one linearisation, one factorization, and the response to each actuator. After
   // Newton the residual is the converged one (the free step below is then round-off). With
@@ -265,7 +266,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // fresh residual, and W is the compliance of up to N - 1 steps ago.
   std::vector<double> controls;
   problem_.apply_dirichlet(u, 1.0);
-  bool ok = cavities_.residual(u, 1.0, R_, controls);
+  bool ok = constraints_.residual(u, 1.0, R_, controls);
   PetscReal r_norm = 0;
   HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
   ok &= std::isfinite(r_norm);
@@ -278,9 +279,10 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   bool stale_failed = false;
   if (overshoot && one_step && steps_since_factorization_ > 0 && step_start_) {
     HS_PETSC(VecCopy(step_start_, u));
-    cavities_.set_pressures(step_start_pressures_);
-    for (const auto& a : actuators_) cavities_[a.cavity].target = cavities_[a.cavity].lambda;
-    ok = cavities_.residual(u, 1.0, R_, controls);
+    constraints_.set_multipliers(step_start_pressures_);
+    for (const auto& a : actuators_)
+      constraints_[a.constraint].target = constraints_[a.constraint].lambda;
+    ok = constraints_.residual(u, 1.0, R_, controls);
     HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
     stale_failed = true;
   }
@@ -288,7 +290,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   if (one_step) {
     if (!step_start_) HS_PETSC(VecDuplicate(u, &step_start_));
     HS_PETSC(VecCopy(u, step_start_));
-    step_start_pressures_ = cavities_.pressures();
+    step_start_pressures_ = constraints_.multipliers();
   }
   const bool refactor = !one_step || !factored_ || stale_failed || force_refactor_ ||
                         steps_since_factorization_ + 1 >= config_.control->refactor_every ||
@@ -296,7 +298,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   const double t_factor0 = MPI_Wtime();
   double t_factor = t_factor0, t_compliance = t_factor0;
   if (refactor) {
-    if (!cavities_.linearize(u, 1.0, J_, lin_))
+    if (!constraints_.linearize(u, 1.0, J_, lin_))
       throw SolveError("control step: an element is inverted at the free configuration");
     t_factor = MPI_Wtime();
     HS_PETSC(KSPSetOperators(ksp_, J_, J_));
@@ -328,7 +330,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   HS_PETSC(VecScale(free_step_, -1.0));
   HS_PETSC(VecMAXPY(free_step_, k, zeta_free.data(), columns_.data()));
   HS_PETSC(VecAXPY(u, 1.0, free_step_));  // x_free
-  for (int c = 0; c < m; ++c) cavities_[c].lambda += zeta_free(c);
+  for (int c = 0; c < m; ++c) constraints_[c].lambda += zeta_free(c);
   // Effector rows (weighted, controlled directions of the targeted effectors) and volumes.
   const std::vector<double> x_free = effectors_.positions(u);
   std::vector<double> rows_delta;
@@ -353,7 +355,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     delta(r) = rows_delta[r];
   }
   for (int a = 0; a < n; ++a) {
-    HS_PETSC(VecMDot(lin_.g[actuators_[a].cavity], n, response_.data(), wdots.data()));
+    HS_PETSC(VecMDot(lin_.g[actuators_[a].constraint], n, response_.data(), wdots.data()));
     for (int b = 0; b < n; ++b) growth(a, b) = wdots[b];
   }
   const double t_qp = MPI_Wtime();
@@ -375,19 +377,19 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   };
   for (int a = 0; a < n; ++a) {
     const auto& b = actuators_[a].config;
-    const double lambda = cavities_[actuators_[a].cavity].lambda;
+    const double lambda = constraints_[actuators_[a].constraint].lambda;
     PetscScalar free_growth = 0;  // the free step's volume change (linear)
-    HS_PETSC(VecDot(lin_.g[actuators_[a].cavity], free_step_, &free_growth));
+    HS_PETSC(VecDot(lin_.g[actuators_[a].constraint], free_step_, &free_growth));
     const double grown =
-        cavities_[actuators_[a].cavity].volume + free_growth - actuators_[a].rest_volume;
+        constraints_[actuators_[a].constraint].measure + free_growth - actuators_[a].rest_measure;
     Eigen::RowVectorXd unit = Eigen::RowVectorXd::Zero(n);
     unit(a) = 1;
-    bound(unit, b.min_pressure - lambda, a);
-    bound(-unit, lambda - b.max_pressure, a);
-    bound(unit, -b.max_pressure_change, a);
-    bound(-unit, -b.max_pressure_change, a);
-    bound(growth.row(a), b.min_volume_growth - grown, a);
-    bound(-growth.row(a), grown - b.max_volume_growth, a);
+    bound(unit, b.min_multiplier - lambda, a);
+    bound(-unit, lambda - b.max_multiplier, a);
+    bound(unit, -b.max_multiplier_step, a);
+    bound(-unit, -b.max_multiplier_step, a);
+    bound(growth.row(a), b.min_measure_change - grown, a);
+    bound(-growth.row(a), grown - b.max_measure_change, a);
   }
   Eigen::MatrixXd A(rows.size(), n);
   Eigen::VectorXd bvec(rows.size());
@@ -409,11 +411,12 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
 
   // Step 4: correction x = x_free + sum_a du_a dl_a, and the pressures of every cavity.
   HS_PETSC(VecMAXPY(u, n, dl.data(), response_.data()));
-  std::vector<double> lambda = cavities_.pressures();
+  std::vector<double> lambda = constraints_.multipliers();
   const Eigen::VectorXd dlambda = zeta_.topRows(m) * dl;
   for (int c = 0; c < m; ++c) lambda[c] += dlambda(c);
-  cavities_.set_pressures(lambda);
-  for (const auto& a : actuators_) cavities_[a.cavity].target = cavities_[a.cavity].lambda;
+  constraints_.set_multipliers(lambda);
+  for (const auto& a : actuators_)
+    constraints_[a.constraint].target = constraints_[a.constraint].lambda;
   if (config_.control->newton_finish) {
     problem_.apply_dirichlet(u, 1.0);
     const NewtonResult r = newton_.solve(u, 1.0);
@@ -422,7 +425,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
       throw SolveError("control step: Newton at the new actuation did not converge (" + r.reason +
                        ")");
   } else {
-    for (int c = 0; c < m; ++c) cavities_[c].volume = cavities_.measure(c, u);
+    for (int c = 0; c < m; ++c) constraints_[c].measure = constraints_.measure(c, u);
   }
   // A one-linearisation correction that inverts an element is taken again at once, so that
   // no step hands out (or writes) an inverted body: with a fresh factorization if it used a
@@ -431,7 +434,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // counts in the step's total.
   if (one_step && !problem_.orientation_preserved(u)) {
     HS_PETSC(VecCopy(step_start_, u));
-    cavities_.set_pressures(step_start_pressures_);
+    constraints_.set_multipliers(step_start_pressures_);
     (refactor ? retake_converged_ : force_refactor_) = true;
     ControlStepReport again = step(u, targets);
     again.total_ms += 1e3 * max_over_ranks(MPI_Wtime() - t_start, comm);
@@ -449,9 +452,9 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
         error2 += std::pow(report.reached[3 * e + d] - t.position[d], 2);
   }
   report.error = std::sqrt(error2);
-  for (const auto& a : actuators_) report.actuation.push_back(cavities_[a.cavity].lambda);
+  for (const auto& a : actuators_) report.actuation.push_back(constraints_[a.constraint].lambda);
   const double assembly = timers.residual_s + timers.jacobian_s - assembly0;
-  const double fluid = cavities_.fluid_weight_seconds() - fluid0;
+  const double fluid = constraints_.fluid_weight_seconds() - fluid0;
   report.assembly_ms = 1e3 * max_over_ranks(assembly, comm);
   report.fluid_weight_ms = 1e3 * max_over_ranks(fluid, comm);
   report.free_solve_ms = 1e3 * max_over_ranks(t_free - t_start - free_overhead, comm);

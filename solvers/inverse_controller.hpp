@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "solvers/bordered_newton.hpp"
-#include "solvers/cavity_system.hpp"
+#include "solvers/constraints/constraint_set.hpp"
 #include "solvers/effectors.hpp"
 
 namespace hs {
@@ -55,7 +55,7 @@ struct ControlStepReport {
 class InverseController {
  public:
   // Collective. Checks the actuators (a pneumatic or hydraulic cavity each) and their bounds.
-  InverseController(const Config& config, Problem& problem, CavitySystem& cavities,
+  InverseController(const Config& config, Problem& problem, ConstraintSet& constraints,
                     BorderedNewton& newton, Effectors& effectors);
   ~InverseController();
   InverseController(const InverseController&) = delete;
@@ -78,8 +78,8 @@ class InverseController {
  private:
   struct Actuator {
     ActuatorConfig config;
-    int cavity = -1;
-    double rest_volume = 0;
+    int constraint = -1;
+    double rest_measure = 0;
   };
 
   NewtonResult solve_free(Vec u, ControlStepReport& report);
@@ -87,14 +87,14 @@ class InverseController {
 
   const Config& config_;
   Problem& problem_;
-  CavitySystem& cavities_;
+  ConstraintSet& constraints_;
   BorderedNewton& newton_;
   Effectors& effectors_;
   std::vector<Actuator> actuators_;
   KSP ksp_ = nullptr;
   Mat J_ = nullptr;
   std::vector<Vec> Y_, Z_, response_;  // per cavity; per weighted cavity; per actuator
-  CavityLinearization lin_;
+  ConstraintLinearization lin_;
   Vec R_ = nullptr, a_ = nullptr, free_step_ = nullptr;  // residual, K^-1 R, the free step
   // The responses of the last factorization (kept for control.refactor_every steps).
   std::vector<Vec> columns_;

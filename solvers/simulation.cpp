@@ -54,8 +54,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   // pressures); any other the plain SNES. No cavity code runs in a scene without cavities.
   const bool staged = !config.cavities.empty() || !config.cables.empty() ||
                       !config.states.empty() || config.tip || config.control;
-  std::unique_ptr<CavitySystem> cavities;
-  if (staged) cavities = std::make_unique<CavitySystem>(config, problem, mesh, dist);
+  std::unique_ptr<ConstraintSet> constraints;
+  if (staged) constraints = std::make_unique<ConstraintSet>(config, problem, mesh, dist);
   // Symmetric unless the deck puts a follower pressure on an open surface; CG only without
   // any pressure stiffness (a cavity's can make the tangent indefinite near a limit point).
   set_solver_options(config.solver, !problem.has_open_surface_pressure(),
@@ -63,7 +63,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   std::unique_ptr<NewtonSolver> newton;
   std::unique_ptr<BorderedNewton> bordered;
   if (staged)
-    bordered = std::make_unique<BorderedNewton>(problem, *cavities);
+    bordered = std::make_unique<BorderedNewton>(problem, *constraints);
   else
     newton = std::make_unique<NewtonSolver>(problem);
   ResultRecorder recorder(problem, config, comm);
@@ -91,8 +91,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   if (staged) {
     std::unique_ptr<ControlLoop> control_loop;
     if (config.control)
-      control_loop = std::make_unique<ControlLoop>(config, problem, *cavities, *bordered);
-    state_run = run_states(config, problem, *cavities, *bordered, recorder, u, stats);
+      control_loop = std::make_unique<ControlLoop>(config, problem, *constraints, *bordered);
+    state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats);
     if (control_loop)
       control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()));
   } else if (config.time.type == "dynamic") {
@@ -172,14 +172,14 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   if (staged) {
     summary["states"] = state_run.states;
     for (const auto& [key, value] : control.items()) summary[key] = value;
-    summary["cavities"] = cavities->report();
-    summary["parts"] = cavities->parts();
-    double fluid = cavities->fluid_weight_seconds(), constraint = bordered->constraint_seconds();
+    summary["cavities"] = constraints->report();
+    summary["parts"] = constraints->parts();
+    double fluid = constraints->fluid_weight_seconds(), constraint = bordered->constraint_seconds();
     MPI_Allreduce(MPI_IN_PLACE, &fluid, 1, MPI_DOUBLE, MPI_MAX, comm);
     MPI_Allreduce(MPI_IN_PLACE, &constraint, 1, MPI_DOUBLE, MPI_MAX, comm);
     summary["time_s"]["fluid_weight"] = fluid;
     summary["time_s"]["constraint"] = constraint;
-    double build = cavities->constraint_build_seconds();
+    double build = constraints->constraint_build_seconds();
     MPI_Allreduce(MPI_IN_PLACE, &build, 1, MPI_DOUBLE, MPI_MAX, comm);
     summary["time_s"]["constraint_build"] = build;
   } else {

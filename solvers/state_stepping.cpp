@@ -19,7 +19,7 @@ struct StatePlan {
   // Later states: per cavity, the control to ramp (from -> to); unnamed cavities keep theirs.
   struct Ramp {
     bool active = false;
-    CavityControl control = CavityControl::pressure;
+    Constraint::Control control = Constraint::Control::multiplier;
     double from = 0, to = 0;
   };
   std::vector<Ramp> ramps;
@@ -44,14 +44,15 @@ std::vector<StatePlan> plan_states(const Config& config) {
       for (int i = 1; i <= states[k].steps; ++i)
         p.taus.push_back(static_cast<double>(i) / states[k].steps);
     }
-    // One ramp per constraint of the CavitySystem: the cavities, then the cables (which the
+    // One ramp per constraint of the ConstraintSet: the cavities, then the cables (which the
     // states do not ramp: they keep their first-state tension).
     p.ramps.resize(config.cavities.size() + config.cables.size());
     for (size_t c = 0; c < config.cavities.size(); ++c) {
       auto it = states[k].cavities.find(config.cavities[c].group);
       if (it == states[k].cavities.end()) continue;
       p.ramps[c].active = true;
-      p.ramps[c].control = it->second.pressure ? CavityControl::pressure : CavityControl::volume;
+      p.ramps[c].control =
+          it->second.pressure ? Constraint::Control::multiplier : Constraint::Control::measure;
       p.ramps[c].to = it->second.pressure ? *it->second.pressure : *it->second.added_volume;
     }
     plans.push_back(p);
@@ -61,9 +62,13 @@ std::vector<StatePlan> plan_states(const Config& config) {
 
 class StateStepper {
  public:
-  StateStepper(const Config& config, Problem& problem, CavitySystem& cavities,
+  StateStepper(const Config& config, Problem& problem, ConstraintSet& constraints,
                BorderedNewton& newton, SteppingStats& stats)
-      : config_(config), problem_(problem), cavities_(cavities), newton_(newton), stats_(stats) {
+      : config_(config),
+        problem_(problem),
+        constraints_(constraints),
+        newton_(newton),
+        stats_(stats) {
     u_last_ = problem.create_vector();
     saved_ = problem.create_vector();
   }
@@ -77,22 +82,22 @@ class StateStepper {
     plan_ = &plan;
     tau_ = 0;
     has_last_ = false;
-    for (int c = 0; c < cavities_.size(); ++c) {
+    for (int c = 0; c < constraints_.size(); ++c) {
       auto& ramp = plan.ramps[c];
       if (!ramp.active) continue;
-      Cavity& cav = cavities_[c];
-      if (ramp.control == CavityControl::pressure) {
+      Constraint& cav = constraints_[c];
+      if (ramp.control == Constraint::Control::multiplier) {
         ramp.from = cav.lambda;
       } else {
-        ramp.from = cav.volume;
+        ramp.from = cav.measure;
         const double added = ramp.to;
-        ramp.to += cav.rest_volume;  // added volume is counted from the end of the first state
+        ramp.to += cav.rest_measure;  // added volume is counted from the end of the first state
         // Walls cannot pass through each other (no contact): a volume <= 0 has no solution.
         if (!(ramp.to > 0)) {
           std::ostringstream msg;
-          msg << config_.deck_path << ": state '" << plan.name << "': cavity '" << cav.config.group
+          msg << config_.deck_path << ": state '" << plan.name << "': cavity '" << cav.name()
               << "': added_volume " << added << " m^3 would leave it a volume of " << ramp.to
-              << " m^3 (it holds " << cav.rest_volume
+              << " m^3 (it holds " << cav.rest_measure
               << " m^3 at the end of the first state); a cavity's volume must stay > 0";
           throw InputError(msg.str());
         }
@@ -105,31 +110,31 @@ class StateStepper {
 
   // Sets the cavity targets at tau.
   void set_targets(double tau) {
-    for (int c = 0; c < cavities_.size(); ++c) {
-      Cavity& cav = cavities_[c];
+    for (int c = 0; c < constraints_.size(); ++c) {
+      Constraint& cav = constraints_[c];
       const auto& ramp = plan_->ramps[c];
       if (ramp.active) {
         cav.target = ramp.from + tau * (ramp.to - ramp.from);
       } else if (plan_->first) {
-        const auto& cc = cav.config;
-        if (cav.control == CavityControl::pressure) cav.target = tau * cc.pressure;
-        if (cav.control == CavityControl::volume)
-          cav.target = cav.reference_volume + tau * cc.added_volume.value_or(0.0);
+        if (cav.control == Constraint::Control::multiplier)
+          cav.target = tau * cav.first_state_multiplier;
+        if (cav.control == Constraint::Control::measure)
+          cav.target = cav.reference_measure + tau * cav.first_state_measure_change.value_or(0.0);
       }
-      if (cav.control == CavityControl::pressure) cav.lambda = cav.target;
+      if (cav.control == Constraint::Control::multiplier) cav.lambda = cav.target;
     }
   }
 
   // Advances the current state to tau_to, halving failed increments.
   void advance(Vec u, double tau_to) {
     auto attempt = [&](double tau) {
-      const std::vector<double> lambda = cavities_.pressures();
+      const std::vector<double> lambda = constraints_.multipliers();
       HS_PETSC(VecCopy(u, saved_));
       predict(u, tau);
       const double s = load_factor(tau);
       set_targets(tau);
       problem_.apply_dirichlet(u, s);
-      if (cavities_.linearized()) cavities_.freeze_weights(u, s);
+      if (constraints_.linearized()) constraints_.freeze_weights(u, s);
       const NewtonResult r = newton_.solve(u, s);
       if (r.converged) {
         HS_PETSC(VecCopy(saved_, u_last_));
@@ -139,7 +144,7 @@ class StateStepper {
         has_last_ = true;
       } else {
         HS_PETSC(VecCopy(saved_, u));
-        cavities_.set_pressures(lambda);
+        constraints_.set_multipliers(lambda);
       }
       return r;
     };
@@ -154,11 +159,13 @@ class StateStepper {
         msg << "; element " << problem_.inverted_element() << " is inverted (det F <= 0)";
       // A pressure ramped past the cavity's pressure extremum (the peak of an inflation, the
       // buckling of walls under suction) has no equilibrium nearby.
-      for (int c = 0; c < cavities_.size(); ++c) {
-        const Cavity& cav = cavities_[c];
-        const bool ramped = plan_->ramps[c].active || (plan_->first && cav.config.pressure != 0);
-        if (ramped && cav.control == CavityControl::pressure && cav.target != 0)
-          msg << "; cavity '" << cav.config.group << "' was at " << cav.target
+      for (int c = 0; c < constraints_.size(); ++c) {
+        const Constraint& cav = constraints_[c];
+        const bool ramped =
+            plan_->ramps[c].active || (plan_->first && cav.first_state_multiplier != 0);
+        if (ramped && cav.is_cavity() && cav.control == Constraint::Control::multiplier &&
+            cav.target != 0)
+          msg << "; cavity '" << cav.name() << "' was at " << cav.target
               << " Pa on a pressure ramp (past a pressure peak or a buckling of the walls there "
                  "is no equilibrium under pressure control: prescribe added_volume to pass it)";
       }
@@ -173,15 +180,15 @@ class StateStepper {
     if (!has_last_ || tau_ == tau_last_) return;
     const double k = (tau - tau_) / (tau_ - tau_last_);
     HS_PETSC(VecAXPBY(u, -k, 1 + k, u_last_));
-    std::vector<double> lambda = cavities_.pressures();
+    std::vector<double> lambda = constraints_.multipliers();
     for (size_t c = 0; c < lambda.size(); ++c)
       lambda[c] = (1 + k) * lambda[c] - k * lambda_last_[c];
-    cavities_.set_pressures(lambda);
+    constraints_.set_multipliers(lambda);
   }
 
   const Config& config_;
   Problem& problem_;
-  CavitySystem& cavities_;
+  ConstraintSet& constraints_;
   BorderedNewton& newton_;
   SteppingStats& stats_;
   StatePlan* plan_ = nullptr;
@@ -204,11 +211,11 @@ double tip_angle_deg(Problem& problem, const std::string& group,
   return std::asin(std::clamp(sine, -1.0, 1.0)) * 180 / kPi;
 }
 
-StateRun run_states(const Config& config, Problem& problem, CavitySystem& cavities,
+StateRun run_states(const Config& config, Problem& problem, ConstraintSet& constraints,
                     BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats) {
   StateRun run;
   std::vector<StatePlan> plans = plan_states(config);
-  StateStepper stepper(config, problem, cavities, newton, stats);
+  StateStepper stepper(config, problem, constraints, newton, stats);
   for (size_t k = 0; k < plans.size(); ++k) {
     StatePlan& plan = plans[k];
     stepper.begin(plan);
@@ -220,7 +227,8 @@ StateRun run_states(const Config& config, Problem& problem, CavitySystem& caviti
                         stepper.load_factor(plan.taus[i]));
     }
     if (plan.first)
-      for (int c = 0; c < cavities.size(); ++c) cavities[c].rest_volume = cavities[c].volume;
+      for (int c = 0; c < constraints.size(); ++c)
+        constraints[c].rest_measure = constraints[c].measure;
     nlohmann::json state;
     state["name"] = plan.name;
     state["time"] = static_cast<double>(k + 1);
@@ -229,14 +237,14 @@ StateRun run_states(const Config& config, Problem& problem, CavitySystem& caviti
     if (config.tip)
       state["tip_angle_deg"] = tip_angle_deg(problem, config.tip->group, config.gravity, u);
     double added = 0, change = 0;
-    for (int c = 0; c < cavities.size(); ++c) {
-      if (cavities[c].is_cable()) continue;
-      added += cavities[c].volume - cavities[c].rest_volume;
-      change += cavities[c].volume - cavities[c].reference_volume;
+    for (int c = 0; c < constraints.size(); ++c) {
+      if (!constraints[c].is_cavity()) continue;
+      added += constraints[c].measure - constraints[c].rest_measure;
+      change += constraints[c].measure - constraints[c].reference_measure;
     }
     state["added_volume_ml"] = added * 1e6;
     state["volume_change_ml"] = change * 1e6;
-    state["cavities"] = cavities.report();
+    state["cavities"] = constraints.report();
     run.states.push_back(state);
   }
   return run;

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "solvers/bordered_newton.hpp"
-#include "solvers/cavity_system.hpp"
+#include "solvers/constraints/constraint_set.hpp"
 #include "solvers/result_recorder.hpp"
 #include "solvers/stepping.hpp"
 
@@ -22,7 +22,7 @@ struct StateRun {
 // u starts at rest (zero). Writes every output.every-th increment and the last of every
 // state; the step attribute `time` is state index + fraction of the state (1.0 = end of the
 // first state, 2.0 = end of the second, ...).
-StateRun run_states(const Config& config, Problem& problem, CavitySystem& cavities,
+StateRun run_states(const Config& config, Problem& problem, ConstraintSet& constraints,
                     BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats);
 
 // Inclination of a face group's mean deformed normal below the plane normal to gravity, in

@@ -10,35 +10,34 @@
 namespace hs {
 namespace {
 
-const std::vector<std::string> kKinds = {"pneumatic", "hydraulic", "sealed_gas", "sealed_volume"};
-const std::vector<std::string> kWeightMethods = {"column", "hydrostatic"};
-const std::vector<std::string> kDevices = {"cpu", "cuda"};
-const std::vector<std::string> kCouplings = {"converged", "linearized"};
-
 FluidWeightConfig parse_fluid_weight(const DeckReader& r, const YAML::Node& node,
                                      const std::string& key) {
   r.check_map(node, key, {"method", "grid", "device", "coupling"});
   FluidWeightConfig w;
   if (const auto n = node["method"])
-    w.method = one_of(r, n, child_key(key, "method"), kWeightMethods);
-  if (w.method == "column") {
+    w.method = enum_of<WeightMethod>(kWeightMethodNames,
+                                     one_of(r, n, child_key(key, "method"), kWeightMethodNames));
+  const std::string method = name_of(kWeightMethodNames, w.method);
+  if (w.method == WeightMethod::column) {
     if (const auto n = node["grid"]) {
       w.grid = r.integer(n, child_key(key, "grid"));
       require(w.grid >= 1, r, n, child_key(key, "grid"),
               "must be >= 1, got " + std::to_string(w.grid));
     }
   } else {
-    forbid(r, node, key, "grid", "only used by method column (method is " + w.method + ")");
+    forbid(r, node, key, "grid", "only used by method column (method is " + method + ")");
   }
   if (const auto n = node["device"]) {
-    w.device = one_of(r, n, child_key(key, "device"), kDevices);
+    w.device = enum_of<WeightDevice>(kWeightDeviceNames,
+                                     one_of(r, n, child_key(key, "device"), kWeightDeviceNames));
     // Only the column method has CUDA kernels (cuda/, docs/fluidweight.md).
-    require(
-        w.device == "cpu" || w.method == "column", r, n, child_key(key, "device"),
-        "cuda is only used by method column (method is " + w.method + ", which runs on the cpu)");
+    require(w.device == WeightDevice::cpu || w.method == WeightMethod::column, r, n,
+            child_key(key, "device"),
+            "cuda is only used by method column (method is " + method + ", which runs on the cpu)");
   }
   if (const auto n = node["coupling"])
-    w.coupling = one_of(r, n, child_key(key, "coupling"), kCouplings);
+    w.coupling = enum_of<WeightCoupling>(
+        kWeightCouplingNames, one_of(r, n, child_key(key, "coupling"), kWeightCouplingNames));
   return w;
 }
 
@@ -48,8 +47,10 @@ CavityConfig parse_cavity(const DeckReader& r, const YAML::Node& node, const std
                "initial_pressure", "atmospheric_pressure"});
   CavityConfig cavity;
   cavity.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
-  if (const auto n = node["kind"]) cavity.kind = one_of(r, n, child_key(key, "kind"), kKinds);
-  const std::string this_kind = " (this cavity is " + cavity.kind + ")";
+  if (const auto n = node["kind"])
+    cavity.kind = enum_of<CavityKind>(kCavityKindNames,
+                                      one_of(r, n, child_key(key, "kind"), kCavityKindNames));
+  const std::string this_kind = " (this cavity is " + name_of(kCavityKindNames, cavity.kind) + ")";
 
   if (is_actuated(cavity.kind)) {
     // With added_volume the pressure is an unknown of the run, so it cannot be given too.
@@ -67,7 +68,7 @@ CavityConfig parse_cavity(const DeckReader& r, const YAML::Node& node, const std
     forbid(r, node, key, "added_volume", reason);
   }
 
-  if (cavity.kind == "hydraulic") {
+  if (cavity.kind == CavityKind::hydraulic) {
     if (const auto n = node["density"]) {
       cavity.density = r.number(n, child_key(key, "density"));
       require(cavity.density >= 0, r, n, child_key(key, "density"),
@@ -82,7 +83,7 @@ CavityConfig parse_cavity(const DeckReader& r, const YAML::Node& node, const std
            "only used by kind hydraulic (how the liquid's weight reaches the walls)" + this_kind);
   }
 
-  if (cavity.kind == "sealed_gas") {
+  if (cavity.kind == CavityKind::sealed_gas) {
     if (const auto n = node["initial_pressure"])
       cavity.initial_pressure = r.number(n, child_key(key, "initial_pressure"));
     if (const auto n = node["atmospheric_pressure"]) {
@@ -136,10 +137,10 @@ std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAM
              names.empty() ? "not a declared cavity (the deck has no cavities section)"
                            : "not a declared cavity (did you mean '" + nearest(name, names) +
                                  "'? cavities: " + join(names) + ")");
-    const std::string& kind = cavities[found - names.begin()].kind;
+    const CavityKind kind = cavities[found - names.begin()].kind;
     if (!is_actuated(kind))
       r.fail(ckey, entry.first,
-             "cavity '" + name + "' is " + kind +
+             "cavity '" + name + "' is " + name_of(kCavityKindNames, kind) +
                  ": sealed chambers are not actuated, so a state cannot set them");
     const YAML::Node target = entry.second;
     r.check_map(target, ckey, {"pressure", "added_volume"});
@@ -196,8 +197,6 @@ TipConfig parse_tip(const DeckReader& r, const YAML::Node& node) {
 }
 
 }  // namespace
-
-bool is_actuated(const std::string& kind) { return kind == "pneumatic" || kind == "hydraulic"; }
 
 void parse_cavity_sections(const DeckReader& r, const YAML::Node& root, Config& c) {
   // Dynamic runs have no states to step through and no cavity equations in their time

@@ -11,10 +11,6 @@
 
 namespace hs {
 
-// Pneumatic and hydraulic cavities are driven by a pressure or an added volume (by states,
-// and by control); sealed ones only respond to the deformation.
-bool is_actuated(const std::string& kind);
-
 // Reads root["cavities"], root["states"] and root["tip"] into `c`. Needs c.time parsed
 // already: these sections need a static or quasi-static run, and `states` replaces
 // time.steps and time.schedule (which must then be absent from root["time"]).

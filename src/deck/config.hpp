@@ -2,6 +2,7 @@
 // docs/decks.md documents every key; parse_deck() validates before any work is done.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <map>
 #include <optional>
@@ -70,20 +71,44 @@ struct ExactConfig {
   std::map<std::string, double> parameters;  // e.g. a, b, p for lame_sphere
 };
 
+// A choice the deck spells as a name: the names in the enum's order, and the conversions.
+template <class Enum>
+Enum enum_of(const std::vector<std::string>& names, const std::string& name) {
+  return static_cast<Enum>(std::find(names.begin(), names.end(), name) - names.begin());
+}
+template <class Enum>
+const std::string& name_of(const std::vector<std::string>& names, Enum value) {
+  return names.at(static_cast<size_t>(value));
+}
+
 // How a hydraulic cavity's liquid weight reaches the wall nodes (docs/cavities.md).
+enum class WeightMethod { column, hydrostatic };  // the paper's Section III | closed form
+enum class WeightDevice { cpu, cuda };            // cuda: column only
+// converged: weight recomputed at every Newton iterate; linearized: the paper's J_w = w / v_c,
+// distribution frozen at the start of each step.
+enum class WeightCoupling { converged, linearized };
+inline const std::vector<std::string> kWeightMethodNames = {"column", "hydrostatic"};
+inline const std::vector<std::string> kWeightDeviceNames = {"cpu", "cuda"};
+inline const std::vector<std::string> kWeightCouplingNames = {"converged", "linearized"};
 struct FluidWeightConfig {
-  std::string method = "column";       // column (the paper's Section III) | hydrostatic
-  int grid = 200;                      // column: N x N columns
-  std::string device = "cpu";          // cpu | cuda (column only)
-  std::string coupling = "converged";  // converged: weight recomputed at every Newton iterate;
-                                       // linearized: the paper's J_w = w / v_c, distribution
-                                       // frozen at the start of each step
+  WeightMethod method = WeightMethod::column;
+  int grid = 200;  // column: N x N columns
+  WeightDevice device = WeightDevice::cpu;
+  WeightCoupling coupling = WeightCoupling::converged;
 };
+
+enum class CavityKind { pneumatic, hydraulic, sealed_gas, sealed_volume };
+inline const std::vector<std::string> kCavityKindNames = {"pneumatic", "hydraulic", "sealed_gas",
+                                                          "sealed_volume"};
+// Pneumatic and hydraulic cavities are driven (pressure or added volume); sealed ones are not.
+inline bool is_actuated(CavityKind kind) {
+  return kind == CavityKind::pneumatic || kind == CavityKind::hydraulic;
+}
 
 // A closed surface of the mesh (boundary faces of a surface group) that holds gas or liquid.
 struct CavityConfig {
-  std::string group;               // surface physical group; its name is the cavity's name
-  std::string kind = "pneumatic";  // pneumatic | hydraulic | sealed_gas | sealed_volume
+  std::string group;  // surface physical group; its name is the cavity's name
+  CavityKind kind = CavityKind::pneumatic;
   // pneumatic / hydraulic control in the first state (ramped with the load factor): a gauge
   // pressure in Pa, or the volume added in m^3 (the pressure is then an unknown).
   double pressure = 0;
@@ -132,22 +157,23 @@ struct EffectorConfig {
   std::array<bool, 3> directions{true, true, true};  // which of x, y, z are controlled
   double weight = 1;                                 // > 0, on its squared error
 };
+// An actuator of the controller: a constraint it drives, named, with bounds in that
+// constraint's own units: its multiplier (a cavity's gauge pressure in Pa, a cable's tension
+// in N) and the change of its measure since the rest state (the end of the deck's states: a
+// cavity's added volume in m^3, a cable's pull, its shortening, in m).
 // A bound left at +-1e300 is no bound (the deck did not set it).
-// A cable actuator keeps its bounds in the same fields: force (N) in the pressure bounds
-// (min_force defaults to 0: a cable cannot push), pull (its shortening since the rest state,
-// m) in the volume-growth bounds, force change per step in max_pressure_change.
 struct ActuatorConfig {
-  std::string cavity;  // the cavity or cable it drives (a pneumatic or hydraulic cavity; unique)
-  bool cable = false;  // `cavity` names a cable
-  double min_pressure = -1e300, max_pressure = 1e300;  // Pa, gauge; min <= max
-  // m^3, since the rest state (the end of the deck's states); min <= max
-  double min_volume_growth = -1e300, max_volume_growth = 1e300;
-  double max_pressure_change = 1e300;  // Pa per control step, > 0
+  std::string constraint;  // a pneumatic or hydraulic cavity's group or a cable's name; unique
+  double min_multiplier = -1e300, max_multiplier = 1e300;          // min <= max
+  double min_measure_change = -1e300, max_measure_change = 1e300;  // min <= max
+  double max_multiplier_step = 1e300;  // largest change of the multiplier per control step, > 0
 };
 struct ControlTarget {
   std::string effector;                     // an effector's name
   std::array<double, 3> position{0, 0, 0};  // where the effector should be (m)
 };
+enum class FreeSolve { newton, one_step };
+inline const std::vector<std::string> kFreeSolveNames = {"newton", "one_step"};
 struct ControlConfig {
   std::vector<EffectorConfig> effectors;  // at least one
   std::vector<ActuatorConfig> actuators;  // at least one
@@ -160,7 +186,7 @@ struct ControlConfig {
   // "newton": the free configuration converged by Newton at the held actuation; "one_step":
   // the paper's real-time step, one linearisation (one assembly, one factorization) for the
   // free motion and the compliance together.
-  std::string free_solve = "newton";
+  FreeSolve free_solve = FreeSolve::newton;
   int refactor_every = 1;  // one_step: factorize the tangent every N steps (1: every step)
   // one_step: after each target set, also solve for the equilibrium at its actuation (on a
   // copy, outside the step times) and report its error: the prediction's real accuracy.

@@ -72,34 +72,33 @@ void parse_bounds(const DeckReader& r, const YAML::Node& node, const std::string
                " (the lower bound must not exceed the upper one)");
 }
 
-// A cable actuator: force and pull bounds, kept in the pressure and volume-growth fields.
+// A cable actuator: bounds on its tension (N) and its pull (its shortening, m).
 ActuatorConfig parse_cable_actuator(const DeckReader& r, const YAML::Node& node,
                                     const std::string& key,
                                     const std::vector<CableConfig>& cables) {
   r.check_map(node, key,
               {"cable", "min_force", "max_force", "min_pull", "max_pull", "max_force_change"});
   ActuatorConfig a;
-  a.cable = true;
-  a.min_pressure = 0;  // a cable cannot push
+  a.min_multiplier = 0;  // a cable cannot push
   const YAML::Node cable = node["cable"];
   const std::string ckey = child_key(key, "cable");
-  a.cavity = r.text(cable, ckey);
+  a.constraint = r.text(cable, ckey);
   std::vector<std::string> names;
   for (const auto& c : cables) names.push_back(c.name);
-  if (!contains(names, a.cavity))
+  if (!contains(names, a.constraint))
     r.fail(ckey, cable,
            names.empty() ? "not a declared cable (the deck has no cables section)"
-                         : "not a declared cable (did you mean '" + nearest(a.cavity, names) +
+                         : "not a declared cable (did you mean '" + nearest(a.constraint, names) +
                                "'? cables: " + join(names) + ")");
-  parse_bounds(r, node, key, "min_force", "max_force", a.min_pressure, a.max_pressure);
-  if (a.min_pressure < 0)
+  parse_bounds(r, node, key, "min_force", "max_force", a.min_multiplier, a.max_multiplier);
+  if (a.min_multiplier < 0)
     r.fail(child_key(key, "min_force"), node["min_force"],
-           "must be >= 0 (a cable pulls, it cannot push), got " + format_number(a.min_pressure));
-  parse_bounds(r, node, key, "min_pull", "max_pull", a.min_volume_growth, a.max_volume_growth);
+           "must be >= 0 (a cable pulls, it cannot push), got " + format_number(a.min_multiplier));
+  parse_bounds(r, node, key, "min_pull", "max_pull", a.min_measure_change, a.max_measure_change);
   if (const auto n = node["max_force_change"]) {
-    a.max_pressure_change = r.number(n, child_key(key, "max_force_change"));
-    require(a.max_pressure_change > 0, r, n, child_key(key, "max_force_change"),
-            "must be > 0, got " + format_number(a.max_pressure_change));
+    a.max_multiplier_step = r.number(n, child_key(key, "max_force_change"));
+    require(a.max_multiplier_step > 0, r, n, child_key(key, "max_force_change"),
+            "must be > 0, got " + format_number(a.max_multiplier_step));
   }
   return a;
 }
@@ -118,29 +117,29 @@ ActuatorConfig parse_actuator(const DeckReader& r, const YAML::Node& node, const
   ActuatorConfig a;
   const YAML::Node cavity = required(r, node, key, "cavity");
   const std::string ckey = child_key(key, "cavity");
-  a.cavity = r.text(cavity, ckey);
+  a.constraint = r.text(cavity, ckey);
   std::vector<std::string> names;
   for (const auto& c : cavities) names.push_back(c.group);
-  const auto found = std::find(names.begin(), names.end(), a.cavity);
+  const auto found = std::find(names.begin(), names.end(), a.constraint);
   if (found == names.end())
     r.fail(ckey, cavity,
            names.empty() ? "not a declared cavity (the deck has no cavities section)"
-                         : "not a declared cavity (did you mean '" + nearest(a.cavity, names) +
+                         : "not a declared cavity (did you mean '" + nearest(a.constraint, names) +
                                "'? cavities: " + join(names) + ")");
-  const std::string& kind = cavities[found - names.begin()].kind;
+  const CavityKind kind = cavities[found - names.begin()].kind;
   if (!is_actuated(kind))
     r.fail(ckey, cavity,
-           "cavity '" + a.cavity + "' is " + kind +
+           "cavity '" + a.constraint + "' is " + name_of(kCavityKindNames, kind) +
                ": sealed chambers are not actuated, so control cannot drive them (use a "
                "pneumatic or hydraulic cavity)");
 
-  parse_bounds(r, node, key, "min_pressure", "max_pressure", a.min_pressure, a.max_pressure);
-  parse_bounds(r, node, key, "min_volume_growth", "max_volume_growth", a.min_volume_growth,
-               a.max_volume_growth);
+  parse_bounds(r, node, key, "min_pressure", "max_pressure", a.min_multiplier, a.max_multiplier);
+  parse_bounds(r, node, key, "min_volume_growth", "max_volume_growth", a.min_measure_change,
+               a.max_measure_change);
   if (const auto n = node["max_pressure_change"]) {
-    a.max_pressure_change = r.number(n, child_key(key, "max_pressure_change"));
-    require(a.max_pressure_change > 0, r, n, child_key(key, "max_pressure_change"),
-            "must be > 0, got " + format_number(a.max_pressure_change));
+    a.max_multiplier_step = r.number(n, child_key(key, "max_pressure_change"));
+    require(a.max_multiplier_step > 0, r, n, child_key(key, "max_pressure_change"),
+            "must be > 0, got " + format_number(a.max_multiplier_step));
   }
   return a;
 }
@@ -155,11 +154,11 @@ std::vector<ActuatorConfig> parse_actuators(const DeckReader& r, const YAML::Nod
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string akey = item_key(key, i);
     actuators.push_back(parse_actuator(r, node[i], akey, cavities, cables));
-    const char* what = actuators[i].cable ? "cable" : "cavity";
+    const char* what = node[i]["cable"] ? "cable" : "cavity";
     for (size_t j = 0; j < i; ++j)
-      if (actuators[j].cavity == actuators[i].cavity)
+      if (actuators[j].constraint == actuators[i].constraint)
         r.fail(child_key(akey, what), node[i][what],
-               std::string("duplicate actuator ") + what + " '" + actuators[i].cavity +
+               std::string("duplicate actuator ") + what + " '" + actuators[i].constraint +
                    "' (also in " + item_key(key, j) + ")");
   }
   return actuators;
@@ -227,12 +226,13 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
   if (const auto n = node["newton_finish"])
     control.newton_finish = r.boolean(n, "control.newton_finish");
   if (const auto n = node["free_solve"])
-    control.free_solve = one_of(r, n, child_key(key, "free_solve"), {"newton", "one_step"});
+    control.free_solve = enum_of<FreeSolve>(
+        kFreeSolveNames, one_of(r, n, child_key(key, "free_solve"), kFreeSolveNames));
   if (const auto n = node["refactor_every"]) {
     control.refactor_every = r.integer(n, "control.refactor_every");
     require(control.refactor_every >= 1, r, n, "control.refactor_every",
             "must be >= 1, got " + std::to_string(control.refactor_every));
-    require(control.refactor_every == 1 || control.free_solve == "one_step", r, n,
+    require(control.refactor_every == 1 || control.free_solve == FreeSolve::one_step, r, n,
             "control.refactor_every", "needs free_solve: one_step (Newton refactors every step)");
   }
   if (const auto n = node["check_equilibrium"])

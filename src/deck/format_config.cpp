@@ -6,8 +6,8 @@
 
 #include <filesystem>
 
-#include "deck/deck.hpp"
 #include "common/deck_reader.hpp"
+#include "deck/deck.hpp"
 
 namespace hs {
 namespace {
@@ -100,10 +100,10 @@ void emit_loads(YAML::Emitter& out, const Config& c) {
 
 void emit_fluid_weight(YAML::Emitter& out, const FluidWeightConfig& w) {
   out << YAML::Key << "fluid_weight" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  out << YAML::Key << "method" << YAML::Value << w.method;
-  if (w.method == "column") out << YAML::Key << "grid" << YAML::Value << w.grid;
-  out << YAML::Key << "device" << YAML::Value << w.device;
-  out << YAML::Key << "coupling" << YAML::Value << w.coupling;
+  out << YAML::Key << "method" << YAML::Value << name_of(kWeightMethodNames, w.method);
+  if (w.method == WeightMethod::column) out << YAML::Key << "grid" << YAML::Value << w.grid;
+  out << YAML::Key << "device" << YAML::Value << name_of(kWeightDeviceNames, w.device);
+  out << YAML::Key << "coupling" << YAML::Value << name_of(kWeightCouplingNames, w.coupling);
   out << YAML::EndMap;
 }
 
@@ -115,18 +115,18 @@ void emit_cavities(YAML::Emitter& out, const std::vector<CavityConfig>& cavities
   for (const auto& c : cavities) {
     out << YAML::BeginMap;
     out << YAML::Key << "group" << YAML::Value << c.group;
-    out << YAML::Key << "kind" << YAML::Value << c.kind;
-    if (c.kind == "pneumatic" || c.kind == "hydraulic") {
+    out << YAML::Key << "kind" << YAML::Value << name_of(kCavityKindNames, c.kind);
+    if (is_actuated(c.kind)) {
       if (c.added_volume)
         emit_number(out, "added_volume", *c.added_volume);
       else
         emit_number(out, "pressure", c.pressure);
     }
-    if (c.kind == "hydraulic") {
+    if (c.kind == CavityKind::hydraulic) {
       emit_number(out, "density", c.density);
       emit_fluid_weight(out, c.fluid_weight);
     }
-    if (c.kind == "sealed_gas") {
+    if (c.kind == CavityKind::sealed_gas) {
       emit_number(out, "initial_pressure", c.initial_pressure);
       emit_number(out, "atmospheric_pressure", c.atmospheric_pressure);
     }
@@ -183,7 +183,17 @@ void emit_bound(YAML::Emitter& out, const std::string& key, double value, double
   if (value != unset) emit_number(out, key, value);
 }
 
-void emit_control(YAML::Emitter& out, const ControlConfig& control) {
+constexpr const char* kCavityKeys[] = {"cavity",
+                                       "min_pressure",
+                                       "max_pressure",
+                                       "min_volume_growth",
+                                       "max_volume_growth",
+                                       "max_pressure_change"};
+constexpr const char* kCableKeys[] = {"cable",    "min_force", "max_force",
+                                      "min_pull", "max_pull",  "max_force_change"};
+
+void emit_control(YAML::Emitter& out, const ControlConfig& control,
+                  const std::vector<CableConfig>& cables) {
   const ActuatorConfig unset;
   out << YAML::Key << "control" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "effectors" << YAML::Value << YAML::BeginSeq;
@@ -205,21 +215,20 @@ void emit_control(YAML::Emitter& out, const ControlConfig& control) {
   out << YAML::Key << "actuators" << YAML::Value << YAML::BeginSeq;
   for (const auto& a : control.actuators) {
     out << YAML::BeginMap;
-    if (a.cable) {
-      out << YAML::Key << "cable" << YAML::Value << a.cavity;
-      emit_number(out, "min_force", a.min_pressure);
-      emit_bound(out, "max_force", a.max_pressure, unset.max_pressure);
-      emit_bound(out, "min_pull", a.min_volume_growth, unset.min_volume_growth);
-      emit_bound(out, "max_pull", a.max_volume_growth, unset.max_volume_growth);
-      emit_bound(out, "max_force_change", a.max_pressure_change, unset.max_pressure_change);
-    } else {
-      out << YAML::Key << "cavity" << YAML::Value << a.cavity;
-      emit_bound(out, "min_pressure", a.min_pressure, unset.min_pressure);
-      emit_bound(out, "max_pressure", a.max_pressure, unset.max_pressure);
-      emit_bound(out, "min_volume_growth", a.min_volume_growth, unset.min_volume_growth);
-      emit_bound(out, "max_volume_growth", a.max_volume_growth, unset.max_volume_growth);
-      emit_bound(out, "max_pressure_change", a.max_pressure_change, unset.max_pressure_change);
-    }
+    const bool cable = std::any_of(cables.begin(), cables.end(),
+                                   [&](const CableConfig& c) { return c.name == a.constraint; });
+    // The deck's keys in the driven constraint's units: a cable's force and pull, a cavity's
+    // pressure and volume growth. A cable's min_force is always printed (its default is 0).
+    const char* const* k = cable ? kCableKeys : kCavityKeys;
+    out << YAML::Key << k[0] << YAML::Value << a.constraint;
+    if (cable)
+      emit_number(out, k[1], a.min_multiplier);
+    else
+      emit_bound(out, k[1], a.min_multiplier, unset.min_multiplier);
+    emit_bound(out, k[2], a.max_multiplier, unset.max_multiplier);
+    emit_bound(out, k[3], a.min_measure_change, unset.min_measure_change);
+    emit_bound(out, k[4], a.max_measure_change, unset.max_measure_change);
+    emit_bound(out, k[5], a.max_multiplier_step, unset.max_multiplier_step);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
@@ -236,7 +245,7 @@ void emit_control(YAML::Emitter& out, const ControlConfig& control) {
   out << YAML::Key << "steps_per_target" << YAML::Value << control.steps_per_target;
   emit_number(out, "regularization", control.regularization);
   out << YAML::Key << "newton_finish" << YAML::Value << control.newton_finish;
-  out << YAML::Key << "free_solve" << YAML::Value << control.free_solve;
+  out << YAML::Key << "free_solve" << YAML::Value << name_of(kFreeSolveNames, control.free_solve);
   out << YAML::Key << "refactor_every" << YAML::Value << control.refactor_every;
   out << YAML::Key << "check_equilibrium" << YAML::Value << control.check_equilibrium;
   out << YAML::EndMap;
@@ -284,7 +293,7 @@ std::string format_config(const Config& c) {
     out << YAML::Key << "group" << YAML::Value << c.tip->group;
     out << YAML::EndMap;
   }
-  if (c.control) emit_control(out, *c.control);
+  if (c.control) emit_control(out, *c.control, c.cables);
 
   out << YAML::Key << "solver" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "preset" << YAML::Value << c.solver.preset;

@@ -233,13 +233,12 @@ void expect_same(const Config& a, const Config& b) {
   }
   ASSERT_EQ(p.actuators.size(), q.actuators.size());
   for (size_t i = 0; i < p.actuators.size(); ++i) {
-    EXPECT_EQ(p.actuators[i].cavity, q.actuators[i].cavity);
-    EXPECT_EQ(p.actuators[i].cable, q.actuators[i].cable);
-    EXPECT_EQ(p.actuators[i].min_pressure, q.actuators[i].min_pressure);
-    EXPECT_EQ(p.actuators[i].max_pressure, q.actuators[i].max_pressure);
-    EXPECT_EQ(p.actuators[i].min_volume_growth, q.actuators[i].min_volume_growth);
-    EXPECT_EQ(p.actuators[i].max_volume_growth, q.actuators[i].max_volume_growth);
-    EXPECT_EQ(p.actuators[i].max_pressure_change, q.actuators[i].max_pressure_change);
+    EXPECT_EQ(p.actuators[i].constraint, q.actuators[i].constraint);
+    EXPECT_EQ(p.actuators[i].min_multiplier, q.actuators[i].min_multiplier);
+    EXPECT_EQ(p.actuators[i].max_multiplier, q.actuators[i].max_multiplier);
+    EXPECT_EQ(p.actuators[i].min_measure_change, q.actuators[i].min_measure_change);
+    EXPECT_EQ(p.actuators[i].max_measure_change, q.actuators[i].max_measure_change);
+    EXPECT_EQ(p.actuators[i].max_multiplier_step, q.actuators[i].max_multiplier_step);
   }
   ASSERT_EQ(p.targets.size(), q.targets.size());
   for (size_t i = 0; i < p.targets.size(); ++i) {
@@ -345,30 +344,30 @@ TEST_F(DeckParse, ReadsCavitiesStatesAndTip) {
 
   const auto& hydraulic = c.cavities[0];
   EXPECT_EQ(hydraulic.group, "cavity");
-  EXPECT_EQ(hydraulic.kind, "hydraulic");
+  EXPECT_EQ(hydraulic.kind, hs::CavityKind::hydraulic);
   EXPECT_EQ(hydraulic.added_volume, 1.5e-5);
   EXPECT_EQ(hydraulic.pressure, 0);     // an unknown of the run when the volume is given
   EXPECT_EQ(hydraulic.density, 13600);  // mercury
-  EXPECT_EQ(hydraulic.fluid_weight.method, "column");
+  EXPECT_EQ(hydraulic.fluid_weight.method, hs::WeightMethod::column);
   EXPECT_EQ(hydraulic.fluid_weight.grid, 64);
-  EXPECT_EQ(hydraulic.fluid_weight.device, "cuda");
-  EXPECT_EQ(hydraulic.fluid_weight.coupling, "linearized");
+  EXPECT_EQ(hydraulic.fluid_weight.device, hs::WeightDevice::cuda);
+  EXPECT_EQ(hydraulic.fluid_weight.coupling, hs::WeightCoupling::linearized);
 
-  EXPECT_EQ(c.cavities[1].kind, "pneumatic");
+  EXPECT_EQ(c.cavities[1].kind, hs::CavityKind::pneumatic);
   EXPECT_EQ(c.cavities[1].pressure, 2.0e3);
   EXPECT_FALSE(c.cavities[1].added_volume.has_value());
 
   // No control at all: an open cavity at gauge pressure 0.
   const auto& open = c.cavities[2];
-  EXPECT_EQ(open.kind, "pneumatic");
+  EXPECT_EQ(open.kind, hs::CavityKind::pneumatic);
   EXPECT_EQ(open.pressure, 0);
   EXPECT_FALSE(open.added_volume.has_value());
   EXPECT_EQ(open.density, 0);
 
-  EXPECT_EQ(c.cavities[3].kind, "sealed_gas");
+  EXPECT_EQ(c.cavities[3].kind, hs::CavityKind::sealed_gas);
   EXPECT_EQ(c.cavities[3].initial_pressure, -5.0e3);
   EXPECT_EQ(c.cavities[3].atmospheric_pressure, 1.0e5);
-  EXPECT_EQ(c.cavities[4].kind, "sealed_volume");
+  EXPECT_EQ(c.cavities[4].kind, hs::CavityKind::sealed_volume);
   // A sealed gas without its keys: gauge 0 at the mesh's volume, standard atmosphere.
   EXPECT_EQ(c.cavities[6].initial_pressure, 0);
   EXPECT_EQ(c.cavities[6].atmospheric_pressure, 101325);
@@ -376,9 +375,9 @@ TEST_F(DeckParse, ReadsCavitiesStatesAndTip) {
   // Hydraulic defaults: a weightless liquid; the fluid-weight keys not given keep theirs.
   const auto& water = c.cavities[5];
   EXPECT_EQ(water.density, 0);
-  EXPECT_EQ(water.fluid_weight.method, "hydrostatic");
-  EXPECT_EQ(water.fluid_weight.device, "cpu");
-  EXPECT_EQ(water.fluid_weight.coupling, "converged");
+  EXPECT_EQ(water.fluid_weight.method, hs::WeightMethod::hydrostatic);
+  EXPECT_EQ(water.fluid_weight.device, hs::WeightDevice::cpu);
+  EXPECT_EQ(water.fluid_weight.coupling, hs::WeightCoupling::converged);
 
   ASSERT_EQ(c.states.size(), 3u);
   EXPECT_EQ(c.states[0].name, "rest");
@@ -409,7 +408,7 @@ cavities: [{group: cavity, added_volume: -1.0e-6}]
 time: {steps: 6}
 )"));
   ASSERT_EQ(c.cavities.size(), 1u);
-  EXPECT_EQ(c.cavities[0].kind, "pneumatic");
+  EXPECT_EQ(c.cavities[0].kind, hs::CavityKind::pneumatic);
   EXPECT_EQ(c.cavities[0].added_volume, -1.0e-6);  // a negative added volume deflates
   EXPECT_TRUE(c.states.empty());
   EXPECT_EQ(c.time.steps, 6);
@@ -436,20 +435,20 @@ TEST_F(DeckParse, ReadsControl) {
 
   ASSERT_EQ(control.actuators.size(), 2u);
   const auto& upper = control.actuators[0];
-  EXPECT_EQ(upper.cavity, "upper");
-  EXPECT_EQ(upper.min_pressure, -1.5e3);
-  EXPECT_EQ(upper.max_pressure, 2.0e4);
-  EXPECT_EQ(upper.min_volume_growth, -1.0e-6);
-  EXPECT_EQ(upper.max_volume_growth, 2.0e-5);
-  EXPECT_EQ(upper.max_pressure_change, 2000);
+  EXPECT_EQ(upper.constraint, "upper");
+  EXPECT_EQ(upper.min_multiplier, -1.5e3);
+  EXPECT_EQ(upper.max_multiplier, 2.0e4);
+  EXPECT_EQ(upper.min_measure_change, -1.0e-6);
+  EXPECT_EQ(upper.max_measure_change, 2.0e-5);
+  EXPECT_EQ(upper.max_multiplier_step, 2000);
   // Equal bounds hold the pressure; the bounds not given are none.
   const auto& lower = control.actuators[1];
-  EXPECT_EQ(lower.cavity, "lower");
-  EXPECT_EQ(lower.min_pressure, 0);
-  EXPECT_EQ(lower.max_pressure, 0);
-  EXPECT_EQ(lower.min_volume_growth, -1e300);
-  EXPECT_EQ(lower.max_volume_growth, 1e300);
-  EXPECT_EQ(lower.max_pressure_change, 1e300);
+  EXPECT_EQ(lower.constraint, "lower");
+  EXPECT_EQ(lower.min_multiplier, 0);
+  EXPECT_EQ(lower.max_multiplier, 0);
+  EXPECT_EQ(lower.min_measure_change, -1e300);
+  EXPECT_EQ(lower.max_measure_change, 1e300);
+  EXPECT_EQ(lower.max_multiplier_step, 1e300);
 
   // Target sets in order, each with its effectors in the deck's order.
   ASSERT_EQ(control.targets.size(), 3u);
@@ -469,7 +468,7 @@ TEST_F(DeckParse, ReadsControl) {
   EXPECT_EQ(control.steps_per_target, 25);
   EXPECT_EQ(control.regularization, 0);
   EXPECT_TRUE(control.newton_finish);
-  EXPECT_EQ(control.free_solve, "one_step");
+  EXPECT_EQ(control.free_solve, hs::FreeSolve::one_step);
   EXPECT_FALSE(control.targets_from_stdin);  // only the command line sets it
   // Control leaves the rest of the run as it was.
   EXPECT_EQ(c.cavities.size(), 3u);
@@ -487,17 +486,17 @@ TEST_F(DeckParse, ControlDefaults) {
   EXPECT_EQ(c.control->effectors[0].weight, 1);
   ASSERT_EQ(c.control->actuators.size(), 1u);
   const auto& a = c.control->actuators[0];
-  EXPECT_EQ(a.min_pressure, unbounded.min_pressure);
-  EXPECT_EQ(a.max_pressure, 2.0e4);
-  EXPECT_EQ(a.min_volume_growth, unbounded.min_volume_growth);
-  EXPECT_EQ(a.max_volume_growth, unbounded.max_volume_growth);
-  EXPECT_EQ(a.max_pressure_change, unbounded.max_pressure_change);
+  EXPECT_EQ(a.min_multiplier, unbounded.min_multiplier);
+  EXPECT_EQ(a.max_multiplier, 2.0e4);
+  EXPECT_EQ(a.min_measure_change, unbounded.min_measure_change);
+  EXPECT_EQ(a.max_measure_change, unbounded.max_measure_change);
+  EXPECT_EQ(a.max_multiplier_step, unbounded.max_multiplier_step);
   EXPECT_TRUE(c.control->targets.empty());  // none in the deck (e.g. from the command line)
   EXPECT_EQ(c.control->steps_per_target, 10);
   EXPECT_EQ(c.control->regularization, 1e-3);
   EXPECT_EQ(c.control->regularization, defaults.regularization);
   EXPECT_FALSE(c.control->newton_finish);
-  EXPECT_EQ(c.control->free_solve, "newton");
+  EXPECT_EQ(c.control->free_solve, hs::FreeSolve::newton);
   EXPECT_FALSE(c.control->targets_from_stdin);
 }
 
@@ -638,7 +637,7 @@ states:
 )");
   const Config c = parse_deck(path, {"cavities[0].kind=hydraulic", "cavities[0].density=1000",
                                      "states[1].cavities.cavity.pressure=3000"});
-  EXPECT_EQ(c.cavities[0].kind, "hydraulic");
+  EXPECT_EQ(c.cavities[0].kind, hs::CavityKind::hydraulic);
   EXPECT_EQ(c.cavities[0].density, 1000);
   EXPECT_EQ(c.states[1].cavities.at("cavity").pressure, 3000);
   const std::string message = error_of(path, {"cavities[0].density=-1"});
@@ -652,13 +651,13 @@ TEST_F(DeckParse, OverridesReachControl) {
   const std::string path = tmp.write("decks/control.yaml", kControlDeck);
   const Config c = parse_deck(
       path, {"control.regularization=1e-2", "control.targets[0].tip=[0.07, 0, 0.03]",
-             "control.actuators[1].max_pressure=1000", "control.effectors[0].directions=[y]"});
+             "control.actuators[1].max_multiplier=1000", "control.effectors[0].directions=[y]"});
   EXPECT_EQ(c.control->regularization, 1e-2);
   EXPECT_EQ(c.control->targets[0][0].position, (std::array<double, 3>{0.07, 0, 0.03}));
-  EXPECT_EQ(c.control->actuators[1].max_pressure, 1000);
+  EXPECT_EQ(c.control->actuators[1].max_multiplier, 1000);
   EXPECT_EQ(c.control->effectors[0].directions, (std::array<bool, 3>{false, true, false}));
-  const std::string message = error_of(path, {"control.actuators[0].max_pressure=-2000"});
-  EXPECT_NE(message.find(path + ": control.actuators[0].min_pressure: is -1500 but max_pressure is "
+  const std::string message = error_of(path, {"control.actuators[0].max_multiplier=-2000"});
+  EXPECT_NE(message.find(path + ": control.actuators[0].min_multiplier: is -1500 but max_pressure is "
                                 "-2000"),
             std::string::npos)
       << message;
@@ -716,7 +715,7 @@ TEST(DocumentedExample, Parses) {
   EXPECT_EQ(with_cable.cables[0].pull_point->at(0), -0.02);
   ASSERT_TRUE(control.control.has_value());
   EXPECT_EQ(control.control->effectors[0].point, "effector");
-  EXPECT_EQ(control.control->actuators[0].max_volume_growth, 2.0e-5);
+  EXPECT_EQ(control.control->actuators[0].max_measure_change, 2.0e-5);
   ASSERT_EQ(control.control->targets.size(), 2u);
   EXPECT_EQ(control.control->targets[1][0].position, (std::array<double, 3>{0.08, 0.0, 0.02}));
   blocks.erase(blocks.begin(), blocks.begin() + 2);

@@ -16,7 +16,7 @@
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "solvers/bordered_newton.hpp"
-#include "solvers/cavity_system.hpp"
+#include "solvers/constraints/constraint_set.hpp"
 #include "solvers/effectors.hpp"
 #include "solvers/inverse_controller.hpp"
 #include "solvers/newton_solver.hpp"
@@ -45,7 +45,7 @@ struct DeckProblem {
 };
 
 struct ControlScene : DeckProblem {
-  std::unique_ptr<hs::CavitySystem> cavities;
+  std::unique_ptr<hs::ConstraintSet> cavities;
   std::unique_ptr<hs::BorderedNewton> newton;
   std::unique_ptr<hs::Effectors> effectors;
   Vec rest = nullptr;
@@ -63,7 +63,7 @@ struct ControlScene : DeckProblem {
           control.newton_finish = true;
           config.control = control;
         }) {
-    cavities = std::make_unique<hs::CavitySystem>(config, *problem, mesh, dist);
+    cavities = std::make_unique<hs::ConstraintSet>(config, *problem, mesh, dist);
     hs::set_solver_options(config.solver, false);
     newton = std::make_unique<hs::BorderedNewton>(*problem, *cavities);
     effectors = std::make_unique<hs::Effectors>(config, *problem);
@@ -80,8 +80,8 @@ struct ControlScene : DeckProblem {
 
   // Equilibrium at actuation p of constraint 0 (pressure or tension), load factor s.
   void solve_at(Vec u, double p, double s = 1.0) {
-    hs::Cavity& c = (*cavities)[0];
-    c.control = hs::CavityControl::pressure;
+    hs::Constraint& c = (*cavities)[0];
+    c.control = hs::Constraint::Control::multiplier;
     c.target = c.lambda = p;
     problem->apply_dirichlet(u, s);
     if (cavities->linearized()) cavities->freeze_weights(u, s);

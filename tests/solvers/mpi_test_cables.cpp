@@ -14,7 +14,7 @@
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
-#include "solvers/cable.hpp"
+#include "solvers/constraints/cable_path.hpp"
 #include "solvers/inverse_controller.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/problem.hpp"
@@ -61,7 +61,7 @@ TEST(Cables, LengthUnderAnAffineDeformationIsExact) {
   Vec u = b.affine(A);
   for (bool pull : {false, true}) {
     const hs::CableConfig config = bottom_cable(pull);
-    hs::Cable cable(config, *b.problem, "test");
+    hs::CablePath cable(config, *b.problem, "test");
     auto map = [&](const std::array<double, 3>& X) {
       std::array<double, 3> x;
       for (int d = 0; d < 3; ++d) x[d] = X[d] + A[d][0] * X[0] + A[d][1] * X[1] + A[d][2] * X[2];
@@ -91,7 +91,7 @@ TEST(Cables, PullDirectionIsMinusTheLengthGradient) {
   Vec u = b.affine(A), du = b.affine(B), g = b.problem->create_vector();
   Vec up = b.problem->create_vector(), um = b.problem->create_vector();
   for (bool pull : {false, true}) {
-    hs::Cable cable(bottom_cable(pull), *b.problem, "test");
+    hs::CablePath cable(bottom_cable(pull), *b.problem, "test");
     cable.pull_direction(u, g);
     const double h = 1e-6;
     VecWAXPY(up, h, du, u);
@@ -127,7 +127,7 @@ TEST(Cables, OutsidePointIsRefused) {
   hs::CableConfig c = bottom_cable(true);
   c.points[1] = {0.05, 0.0, 0.02};  // above the finger (T = 16 mm)
   try {
-    hs::Cable cable(c, *b.problem, "deck.yaml");
+    hs::CablePath cable(c, *b.problem, "deck.yaml");
     FAIL() << "a point outside the mesh was accepted";
   } catch (const hs::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("cables 'tendon' points[1]"), std::string::npos)
@@ -143,10 +143,9 @@ struct CableScene : hs_test::ControlScene {
                      {"mesh.parameters.h=0.006"}) {}
   static hs::ActuatorConfig actuator(double max_force) {
     hs::ActuatorConfig a;
-    a.cavity = "tendon";
-    a.cable = true;
-    a.min_pressure = 0;
-    a.max_pressure = max_force;
+    a.constraint = "tendon";
+    a.min_multiplier = 0;
+    a.max_multiplier = max_force;
     return a;
   }
 };
@@ -179,7 +178,7 @@ TEST(Cables, TangentWithTheCableStiffnessMatchesDifferences) {
   // cable's turning stiffness T (I - e e^T) / l is in J (without it the two differ by
   // about T / l per unit displacement of its points).
   CableScene s(10.0);
-  hs::Cavity& cable = (*s.cavities)[0];
+  hs::Constraint& cable = (*s.cavities)[0];
   cable.lambda = 0.8;
   Vec u = s.problem->create_vector(), du = s.problem->create_vector();
   VecCopy(s.rest, u);
@@ -192,7 +191,7 @@ TEST(Cables, TangentWithTheCableStiffnessMatchesDifferences) {
   VecAssemblyEnd(du);
   s.problem->zero_constrained(du);
   Mat J = s.problem->create_matrix();
-  hs::CavityLinearization lin;
+  hs::ConstraintLinearization lin;
   std::vector<double> c;
   Vec R = s.problem->create_vector(), Rp = s.problem->create_vector(),
       Rm = s.problem->create_vector(), up = s.problem->create_vector(),

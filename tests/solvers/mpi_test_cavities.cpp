@@ -17,7 +17,8 @@
 #include "mesh/gmsh_io.hpp"
 #include "run_deck.hpp"
 #include "solvers/bordered_newton.hpp"
-#include "solvers/cavity_system.hpp"
+#include "solvers/constraints/cavity_weight.hpp"
+#include "solvers/constraints/constraint_set.hpp"
 #include "solvers/problem.hpp"
 #include "solvers/simulation.hpp"
 
@@ -30,7 +31,7 @@ struct Scene {
   hs::Mesh mesh;
   hs::Distribution dist;
   std::unique_ptr<hs::Problem> problem;
-  std::unique_ptr<hs::CavitySystem> cavities;
+  std::unique_ptr<hs::ConstraintSet> cavities;
   explicit Scene(const std::string& deck, std::vector<std::string> overrides) {
     config = hs::parse_deck(kSource + "/input/" + deck, overrides);
     mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
@@ -39,7 +40,7 @@ struct Scene {
     MPI_Comm_size(PETSC_COMM_WORLD, &size);
     dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
     problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
-    cavities = std::make_unique<hs::CavitySystem>(config, *problem, mesh, dist);
+    cavities = std::make_unique<hs::ConstraintSet>(config, *problem, mesh, dist);
   }
 };
 
@@ -92,8 +93,8 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
     hs::Problem& p = *s.problem;
     Vec u = p.create_vector(), g = p.create_vector(), du = p.create_vector();
     bend(p, u, 0.01);
-    const int surface = (*s.cavities)[0].surface;
-    p.volume_gradient(surface, u, g);
+    const hs::Constraint& cavity = (*s.cavities)[0];
+    cavity.forces(u, g);
     double force[3], moment[3];
     resultant_and_moment(p, u, g, force, moment);
     PetscReal scale = 0;
@@ -109,7 +110,7 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
     auto volume_at = [&](double t) {
       Vec ut = p.create_vector();
       VecWAXPY(ut, t, du, u);
-      const double v = p.enclosed_volume(surface, ut);
+      const double v = cavity.measure_at(ut);
       VecDestroy(&ut);
       return v;
     };
@@ -252,8 +253,8 @@ TEST(Cavities, PressureWorkEqualsStoredEnergyAndGravityWork) {
   PetscReal fg_norm = 0;
   VecNorm(fg, NORM_2, &fg_norm);
   newton.set_load_norm(fg_norm);
-  hs::Cavity& cavity = (*s.cavities)[0];
-  cavity.control = hs::CavityControl::pressure;
+  hs::Constraint& cavity = (*s.cavities)[0];
+  cavity.control = hs::Constraint::Control::multiplier;
   const int n = 16;
   const double p_max = 3000;
   std::vector<double> volume;
@@ -263,7 +264,7 @@ TEST(Cavities, PressureWorkEqualsStoredEnergyAndGravityWork) {
     p.apply_dirichlet(u, 1.0);
     const auto r = newton.solve(u, 1.0);
     ASSERT_TRUE(r.converged) << "pressure " << cavity.target << ": " << r.reason;
-    volume.push_back(cavity.volume);
+    volume.push_back(cavity.measure);
     if (k == 0) {
       p.internal_force(u, f, &psi0);
       VecCopy(u, u0);
@@ -327,7 +328,7 @@ TEST(Cavities, ColumnAndHydrostaticWeightsHaveTheSameResultantAndMoment) {
   bend(p, u, 0.01);
   hs::CavityConfig c = s.config.cavities[0];
   hs::CavityWeight by_columns(s.mesh, s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
-  c.fluid_weight.method = "hydrostatic";
+  c.fluid_weight.method = hs::WeightMethod::hydrostatic;
   hs::CavityWeight by_pressure(s.mesh, s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
   by_columns.add_weight(u, 1.0, column);
   by_pressure.add_weight(u, 1.0, exact);
@@ -335,7 +336,7 @@ TEST(Cavities, ColumnAndHydrostaticWeightsHaveTheSameResultantAndMoment) {
   resultant_and_moment(p, u, column, f1, m1);
   resultant_and_moment(p, u, exact, f2, m2);
   const double weight = std::hypot(f2[0], f2[1], f2[2]);
-  EXPECT_NEAR(weight, 1000 * 9.81 * p.enclosed_volume((*s.cavities)[0].surface, u), 1e-10 * weight);
+  EXPECT_NEAR(weight, 1000 * 9.81 * (*s.cavities)[0].measure_at(u), 1e-10 * weight);
   for (int d = 0; d < 3; ++d) {
     EXPECT_NEAR(f1[d], f2[d], 1e-3 * weight) << "force " << d;
     EXPECT_NEAR(m1[d], m2[d], 1e-3 * weight * 0.15) << "moment " << d;

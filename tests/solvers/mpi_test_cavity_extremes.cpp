@@ -15,7 +15,7 @@
 #include "mesh/gmsh_io.hpp"
 #include "run_deck.hpp"
 #include "solvers/bordered_newton.hpp"
-#include "solvers/cavity_system.hpp"
+#include "solvers/constraints/constraint_set.hpp"
 #include "solvers/problem.hpp"
 #include "solvers/simulation.hpp"
 
@@ -145,7 +145,7 @@ TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
   const hs::Distribution dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
   hs::Problem problem(config, mesh, dist, PETSC_COMM_WORLD);
-  hs::CavitySystem cavities(config, problem, mesh, dist);
+  hs::ConstraintSet cavities(config, problem, mesh, dist);
   hs::set_solver_options(config.solver, false);
   hs::BorderedNewton newton(problem, cavities);
   Vec u = problem.create_vector(), R = problem.create_vector();
@@ -156,8 +156,8 @@ TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   VecRestoreArray(u, &a);
   std::vector<double> c;
   EXPECT_FALSE(cavities.residual(u, 1.0, R, c));
-  const double v0 = cavities[0].reference_volume;
-  EXPECT_NEAR(cavities[0].volume, -v0, 1e-12 * v0);
+  const double v0 = cavities[0].reference_measure;
+  EXPECT_NEAR(cavities[0].measure, -v0, 1e-12 * v0);
   const std::string reason = "cavity 'cavity' reaches a volume of " + g4(-v0) +
                              " m^3 <= 0 (its walls pass through each other)";
   EXPECT_EQ(cavities.collapse_reason(), reason);

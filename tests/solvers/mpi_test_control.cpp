@@ -20,8 +20,8 @@ struct Scene : hs_test::ControlScene {
       : ControlScene(deck, {0.0, 0.0, -0.15}, actuator(max_pressure)) {}
   static hs::ActuatorConfig actuator(double max_pressure) {
     hs::ActuatorConfig a;
-    a.cavity = "cavity";
-    a.max_pressure = max_pressure;
+    a.constraint = "cavity";
+    a.max_multiplier = max_pressure;
     return a;
   }
 };
@@ -29,7 +29,7 @@ struct Scene : hs_test::ControlScene {
 void expect_reaches(const std::string& deck, const std::string& free_solve = "newton",
                     int refactor_every = 1) {
   Scene s(deck, 1e300);
-  s.config.control->free_solve = free_solve;
+  s.config.control->free_solve = hs::enum_of<hs::FreeSolve>(hs::kFreeSolveNames, free_solve);
   s.config.control->refactor_every = refactor_every;
   const double p = 3000;
   const auto target = s.forward(p);

@@ -1,4 +1,4 @@
-#include "solvers/cavity_weight.hpp"
+#include "solvers/constraints/cavity_weight.hpp"
 
 #include <petscis.h>
 
@@ -41,10 +41,10 @@ CavityWeight::CavityWeight(const Mesh& mesh, const Distribution& dist, const Cav
     : comm_(comm), owner_(owner), density_(cavity.density) {
   MPI_Comm_rank(comm, &rank_);
   const auto& fw = cavity.fluid_weight;
-  options_.method =
-      fw.method == "hydrostatic" ? fluidweight::Method::hydrostatic : fluidweight::Method::column;
-  options_.implementation = fw.device == "cuda" ? fluidweight::Implementation::cuda
-                                                : fluidweight::Implementation::cpu_fast;
+  options_.method = fw.method == WeightMethod::hydrostatic ? fluidweight::Method::hydrostatic
+                                                           : fluidweight::Method::column;
+  options_.implementation = fw.device == WeightDevice::cuda ? fluidweight::Implementation::cuda
+                                                            : fluidweight::Implementation::cpu_fast;
   options_.grid = fw.grid;
   options_.rho = cavity.density;
   options_.threads = 1;  // one core per rank: the ranks already share the machine

@@ -21,14 +21,14 @@
 
 namespace hs {
 
-class Cable {
+class CablePath {
  public:
   // Collective. Throws InputError naming the deck, the cable and the point when a point
   // lies outside the mesh.
-  Cable(const CableConfig& config, Problem& problem, const std::string& deck_path);
-  ~Cable();
-  Cable(const Cable&) = delete;
-  Cable& operator=(const Cable&) = delete;
+  CablePath(const CableConfig& config, Problem& problem, const std::string& deck_path);
+  ~CablePath();
+  CablePath(const CablePath&) = delete;
+  CablePath& operator=(const CablePath&) = delete;
 
   // Current positions of the cable's points (3 per point, every rank; collective).
   std::vector<double> positions(Vec u) const;

@@ -1,4 +1,4 @@
-#include "solvers/cable.hpp"
+#include "solvers/constraints/cable_path.hpp"
 
 #include <cmath>
 
@@ -8,7 +8,7 @@
 
 namespace hs {
 
-Cable::Cable(const CableConfig& config, Problem& problem, const std::string& deck_path)
+CablePath::CablePath(const CableConfig& config, Problem& problem, const std::string& deck_path)
     : config_(config) {
   const Mesh& mesh = problem.mesh();
   const Distribution& dist = problem.distribution();
@@ -57,11 +57,11 @@ Cable::Cable(const CableConfig& config, Problem& problem, const std::string& dec
   HS_PETSC(VecDestroy(&mask));
 }
 
-Cable::~Cable() {
+CablePath::~CablePath() {
   for (auto& v : rows_) VecDestroy(&v);
 }
 
-std::vector<double> Cable::positions(Vec u) const {
+std::vector<double> CablePath::positions(Vec u) const {
   std::vector<PetscScalar> dots(rows_.size());
   HS_PETSC(VecMDot(u, static_cast<PetscInt>(rows_.size()), rows_.data(), dots.data()));
   std::vector<double> x(reference_);
@@ -70,14 +70,14 @@ std::vector<double> Cable::positions(Vec u) const {
 }
 
 // The polyline the cable follows: the material points, then the pull point (fixed).
-std::vector<std::array<double, 3>> Cable::path(const std::vector<double>& x) const {
+std::vector<std::array<double, 3>> CablePath::path(const std::vector<double>& x) const {
   std::vector<std::array<double, 3>> p;
   for (size_t i = 0; i < x.size(); i += 3) p.push_back({x[i], x[i + 1], x[i + 2]});
   if (config_.pull_point) p.push_back(*config_.pull_point);
   return p;
 }
 
-double Cable::length(Vec u) const {
+double CablePath::length(Vec u) const {
   const auto p = path(positions(u));
   double L = 0;
   for (size_t i = 0; i + 1 < p.size(); ++i)
@@ -85,7 +85,7 @@ double Cable::length(Vec u) const {
   return L;
 }
 
-void Cable::pull_direction(Vec u, Vec g) const {
+void CablePath::pull_direction(Vec u, Vec g) const {
   const auto p = path(positions(u));
   const size_t points = rows_.size() / 3;  // path entries past these are the pull point
   // -dL/dx_k: the unit vectors from x_k towards its neighbours on the path.
@@ -104,7 +104,7 @@ void Cable::pull_direction(Vec u, Vec g) const {
                     const_cast<Vec*>(rows_.data())));
 }
 
-void Cable::set_stiffness(Vec u, double T, Problem& problem) const {
+void CablePath::set_stiffness(Vec u, double T, Problem& problem) const {
   const auto p = path(positions(u));
   if (couplings_.empty()) return;  // ranks other than 0
   const size_t points = dofs_.size();

@@ -1,0 +1,90 @@
+#include "solvers/constraints/cavity.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "common/error.hpp"
+#include "fluidweight/fluidweight.hpp"
+#include "solvers/problem.hpp"
+
+namespace hs {
+namespace {
+
+std::string format_si(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", x);
+  return text;
+}
+
+// Refuses a cavity whose faces do not form a closed, manifold, consistently oriented surface,
+// naming the first bad edge by its mesh node numbers.
+void check_cavity_surface(const Mesh& mesh, const std::string& deck, const std::string& group) {
+  const auto& faces = mesh.surfaces.at(group);
+  const int npf = mesh.nodes_per_face();
+  fluidweight::SurfaceMesh corners;
+  corners.vertices = mesh.x;
+  for (size_t f = 0; f < faces.size() / npf; ++f)
+    for (int a = 0; a < 3; ++a) corners.triangles.push_back(static_cast<int>(faces[f * npf + a]));
+  try {
+    fluidweight::check_closed_surface(corners, "cavity '" + group + "'");
+  } catch (const fluidweight::InputError& e) {
+    throw InputError(deck + ": " + e.what() + " (mesh node numbers, 0-based)");
+  }
+}
+
+}  // namespace
+
+Cavity::Cavity(const CavityConfig& config, Problem& problem, const Mesh& mesh,
+               const std::string& deck_path)
+    : Constraint(config.group), problem_(problem), config_(config) {
+  check_cavity_surface(mesh, deck_path, config.group);
+  surface_ = problem.add_cavity_surface(config.group);
+  Vec zero = problem.create_vector();
+  reference_measure = problem.enclosed_volume(surface_, zero);
+  HS_PETSC(VecDestroy(&zero));
+  if (!(reference_measure > 0))
+    throw InputError(deck_path + ": cavity '" + config.group + "': its faces enclose a volume of " +
+                     std::to_string(reference_measure) +
+                     " m^3; a cavity's wall faces point into the cavity, out of the body, and "
+                     "enclose a positive volume (is the group an outer boundary?)");
+  measure = rest_measure = reference_measure;
+  first_state_multiplier = config.pressure;
+  first_state_measure_change = config.added_volume;
+  control = config.added_volume ? Control::measure : Control::multiplier;
+  // Walls cannot pass through each other (there is no contact), so a volume target <= 0
+  // has no solution; refuse it before any solve.
+  if (config.added_volume && !(reference_measure + *config.added_volume > 0))
+    throw InputError(deck_path + ": cavity '" + config.group + "': added_volume " +
+                     format_si(*config.added_volume) + " m^3 would leave it a volume of " +
+                     format_si(reference_measure + *config.added_volume) + " m^3 (it holds " +
+                     format_si(reference_measure) +
+                     " m^3 undeformed); a cavity's volume must stay > 0");
+}
+
+double Cavity::measure_at(Vec u) const { return problem_.enclosed_volume(surface_, u); }
+
+void Cavity::forces(Vec u, Vec g) const { problem_.volume_gradient(surface_, u, g); }
+
+void Cavity::apply_multiplier(Problem& problem) { problem.set_surface_pressure(surface_, lambda); }
+
+nlohmann::json Cavity::report() const {
+  nlohmann::json j;
+  j["name"] = name();
+  j["kind"] = kind();
+  j["volume"] = measure;
+  j["volume_ml"] = measure * 1e6;
+  j["added_volume_ml"] = (measure - rest_measure) * 1e6;
+  j["pressure"] = lambda;
+  double total[3] = {0, 0, 0};  // |sum of the nodal weights| on the current configuration
+  if (Vec W = measure_load()) HS_PETSC(VecStrideSumAll(W, total));
+  j["fluid_weight_total"] = std::hypot(total[0], total[1], total[2]);
+  return j;
+}
+
+std::string Cavity::collapse_reason() const {
+  if (measure > 0) return "";
+  return "cavity '" + name() + "' reaches a volume of " + format_si(measure) +
+         " m^3 <= 0 (its walls pass through each other)";
+}
+
+}  // namespace hs

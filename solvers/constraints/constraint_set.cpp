@@ -1,0 +1,187 @@
+#include "solvers/constraints/constraint_set.hpp"
+
+#include <algorithm>
+
+#include "solvers/constraints/cable.hpp"
+#include "solvers/constraints/hydraulic_cavity.hpp"
+#include "solvers/constraints/sealed_cavity.hpp"
+
+namespace hs {
+namespace {
+
+// The deck's constraints, one line per kind. The fluid-weight module of each weighing
+// hydraulic cavity runs on its own rank, round robin.
+std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config, Problem& problem,
+                                                          const Mesh& mesh,
+                                                          const Distribution& dist) {
+  int ranks = 1;
+  MPI_Comm_size(problem.comm(), &ranks);
+  int weighing = 0;
+  const std::string& deck = config.deck_path;
+  std::vector<std::unique_ptr<Constraint>> list;
+  for (const CavityConfig& c : config.cavities) {
+    switch (c.kind) {
+      case CavityKind::pneumatic:
+        list.push_back(std::make_unique<Cavity>(c, problem, mesh, deck));
+        break;
+      case CavityKind::hydraulic:
+        list.push_back(std::make_unique<HydraulicCavity>(c, problem, mesh, dist, config.gravity,
+                                                         weighing % ranks, deck));
+        weighing += HydraulicCavity::weighs(c, config.gravity);
+        break;
+      case CavityKind::sealed_gas:
+      case CavityKind::sealed_volume:
+        list.push_back(std::make_unique<SealedCavity>(c, problem, mesh, deck));
+        break;
+    }
+  }
+  for (const CableConfig& c : config.cables)
+    list.push_back(std::make_unique<Cable>(c, problem, deck));
+  return list;
+}
+
+}  // namespace
+
+ConstraintSet::ConstraintSet(const Config& config, Problem& problem, const Mesh& mesh,
+                             const Distribution& dist)
+    : problem_(problem), constraints_(make_constraints(config, problem, mesh, dist)) {
+  bool any_load = false;
+  for (const auto& c : constraints_) {
+    any_load |= c->adds_load();
+    linearized_ |= c->frozen_coupling();
+  }
+  if (any_load) {
+    loads_ = problem.create_vector();
+    problem.set_extra_load(loads_);
+  }
+}
+
+ConstraintSet::~ConstraintSet() {
+  problem_.set_extra_load(nullptr);
+  constraints_.clear();
+  VecDestroy(&loads_);
+}
+
+int ConstraintSet::find(const std::string& name) const {
+  for (int k = 0; k < size(); ++k)
+    if (constraints_[k]->name() == name) return k;
+  return -1;
+}
+
+std::vector<double> ConstraintSet::multipliers() const {
+  std::vector<double> lambda;
+  for (const auto& c : constraints_) lambda.push_back(c->lambda);
+  return lambda;
+}
+
+void ConstraintSet::set_multipliers(const std::vector<double>& lambda) {
+  for (size_t k = 0; k < constraints_.size(); ++k) constraints_[k]->lambda = lambda[k];
+}
+
+void ConstraintSet::freeze_weights(Vec u, double s) {
+  for (auto& c : constraints_) c->freeze(u, s);
+}
+
+bool ConstraintSet::residual(Vec u, double s, Vec R, std::vector<double>& control) {
+  control.resize(constraints_.size());
+  collapsed_ = -1;
+  const double t0 = MPI_Wtime();
+  for (size_t k = 0; k < constraints_.size(); ++k) {
+    Constraint& c = *constraints_[k];
+    c.apply_multiplier(problem_);
+    c.measure = c.measure_at(u);
+    if (collapsed_ < 0 && !c.collapse_reason().empty()) collapsed_ = static_cast<int>(k);
+  }
+  build_seconds_ += MPI_Wtime() - t0;
+  // A cavity whose walls have passed through each other (volume <= 0: nothing stops them,
+  // there is no contact) is outside the domain like an inverted element; its liquid's weight
+  // is not computed there.
+  if (collapsed_ < 0 && loads_) {
+    HS_PETSC(VecSet(loads_, 0.0));
+    for (auto& c : constraints_) c->add_load(u, s, loads_);
+  }
+  const bool ok = problem_.residual(u, s, R) && collapsed_ < 0;
+  for (size_t k = 0; k < constraints_.size(); ++k) control[k] = constraints_[k]->control_residual();
+  return ok;
+}
+
+bool ConstraintSet::linearize(Vec u, double s, Mat J, ConstraintLinearization& lin) {
+  // Stiffness that no element holds (a cable's tension turning with its path) is given to
+  // the problem before the tangent is assembled.
+  for (auto& c : constraints_) c->set_stiffness(u, problem_);
+  const bool ok = problem_.jacobian(u, s, J);
+  const double t0 = MPI_Wtime();
+  const size_t m = constraints_.size();
+  if (lin.g.size() != m) {
+    lin.g.resize(m, nullptr);
+    lin.q.resize(m, nullptr);
+    for (size_t k = 0; k < m; ++k) {
+      lin.g[k] = problem_.create_vector();
+      if (constraints_[k]->measure_load()) lin.q[k] = problem_.create_vector();
+    }
+  }
+  lin.alpha.assign(m, 0.0);
+  lin.b.assign(m, 0.0);
+  for (size_t k = 0; k < m; ++k) {
+    const Constraint& c = *constraints_[k];
+    c.forces(u, lin.g[k]);
+    if (lin.q[k]) {  // dw = (w / q) g^T du: the load follows the measure
+      HS_PETSC(VecAXPBY(lin.q[k], 1.0 / c.measure, 0.0, c.measure_load()));
+      problem_.zero_constrained(lin.q[k]);
+    }
+    c.control_linearization(lin.alpha[k], lin.b[k]);
+  }
+  build_seconds_ += MPI_Wtime() - t0;
+  return ok;
+}
+
+std::string ConstraintSet::collapse_reason() const {
+  return collapsed_ < 0 ? "" : constraints_[collapsed_]->collapse_reason();
+}
+
+double ConstraintSet::fluid_weight_seconds() const {
+  double seconds = 0;
+  for (const auto& c : constraints_)
+    if (const auto* h = dynamic_cast<const HydraulicCavity*>(c.get()))
+      seconds += h->weight_seconds();
+  return seconds;
+}
+
+int ConstraintSet::fluid_weight_calls() const {
+  int calls = 0;
+  for (const auto& c : constraints_)
+    if (const auto* h = dynamic_cast<const HydraulicCavity*>(c.get())) calls += h->weight_calls();
+  return calls;
+}
+
+nlohmann::json ConstraintSet::parts() const {
+  nlohmann::json p;
+  const auto cavities = std::count_if(constraints_.begin(), constraints_.end(),
+                                      [](const auto& c) { return c->is_cavity(); });
+  p["cavities"] = cavities;
+  p["cables"] = constraints_.size() - cavities;
+  int weighted = 0;
+  bool cuda = false;
+  std::string method;
+  for (const auto& c : constraints_) {
+    const auto* h = dynamic_cast<const HydraulicCavity*>(c.get());
+    if (!h || !h->has_weight()) continue;
+    ++weighted;
+    cuda |= std::string(h->device()) == "cuda";
+    method = h->method();
+  }
+  p["fluid_weight"]["cavities"] = weighted;
+  p["fluid_weight"]["device"] = weighted == 0 ? "none" : (cuda ? "cuda" : "cpu");
+  p["fluid_weight"]["method"] = weighted == 0 ? "none" : method;
+  p["fluid_weight"]["calls"] = fluid_weight_calls();
+  p["cuda_context"] = cuda;
+  return p;
+}
+
+nlohmann::json ConstraintSet::report() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& c : constraints_) list.push_back(c->report());
+  return list;
+}
+
+}  // namespace hs

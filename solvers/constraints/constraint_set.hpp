@@ -1,0 +1,81 @@
+// The constraints of a scene (constraint.hpp: cavities, cables) and what they add to
+// equation (1) of the paper, for the bordered Newton (bordered_newton.hpp) and the inverse
+// controller: the residual with every constraint's forces and loads, the controls c_k, and
+// the tangent with the columns g_k and, where a constraint's own load follows its measure
+// (a liquid's weight), q_k = w_k / q_k. Cavities come first, in the deck's order, then cables.
+#pragma once
+
+#include <petscmat.h>
+#include <petscvec.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "deck/config.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/mesh.hpp"
+#include "solvers/constraints/constraint.hpp"
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+// The linear algebra of one Newton step: the tangent J (with -lambda H), the columns g_k and
+// q_k (nullptr where a constraint has no load following its measure), and the controls'
+// linearisation alpha_k g_k^T du + b_k dlambda_k.
+struct ConstraintLinearization {
+  std::vector<Vec> g, q;
+  std::vector<double> alpha, b;
+};
+
+class ConstraintSet {
+ public:
+  // Collective. Makes the deck's cavities and cables (InputError for a bad one).
+  ConstraintSet(const Config& config, Problem& problem, const Mesh& mesh, const Distribution& dist);
+  ~ConstraintSet();
+  ConstraintSet(const ConstraintSet&) = delete;
+  ConstraintSet& operator=(const ConstraintSet&) = delete;
+
+  int size() const { return static_cast<int>(constraints_.size()); }
+  Constraint& operator[](int k) { return *constraints_[k]; }
+  const Constraint& operator[](int k) const { return *constraints_[k]; }
+  // The index of the constraint of that name, or -1.
+  int find(const std::string& name) const;
+  std::vector<double> multipliers() const;
+  void set_multipliers(const std::vector<double>& lambda);
+
+  // R(u, lambda; s) and the controls c (size()). Returns false on an inverted element or a
+  // constraint outside its domain (collapse_reason() then says why).
+  bool residual(Vec u, double s, Vec R, std::vector<double>& c);
+  // After a residual() that returned false: why, if a constraint left its domain; else "".
+  std::string collapse_reason() const;
+  // Tangent and linearisation at (u, lambda; s), after a residual() at the same point.
+  bool linearize(Vec u, double s, Mat J, ConstraintLinearization& lin);
+  // q_k(u) (collective).
+  double measure(int k, Vec u) const { return constraints_[k]->measure_at(u); }
+  double control_scale(int k) const { return constraints_[k]->control_scale(); }
+
+  // Linearized coupling: freezes each hydraulic cavity's weights at configuration u.
+  void freeze_weights(Vec u, double s);
+  bool linearized() const { return linearized_; }
+
+  // Fluid-weight seconds and calls so far, and what ran (for summary.json).
+  double fluid_weight_seconds() const;
+  int fluid_weight_calls() const;
+  // Seconds spent building the constraints: measures, their forces g, the columns q, the
+  // cables' stiffness (not the FEM assembly).
+  double constraint_build_seconds() const { return build_seconds_; }
+  nlohmann::json parts() const;
+  nlohmann::json report() const;  // one entry per constraint
+
+ private:
+  Problem& problem_;
+  std::vector<std::unique_ptr<Constraint>> constraints_;
+  Vec loads_ = nullptr;  // the constraints' own loads, the problem's extra load
+  bool linearized_ = false;
+  int collapsed_ = -1;  // the first constraint outside its domain at the last residual(), or -1
+  double build_seconds_ = 0;
+};
+
+}  // namespace hs

@@ -1,0 +1,53 @@
+// A hydraulic cavity: a pneumatic cavity full of liquid whose weight W(u) also loads the
+// walls (the paper's Sections III-IV). The liquid's volume is the cavity's volume, so the
+// weight follows the volume: dW = (W / V) g^T du. The weight is either recomputed on every
+// configuration (coupling converged) or, as in the paper, frozen in shape at the start of a
+// step and scaled with the volume, W = w V / v_c (coupling linearized: J_w = w / v_c).
+// Weightless (density 0, or no gravity) it is a pneumatic cavity of kind hydraulic.
+#pragma once
+
+#include <array>
+#include <memory>
+
+#include "solvers/constraints/cavity.hpp"
+#include "solvers/constraints/cavity_weight.hpp"
+
+namespace hs {
+
+class HydraulicCavity : public Cavity {
+ public:
+  // `owner`: the rank that runs the fluid-weight module for this cavity.
+  HydraulicCavity(const CavityConfig& config, Problem& problem, const Mesh& mesh,
+                  const Distribution& dist, const std::array<double, 3>& gravity, int owner,
+                  const std::string& deck_path);
+  ~HydraulicCavity() override;
+
+  // Whether the liquid weighs anything (density > 0 under gravity).
+  static bool weighs(const CavityConfig& config, const std::array<double, 3>& gravity);
+
+  bool adds_load() const override { return weight_ != nullptr; }
+  void add_load(Vec u, double s, Vec load) override;
+  Vec measure_load() const override { return W_; }
+  void freeze(Vec u, double s) override;
+  bool frozen_coupling() const override { return frozen_ != nullptr; }
+  nlohmann::json report() const override;
+
+  // The fluid-weight module's seconds and calls so far, and what ran ("cpu" or "cuda").
+  double weight_seconds() const { return seconds_; }
+  int weight_calls() const { return calls_; }
+  const char* device() const { return weight_ ? weight_->device() : "none"; }
+  const std::string& method() const {
+    return name_of(kWeightMethodNames, config().fluid_weight.method);
+  }
+  bool has_weight() const { return weight_ != nullptr; }
+
+ private:
+  std::unique_ptr<CavityWeight> weight_;  // liquid with density > 0 under gravity only
+  Vec W_ = nullptr;                       // its nodal weights (current)
+  Vec frozen_ = nullptr;                  // linearized: weights at the start of the step
+  double frozen_volume_ = 0;
+  double seconds_ = 0;
+  int calls_ = 0;
+};
+
+}  // namespace hs
