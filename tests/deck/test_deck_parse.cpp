@@ -651,13 +651,13 @@ TEST_F(DeckParse, OverridesReachControl) {
   const std::string path = tmp.write("decks/control.yaml", kControlDeck);
   const Config c = parse_deck(
       path, {"control.regularization=1e-2", "control.targets[0].tip=[0.07, 0, 0.03]",
-             "control.actuators[1].max_multiplier=1000", "control.effectors[0].directions=[y]"});
+             "control.actuators[1].max_pressure=1000", "control.effectors[0].directions=[y]"});
   EXPECT_EQ(c.control->regularization, 1e-2);
   EXPECT_EQ(c.control->targets[0][0].position, (std::array<double, 3>{0.07, 0, 0.03}));
   EXPECT_EQ(c.control->actuators[1].max_multiplier, 1000);
   EXPECT_EQ(c.control->effectors[0].directions, (std::array<bool, 3>{false, true, false}));
-  const std::string message = error_of(path, {"control.actuators[0].max_multiplier=-2000"});
-  EXPECT_NE(message.find(path + ": control.actuators[0].min_multiplier: is -1500 but max_pressure is "
+  const std::string message = error_of(path, {"control.actuators[0].max_pressure=-2000"});
+  EXPECT_NE(message.find(path + ": control.actuators[0].min_pressure: is -1500 but max_pressure is "
                                 "-2000"),
             std::string::npos)
       << message;
