@@ -157,8 +157,6 @@ fw::Options options_from(const Args& a) {
       name = name.substr(0, colon);
     }
     o.kernel = fw::parse_kernel(name);
-    // Diagnostic: FLUIDWEIGHT_TILE=8|16 overrides the tiled kernel's automatic tile size.
-    if (const char* tile = std::getenv("FLUIDWEIGHT_TILE")) o.tile = std::atoi(tile);
   } else {
     throw fw::InputError("--device: '" + a.device + "' is not one of cpu, cuda");
   }
@@ -218,12 +216,6 @@ int run(const Args& a) {
     r = context.compute().front();
     wall.push_back(r.timings.wall_ms);
     gpu.push_back(r.timings.gpu_ms);
-  }
-  // Diagnostic: FLUIDWEIGHT_REPLAYS=k prints the median of k CUDA-graph replays.
-  if (const char* replays = std::getenv("FLUIDWEIGHT_REPLAYS");
-      replays && o.implementation == fw::Implementation::cuda) {
-    std::cerr << "graph replay median "
-              << 1000 * median(context.time_device_replays(std::atoi(replays))) << " us\n";
   }
   if (!a.forces.empty()) {
     std::ofstream out(a.forces);

@@ -10,7 +10,7 @@
 // linear in the column indices, so each floor's nodal weights follow from its moments once, at
 // the end of the band.
 //
-// Layout, for one core (measured: bench/fluidweight/NOTES.md, CPU rows). Each triangle is set
+// Layout, for one core (docs/fluidweight.md, "What was tried and dropped"). Each triangle is set
 // up once and its rows are visited in one go, so nothing is kept or updated per row for it;
 // hits go into planes of one value per column (the first floor of every column side by side,
 // then the second...), written and resolved 8 columns at a time without data-dependent
@@ -94,11 +94,10 @@ void prefetch(const void* p) {
 #endif
 }
 
-// The kernels' instruction set: FLUIDWEIGHT_CPU_SIMD=0 (portable), 2 (AVX2), 512 (AVX-512),
-// for tests and timing; else the widest the processor has.
-int simd_level() {
-  const char* env = std::getenv("FLUIDWEIGHT_CPU_SIMD");
-  const int asked = env ? std::atoi(env) : 512;
+// The kernels' instruction set: 512 (AVX-512), 2 (AVX2) or 0 (portable), at most what was
+// asked for and what the processor has.
+int simd_level(CpuKernels kernels) {
+  const int asked = kernels == CpuKernels::widest ? 512 : kernels == CpuKernels::avx2 ? 2 : 0;
 #if defined(FLUIDWEIGHT_AVX512)
   if (asked >= 512 && rows::avx512_available()) return 512;
 #endif
@@ -112,9 +111,9 @@ int simd_level() {
 }  // namespace
 
 struct FastColumn::Impl {
-  explicit Impl(int threads)
+  Impl(int threads, CpuKernels kernels)
       : pool(threads), workers(pool.size()), automatic_threads(threads == 0) {
-    const int level = simd_level();
+    const int level = simd_level(kernels);
 #if defined(FLUIDWEIGHT_AVX512)
     if (level == 512) {
       avx512 = true;
@@ -179,7 +178,8 @@ struct FastColumn::Impl {
   }
 };
 
-FastColumn::FastColumn(int threads) : impl_(std::make_unique<Impl>(threads)) {}
+FastColumn::FastColumn(int threads, CpuKernels kernels)
+    : impl_(std::make_unique<Impl>(threads, kernels)) {}
 FastColumn::~FastColumn() = default;
 
 // Sets up triangle t on row j (its first row, or the first row of the band): its box as

@@ -111,7 +111,7 @@ const std::vector<Result>& Context::compute() {
   } else {
     for (size_t c = 0; c < views.size(); ++c) {
       if (o.method == Method::column && o.implementation == Implementation::cpu_fast) {
-        if (!m.fast) m.fast = std::make_unique<detail::FastColumn>(o.threads);
+        if (!m.fast) m.fast = std::make_unique<detail::FastColumn>(o.threads, o.cpu_kernels);
         m.fast->run(views[c], m.frame, o.grid, rho_g, m.outputs[c], volumes[c]);
         continue;
       }

@@ -47,7 +47,7 @@ void column_reference(const CavityView& cavity, const Frame& frame, const GridPa
 // the grid (Step 1) itself, on the threads, and returns the signed volume.
 class FastColumn {
  public:
-  explicit FastColumn(int threads);
+  FastColumn(int threads, CpuKernels kernels);
   ~FastColumn();
   void run(const CavityView& cavity, const Frame& frame, int n, double rho_g, CavityOutput& out,
            double& signed_volume);

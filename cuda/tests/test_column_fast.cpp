@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
+#include <string>
 
 #include "support.hpp"
 
@@ -12,16 +12,23 @@ using namespace fwtest;
 namespace {
 
 void expect_same(const SurfaceMesh& mesh, int n, int threads, Vec3 gravity = {0, -9.81, 0},
-                 double volume_tolerance = 1e-12) {
+                 double volume_tolerance = 1e-12, fw::CpuKernels kernels = fw::CpuKernels::widest) {
   Options ref = options(fw::Implementation::cpu_reference, n, gravity);
   Options fast = options(fw::Implementation::cpu_fast, n, gravity);
   fast.threads = threads;
+  fast.cpu_kernels = kernels;
   Result a = fw::compute(mesh, ref), b = fw::compute(mesh, fast);
   EXPECT_NEAR(b.column_volume, a.column_volume, volume_tolerance * std::fabs(a.signed_volume))
       << "grid " << n << " threads " << threads;
   EXPECT_NEAR(b.signed_volume, a.signed_volume, 1e-12 * std::fabs(a.signed_volume));
   EXPECT_EQ(b.unmatched_columns, 0);
   EXPECT_LT(force_difference(b, a), 1e-11) << "grid " << n << " threads " << threads;
+}
+
+std::string kernel_name(fw::CpuKernels kernels) {
+  return kernels == fw::CpuKernels::portable ? "portable"
+         : kernels == fw::CpuKernels::avx2   ? "avx2"
+                                             : "widest";
 }
 
 }  // namespace
@@ -75,11 +82,13 @@ TEST(ColumnFast, ContextFollowsCavityTurnedInsideOut) {
     for (size_t k = 0; k < r.vertices.size(); k += 3) r.vertices[k] = -r.vertices[k];
     return r;
   };
-  for (const char* level : {"0", "2", "512"}) {
-    setenv("FLUIDWEIGHT_CPU_SIMD", level, 1);
+  for (fw::CpuKernels kernels :
+       {fw::CpuKernels::portable, fw::CpuKernels::avx2, fw::CpuKernels::widest}) {
+    const std::string level = kernel_name(kernels);
     for (int threads : {1, 2}) {
       Options o = options(fw::Implementation::cpu_fast, 70);
       o.threads = threads;
+      o.cpu_kernels = kernels;
       fw::Context context(o);
       context.set_cavities(cavities);
       for (int step = 0; step < 5; ++step) {
@@ -93,8 +102,8 @@ TEST(ColumnFast, ContextFollowsCavityTurnedInsideOut) {
         context.set_positions({moved[0].vertices.data(), moved[1].vertices.data()});
         const std::vector<Result>& results = context.compute();
         for (size_t c = 0; c < cavities.size(); ++c) {
-          SCOPED_TRACE(std::string("level ") + level + " threads " + std::to_string(threads) +
-                       " step " + std::to_string(step) + " cavity " + std::to_string(c));
+          SCOPED_TRACE("kernels " + level + " threads " + std::to_string(threads) + " step " +
+                       std::to_string(step) + " cavity " + std::to_string(c));
           Result ref = fw::compute(moved[c], options(fw::Implementation::cpu_reference, 70));
           EXPECT_NEAR(results[c].signed_volume, ref.signed_volume,
                       1e-12 * std::fabs(ref.signed_volume));
@@ -106,7 +115,6 @@ TEST(ColumnFast, ContextFollowsCavityTurnedInsideOut) {
       }
     }
   }
-  unsetenv("FLUIDWEIGHT_CPU_SIMD");
 }
 
 TEST(ColumnFast, BatchEqualsSeparateCalls) {
@@ -133,22 +141,21 @@ TEST(ColumnFast, TallAndWideTrianglesAtFineGrids) {
   }
 }
 
-// The portable kernels (FLUIDWEIGHT_CPU_SIMD=0, taken where the processor has no AVX2) and the
-// AVX2 ones (=2, taken where it has AVX2 but not AVX-512) against the reference, on the machine
+// The portable kernels (taken where the processor has no AVX2) and the AVX2 ones (taken where
+// it has AVX2 but not AVX-512) against the reference, on the machine
 // that runs the tests whatever it has (a level it lacks falls back to a narrower one).
 TEST(ColumnFast, NarrowerKernelsMatchReference) {
   std::vector<SurfaceMesh> meshes = {
       fw::shapes::icosphere(4), e_shape(), comb(9), fw::shapes::uneven_sphere(3, 10.0),
       translated(transformed(e_shape(), rotation({1, 0, 1}, 0.25)), {0.3, -2, 1})};
-  for (const char* level : {"0", "2"}) {
-    setenv("FLUIDWEIGHT_CPU_SIMD", level, 1);
+  for (fw::CpuKernels kernels : {fw::CpuKernels::portable, fw::CpuKernels::avx2}) {
     for (size_t m = 0; m < meshes.size(); ++m) {
-      SCOPED_TRACE(std::string("level ") + level + " mesh " + std::to_string(m));
+      SCOPED_TRACE("kernels " + kernel_name(kernels) + " mesh " + std::to_string(m));
       for (int n : {15, 64, 255}) {
-        for (int threads : {1, 3}) expect_same(meshes[m], n, threads);
+        for (int threads : {1, 3})
+          expect_same(meshes[m], n, threads, {0, -9.81, 0}, 1e-12, kernels);
       }
     }
-    expect_same(meshes.back(), 600, 2, {0, -9.81, 0}, 1e-11);
+    expect_same(meshes.back(), 600, 2, {0, -9.81, 0}, 1e-11, kernels);
   }
-  unsetenv("FLUIDWEIGHT_CPU_SIMD");
 }

@@ -151,40 +151,44 @@ TEST(Cuda, TiledKernelTileSizesAndGrowth) {
 }
 
 // The tiled kernel's tiles taken heaviest first, in the order the previous call's counts give
-// (order_kernel): forced on at a grid where it is off by default (a batch whose vertices move,
-// so that each call's order comes from other counts; tiles of 8 and 16), and on by itself at
-// 900^2.
+// (order_kernel), which it does from one and a half waves of blocks on: a batch of three
+// cavities at 480^2 (2700 tiles of 16 columns, 10800 of 8: over 1.5 waves of the most blocks a
+// GPU of up to 132 SMs holds, 8 and 32 an SM) whose vertices move, so that each call's order
+// comes from other counts; and one cavity at 900^2.
 TEST(Cuda, TiledKernelHeaviestTilesFirst) {
   SKIP_WITHOUT_GPU();
+  const int n = 480;
   const std::vector<SurfaceMesh> cavities = {
       fw::shapes::uneven_sphere(4, 12.0), translated(fw::shapes::torus(1, 0.3, 30, 12), {4, 0, 0}),
       comb(5)};
-  setenv("FLUIDWEIGHT_TILE_ORDER", "1", 1);
+  std::vector<std::vector<SurfaceMesh>> moved(3);
+  std::vector<std::vector<Result>> refs(3);
+  for (int step = 0; step < 3; ++step) {
+    for (const SurfaceMesh& c : cavities) {
+      moved[step].push_back(transformed(c, rotation({1, 2, 3}, 0.4 * step)));
+      refs[step].push_back(
+          fw::compute(moved[step].back(), options(fw::Implementation::cpu_reference, n)));
+    }
+  }
   for (int tile : {8, 16}) {
     for (fw::Precision p : {fw::Precision::float64, fw::Precision::float32}) {
-      Options o = cuda_options({fw::Kernel::tiled, p}, 201);
+      Options o = cuda_options({fw::Kernel::tiled, p}, n);
       o.tile = tile;
       fw::Context context(o);
       context.set_cavities(cavities);
       for (int step = 0; step < 3; ++step) {
-        std::vector<SurfaceMesh> moved;
         std::vector<const double*> positions;
-        for (const SurfaceMesh& c : cavities) {
-          moved.push_back(transformed(c, rotation({1, 2, 3}, 0.4 * step)));
-        }
-        for (const SurfaceMesh& m : moved) positions.push_back(m.vertices.data());
+        for (const SurfaceMesh& m : moved[step]) positions.push_back(m.vertices.data());
         context.set_positions(positions);
         const std::vector<Result>& results = context.compute();
         for (size_t c = 0; c < cavities.size(); ++c) {
-          Result ref = fw::compute(moved[c], options(fw::Implementation::cpu_reference, 201));
-          expect_matches_reference(results[c], ref, p,
+          expect_matches_reference(results[c], refs[step][c], p,
                                    "tile " + std::to_string(tile) + " cavity " + std::to_string(c) +
                                        " step " + std::to_string(step));
         }
       }
     }
   }
-  unsetenv("FLUIDWEIGHT_TILE_ORDER");
   SurfaceMesh sphere = fw::shapes::icosphere(4);
   Result ref = fw::compute(sphere, options(fw::Implementation::cpu_reference, 900));
   for (fw::Precision p : {fw::Precision::float64, fw::Precision::float32}) {
@@ -239,16 +243,15 @@ TEST(Cuda, AssumedOrientationAcrossCallsAndReplays) {
   // Tiles of 8 and 16 columns; a fine mesh whose tiles keep more triangles than the first list
   // holds.
   SurfaceMesh fine = fw::shapes::icosphere(5);
-  for (const char* tile : {"8", "16"}) {
-    setenv("FLUIDWEIGHT_FUSED_TILE", tile, 1);
+  for (int tile : {8, 16}) {
     for (int n : {20, 300}) {
       Result ref = fw::compute(fine, options(fw::Implementation::cpu_reference, n));
-      Result gpu = fw::compute(fine, cuda_options({fw::Kernel::fused, fw::Precision::float64}, n));
-      expect_matches_reference(gpu, ref, fw::Precision::float64,
-                               std::string("tile ") + tile + " grid " + std::to_string(n));
+      Options o = cuda_options({fw::Kernel::fused, fw::Precision::float64}, n);
+      o.tile = tile;
+      expect_matches_reference(fw::compute(fine, o), ref, fw::Precision::float64,
+                               "tile " + std::to_string(tile) + " grid " + std::to_string(n));
     }
   }
-  unsetenv("FLUIDWEIGHT_FUSED_TILE");
 }
 
 // automatic: the tiled kernel for a small cavity (1280 triangles at 150^2), leveraging for a

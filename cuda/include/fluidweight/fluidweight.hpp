@@ -42,6 +42,10 @@ enum class Implementation { cpu_reference, cpu_fast, cuda };
 // tiled.
 enum class Kernel { leveraging, triangle_parallel, tiled, fused, automatic };
 enum class Precision { float32, float64 };
+// cpu_fast: the instruction set of its kernels, capped at what the processor has: the widest
+// (AVX-512, else AVX2, else portable), at most AVX2, or portable C++. All cover the same
+// columns; heights differ in rounding only, so `portable` gives the same bits on every processor.
+enum class CpuKernels { widest, avx2, portable };
 
 struct Options {
   Method method = Method::column;
@@ -53,7 +57,8 @@ struct Options {
   std::array<double, 3> gravity{0.0, -1.0, 0.0};
   double alpha = 0.25;  // leveraging: k = max(1, floor(alpha c)) threads
   int threads = 0;      // cpu_fast: worker threads; 0 = all hardware ones (one for small problems)
-  int tile = 0;         // tiled: tile edge in columns (8 or 16), 0 = auto
+  CpuKernels cpu_kernels = CpuKernels::widest;  // cpu_fast
+  int tile = 0;  // tiled and fused: tile edge in columns (8 or 16), 0 = auto
 };
 
 struct Timings {

@@ -144,33 +144,8 @@ class Backend : public DeviceBackend {
     check(cudaEventCreateWithFlags(&join_, cudaEventDisableTiming), "cudaEventCreate");
     tile_bits_ = options.tile == 8 ? 3 : options.tile == 16 ? 4 : (options.grid >= 128 ? 4 : 3);
     kernel_ = options.kernel;
-    // Diagnostic, timing only: FLUIDWEIGHT_FUSED_TILE=8|16|32 sets the fused kernel's tile.
-    if (const char* tile = std::getenv("FLUIDWEIGHT_FUSED_TILE")) {
-      const int t = std::atoi(tile);
-      fused_preferred_bits_ = t == 8 ? 3 : 4;
-    }
-    // Diagnostic, timing only: FLUIDWEIGHT_TILE_BLOCKS=k runs the tiled kernel as a persistent
-    // grid of k blocks per multiprocessor (0: one block per tile).
-    if (const char* blocks = std::getenv("FLUIDWEIGHT_TILE_BLOCKS")) {
-      tile_blocks_per_sm_ = std::atoi(blocks);
-    }
-    // Diagnostic, timing only: FLUIDWEIGHT_TILE_ORDER=0|1 turns the tiled kernel's
-    // heaviest-first tile order off or on whatever the number of tiles.
-    if (const char* order = std::getenv("FLUIDWEIGHT_TILE_ORDER")) {
-      tile_order_env_ = std::atoi(order) != 0 ? 1 : 0;
-    }
-    // Diagnostic, timing only: FLUIDWEIGHT_OVERLAP=0|1|2 launches no kernel overlapped
-    // (launch_overlapped: each starts when the one before it has ended), setup_kernel only,
-    // or also the tile, raster and column kernels, instead of overlap_level()'s choice.
-    if (const char* overlap = std::getenv("FLUIDWEIGHT_OVERLAP")) overlap_ = std::atoi(overlap);
-    // Diagnostic, timing only: FLUIDWEIGHT_TILE_ROUND=1|2 makes the tiled kernel stage TILE^2
-    // or TILE^2 / 2 triangles a round instead of half_round()'s choice.
-    if (const char* round = std::getenv("FLUIDWEIGHT_TILE_ROUND"))
-      tile_round_env_ = std::atoi(round);
-    // Diagnostic, timing only: FLUIDWEIGHT_TILE_EMPTY_GROUP=0 gives each of the previous
-    // call's empty tiles its own block again (group_empty_tiles()).
-    if (const char* group = std::getenv("FLUIDWEIGHT_TILE_EMPTY_GROUP"))
-      tile_group_env_ = std::atoi(group) != 0 ? 1 : 0;
+    // The fused kernel's tile: Options::tile, else chosen by choose_fused_tile().
+    fused_preferred_bits_ = options.tile == 8 ? 3 : options.tile == 16 ? 4 : 0;
   }
 
   ~Backend() override {
@@ -237,13 +212,10 @@ class Backend : public DeviceBackend {
     if (options_.method == Method::column && kernel_ == Kernel::automatic) {
       // Fine meshes on coarse grids: most triangles cover no column or one, nothing needs
       // balancing, and the paper's kernel skips the binning and tiles that the tiled and fused
-      // kernels pay for (armadillo at 30^2-200^2: 31-39 against 43-71 us; docs/fluidweight.md,
-      // "When each kernel wins"). Only while no box is large: leveraging's k comes from the
-      // mean, and a few large boxes among small ones would each be walked by one thread.
-      // Otherwise tiled: since its setup and tile kernels start overlapped with the kernel
-      // before them (version 16), it is faster than the fused kernel on every case where
-      // automatic took that one (sphere at 200^2 18.9 against 19.9 us, the CAD tray 22.3
-      // against 22.9, fertility 28.4 against 31.9: bench/fluidweight/NOTES.md).
+      // kernels pay for (docs/fluidweight.md, "When each kernel wins"). Only while no box is
+      // large: leveraging's k comes from the mean, and a few large boxes among small ones would
+      // each be walked by one thread. Otherwise tiled: with its kernels started overlapped it
+      // is faster than the fused one on every case measured, small cavities included.
       const CandidateCounts c = candidate_counts(cavities, frame_, n);
       kernel_ = c.mean <= kAutomaticLeveragingMean && c.max <= kAutomaticLeveragingMax
                     ? Kernel::leveraging
@@ -309,8 +281,6 @@ class Backend : public DeviceBackend {
     float ms = 0;
     check(cudaEventElapsedTime(&ms, start_, stop_), "cudaEventElapsedTime");
     gpu_ms = ms;
-    static const bool stage_times = std::getenv("FLUIDWEIGHT_KERNEL_TIMES") != nullptr;
-    if (stage_times) print_stage_times();
     const Real* values_out = host_out_.get();
     for (int c = 0; c < num_cavities_; ++c) {
       const gpu::CavityState& s = host_states_.get()[c];
@@ -329,70 +299,6 @@ class Backend : public DeviceBackend {
       out[c].unmatched_columns = unmatched;
       signed_volumes[c] = assumed_orientation() ? fused_volume(s) : s.signed_volume;
     }
-  }
-
-  // Diagnostic (FLUIDWEIGHT_KERNEL_TIMES=1): each stage launched on its own between events,
-  // median of 20, printed to stderr.
-  void print_stage_times() {
-    const gpu::Batch<Real> b = batch();
-    const bool hydro = options_.method == Method::hydrostatic;
-    const bool tiled = !hydro && kernel_ == Kernel::tiled;
-    const int zero_out = (hydro ? 3 : 1) * num_vertices_;
-    const int zero_tiles = tiled ? num_cavities_ * tiles_per_side_ * tiles_per_side_ : 0;
-    std::vector<std::function<void()>> stages;
-    std::vector<std::string> names;
-    // The fused kernel with the accumulators of the call just made (it clears the next ones).
-    const int last = parity_ ^ 1;
-    const gpu::Batch<Real> fb = fused() ? fused_batch(last) : b;
-    const gpu::FusedArgs<Real> fa = fused() ? fused_args(last) : gpu::FusedArgs<Real>{};
-    if (fused()) {
-      stages.push_back([&] { gpu::launch_fused(fb, fa, fused_tile_bits_, stream_); });
-      names.push_back("fused");
-    } else {
-      stages.push_back([&] { gpu::launch_reduce(b, zero_out, zero_tiles, stream_); });
-      names.push_back("reduce");
-    }
-    if (fused()) {
-    } else if (hydro) {
-      stages.push_back([&] { gpu::launch_hydrostatic(b, stream_); });
-      names.push_back("hydrostatic");
-    } else if (tiled) {
-      stages.push_back([&] { gpu::launch_setup(b, true, stream_); });
-      names.push_back("setup+bin");
-      stages.push_back([&] { gpu::launch_tiles(b, sms_, tile_blocks_per_sm_, stream_); });
-      names.push_back("tiles");
-      if (b.tile_order) {
-        stages.push_back([&] { launch_tile_order(1, stream_); });
-        names.push_back("order");
-      }
-    } else {
-      stages.push_back([&] { gpu::launch_setup(b, false, stream_); });
-      stages.push_back(
-          [&] { gpu::launch_raster(b, kernel_ == Kernel::leveraging, sms_, stream_); });
-      stages.push_back([&] { gpu::launch_columns(b, max_shared_, stream_); });
-      names.insert(names.end(), {"setup", "raster", "columns"});
-    }
-    std::vector<cudaEvent_t> events(stages.size() + 1);
-    for (auto& e : events) check(cudaEventCreate(&e), "cudaEventCreate");
-    std::vector<std::vector<double>> ms(stages.size());
-    for (int r = 0; r < 20; ++r) {
-      check(cudaEventRecord(events[0], stream_), "cudaEventRecord");
-      for (size_t k = 0; k < stages.size(); ++k) {
-        stages[k]();
-        check(cudaEventRecord(events[k + 1], stream_), "cudaEventRecord");
-      }
-      check(cudaEventSynchronize(events.back()), "stages");
-      for (size_t k = 0; k < stages.size(); ++k) {
-        float t = 0;
-        cudaEventElapsedTime(&t, events[k], events[k + 1]);
-        ms[k].push_back(t);
-      }
-    }
-    for (size_t k = 0; k < stages.size(); ++k) {
-      std::sort(ms[k].begin(), ms[k].end());
-      std::fprintf(stderr, "  stage %-12s %8.1f us\n", names[k].c_str(), 1000 * ms[k][10]);
-    }
-    for (auto& e : events) cudaEventDestroy(e);
   }
 
   std::vector<double> time_replays(int repeats) override {
@@ -485,12 +391,6 @@ class Backend : public DeviceBackend {
         }
       }
       std::sort(shapes.begin(), shapes.end());
-      // Diagnostic, timing only: FLUIDWEIGHT_FUSED_CLUSTER=cx,cy tries that shape first.
-      if (const char* forced = std::getenv("FLUIDWEIGHT_FUSED_CLUSTER")) {
-        int cx = 1, cy = 1;
-        if (std::sscanf(forced, "%d,%d", &cx, &cy) == 2)
-          shapes.insert(shapes.begin(), {0.0, {cx, cy}});
-      }
       for (const auto& shape : shapes) {
         const int cx = shape.second.first, cy = shape.second.second;
         const int slice = (max_vertices_ + cx * cy - 1) / (cx * cy);
@@ -564,60 +464,45 @@ class Backend : public DeviceBackend {
   }
 
   // The tiled kernel takes its tiles heaviest first when they need more than one and a half
-  // waves of blocks: otherwise the last blocks started decide the kernel's end (measured: a quarter
-  // of the SMs' time idle at the end at the armadillo's 1000^2; four spheres at 200^2, 1.3 waves,
-  // 27.0 -> 26.6 us). The order is the previous call's
-  // counts sorted (order_kernel, one block: 17.6 us when it ran between setup and tiles),
-  // made beside this call's tile kernel; a control loop's surfaces move little from call to
-  // call, and any order of the tiles gives the same result.
+  // waves of blocks: otherwise the last blocks started decide the kernel's end. The order is
+  // the previous call's counts sorted by order_kernel beside this call's tile kernel (one
+  // block sorting on the call's own path cost more than the order gains); a control loop's
+  // surfaces move little from call to call, and any order of the tiles gives the same result.
   bool use_tile_order() const {
     if (options_.method != Method::column || kernel_ != Kernel::tiled) return false;
     const int tiles = num_cavities_ * tiles_per_side_ * tiles_per_side_;
     if (tiles > gpu::max_ordered_tiles()) return false;
-    if (tile_order_env_ >= 0) return tile_order_env_ == 1;
     const size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
     const int per_sm =
         std::max(1, gpu::tile_resident_blocks<Real>(tile_bits_, half_round(), shared));
     // From one and a half waves on: below, the tiles gain more from starting overlapped with
-    // the setup kernel (overlap_level(), not with the order) than from the order (four spheres
-    // at 200^2, 1.3 waves: 24.3 -> 23.7 us without the order; sphere at 500^2, 1.9 waves:
-    // 26.2 -> 27.2).
+    // the setup kernel (overlap_level(), not with the order) than from the order.
     return 2 * tiles > 3 * per_sm * sms_;
   }
 
   // With the tile order, the blocks past the previous call's first empty position check
-  // several of those tiles each (tile_kernel): half of the armadillo's tiles at 1500^2 are
-  // empty, and their blocks took ~9 waves of block slots (NOTES.md version 24: 1500^2 -2.5 us
-  // in float32, -4.6 in float64).
-  bool group_empty_tiles() const {
-    if (!use_tile_order()) return false;
-    return tile_group_env_ != 0;
-  }
+  // several of those tiles each (tile_kernel): over half of a fine grid's tiles can be empty,
+  // and a block each held a block slot for its launch and two dependent loads.
+  bool group_empty_tiles() const { return use_tile_order(); }
 
   // The tiled kernel stages half as many triangles a round (TILE^2 / 2) when that lets an SM
-  // hold more of its blocks (many hit slots a column, as the armadillo's 20 at 1500^2: 3 -> 4
-  // blocks in float32); a tile of more triangles then takes more rounds. Tiles of 16 columns
-  // only: with tiles of 8 (N < 128) the blocks an SM holds are not what limits, and the rounds
-  // of 32 triangles doubled (armadillo at 30^2 38 -> 50 us).
+  // hold more of its blocks (many hit slots a column); a tile of more triangles then takes
+  // more rounds. Tiles of 16 columns only: with tiles of 8 (N < 128) the blocks an SM holds
+  // are not what limits, and rounds of 32 triangles cost more than they gain.
   bool half_round() const {
-    if (tile_round_env_ > 0) return tile_round_env_ == 2;
     if (tile_bits_ != 4) return false;
     const size_t shared = gpu::tile_shared_bytes<Real>(tile_bits_, column_capacity_);
     return gpu::tile_resident_blocks<Real>(tile_bits_, true, shared) >
            gpu::tile_resident_blocks<Real>(tile_bits_, false, shared);
   }
 
-  // Which kernels start overlapped with the one before them (launch_overlapped; measured in
-  // one run, bench/fluidweight/NOTES.md version 16): setup_kernel always (its corner loads
-  // and launch overlap reduce_kernel's end: armadillo at 1000^2 -1 to -1.5 us, leveraging at
-  // 200^2 -2); the tile kernel only without the tile order (sphere 200^2 -1.3 us; with the
-  // order its waiting blocks fill the GPU before the order kernel's one block starts, which
-  // then ends after the tiles: 1000^2 +10 us, 1500^2 +24, whatever the block's priority) and
-  // only with few triangles a tile (armadillo at 100^2-200^2, 512 a tile: +3 us, the early
-  // blocks of a few heavy tiles placed beside the setup kernel's); the paper's raster and
-  // column kernels not (leveraging at 200^2 2 us slower than setup only).
+  // Which kernels start overlapped with the one before them (launch_overlapped; the measured
+  // effects are in docs/fluidweight.md): setup_kernel always (its corner loads and launch
+  // overlap reduce_kernel's end); the tile kernel only without the tile order (with it, its
+  // waiting blocks fill the GPU before the order kernel's one block starts, which then ends
+  // after the tiles) and only with few triangles a tile (else the early blocks of a few heavy
+  // tiles sit beside the setup kernel's); the paper's raster and column kernels not (slower).
   int overlap_level() const {
-    if (overlap_ >= 0) return overlap_;
     const long long tiles =
         static_cast<long long>(num_cavities_) * tiles_per_side_ * tiles_per_side_;
     const bool light = num_triangles_ <= kOverlapTrianglesPerTile * tiles;
@@ -749,35 +634,28 @@ class Backend : public DeviceBackend {
     b.overlap = overlap_level();
     b.half_round = half_round();
     b.group_empty = group_empty_tiles();
-    const char* phases = std::getenv("FLUIDWEIGHT_TILE_PHASES");  // diagnostic, timing only
-    b.diagnostic_phases = phases ? std::atoi(phases) : 3;
     return b;
   }
 
-  // One call's kernels, captured as a graph. Diagnostic: FLUIDWEIGHT_GRAPH_STAGES=k captures
-  // only the first k kernels (to time a pipeline's prefix; the results are then wrong).
+  // One call's kernels, captured as a graph.
   void capture() {
     const gpu::Batch<Real> b = batch();
     const bool hydro = options_.method == Method::hydrostatic;
     const bool tiled = !hydro && kernel_ == Kernel::tiled;
     const int zero_out = (hydro ? 3 : 1) * num_vertices_;
     const int zero_tiles = tiled ? num_cavities_ * tiles_per_side_ * tiles_per_side_ : 0;
-    const char* stages_env = std::getenv("FLUIDWEIGHT_GRAPH_STAGES");
-    const int stages = stages_env ? std::atoi(stages_env) : 4;
     if (fused()) {
       for (int parity = 0; parity < 2; ++parity) {
         check(cudaStreamBeginCapture(stream_, cudaStreamCaptureModeThreadLocal), "begin capture");
-        if (stages >= 1) {
-          gpu::launch_fused(fused_batch(parity), fused_args(parity), fused_tile_bits_, stream_);
-        }
+        gpu::launch_fused(fused_batch(parity), fused_args(parity), fused_tile_bits_, stream_);
         end_capture(graphs_[parity]);
       }
       return;
     }
     check(cudaStreamBeginCapture(stream_, cudaStreamCaptureModeThreadLocal), "begin capture");
-    if (stages >= 1) gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
+    gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
     if (hydro) {
-      if (stages >= 2) gpu::launch_hydrostatic(b, stream_);
+      gpu::launch_hydrostatic(b, stream_);
     } else if (tiled && b.tile_order) {
       // Graph g's tiles read order g; the order kernel, forked beside them, writes the other.
       for (int g = 0; g < 2; ++g) {
@@ -785,28 +663,26 @@ class Backend : public DeviceBackend {
         bg.tile_order = (g ? tile_order2_ : tile_order_).get();
         if (g == 1) {
           check(cudaStreamBeginCapture(stream_, cudaStreamCaptureModeThreadLocal), "begin capture");
-          if (stages >= 1) gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
+          gpu::launch_reduce(b, zero_out, zero_tiles, stream_);
         }
-        if (stages >= 2) gpu::launch_setup(bg, true, stream_);
+        gpu::launch_setup(bg, true, stream_);
         // The order's node is made first, so that its one block starts before the tiles'.
         check(cudaEventRecord(fork_, stream_), "cudaEventRecord");
         check(cudaStreamWaitEvent(side_, fork_, 0), "cudaStreamWaitEvent");
-        if (stages >= 4) launch_tile_order(g ^ 1, side_);
+        launch_tile_order(g ^ 1, side_);
         check(cudaEventRecord(join_, side_), "cudaEventRecord");
-        if (stages >= 3) gpu::launch_tiles(bg, sms_, tile_blocks_per_sm_, stream_);
+        gpu::launch_tiles(bg, stream_);
         check(cudaStreamWaitEvent(stream_, join_, 0), "cudaStreamWaitEvent");
         end_capture(graphs_[g]);
       }
       return;
     } else if (tiled) {
-      if (stages >= 2) gpu::launch_setup(b, true, stream_);
-      if (stages >= 3) gpu::launch_tiles(b, sms_, tile_blocks_per_sm_, stream_);
+      gpu::launch_setup(b, true, stream_);
+      gpu::launch_tiles(b, stream_);
     } else {
-      if (stages >= 2) gpu::launch_setup(b, false, stream_);
-      if (stages >= 3) {
-        gpu::launch_raster(b, kernel_ == Kernel::leveraging, sms_, stream_);
-      }
-      if (stages >= 4) gpu::launch_columns(b, max_shared_, stream_);
+      gpu::launch_setup(b, false, stream_);
+      gpu::launch_raster(b, kernel_ == Kernel::leveraging, sms_, stream_);
+      gpu::launch_columns(b, max_shared_, stream_);
     }
     end_capture(graphs_[0]);
   }
@@ -830,11 +706,6 @@ class Backend : public DeviceBackend {
   Kernel kernel_ = Kernel::tiled;                   // the kernel in use (automatic resolved)
   int num_cavities_ = 0, num_vertices_ = 0, num_triangles_ = 0, num_jobs_ = 0, setup_blocks_ = 1;
   std::vector<int> vertex_begin_;
-  int tile_blocks_per_sm_ = 0;  // tiled kernel: persistent grid of this many blocks an SM, or 0
-  int tile_order_env_ = -1;     // FLUIDWEIGHT_TILE_ORDER, or -1
-  int overlap_ = -1;            // FLUIDWEIGHT_OVERLAP, or -1
-  int tile_round_env_ = 0;      // FLUIDWEIGHT_TILE_ROUND (1 whole, 2 half), or 0
-  int tile_group_env_ = -1;     // FLUIDWEIGHT_TILE_EMPTY_GROUP, or -1
   int tile_bits_ = 4, tiles_per_side_ = 0, tile_capacity_ = 1024, column_capacity_ = 16;
   // Fused kernel: tile (bits), hits per column, triangles a tile keeps, the vertex table, the
   // call's set of accumulators, the orientation each cavity's Step 2 assumes.

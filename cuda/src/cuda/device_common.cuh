@@ -8,7 +8,7 @@
 //      corners, floor or ceiling under the assumed orientation, candidate box; the signed
 //      volume summed for the host's check), and for the tiled kernel the binning of triangles
 //      to tiles of columns. It starts overlapped with reduce_kernel (launch_overlapped).
-// Many blocks adding to one address serialise (about 20 ns each on the H100 measured), so
+// Many blocks adding to one address serialise (docs/fluidweight.md gives the cost), so
 // sums over blocks go to partials or to kStripes addresses, never to one.
 //   3. Steps 3-5: the leveraging or triangle-parallel raster kernel writing hits per column to
 //      global memory, then column_kernel pairing them; or tile_kernel doing both per tile in
@@ -71,7 +71,7 @@ __device__ inline int cavity_of(int flags) { return flags >> 4; }
 
 // Each tile's list count in its own 32-byte sector: the setup kernel's warps bin neighbouring
 // tiles at the same moment, and counts packed eight to a sector queued their returning atomics
-// behind each other at the L2 (armadillo at 1000^2: setup 2 us longer, at 200^2 4 us).
+// behind each other at the L2.
 constexpr int kCountStride = 8;
 __device__ __forceinline__ size_t count_slot(int tile) {
   return static_cast<size_t>(tile) * kCountStride;
@@ -143,12 +143,11 @@ struct Batch {
   // volume that setup_kernel sums into CavityState::volume6 and runs the call again when it
   // was wrong), or null: from the signed volume of reduce_kernel's partials.
   const int* orientation;
-  int overlap;  // host: kernels launched overlapped (launch_overlapped): 0 none, 1 setup_kernel,
-                // 2 also the tile, raster and column kernels
-  int diagnostic_phases;  // tiled kernel, for timing only: bit 0 raster, bit 1 resolve
-  int half_round;         // tiled kernel: stage TILE^2 / 2 triangles a round, not TILE^2
-  int group_empty;        // tiled kernel with tile_order: blocks check the previous call's empty
-                          // tiles several at a time
+  int overlap;     // host: kernels launched overlapped (launch_overlapped): 0 none, 1 setup_kernel,
+                   // 2 also the tile, raster and column kernels
+  int half_round;  // tiled kernel: stage TILE^2 / 2 triangles a round, not TILE^2
+  int group_empty;  // tiled kernel with tile_order: blocks check the previous call's empty
+                    // tiles several at a time
 };
 
 // Snapped centre coordinates and edge functions of a DevTri at column (i, j).
@@ -252,7 +251,7 @@ void launch_columns(const Batch<Real>& b, int max_shared, cudaStream_t stream);
 template <typename Real>
 size_t column_shared_bytes(int column_capacity, int block);
 template <typename Real>
-void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStream_t stream);
+void launch_tiles(const Batch<Real>& b, cudaStream_t stream);
 template <typename Real>
 void launch_hydrostatic(const Batch<Real>& b, cudaStream_t stream);
 // The fused kernel: one launch for Steps 1-5, a block per tile of 1 << tile_bits columns

@@ -197,8 +197,8 @@ __device__ void add_signed_volume(const Batch<Real>& b, bool valid, int cavity, 
 // Appends each lane's triangle t to the tiles tile[0..kLaneTiles) (-1: none): `tiles` tiles of a
 // box `width` tiles wide from tile[0] (both at most kLaneTiles: 4 bits each in the key). Lanes
 // whose boxes start in the same tile with the same shape list the same tiles, so one match on
-// (first tile, shape) groups them for all their tiles (a match per tile waited for four
-// matches in a row, ~10 % of the kernel's stall samples); lanes whose boxes overlap only
+// (first tile, shape) groups them for all their tiles (a match per tile made a chain of four
+// dependent matches); lanes whose boxes overlap only
 // partly take their places by separate atomics (more atomics, each still counting a whole
 // group; past the capacity the host grows it).
 __device__ void bin_lane_tiles(int* tile_count, int* tile_list, int capacity,
@@ -233,7 +233,7 @@ __global__ void __launch_bounds__(kBlock) setup_kernel(Batch<Real> b, bool bin_t
   __shared__ GridParams grids[kMaxBlockCavities];
   // The block's records as 16-byte pieces. With 64-byte records (f32, 4 pieces) piece k of
   // triangle i sits at 4 i + (k + i / 2) % 4, so that eight lanes' stores of one piece meet
-  // eight different bank groups, not two (unrotated: ~0.9 us slower at 1000^2); 80-byte
+  // eight different bank groups, not two (bank conflicts otherwise); 80-byte
   // records (5 pieces) are conflict-free as they are.
   constexpr int kPieces = sizeof(DevTri<Real>) / 16;
   constexpr int kRotate = kPieces == 4 ? 1 : 0;

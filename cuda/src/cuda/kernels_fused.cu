@@ -154,11 +154,6 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
   const unsigned long long packed = own_triangle ? __ldg(&f.corners[t0 + ts0 + tid]) : 0ull;
   const Vec3 origin = load_vec3(b.xyz, v0);
 
-  if (b.diagnostic_phases & 8) return;  // diagnostic: the launch alone
-  if (b.diagnostic_phases & 64) {       // diagnostic: the cost of 10 cluster barriers
-    for (int k = 0; k < 10; ++k) cluster.sync();
-    return;
-  }
   // Step 1: the box of this block's vertices, then of the cluster's (all of them).
   double box[6] = {INFINITY, -INFINITY, INFINITY, -INFINITY, INFINITY, -INFINITY};
   for (int v = vs0 + tid; v < vs1; v += kThreads) {
@@ -215,10 +210,6 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
   }
 
   cluster.barrier_wait();
-  if (b.diagnostic_phases & 16) {  // diagnostic: up to the first barrier of the cluster
-    if (volume6 == 12345.0) b.out[0] = 0;
-    return;
-  }
   if (warp == 0) {
     for (int k = 0; k < 6; k += 2) {
       box[k] = INFINITY;
@@ -260,73 +251,67 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
   cluster.barrier_arrive();
   s_count[tid] = 0;
   cluster.barrier_wait();
-  if (b.diagnostic_phases & 32) {  // diagnostic: up to the vertex table
-    if (volume6 == 12345.0) b.out[0] = 0;
-    return;
-  }
 
   // Step 2 for this block's slice of the triangles; each goes to the items of the cluster's
   // tiles that its box meets.
-  if (!(b.diagnostic_phases & 4)) {
-    const int ctx1 = min(cx0 + f.cluster_x, f.tiles_per_side) - 1;
-    const int cty1 = min(cy0 + f.cluster_y, f.tiles_per_side) - 1;
-    for (int t = ts0 + tid; t < ts1; t += kThreads) {
-      int c[3];
-      unpack_corners(t == ts0 + tid ? packed : __ldg(&f.corners[t0 + t]), c);
-      // The volume's positions are loaded first and used last: their latency overlaps the
-      // reads of the vertex table.
-      Vec3 pa{}, pb{}, pc{};
-      if (volume_cluster) {
-        pa = load_vec3(b.xyz, v0 + c[0]);
-        pb = load_vec3(b.xyz, v0 + c[1]);
-        pc = load_vec3(b.xyz, v0 + c[2]);
-      }
-      if (grid.empty) {
-        if (volume_cluster) volume6 += signed_volume6(pa, pb, pc, origin);
-        continue;
-      }
-      int sx[3], sy[3];
-      Real z[3];
-      for (int k = 0; k < 3; ++k) {
-        const int owner = c[k] / slice, local = c[k] - owner * slice;
-        const int2 q = cluster.map_shared_rank(table_xy, owner)[local];
-        z[k] = cluster.map_shared_rank(table_z, owner)[local];
-        sx[k] = q.x;
-        sy[k] = q.y;
-      }
+  const int ctx1 = min(cx0 + f.cluster_x, f.tiles_per_side) - 1;
+  const int cty1 = min(cy0 + f.cluster_y, f.tiles_per_side) - 1;
+  for (int t = ts0 + tid; t < ts1; t += kThreads) {
+    int c[3];
+    unpack_corners(t == ts0 + tid ? packed : __ldg(&f.corners[t0 + t]), c);
+    // The volume's positions are loaded first and used last: their latency overlaps the
+    // reads of the vertex table.
+    Vec3 pa{}, pb{}, pc{};
+    if (volume_cluster) {
+      pa = load_vec3(b.xyz, v0 + c[0]);
+      pb = load_vec3(b.xyz, v0 + c[1]);
+      pc = load_vec3(b.xyz, v0 + c[2]);
+    }
+    if (grid.empty) {
       if (volume_cluster) volume6 += signed_volume6(pa, pb, pc, origin);
-      SnappedTriangle st;
-      if (!setup_triangle(sx, sy, grid.orientation, grid.n, sub_bits, &st)) continue;
-      const int x0 = max(st.i0 >> kTileBits, cx0), x1 = min(st.i1 >> kTileBits, ctx1);
-      const int y0 = max(st.j0 >> kTileBits, cy0), y1 = min(st.j1 >> kTileBits, cty1);
-      if (st.i0 > st.i1 || st.j0 > st.j1 || x0 > x1 || y0 > y1) continue;
-      // Corner 0 stays, 1 and 2 may have swapped (selects: registers).
-      const bool flip = st.corner[1] == 2;
-      union {
-        Item<Real> item;
-        int4 words[kItemWords<Real>];
-      } u;
-      for (int k = 0; k < 3; ++k) {
-        u.item.x[k] = st.x[k];
-        u.item.y[k] = st.y[k];
-      }
-      u.item.vertex[0] = c[0];
-      u.item.vertex[1] = flip ? c[2] : c[1];
-      u.item.vertex[2] = flip ? c[1] : c[2];
-      u.item.z[0] = z[0];
-      u.item.z[1] = flip ? z[2] : z[1];
-      u.item.z[2] = flip ? z[1] : z[2];
-      u.item.flags = static_cast<int>(st.e_min[0] | (st.e_min[1] << 1) | (st.e_min[2] << 2)) |
-                     (st.bottom ? 8 : 0);
-      for (int y = y0; y <= y1; ++y) {
-        for (int x = x0; x <= x1; ++x) {
-          const int target = (x - cx0) + (y - cy0) * f.cluster_x;
-          const int slot = atomicAdd(cluster.map_shared_rank(&kept_count, target), 1);
-          if (slot < f.item_capacity) {
-            int4* dst = reinterpret_cast<int4*>(cluster.map_shared_rank(items, target) + slot);
+      continue;
+    }
+    int sx[3], sy[3];
+    Real z[3];
+    for (int k = 0; k < 3; ++k) {
+      const int owner = c[k] / slice, local = c[k] - owner * slice;
+      const int2 q = cluster.map_shared_rank(table_xy, owner)[local];
+      z[k] = cluster.map_shared_rank(table_z, owner)[local];
+      sx[k] = q.x;
+      sy[k] = q.y;
+    }
+    if (volume_cluster) volume6 += signed_volume6(pa, pb, pc, origin);
+    SnappedTriangle st;
+    if (!setup_triangle(sx, sy, grid.orientation, grid.n, sub_bits, &st)) continue;
+    const int x0 = max(st.i0 >> kTileBits, cx0), x1 = min(st.i1 >> kTileBits, ctx1);
+    const int y0 = max(st.j0 >> kTileBits, cy0), y1 = min(st.j1 >> kTileBits, cty1);
+    if (st.i0 > st.i1 || st.j0 > st.j1 || x0 > x1 || y0 > y1) continue;
+    // Corner 0 stays, 1 and 2 may have swapped (selects: registers).
+    const bool flip = st.corner[1] == 2;
+    union {
+      Item<Real> item;
+      int4 words[kItemWords<Real>];
+    } u;
+    for (int k = 0; k < 3; ++k) {
+      u.item.x[k] = st.x[k];
+      u.item.y[k] = st.y[k];
+    }
+    u.item.vertex[0] = c[0];
+    u.item.vertex[1] = flip ? c[2] : c[1];
+    u.item.vertex[2] = flip ? c[1] : c[2];
+    u.item.z[0] = z[0];
+    u.item.z[1] = flip ? z[2] : z[1];
+    u.item.z[2] = flip ? z[1] : z[2];
+    u.item.flags = static_cast<int>(st.e_min[0] | (st.e_min[1] << 1) | (st.e_min[2] << 2)) |
+                   (st.bottom ? 8 : 0);
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const int target = (x - cx0) + (y - cy0) * f.cluster_x;
+        const int slot = atomicAdd(cluster.map_shared_rank(&kept_count, target), 1);
+        if (slot < f.item_capacity) {
+          int4* dst = reinterpret_cast<int4*>(cluster.map_shared_rank(items, target) + slot);
 #pragma unroll
-            for (int w = 0; w < kItemWords<Real>; ++w) dst[w] = u.words[w];
-          }
+          for (int w = 0; w < kItemWords<Real>; ++w) dst[w] = u.words[w];
         }
       }
     }
@@ -370,8 +355,7 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
       stage.offset[tid] = offset;
       if (tid == 0) stage.offset[kThreads] = total;
       __syncthreads();
-      raster_round<Real, TILE>(stage, kThreads, (b.diagnostic_phases & 1) ? total : 0, s_z, s_tag,
-                               s_count, capacity);
+      raster_round<Real, TILE>(stage, kThreads, total, s_z, s_tag, s_count, capacity);
       __syncthreads();  // the stage and the scan storage are free again
     }
   }
@@ -382,7 +366,7 @@ __global__ void __launch_bounds__(TILE* TILE, min_blocks(TILE))
   if (overflow) {
     if (tid == 0) atomicMax(&b.status->max_tile_count, kept);
   } else if (kept > 0 && inside) {
-    int n = (b.diagnostic_phases & 2) ? s_count[tid] : 0;
+    int n = s_count[tid];
     if (n > capacity) {
       atomicMax(&b.status->max_column_hits, n);
       n = capacity;

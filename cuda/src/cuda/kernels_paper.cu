@@ -21,8 +21,7 @@ constexpr int kBlock = 256;
 // Steps 3-4 for the candidates cur, cur + k, ... (< box) of triangle t's box, starting at
 // column (i, j); k = di + dj width. A hit goes to its column's next slot. The candidates are
 // tested kBatch at a time and their hits' slot atomics issued together: one after the other,
-// each hit waited for its slot's round trip (31 % of the leveraging kernel's stall samples
-// at the armadillo's 1000^2). Batches of 1, 2 and 4 took 119.6, 107.4 and 101.5 us there.
+// each hit waited for its slot's round trip (docs/fluidweight.md, "What was tried and dropped").
 constexpr int kBatch = 4;
 
 template <typename Index, typename Real>
@@ -126,9 +125,8 @@ __global__ void __launch_bounds__(kBlock) triangle_parallel_kernel(Batch<Real> b
 // takes cavity y's columns (so a block's sums go to one cavity). The column's hits are first
 // copied to shared memory, all their loads in flight together, and sorted there: sorted in
 // place in global memory, each of the sort's dependent accesses was a round trip to L2 (the
-// columns with most hits decided the kernel's time: 15.8 -> 13.3 us at the armadillo's
-// 200^2). A grid stride over a GPU's worth of blocks was no faster (within 2 %): the kernel
-// is bound by instructions, not by its blocks' start and end.
+// columns with most hits decided the kernel's time). One block per 128 columns, not a grid
+// stride: the kernel is bound by instructions, not by its blocks' start and end.
 template <typename Real, int Block>
 __global__ void __launch_bounds__(Block) column_kernel(Batch<Real> b) {
   using Reduce = cub::BlockReduce<double, Block>;

@@ -128,14 +128,13 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
     __syncthreads();
 
     // Steps 3-4: the round's candidates dealt out to the warps, 32 at a time.
-    raster_round<Real, TILE>(s.r, ROUND, (b.diagnostic_phases & 1) ? total : 0, s_z, s_tag, s_count,
-                             capacity);
+    raster_round<Real, TILE>(s.r, ROUND, total, s_z, s_tag, s_count, capacity);
     if (first + ROUND >= items) break;
   }
   __syncthreads();
 
   // Step 5, one column per thread.
-  int n = (b.diagnostic_phases & 2) ? s_count[threadIdx.x] : 0;
+  int n = s_count[threadIdx.x];
   if (n > capacity) {
     atomicMax(&b.status->max_column_hits, n);
     n = capacity;
@@ -175,16 +174,14 @@ __device__ __forceinline__ void tile_columns(const Batch<Real>& b, int tile, int
 // armadillo's tiles at 1000^2-1500^2 are empty: several waves of such blocks.
 constexpr int kEmptyGroup = 8;
 
-// A block takes the tiles at positions blockIdx.x, blockIdx.x + step, ... before end of the
-// tile order (order_kernel's, or the grid's when there is none); step is the grid's size: one
-// tile when the grid has a block per tile, a persistent grid of the blocks the GPU holds at once
-// otherwise. With Batch::group_empty (an order and a block per tile), block first_empty + g
-// (first_empty: the previous call's first empty position, order[tiles]) checks positions
-// first_empty + kEmptyGroup g and the next ones together and, should any of them not be empty
-// now (the cavity moved), takes them one after another (step 1) from the first such to the last;
-// the blocks left without positions exit after one load. The next tile's count and first list
-// entries are loaded before this one is worked on, so an empty tile costs no round trip and a
-// full one starts with its triangles' loads.
+// Block k takes the tile at position k of the tile order (order_kernel's, or the grid's when
+// there is none). With Batch::group_empty (an order), block first_empty + g (first_empty: the
+// previous call's first empty position, order[tiles]) checks positions first_empty +
+// kEmptyGroup g and the next ones together and, should any of them not be empty now (the cavity
+// moved), takes them one after another from the first such to the last; the blocks left without
+// positions exit after one load. The next tile's count and first list entries are loaded before
+// this one is worked on, so an empty tile costs no round trip and a full one starts with its
+// triangles' loads.
 template <typename Real, int TILE, int ROUND>
 __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_kernel(Batch<Real> b) {
   const int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
@@ -196,10 +193,8 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
   };
   // Both written by an earlier call, so loaded before the wait and together.
   int tile = tile_at(index);
-  const int first_empty = b.group_empty && b.tile_order && static_cast<int>(gridDim.x) == tiles
-                              ? b.tile_order[tiles]
-                              : tiles;
-  int step = gridDim.x, end = tiles;
+  const int first_empty = b.group_empty && b.tile_order ? b.tile_order[tiles] : tiles;
+  int step = tiles, end = tiles;  // one tile a block, unless it checks a group of empty ones
   if (index >= first_empty) {
     const int first = first_empty + (index - first_empty) * kEmptyGroup;
     if (first >= tiles) return;
@@ -238,8 +233,8 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
 // The tiles by decreasing number of listed triangles into `order` (the host makes this call's
 // order the next call's, see use_tile_order in device.cu): the hardware starts blocks in grid
 // order, so the longest tiles start in the first wave instead of ending the kernel alone on a
-// few SMs (longest first). Eight classes by powers of two suffice (a scheduling model with the
-// armadillo's tiles at 1000^2 and 1500^2: within 5 % of sorting by candidates); empty tiles
+// few SMs (longest first). Eight classes by powers of two suffice (a scheduling model put
+// them close to a full sort by candidates); empty tiles
 // come last. One small block, so that it finds room beside the tile kernel's blocks early (a
 // block of 1024 threads waited for an SM to empty, at the tile kernel's end); at most
 // kMaxOrderedTiles tiles (the host checks). Classes are counted by warp ballots, one a class.
@@ -287,8 +282,7 @@ __global__ void __launch_bounds__(kOrderThreads)
       sum += total[c];
     }
     // The empty tiles' first position (tile_kernel), or none where triangles over many tiles
-    // give every tile work: a block would then take its group's eight tiles one after another
-    // (the uneven sphere at 1000^2: 76 -> 84 us).
+    // give every tile work: a block would then take its group's eight tiles one after another.
     order[tiles] = *big_count > 0 ? tiles : first[kOrderClasses - 1];
   }
   __syncthreads();
@@ -342,20 +336,14 @@ void allow_tile_shared(size_t bytes) {
   }
 }
 
-// blocks_per_sm > 0: a persistent grid of that many blocks per multiprocessor (at most the
-// occupancy allows); 0: one block per tile.
+// One block a tile: a persistent grid (a block taking tiles by stride or by claims from a
+// counter) balanced the heaviest tiles worse than the hardware's block scheduler.
 template <typename Real>
-void launch_tiles(const Batch<Real>& b, int num_sms, int blocks_per_sm, cudaStream_t stream) {
-  int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
-  size_t shared = tile_shared_bytes<Real>(b.tile_bits, b.column_capacity);
-  auto grid = [&](auto kernel, int threads) {
-    if (blocks_per_sm <= 0) return tiles;
-    int fit = 0;
-    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&fit, kernel, threads, shared);
-    return std::max(1, std::min(tiles, num_sms * std::min(std::max(fit, 1), blocks_per_sm)));
-  };
+void launch_tiles(const Batch<Real>& b, cudaStream_t stream) {
+  const int tiles = b.num_cavities * b.tiles_per_side * b.tiles_per_side;
+  const size_t shared = tile_shared_bytes<Real>(b.tile_bits, b.column_capacity);
   with_tile_kernel<Real>(b.tile_bits, b.half_round, [&](auto kernel, int threads) {
-    launch_overlapped(b.overlap >= 2, kernel, grid(kernel, threads), threads, shared, stream, b);
+    launch_overlapped(b.overlap >= 2, kernel, tiles, threads, shared, stream, b);
   });
 }
 
@@ -379,8 +367,8 @@ template size_t tile_shared_bytes<float>(int, int);
 template size_t tile_shared_bytes<double>(int, int);
 template void allow_tile_shared<float>(size_t);
 template void allow_tile_shared<double>(size_t);
-template void launch_tiles<float>(const Batch<float>&, int, int, cudaStream_t);
-template void launch_tiles<double>(const Batch<double>&, int, int, cudaStream_t);
+template void launch_tiles<float>(const Batch<float>&, cudaStream_t);
+template void launch_tiles<double>(const Batch<double>&, cudaStream_t);
 template int tile_resident_blocks<float>(int, bool, size_t);
 template int tile_resident_blocks<double>(int, bool, size_t);
 
