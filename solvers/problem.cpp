@@ -10,24 +10,14 @@
 #include "fem/element.hpp"
 
 namespace hs {
-namespace {
-
-MaterialParameters to_parameters(const MaterialConfig& c) {
-  MaterialParameters m;
-  m.model = material_model_from_name(c.model);
-  m.mu = c.mu;
-  m.lambda = c.lambda;
-  m.c1 = c.c1;
-  m.c2 = c.c2;
-  m.density = c.density;
-  return m;
-}
-
-}  // namespace
 
 Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dist, MPI_Comm comm,
-                 const ExactSolution* exact)
-    : comm_(comm), mesh_(mesh), dist_(dist), npe_(mesh.nodes_per_tet()), exact_(exact) {
+                 ExactDirichlet exact)
+    : comm_(comm),
+      mesh_(mesh),
+      dist_(dist),
+      npe_(mesh.nodes_per_tet()),
+      exact_(std::move(exact)) {
   // Materials per volume group of the mesh.
   materials_.resize(mesh.volume_names.size());
   std::vector<char> has_material(mesh.volume_names.size(), 0);
@@ -36,7 +26,7 @@ Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dis
     if (it == mesh.volume_names.end())
       throw InputError("material group '" + mc.group + "' is not a volume");
     const auto v = static_cast<size_t>(it - mesh.volume_names.begin());
-    materials_[v] = to_parameters(mc);
+    materials_[v] = mc;
     has_material[v] = 1;
   }
   for (size_t v = 0; v < has_material.size(); ++v)
@@ -61,7 +51,7 @@ Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dis
   scaled_.assign(3 * nlocal, 1);
   from_exact_.assign(3 * nlocal, 0);
   for (const auto& bc : config.dirichlet) {
-    if (bc.exact && !exact)
+    if (bc.exact && !exact_)
       throw InputError(config.deck_path + ": boundary: group '" + bc.group +
                        "' asks for exact values but the deck has no exact solution");
     auto it = dist.node_groups.find(bc.group);
@@ -128,9 +118,9 @@ ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r
   double X[30], ue[30];
   element_displacement(ua, e, ue);
   const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-  if (!p1_geometry_.empty()) return tet_internal_force_p1(p1_geometry_[e], ue, m, r, K);
+  if (!p1_geometry_.empty()) return tet_internal_force_p1(p1_geometry_[e], ue, *m.law, r, K);
   element_coordinates(e, X);
-  return tet_internal_force(mesh_.order, X, ue, m, r, K);
+  return tet_internal_force(mesh_.order, X, ue, *m.law, r, K);
 }
 
 void Problem::element_displacement(const PetscScalar* u_local, int64_t e, double* u) const {
@@ -270,7 +260,7 @@ double Problem::prescribed_value(int64_t l, double s) const {
     const int64_t node = l / 3;
     const std::array<double, 3> X = {X_local_[3 * node], X_local_[3 * node + 1],
                                      X_local_[3 * node + 2]};
-    return exact_->displacement(X, s)[l % 3];
+    return exact_(X, s)[l % 3];
   }
   return prescribed_[l] * (scaled_[l] ? s : 1.0);
 }
@@ -500,7 +490,7 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
       element_coordinates(e, X);
       element_displacement(ua, e, ue);
       const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-      const ElementFields f = tet_fields(mesh_.order, X, ue, m);
+      const ElementFields f = tet_fields(mesh_.order, X, ue, *m.law);
       von_mises[e] = f.von_mises;
       J[e] = f.J;
     }

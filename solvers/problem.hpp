@@ -12,6 +12,7 @@
 #include <petscvec.h>
 
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "deck/config.hpp"
@@ -19,7 +20,6 @@
 #include "materials/material.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/mesh.hpp"
-#include "solvers/exact_solution.hpp"
 #include "solvers/petsc_check.hpp"
 
 namespace hs {
@@ -36,11 +36,16 @@ struct AssemblyTimers {
   int residual_calls = 0, jacobian_calls = 0;
 };
 
+// The displacement at reference point X and load factor s that Dirichlet conditions marked
+// exact take (the run sets it from the deck's exact solution).
+using ExactDirichlet =
+    std::function<std::array<double, 3>(const std::array<double, 3>& X, double s)>;
+
 class Problem {
  public:
-  // `exact` (may be nullptr) gives the values of Dirichlet conditions marked exact.
+  // `exact` (may be empty) gives the values of Dirichlet conditions marked exact.
   Problem(const Config& config, const Mesh& mesh, const Distribution& dist, MPI_Comm comm,
-          const ExactSolution* exact = nullptr);
+          ExactDirichlet exact = {});
   ~Problem();
   Problem(const Problem&) = delete;
   Problem& operator=(const Problem&) = delete;
@@ -172,14 +177,14 @@ class Problem {
   const Mesh& mesh_;
   const Distribution& dist_;
   int npe_;
-  std::vector<MaterialParameters> materials_;  // per mesh volume group
-  std::vector<double> X_local_;                // reference coordinates of local nodes
-  std::vector<PetscInt> global_dof_;           // per local dof: PETSc global index
-  std::vector<char> constrained_;              // per local dof
-  std::vector<double> prescribed_;             // per local dof: value at full load
-  std::vector<char> scaled_;                   // per local dof: follows the load factor
-  std::vector<char> from_exact_;               // per local dof: value from exact_
-  const ExactSolution* exact_;
+  std::vector<MaterialConfig> materials_;  // per mesh volume group: its law and density
+  std::vector<double> X_local_;            // reference coordinates of local nodes
+  std::vector<PetscInt> global_dof_;       // per local dof: PETSc global index
+  std::vector<char> constrained_;          // per local dof
+  std::vector<double> prescribed_;         // per local dof: value at full load
+  std::vector<char> scaled_;               // per local dof: follows the load factor
+  std::vector<char> from_exact_;           // per local dof: value from exact_
+  ExactDirichlet exact_;
   std::vector<double> body_force_;       // per local tet: npe*3, at full load
   std::vector<P1Geometry> p1_geometry_;  // per local tet of a P1 mesh (empty for P2)
   std::vector<PressureSurface> pressure_faces_;

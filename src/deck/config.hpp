@@ -5,11 +5,15 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace hs {
+
+class MaterialLaw;
+class ExactSolution;  // verification/exact_solution.hpp
 
 struct MeshConfig {
   std::string file;  // .msh (gmsh 4.x) or .geo; resolved relative to the deck's folder
@@ -18,15 +22,12 @@ struct MeshConfig {
   int refine = 0;                            // .geo only: uniform refinements after meshing
 };
 
+// A material: what the deck owns (group, density) and the law its model names, made by the
+// registry of src/materials/ from the rest of its map (its name, parameters, stress).
 struct MaterialConfig {
-  std::string group;     // volume physical group
-  std::string model;     // linear_elastic | corotational | saint_venant_kirchhoff |
-                         // neo_hookean | mooney_rivlin
-  double E = 0, nu = 0;  // given as E, nu or as mu, lambda; both pairs are filled in
-  double mu = 0, lambda = 0;
-  double c1 = 0, c2 = 0;  // Mooney-Rivlin: psi = c1 (I1b - 3) + c2 (I2b - 3) + volumetric;
-                          // default c1 = mu/2, c2 = 0 (then it is neo-Hookean-like)
-  double density = 0;     // kg/m^3
+  std::string group;                       // volume physical group
+  std::shared_ptr<const MaterialLaw> law;  // materials/material.hpp
+  double density = 0;                      // kg/m^3
 };
 
 struct DirichletConfig {
@@ -43,20 +44,29 @@ struct PressureConfig {
   double value = 0;   // Pa at full load; positive pushes against the outward normal
 };
 
+// static: load increments to full load; quasi_static: a schedule of load factors (it may
+// unload); dynamic: implicit time stepping with inertia.
+enum class TimeType { static_, quasi_static, dynamic };
+enum class Integrator { newmark, backward_euler };
+inline const std::vector<std::string> kTimeTypeNames = {"static", "quasi_static", "dynamic"};
+inline const std::vector<std::string> kIntegratorNames = {"newmark", "backward_euler"};
 struct TimeConfig {
-  std::string type = "static";   // static | quasi_static | dynamic
+  TimeType type = TimeType::static_;
   int steps = 1;                 // static: load increments; quasi_static: schedule steps;
                                  // with states: the first state's steps
   std::vector<double> schedule;  // load factor per step (default linear ramp); steps = its size
   double dt = 0;                 // dynamic only
   double end_time = 0;           // dynamic only
-  std::string integrator = "newmark";  // dynamic: newmark | backward_euler
+  Integrator integrator = Integrator::newmark;  // dynamic only
   double newmark_beta = 0.25, newmark_gamma = 0.5;
   int max_cutbacks = 8;  // halvings of a failed load increment before giving up
 };
 
+// A starting set of PETSc options: a direct solve (MUMPS) or CG/GMRES with algebraic multigrid.
+enum class SolverPreset { mumps, gamg };
+inline const std::vector<std::string> kSolverPresetNames = {"mumps", "gamg"};
 struct SolverConfig {
-  std::string preset = "mumps";  // mumps | gamg: a starting set of PETSc options
+  SolverPreset preset = SolverPreset::mumps;
   std::map<std::string, std::string> petsc_options;  // any PETSc option, without the dash
 };
 
@@ -65,10 +75,11 @@ struct OutputConfig {
   int every = 1;       // write every n-th step (the last one always)
 };
 
+// The deck's exact solution (src/verification/), built by parse_deck from exact.type, its
+// parameters and the deck's numbers it needs; null for exact.type none. Its name() and
+// parameters() print the section back.
 struct ExactConfig {
-  std::string type;  // none | lame_sphere | cantilever_gravity | hydrostatic_block |
-                     // neo_hookean_sphere | bimaterial_bar ("none" after parse_deck)
-  std::map<std::string, double> parameters;  // e.g. a, b, p for lame_sphere
+  std::shared_ptr<const ExactSolution> solution;
 };
 
 // A choice the deck spells as a name: the names in the enum's order, and the conversions.
@@ -128,6 +139,8 @@ struct CableConfig {
   std::vector<std::array<double, 3>> points;  // at least one; two with no pull point
   std::optional<std::array<double, 3>> pull_point;
   double force = 0;  // N, tension at the end of the first state (ramped), >= 0
+  // Coulomb friction coefficient where the cable turns (the capstan equation), >= 0; 0: none.
+  double friction = 0;
 };
 
 // A later state of a run (after the first): the load stays at full, the named cavities'

@@ -13,25 +13,14 @@
 #include "common/deck_reader.hpp"
 #include "deck/overrides.hpp"
 #include "io/output.hpp"
+#include "materials/registry.hpp"
+#include "verification/registry.hpp"
 
 namespace hs {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kModels = {"linear_elastic", "corotational",
-                                          "saint_venant_kirchhoff", "neo_hookean", "mooney_rivlin"};
-const std::vector<std::string> kTimeTypes = {"static", "quasi_static", "dynamic"};
-const std::vector<std::string> kIntegrators = {"newmark", "backward_euler"};
-const std::vector<std::string> kPresets = {"mumps", "gamg"};
-// The exact solutions of solvers/exact_solution.cpp and the parameters each one reads.
-const std::map<std::string, std::vector<std::string>> kExactParameters = {
-    {"none", {}},
-    {"lame_sphere", {"a", "b", "p"}},
-    {"cantilever_gravity", {"L", "h"}},
-    {"hydrostatic_block", {"H"}},
-    {"neo_hookean_sphere", {"A", "B", "stretch"}},
-    {"bimaterial_bar", {"L1", "t"}}};
 
 YAML::Node load_yaml(const std::string& path) {
   if (!fs::is_regular_file(path)) throw InputError(path + ": deck file not found");
@@ -77,53 +66,17 @@ MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::pat
   return mesh;
 }
 
-// Elastic constants: exactly one of the pairs (E, nu), (mu, lambda); the other follows from
-//   mu = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu))
-//   E = mu (3 lambda + 2 mu) / (lambda + mu),  nu = lambda / (2 (lambda + mu)).
-void parse_elastic_constants(const DeckReader& r, const YAML::Node& node, const std::string& key,
-                             MaterialConfig& m) {
-  const bool engineering = node["E"] || node["nu"], lame = node["mu"] || node["lambda"];
-  if (engineering && lame) r.fail(key, node, "give either E and nu or mu and lambda, not both");
-  if (!engineering && !lame)
-    r.fail(key, node, "elastic constants missing: give E and nu, or mu and lambda");
-  if (engineering) {
-    const auto E = required(r, node, key, "E"), nu = required(r, node, key, "nu");
-    m.E = r.number(E, child_key(key, "E"));
-    m.nu = r.number(nu, child_key(key, "nu"));
-    require(m.E > 0, r, E, child_key(key, "E"), "must be > 0, got " + format_number(m.E));
-    require(m.nu > -1 && m.nu < 0.5, r, nu, child_key(key, "nu"),
-            "must lie in (-1, 0.5), got " + format_number(m.nu) +
-                " (0.5 is incompressible, beyond a displacement formulation)");
-    m.mu = m.E / (2 * (1 + m.nu));
-    m.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
-  } else {
-    const auto mu = required(r, node, key, "mu"), lambda = required(r, node, key, "lambda");
-    m.mu = r.number(mu, child_key(key, "mu"));
-    m.lambda = r.number(lambda, child_key(key, "lambda"));
-    require(m.mu > 0, r, mu, child_key(key, "mu"), "must be > 0, got " + format_number(m.mu));
-    const double bulk = m.lambda + 2 * m.mu / 3;
-    require(bulk > 0, r, lambda, child_key(key, "lambda"),
-            "gives bulk modulus lambda + 2 mu / 3 = " + format_number(bulk) + ", must be > 0");
-    m.E = m.mu * (3 * m.lambda + 2 * m.mu) / (m.lambda + m.mu);
-    m.nu = m.lambda / (2 * (m.lambda + m.mu));
-  }
-}
-
+// The deck owns group and density; the registry reads the model's law from the rest of the map.
 MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const std::string& key) {
-  r.check_map(node, key, {"group", "model", "E", "nu", "mu", "lambda", "c1", "c2", "density"});
+  const std::vector<std::string> deck_keys = {"group", "model", "density"};
+  std::vector<std::string> known = {"group", "model"};
+  for (const auto& name : material_law_keys()) known.push_back(name);
+  known.push_back("density");
+  r.check_map(node, key, known);
   MaterialConfig m;
   m.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
-  m.model = one_of(r, required(r, node, key, "model"), child_key(key, "model"), kModels);
-  parse_elastic_constants(r, node, key, m);
-  if (m.model == "mooney_rivlin") {
-    m.c1 = node["c1"] ? r.number(node["c1"], child_key(key, "c1")) : m.mu / 2;
-    m.c2 = node["c2"] ? r.number(node["c2"], child_key(key, "c2")) : 0.0;
-    require(m.c1 + m.c2 > 0, r, node, child_key(key, "c1"),
-            "c1 + c2 must be > 0 (the small-strain shear modulus is 2 (c1 + c2))");
-  } else {
-    forbid(r, node, key, "c1", "only used by model mooney_rivlin");
-    forbid(r, node, key, "c2", "only used by model mooney_rivlin");
-  }
+  const std::string model = r.text(required(r, node, key, "model"), child_key(key, "model"));
+  m.law = parse_material_law(r, node, key, model, deck_keys);
   if (const auto n = node["density"]) {
     m.density = r.number(n, child_key(key, "density"));
     require(m.density >= 0, r, n, child_key(key, "density"),
@@ -193,8 +146,9 @@ TimeConfig parse_time(const DeckReader& r, const YAML::Node& node) {
       node, "time",
       {"type", "steps", "schedule", "dt", "end_time", "integrator", "newmark", "max_cutbacks"});
   TimeConfig t;
-  if (const auto n = node["type"]) t.type = one_of(r, n, "time.type", kTimeTypes);
-  if (t.type == "dynamic") {
+  if (const auto n = node["type"])
+    t.type = enum_of<TimeType>(kTimeTypeNames, one_of(r, n, "time.type", kTimeTypeNames));
+  if (t.type == TimeType::dynamic) {
     const std::string reason = "not used when time.type is dynamic (dt and end_time set the steps)";
     for (const char* name : {"steps", "schedule", "max_cutbacks"})
       forbid(r, node, "time", name, reason);
@@ -206,9 +160,10 @@ TimeConfig parse_time(const DeckReader& r, const YAML::Node& node) {
             "must be > 0, got " + format_number(t.end_time));
     require(t.dt <= t.end_time, r, dt, "time.dt", "must not exceed time.end_time");
     if (const auto n = node["integrator"])
-      t.integrator = one_of(r, n, "time.integrator", kIntegrators);
+      t.integrator = enum_of<Integrator>(kIntegratorNames,
+                                         one_of(r, n, "time.integrator", kIntegratorNames));
     if (const auto n = node["newmark"]) {
-      require(t.integrator == "newmark", r, n, "time.newmark", "only used by integrator newmark");
+      require(t.integrator == Integrator::newmark, r, n, "time.newmark", "only used by integrator newmark");
       r.check_map(n, "time.newmark", {"beta", "gamma"});
       if (n["beta"]) t.newmark_beta = r.number(n["beta"], "time.newmark.beta");
       if (n["gamma"]) t.newmark_gamma = r.number(n["gamma"], "time.newmark.gamma");
@@ -244,7 +199,9 @@ TimeConfig parse_time(const DeckReader& r, const YAML::Node& node) {
 SolverConfig parse_solver(const DeckReader& r, const YAML::Node& node) {
   r.check_map(node, "solver", {"preset", "petsc_options"});
   SolverConfig s;
-  if (const auto n = node["preset"]) s.preset = one_of(r, n, "solver.preset", kPresets);
+  if (const auto n = node["preset"])
+    s.preset =
+        enum_of<SolverPreset>(kSolverPresetNames, one_of(r, n, "solver.preset", kSolverPresetNames));
   if (const auto options = node["petsc_options"]) {
     if (!options.IsMap())
       r.fail("solver.petsc_options", options, "expected a map of option: value");
@@ -276,23 +233,48 @@ OutputConfig parse_output(const DeckReader& r, const YAML::Node& node) {
   return o;
 }
 
-ExactConfig parse_exact(const DeckReader& r, const YAML::Node& node) {
+// The numbers of the deck an exact solution may need besides its parameters.
+ExactSetting exact_setting(const Config& c) {
+  ExactSetting setting;
+  for (const auto& m : c.materials) {
+    const ElasticConstants& k = m.law->elastic_constants();
+    setting.materials.push_back({m.group, k.E, k.nu, k.mu, k.lambda, m.density});
+  }
+  setting.gravity = c.gravity;
+  return setting;
+}
+
+// The section goes to the registry of src/verification/, which knows the names, the
+// parameters and their checks; its errors come back with their key.
+ExactConfig parse_exact(const DeckReader& r, const YAML::Node& root, const Config& c) {
+  const YAML::Node node = root["exact"];
   r.check_map(node, "exact", {"type", "parameters"});
-  ExactConfig e;
-  std::vector<std::string> types;
-  for (const auto& entry : kExactParameters) types.push_back(entry.first);
-  e.type = node["type"] ? one_of(r, node["type"], "exact.type", types) : "none";
-  if (const auto n = node["parameters"]) e.parameters = r.number_map(n, "exact.parameters");
-  const auto& needed = kExactParameters.at(e.type);
-  const std::string needs = "exact solution '" + e.type + "' (takes " +
-                            (needed.empty() ? "no parameters" : join(needed)) + ")";
-  for (const auto& name : needed)
-    if (!e.parameters.count(name))
-      r.fail(child_key("exact.parameters", name), node, "required by " + needs);
-  for (const auto& [name, value] : e.parameters)
-    if (!contains(needed, name))
-      r.fail(child_key("exact.parameters", name), node["parameters"][name], "unknown to " + needs);
-  return e;
+  std::vector<std::string> names = {"none"};
+  for (const auto& name : exact_solution_names()) names.push_back(name);
+  const std::string type = node["type"] ? one_of(r, node["type"], "exact.type", names) : "none";
+  ExactParameterMap parameters;
+  if (const auto n = node["parameters"]) parameters = r.number_map(n, "exact.parameters");
+  if (type == "none") {
+    if (!parameters.empty())
+      r.fail(child_key("exact.parameters", parameters.begin()->first),
+             node["parameters"][parameters.begin()->first],
+             "unknown to exact solution 'none' (takes no parameters)");
+    return {};
+  }
+  try {
+    return {make_exact_solution(type, parameters, exact_setting(c))};
+  } catch (const ExactInputError& e) {
+    // The node the key names, for its line: a parameter, the section, or a section of the
+    // deck the solution reads (materials, loads.gravity).
+    const std::string prefix = "exact.parameters.";
+    YAML::Node where = node;
+    if (e.key().rfind(prefix, 0) == 0 && node["parameters"] &&
+        node["parameters"][e.key().substr(prefix.size())])
+      where = node["parameters"][e.key().substr(prefix.size())];
+    else if (e.key() == "materials")
+      where = root["materials"];
+    r.fail(e.key(), where, e.what());
+  }
 }
 
 }  // namespace
@@ -332,10 +314,9 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
       r.fail("output.folder", output["folder"], problem);
     r.fail("output.folder", "the default '" + c.output.folder + "': " + problem);
   }
-  c.exact.type = "none";
-  if (const auto n = root["exact"]) c.exact = parse_exact(r, n);
+  if (root["exact"]) c.exact = parse_exact(r, root, c);
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
-    if (c.dirichlet[i].exact && c.exact.type == "none")
+    if (c.dirichlet[i].exact && !c.exact.solution)
       r.fail(child_key(item_key("boundary", i), "exact"), root["boundary"][i]["exact"],
              "needs an exact solution, but exact.type is none");
   return c;

@@ -8,6 +8,8 @@
 
 #include "common/deck_reader.hpp"
 #include "deck/deck.hpp"
+#include "materials/material.hpp"
+#include "verification/exact_solution.hpp"
 
 namespace hs {
 namespace {
@@ -46,21 +48,11 @@ void emit_materials(YAML::Emitter& out, const std::vector<MaterialConfig>& mater
   for (const auto& m : materials) {
     out << YAML::BeginMap;
     out << YAML::Key << "group" << YAML::Value << m.group;
-    out << YAML::Key << "model" << YAML::Value << m.model;
-    // The pair the deck gave: the derived pair, converted back, may differ in the last bit.
-    const bool from_E_nu =
-        m.mu == m.E / (2 * (1 + m.nu)) && m.lambda == m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
-    emit_number(out, from_E_nu ? "E" : "mu", from_E_nu ? m.E : m.mu);
-    emit_number(out, from_E_nu ? "nu" : "lambda", from_E_nu ? m.nu : m.lambda);
-    if (m.model == "mooney_rivlin") {
-      emit_number(out, "c1", m.c1);
-      emit_number(out, "c2", m.c2);
-    }
+    out << YAML::Key << "model" << YAML::Value << m.law->name();
+    m.law->print(out);
     emit_number(out, "density", m.density);
     out << YAML::EndMap;
-    out << YAML::Comment(from_E_nu ? "mu = " + format_number(m.mu) +
-                                         ", lambda = " + format_number(m.lambda)
-                                   : "E = " + format_number(m.E) + ", nu = " + format_number(m.nu));
+    out << YAML::Comment(m.law->derived_values());
   }
   out << YAML::EndSeq;
 }
@@ -150,6 +142,7 @@ void emit_cables(YAML::Emitter& out, const std::vector<CableConfig>& cables) {
     out << YAML::EndSeq;
     if (c.pull_point) emit_numbers(out, "pull_point", c.pull_point->data(), 3);
     emit_number(out, "force", c.force);
+    emit_number(out, "friction", c.friction);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
@@ -254,12 +247,12 @@ void emit_control(YAML::Emitter& out, const ControlConfig& control,
 // With states, the first state's steps replace time.steps (and a schedule).
 void emit_time(YAML::Emitter& out, const TimeConfig& t, bool has_states) {
   out << YAML::Key << "time" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "type" << YAML::Value << t.type;
-  if (t.type == "dynamic") {
+  out << YAML::Key << "type" << YAML::Value << name_of(kTimeTypeNames, t.type);
+  if (t.type == TimeType::dynamic) {
     emit_number(out, "dt", t.dt);
     emit_number(out, "end_time", t.end_time);
-    out << YAML::Key << "integrator" << YAML::Value << t.integrator;
-    if (t.integrator == "newmark") {
+    out << YAML::Key << "integrator" << YAML::Value << name_of(kIntegratorNames, t.integrator);
+    if (t.integrator == Integrator::newmark) {
       out << YAML::Key << "newmark" << YAML::Value << YAML::Flow << YAML::BeginMap;
       emit_number(out, "beta", t.newmark_beta);
       emit_number(out, "gamma", t.newmark_gamma);
@@ -284,7 +277,7 @@ std::string format_config(const Config& c) {
   emit_boundary(out, c.dirichlet);
   emit_loads(out, c);
   // Cavities, states and tip belong to static and quasi-static runs only.
-  if (c.time.type != "dynamic") emit_cavities(out, c.cavities);
+  if (c.time.type != TimeType::dynamic) emit_cavities(out, c.cavities);
   if (!c.cables.empty()) emit_cables(out, c.cables);
   emit_time(out, c.time, !c.states.empty());
   emit_states(out, c.states);
@@ -296,7 +289,7 @@ std::string format_config(const Config& c) {
   if (c.control) emit_control(out, *c.control, c.cables);
 
   out << YAML::Key << "solver" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "preset" << YAML::Value << c.solver.preset;
+  out << YAML::Key << "preset" << YAML::Value << name_of(kSolverPresetNames, c.solver.preset);
   out << YAML::Key << "petsc_options" << YAML::Value;
   if (c.solver.petsc_options.empty()) out << YAML::Flow;
   out << YAML::BeginMap;
@@ -310,8 +303,9 @@ std::string format_config(const Config& c) {
   out << YAML::EndMap;
 
   out << YAML::Key << "exact" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "type" << YAML::Value << (c.exact.type.empty() ? "none" : c.exact.type);
-  emit_number_map(out, "parameters", c.exact.parameters);
+  const auto& exact = c.exact.solution;
+  out << YAML::Key << "type" << YAML::Value << (exact ? exact->name() : "none");
+  emit_number_map(out, "parameters", exact ? exact->parameters() : ExactParameterMap{});
   out << YAML::EndMap;
 
   out << YAML::EndMap;

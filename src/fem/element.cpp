@@ -81,7 +81,7 @@ void mirror_lower_blocks(double* K) {
 // times the volume it stands for; adds to R, to K (when given) and to the energy.
 template <int NPE>
 void add_internal_force_point(const NodeMatrix<NPE>& G, double wdV, const NodeMatrix<NPE>& Um,
-                              const MaterialParameters& m, NodeMatrix<NPE>& R, double* K,
+                              const MaterialLaw& m, NodeMatrix<NPE>& R, double* K,
                               ElementOutput& out) {
   const Mat3 H = Um * G.transpose();  // F - I
   const StressResult s = stress_from_displacement_gradient(m, H, K != nullptr);
@@ -94,7 +94,7 @@ void add_internal_force_point(const NodeMatrix<NPE>& G, double wdV, const NodeMa
 // The internal force of an element whose quadrature points are given by `points`, called
 // with a function add(G, wdV) that it calls once per point.
 template <int NPE, class Points>
-ElementOutput integrate_internal_force(const double* u, const MaterialParameters& m, double* r,
+ElementOutput integrate_internal_force(const double* u, const MaterialLaw& m, double* r,
                                        double* K, Points points) {
   constexpr int n = 3 * NPE;
   const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
@@ -111,7 +111,7 @@ ElementOutput integrate_internal_force(const double* u, const MaterialParameters
 }
 
 template <int NPE>
-ElementOutput internal_force(const double* X, const double* u, const MaterialParameters& m,
+ElementOutput internal_force(const double* X, const double* u, const MaterialLaw& m,
                              double* r, double* K) {
   const auto& t = tet_tables<NPE>(degrees<NPE>().stiffness);
   const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
@@ -169,7 +169,7 @@ double volume(const double* X) {
 }
 
 template <int NPE>
-ElementFields fields(const double* X, const double* u, const MaterialParameters& m) {
+ElementFields fields(const double* X, const double* u, const MaterialLaw& m) {
   const auto& t = tet_tables<NPE>(1);  // the centroid
   const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
   const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
@@ -205,13 +205,13 @@ P1Geometry tet_p1_geometry(const double* X) {
 }
 
 ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u,
-                                    const MaterialParameters& m, double* r, double* K) {
+                                    const MaterialLaw& m, double* r, double* K) {
   return integrate_internal_force<4>(
       u, m, r, K, [&](auto add) { add(Eigen::Map<const NodeMatrix<4>>(g.grad), g.volume); });
 }
 
 ElementOutput tet_internal_force(int order, const double* X, const double* u,
-                                 const MaterialParameters& m, double* r, double* K) {
+                                 const MaterialLaw& m, double* r, double* K) {
   return tet_num_nodes(order) == 4 ? internal_force<4>(X, u, m, r, K)
                                    : internal_force<10>(X, u, m, r, K);
 }
@@ -234,7 +234,7 @@ bool tet_orientation_preserved(int order, const double* X, const double* u) {
                                    : orientation_preserved<10>(X, u);
 }
 
-ElementFields tet_fields(int order, const double* X, const double* u, const MaterialParameters& m) {
+ElementFields tet_fields(int order, const double* X, const double* u, const MaterialLaw& m) {
   return tet_num_nodes(order) == 4 ? fields<4>(X, u, m) : fields<10>(X, u, m);
 }
 

@@ -8,9 +8,10 @@
 // part of R^T dF gives (tr(S) I - S) omega = axial(R^T dF - dF^T R), and then
 //   dP = 2 mu dF + lambda tr(R^T dF) R + (lambda tr(S - I) - 2 mu) dR.
 // At F = I this is the linear elastic tangent; Newton on it converges quadratically.
+#include "materials/corotational.hpp"
+
 #include <cmath>
 
-#include "materials/models.hpp"
 #include "materials/tensor.hpp"
 
 namespace hs {
@@ -85,6 +86,16 @@ StressResult corotational(double mu, double lambda, const Mat3& H, bool with_tan
     }
   }
   return s;
+}
+
+std::shared_ptr<const MaterialLaw> CorotationalLaw::parse(const DeckReader& r,
+                                                          const YAML::Node& node,
+                                                          const std::string& key) {
+  return std::make_shared<CorotationalLaw>(parse_elastic_constants(r, node, key));
+}
+
+StressResult CorotationalLaw::stress(const Mat3& H, bool with_tangent) const {
+  return corotational(constants_.mu, constants_.lambda, H, with_tangent);
 }
 
 }  // namespace hs

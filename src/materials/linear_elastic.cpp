@@ -3,7 +3,8 @@
 //   P = sigma = lambda tr(eps) I + 2 mu eps,
 //   A_ijkl = lambda d_ij d_kl + mu (d_ik d_jl + d_il d_jk)   (constant).
 // Not objective: it is meant for small displacements and as the small-strain reference.
-#include "materials/models.hpp"
+#include "materials/linear_elastic.hpp"
+
 #include "materials/tensor.hpp"
 
 namespace hs {
@@ -22,6 +23,20 @@ StressResult linear_elastic(double mu, double lambda, const Mat3& H, bool with_t
     tensor::add_il_kj(s.A, mu, I, I);
   }
   return s;
+}
+
+std::shared_ptr<const MaterialLaw> LinearElasticLaw::parse(const DeckReader& r,
+                                                           const YAML::Node& node,
+                                                           const std::string& key) {
+  return std::make_shared<LinearElasticLaw>(parse_elastic_constants(r, node, key));
+}
+
+StressResult LinearElasticLaw::stress(const Mat3& H, bool with_tangent) const {
+  return linear_elastic(constants_.mu, constants_.lambda, H, with_tangent);
+}
+
+Mat3 LinearElasticLaw::cauchy_stress(const Mat3& F) const {
+  return stress(F - Mat3::Identity(), false).P;
 }
 
 }  // namespace hs

@@ -1,10 +1,16 @@
-// Pointwise constitutive laws: first Piola-Kirchhoff stress P(F) and its tangent dP/dF.
-// Pure functions of the deformation gradient and the parameters, so that each can be
-// checked against finite differences (tests/materials).
+// Constitutive laws behind one interface. A law is an object made by the registry
+// (materials/registry.hpp) from its YAML map; each law lives in one file (its name, its
+// parameters and their checks, psi, P and dP/dF), so nothing outside that file switches on the
+// model. Its pointwise functions stay pure (functions of H = F - I and numbers), so that each
+// can be checked against finite differences (tests/materials).
 #pragma once
 
 #include <Eigen/Dense>
 #include <string>
+
+namespace YAML {
+class Emitter;
+}
 
 namespace hs {
 
@@ -12,47 +18,55 @@ using Mat3 = Eigen::Matrix3d;
 // dP_ij / dF_kl stored at (3*i + j, 3*k + l) (row-major flattening of both).
 using Tangent = Eigen::Matrix<double, 9, 9>;
 
-enum class MaterialModel {
-  LinearElastic,
-  Corotational,
-  SaintVenantKirchhoff,
-  NeoHookean,
-  MooneyRivlin
-};
-
-struct MaterialParameters {
-  MaterialModel model = MaterialModel::LinearElastic;
-  double mu = 0, lambda = 0;  // Lame parameters
-  double c1 = 0, c2 = 0;      // Mooney-Rivlin
-  double density = 0;
-};
-
-// Throws std::invalid_argument for an unknown name.
-MaterialModel material_model_from_name(const std::string& name);
-std::string material_model_name(MaterialModel model);
-
 struct StressResult {
   Mat3 P;      // first Piola-Kirchhoff stress
-  Tangent A;   // dP/dF
-  double psi;  // strain energy density (where the model has one)
+  Tangent A;   // dP/dF (0 when not asked for)
+  double psi;  // strain energy density
 };
 
-// Stress, tangent and energy density at one point. For det F <= 0 the finite-strain
-// models return a non-finite psi; callers must treat that as an inverted element.
-StressResult stress(const MaterialParameters& m, const Mat3& F);
-// The same; with_tangent = false skips computing A (residual-only evaluations).
-StressResult stress(const MaterialParameters& m, const Mat3& F, bool with_tangent);
-// The same from the displacement gradient H = F - I, which element routines have: small
-// strains keep their relative precision (F - I would leave an absolute error of 1e-16, i.e.
-// a stress error of 1e-16 times the stiffness, a residual floor for small loads).
-StressResult stress_from_displacement_gradient(const MaterialParameters& m, const Mat3& H,
-                                               bool with_tangent);
+// The elastic constants every law of this code takes: E, nu or mu, lambda in the deck, the
+// other pair derived (materials/elastic_constants.hpp).
+struct ElasticConstants {
+  double E = 0, nu = 0;
+  double mu = 0, lambda = 0;
+};
 
-// Cauchy stress sigma = P F^T / J, used for output (von Mises).
-// For linear_elastic (small strain) it is P itself.
-Mat3 cauchy_stress(const MaterialParameters& m, const Mat3& F);
+class MaterialLaw {
+ public:
+  virtual ~MaterialLaw() = default;
+  // The deck's model name, e.g. neo_hookean.
+  virtual std::string name() const = 0;
+  // Stress, energy density and (if with_tangent) tangent at the displacement gradient
+  // H = F - I, which element routines have: small strains keep their relative precision (F - I
+  // would leave an absolute error of 1e-16, a stress error of 1e-16 times the stiffness, a
+  // residual floor for small loads). For det F <= 0, and wherever a law is not defined, psi is
+  // +inf and P, A are NaN: callers treat that as an inverted element.
+  virtual StressResult stress(const Mat3& H, bool with_tangent) const = 0;
+  // Cauchy stress sigma = P F^T / J, used for output (von Mises).
+  virtual Mat3 cauchy_stress(const Mat3& F) const;
+  // The elastic constants the deck gave (closed-form references of verification decks read them).
+  virtual const ElasticConstants& elastic_constants() const = 0;
+  // Writes the law's own keys into the material's map being printed (it reads back the same).
+  virtual void print(YAML::Emitter& out) const = 0;
+  // What the law derived from its keys, for a comment beside the printed map.
+  virtual std::string derived_values() const = 0;
+};
+
+// The same calls on F or H, as free functions (element routines, tests).
+inline StressResult stress_from_displacement_gradient(const MaterialLaw& law, const Mat3& H,
+                                                      bool with_tangent) {
+  return law.stress(H, with_tangent);
+}
+inline StressResult stress(const MaterialLaw& law, const Mat3& F, bool with_tangent = true) {
+  return law.stress(F - Mat3::Identity(), with_tangent);
+}
+inline Mat3 cauchy_stress(const MaterialLaw& law, const Mat3& F) { return law.cauchy_stress(F); }
 
 // Von Mises equivalent stress sqrt(3/2 dev(sigma) : dev(sigma)).
 double von_mises(const Mat3& sigma);
+
+// The result of a finite-strain law at det F <= 0 (or outside its domain): psi = +inf,
+// P = A = NaN.
+StressResult inverted_result();
 
 }  // namespace hs

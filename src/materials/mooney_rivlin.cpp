@@ -16,9 +16,10 @@
 //        d(F C)_ijkl = d_ik C_lj + F_il F_kj + (F F^T)_ik d_lj
 //   A2 = c2 h [dQ - 4/3 Q (x) F^-T]
 //   A3 = kappa [F^-T (x) F^-T - ln J D].
+#include "materials/mooney_rivlin.hpp"
+
 #include <cmath>
 
-#include "materials/models.hpp"
 #include "materials/tensor.hpp"
 
 namespace hs {
@@ -68,6 +69,34 @@ StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& H, bo
   tensor::add_outer(s.A, kappa, FinvT, FinvT);
   tensor::add_il_kj(s.A, -kappa * lnJ, FinvT, FinvT);
   return s;
+}
+
+std::vector<std::string> MooneyRivlinLaw::keys() {
+  std::vector<std::string> keys = kElasticConstantKeys;
+  keys.insert(keys.end(), {"c1", "c2"});
+  return keys;
+}
+
+std::shared_ptr<const MaterialLaw> MooneyRivlinLaw::parse(const DeckReader& r,
+                                                          const YAML::Node& node,
+                                                          const std::string& key) {
+  const ElasticConstants constants = parse_elastic_constants(r, node, key);
+  const double c1 = node["c1"] ? r.number(node["c1"], child_key(key, "c1")) : constants.mu / 2;
+  const double c2 = node["c2"] ? r.number(node["c2"], child_key(key, "c2")) : 0.0;
+  require(c1 + c2 > 0, r, node, child_key(key, "c1"),
+          "c1 + c2 must be > 0 (the small-strain shear modulus is 2 (c1 + c2))");
+  return std::make_shared<MooneyRivlinLaw>(constants, c1, c2);
+}
+
+StressResult MooneyRivlinLaw::stress(const Mat3& H, bool with_tangent) const {
+  // Bulk modulus of the small-strain limit; the shear modulus there is 2 (c1 + c2).
+  return mooney_rivlin(c1_, c2_, constants_.lambda + 2.0 * constants_.mu / 3.0, H, with_tangent);
+}
+
+void MooneyRivlinLaw::print(YAML::Emitter& out) const {
+  ElasticLaw::print(out);
+  print_number(out, "c1", c1_);
+  print_number(out, "c2", c2_);
 }
 
 }  // namespace hs

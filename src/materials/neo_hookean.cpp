@@ -4,9 +4,10 @@
 // the second form (E = (F^T F - I)/2, ln J = log1p(J - 1), both from H = F - I) keeping the
 // relative precision of small strains. With d(ln J)/dF = F^-T, d(F^-T)_ij/dF_kl = -F^-T_il F^-T_kj:
 //   A_ijkl = mu d_ik d_jl + (mu - lambda ln J) F^-T_il F^-T_kj + lambda F^-T_ij F^-T_kl.
+#include "materials/neo_hookean.hpp"
+
 #include <cmath>
 
-#include "materials/models.hpp"
 #include "materials/tensor.hpp"
 
 namespace hs {
@@ -28,6 +29,15 @@ StressResult neo_hookean(double mu, double lambda, const Mat3& H, bool with_tang
     tensor::add_outer(s.A, lambda, FinvT, FinvT);
   }
   return s;
+}
+
+std::shared_ptr<const MaterialLaw> NeoHookeanLaw::parse(const DeckReader& r, const YAML::Node& node,
+                                                        const std::string& key) {
+  return std::make_shared<NeoHookeanLaw>(parse_elastic_constants(r, node, key));
+}
+
+StressResult NeoHookeanLaw::stress(const Mat3& H, bool with_tangent) const {
+  return neo_hookean(constants_.mu, constants_.lambda, H, with_tangent);
 }
 
 }  // namespace hs

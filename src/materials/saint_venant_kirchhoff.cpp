@@ -3,7 +3,8 @@
 // With dE_mj/dF_kl = (d_lm F_kj + F_km d_lj)/2 the tangent is
 //   A_ijkl = d_ik S_lj + lambda F_ij F_kl + mu (F_il F_kj + (F F^T)_ik d_lj).
 // The energy is defined for any F; det F <= 0 is still reported as an inverted point.
-#include "materials/models.hpp"
+#include "materials/saint_venant_kirchhoff.hpp"
+
 #include "materials/tensor.hpp"
 
 namespace hs {
@@ -26,6 +27,16 @@ StressResult saint_venant_kirchhoff(double mu, double lambda, const Mat3& H, boo
     tensor::add_ik_lj(s.A, mu, F * F.transpose(), I);
   }
   return s;
+}
+
+std::shared_ptr<const MaterialLaw> SaintVenantKirchhoffLaw::parse(const DeckReader& r,
+                                                                  const YAML::Node& node,
+                                                                  const std::string& key) {
+  return std::make_shared<SaintVenantKirchhoffLaw>(parse_elastic_constants(r, node, key));
+}
+
+StressResult SaintVenantKirchhoffLaw::stress(const Mat3& H, bool with_tangent) const {
+  return saint_venant_kirchhoff(constants_.mu, constants_.lambda, H, with_tangent);
 }
 
 }  // namespace hs

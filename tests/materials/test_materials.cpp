@@ -6,116 +6,49 @@
 #include <random>
 #include <stdexcept>
 
-#include "materials/material.hpp"
+#include "common/error.hpp"
+#include "material_fixtures.hpp"
+#include "materials/registry.hpp"
 
 namespace hs {
 namespace {
 
-const double kMu = 3.0, kLambda = 7.0;  // E = 7.8, nu = 0.35
+using namespace material_fixtures;
 
-MaterialParameters parameters(MaterialModel model) {
-  MaterialParameters m;
-  m.model = model;
-  m.mu = kMu;
-  m.lambda = kLambda;
-  m.c1 = 0.3 * kMu;  // c1 + c2 = mu / 2
-  m.c2 = 0.2 * kMu;
-  return m;
-}
-
-const MaterialModel kAllModels[] = {MaterialModel::LinearElastic, MaterialModel::Corotational,
-                                    MaterialModel::SaintVenantKirchhoff, MaterialModel::NeoHookean,
-                                    MaterialModel::MooneyRivlin};
-const MaterialModel kFiniteStrainModels[] = {
-    MaterialModel::Corotational, MaterialModel::SaintVenantKirchhoff, MaterialModel::NeoHookean,
-    MaterialModel::MooneyRivlin};
-
-Mat3 rotation(const Eigen::Vector3d& axis, double angle) {
-  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-}
-
-// Random rotation from a random axis and angle in [-pi, pi].
-Mat3 random_rotation(std::mt19937& rng) {
-  std::uniform_real_distribution<double> d(-1.0, 1.0);
-  return rotation(Eigen::Vector3d(d(rng), d(rng), d(rng)), M_PI * d(rng));
-}
-
-// F = I + amplitude * (random matrix); redrawn until det F >= 0.3 (large amplitudes).
-Mat3 random_F(std::mt19937& rng, double amplitude) {
-  std::uniform_real_distribution<double> d(-1.0, 1.0);
-  for (;;) {
-    Mat3 H;
-    for (int i = 0; i < 9; ++i) H(i) = d(rng);
-    const Mat3 F = Mat3::Identity() + amplitude * H;
-    if (F.determinant() >= 0.3) return F;
-  }
-}
-
-double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& reference) {
-  return (a - reference).norm() / reference.norm();
-}
-
-// Central differences of psi in each F_kl (row-major flattening as the tangent).
-Mat3 fd_stress(const MaterialParameters& m, const Mat3& F, double h) {
-  Mat3 P;
-  for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < 3; ++l) {
-      Mat3 Fp = F, Fm = F;
-      Fp(k, l) += h;
-      Fm(k, l) -= h;
-      P(k, l) = (stress(m, Fp).psi - stress(m, Fm).psi) / (2 * h);
-    }
-  return P;
-}
-
-Tangent fd_tangent(const MaterialParameters& m, const Mat3& F, double h) {
-  Tangent A;
-  for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < 3; ++l) {
-      Mat3 Fp = F, Fm = F;
-      Fp(k, l) += h;
-      Fm(k, l) -= h;
-      const Mat3 dP = (stress(m, Fp).P - stress(m, Fm).P) / (2 * h);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) A(3 * i + j, 3 * k + l) = dP(i, j);
-    }
-  return A;
-}
-
-class EveryModel : public ::testing::TestWithParam<MaterialModel> {};
+class EveryModel : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryModel, StressIsTheDerivativeOfTheEnergy) {
-  const MaterialParameters m = parameters(GetParam());
+  const MaterialLaw& m = law(GetParam());
   std::mt19937 rng(1);
   for (double amplitude : {0.01, 0.3}) {
     for (int trial = 0; trial < 20; ++trial) {
       const Mat3 F = random_F(rng, amplitude);
       const StressResult s = stress(m, F);
       EXPECT_LT(relative_error(s.P, fd_stress(m, F, 1e-5)), 1e-7)
-          << material_model_name(m.model) << " amplitude " << amplitude << "\nF =\n"
+          << m.name() << " amplitude " << amplitude << "\nF =\n"
           << F;
     }
   }
 }
 
 TEST_P(EveryModel, TangentIsTheDerivativeOfTheStress) {
-  const MaterialParameters m = parameters(GetParam());
+  const MaterialLaw& m = law(GetParam());
   std::mt19937 rng(2);
   for (double amplitude : {0.01, 0.3}) {
     for (int trial = 0; trial < 20; ++trial) {
       const Mat3 F = random_F(rng, amplitude);
       const StressResult s = stress(m, F);
       EXPECT_LT(relative_error(s.A, fd_tangent(m, F, 1e-5)), 1e-7)
-          << material_model_name(m.model) << " amplitude " << amplitude << "\nF =\n"
+          << m.name() << " amplitude " << amplitude << "\nF =\n"
           << F;
-      // All five laws derive from an energy: the tangent has the major symmetry.
+      // All the laws derive from an energy: the tangent has the major symmetry.
       EXPECT_LT((s.A - s.A.transpose()).norm(), 1e-12 * s.A.norm());
     }
   }
 }
 
 TEST_P(EveryModel, TangentAtIdentityIsTheLinearElasticOne) {
-  const MaterialParameters m = parameters(GetParam());
+  const MaterialLaw& m = law(GetParam());
   // lambda d_ij d_kl + mu (d_ik d_jl + d_il d_jk), written out index by index.
   Tangent reference;
   for (int i = 0; i < 3; ++i)
@@ -128,7 +61,7 @@ TEST_P(EveryModel, TangentAtIdentityIsTheLinearElasticOne) {
 }
 
 TEST_P(EveryModel, NoStressNoEnergyAtIdentity) {
-  const StressResult s = stress(parameters(GetParam()), Mat3::Identity());
+  const StressResult s = stress(law(GetParam()), Mat3::Identity());
   EXPECT_LT(s.P.norm(), 1e-14 * kLambda);
   EXPECT_NEAR(s.psi, 0.0, 1e-14 * kLambda);
 }
@@ -136,7 +69,7 @@ TEST_P(EveryModel, NoStressNoEnergyAtIdentity) {
 TEST_P(EveryModel, TinyStrainKeepsItsRelativePrecision) {
   // At |H| ~ 1e-11 every law is linear to 1e-11; computing through F = I + H would lose
   // 1e-16 / 1e-11 = 1e-5 of the stress (a residual floor of 1e-16 E for small loads).
-  const MaterialParameters m = parameters(GetParam());
+  const MaterialLaw& m = law(GetParam());
   std::mt19937 rng(6);
   for (int trial = 0; trial < 10; ++trial) {
     const Mat3 H = 1e-11 * (random_F(rng, 1.0) - Mat3::Identity());
@@ -147,7 +80,7 @@ TEST_P(EveryModel, TinyStrainKeepsItsRelativePrecision) {
 }
 
 TEST_P(EveryModel, ResidualOnlyCallGivesTheSameStress) {
-  const MaterialParameters m = parameters(GetParam());
+  const MaterialLaw& m = law(GetParam());
   std::mt19937 rng(3);
   const Mat3 F = random_F(rng, 0.3);
   const StressResult full = stress(m, F), light = stress(m, F, false);
@@ -155,13 +88,13 @@ TEST_P(EveryModel, ResidualOnlyCallGivesTheSameStress) {
   EXPECT_EQ(full.psi, light.psi);
 }
 
-INSTANTIATE_TEST_SUITE_P(Materials, EveryModel, ::testing::ValuesIn(kAllModels),
-                         [](const auto& info) { return material_model_name(info.param); });
+INSTANTIATE_TEST_SUITE_P(Materials, EveryModel, ::testing::ValuesIn(all_law_names()),
+                         [](const auto& info) { return info.param; });
 
-class FiniteStrainModel : public ::testing::TestWithParam<MaterialModel> {};
+class FiniteStrainModel : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FiniteStrainModel, IsObjective) {
-  const MaterialParameters m = parameters(GetParam());
+  const MaterialLaw& m = law(GetParam());
   std::mt19937 rng(4);
   for (int trial = 0; trial < 20; ++trial) {
     const Mat3 F = random_F(rng, 0.4), Q = random_rotation(rng);
@@ -172,7 +105,7 @@ TEST_P(FiniteStrainModel, IsObjective) {
 }
 
 TEST_P(FiniteStrainModel, InvertedOrFlatPointHasNoFiniteEnergy) {
-  const MaterialParameters m = parameters(GetParam());
+  const MaterialLaw& m = law(GetParam());
   const Mat3 reflected = Eigen::Vector3d(1.1, 0.9, -0.8).asDiagonal();
   const Mat3 flat = Eigen::Vector3d(1.1, 0.9, 0.0).asDiagonal();
   EXPECT_FALSE(std::isfinite(stress(m, reflected).psi));
@@ -182,47 +115,47 @@ TEST_P(FiniteStrainModel, InvertedOrFlatPointHasNoFiniteEnergy) {
 
 // Energy in principal stretches on F = Q1 diag(l) Q2^T: a reference that shares no code with
 // the invariant / polar forms of the laws.
-double principal_energy(MaterialModel model, const Eigen::Vector3d& l) {
+double principal_energy(const std::string& model, const Eigen::Vector3d& l) {
   const double J = l.prod(), lnJ = std::log(J);
   const Eigen::Vector3d l2 = l.cwiseProduct(l);
-  switch (model) {
-    case MaterialModel::Corotational: {
-      const Eigen::Vector3d e = l - Eigen::Vector3d::Ones();
-      return kMu * e.squaredNorm() + 0.5 * kLambda * e.sum() * e.sum();
-    }
-    case MaterialModel::SaintVenantKirchhoff: {
-      const Eigen::Vector3d E = 0.5 * (l2 - Eigen::Vector3d::Ones());
-      return kMu * E.squaredNorm() + 0.5 * kLambda * E.sum() * E.sum();
-    }
-    case MaterialModel::NeoHookean:
-      return 0.5 * kMu * (l2.sum() - 3) - kMu * lnJ + 0.5 * kLambda * lnJ * lnJ;
-    case MaterialModel::MooneyRivlin: {
-      const double I1b = std::pow(J, -2.0 / 3.0) * l2.sum();
-      const double I2b = std::pow(J, -4.0 / 3.0) * (l2(0) * l2(1) + l2(1) * l2(2) + l2(2) * l2(0));
-      const double kappa = kLambda + 2 * kMu / 3;
-      return 0.3 * kMu * (I1b - 3) + 0.2 * kMu * (I2b - 3) + 0.5 * kappa * lnJ * lnJ;
-    }
-    default:
-      throw std::logic_error("no principal-stretch form");
+  const double kappa = kLambda + 2 * kMu / 3;
+  if (model == "corotational") {
+    const Eigen::Vector3d e = l - Eigen::Vector3d::Ones();
+    return kMu * e.squaredNorm() + 0.5 * kLambda * e.sum() * e.sum();
   }
+  if (model == "saint_venant_kirchhoff") {
+    const Eigen::Vector3d E = 0.5 * (l2 - Eigen::Vector3d::Ones());
+    return kMu * E.squaredNorm() + 0.5 * kLambda * E.sum() * E.sum();
+  }
+  if (model == "neo_hookean")
+    return 0.5 * kMu * (l2.sum() - 3) - kMu * lnJ + 0.5 * kLambda * lnJ * lnJ;
+  const double I1b = std::pow(J, -2.0 / 3.0) * l2.sum();
+  if (model == "mooney_rivlin") {
+    const double I2b = std::pow(J, -4.0 / 3.0) * (l2(0) * l2(1) + l2(1) * l2(2) + l2(2) * l2(0));
+    return 0.3 * kMu * (I1b - 3) + 0.2 * kMu * (I2b - 3) + 0.5 * kappa * lnJ * lnJ;
+  }
+  if (model == "gent")
+    return -0.5 * kMu * kJm * std::log(1 - (I1b - 3) / kJm) + 0.5 * kappa * lnJ * lnJ;
+  throw std::logic_error("no principal-stretch form for " + model);
 }
 
 TEST_P(FiniteStrainModel, EnergyMatchesPrincipalStretchForm) {
-  const MaterialParameters m = parameters(GetParam());
+  const MaterialLaw& m = law(GetParam());
   std::mt19937 rng(5);
   for (const Eigen::Vector3d& l : {Eigen::Vector3d(1.3, 0.8, 1.05), Eigen::Vector3d(2.0, 0.5, 0.7),
                                    Eigen::Vector3d(1.0, 1.0, 1.4)}) {
     const Mat3 F = random_rotation(rng) * l.asDiagonal() * random_rotation(rng).transpose();
-    const double reference = principal_energy(m.model, l);
+    const double reference = principal_energy(m.name(), l);
     EXPECT_NEAR(stress(m, F).psi, reference, 1e-12 * reference) << l.transpose();
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Materials, FiniteStrainModel, ::testing::ValuesIn(kFiniteStrainModels),
-                         [](const auto& info) { return material_model_name(info.param); });
+INSTANTIATE_TEST_SUITE_P(Materials, FiniteStrainModel,
+                         ::testing::ValuesIn(finite_strain_law_names()),
+                         [](const auto& info) { return info.param; });
 
 TEST(LinearElastic, EnergyIsTheQuadraticForm) {
-  const MaterialParameters m = parameters(MaterialModel::LinearElastic);
+  const MaterialLaw& m = law("linear_elastic");
   const Mat3 F = Eigen::Vector3d(1.01, 0.99, 1.02).asDiagonal();  // eps = diag(.01, -.01, .02)
   const double tr = 0.02;
   EXPECT_NEAR(stress(m, F).psi, kMu * (1e-4 + 1e-4 + 4e-4) + 0.5 * kLambda * tr * tr, 1e-15);
@@ -233,7 +166,7 @@ TEST(LinearElastic, EnergyIsTheQuadraticForm) {
 
 TEST(Corotational, RotatedSmallStrainHasTheRotatedLinearStress) {
   // F = Q (I + eps) with eps symmetric: S = I + eps, R = Q, P = Q sigma_linear(eps).
-  const MaterialParameters m = parameters(MaterialModel::Corotational);
+  const MaterialLaw& m = law("corotational");
   Mat3 eps;
   eps << 0.02, 0.01, -0.005, 0.01, -0.01, 0.003, -0.005, 0.003, 0.015;
   const Mat3 Q = rotation(Eigen::Vector3d(1, 2, 3), 2.9);  // near a half turn
@@ -244,7 +177,7 @@ TEST(Corotational, RotatedSmallStrainHasTheRotatedLinearStress) {
 TEST(Corotational, LargeStretchStressInPrincipalForm) {
   // F = Q1 diag(l) Q2^T: R = Q1 Q2^T, S = Q2 diag(l) Q2^T, so P = Q1 diag(s) Q2^T with
   // s_i = lambda sum_j (l_j - 1) + 2 mu (l_i - 1).
-  const MaterialParameters m = parameters(MaterialModel::Corotational);
+  const MaterialLaw& m = law("corotational");
   const Eigen::Vector3d l(3.0, 0.2, 1.5);
   const Mat3 Q1 = rotation(Eigen::Vector3d(0.3, -1, 2), 2.5),
              Q2 = rotation(Eigen::Vector3d(1, 1, 0), -1.2);
@@ -256,7 +189,7 @@ TEST(Corotational, LargeStretchStressInPrincipalForm) {
 
 TEST(NeoHookean, CauchyStressInPrincipalStretches) {
   // sigma_i = (mu (l_i^2 - 1) + lambda ln J) / J on the principal axes.
-  const MaterialParameters m = parameters(MaterialModel::NeoHookean);
+  const MaterialLaw& m = law("neo_hookean");
   const Eigen::Vector3d l(1.4, 0.9, 0.75);
   const Mat3 Q = rotation(Eigen::Vector3d(-1, 0.5, 2), 0.7);
   const Mat3 F = Q * l.asDiagonal() * Q.transpose();
@@ -275,10 +208,23 @@ TEST(VonMises, UniaxialAndHydrostatic) {
   EXPECT_NEAR(von_mises(shear), std::sqrt(3.0), 1e-14);
 }
 
-TEST(MaterialNames, RoundTripAndUnknownName) {
-  for (MaterialModel model : kAllModels)
-    EXPECT_EQ(material_model_from_name(material_model_name(model)), model);
-  EXPECT_THROW(material_model_from_name("ogden"), std::invalid_argument);
+// The registry's one list holds every law tested here, each made back under its own name.
+TEST(MaterialRegistry, EveryRegisteredLawIsTestedAndNamedAsRegistered) {
+  EXPECT_EQ(material_law_names(), all_law_names());
+  for (const std::string& name : all_law_names()) EXPECT_EQ(law(name).name(), name);
+}
+
+TEST(MaterialRegistry, UnknownModelListsTheRegisteredNames) {
+  try {
+    make_material_law("ogden", {{"mu", kMu}, {"lambda", kLambda}});
+    FAIL() << "no error for an unknown model";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "material.model: unknown name 'ogden' (valid: linear_elastic, corotational, "
+                  "saint_venant_kirchhoff, neo_hookean, mooney_rivlin, gent)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

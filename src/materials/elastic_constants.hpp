@@ -1,0 +1,54 @@
+// The elastic constants shared by every law: read from a material's map as E, nu or as
+// mu, lambda (docs/decks.md), checked, the other pair derived; printed back as the pair given.
+// ElasticLaw holds them for the laws whose parameters are these constants (plus, for some,
+// keys of their own).
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <vector>
+
+#include "common/deck_reader.hpp"
+#include "materials/material.hpp"
+
+namespace hs {
+
+// The keys parse_elastic_constants reads.
+inline const std::vector<std::string> kElasticConstantKeys = {"E", "nu", "mu", "lambda"};
+
+// Exactly one of the pairs (E, nu), (mu, lambda) from the map `node` at `key`; throws through
+// r.fail as "FILE: KEY: reason" when a pair is missing, mixed or non-physical.
+ElasticConstants parse_elastic_constants(const DeckReader& r, const YAML::Node& node,
+                                         const std::string& key);
+
+// The pair (E, nu) given, (mu, lambda) derived:
+//   mu = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu)).
+ElasticConstants elastic_constants_from_E_nu(double E, double nu);
+// The pair (mu, lambda) given, (E, nu) derived:
+//   E = mu (3 lambda + 2 mu) / (lambda + mu),  nu = lambda / (2 (lambda + mu)).
+ElasticConstants elastic_constants_from_lame(double mu, double lambda);
+
+// `key: value` with the shortest text that reads back as exactly `value`.
+void print_number(YAML::Emitter& out, const std::string& key, double value);
+
+// A law whose parameters are the elastic constants, and possibly keys of its own (it then
+// extends print and derived_values).
+class ElasticLaw : public MaterialLaw {
+ public:
+  explicit ElasticLaw(const ElasticConstants& constants) : constants_(constants) {}
+  const ElasticConstants& elastic_constants() const override { return constants_; }
+  // The pair the deck gave, E and nu or mu and lambda.
+  void print(YAML::Emitter& out) const override;
+  // The derived pair, e.g. "mu = 1e+05, lambda = 4.9e+06".
+  std::string derived_values() const override;
+
+ protected:
+  // Whether (mu, lambda) is what E, nu give (then the deck gave E, nu): the derived pair,
+  // converted back, may differ in the last bit, so the given one is printed.
+  bool given_as_E_nu() const;
+
+  ElasticConstants constants_;
+};
+
+}  // namespace hs

@@ -1,0 +1,34 @@
+// Compressible Mooney-Rivlin on the isochoric invariants (docs/formulation.md, "Mooney-Rivlin"),
+// model mooney_rivlin: keys E, nu or mu, lambda (the bulk modulus kappa = lambda + 2 mu / 3)
+// and c1, c2 (default c1 = mu / 2, c2 = 0: then it is neo-Hookean-like).
+#pragma once
+
+#include "materials/elastic_constants.hpp"
+
+namespace hs {
+
+// psi = c1 (I1b - 3) + c2 (I2b - 3) + kappa/2 (ln J)^2 (H = F - I); psi = +inf, P = A = NaN for
+// det F <= 0; A = 0 unless with_tangent.
+StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& H, bool with_tangent);
+
+class MooneyRivlinLaw final : public ElasticLaw {
+ public:
+  static constexpr const char* kName = "mooney_rivlin";
+  static std::vector<std::string> keys();
+  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
+                                                  const std::string& key);
+
+  MooneyRivlinLaw(const ElasticConstants& constants, double c1, double c2)
+      : ElasticLaw(constants), c1_(c1), c2_(c2) {}
+  std::string name() const override { return kName; }
+  StressResult stress(const Mat3& H, bool with_tangent) const override;
+  void print(YAML::Emitter& out) const override;
+
+  double c1() const { return c1_; }
+  double c2() const { return c2_; }
+
+ private:
+  double c1_, c2_;
+};
+
+}  // namespace hs

@@ -1,0 +1,25 @@
+// Saint Venant-Kirchhoff (docs/formulation.md, "Saint Venant-Kirchhoff"), model
+// saint_venant_kirchhoff.
+#pragma once
+
+#include "materials/elastic_constants.hpp"
+
+namespace hs {
+
+// E = (F^T F - I)/2, S = lambda tr(E) I + 2 mu E, P = F S (H = F - I).
+// psi = +inf, P = A = NaN for det F <= 0; A = 0 unless with_tangent.
+StressResult saint_venant_kirchhoff(double mu, double lambda, const Mat3& H, bool with_tangent);
+
+class SaintVenantKirchhoffLaw final : public ElasticLaw {
+ public:
+  static constexpr const char* kName = "saint_venant_kirchhoff";
+  static std::vector<std::string> keys() { return kElasticConstantKeys; }
+  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
+                                                  const std::string& key);
+
+  using ElasticLaw::ElasticLaw;
+  std::string name() const override { return kName; }
+  StressResult stress(const Mat3& H, bool with_tangent) const override;
+};
+
+}  // namespace hs
