@@ -3,129 +3,18 @@
 // overflow.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
-#include <functional>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "../device.hpp"
+#include "device_buffers.cuh"
 #include "device_common.cuh"
+#include "kernel_choice.hpp"
 
 namespace fluidweight::detail {
 namespace {
-
-void check(cudaError_t status, const char* what) {
-  if (status != cudaSuccess) {
-    throw DeviceError(std::string("cuda: ") + what + ": " + cudaGetErrorString(status));
-  }
-}
-
-// A device array that only grows.
-template <typename T>
-class DeviceArray {
- public:
-  DeviceArray() = default;
-  DeviceArray(const DeviceArray&) = delete;
-  DeviceArray& operator=(const DeviceArray&) = delete;
-  ~DeviceArray() { cudaFree(ptr_); }
-  T* get() const { return ptr_; }
-  // Makes room for `count` elements (contents are lost when it grows); zeroed when asked.
-  void reserve(size_t count, bool zero = false) {
-    count = std::max<size_t>(count, 1);
-    if (count > count_) {
-      cudaFree(ptr_);
-      ptr_ = nullptr;
-      check(cudaMalloc(&ptr_, count * sizeof(T)), "cudaMalloc");
-      count_ = count;
-      zero = true;
-    }
-    if (zero) check(cudaMemset(ptr_, 0, count_ * sizeof(T)), "cudaMemset");
-  }
-  void upload(const std::vector<T>& host) {
-    reserve(host.size());
-    check(cudaMemcpy(ptr_, host.data(), host.size() * sizeof(T), cudaMemcpyHostToDevice), "upload");
-  }
-
- private:
-  T* ptr_ = nullptr;
-  size_t count_ = 0;
-};
-
-// Page-locked host memory, so that copies are asynchronous and can sit in a stream.
-template <typename T>
-class PinnedArray {
- public:
-  ~PinnedArray() { cudaFreeHost(ptr_); }
-  T* get() const { return ptr_; }
-  void reserve(size_t count) {
-    count = std::max<size_t>(count, 1);
-    if (count > count_) {
-      cudaFreeHost(ptr_);
-      ptr_ = nullptr;
-      check(cudaMallocHost(&ptr_, count * sizeof(T)), "cudaMallocHost");
-      count_ = count;
-    }
-  }
-
- private:
-  T* ptr_ = nullptr;
-  size_t count_ = 0;
-};
-
-int next_power_of_two(int x) {
-  int p = 1;
-  while (p < x) p <<= 1;
-  return p;
-}
-
-// Candidate columns a triangle's projected box holds, from positions (before the first call,
-// for automatic's choice): the mean over all triangles of a batch and the largest.
-struct CandidateCounts {
-  double mean = 0;
-  double max = 0;
-};
-
-CandidateCounts candidate_counts(const std::vector<CavityView>& cavities, const Frame& frame,
-                                 int n) {
-  CandidateCounts counts;
-  long long triangles = 0;
-  double sum = 0;
-  for (const CavityView& v : cavities) {
-    std::vector<double> a(v.num_vertices), b(v.num_vertices);
-    double a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
-    for (int k = 0; k < v.num_vertices; ++k) {
-      const double* x = v.xyz + 3 * k;
-      a[k] = x[0] * frame.e1.x + x[1] * frame.e1.y + x[2] * frame.e1.z;
-      b[k] = x[0] * frame.e2.x + x[1] * frame.e2.y + x[2] * frame.e2.z;
-      a0 = std::min(a0, a[k]), a1 = std::max(a1, a[k]);
-      b0 = std::min(b0, b[k]), b1 = std::max(b1, b[k]);
-    }
-    const double wa = (a1 - a0) / n, wb = (b1 - b0) / n;
-    if (!(wa > 0 && wb > 0)) continue;
-    // Columns whose centres (index + 1/2) lie in [lo, hi], in units of a column.
-    auto columns = [](double lo, double hi) {
-      return std::max(0.0, std::floor(hi - 0.5) - std::ceil(lo - 0.5) + 1);
-    };
-    for (int t = 0; t < v.num_triangles; ++t) {
-      const int* c = v.triangles + 3 * t;
-      const double amin = std::min({a[c[0]], a[c[1]], a[c[2]]}),
-                   amax = std::max({a[c[0]], a[c[1]], a[c[2]]});
-      const double bmin = std::min({b[c[0]], b[c[1]], b[c[2]]}),
-                   bmax = std::max({b[c[0]], b[c[1]], b[c[2]]});
-      const double box =
-          columns((amin - a0) / wa, (amax - a0) / wa) * columns((bmin - b0) / wb, (bmax - b0) / wb);
-      sum += box;
-      counts.max = std::max(counts.max, box);
-    }
-    triangles += v.num_triangles;
-  }
-  counts.mean = triangles ? sum / triangles : 0;
-  return counts;
-}
 
 template <typename Real>
 class Backend : public DeviceBackend {
