@@ -9,6 +9,7 @@
 #include "element_fixtures.hpp"
 #include "fem/element.hpp"
 #include "fem/shape.hpp"
+#include "materials/registry.hpp"
 
 namespace hs {
 namespace {
@@ -142,24 +143,20 @@ TEST(Mass, SumsToTheMassOfACurvedElementPerDirection) {
 TEST(Fields, UniaxialStretchOfACurvedElement) {
   // u = H X with H = diag(e, 0, 0): F = diag(1 + e, 1, 1) everywhere, also on a curved P2.
   const double e = 0.1;
-  MaterialParameters linear;
-  linear.model = MaterialModel::LinearElastic;
-  linear.mu = 3.0;
-  linear.lambda = 7.0;
-  MaterialParameters nh = linear;
-  nh.model = MaterialModel::NeoHookean;
+  const auto linear = make_material_law("linear_elastic", {{"mu", 3.0}, {"lambda", 7.0}});
+  const auto nh = make_material_law("neo_hookean", {{"mu", 3.0}, {"lambda", 7.0}});
   for (int order : {1, 2}) {
     const std::vector<double> X = mapped_tet(order, order == 2 ? 0.3 : 0.0);
     std::vector<double> u(X.size(), 0.0);
     for (size_t a = 0; a < X.size() / 3; ++a) u[3 * a] = e * X[3 * a];
     // Linear: sigma = diag(lambda + 2 mu, lambda, lambda) e, von Mises 2 mu e.
-    const ElementFields fl = tet_fields(order, X.data(), u.data(), linear);
-    EXPECT_NEAR(fl.von_mises, 2 * linear.mu * e, 1e-13);
+    const ElementFields fl = tet_fields(order, X.data(), u.data(), *linear);
+    EXPECT_NEAR(fl.von_mises, 2 * linear->elastic_constants().mu * e, 1e-13);
     EXPECT_NEAR(fl.J, 1 + e, 1e-14);
     // Neo-Hookean: sigma_i = (mu (l_i^2 - 1) + lambda ln J) / J, von Mises |sigma_1 - sigma_2|.
     const double J = 1 + e;
-    const double expected = nh.mu * (J * J - 1) / J;
-    EXPECT_NEAR(tet_fields(order, X.data(), u.data(), nh).von_mises, expected, 1e-13);
+    const double expected = nh->elastic_constants().mu * (J * J - 1) / J;
+    EXPECT_NEAR(tet_fields(order, X.data(), u.data(), *nh).von_mises, expected, 1e-13);
   }
 }
 
