@@ -29,7 +29,7 @@ class Cable : public Constraint {
   void set_stiffness(Vec u, Problem& problem) override;
   nlohmann::json report() const override;
 
- private:
+ protected:
   Problem& problem_;
   CablePath path_;
   Vec pull_ = nullptr;  // g at the last load

@@ -99,9 +99,13 @@ void CablePath::pull_direction(Vec u, Vec g) const {
       if (i + 1 < points) coeff[3 * (i + 1) + d] -= e;  // x_{i+1} towards x_i
     }
   }
+  distribute(coeff, g);
+}
+
+void CablePath::distribute(const std::vector<double>& f, Vec g) const {
   HS_PETSC(VecSet(g, 0.0));
-  HS_PETSC(VecMAXPY(g, static_cast<PetscInt>(rows_.size()), coeff.data(),
-                    const_cast<Vec*>(rows_.data())));
+  HS_PETSC(
+      VecMAXPY(g, static_cast<PetscInt>(rows_.size()), f.data(), const_cast<Vec*>(rows_.data())));
 }
 
 void CablePath::set_stiffness(Vec u, double T, Problem& problem) const {

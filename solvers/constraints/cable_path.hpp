@@ -41,6 +41,17 @@ class CablePath {
   // the next tangent holds it. Collective.
   void set_stiffness(Vec u, double T, Problem& problem) const;
 
+  // The polyline the cable follows on configuration u: its material points, then the pull
+  // point if it has one (collective).
+  std::vector<std::array<double, 3>> path(Vec u) const { return path(positions(u)); }
+  // g = sum_i f_i . x_i(u): nodal forces from forces f_i on the material points (3 each).
+  void distribute(const std::vector<double>& f, Vec g) const;
+  // The material points: their element's dofs (3 per node, -1 where constrained) and the
+  // nodes' shape-function values at the point.
+  size_t points() const { return dofs_.size(); }
+  const std::vector<PetscInt>& dofs(size_t i) const { return dofs_[i]; }
+  const std::vector<double>& shape(size_t i) const { return shape_[i]; }
+
  private:
   std::vector<std::array<double, 3>> path(const std::vector<double>& x) const;
 

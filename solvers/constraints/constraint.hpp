@@ -57,6 +57,8 @@ class Constraint {
   // Sets the stiffness of its forces that the element tangent does not hold (a cable's
   // turning tension), before every tangent.
   virtual void set_stiffness(Vec /*u*/, Problem&) {}
+  // Whether the stiffness it adds keeps the tangent symmetric (forces that are a gradient).
+  virtual bool symmetric_stiffness() const { return true; }
   // q's own loads that follow q (a liquid's weight w, dw = (w / q) g^T du): w, else nullptr.
   virtual Vec measure_load() const { return nullptr; }
   // Linearized weight coupling: freezes the distribution of its load at u.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "solvers/constraints/cable.hpp"
+#include "solvers/constraints/capstan_cable.hpp"
 #include "solvers/constraints/hydraulic_cavity.hpp"
 #include "solvers/constraints/sealed_cavity.hpp"
 
@@ -35,8 +36,12 @@ std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config, 
         break;
     }
   }
-  for (const CableConfig& c : config.cables)
-    list.push_back(std::make_unique<Cable>(c, problem, deck));
+  for (const CableConfig& c : config.cables) {
+    if (c.friction > 0)
+      list.push_back(std::make_unique<CapstanCable>(c, problem, deck));
+    else
+      list.push_back(std::make_unique<Cable>(c, problem, deck));
+  }
   return list;
 }
 
@@ -133,6 +138,11 @@ bool ConstraintSet::linearize(Vec u, double s, Mat J, ConstraintLinearization& l
   }
   build_seconds_ += MPI_Wtime() - t0;
   return ok;
+}
+
+bool ConstraintSet::symmetric() const {
+  return std::all_of(constraints_.begin(), constraints_.end(),
+                     [](const auto& c) { return c->symmetric_stiffness(); });
 }
 
 std::string ConstraintSet::collapse_reason() const {

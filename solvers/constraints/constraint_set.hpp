@@ -56,6 +56,8 @@ class ConstraintSet {
   double measure(int k, Vec u) const { return constraints_[k]->measure_at(u); }
   double control_scale(int k) const { return constraints_[k]->control_scale(); }
 
+  // Whether every constraint keeps the tangent symmetric.
+  bool symmetric() const;
   // Linearized coupling: freezes each hydraulic cavity's weights at configuration u.
   void freeze_weights(Vec u, double s);
   bool linearized() const { return linearized_; }

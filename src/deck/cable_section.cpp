@@ -6,7 +6,7 @@ namespace hs {
 namespace {
 
 CableConfig parse_cable(const DeckReader& r, const YAML::Node& node, const std::string& key) {
-  r.check_map(node, key, {"name", "points", "pull_point", "force"});
+  r.check_map(node, key, {"name", "points", "pull_point", "force", "friction"});
   CableConfig cable;
   cable.name = r.text(required(r, node, key, "name"), child_key(key, "name"));
   const std::string pkey = child_key(key, "points");
@@ -37,6 +37,11 @@ CableConfig parse_cable(const DeckReader& r, const YAML::Node& node, const std::
     require(cable.force >= 0, r, n, child_key(key, "force"),
             "must be >= 0 (a cable pulls, it cannot push), got " + format_number(cable.force));
   }
+  if (const auto n = node["friction"]) {
+    cable.friction = r.number(n, child_key(key, "friction"));
+    require(cable.friction >= 0, r, n, child_key(key, "friction"),
+            "must be >= 0 (a Coulomb friction coefficient), got " + format_number(cable.friction));
+  }
   return cable;
 }
 
@@ -45,7 +50,7 @@ CableConfig parse_cable(const DeckReader& r, const YAML::Node& node, const std::
 void parse_cable_section(const DeckReader& r, const YAML::Node& root, Config& c) {
   const YAML::Node node = root["cables"];
   if (!node) return;
-  if (c.time.type == "dynamic")
+  if (c.time.type == TimeType::dynamic)
     forbid(r, root, "", "cables", "cables need time.type static or quasi_static");
   r.check_list(node, "cables");
   for (size_t i = 0; i < node.size(); ++i) {

@@ -14,7 +14,9 @@
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "solvers/constraints/cable.hpp"
 #include "solvers/constraints/cable_path.hpp"
+#include "solvers/constraints/capstan_cable.hpp"
 #include "solvers/inverse_controller.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/problem.hpp"
@@ -138,9 +140,10 @@ TEST(Cables, OutsidePointIsRefused) {
 
 // The finger of input/finger_cable.yaml (its tendon, no cavity), effector at the tip.
 struct CableScene : hs_test::ControlScene {
-  explicit CableScene(double max_force)
-      : ControlScene("finger_cable.yaml", {0.09, 0.0, 0.0}, actuator(max_force),
-                     {"mesh.parameters.h=0.006"}) {}
+  explicit CableScene(double max_force, double friction = 0)
+      : ControlScene(
+            "finger_cable.yaml", {0.09, 0.0, 0.0}, actuator(max_force),
+            {"mesh.parameters.h=0.006", "cables[0].friction=" + std::to_string(friction)}) {}
   static hs::ActuatorConfig actuator(double max_force) {
     hs::ActuatorConfig a;
     a.constraint = "tendon";
@@ -173,11 +176,12 @@ TEST(Cables, ACableCannotPush) {
   EXPECT_NEAR(r.reached[2], rest[2], 1e-9);
 }
 
-TEST(Cables, TangentWithTheCableStiffnessMatchesDifferences) {
-  // J du against central differences of the residual, with a tension on the cable: the
-  // cable's turning stiffness T (I - e e^T) / l is in J (without it the two differ by
-  // about T / l per unit displacement of its points).
-  CableScene s(10.0);
+// J du against central differences of the residual, with a tension on the cable: the
+// cable's turning stiffness T (I - e e^T) / l is in J (without it the two differ by about
+// T / l per unit displacement of its points); with capstan friction, the unsymmetric
+// stiffness of the friction-weighted forces.
+void expect_tangent_matches_differences(double friction) {
+  CableScene s(10.0, friction);
   hs::Constraint& cable = (*s.cavities)[0];
   cable.lambda = 0.8;
   Vec u = s.problem->create_vector(), du = s.problem->create_vector();
@@ -210,11 +214,54 @@ TEST(Cables, TangentWithTheCableStiffnessMatchesDifferences) {
   VecNorm(Rp, NORM_2, &ref);
   VecAXPY(Rp, -1.0, Jdu);
   VecNorm(Rp, NORM_2, &diff);
-  EXPECT_LT(diff, 1e-6 * ref) << diff << " of " << ref;
+  EXPECT_LT(diff, 1e-6 * ref) << diff << " of " << ref << ", friction " << friction;
   for (Vec* v : {&u, &du, &R, &Rp, &Rm, &up, &Jdu}) VecDestroy(v);
   MatDestroy(&J);
   for (auto& v : lin.g) VecDestroy(&v);
   for (auto& v : lin.q) VecDestroy(&v);
+}
+
+TEST(Cables, TangentWithTheCableStiffnessMatchesDifferences) {
+  expect_tangent_matches_differences(0.0);
+}
+
+TEST(CapstanCables, TangentWithTheFrictionStiffnessMatchesDifferences) {
+  expect_tangent_matches_differences(0.3);
+}
+
+TEST(CapstanCables, WithoutFrictionTheyPullAsTheFrictionlessCable) {
+  // Two implementations of the same forces: the capstan law at mu = 0 and the cable's -dL/du.
+  Body b;
+  hs::CableConfig config = bottom_cable(true);
+  hs::Cable plain(config, *b.problem, "test");
+  hs::CapstanCable capstan(config, *b.problem, "test");
+  const double A[3][3] = {{0.02, 0.01, -0.03}, {0.0, -0.01, 0.02}, {0.05, 0.01, 0.01}};
+  Vec u = b.affine(A), g0 = b.problem->create_vector(), g1 = b.problem->create_vector();
+  plain.forces(u, g0);
+  capstan.forces(u, g1);
+  PetscReal ref = 0, diff = 0;
+  VecNorm(g0, NORM_2, &ref);
+  VecAXPY(g1, -1.0, g0);
+  VecNorm(g1, NORM_2, &diff);
+  EXPECT_GT(ref, 0.5);
+  EXPECT_LT(diff, 1e-14 * ref);
+  for (Vec* v : {&u, &g0, &g1}) VecDestroy(v);
+}
+
+TEST(CapstanCables, FrictionHoldsBackTheCurlAndTheControllerFindsTheTension) {
+  // The same motor tension curls the finger less when the eyelets hold part of it back; the
+  // controller, given the tip a forward run reached, finds that run's motor tension.
+  const double tension = 0.6;  // N
+  CableScene plain(10.0), rough(10.0, 0.3);
+  const auto rest = plain.forward(0.0);
+  const auto free_tip = plain.forward(tension);
+  const auto target = rough.forward(tension);
+  ASSERT_LT(free_tip[2], rest[2] - 1e-3);
+  EXPECT_LT(target[2], rest[2] - 1e-4);      // it still curls
+  EXPECT_GT(target[2], free_tip[2] + 1e-4);  // but less
+  const hs::ControlStepReport r = rough.drive(target, 8);
+  EXPECT_LT(r.error, 1e-4);
+  EXPECT_NEAR(r.actuation[0], tension, 1e-3 * tension);
 }
 
 }  // namespace
