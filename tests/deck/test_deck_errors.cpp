@@ -123,6 +123,8 @@ TEST_F(DeckErrors, NonPhysicalValues) {
       {kMesh +
            "materials:\n  - {group: body, model: mooney_rivlin, E: 1, nu: 0.3, c1: 1, c2: -1}\n",
        "materials[0].c1", "c1 + c2 must be > 0"},
+      {kMesh + "materials:\n  - {group: body, model: gent, E: 1, nu: 0.3, Jm: -2}\n",
+       "materials[0].Jm", "must be > 0 (the limit of I1b - 3), got -2"},
       {"mesh: {file: body.geo, order: 3}\n" + kMaterials, "mesh.order", "must be 1 or 2"},
       {"mesh: {file: body.geo, refine: -1}\n" + kMaterials, "mesh.refine", "must be >= 0"},
       {kMesh + kMaterials + "time: {steps: 0}\n", "time.steps", "must be >= 1, got 0"},
@@ -145,7 +147,7 @@ TEST_F(DeckErrors, UnknownNamesListTheValidOnes) {
       {kMesh + "materials:\n  - {group: body, model: hookean, E: 1, nu: 0.3}\n",
        "materials[0].model",
        "unknown name 'hookean' (valid: linear_elastic, corotational, saint_venant_kirchhoff, "
-       "neo_hookean, mooney_rivlin)"},
+       "neo_hookean, mooney_rivlin, gent)"},
       {kMesh + kMaterials + "time: {type: transient}\n", "time.type",
        "unknown name 'transient' (valid: static, quasi_static, dynamic)"},
       {kMesh + kMaterials + "time: {type: dynamic, dt: 1, end_time: 2, integrator: euler}\n",
@@ -166,6 +168,10 @@ TEST_F(DeckErrors, InconsistentKeys) {
        "materials[1].group", "duplicate material group 'body' (also in materials[0])"},
       {kMesh + "materials:\n  - {group: body, model: neo_hookean, E: 1, nu: 0.3, c1: 2}\n",
        "materials[0].c1", "only used by model mooney_rivlin"},
+      {kMesh + "materials:\n  - {group: body, model: neo_hookean, E: 1, nu: 0.3, Jm: 20}\n",
+       "materials[0].Jm", "only used by model gent"},
+      {kMesh + "materials:\n  - {group: body, model: gent, E: 1, nu: 0.3}\n", "materials[0].Jm",
+       "required key missing"},
       {kMesh + kMaterials + "time: {type: static, dt: 0.1}\n", "time.dt",
        "only used when time.type is dynamic"},
       {kMesh + kMaterials + "time: {type: dynamic, dt: 0.1, end_time: 1, steps: 3}\n", "time.steps",

@@ -9,6 +9,8 @@
 
 #include "common/error.hpp"
 #include "deck/deck.hpp"
+#include "materials/gent.hpp"
+#include "materials/mooney_rivlin.hpp"
 #include "temp_folder.hpp"
 
 namespace hs {
@@ -27,6 +29,7 @@ materials:
   - {group: body, model: neo_hookean, E: 2.98e5, nu: 0.49, density: 1100}
   - {group: insert, model: linear_elastic, mu: 1.0e5, lambda: 2.0e5}
   - {group: skin, model: mooney_rivlin, E: 3.0e4, nu: 0.45, c1: 4000, c2: 1000, density: 1000}
+  - {group: core, model: gent, mu: 2.0e4, lambda: 1.0e6, Jm: 25}
 boundary:
   - {group: clamp}
   - {group: slide, components: [z, x], value: [0.5, 0, -0.25], scaled: false}
@@ -138,6 +141,12 @@ materials:
 time: {type: dynamic, dt: 0.01, end_time: 0.5, newmark: {beta: 0.3025, gamma: 0.6}}
 )";
 
+const ElasticConstants& elastic(const MaterialConfig& m) { return m.law->elastic_constants(); }
+const MooneyRivlinLaw& mooney_rivlin(const MaterialConfig& m) {
+  return dynamic_cast<const MooneyRivlinLaw&>(*m.law);
+}
+const GentLaw& gent(const MaterialConfig& m) { return dynamic_cast<const GentLaw&>(*m.law); }
+
 void expect_same(const Config& a, const Config& b) {
   ASSERT_EQ(a.cables.size(), b.cables.size());
   for (size_t i = 0; i < a.cables.size(); ++i) {
@@ -154,13 +163,16 @@ void expect_same(const Config& a, const Config& b) {
   for (size_t i = 0; i < a.materials.size(); ++i) {
     const auto &m = a.materials[i], &n = b.materials[i];
     EXPECT_EQ(m.group, n.group);
-    EXPECT_EQ(m.model, n.model);
-    EXPECT_EQ(m.E, n.E);  // bitwise: the printed numbers are exact
-    EXPECT_EQ(m.nu, n.nu);
-    EXPECT_EQ(m.mu, n.mu);
-    EXPECT_EQ(m.lambda, n.lambda);
-    EXPECT_EQ(m.c1, n.c1);
-    EXPECT_EQ(m.c2, n.c2);
+    EXPECT_EQ(m.law->name(), n.law->name());
+    EXPECT_EQ(elastic(m).E, elastic(n).E);  // bitwise: the printed numbers are exact
+    EXPECT_EQ(elastic(m).nu, elastic(n).nu);
+    EXPECT_EQ(elastic(m).mu, elastic(n).mu);
+    EXPECT_EQ(elastic(m).lambda, elastic(n).lambda);
+    if (m.law->name() == "mooney_rivlin") {
+      EXPECT_EQ(mooney_rivlin(m).c1(), mooney_rivlin(n).c1());
+      EXPECT_EQ(mooney_rivlin(m).c2(), mooney_rivlin(n).c2());
+    }
+    if (m.law->name() == "gent") EXPECT_EQ(gent(m).Jm(), gent(n).Jm());
     EXPECT_EQ(m.density, n.density);
   }
   ASSERT_EQ(a.dirichlet.size(), b.dirichlet.size());
@@ -275,12 +287,15 @@ TEST_F(DeckParse, ReadsEveryKey) {
   EXPECT_EQ(c.mesh.parameters, (std::map<std::string, double>{{"h", 0.05}, {"a", 1.5}}));
   EXPECT_EQ(c.mesh.refine, 1);
 
-  ASSERT_EQ(c.materials.size(), 3u);
-  EXPECT_EQ(c.materials[0].model, "neo_hookean");
+  ASSERT_EQ(c.materials.size(), 4u);
+  EXPECT_EQ(c.materials[0].law->name(), "neo_hookean");
   EXPECT_EQ(c.materials[0].density, 1100);
   EXPECT_EQ(c.materials[1].density, 0);  // default
-  EXPECT_EQ(c.materials[2].c1, 4000);
-  EXPECT_EQ(c.materials[2].c2, 1000);
+  EXPECT_EQ(mooney_rivlin(c.materials[2]).c1(), 4000);
+  EXPECT_EQ(mooney_rivlin(c.materials[2]).c2(), 1000);
+  EXPECT_EQ(c.materials[3].law->name(), "gent");
+  EXPECT_EQ(gent(c.materials[3]).Jm(), 25);
+  EXPECT_EQ(elastic(c.materials[3]).mu, 2.0e4);
 
   ASSERT_EQ(c.dirichlet.size(), 3u);
   EXPECT_EQ(c.dirichlet[0].components, (std::array<bool, 3>{true, true, true}));
@@ -549,22 +564,22 @@ materials:
 )");
   const Config c = parse_deck(path);
   // E = 1e6, nu = 1/4: mu = 1e6 / 2.5 = 4e5, lambda = 2.5e5 / (1.25 * 0.5) = 4e5.
-  EXPECT_DOUBLE_EQ(c.materials[0].mu, 4.0e5);
-  EXPECT_DOUBLE_EQ(c.materials[0].lambda, 4.0e5);
+  EXPECT_DOUBLE_EQ(elastic(c.materials[0]).mu, 4.0e5);
+  EXPECT_DOUBLE_EQ(elastic(c.materials[0]).lambda, 4.0e5);
   const double E = 2.98e5, nu = 0.49;
-  EXPECT_DOUBLE_EQ(c.materials[1].mu, E / (2 * (1 + nu)));
-  EXPECT_DOUBLE_EQ(c.materials[1].lambda, E * nu / ((1 + nu) * (1 - 2 * nu)));
+  EXPECT_DOUBLE_EQ(elastic(c.materials[1]).mu, E / (2 * (1 + nu)));
+  EXPECT_DOUBLE_EQ(elastic(c.materials[1]).lambda, E * nu / ((1 + nu) * (1 - 2 * nu)));
   // mu = 3e5, lambda = -1.5e5: nu = lambda / (2 (lambda + mu)) = -0.5, E = 2 mu (1 + nu) = 3e5.
-  EXPECT_DOUBLE_EQ(c.materials[2].nu, -0.5);
-  EXPECT_DOUBLE_EQ(c.materials[2].E, 3.0e5);
+  EXPECT_DOUBLE_EQ(elastic(c.materials[2]).nu, -0.5);
+  EXPECT_DOUBLE_EQ(elastic(c.materials[2]).E, 3.0e5);
   // Given mu, lambda: the derived E, nu satisfy the forward formulas.
-  for (const auto& m : {c.materials[2], c.materials[3]}) {
+  for (const auto& m : {elastic(c.materials[2]), elastic(c.materials[3])}) {
     EXPECT_NEAR(m.E / (2 * (1 + m.nu)), m.mu, 1e-12 * m.mu);
     EXPECT_NEAR(m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu)), m.lambda, 1e-12 * std::abs(m.lambda));
   }
   // Mooney-Rivlin defaults: c1 = mu / 2, c2 = 0 (small-strain shear modulus 2 (c1 + c2) = mu).
-  EXPECT_DOUBLE_EQ(c.materials[3].c1, 0.5e5);
-  EXPECT_EQ(c.materials[3].c2, 0);
+  EXPECT_DOUBLE_EQ(mooney_rivlin(c.materials[3]).c1(), 0.5e5);
+  EXPECT_EQ(mooney_rivlin(c.materials[3]).c2(), 0);
 }
 
 TEST_F(DeckParse, OverridesChangeTheTreeBeforeValidation) {
@@ -578,8 +593,8 @@ materials:
              "time.dt=0.1", "time.end_time=1", "output.folder=elsewhere"});
   EXPECT_EQ(c.mesh.order, 2);
   EXPECT_EQ(c.mesh.parameters.at("h"), 0.05);
-  EXPECT_EQ(c.materials[0].E, 2e6);
-  EXPECT_DOUBLE_EQ(c.materials[0].mu, 8e5);  // derived from the overridden E
+  EXPECT_EQ(elastic(c.materials[0]).E, 2e6);
+  EXPECT_DOUBLE_EQ(elastic(c.materials[0]).mu, 8e5);  // derived from the overridden E
   EXPECT_EQ(c.solver.petsc_options.at("ksp_type"), "cg");
   EXPECT_EQ(c.gravity, (std::array<double, 3>{0, 0, -9.81}));
   EXPECT_EQ(c.time.type, "dynamic");
@@ -720,7 +735,7 @@ TEST(DocumentedExample, Parses) {
   EXPECT_EQ(control.control->targets[1][0].position, (std::array<double, 3>{0.08, 0.0, 0.02}));
   blocks.erase(blocks.begin(), blocks.begin() + 2);
   const Config c = parse_deck(tmp.write("input/example.yaml", blocks[0]));
-  EXPECT_EQ(c.materials[0].c1, 4.0e4);
+  EXPECT_EQ(mooney_rivlin(c.materials[0]).c1(), 4.0e4);
   EXPECT_EQ(c.time.steps, 5);
   const size_t time = blocks[0].find("time:"), solver = blocks[0].find("solver:");
   const std::string dynamic = blocks[0].substr(0, time) + blocks[1] + blocks[0].substr(solver);
