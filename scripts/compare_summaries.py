@@ -5,11 +5,19 @@
     compare_summaries.py A B [--rtol 1e-9] [--atol 1e-14]
 
 Every value is compared recursively, key by key and list entry by list entry: numbers must
-agree to |a - b| <= rtol max(|a|, |b|) + atol (atol covers values that are round-off
-themselves, such as a residual of 1e-16), strings and booleans exactly, and both sides must
-hold the same keys and list lengths. Each difference is printed with its JSON path, e.g.
-finger_hydraulic: targets[1].reached[2]: 0.091 != 0.092 (rel 1.1e-02). Exit status 1 on any
-difference (or a deck present on one side only), 0 otherwise.
+agree to |a - b| <= rtol scale + atol, strings and booleans exactly, and both sides must hold
+the same keys and list lengths. The scale of a number is the largest magnitude of the same
+quantity anywhere in the two summaries, a quantity being a key name with the indices of the
+lists of numbers below it: every `pressure` (of each state's cavities and the final ones) is
+one quantity, and `actuation[1]` is actuator 1 of every target. So a pressure that is the
+round-off of zero (1e-12 Pa) is judged against the run's pressures, not against itself. A
+number with no larger value of its quantity, such as the energy drift of a conservative run
+(1e-10 of 0.1 stored, different from one run of the same binary to the next), is judged
+against itself: give --atol for it.
+
+Each difference is printed with its JSON path, e.g.
+    finger_hydraulic: targets[1].reached[2]: 0.091 != 0.092 (rel 1.1e-02, scale 0.092)
+Exit status 1 on any difference (or a deck present on one side only), 0 otherwise.
 
 Ignored keys (at any depth), being timings or the environment of the run rather than its
 results:
@@ -41,29 +49,46 @@ def is_number(x):
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
-def compare(a, b, path, rtol, atol, out):
+def scales(value, path, found):
+    """Records in found the largest magnitude of every quantity (see quantity()) of value."""
+    if isinstance(value, dict):
+        for key, sub in value.items():
+            if not ignored(key):
+                scales(sub, key, found)
+    elif isinstance(value, list):
+        objects = any(isinstance(x, (dict, list)) for x in value)
+        for i, sub in enumerate(value):
+            scales(sub, f"{path}[]" if objects else f"{path}[{i}]", found)
+    elif is_number(value) and not math.isnan(value):
+        found[path] = max(found.get(path, 0.0), abs(value))
+
+
+def compare(a, b, path, rtol, atol, out, scale_of=None, quantity_path=""):
     """Appends 'path: reason' for every difference between a and b to out."""
     if isinstance(a, dict) and isinstance(b, dict):
         for key in sorted(set(a) | set(b)):
             if ignored(key):
                 continue
             sub = f"{path}.{key}" if path else key
+            q = key
             if key not in a or key not in b:
                 out.append(f"{sub}: only in {'B' if key not in a else 'A'}")
             else:
-                compare(a[key], b[key], sub, rtol, atol, out)
+                compare(a[key], b[key], sub, rtol, atol, out, scale_of, q)
     elif isinstance(a, list) and isinstance(b, list):
         if len(a) != len(b):
             out.append(f"{path}: {len(a)} entries != {len(b)} entries")
+        objects = any(isinstance(x, (dict, list)) for x in a + b)
         for i, (x, y) in enumerate(zip(a, b)):
-            compare(x, y, f"{path}[{i}]", rtol, atol, out)
+            q = f"{quantity_path}[]" if objects else f"{quantity_path}[{i}]"
+            compare(x, y, f"{path}[{i}]", rtol, atol, out, scale_of, q)
     elif is_number(a) and is_number(b):
         if math.isnan(a) and math.isnan(b):
             return
-        scale = max(abs(a), abs(b))
+        scale = max(abs(a), abs(b), (scale_of or {}).get(quantity_path, 0.0))
         if not abs(a - b) <= rtol * scale + atol:
             rel = abs(a - b) / scale if scale > 0 else math.inf
-            out.append(f"{path}: {a!r} != {b!r} (rel {rel:.1e})")
+            out.append(f"{path}: {a!r} != {b!r} (rel {rel:.1e}, scale {scale:.3g})")
     elif a != b or type(a) is not type(b):
         out.append(f"{path}: {a!r} != {b!r}")
 
@@ -96,9 +121,12 @@ def main():
             print(f"{prefix}only in {'A' if deck in runs_a else 'B'}")
             differences += 1
             continue
+        a, b = json.loads(runs_a[deck].read_text()), json.loads(runs_b[deck].read_text())
+        scale_of = {}
+        scales(a, "", scale_of)
+        scales(b, "", scale_of)
         found = []
-        compare(json.loads(runs_a[deck].read_text()), json.loads(runs_b[deck].read_text()),
-                "", args.rtol, args.atol, found)
+        compare(a, b, "", args.rtol, args.atol, found, scale_of)
         for line in found:
             print(prefix + line)
         differences += len(found)

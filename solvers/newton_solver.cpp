@@ -1,7 +1,6 @@
 #include "solvers/newton_solver.hpp"
 
 #include <map>
-#include <stdexcept>
 
 namespace hs {
 namespace {
@@ -27,22 +26,23 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent, bool
                                                      {"snes_stol", "0"},
                                                      {"snes_max_it", "30"}};
   for (const auto& [k, v] : common) set_default(k, v);
-  if (solver.preset == "mumps") {
-    set_default("ksp_type", "preonly");
-    // A symmetric tangent is factored as L D L^T (MUMPS's general symmetric mode, with
-    // pivoting, so an indefinite tangent near a limit point is fine): ~30% less time than LU.
-    set_default("pc_type", symmetric_tangent ? "cholesky" : "lu");
-    set_default("pc_factor_mat_solver_type", "mumps");
-  } else if (solver.preset == "gamg") {
-    set_default("ksp_type", symmetric_tangent && definite_tangent ? "cg" : "gmres");
-    set_default("pc_type", "gamg");
-    set_default("ksp_rtol", "1e-10");
-    set_default("ksp_max_it", "2000");
-    set_default("pc_gamg_threshold", "0.01");
-    set_default("mg_levels_ksp_type", "chebyshev");
-    set_default("mg_levels_pc_type", "jacobi");
-  } else {
-    throw std::invalid_argument("unknown solver preset '" + solver.preset + "'");
+  switch (solver.preset) {
+    case SolverPreset::mumps:
+      set_default("ksp_type", "preonly");
+      // A symmetric tangent is factored as L D L^T (MUMPS's general symmetric mode, with
+      // pivoting, so an indefinite tangent near a limit point is fine): ~30% less time than LU.
+      set_default("pc_type", symmetric_tangent ? "cholesky" : "lu");
+      set_default("pc_factor_mat_solver_type", "mumps");
+      break;
+    case SolverPreset::gamg:
+      set_default("ksp_type", symmetric_tangent && definite_tangent ? "cg" : "gmres");
+      set_default("pc_type", "gamg");
+      set_default("ksp_rtol", "1e-10");
+      set_default("ksp_max_it", "2000");
+      set_default("pc_gamg_threshold", "0.01");
+      set_default("mg_levels_ksp_type", "chebyshev");
+      set_default("mg_levels_pc_type", "jacobi");
+      break;
   }
 }
 

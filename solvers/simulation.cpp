@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "deck/deck.hpp"
+#include "deck/exact_section.hpp"
 #include "io/output.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
@@ -46,7 +47,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   check_groups(config, mesh);
   // The deck's exact solution, if any: the values of Dirichlet conditions marked exact, and
   // the reference of the errors and verification quantities reported below.
-  const ExactSolution* exact = config.exact.solution.get();
+  const auto exact_solution = make_exact_solution(config);
+  const ExactSolution* exact = exact_solution.get();
   ExactDirichlet exact_dirichlet;
   if (exact)
     exact_dirichlet = [exact](const std::array<double, 3>& X, double s) {

@@ -98,7 +98,7 @@ void LoadStepper::advance(Vec u, double s_to, int step, SteppingStats& stats) {
 
 void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time, Vec u,
                  SteppingStats& stats, const StepCallback& on_step) {
-  const bool newmark = time.integrator == "newmark";
+  const bool newmark = time.integrator == Integrator::newmark;
   const double dt = time.dt, beta = time.newmark_beta, gamma = time.newmark_gamma;
   InertiaTerm inertia;
   inertia.M = problem.create_mass_matrix();

@@ -201,7 +201,7 @@ TipConfig parse_tip(const DeckReader& r, const YAML::Node& node) {
 void parse_cavity_sections(const DeckReader& r, const YAML::Node& root, Config& c) {
   // Dynamic runs have no states to step through and no cavity equations in their time
   // integrator.
-  if (c.time.type == "dynamic")
+  if (c.time.type == TimeType::dynamic)
     for (const char* name : {"cavities", "states", "tip"})
       forbid(r, root, "", name,
              std::string(name == std::string("tip") ? "the tip is reported per state: " : "") +

@@ -13,7 +13,7 @@
 namespace hs {
 
 class MaterialLaw;
-class ExactSolution;  // verification/exact_solution.hpp
+struct ExactSolutionType;  // verification/registry.hpp
 
 struct MeshConfig {
   std::string file;  // .msh (gmsh 4.x) or .geo; resolved relative to the deck's folder
@@ -75,11 +75,12 @@ struct OutputConfig {
   int every = 1;       // write every n-th step (the last one always)
 };
 
-// The deck's exact solution (src/verification/), built by parse_deck from exact.type, its
-// parameters and the deck's numbers it needs; null for exact.type none. Its name() and
-// parameters() print the section back.
+// The deck's exact solution: its entry in the registry of src/verification/ (null for
+// exact.type none) and its parameters, checked by parse_deck. The run builds the solution
+// from them (make_exact_solution of deck/exact_section.hpp).
 struct ExactConfig {
-  std::shared_ptr<const ExactSolution> solution;
+  const ExactSolutionType* type = nullptr;
+  std::map<std::string, double> parameters;
 };
 
 // A choice the deck spells as a name: the names in the enum's order, and the conversions.

@@ -244,7 +244,7 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
 
 void parse_control_section(const DeckReader& r, const YAML::Node& root, Config& c) {
   // Control steps from one static equilibrium to the next; dynamic runs have no cavities.
-  if (c.time.type == "dynamic")
+  if (c.time.type == TimeType::dynamic)
     forbid(r, root, "", "control",
            "control needs time.type static or quasi_static (time.type is dynamic)");
   if (const auto n = root["control"]) c.control = parse_control(r, n, c.cavities, c.cables);

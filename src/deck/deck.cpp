@@ -10,11 +10,11 @@
 #include "deck/cable_section.hpp"
 #include "deck/cavity_sections.hpp"
 #include "deck/control_section.hpp"
+#include "deck/exact_section.hpp"
 #include "common/deck_reader.hpp"
 #include "deck/overrides.hpp"
 #include "io/output.hpp"
 #include "materials/registry.hpp"
-#include "verification/registry.hpp"
 
 namespace hs {
 namespace {
@@ -233,50 +233,6 @@ OutputConfig parse_output(const DeckReader& r, const YAML::Node& node) {
   return o;
 }
 
-// The numbers of the deck an exact solution may need besides its parameters.
-ExactSetting exact_setting(const Config& c) {
-  ExactSetting setting;
-  for (const auto& m : c.materials) {
-    const ElasticConstants& k = m.law->elastic_constants();
-    setting.materials.push_back({m.group, k.E, k.nu, k.mu, k.lambda, m.density});
-  }
-  setting.gravity = c.gravity;
-  return setting;
-}
-
-// The section goes to the registry of src/verification/, which knows the names, the
-// parameters and their checks; its errors come back with their key.
-ExactConfig parse_exact(const DeckReader& r, const YAML::Node& root, const Config& c) {
-  const YAML::Node node = root["exact"];
-  r.check_map(node, "exact", {"type", "parameters"});
-  std::vector<std::string> names = {"none"};
-  for (const auto& name : exact_solution_names()) names.push_back(name);
-  const std::string type = node["type"] ? one_of(r, node["type"], "exact.type", names) : "none";
-  ExactParameterMap parameters;
-  if (const auto n = node["parameters"]) parameters = r.number_map(n, "exact.parameters");
-  if (type == "none") {
-    if (!parameters.empty())
-      r.fail(child_key("exact.parameters", parameters.begin()->first),
-             node["parameters"][parameters.begin()->first],
-             "unknown to exact solution 'none' (takes no parameters)");
-    return {};
-  }
-  try {
-    return {make_exact_solution(type, parameters, exact_setting(c))};
-  } catch (const ExactInputError& e) {
-    // The node the key names, for its line: a parameter, the section, or a section of the
-    // deck the solution reads (materials, loads.gravity).
-    const std::string prefix = "exact.parameters.";
-    YAML::Node where = node;
-    if (e.key().rfind(prefix, 0) == 0 && node["parameters"] &&
-        node["parameters"][e.key().substr(prefix.size())])
-      where = node["parameters"][e.key().substr(prefix.size())];
-    else if (e.key() == "materials")
-      where = root["materials"];
-    r.fail(e.key(), where, e.what());
-  }
-}
-
 }  // namespace
 
 Config parse_deck(const std::string& path, const std::vector<std::string>& overrides) {
@@ -314,9 +270,9 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
       r.fail("output.folder", output["folder"], problem);
     r.fail("output.folder", "the default '" + c.output.folder + "': " + problem);
   }
-  if (root["exact"]) c.exact = parse_exact(r, root, c);
+  parse_exact_section(r, root, c);
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
-    if (c.dirichlet[i].exact && !c.exact.solution)
+    if (c.dirichlet[i].exact && !c.exact.type)
       r.fail(child_key(item_key("boundary", i), "exact"), root["boundary"][i]["exact"],
              "needs an exact solution, but exact.type is none");
   return c;

@@ -9,7 +9,7 @@
 #include "common/deck_reader.hpp"
 #include "deck/deck.hpp"
 #include "materials/material.hpp"
-#include "verification/exact_solution.hpp"
+#include "verification/registry.hpp"
 
 namespace hs {
 namespace {
@@ -303,9 +303,8 @@ std::string format_config(const Config& c) {
   out << YAML::EndMap;
 
   out << YAML::Key << "exact" << YAML::Value << YAML::BeginMap;
-  const auto& exact = c.exact.solution;
-  out << YAML::Key << "type" << YAML::Value << (exact ? exact->name() : "none");
-  emit_number_map(out, "parameters", exact ? exact->parameters() : ExactParameterMap{});
+  out << YAML::Key << "type" << YAML::Value << (c.exact.type ? c.exact.type->name : "none");
+  emit_number_map(out, "parameters", c.exact.parameters);
   out << YAML::EndMap;
 
   out << YAML::EndMap;

@@ -139,6 +139,10 @@ TEST_F(DeckErrors, NonPhysicalValues) {
       {kMesh + kMaterials + "time: {type: dynamic, dt: 0.1, end_time: 1, newmark: {gamma: 0.4}}\n",
        "time.newmark.gamma", "must be >= 0.5"},
       {kMesh + kMaterials + "output: {every: 0}\n", "output.every", "must be >= 1"},
+      {kMesh + kMaterials + "exact: {type: lame_sphere, parameters: {a: 1, b: 0.5, p: 1}}\n",
+       "exact.parameters.b", "must be > a = 1, got 0.5 (exact solution 'lame_sphere') (line 4"},
+      {kMesh + kMaterials + "exact: {type: cantilever_gravity, parameters: {L: -1, h: 1}}\n",
+       "exact.parameters.L", "must be > 0, got -1"},
   });
 }
 

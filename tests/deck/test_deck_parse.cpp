@@ -12,6 +12,7 @@
 #include "materials/gent.hpp"
 #include "materials/mooney_rivlin.hpp"
 #include "temp_folder.hpp"
+#include "verification/registry.hpp"
 
 namespace hs {
 namespace {
@@ -202,7 +203,7 @@ void expect_same(const Config& a, const Config& b) {
   EXPECT_EQ(a.solver.petsc_options, b.solver.petsc_options);
   EXPECT_EQ(a.output.folder, b.output.folder);
   EXPECT_EQ(a.output.every, b.output.every);
-  EXPECT_EQ(a.exact.type, b.exact.type);
+  EXPECT_EQ(a.exact.type, b.exact.type);  // the same registry entry
   EXPECT_EQ(a.exact.parameters, b.exact.parameters);
   ASSERT_EQ(a.cavities.size(), b.cavities.size());
   for (size_t i = 0; i < a.cavities.size(); ++i) {
@@ -312,12 +313,12 @@ TEST_F(DeckParse, ReadsEveryKey) {
   EXPECT_EQ(c.pressures[0].value, 2500);
   EXPECT_EQ(c.pressures[1].value, -10);
 
-  EXPECT_EQ(c.time.type, "quasi_static");
+  EXPECT_EQ(c.time.type, TimeType::quasi_static);
   EXPECT_EQ(c.time.schedule, (std::vector<double>{0.25, 0.5, 1.0, 0.75}));
   EXPECT_EQ(c.time.steps, 4);  // from the schedule
   EXPECT_EQ(c.time.max_cutbacks, 3);
 
-  EXPECT_EQ(c.solver.preset, "gamg");
+  EXPECT_EQ(c.solver.preset, SolverPreset::gamg);
   const std::map<std::string, std::string> options = {{"snes_rtol", "1e-10"},
                                                       {"ksp_type", "cg"},
                                                       {"snes_monitor", ""},
@@ -325,7 +326,8 @@ TEST_F(DeckParse, ReadsEveryKey) {
   EXPECT_EQ(c.solver.petsc_options, options);
   EXPECT_EQ(c.output.folder, "results/run1");
   EXPECT_EQ(c.output.every, 2);
-  EXPECT_EQ(c.exact.type, "lame_sphere");
+  ASSERT_NE(c.exact.type, nullptr);
+  EXPECT_EQ(c.exact.type->name, "lame_sphere");
   EXPECT_EQ(c.exact.parameters, (std::map<std::string, double>{{"a", 1}, {"b", 2}, {"p", 2500}}));
 }
 
@@ -340,13 +342,13 @@ TEST_F(DeckParse, FillsDefaults) {
   EXPECT_TRUE(c.dirichlet.empty());
   EXPECT_TRUE(c.pressures.empty());
   EXPECT_EQ(c.gravity, (std::array<double, 3>{0, 0, 0}));
-  EXPECT_EQ(c.time.type, "static");
+  EXPECT_EQ(c.time.type, TimeType::static_);
   EXPECT_EQ(c.time.steps, 1);
   EXPECT_EQ(c.time.max_cutbacks, defaults.time.max_cutbacks);
-  EXPECT_EQ(c.solver.preset, "mumps");
+  EXPECT_EQ(c.solver.preset, SolverPreset::mumps);
   EXPECT_EQ(c.output.folder, "out/minimal");  // relative to the working directory
   EXPECT_EQ(c.output.every, 1);
-  EXPECT_EQ(c.exact.type, "none");
+  EXPECT_EQ(c.exact.type, nullptr);  // exact.type none
   EXPECT_TRUE(c.cavities.empty());
   EXPECT_TRUE(c.states.empty());  // one implicit state, the load ramp over time.steps
   EXPECT_FALSE(c.tip.has_value());
@@ -545,10 +547,10 @@ TEST_F(DeckParse, RoundTripThroughFormatConfig) {
 
 TEST_F(DeckParse, DynamicDefaults) {
   const Config c = parse_deck(tmp.write("decks/dyn.yaml", kDynamicDeck));
-  EXPECT_EQ(c.time.type, "dynamic");
+  EXPECT_EQ(c.time.type, TimeType::dynamic);
   EXPECT_EQ(c.time.dt, 0.01);
   EXPECT_EQ(c.time.end_time, 0.5);
-  EXPECT_EQ(c.time.integrator, "newmark");
+  EXPECT_EQ(c.time.integrator, Integrator::newmark);
   EXPECT_EQ(c.time.newmark_beta, 0.3025);
   EXPECT_EQ(c.time.newmark_gamma, 0.6);
 }
@@ -597,7 +599,7 @@ materials:
   EXPECT_DOUBLE_EQ(elastic(c.materials[0]).mu, 8e5);  // derived from the overridden E
   EXPECT_EQ(c.solver.petsc_options.at("ksp_type"), "cg");
   EXPECT_EQ(c.gravity, (std::array<double, 3>{0, 0, -9.81}));
-  EXPECT_EQ(c.time.type, "dynamic");
+  EXPECT_EQ(c.time.type, TimeType::dynamic);
   EXPECT_EQ(c.time.dt, 0.1);
   EXPECT_EQ(c.output.folder, "elsewhere");
   // A later override of the same key wins.

@@ -198,7 +198,7 @@ INSTANTIATE_TEST_SUITE_P(Solvers, SolveColumns, ::testing::Values("mumps", "gamg
 TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {
   PetscOptionsSetValue(nullptr, "-ksp_type", "bcgs");  // as if given on the command line
   hs::SolverConfig solver;
-  solver.preset = "gamg";
+  solver.preset = hs::SolverPreset::gamg;
   solver.petsc_options = {{"ksp_type", "cg"}, {"pc_gamg_threshold", "0.05"}};
   hs::set_solver_options(solver, true);
   char value[64];

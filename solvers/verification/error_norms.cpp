@@ -2,7 +2,7 @@
 //   sum_e sum_q w_q |det J_e(xi_q)| |u_h(xi_q) - u(X(xi_q))|^2,
 // with an isoparametric map X(xi) = sum_a N_a(xi) X_a (curved P2 elements included) and a
 // rule of degree 2 (order + 1), enough to integrate |u_h|^2 exactly on straight elements.
-#include "solvers/error_norms.hpp"
+#include "solvers/verification/error_norms.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>
