@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "solvers/inverse_controller.hpp"
-#include "solvers/result_recorder.hpp"
+#include "solvers/output/result_recorder.hpp"
 
 namespace hs {
 

@@ -20,6 +20,7 @@
 #include "materials/material.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/mesh.hpp"
+#include "solvers/dof_map.hpp"
 #include "solvers/petsc_check.hpp"
 
 namespace hs {
@@ -36,11 +37,6 @@ struct AssemblyTimers {
   int residual_calls = 0, jacobian_calls = 0;
 };
 
-// The displacement at reference point X and load factor s that Dirichlet conditions marked
-// exact take (the run sets it from the deck's exact solution).
-using ExactDirichlet =
-    std::function<std::array<double, 3>(const std::array<double, 3>& X, double s)>;
-
 class Problem {
  public:
   // `exact` (may be empty) gives the values of Dirichlet conditions marked exact.
@@ -55,14 +51,14 @@ class Problem {
   const Distribution& distribution() const { return dist_; }
   PetscInt num_global_dofs() const { return 3 * static_cast<PetscInt>(dist_.num_global()); }
 
-  Vec create_vector() const;  // ghosted, zeroed
+  Vec create_vector() const { return dofs_.create_vector(comm_); }  // ghosted, zeroed
   // The tangent's matrix: its pattern given once by coordinates (tangent_entries), the
   // near-null space attached. After the first one, no cavity surface or coupling may be added.
   Mat create_matrix();
   Mat create_mass_matrix();
 
   // Sets the Dirichlet dofs of u to their prescribed values at load factor s.
-  void apply_dirichlet(Vec u, double s) const;
+  void apply_dirichlet(Vec u, double s) const { dofs_.apply(u, s); }
 
   // Residual and tangent. Return false if an element is inverted (det F <= 0) or a
   // value is not finite; inverted_element() then names one such element on every rank (its
@@ -85,9 +81,7 @@ class Problem {
   // are the reactions.
   // Optionally also the stored energy int psi dV (summed over ranks) in *energy.
   void internal_force(Vec u, Vec f, double* energy = nullptr);
-  double reference_coordinate(int64_t local_node, int d) const {
-    return X_local_[3 * local_node + d];
-  }
+  double reference_coordinate(int64_t local_node, int d) const { return X_[3 * local_node + d]; }
 
   // Whether every tetrahedron keeps its orientation on configuration u (J > 0 at its
   // centroid, so a finite stress; over all ranks): the cheap check of a configuration no
@@ -96,11 +90,6 @@ class Problem {
 
   // Per local tetrahedron: von Mises stress and J at the centroid.
   void element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const;
-
-  // Owned-node values of a block-3 vector in mesh (old) numbering, gathered on rank 0.
-  std::vector<double> gather_nodal(Vec v) const;
-  // Per-local-tet values gathered on rank 0 in mesh tet order.
-  std::vector<double> gather_elemental(const std::vector<double>& local) const;
 
   // The ghost-updated local form (owned then ghost nodes) of a vector, readable while alive.
   class LocalView;
@@ -116,8 +105,9 @@ class Problem {
     return false;
   }
 
-  // Cavity walls (solvers/cavity.hpp). A cavity surface is a follower pressure surface whose
-  // pressure is set directly (not scaled by the load factor); returns its index.
+  // Cavity walls (solvers/constraints/cavity.hpp; problem_surfaces.cpp). A cavity surface is a
+  // follower pressure surface whose pressure is set directly (not scaled by the load factor);
+  // returns its index.
   int add_cavity_surface(const std::string& group);
   void set_surface_pressure(int surface, double p) { pressure_faces_[surface].value = p; }
   // Volume enclosed by the surface on configuration u (summed over ranks; faces point out of
@@ -138,7 +128,7 @@ class Problem {
   int add_coupling(std::vector<PetscInt> dofs);
   void set_coupling(int k, const std::vector<PetscScalar>& values);
   // Zeroes the Dirichlet dofs of a vector (owned entries).
-  void zero_constrained(Vec v) const;
+  void zero_constrained(Vec v) const { dofs_.zero(v); }
   double total_mass() const;
 
  private:
@@ -156,9 +146,6 @@ class Problem {
   void assemble_local(Vec u, Vec out, F add);
   void element_coordinates(int64_t local_tet, double* X) const;
   void element_displacement(const PetscScalar* u_local, int64_t local_tet, double* u) const;
-  void dof_indices(int64_t local_tet, PetscInt* idx) const;  // -1 on Dirichlet dofs
-  void face_dofs(const int32_t* face, int npf, PetscInt* idx) const;
-  double prescribed_value(int64_t local_dof, double s) const;
   bool assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy);
   // Collective: agrees on this rank's inverted element (-1: none) with the others, records
   // it and returns whether there is none.
@@ -178,17 +165,11 @@ class Problem {
   const Distribution& dist_;
   int npe_;
   std::vector<MaterialConfig> materials_;  // per mesh volume group: its law and density
-  std::vector<double> X_local_;            // reference coordinates of local nodes
-  std::vector<PetscInt> global_dof_;       // per local dof: PETSc global index
-  std::vector<char> constrained_;          // per local dof
-  std::vector<double> prescribed_;         // per local dof: value at full load
-  std::vector<char> scaled_;               // per local dof: follows the load factor
-  std::vector<char> from_exact_;           // per local dof: value from exact_
-  ExactDirichlet exact_;
+  DofMap dofs_;
+  const std::vector<double>& X_;         // reference coordinates of local nodes
   std::vector<double> body_force_;       // per local tet: npe*3, at full load
   std::vector<P1Geometry> p1_geometry_;  // per local tet of a P1 mesh (empty for P2)
   std::vector<PressureSurface> pressure_faces_;
-  std::vector<PetscInt> ghost_blocks_;
   const InertiaTerm* inertia_ = nullptr;
   Vec extra_load_ = nullptr;
   std::vector<std::vector<PetscInt>> couplings_;
@@ -221,6 +202,22 @@ class Problem::LocalView {
 };
 
 template <class F>
+void Problem::assemble_local(Vec u, Vec out, F add) {
+  LocalView view(u, u_work_);
+  Vec rl;
+  HS_PETSC(VecGhostGetLocalForm(r_work_, &rl));
+  HS_PETSC(VecSet(rl, 0.0));
+  PetscScalar* ra;
+  HS_PETSC(VecGetArray(rl, &ra));
+  add(view.values(), ra);
+  HS_PETSC(VecRestoreArray(rl, &ra));
+  HS_PETSC(VecGhostRestoreLocalForm(r_work_, &rl));
+  HS_PETSC(VecGhostUpdateBegin(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecGhostUpdateEnd(r_work_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecCopy(r_work_, out));
+}
+
+template <class F>
 double Problem::sum_over_group(const std::string& group, Vec v, F f) const {
   double local = 0;
   auto it = dist_.node_groups.find(group);
@@ -229,7 +226,7 @@ double Problem::sum_over_group(const std::string& group, Vec v, F f) const {
     HS_PETSC(VecGetArrayRead(v, &a));
     for (int32_t n : it->second) {
       if (n >= dist_.num_owned()) continue;  // ghosts are counted by their owner
-      const std::array<double, 3> X = {X_local_[3 * n], X_local_[3 * n + 1], X_local_[3 * n + 2]};
+      const std::array<double, 3> X = {X_[3 * n], X_[3 * n + 1], X_[3 * n + 2]};
       const std::array<double, 3> value = {a[3 * n], a[3 * n + 1], a[3 * n + 2]};
       local += f(X, value);
     }

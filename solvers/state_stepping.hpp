@@ -10,7 +10,7 @@
 
 #include "solvers/bordered_newton.hpp"
 #include "solvers/constraints/constraint_set.hpp"
-#include "solvers/result_recorder.hpp"
+#include "solvers/output/result_recorder.hpp"
 #include "solvers/stepping.hpp"
 
 namespace hs {

@@ -19,6 +19,7 @@
 #include "solvers/bordered_newton.hpp"
 #include "solvers/constraints/cavity_weight.hpp"
 #include "solvers/constraints/constraint_set.hpp"
+#include "solvers/output/gather.hpp"
 #include "solvers/problem.hpp"
 #include "solvers/simulation.hpp"
 
@@ -293,7 +294,7 @@ TEST(Cavities, DistributedWeightsMatchOneSerialComputation) {
   hs::CavityWeight weight(s.mesh, s.dist, s.config.cavities[0], s.config.gravity, s.dist.size - 1,
                           PETSC_COMM_WORLD);  // owned by the last rank
   weight.add_weight(u, 0.5, w);
-  const std::vector<double> displacement = p.gather_nodal(u), forces = p.gather_nodal(w);
+  const std::vector<double> displacement = hs::gather_nodal(p, u), forces = hs::gather_nodal(p, w);
   if (s.dist.rank == 0) {
     const hs::CavityTriangles t = hs::cavity_triangles(s.mesh, "cavity");
     fluidweight::SurfaceMesh surface;

@@ -1,8 +1,9 @@
-#include "solvers/result_recorder.hpp"
+#include "solvers/output/result_recorder.hpp"
 
 #include <cmath>
 
 #include "common/error.hpp"
+#include "solvers/output/gather.hpp"
 
 namespace hs {
 
@@ -21,15 +22,15 @@ ResultRecorder::~ResultRecorder() { VecDestroy(&load_); }
 void ResultRecorder::record(double time, Vec u, double s) {
   StepFields f;
   f.time = time;
-  f.displacement = problem_.gather_nodal(u);
+  f.displacement = gather_nodal(problem_, u);
   problem_.external_load(u, s, load_);
-  f.nodal_load = problem_.gather_nodal(load_);
+  f.nodal_load = gather_nodal(problem_, load_);
   std::vector<double> vm, J;
   problem_.element_fields(u, vm, J);
-  f.von_mises = problem_.gather_elemental(vm);
-  f.J = problem_.gather_elemental(J);
+  f.von_mises = gather_elemental(problem_, vm);
+  f.J = gather_elemental(problem_, J);
   std::vector<double> rank(vm.size(), problem_.distribution().rank);
-  const auto ranks = problem_.gather_elemental(rank);
+  const auto ranks = gather_elemental(problem_, rank);
   // Decided together, so that every rank stops on a non-finite result, not rank 0 alone.
   int finite = 1;
   for (const auto* field : {&f.displacement, &f.nodal_load, &f.von_mises, &f.J})

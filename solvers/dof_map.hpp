@@ -1,0 +1,57 @@
+// The degrees of freedom one rank works on: 3 per local node (owned nodes first, then ghosts,
+// in the numbering of hs::Distribution), their PETSc global indices, the ghosted vectors, and
+// the Dirichlet data. Constrained dofs keep their rows in the system (R_D = u_D - g_D(s));
+// element and face blocks name them -1, so that the assembly drops their entries.
+#pragma once
+
+#include <petscvec.h>
+
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "deck/config.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/mesh.hpp"
+
+namespace hs {
+
+// The displacement at reference point X and load factor s that Dirichlet conditions marked
+// exact take (the run sets it from the deck's exact solution).
+using ExactDirichlet =
+    std::function<std::array<double, 3>(const std::array<double, 3>& X, double s)>;
+
+class DofMap {
+ public:
+  // Throws InputError for a condition marked exact when `exact` is empty.
+  DofMap(const Config& config, const Mesh& mesh, const Distribution& dist, ExactDirichlet exact);
+
+  Vec create_vector(MPI_Comm comm) const;  // ghosted, block size 3, zeroed
+  int64_t num_owned_dofs() const { return 3 * num_owned_; }
+  // Reference coordinates of the local nodes (3 each).
+  const std::vector<double>& reference() const { return X_; }
+
+  // PETSc indices of the dofs of n local nodes (3 each), -1 for constrained ones.
+  void indices(const int32_t* nodes, int n, PetscInt* idx) const;
+  bool constrained(int64_t local_dof) const { return constrained_[local_dof]; }
+  PetscInt global(int64_t local_dof) const { return global_[local_dof]; }
+
+  // The prescribed value of a constrained dof at load factor s.
+  double prescribed_value(int64_t local_dof, double s) const;
+  // Sets the constrained dofs of u to their values at s (owned entries).
+  void apply(Vec u, double s) const;
+  // R_D = u_D - g_D(s) on the constrained rows of R (owned entries).
+  void set_rows(Vec u, double s, Vec R) const;
+  // Zeroes the constrained dofs of v (owned entries).
+  void zero(Vec v) const;
+
+ private:
+  int64_t num_owned_ = 0;
+  std::vector<double> X_;
+  std::vector<PetscInt> global_, ghost_blocks_;
+  std::vector<char> constrained_, scaled_, from_exact_;  // per local dof
+  std::vector<double> prescribed_;                       // per local dof, at full load
+  ExactDirichlet exact_;
+};
+
+}  // namespace hs

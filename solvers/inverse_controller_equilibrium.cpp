@@ -1,0 +1,128 @@
+// InverseController, the equilibria it stands on: the rest state, the free configuration
+// converged by Newton (walking the pressures where Newton alone does not reach it), and the
+// equilibrium at an actuation for the one_step mode's check.
+#include <algorithm>
+
+#include "common/error.hpp"
+#include "solvers/inverse_controller.hpp"
+#include "solvers/stepping.hpp"
+
+namespace hs {
+
+void InverseController::set_rest(Vec u) {
+  for (auto& a : actuators_) a.rest_measure = constraints_.measure(a.constraint, u);
+  if (!last_free_) HS_PETSC(VecDuplicate(u, &last_free_));
+  HS_PETSC(VecCopy(u, last_free_));
+  last_pressures_ = constraints_.multipliers();
+}
+
+// Newton from the corrected configuration: one linearisation away from equilibrium, it
+// nearly always converges at once. Where it does not (a large pressure change on a wall that
+// softens, near a limit point of the pressure), the pressures are walked from the last free
+// equilibrium to the new ones with the halving increments of the load stepping; past a limit
+// point no equilibrium exists, and the actuation stops at the last one reached.
+NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
+  const auto solve = [&](Vec x) {
+    problem_.apply_dirichlet(x, 1.0);
+    if (constraints_.linearized()) constraints_.freeze_weights(x, 1.0);
+    const NewtonResult r = newton_.solve(x, 1.0);
+    report.newton_iterations += r.iterations;
+    return r;
+  };
+  const std::vector<double> wanted = constraints_.multipliers();
+  NewtonResult result = solve(u);
+  if (result.converged || !last_free_) {
+    if (result.converged) {
+      HS_PETSC(VecCopy(u, last_free_));
+      last_pressures_ = constraints_.multipliers();
+    }
+    return result;
+  }
+  HS_PETSC(VecCopy(last_free_, u));
+  constraints_.set_multipliers(last_pressures_);
+  const std::vector<double> from = last_pressures_;
+  auto set_actuation = [&](double t) {
+    std::vector<double> lambda = constraints_.multipliers();
+    for (const auto& a : actuators_) {
+      Constraint& c = constraints_[a.constraint];
+      lambda[a.constraint] = from[a.constraint] + t * (wanted[a.constraint] - from[a.constraint]);
+      c.target = lambda[a.constraint];
+    }
+    constraints_.set_multipliers(lambda);
+  };
+  struct Stop {};
+  SteppingStats stats;
+  auto attempt = [&](double t) {
+    const std::vector<double> before = constraints_.multipliers();
+    set_actuation(t);
+    const NewtonResult r = solve(u);
+    if (r.converged) {
+      HS_PETSC(VecCopy(u, last_free_));
+      last_pressures_ = constraints_.multipliers();
+    } else {
+      HS_PETSC(VecCopy(last_free_, u));
+      constraints_.set_multipliers(before);
+      for (const auto& a : actuators_) constraints_[a.constraint].target = before[a.constraint];
+    }
+    result = r;
+    return r;
+  };
+  try {
+    advance_with_cutback(0.0, 1.0, config_.time.max_cutbacks, stats, attempt,
+                         [](double, const NewtonResult&) { throw Stop{}; });
+  } catch (const Stop&) {
+    // Held at the last equilibrium reached on the way: a bound of physics, not of the deck.
+    HS_PETSC(VecCopy(last_free_, u));
+    constraints_.set_multipliers(last_pressures_);
+    for (const auto& a : actuators_)
+      constraints_[a.constraint].target = last_pressures_[a.constraint];
+    result.converged = true;
+    report.limit_point = true;
+  }
+  return result;
+}
+
+void InverseController::settle(Vec u, ControlStepReport& report) {
+  for (const auto& a : actuators_) {
+    constraints_[a.constraint].control = Constraint::Control::multiplier;
+    constraints_[a.constraint].target = constraints_[a.constraint].lambda;
+  }
+  const NewtonResult r = solve_free(u, report);
+  if (!r.converged)
+    throw SolveError("control: the equilibrium at the final actuation did not converge (" +
+                     r.reason + ")");
+  report.reached = effectors_.positions(u);
+  report.actuation.clear();
+  for (const auto& a : actuators_) report.actuation.push_back(constraints_[a.constraint].lambda);
+}
+
+// On a copy, by the free solve: Newton from the prediction, or, where a kept factorization
+// left the prediction too far off for Newton (a few steps of 5 kPa on the hydraulic finger),
+// the pressures walked from the last equilibrium found here (or the rest state).
+std::vector<double> InverseController::equilibrium_positions(Vec u) {
+  const std::vector<double> pressures = constraints_.multipliers();
+  std::vector<double> targets;
+  for (int c = 0; c < constraints_.size(); ++c) targets.push_back(constraints_[c].target);
+  Vec x = nullptr;
+  HS_PETSC(VecDuplicate(u, &x));
+  HS_PETSC(VecCopy(u, x));
+  for (const auto& a : actuators_) {
+    constraints_[a.constraint].control = Constraint::Control::multiplier;
+    constraints_[a.constraint].target = constraints_[a.constraint].lambda;
+  }
+  ControlStepReport report;
+  const NewtonResult r = solve_free(x, report);
+  const std::vector<double> positions = effectors_.positions(x);
+  HS_PETSC(VecDestroy(&x));
+  constraints_.set_multipliers(pressures);
+  for (int c = 0; c < constraints_.size(); ++c) constraints_[c].target = targets[c];
+  if (!r.converged || report.limit_point)
+    throw SolveError(
+        "control: the equilibrium check found no equilibrium at the current "
+        "actuation (" +
+        (report.limit_point ? std::string("a limit point of the pressure on the way") : r.reason) +
+        ")");
+  return positions;
+}
+
+}  // namespace hs

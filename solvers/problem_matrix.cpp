@@ -1,0 +1,121 @@
+// Problem: the tangent's matrix and its pattern, the mass matrix.
+#include <stdexcept>
+
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+// Assembly by coordinates: every element, face, Dirichlet diagonal and coupling block is one
+// run of entries whose position PETSc resolves once (MatSetPreallocationCOO, which also
+// communicates entries of rows owned elsewhere); each tangent then writes its values straight
+// into that array and hands it over in one MatSetValuesCOO. Adding blocks one by one with
+// MatSetValues searched the row of every entry again on every assembly: three times slower on
+// the control step's tangent (docs/architecture.md, Assembly of the tangent).
+void Problem::tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) const {
+  rows.clear();
+  cols.clear();
+  auto block = [&](const PetscInt* idx, int n) {
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c) {
+        rows.push_back(idx[r]);  // negative (Dirichlet) indices are ignored by PETSc
+        cols.push_back(idx[c]);
+      }
+  };
+  PetscInt idx[30];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+    dofs_.indices(&dist_.tet_nodes[e * npe_], npe_, idx);
+    block(idx, 3 * npe_);
+  }
+  const int npf = mesh_.nodes_per_face();
+  for (const auto& surface : pressure_faces_)
+    for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
+      dofs_.indices(&surface.faces[f * npf], npf, idx);
+      block(idx, 3 * npf);
+    }
+  for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)
+    if (dofs_.constrained(l)) {
+      rows.push_back(dofs_.global(l));
+      cols.push_back(dofs_.global(l));
+    }
+  for (const auto& dofs : couplings_) block(dofs.data(), static_cast<int>(dofs.size()));
+}
+
+int Problem::add_coupling(std::vector<PetscInt> dofs) {
+  if (pattern_fixed_)
+    throw std::logic_error("Problem::add_coupling after the tangent's matrix was created");
+  coupling_values_.emplace_back(dofs.size() * dofs.size(), 0.0);
+  couplings_.push_back(std::move(dofs));
+  return static_cast<int>(couplings_.size()) - 1;
+}
+
+void Problem::set_coupling(int k, const std::vector<PetscScalar>& values) {
+  if (values.size() != coupling_values_.at(k).size())
+    throw std::logic_error("Problem::set_coupling: wrong number of values");
+  coupling_values_[k] = values;
+}
+
+size_t Problem::num_face_entries() const {
+  const size_t nf = 3 * mesh_.nodes_per_face();
+  size_t faces = 0;
+  for (const auto& surface : pressure_faces_) faces += surface.faces.size() / (nf / 3);
+  return faces * nf * nf;
+}
+
+void Problem::fill_constraint_entries(PetscScalar* value) const {
+  for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)
+    if (dofs_.constrained(l)) *value++ = 1.0;
+  for (const auto& block : coupling_values_) value = std::copy(block.begin(), block.end(), value);
+}
+
+Mat Problem::create_matrix() {
+  pattern_fixed_ = true;
+  const int64_t nowned = dist_.num_owned();
+  std::vector<PetscInt> rows, cols;
+  tangent_entries(rows, cols);
+  tangent_values_.assign(rows.size(), 0.0);
+  Mat A;
+  HS_PETSC(MatCreate(comm_, &A));
+  HS_PETSC(MatSetSizes(A, 3 * nowned, 3 * nowned, PETSC_DETERMINE, PETSC_DETERMINE));
+  HS_PETSC(MatSetBlockSize(A, 3));
+  HS_PETSC(MatSetType(A, MATAIJ));
+  HS_PETSC(MatSetFromOptions(A));
+  HS_PETSC(
+      MatSetPreallocationCOO(A, static_cast<PetscCount>(rows.size()), rows.data(), cols.data()));
+
+  // Rigid-body modes from the reference coordinates of the owned nodes.
+  Vec coords;
+  HS_PETSC(VecCreateMPI(comm_, 3 * nowned, PETSC_DETERMINE, &coords));
+  HS_PETSC(VecSetBlockSize(coords, 3));
+  PetscScalar* c;
+  HS_PETSC(VecGetArray(coords, &c));
+  for (int64_t i = 0; i < 3 * nowned; ++i) c[i] = X_[i];
+  HS_PETSC(VecRestoreArray(coords, &c));
+  MatNullSpace nullspace;
+  HS_PETSC(MatNullSpaceCreateRigidBody(coords, &nullspace));
+  HS_PETSC(MatSetNearNullSpace(A, nullspace));
+  HS_PETSC(MatNullSpaceDestroy(&nullspace));
+  HS_PETSC(VecDestroy(&coords));
+  return A;
+}
+
+// The consistent mass matrix in the tangent's pattern (element blocks, unit diagonal on
+// Dirichlet rows, zero elsewhere), by coordinates like the tangent.
+Mat Problem::create_mass_matrix() {
+  Mat M = create_matrix();
+  std::vector<PetscScalar> values(tangent_values_.size(), 0.0);
+  PetscScalar* value = values.data();
+  const int n = 3 * npe_;
+  double X[30];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e, value += n * n) {
+    element_coordinates(e, X);
+    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+    tet_mass(mesh_.order, X, m.density, value);
+  }
+  value += num_face_entries();
+  for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)
+    if (dofs_.constrained(l)) *value++ = 1.0;
+  HS_PETSC(MatSetValuesCOO(M, values.data(), INSERT_VALUES));
+  return M;
+}
+
+}  // namespace hs

@@ -1,0 +1,73 @@
+// Problem: pressure surfaces of cavities and what constraints measure on them.
+#include <stdexcept>
+
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+int Problem::add_cavity_surface(const std::string& group) {
+  if (pattern_fixed_)
+    throw std::logic_error("Problem::add_cavity_surface after the tangent's matrix was created");
+  PressureSurface s;
+  s.value = 0;
+  s.scaled = false;
+  auto it = dist_.faces.find(group);
+  if (it != dist_.faces.end()) s.faces = it->second;
+  pressure_faces_.push_back(std::move(s));
+  return static_cast<int>(pressure_faces_.size()) - 1;
+}
+
+double Problem::enclosed_volume(int surface, Vec u) {
+  LocalView view(u, u_work_);
+  const PetscScalar* ua = view.values();
+  const int npf = mesh_.nodes_per_face();
+  const auto& faces = pressure_faces_[surface].faces;
+  double local = 0, xf[18];
+  for (size_t f = 0; f < faces.size() / npf; ++f) {
+    const int32_t* nodes = &faces[f * npf];
+    for (int k = 0; k < 3 * npf; ++k)
+      xf[k] = X_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
+    local += face_enclosed_volume(mesh_.order, xf);
+  }
+  double total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  return total;
+}
+
+void Problem::volume_gradient(int surface, Vec u, Vec g) {
+  assemble_local(u, g, [&](const PetscScalar* ua, PetscScalar* ra) {
+    const int npf = mesh_.nodes_per_face();
+    const auto& faces = pressure_faces_[surface].faces;
+    double xf[18], ff[18];
+    for (size_t f = 0; f < faces.size() / npf; ++f) {
+      const int32_t* nodes = &faces[f * npf];
+      for (int k = 0; k < 3 * npf; ++k)
+        xf[k] = X_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
+      face_pressure(mesh_.order, xf, 1.0, ff, nullptr);
+      for (int k = 0; k < 3 * npf; ++k) ra[3 * nodes[k / 3] + k % 3] += ff[k];
+    }
+  });
+  dofs_.zero(g);
+}
+
+std::array<double, 3> Problem::area_vector(const std::string& group, Vec u) {
+  std::array<double, 3> local{0, 0, 0}, total{0, 0, 0};
+  auto it = dist_.faces.find(group);
+  if (it != dist_.faces.end()) {
+    LocalView view(u, u_work_);
+    const PetscScalar* ua = view.values();
+    const int npf = mesh_.nodes_per_face();
+    double xf[18], ff[18];
+    for (size_t f = 0; f < it->second.size() / npf; ++f) {
+      const int32_t* nodes = &it->second[f * npf];
+      for (int k = 0; k < 3 * npf; ++k)
+        xf[k] = X_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
+      face_pressure(mesh_.order, xf, -1.0, ff, nullptr);  // f_a = int N_a n da
+      for (int k = 0; k < 3 * npf; ++k) local[k % 3] += ff[k];
+    }
+  }
+  MPI_Allreduce(local.data(), total.data(), 3, MPI_DOUBLE, MPI_SUM, comm_);
+  return total;
+}
+
+}  // namespace hs
