@@ -88,14 +88,4 @@ StressResult corotational(double mu, double lambda, const Mat3& H, bool with_tan
   return s;
 }
 
-std::shared_ptr<const MaterialLaw> CorotationalLaw::parse(const DeckReader& r,
-                                                          const YAML::Node& node,
-                                                          const std::string& key) {
-  return std::make_shared<CorotationalLaw>(parse_elastic_constants(r, node, key));
-}
-
-StressResult CorotationalLaw::stress(const Mat3& H, bool with_tangent) const {
-  return corotational(constants_.mu, constants_.lambda, H, with_tangent);
-}
-
 }  // namespace hs

@@ -9,16 +9,7 @@ namespace hs {
 // psi = +inf, P = A = NaN for det F <= 0; A = 0 unless with_tangent.
 StressResult corotational(double mu, double lambda, const Mat3& H, bool with_tangent);
 
-class CorotationalLaw final : public ElasticLaw {
- public:
-  static constexpr const char* kName = "corotational";
-  static std::vector<std::string> keys() { return kElasticConstantKeys; }
-  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key);
-
-  using ElasticLaw::ElasticLaw;
-  std::string name() const override { return kName; }
-  StressResult stress(const Mat3& H, bool with_tangent) const override;
-};
+inline constexpr char kCorotationalName[] = "corotational";
+using CorotationalLaw = ConstantsOnlyLaw<kCorotationalName, corotational>;
 
 }  // namespace hs

@@ -6,6 +6,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,30 @@ class ElasticLaw : public MaterialLaw {
   bool given_as_E_nu() const;
 
   ElasticConstants constants_;
+};
+
+// A pointwise law of the elastic constants alone: P, dP/dF from (mu, lambda, H).
+using ElasticPointwise = StressResult (*)(double mu, double lambda, const Mat3& H,
+                                          bool with_tangent);
+
+// The registered law of such a function: its file declares the function and one alias,
+//   inline constexpr char kNeoHookeanName[] = "neo_hookean";
+//   using NeoHookeanLaw = ConstantsOnlyLaw<kNeoHookeanName, neo_hookean>;
+template <const char* Name, ElasticPointwise Pointwise>
+class ConstantsOnlyLaw : public ElasticLaw {
+ public:
+  static constexpr const char* kName = Name;
+  static std::vector<std::string> keys() { return kElasticConstantKeys; }
+  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
+                                                  const std::string& key) {
+    return std::make_shared<ConstantsOnlyLaw>(parse_elastic_constants(r, node, key));
+  }
+
+  using ElasticLaw::ElasticLaw;
+  std::string name() const override { return kName; }
+  StressResult stress(const Mat3& H, bool with_tangent) const override {
+    return Pointwise(constants_.mu, constants_.lambda, H, with_tangent);
+  }
 };
 
 }  // namespace hs

@@ -43,12 +43,7 @@ StressResult gent(double mu, double Jm, double kappa, const Mat3& H, bool with_t
   if (!with_tangent) return s;
 
   const double I1 = 3.0 + 2.0 * trE;
-  const double a1 = w * g;
-  tensor::add_ik_lj(s.A, 2.0 * a1, I, I);
-  tensor::add_outer(s.A, -4.0 / 3.0 * a1, F, FinvT);
-  tensor::add_outer(s.A, -4.0 / 3.0 * a1, FinvT, F);
-  tensor::add_outer(s.A, 4.0 / 9.0 * a1 * I1, FinvT, FinvT);
-  tensor::add_il_kj(s.A, 2.0 / 3.0 * a1 * I1, FinvT, FinvT);
+  tensor::add_isochoric_I1_tangent(s.A, w * g, F, FinvT, I1);
   const Mat3 dI1b = 4.0 * g * FinvT * dev_E;
   tensor::add_outer(s.A, w / (Jm * (1.0 - x)), dI1b, dI1b);
   tensor::add_outer(s.A, kappa, FinvT, FinvT);

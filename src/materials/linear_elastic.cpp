@@ -25,16 +25,6 @@ StressResult linear_elastic(double mu, double lambda, const Mat3& H, bool with_t
   return s;
 }
 
-std::shared_ptr<const MaterialLaw> LinearElasticLaw::parse(const DeckReader& r,
-                                                           const YAML::Node& node,
-                                                           const std::string& key) {
-  return std::make_shared<LinearElasticLaw>(parse_elastic_constants(r, node, key));
-}
-
-StressResult LinearElasticLaw::stress(const Mat3& H, bool with_tangent) const {
-  return linear_elastic(constants_.mu, constants_.lambda, H, with_tangent);
-}
-
 Mat3 LinearElasticLaw::cauchy_stress(const Mat3& F) const {
   return stress(F - Mat3::Identity(), false).P;
 }

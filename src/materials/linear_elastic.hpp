@@ -8,16 +8,15 @@ namespace hs {
 // eps = sym(H), P = sigma = lambda tr(eps) I + 2 mu eps (H = F - I; A = 0 unless with_tangent).
 StressResult linear_elastic(double mu, double lambda, const Mat3& H, bool with_tangent);
 
-class LinearElasticLaw final : public ElasticLaw {
- public:
-  static constexpr const char* kName = "linear_elastic";
-  static std::vector<std::string> keys() { return kElasticConstantKeys; }
-  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key);
+inline constexpr char kLinearElasticName[] = "linear_elastic";
 
-  using ElasticLaw::ElasticLaw;
-  std::string name() const override { return kName; }
-  StressResult stress(const Mat3& H, bool with_tangent) const override;
+class LinearElasticLaw final : public ConstantsOnlyLaw<kLinearElasticName, linear_elastic> {
+ public:
+  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
+                                                  const std::string& key) {
+    return std::make_shared<LinearElasticLaw>(parse_elastic_constants(r, node, key));
+  }
+  using ConstantsOnlyLaw::ConstantsOnlyLaw;
   // Small strain does not tell the configurations apart: its P already is sigma.
   Mat3 cauchy_stress(const Mat3& F) const override;
 };

@@ -49,12 +49,7 @@ StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& H, bo
   if (!with_tangent) return s;
 
   // First invariant part.
-  const double a1 = c1 * g;
-  tensor::add_ik_lj(s.A, 2.0 * a1, I, I);
-  tensor::add_outer(s.A, -4.0 / 3.0 * a1, F, FinvT);
-  tensor::add_outer(s.A, -4.0 / 3.0 * a1, FinvT, F);
-  tensor::add_outer(s.A, 4.0 / 9.0 * a1 * I1, FinvT, FinvT);
-  tensor::add_il_kj(s.A, 2.0 / 3.0 * a1 * I1, FinvT, FinvT);
+  tensor::add_isochoric_I1_tangent(s.A, c1 * g, F, FinvT, I1);
   // Second invariant part.
   const double a2 = c2 * h;
   tensor::add_outer(s.A, 4.0 * a2, F, F);

@@ -31,13 +31,4 @@ StressResult neo_hookean(double mu, double lambda, const Mat3& H, bool with_tang
   return s;
 }
 
-std::shared_ptr<const MaterialLaw> NeoHookeanLaw::parse(const DeckReader& r, const YAML::Node& node,
-                                                        const std::string& key) {
-  return std::make_shared<NeoHookeanLaw>(parse_elastic_constants(r, node, key));
-}
-
-StressResult NeoHookeanLaw::stress(const Mat3& H, bool with_tangent) const {
-  return neo_hookean(constants_.mu, constants_.lambda, H, with_tangent);
-}
-
 }  // namespace hs

@@ -9,16 +9,7 @@ namespace hs {
 // psi = +inf, P = A = NaN for det F <= 0; A = 0 unless with_tangent.
 StressResult neo_hookean(double mu, double lambda, const Mat3& H, bool with_tangent);
 
-class NeoHookeanLaw final : public ElasticLaw {
- public:
-  static constexpr const char* kName = "neo_hookean";
-  static std::vector<std::string> keys() { return kElasticConstantKeys; }
-  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key);
-
-  using ElasticLaw::ElasticLaw;
-  std::string name() const override { return kName; }
-  StressResult stress(const Mat3& H, bool with_tangent) const override;
-};
+inline constexpr char kNeoHookeanName[] = "neo_hookean";
+using NeoHookeanLaw = ConstantsOnlyLaw<kNeoHookeanName, neo_hookean>;
 
 }  // namespace hs

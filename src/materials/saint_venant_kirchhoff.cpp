@@ -29,14 +29,4 @@ StressResult saint_venant_kirchhoff(double mu, double lambda, const Mat3& H, boo
   return s;
 }
 
-std::shared_ptr<const MaterialLaw> SaintVenantKirchhoffLaw::parse(const DeckReader& r,
-                                                                  const YAML::Node& node,
-                                                                  const std::string& key) {
-  return std::make_shared<SaintVenantKirchhoffLaw>(parse_elastic_constants(r, node, key));
-}
-
-StressResult SaintVenantKirchhoffLaw::stress(const Mat3& H, bool with_tangent) const {
-  return saint_venant_kirchhoff(constants_.mu, constants_.lambda, H, with_tangent);
-}
-
 }  // namespace hs

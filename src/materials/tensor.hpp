@@ -1,5 +1,6 @@
 // Building blocks of fourth-order tangents stored as 9x9 matrices, A(3i+j, 3k+l) = dP_ij/dF_kl.
-// Each adds one index pattern; every tangent of materials/ is a sum of these three.
+// Each adds one index pattern; every tangent of materials/ is a sum of these three
+// (and of the isochoric first-invariant block below, made of them).
 #pragma once
 
 #include "materials/material.hpp"
@@ -49,6 +50,19 @@ inline void add_il_kj(Tangent& A, double c, const Mat3& X, const Mat3& Y) {
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 3; ++k)
         for (int l = 0; l < 3; ++l) A(3 * i + j, 3 * k + l) += c * X(i, l) * Y(k, j);
+}
+
+// A += a [2 Id - 4/3 (F (x) F^-T + F^-T (x) F) + 4/9 I1 F^-T (x) F^-T + 2/3 I1 D], D_ijkl =
+// F^-T_il F^-T_kj: the second derivative of I1b = J^-2/3 I1 times a / J^-2/3, the first
+// invariant's part of the isochoric laws (Mooney-Rivlin: a = c1 J^-2/3; Gent: a = w J^-2/3).
+inline void add_isochoric_I1_tangent(Tangent& A, double a, const Mat3& F, const Mat3& FinvT,
+                                     double I1) {
+  const Mat3 I = Mat3::Identity();
+  add_ik_lj(A, 2.0 * a, I, I);
+  add_outer(A, -4.0 / 3.0 * a, F, FinvT);
+  add_outer(A, -4.0 / 3.0 * a, FinvT, F);
+  add_outer(A, 4.0 / 9.0 * a * I1, FinvT, FinvT);
+  add_il_kj(A, 2.0 / 3.0 * a * I1, FinvT, FinvT);
 }
 
 }  // namespace hs::tensor
