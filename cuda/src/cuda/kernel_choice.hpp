@@ -1,4 +1,4 @@
-// What the automatic kernel choice reads from a batch's positions (device.cu, set_cavities).
+// The automatic kernel choice, from a batch's positions (device.cu, set_cavities).
 #pragma once
 
 #include <vector>
@@ -16,5 +16,8 @@ struct CandidateCounts {
 
 CandidateCounts candidate_counts(const std::vector<CavityView>& cavities, const Frame& frame,
                                  int n);
+
+// The column kernel that Kernel::automatic stands for with these positions.
+Kernel automatic_column_kernel(const std::vector<CavityView>& cavities, const Frame& frame, int n);
 
 }  // namespace fluidweight::detail

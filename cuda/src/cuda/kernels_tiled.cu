@@ -231,7 +231,7 @@ __global__ void __launch_bounds__(TILE* TILE, 2048 / (TILE * TILE * 2)) tile_ker
 }
 
 // The tiles by decreasing number of listed triangles into `order` (the host makes this call's
-// order the next call's, see use_tile_order in device.cu): the hardware starts blocks in grid
+// order the next call's, see ordered() in device_tiled.cu): the hardware starts blocks in grid
 // order, so the longest tiles start in the first wave instead of ending the kernel alone on a
 // few SMs (longest first). Eight classes by powers of two suffice (a scheduling model put
 // them close to a full sort by candidates); empty tiles
