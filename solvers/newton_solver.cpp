@@ -21,7 +21,7 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent, bool
   // Convergence is judged on the residual (never on a small step alone: a stalled
   // iterative solve would otherwise look converged).
   const std::map<std::string, std::string> common = {{"snes_type", "newtonls"},
-                                                     {"snes_linesearch_type", "cp"},
+                                                     {"snes_linesearch_type", "basic"},
                                                      {"snes_rtol", "1e-8"},
                                                      {"snes_stol", "0"},
                                                      {"snes_max_it", "30"}};
@@ -35,7 +35,10 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent, bool
       set_default("pc_factor_mat_solver_type", "mumps");
       break;
     case SolverPreset::gamg:
-      set_default("ksp_type", symmetric_tangent && definite_tangent ? "cg" : "gmres");
+      // MINRES for a symmetric tangent that may be indefinite (GAMG's smoothers keep the
+      // preconditioner definite): a finite-strain Newton iterate past the solution meets one,
+      // and CG stopping there cost a load-step cutback.
+      set_default("ksp_type", !symmetric_tangent ? "gmres" : definite_tangent ? "cg" : "minres");
       set_default("pc_type", "gamg");
       set_default("ksp_rtol", "1e-10");
       set_default("ksp_max_it", "2000");
@@ -55,6 +58,7 @@ NewtonSolver::NewtonSolver(Problem& problem) : problem_(problem) {
   HS_PETSC(SNESCreate(problem.comm(), &snes_));
   HS_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
   HS_PETSC(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
+  if (problem.has_potential()) HS_PETSC(SNESSetObjective(snes_, form_objective, this));
   HS_PETSC(SNESSetFromOptions(snes_));
 }
 
@@ -78,6 +82,19 @@ PetscErrorCode NewtonSolver::form_jacobian(SNES snes, Vec u, Mat J, Mat, void* c
   auto* self = static_cast<NewtonSolver*>(ctx);
   try {
     if (!self->problem_.jacobian(u, self->load_, J)) PetscCall(SNESSetJacobianDomainError(snes));
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  return 0;
+}
+
+PetscErrorCode NewtonSolver::form_objective(SNES, Vec u, PetscReal* energy, void* ctx) {
+  auto* self = static_cast<NewtonSolver*>(ctx);
+  try {
+    double value = 0;
+    // An inverted element has no energy: a value far above any reached makes the line search
+    // shorten the step (it stops on an infinite one).
+    *energy = self->problem_.potential_energy(u, self->load_, &value) ? value : 1e30;
   } catch (const std::exception& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
   }

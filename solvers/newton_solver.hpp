@@ -46,6 +46,7 @@ class NewtonSolver {
  private:
   static PetscErrorCode form_residual(SNES, Vec u, Vec R, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec u, Mat J, Mat P, void* ctx);
+  static PetscErrorCode form_objective(SNES, Vec u, PetscReal* energy, void* ctx);
 
   Problem& problem_;
   SNES snes_ = nullptr;

@@ -191,6 +191,35 @@ void Problem::internal_force(Vec u, Vec f, double* energy) {
   assemble_forces(u, 0.0, 1.0, 0.0, f, energy);
 }
 
+bool Problem::potential_energy(Vec u, double s, double* energy) {
+  if (!has_potential()) throw std::logic_error("potential_energy: the loads have no potential");
+  const double t0 = MPI_Wtime();
+  Vec f;
+  HS_PETSC(VecDuplicate(u, &f));
+  double stored = 0;
+  const bool ok = assemble_forces(u, 0.0, 1.0, 0.0, f, &stored);  // the forces are not used
+  PetscScalar work = 0;
+  if (ok) {
+    assemble_forces(u, s, 0.0, 1.0, f, nullptr);  // s f_body
+    HS_PETSC(VecDot(f, u, &work));
+  }
+  double kinetic = 0;
+  if (ok && inertia_) {
+    Vec du;
+    HS_PETSC(VecWAXPY(f, -1.0, inertia_->u_pred, u));
+    HS_PETSC(VecDuplicate(u, &du));
+    HS_PETSC(MatMult(inertia_->M, f, du));
+    PetscScalar dMd = 0;
+    HS_PETSC(VecDot(f, du, &dMd));
+    kinetic = 0.5 * inertia_->c * dMd;
+    HS_PETSC(VecDestroy(&du));
+  }
+  HS_PETSC(VecDestroy(&f));
+  timers_.residual_s += MPI_Wtime() - t0;
+  if (ok) *energy = stored - work + kinetic;
+  return ok;
+}
+
 void Problem::external_load(Vec u, double s, Vec f) { assemble_forces(u, s, 0.0, 1.0, f, nullptr); }
 
 void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const {

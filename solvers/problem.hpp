@@ -81,6 +81,13 @@ class Problem {
   // are the reactions.
   // Optionally also the stored energy int psi dV (summed over ranks) in *energy.
   void internal_force(Vec u, Vec f, double* energy = nullptr);
+
+  // Whether the residual is the gradient of a potential energy: no follower pressure and no
+  // extra load (gravity, Dirichlet data and inertia are conservative).
+  bool has_potential() const { return pressure_faces_.empty() && !extra_load_; }
+  // That energy, Pi(u; s) = int psi dV - s f_body . u [+ c/2 (u - u_pred)^T M (u - u_pred)],
+  // in *energy; false (and *energy untouched) on an inverted element. Requires has_potential().
+  bool potential_energy(Vec u, double s, double* energy);
   double reference_coordinate(int64_t local_node, int d) const { return X_[3 * local_node + d]; }
 
   // Whether every tetrahedron keeps its orientation on configuration u (J > 0 at its

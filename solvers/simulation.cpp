@@ -65,12 +65,14 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   std::unique_ptr<ConstraintSet> constraints;
   if (staged) constraints = std::make_unique<ConstraintSet>(config, problem, mesh, dist);
   // Symmetric unless the deck puts a follower pressure on an open surface or a constraint's
-  // forces are no gradient (a cable with friction); CG only without any pressure stiffness
-  // (a cavity's can make the tangent indefinite near a limit point).
+  // forces are no gradient (a cable with friction). Definite (CG) only for linear laws without
+  // any pressure stiffness (a cavity's can make the tangent indefinite near a limit point).
+  bool linear_laws = true;
+  for (const auto& m : config.materials) linear_laws &= m.law->tangent_always_definite();
   set_solver_options(
       config.solver,
       !problem.has_open_surface_pressure() && (!constraints || constraints->symmetric()),
-      !problem.has_follower_loads());
+      linear_laws && !problem.has_follower_loads());
   std::unique_ptr<NewtonSolver> newton;
   std::unique_ptr<BorderedNewton> bordered;
   if (staged)

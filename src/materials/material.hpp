@@ -44,6 +44,10 @@ class MaterialLaw {
   virtual StressResult stress(const Mat3& H, bool with_tangent) const = 0;
   // Cauchy stress sigma = P F^T / J, used for output (von Mises).
   virtual Mat3 cauchy_stress(const Mat3& F) const;
+  // Whether dP/dF is positive definite at every H (a linear law): the solvers may then use
+  // CG. A finite-strain law's tangent can be indefinite away from equilibrium (compression
+  // past a full Newton step), where CG breaks down.
+  virtual bool tangent_always_definite() const { return false; }
   // The elastic constants the deck gave (closed-form references of verification decks read them).
   virtual const ElasticConstants& elastic_constants() const = 0;
   // Writes the law's own keys into the material's map being printed (it reads back the same).

@@ -11,6 +11,7 @@
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "run_deck.hpp"
 #include "solvers/multi_solve.hpp"
 #include "solvers/newton_solver.hpp"
 #include "solvers/problem.hpp"
@@ -105,6 +106,65 @@ INSTANTIATE_TEST_SUITE_P(Models, TangentTest,
                                             ::testing::Values("neo_hookean", "corotational",
                                                               "mooney_rivlin",
                                                               "saint_venant_kirchhoff")));
+
+// Without follower pressure the residual is the gradient of the potential energy (the line
+// search's objective): its central difference along a direction is R . v.
+TEST(PotentialEnergy, DerivativeIsTheResidual) {
+  Fixture f({"mesh.order=2", "materials[0].model=neo_hookean", "materials[0].density=1000"});
+  {
+    hs::Problem with_pressure(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+    EXPECT_FALSE(with_pressure.has_potential());
+  }
+  f.config.pressures.clear();
+  hs::Problem problem(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+  ASSERT_TRUE(problem.has_potential());
+  Vec u = problem.create_vector(), v = problem.create_vector(), R = problem.create_vector();
+  fill_random(u, 0.02, 3);
+  fill_random(v, 1.0, 4);
+  const double s = 0.8;
+  problem.apply_dirichlet(u, s);
+  problem.apply_dirichlet(v, 0.0);
+  ASSERT_TRUE(problem.residual(u, s, R));
+  PetscScalar slope = 0;
+  VecDot(R, v, &slope);
+  const double eps = 1e-6;
+  double Ep = 0, Em = 0;
+  VecAXPY(u, eps, v);
+  ASSERT_TRUE(problem.potential_energy(u, s, &Ep));
+  VecAXPY(u, -2 * eps, v);
+  ASSERT_TRUE(problem.potential_energy(u, s, &Em));
+  EXPECT_NEAR((Ep - Em) / (2 * eps), slope, 1e-6 * std::abs(slope));
+  EXPECT_GT(std::abs(slope), 0);
+  // An inverted configuration has no energy, and says so.
+  VecScale(v, 10.0);
+  VecAXPY(u, 1.0, v);
+  double E = 12345;
+  EXPECT_FALSE(problem.potential_energy(u, s, &E));
+  EXPECT_EQ(E, 12345);
+  for (Vec* w : {&u, &v, &R}) VecDestroy(w);
+}
+
+// Newton takes full steps by default: the neo-Hookean cantilever of 0.1 x 0.01 x 0.01 m
+// (E 1 MPa, nu 0.45) under its own weight, v/L = 0.15, in one load step converges in as many
+// iterations as the physics needs (6 here; the line search "cp" took 47 and a cutback), to
+// the elastica's tip deflection within the beam model's shear and mesh error, with either
+// preset.
+class FullNewtonSteps : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FullNewtonSteps, NeoHookeanCantileverInOneLoadStep) {
+  const auto summary = hs_test::run_deck(
+      "cantilever_gravity.yaml",
+      {"materials[0].model=neo_hookean", "materials[0].E=1e6", "materials[0].nu=0.45",
+       "materials[0].density=1070", "mesh.parameters.L=0.1", "mesh.parameters.h=0.01",
+       "exact.parameters.L=0.1", "exact.parameters.h=0.01", "solver.preset=" + GetParam()},
+      "full_newton_" + GetParam());
+  EXPECT_LE(summary["newton_iterations"].get<int>(), 7);
+  EXPECT_EQ(summary["cutbacks"].get<int>(), 0);
+  EXPECT_NEAR(summary["verification"]["tip_relative_error"].get<double>(), 0.0, 0.03);
+  EXPECT_GT(summary["verification"]["tip_deflection"].get<double>(), 0.014);
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, FullNewtonSteps, ::testing::Values("mumps", "gamg"));
 
 // An evaluation that meets inverted elements names one, the same on every rank; the next
 // evaluation without any clears it (an earlier trial step must not be blamed later).
