@@ -201,6 +201,29 @@ TEST(Cavities, AllRanksAgreeWithOneRank) {
   }
 }
 
+TEST(Cavities, FluidWeightOnTheGpuGivesTheCpuNumbers) {
+  // The water deck with the liquid's weight computed by the CUDA kernels inside the solver
+  // (on the rank that owns the cavity) against the CPU kernels: the same column method, so
+  // the same pressures, volumes, weights and deflection to round-off. Runs where a GPU is
+  // present (the GPU machine: scripts/device_bundle.sh); skipped elsewhere.
+  if (!fluidweight::cuda_available()) GTEST_SKIP() << "no CUDA device";
+  const std::vector<std::string> o = {"states[0].steps=2", "states[1].steps=4"};
+  auto with = [&](const char* device) {
+    auto deck = o;
+    deck.push_back(std::string("cavities[0].fluid_weight.device=") + device);
+    return run("cylinder_water.yaml", deck, std::string("weight_") + device);
+  };
+  const auto gpu = with("cuda"), cpu = with("cpu");
+  for (int k : {0, 1}) {
+    const auto &a = gpu["states"][k], &b = cpu["states"][k];
+    EXPECT_NEAR(a["tip_angle_deg"].get<double>(), b["tip_angle_deg"].get<double>(), 1e-10);
+    for (const char* key : {"volume", "pressure", "fluid_weight_total", "fluid_weight_volume"}) {
+      const double x = a["cavities"][0][key].get<double>(), y = b["cavities"][0][key].get<double>();
+      EXPECT_NEAR(x, y, 1e-12 * std::max(std::abs(y), 1e-12)) << key << " in state " << k;
+    }
+  }
+}
+
 TEST(Cavities, SealedChambersKeepTheirGasOrVolume) {
   // Gravity and a clamp deform the body; a sealed gas chamber keeps (p + p_atm) V and a
   // sealed volume keeps V, whatever the deformation.

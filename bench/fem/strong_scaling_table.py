@@ -1,0 +1,36 @@
+#!/usr/bin/python3
+"""The strong-scaling table of docs/benchmarks.md from the folder of bench/fem/strong_scaling.sh:
+
+    /usr/bin/python3 bench/fem/strong_scaling_table.py OUTDIR
+
+One row per mesh size and rank count: dofs, Newton and Krylov iterations, the whole run and its
+parts (s), speed-up of the whole run and of the solve against 1 rank, peak memory of the
+largest rank (MB).
+"""
+import glob
+import json
+import os
+import re
+import sys
+
+
+def main(folder):
+    runs = {}
+    for path in glob.glob(os.path.join(folder, "h*_np*.json")):
+        h, n = re.match(r"h([0-9.]+)_np(\d+)\.json", os.path.basename(path)).groups()
+        with open(path) as f:
+            runs[(float(h), int(n))] = json.load(f)
+    print("| dofs | ranks | Newton its | KSP its | setup s | assembly s | solve s | whole s |"
+          " speed-up whole | speed-up solve | peak MB (largest rank) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for h, n in sorted(runs, key=lambda k: (-k[0], k[1])):
+        s, t = runs[(h, n)], runs[(h, n)]["time_s"]
+        one = runs.get((h, 1))
+        up = lambda key: f"{one['time_s'][key] / t[key]:.1f}" if one else ""
+        print(f"| {s['dofs']:,} | {n} | {s['newton_iterations']} | {s['linear_iterations']} |"
+              f" {t['setup']:.2f} | {t['assembly']:.2f} | {t['solve']:.2f} | {t['total']:.2f} |"
+              f" {up('total')} | {up('solve')} | {s['memory_mb']['peak_rank_max']:.0f} |")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
