@@ -2,6 +2,8 @@
 
 #include <map>
 
+#include "common/error.hpp"
+
 namespace hs {
 namespace {
 
@@ -11,7 +13,59 @@ void set_default(const std::string& name, const std::string& value) {
   if (!set) HS_PETSC(PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()));
 }
 
+// Whether `type` is a registered type of the object kind that option `name` sets (by its
+// suffix); true for options of other kinds, which PETSc checks when they are used.
+bool known_type(const std::string& name, const std::string& type) {
+  auto ends_with = [&](const std::string& suffix) {
+    return name.size() >= suffix.size() &&
+           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  // Errors come back as codes, without PETSc's printed trace.
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  PetscErrorCode error = 0;
+  if (ends_with("linesearch_type")) {
+    SNESLineSearch ls;
+    SNESLineSearchCreate(PETSC_COMM_SELF, &ls);
+    error = SNESLineSearchSetType(ls, type.c_str());
+    SNESLineSearchDestroy(&ls);
+  } else if (ends_with("snes_type")) {
+    SNES snes;
+    SNESCreate(PETSC_COMM_SELF, &snes);
+    error = SNESSetType(snes, type.c_str());
+    SNESDestroy(&snes);
+  } else if (ends_with("ksp_type")) {
+    KSP ksp;
+    KSPCreate(PETSC_COMM_SELF, &ksp);
+    error = KSPSetType(ksp, type.c_str());
+    KSPDestroy(&ksp);
+  } else if (ends_with("pc_type")) {
+    PC pc;
+    PCCreate(PETSC_COMM_SELF, &pc);
+    error = PCSetType(pc, type.c_str());
+    PCDestroy(&pc);
+  }
+  PetscPopErrorHandler();
+  return error == 0;
+}
+
 }  // namespace
+
+void check_solver_types(const SolverConfig& solver, const std::string& deck_path) {
+  for (const auto& [name, value] : solver.petsc_options)
+    if (!known_type(name, value))
+      throw InputError(deck_path + ": solver.petsc_options." + name + ": unknown PETSc type '" +
+                       value + "'");
+  for (const char* name : {"snes_type", "snes_linesearch_type", "ksp_type", "pc_type",
+                           "mg_levels_ksp_type", "mg_levels_pc_type"}) {
+    char value[256];
+    PetscBool set = PETSC_FALSE;
+    HS_PETSC(PetscOptionsGetString(nullptr, nullptr, (std::string("-") + name).c_str(), value,
+                                   sizeof value, &set));
+    if (set && !known_type(name, value))
+      throw InputError(std::string("command line: -") + name + ": unknown PETSc type '" + value +
+                       "'");
+  }
+}
 
 void set_solver_options(const SolverConfig& solver, bool symmetric_tangent, bool definite_tangent) {
   // The deck's options first, so that they win over the preset; the command line, already
@@ -131,6 +185,12 @@ NewtonResult NewtonSolver::solve(Vec u, double s) {
   r.linear_iterations = static_cast<int>(lits);
   r.residual_norm = norm;
   r.reason = SNESConvergedReasons[reason];
+  // A law defined at every strain (small-strain elasticity) gives a solution even where it
+  // turns a tetrahedron inside out: refused as the finite-strain laws' residual refuses it.
+  if (r.converged && !problem_.orientation_preserved(u)) {
+    r.converged = false;
+    r.reason = "the solution inverts an element";
+  }
   return r;
 }
 

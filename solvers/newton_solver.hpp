@@ -18,6 +18,11 @@ namespace hs {
 void set_solver_options(const SolverConfig& solver, bool symmetric_tangent,
                         bool definite_tangent = true);
 
+// Asks PETSc, before any work, whether every *_type option of the deck's
+// solver.petsc_options and of the command line names a type it has (KSP, PC, SNES, line
+// search); throws InputError naming the deck key or the command-line option otherwise.
+void check_solver_types(const SolverConfig& solver, const std::string& deck_path);
+
 struct NewtonResult {
   bool converged = false;
   int iterations = 0;

@@ -244,24 +244,22 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
   HS_PETSC(VecDestroy(&uw));
 }
 
-bool Problem::orientation_preserved(Vec u) const {
+bool Problem::orientation_preserved(Vec u) {
   Vec uw;
   HS_PETSC(VecDuplicate(u_work_, &uw));
-  int ok = 1;
+  int64_t bad = -1;
   {
     LocalView view(u, uw);
     const PetscScalar* ua = view.values();
     double X[30], ue[30];
-    for (size_t e = 0; e < dist_.local_tets.size() && ok; ++e) {
+    for (size_t e = 0; e < dist_.local_tets.size() && bad < 0; ++e) {
       element_coordinates(e, X);
       element_displacement(ua, e, ue);
-      ok = tet_orientation_preserved(mesh_.order, X, ue);
+      if (!tet_orientation_preserved(mesh_.order, X, ue)) bad = dist_.local_tets[e];
     }
   }
   HS_PETSC(VecDestroy(&uw));
-  int all = 0;
-  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, comm_);
-  return all;
+  return record_inverted(bad);
 }
 
 double Problem::total_mass() const {

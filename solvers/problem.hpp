@@ -92,8 +92,8 @@ class Problem {
 
   // Whether every tetrahedron keeps its orientation on configuration u (J > 0 at its
   // centroid, so a finite stress; over all ranks): the cheap check of a configuration no
-  // residual has seen, from positions alone.
-  bool orientation_preserved(Vec u) const;
+  // residual has seen, from positions alone. Records an inverted one as inverted_element().
+  bool orientation_preserved(Vec u);
 
   // Per local tetrahedron: von Mises stress and J at the centroid.
   void element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const;

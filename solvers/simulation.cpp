@@ -43,6 +43,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
 
+  check_solver_types(config.solver, config.deck_path);
   const Mesh mesh = load_mesh_replicated(config.mesh, comm);
   check_groups(config, mesh);
   const double t_mesh = MPI_Wtime() - t_start;

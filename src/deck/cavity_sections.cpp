@@ -23,6 +23,10 @@ FluidWeightConfig parse_fluid_weight(const DeckReader& r, const YAML::Node& node
       w.grid = r.integer(n, child_key(key, "grid"));
       require(w.grid >= 1, r, n, child_key(key, "grid"),
               "must be >= 1, got " + std::to_string(w.grid));
+      // N^2 columns, each with its own hits: 8192^2 is 6.7e7 columns, past any cavity's need
+      // (200-1000 resolve the meshes of docs/fluidweight.md) and within memory.
+      require(w.grid <= 8192, r, n, child_key(key, "grid"),
+              "must be <= 8192, got " + std::to_string(w.grid));
     }
   } else {
     forbid(r, node, key, "grid", "only used by method column (method is " + method + ")");

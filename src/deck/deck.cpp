@@ -2,16 +2,17 @@
 #include "deck/deck.hpp"
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <regex>
 #include <set>
 
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "deck/cable_section.hpp"
 #include "deck/cavity_sections.hpp"
 #include "deck/control_section.hpp"
 #include "deck/exact_section.hpp"
-#include "common/deck_reader.hpp"
 #include "deck/overrides.hpp"
 #include "io/output.hpp"
 #include "materials/registry.hpp"
@@ -21,11 +22,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A dynamic run of more steps than this is a mistyped dt (and would overflow a step count).
+constexpr double kMaxTimeSteps = 1e7;
 
 YAML::Node load_yaml(const std::string& path) {
   if (!fs::is_regular_file(path)) throw InputError(path + ": deck file not found");
   try {
-    return YAML::LoadFile(path);
+    // A second document (after ---) would be ignored: refused rather than half-read.
+    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
+    if (documents.size() > 1)
+      throw InputError(path + ": line " + std::to_string(documents[1].Mark().line + 1) +
+                       ": a second YAML document; a deck is one document (remove the '---')");
+    return documents.empty() ? YAML::Node() : documents[0];
   } catch (const YAML::ParserException& e) {
     throw InputError(path + ": line " + std::to_string(e.mark.line + 1) + ", column " +
                      std::to_string(e.mark.column + 1) + ": invalid YAML: " + e.msg);
@@ -81,6 +89,9 @@ MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const
     m.density = r.number(n, child_key(key, "density"));
     require(m.density >= 0, r, n, child_key(key, "density"),
             "must be >= 0, got " + format_number(m.density));
+    // Above any solid's (osmium: 22,590 kg/m^3), and far from where rho g overflows.
+    require(m.density <= 1e5, r, n, child_key(key, "density"),
+            "must be <= 1e5 kg/m^3, got " + format_number(m.density));
   }
   return m;
 }
@@ -127,7 +138,13 @@ DirichletConfig parse_boundary(const DeckReader& r, const YAML::Node& node,
 
 void parse_loads(const DeckReader& r, const YAML::Node& node, Config& c) {
   r.check_map(node, "loads", {"gravity", "pressure"});
-  if (const auto n = node["gravity"]) c.gravity = r.vector3(n, "loads.gravity");
+  if (const auto n = node["gravity"]) {
+    c.gravity = r.vector3(n, "loads.gravity");
+    // A thousand g: beyond any robot's, and far from where rho g overflows.
+    for (double g : c.gravity)
+      require(std::abs(g) <= 1e4, r, n, "loads.gravity",
+              "each component must be within +-1e4 m/s^2, got " + format_number(g));
+  }
   if (const auto list = node["pressure"]) {
     r.check_list(list, "loads.pressure");
     for (size_t i = 0; i < list.size(); ++i) {
@@ -159,11 +176,15 @@ TimeConfig parse_time(const DeckReader& r, const YAML::Node& node) {
     require(t.end_time > 0, r, end, "time.end_time",
             "must be > 0, got " + format_number(t.end_time));
     require(t.dt <= t.end_time, r, dt, "time.dt", "must not exceed time.end_time");
+    require(t.end_time / t.dt <= kMaxTimeSteps, r, dt, "time.dt",
+            "gives " + format_number(std::ceil(t.end_time / t.dt)) + " steps of time.end_time " +
+                format_number(t.end_time) + ", more than " + format_number(kMaxTimeSteps));
     if (const auto n = node["integrator"])
-      t.integrator = enum_of<Integrator>(kIntegratorNames,
-                                         one_of(r, n, "time.integrator", kIntegratorNames));
+      t.integrator =
+          enum_of<Integrator>(kIntegratorNames, one_of(r, n, "time.integrator", kIntegratorNames));
     if (const auto n = node["newmark"]) {
-      require(t.integrator == Integrator::newmark, r, n, "time.newmark", "only used by integrator newmark");
+      require(t.integrator == Integrator::newmark, r, n, "time.newmark",
+              "only used by integrator newmark");
       r.check_map(n, "time.newmark", {"beta", "gamma"});
       if (n["beta"]) t.newmark_beta = r.number(n["beta"], "time.newmark.beta");
       if (n["gamma"]) t.newmark_gamma = r.number(n["gamma"], "time.newmark.gamma");
@@ -200,8 +221,8 @@ SolverConfig parse_solver(const DeckReader& r, const YAML::Node& node) {
   r.check_map(node, "solver", {"preset", "petsc_options"});
   SolverConfig s;
   if (const auto n = node["preset"])
-    s.preset =
-        enum_of<SolverPreset>(kSolverPresetNames, one_of(r, n, "solver.preset", kSolverPresetNames));
+    s.preset = enum_of<SolverPreset>(kSolverPresetNames,
+                                     one_of(r, n, "solver.preset", kSolverPresetNames));
   if (const auto options = node["petsc_options"]) {
     if (!options.IsMap())
       r.fail("solver.petsc_options", options, "expected a map of option: value");

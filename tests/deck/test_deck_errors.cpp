@@ -120,6 +120,12 @@ TEST_F(DeckErrors, NonPhysicalValues) {
       {material("mu: 3, lambda: -2"), "materials[0].lambda",
        "gives bulk modulus lambda + 2 mu / 3 = 0, must be > 0"},
       {material("E: 1, nu: 0.3, density: -1"), "materials[0].density", "must be >= 0, got -1"},
+      {material("E: 1, nu: 0.3, density: 1e308"), "materials[0].density",
+       "must be <= 1e5 kg/m^3, got 1e+308"},
+      {kMesh + kMaterials + "loads: {gravity: [0, 0, -1e308]}\n", "loads.gravity",
+       "each component must be within +-1e4 m/s^2, got -1e+308"},
+      {kMesh + kMaterials + "time: {type: dynamic, dt: 1e-12, end_time: 4}\n", "time.dt",
+       "gives 4e+12 steps of time.end_time 4, more than 1e+07"},
       {kMesh +
            "materials:\n  - {group: body, model: mooney_rivlin, E: 1, nu: 0.3, c1: 1, c2: -1}\n",
        "materials[0].c1", "c1 + c2 must be > 0"},
@@ -300,6 +306,8 @@ TEST_F(DeckErrors, CavityNonPhysicalValues) {
        "must be >= 0, got -1"},
       {cavity("group: c, kind: hydraulic, fluid_weight: {grid: 0}"),
        "cavities[0].fluid_weight.grid", "must be >= 1, got 0"},
+      {cavity("group: c, kind: hydraulic, fluid_weight: {grid: 65537}"),
+       "cavities[0].fluid_weight.grid", "must be <= 8192, got 65537"},
       {cavity("group: c, kind: sealed_gas, atmospheric_pressure: 0"),
        "cavities[0].atmospheric_pressure", "must be > 0, got 0"},
       {cavity("group: c, kind: sealed_gas, initial_pressure: -101325"),
@@ -563,6 +571,13 @@ TEST_F(DeckErrors, InvalidYamlGivesTheLine) {
   EXPECT_EQ(message.rfind(path + ": line 4, column ", 0), 0u) << message;
   EXPECT_NE(message.find("invalid YAML: end of sequence flow not found"), std::string::npos)
       << message;
+}
+
+TEST_F(DeckErrors, ASecondYamlDocumentIsRefused) {
+  // Without the check, the part after '---' would be ignored without a word.
+  const std::string path = tmp.write("two.yaml", kMesh + kMaterials + "---\ntime: {steps: 3}\n");
+  EXPECT_EQ(error_of(path),
+            path + ": line 5: a second YAML document; a deck is one document (remove the '---')");
 }
 
 TEST_F(DeckErrors, NotAMap) {

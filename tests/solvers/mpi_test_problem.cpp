@@ -8,6 +8,7 @@
 
 #include <random>
 
+#include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
@@ -254,6 +255,47 @@ TEST_P(SolveColumns, EqualOneSolveEach) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, SolveColumns, ::testing::Values("mumps", "gamg"));
+
+TEST(SolverOptions, UnknownTypesAreRefusedBeforeAnyWork) {
+  hs::SolverConfig solver;
+  solver.petsc_options = {{"ksp_type", "nonsense"}};
+  try {
+    hs::check_solver_types(solver, "deck.yaml");
+    FAIL() << "ksp_type nonsense was accepted";
+  } catch (const hs::InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "deck.yaml: solver.petsc_options.ksp_type: unknown PETSc type 'nonsense'");
+  }
+  solver.petsc_options = {{"ksp_type", "cg"},
+                          {"pc_type", "gamg"},
+                          {"snes_linesearch_type", "bt"},
+                          {"mg_levels_ksp_type", "chebyshev"},
+                          {"ksp_rtol", "1e-6"}};
+  EXPECT_NO_THROW(hs::check_solver_types(solver, "deck.yaml"));
+  PetscOptionsSetValue(nullptr, "-pc_type", "no_such_pc");  // as if on the command line
+  solver.petsc_options.clear();
+  try {
+    hs::check_solver_types(solver, "deck.yaml");
+    FAIL() << "-pc_type no_such_pc was accepted";
+  } catch (const hs::InputError& e) {
+    EXPECT_STREQ(e.what(), "command line: -pc_type: unknown PETSc type 'no_such_pc'");
+  }
+  PetscOptionsClear(nullptr);
+}
+
+// A law defined at every strain gives a linear solution even where it turns elements inside
+// out (E = 1e-12 under gravity: J down to -1e54 was written as a result); the run now stops
+// as a finite-strain one does, naming the element.
+TEST(LinearLaw, SolutionThatInvertsAnElementIsRefused) {
+  try {
+    hs_test::run_deck("cantilever_gravity.yaml", {"materials[0].E=1e-12"}, "linear_inverted");
+    FAIL() << "an inverted linear solution was written";
+  } catch (const hs::SolveError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the solution inverts an element"), std::string::npos) << m;
+    EXPECT_NE(m.find("is inverted (det F <= 0)"), std::string::npos) << m;
+  }
+}
 
 TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {
   PetscOptionsSetValue(nullptr, "-ksp_type", "bcgs");  // as if given on the command line
