@@ -7,19 +7,21 @@
 // over the deck's solver.petsc_options.
 #include <petscsys.h>
 
-#include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "solvers/simulation.hpp"
+#include "version.hpp"
 
 namespace {
 
 const char* usage =
     "usage: hydrosoft DECK.yaml [--set key=value ...] [--targets -] [PETSc options]\n"
+    "       hydrosoft --version | --help\n"
     "  --set key=value   override a deck key, e.g. --set mesh.order=2 --set mesh.parameters.h=0.1\n"
     "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
     "                    'effector x y z'; each is answered with one JSON line\n"
@@ -35,27 +37,46 @@ int fail(int code, const std::string& message) {
   return code;
 }
 
+// PETSc options of the command line that no object used: mistyped, or for a solver this scene
+// does not run (scenes with cavities, cables, states or control run hydrosoft's own Newton).
+void report_unused(const std::vector<std::string>& names) {
+  for (const auto& name : names) {
+    PetscBool used = PETSC_TRUE;
+    PetscOptionsUsed(nullptr, name.c_str() + 1, &used);  // the database keeps names without "-"
+    if (!used)
+      std::cerr << "hydrosoft: warning: PETSc option " << name << " was not used"
+                << (name.rfind("-snes", 0) == 0
+                        ? " (mistyped, or a scene with cavities, cables, states or control: its "
+                          "Newton is hydrosoft's bordered Newton, not SNES)"
+                        : " (mistyped, or for a solver this run does not use)")
+                << std::endl;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   // Separate hydrosoft's own arguments from PETSc's before PETSc sees them.
-  std::string deck, targets;
-  std::vector<std::string> overrides;
-  std::vector<char*> petsc_args = {argv[0]};
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--set") == 0 && i + 1 < argc) {
-      overrides.emplace_back(argv[++i]);
-    } else if (std::strcmp(argv[i], "--targets") == 0 && i + 1 < argc) {
-      targets = argv[++i];
-    } else if (std::strcmp(argv[i], "--help") == 0) {
-      std::cout << usage;
-      return 0;
-    } else if (argv[i][0] != '-' && deck.empty()) {
-      deck = argv[i];
-    } else {
-      petsc_args.push_back(argv[i]);
-    }
+  hs::Arguments args;
+  try {
+    args = hs::parse_arguments(argc, argv);
+  } catch (const hs::UsageError& e) {
+    std::cerr << "hydrosoft: error: " << e.what() << "\n" << usage;
+    return 2;
   }
+  if (args.help) {
+    std::cout << usage;
+    return 0;
+  }
+  if (args.version) {
+    std::cout << hs::version_text();
+    return 0;
+  }
+  const std::string& deck = args.deck;
+  const std::string& targets = args.targets;
+  const std::vector<std::string>& overrides = args.overrides;
+  std::vector<char*> petsc_args = {argv[0]};
+  for (auto& a : args.petsc) petsc_args.push_back(a.data());
   int pargc = static_cast<int>(petsc_args.size());
   petsc_args.push_back(nullptr);
   char** pargv = petsc_args.data();
@@ -81,6 +102,7 @@ int main(int argc, char** argv) {
     if (rank == 0) {
       std::cout << "# hydrosoft: done\n" << summary.dump(2) << std::endl;
     }
+    if (rank == 0) report_unused(args.petsc_names);
   } catch (const hs::InputError& e) {
     return fail(2, e.what());
   } catch (const hs::SolveError& e) {

@@ -1,0 +1,78 @@
+#include "command_line.hpp"
+
+#include <cctype>
+#include <cstring>
+
+namespace hs {
+namespace {
+
+const char* const kOwnOptions[] = {"--set", "--targets", "--help", "--version"};
+
+// A PETSc option is -name with a letter first; "-5" or "-1e3" is a (negative) value.
+bool is_petsc_option(const std::string& a) {
+  return a.size() > 1 && a[0] == '-' && a[1] != '-' &&
+         std::isalpha(static_cast<unsigned char>(a[1]));
+}
+
+// The own option nearest to a mistyped one (--sett, --target), or "".
+std::string nearest_own(const std::string& a) {
+  for (const char* own : kOwnOptions) {
+    const std::string o = own;
+    const size_t common = std::min(a.size(), o.size());
+    if (a.compare(0, common, o, 0, common) == 0) return o;
+  }
+  return "";
+}
+
+}  // namespace
+
+Arguments parse_arguments(int argc, const char* const* argv) {
+  Arguments args;
+  auto value_of = [&](int& i, const std::string& option) {
+    if (i + 1 >= argc || std::strncmp(argv[i + 1], "--", 2) == 0)
+      throw UsageError(option + ": needs a value" +
+                       (option == "--set" ? " (--set key=value)" : " (--targets -)"));
+    return std::string(argv[++i]);
+  };
+  bool after_petsc_option = false;  // the previous argument was -name: a bare word is its value
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool was_after_option = after_petsc_option;
+    after_petsc_option = false;
+    if (a == "--set") {
+      const std::string v = value_of(i, a);
+      if (v.find('=') == std::string::npos)
+        throw UsageError("--set " + v + ": expected key=value, e.g. --set mesh.order=2");
+      args.overrides.push_back(v);
+    } else if (a == "--targets") {
+      args.targets = value_of(i, a);
+    } else if (a == "--help" || a == "-h" || a == "-help") {
+      args.help = true;
+    } else if (a == "--version") {
+      args.version = true;
+    } else if (a.rfind("--", 0) == 0) {
+      const std::string near = nearest_own(a);
+      throw UsageError("unknown argument '" + a + "'" +
+                       (near.empty() ? "" : " (did you mean " + near + "?)") +
+                       "; PETSc options take one dash, e.g. -snes_monitor");
+    } else if (is_petsc_option(a)) {
+      args.petsc.push_back(a);
+      args.petsc_names.push_back(a);
+      after_petsc_option = true;
+    } else if (args.deck.empty() && (a.size() > 5 && (a.rfind(".yaml") == a.size() - 5 ||
+                                                      a.rfind(".yml") == a.size() - 4))) {
+      args.deck = a;  // a deck, even right after a PETSc flag (-snes_monitor deck.yaml)
+    } else if (was_after_option) {
+      args.petsc.push_back(a);  // the value of the PETSc option before it
+    } else if (args.deck.empty()) {
+      args.deck = a;
+    } else {
+      throw UsageError(
+          "unexpected argument '" + a + "' after the deck " + args.deck +
+          (a.find('=') != std::string::npos ? " (to override a key: --set " + a + ")" : ""));
+    }
+  }
+  return args;
+}
+
+}  // namespace hs

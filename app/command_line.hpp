@@ -1,0 +1,30 @@
+// hydrosoft's command line: its own arguments apart from PETSc's, strictly. Any argument that
+// is neither hydrosoft's (DECK, --set key=value, --targets -, --help/-h, --version) nor a
+// PETSc option (-name, or -name value) is an error that names it; nothing is silently ignored.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace hs {
+
+struct Arguments {
+  std::string deck;
+  std::vector<std::string> overrides;  // of --set, in order
+  std::string targets;                 // of --targets ("" when not given)
+  bool help = false, version = false;
+  std::vector<std::string> petsc;        // PETSc's arguments, in order (values included)
+  std::vector<std::string> petsc_names;  // the PETSc options among them, e.g. "-snes_monitor"
+};
+
+// A command line that cannot be read: the message names the argument and the reason.
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+// argv[1..argc) split and checked; throws UsageError.
+Arguments parse_arguments(int argc, const char* const* argv);
+
+}  // namespace hs

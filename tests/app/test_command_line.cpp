@@ -1,0 +1,61 @@
+// The command line is strict: every argument is hydrosoft's, a PETSc option (or its value), or
+// an error naming it. Cases that used to run the deck unchanged and exit 0 are errors now.
+#include <gtest/gtest.h>
+
+#include "command_line.hpp"
+
+namespace hs {
+namespace {
+
+Arguments parse(std::vector<const char*> words) {
+  words.insert(words.begin(), "hydrosoft");
+  return parse_arguments(static_cast<int>(words.size()), words.data());
+}
+
+std::string error_of(std::vector<const char*> words) {
+  try {
+    parse(std::move(words));
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(CommandLine, SplitsOwnArgumentsFromPetscOptions) {
+  const Arguments a = parse({"-snes_monitor", "deck.yaml", "--set", "mesh.order=2", "-ksp_type",
+                             "cg", "-snes_rtol", "-1e-3", "--targets", "-", "--set", "a.b=[1, 2]"});
+  EXPECT_EQ(a.deck, "deck.yaml");
+  EXPECT_EQ(a.overrides, (std::vector<std::string>{"mesh.order=2", "a.b=[1, 2]"}));
+  EXPECT_EQ(a.targets, "-");
+  EXPECT_EQ(a.petsc,
+            (std::vector<std::string>{"-snes_monitor", "-ksp_type", "cg", "-snes_rtol", "-1e-3"}));
+  EXPECT_EQ(a.petsc_names, (std::vector<std::string>{"-snes_monitor", "-ksp_type", "-snes_rtol"}));
+  EXPECT_FALSE(a.help || a.version);
+}
+
+TEST(CommandLine, HelpAndVersion) {
+  EXPECT_TRUE(parse({"-h"}).help);
+  EXPECT_TRUE(parse({"--help"}).help);
+  EXPECT_TRUE(parse({"--version"}).version);
+}
+
+TEST(CommandLine, MistypedArgumentsAreErrorsThatNameThem) {
+  EXPECT_EQ(error_of({"deck.yaml", "--sett", "mesh.order=2"}),
+            "unknown argument '--sett' (did you mean --set?); PETSc options take one dash, e.g. "
+            "-snes_monitor");
+  EXPECT_EQ(error_of({"deck.yaml", "--verbose"}),
+            "unknown argument '--verbose'; PETSc options take one dash, e.g. -snes_monitor");
+  EXPECT_EQ(error_of({"deck.yaml", "mesh.order=2"}),
+            "unexpected argument 'mesh.order=2' after the deck deck.yaml (to override a key: --set "
+            "mesh.order=2)");
+  EXPECT_EQ(error_of({"deck.yaml", "--set"}), "--set: needs a value (--set key=value)");
+  EXPECT_EQ(error_of({"deck.yaml", "--set", "--targets", "-"}),
+            "--set: needs a value (--set key=value)");
+  EXPECT_EQ(error_of({"deck.yaml", "--set", "mesh.order"}),
+            "--set mesh.order: expected key=value, e.g. --set mesh.order=2");
+  EXPECT_EQ(error_of({"deck.yaml", "--targets"}), "--targets: needs a value (--targets -)");
+  EXPECT_EQ(error_of({"a.yaml", "b.yaml"}), "unexpected argument 'b.yaml' after the deck a.yaml");
+}
+
+}  // namespace
+}  // namespace hs
