@@ -6,7 +6,7 @@
 namespace hs {
 namespace {
 
-const char* const kOwnOptions[] = {"--set", "--targets", "--help", "--version"};
+const char* const kOwnOptions[] = {"--set", "--targets", "--check", "--help", "--version"};
 
 // A PETSc option is -name with a letter first; "-5" or "-1e3" is a (negative) value.
 bool is_petsc_option(const std::string& a) {
@@ -50,6 +50,8 @@ Arguments parse_arguments(int argc, const char* const* argv) {
       args.help = true;
     } else if (a == "--version") {
       args.version = true;
+    } else if (a == "--check") {
+      args.check = true;
     } else if (a.rfind("--", 0) == 0) {
       const std::string near = nearest_own(a);
       throw UsageError("unknown argument '" + a + "'" +

@@ -1,5 +1,5 @@
 // hydrosoft's command line: its own arguments apart from PETSc's, strictly. Any argument that
-// is neither hydrosoft's (DECK, --set key=value, --targets -, --help/-h, --version) nor a
+// is neither hydrosoft's (DECK, --set key=value, --targets -, --check, --help/-h, --version) nor a
 // PETSc option (-name, or -name value) is an error that names it; nothing is silently ignored.
 #pragma once
 
@@ -14,6 +14,7 @@ struct Arguments {
   std::vector<std::string> overrides;  // of --set, in order
   std::string targets;                 // of --targets ("" when not given)
   bool help = false, version = false;
+  bool check = false;                    // --check: validate the deck and its mesh, solve nothing
   std::vector<std::string> petsc;        // PETSc's arguments, in order (values included)
   std::vector<std::string> petsc_names;  // the PETSc options among them, e.g. "-snes_monitor"
 };

@@ -14,6 +14,8 @@
 #include "command_line.hpp"
 #include "common/error.hpp"
 #include "deck/deck.hpp"
+#include "mesh/gmsh_io.hpp"
+#include "mesh/mesh_statistics.hpp"
 #include "solvers/simulation.hpp"
 #include "version.hpp"
 
@@ -21,7 +23,10 @@ namespace {
 
 const char* usage =
     "usage: hydrosoft DECK.yaml [--set key=value ...] [--targets -] [PETSc options]\n"
+    "       hydrosoft --check DECK.yaml [--set key=value ...]\n"
     "       hydrosoft --version | --help\n"
+    "  --check           validate the deck, load or mesh its mesh, check its groups, print the\n"
+    "                    resolved configuration and the mesh's statistics; solve nothing\n"
     "  --set key=value   override a deck key, e.g. --set mesh.order=2 --set mesh.parameters.h=0.1\n"
     "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
     "                    'effector x y z'; each is answered with one JSON line\n"
@@ -51,6 +56,23 @@ void report_unused(const std::vector<std::string>& names) {
                         : " (mistyped, or for a solver this run does not use)")
                 << std::endl;
   }
+}
+
+// --check: the deck validated and printed resolved, its mesh loaded (or meshed) and its groups
+// checked, the mesh's statistics printed; nothing solved, nothing written.
+void check_deck(const hs::Config& config) {
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank == 0)
+    std::cout << "# hydrosoft: resolved configuration\n" << hs::format_config(config) << std::endl;
+  const hs::Mesh mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
+  hs::check_groups(config, mesh);
+  std::vector<std::string> cavities;
+  for (const auto& c : config.cavities) cavities.push_back(c.group);
+  if (rank == 0)
+    std::cout << "# hydrosoft: mesh " << config.mesh.file << "\n"
+              << hs::format_statistics(hs::mesh_statistics(mesh, cavities))
+              << "# hydrosoft: the deck and its mesh are valid; nothing was solved" << std::endl;
 }
 
 }  // namespace
@@ -92,6 +114,11 @@ int main(int argc, char** argv) {
       if (!config.control)
         return fail(2, deck + ": --targets - needs a deck with a control section");
       config.control->targets_from_stdin = true;
+    }
+    if (args.check) {
+      check_deck(config);
+      PetscFinalize();
+      return 0;
     }
     // With targets on standard input, standard output carries the answers: the resolved
     // configuration goes to standard error.
