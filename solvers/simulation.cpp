@@ -44,6 +44,12 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   MPI_Comm_size(comm, &size);
 
   check_solver_types(config.solver, config.deck_path);
+  // Without any Dirichlet condition a static body is free to move rigidly: its tangent is
+  // singular and every step fails, which is better said at once.
+  if (config.dirichlet.empty() && config.time.type != TimeType::dynamic)
+    throw InputError(config.deck_path +
+                     ": boundary: nothing holds the body (no Dirichlet condition): a static run "
+                     "needs one to remove the rigid motions, e.g. boundary: [{group: clamped}]");
   const Mesh mesh = load_mesh_replicated(config.mesh, comm);
   check_groups(config, mesh);
   const double t_mesh = MPI_Wtime() - t_start;

@@ -297,6 +297,16 @@ TEST(LinearLaw, SolutionThatInvertsAnElementIsRefused) {
   }
 }
 
+TEST(FreeBody, AStaticRunWithoutBoundaryConditionsIsRefusedAtOnce) {
+  try {
+    hs_test::run_deck("cantilever_gravity.yaml", {"boundary=[]"}, "free_body");
+    FAIL() << "a free body was run";
+  } catch (const hs::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("boundary: nothing holds the body"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {
   PetscOptionsSetValue(nullptr, "-ksp_type", "bcgs");  // as if given on the command line
   hs::SolverConfig solver;
