@@ -291,7 +291,7 @@ def table(runs):
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("folders", nargs="+", help="output folders (summary.json and <deck>.h5)")
-    p.add_argument("--out", default="docs/figures/cylinder_states.png", help="PNG to write")
+    p.add_argument("--out", default="out/cylinder_states.png", help="PNG to write")
     p.add_argument("--scale", type=float, default=1.0, help="displacement magnification (1: true)")
     p.add_argument("--dpi", type=int, default=150)
     args = p.parse_args()

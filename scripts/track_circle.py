@@ -3,7 +3,7 @@
 
     /usr/bin/python3 scripts/track_circle.py [--deck input/pendulum.yaml] [--np 1]
         [--radius 0.0015] [--centre 0,0,-0.1012] [--points 40] [--turns 1]
-        [--steps 1] [--out docs/figures/circle_tracking] [--set KEY=VALUE ...]
+        [--steps 1] [--out out/circle_tracking] [--set KEY=VALUE ...]
 
 Starts `mpirun -np NP build/bin/hydrosoft DECK --targets - --set
 control.steps_per_target=STEPS` and, for each point of the circle (in the horizontal plane
@@ -37,7 +37,7 @@ def main():
     ap.add_argument("--points", type=int, default=40)
     ap.add_argument("--turns", type=float, default=1.0)
     ap.add_argument("--steps", type=int, default=1)
-    ap.add_argument("--out", default="docs/figures/circle_tracking")
+    ap.add_argument("--out", default="out/circle_tracking")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="more deck overrides, e.g. control.free_solve=one_step")
     a = ap.parse_args()
