@@ -5,9 +5,15 @@
 // The deck is validated before any work and printed resolved; --set overrides a deck key
 // (e.g. --set mesh.order=2); every PETSc option can be given on the command line and wins
 // over the deck's solver.petsc_options.
+#include <fcntl.h>
 #include <petscsys.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -31,6 +37,32 @@ const char* usage =
     "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
     "                    'effector x y z'; each is answered with one JSON line\n"
     "  PETSc options     e.g. -snes_monitor -ksp_type cg -pc_type gamg (they win over the deck)\n";
+
+// In the interactive mode standard output carries the JSON lines alone, so that a client can
+// read it line by line: its descriptor is kept for them (returned), and descriptor 1 becomes
+// standard error, so that everything else the process prints (this program's messages,
+// PETSc's monitors, a library's notes) goes there. -1 if the descriptors cannot be set.
+int keep_stdout_for_answers() {
+  std::fflush(stdout);
+  const int answers = fcntl(STDOUT_FILENO, F_DUPFD_CLOEXEC, 3);
+  if (answers < 0) return -1;
+  if (dup2(STDERR_FILENO, STDOUT_FILENO) < 0) {
+    close(answers);
+    return -1;
+  }
+  return answers;
+}
+
+// One answer line, written whole at once: the client waits for it before its next target.
+void write_answer_line(int fd, const std::string& line) {
+  const std::string text = line + "\n";
+  for (size_t done = 0; done < text.size();) {
+    const ssize_t n = write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw std::runtime_error(std::string("standard output: ") + std::strerror(errno));
+    done += static_cast<size_t>(n);
+  }
+}
 
 int fail(int code, const std::string& message) {
   int rank = 0, size = 1;
@@ -99,6 +131,16 @@ int main(int argc, char** argv) {
   const std::vector<std::string>& overrides = args.overrides;
   std::vector<char*> petsc_args = {argv[0]};
   for (auto& a : args.petsc) petsc_args.push_back(a.data());
+  hs::InteractiveIo io;
+  if (targets == "-") {
+    const int answers = keep_stdout_for_answers();
+    if (answers < 0) {
+      std::cerr << "hydrosoft: error: --targets -: cannot set up standard output: "
+                << std::strerror(errno) << std::endl;
+      return 4;
+    }
+    io.write_line = [answers](const std::string& line) { write_answer_line(answers, line); };
+  }
   int pargc = static_cast<int>(petsc_args.size());
   petsc_args.push_back(nullptr);
   char** pargv = petsc_args.data();
@@ -120,15 +162,13 @@ int main(int argc, char** argv) {
       PetscFinalize();
       return 0;
     }
-    // With targets on standard input, standard output carries the answers: the resolved
-    // configuration goes to standard error.
+    // With targets on standard input, standard output carries the JSON lines alone: the
+    // resolved configuration and the summary go to standard error.
+    std::ostream& report = targets.empty() ? std::cout : std::cerr;
     if (rank == 0)
-      (targets.empty() ? std::cout : std::cerr) << "# hydrosoft: resolved configuration\n"
-                                                << hs::format_config(config) << std::endl;
-    const auto summary = hs::run_simulation(config, PETSC_COMM_WORLD);
-    if (rank == 0) {
-      std::cout << "# hydrosoft: done\n" << summary.dump(2) << std::endl;
-    }
+      report << "# hydrosoft: resolved configuration\n" << hs::format_config(config) << std::endl;
+    const auto summary = hs::run_simulation(config, PETSC_COMM_WORLD, io);
+    if (rank == 0) report << "# hydrosoft: done\n" << summary.dump(2) << std::endl;
     if (rank == 0) report_unused(args.petsc_names);
   } catch (const hs::InputError& e) {
     return fail(2, e.what());

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <iostream>
 #include <map>
-#include <sstream>
 
 #include "common/error.hpp"
+#include "control/target_line.hpp"
 
 namespace hs {
 namespace {
@@ -19,95 +19,99 @@ double percentile(std::vector<double> v, double q) {
   return v[lo] + (pos - lo) * (v[hi] - v[lo]);
 }
 
-// The next target set: from the deck, or a line of standard input read on rank 0 and shared.
-class TargetSource {
- public:
-  TargetSource(const Config& config, const Effectors& effectors, MPI_Comm comm)
-      : config_(config), effectors_(effectors), comm_(comm) {
-    MPI_Comm_rank(comm, &rank_);
-  }
-  bool next(std::vector<ControlTarget>& targets) {
-    if (!config_.control->targets_from_stdin) {
-      if (index_ >= config_.control->targets.size()) return false;
-      targets = config_.control->targets[index_++];
-      return true;
-    }
-    std::string line;
-    int more = 0;
-    if (rank_ == 0) {
-      while (std::getline(std::cin, line)) {
-        ++line_number_;
-        if (line.find_first_not_of(" \t\r") != std::string::npos) {
-          more = 1;
-          break;
-        }
-      }
-    }
-    MPI_Bcast(&more, 1, MPI_INT, 0, comm_);
-    if (!more) return false;
-    int n = static_cast<int>(line.size());
-    MPI_Bcast(&n, 1, MPI_INT, 0, comm_);
-    line.resize(n);
-    MPI_Bcast(line.data(), n, MPI_CHAR, 0, comm_);
-    MPI_Bcast(&line_number_, 1, MPI_INT, 0, comm_);
-    targets = parse_target_line(line, effectors_, line_number_);
-    return true;
-  }
-
- private:
-  const Config& config_;
-  const Effectors& effectors_;
-  MPI_Comm comm_;
-  int rank_ = 0, line_number_ = 0;
-  size_t index_ = 0;
+// One line of the interactive input: its number (from 1), its first kTargetLineKept
+// characters and its whole length.
+struct InputLine {
+  int number = 0;
+  std::string kept;
+  std::size_t length = 0;
 };
+
+// Reads the next line on rank 0 and shares it with every rank; false on every rank at the
+// end of the input.
+bool next_line(std::istream& in, MPI_Comm comm, InputLine& line) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int more = 0;
+  unsigned long length = 0;
+  if (rank == 0 && read_target_line(in, kTargetLineKept, line.kept, line.length)) {
+    more = 1;
+    ++line.number;
+    length = line.length;
+  }
+  MPI_Bcast(&more, 1, MPI_INT, 0, comm);
+  if (!more) return false;
+  MPI_Bcast(&line.number, 1, MPI_INT, 0, comm);
+  MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG, 0, comm);
+  line.length = length;
+  int n = static_cast<int>(line.kept.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, comm);
+  line.kept.resize(n);
+  MPI_Bcast(line.kept.data(), n, MPI_CHAR, 0, comm);
+  return true;
+}
+
+// One JSON line; bytes that are not UTF-8 (a client's garbage, quoted in a message) become
+// U+FFFD instead of stopping the run.
+std::string json_line(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 }  // namespace
 
-std::vector<ControlTarget> parse_target_line(const std::string& line, const Effectors& effectors,
-                                             int line_number) {
-  std::istringstream in(line);
-  std::vector<std::string> words;
-  for (std::string w; in >> w;) words.push_back(w);
-  const std::string where =
-      "standard input, line " + std::to_string(line_number) + " '" + line + "'";
-  if (words.size() != 3 && words.size() != 4)
-    throw InputError(where + ": expected 'x y z' or 'effector x y z'");
-  ControlTarget t;
-  t.effector = words.size() == 4 ? words[0] : effectors.name(0);
-  if (effectors.index(t.effector) < 0)
-    throw InputError(where + ": no effector named '" + t.effector + "'");
-  for (int d = 0; d < 3; ++d) {
-    const std::string& w = words[words.size() - 3 + d];
-    size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(w, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != w.size() || !std::isfinite(x))
-      throw InputError(where + ": coordinate '" + w + "' is not a finite number");
-    t.position[d] = x;
-  }
-  return {t};
-}
-
 ControlLoop::ControlLoop(const Config& config, Problem& problem, ConstraintSet& constraints,
-                         BorderedNewton& newton)
+                         BorderedNewton& newton, InteractiveIo io)
     : config_(config),
       problem_(problem),
       effectors_(config, problem),
-      controller_(config, problem, constraints, newton, effectors_) {}
+      controller_(config, problem, constraints, newton, effectors_),
+      io_(std::move(io)) {
+  if (!io_.input) io_.input = &std::cin;
+  if (!io_.write_line)
+    io_.write_line = [](const std::string& line) { std::cout << line << std::endl; };
+  const std::vector<double>& x = problem.mesh().x;
+  body_low_.fill(HUGE_VAL);
+  body_high_.fill(-HUGE_VAL);
+  for (size_t i = 0; i < x.size(); ++i) {
+    body_low_[i % 3] = std::min(body_low_[i % 3], x[i]);
+    body_high_[i % 3] = std::max(body_high_[i % 3], x[i]);
+  }
+  const auto& sets = config.control->targets;
+  for (size_t k = 0; k < sets.size(); ++k)
+    for (const auto& t : sets[k]) {
+      try {
+        check_reach(t);
+      } catch (const InputError& e) {
+        throw InputError(config.deck_path + ": control.targets[" + std::to_string(k) + "]." +
+                         t.effector + ": " + e.what());
+      }
+    }
+}
+
+void ControlLoop::check_reach(const ControlTarget& target) const {
+  const std::string problem = target_reach_problem(target.position, body_low_, body_high_);
+  if (!problem.empty()) throw InputError(problem);
+}
+
+std::vector<ControlTarget> ControlLoop::targets_of_line(const std::string& line) const {
+  const TargetWords words = parse_target_words(line);
+  ControlTarget t;
+  t.effector = words.effector.empty() ? effectors_.name(0) : words.effector;
+  t.position = words.position;
+  if (effectors_.index(t.effector) < 0)
+    throw InputError("no effector named " + quote_target_line(t.effector, t.effector.size()));
+  check_reach(t);
+  return {t};
+}
 
 nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_time) {
   const Config& config = config_;
   Effectors& effectors = effectors_;
   InverseController& controller = controller_;
+  const bool interactive = config.control->targets_from_stdin;
   int rank = 0;
   MPI_Comm_rank(problem_.comm(), &rank);
   controller.set_rest(u);
-  TargetSource source(config, effectors, problem_.comm());
 
   nlohmann::json out;
   out["targets"] = nlohmann::json::array();
@@ -117,8 +121,9 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
   for (const auto& part : ControlStepReport{}.parts()) parts[part.first];  // even without steps
   double kkt_max = 0;
   int unsolved = 0, set = 0;
-  std::vector<ControlTarget> targets;
-  while (source.next(targets)) {
+  // Steps towards one target set, its output step, and its entries in `targets` (answered at
+  // once on the interactive output, with the number of its input line).
+  auto reach = [&](const std::vector<ControlTarget>& targets, int line_number) {
     ControlStepReport r;
     bool limit_point = false;
     for (int k = 0; k < config.control->steps_per_target; ++k) {
@@ -163,10 +168,44 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       j["saturated"] = r.saturated;
       j["limit_point"] = limit_point;
       j["step"] = recorder.written() - 1;
+      if (interactive && rank == 0)
+        io_.write_line(json_line({{"answer", j}, {"line", line_number}}));
+      if (interactive) j["line"] = line_number;
       out["targets"].push_back(j);
-      if (config.control->targets_from_stdin && rank == 0)
-        std::cout << nlohmann::json({{"answer", j}}).dump() << std::endl;
     }
+  };
+
+  if (!interactive) {
+    for (const auto& targets : config.control->targets) reach(targets, 0);
+  } else {
+    // Every line gets exactly one JSON line: its answer, or why it was refused. A refused
+    // line changes nothing (no step, no output step), and the next line is read.
+    InputLine line;
+    int rejected = 0;
+    while (next_line(*io_.input, problem_.comm(), line)) {
+      std::vector<ControlTarget> targets;
+      std::string error;
+      try {
+        if (line.length > line.kept.size())
+          throw InputError("line too long (a target line has at most " +
+                           std::to_string(kTargetLineKept) + " characters)");
+        targets = targets_of_line(line.kept);
+      } catch (const InputError& e) {
+        error = std::string(e.what()) + ": " + quote_target_line(line.kept, line.length);
+      }
+      if (error.empty()) {
+        reach(targets, line.number);
+        continue;
+      }
+      ++rejected;
+      if (rank == 0) {
+        io_.write_line(json_line({{"error", error}, {"line", line.number}}));
+        std::cerr << "hydrosoft: standard input, line " << line.number << " refused: " << error
+                  << std::endl;
+      }
+    }
+    out["input"] = {
+        {"lines", line.number}, {"answered", line.number - rejected}, {"rejected", rejected}};
   }
   auto timing = [](const std::vector<double>& v) {
     return nlohmann::json{{"median", percentile(v, 0.5)}, {"p95", percentile(v, 0.95)}};

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <utility>
 
 #include "common/error.hpp"
 #include "deck/deck.hpp"
@@ -37,7 +38,7 @@ std::vector<int> partition_on_root(const Mesh& mesh, MPI_Comm comm) {
 
 }  // namespace
 
-nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
+nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo io) {
   const double t_start = MPI_Wtime();
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -50,6 +51,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
     throw InputError(config.deck_path +
                      ": boundary: nothing holds the body (no Dirichlet condition): a static run "
                      "needs one to remove the rigid motions, e.g. boundary: [{group: clamped}]");
+  // First, before any work: a second run on the same output folder stops here, at once.
+  auto output_folder = open_output_folder(config.output.folder, comm);
   const Mesh mesh = load_mesh_replicated(config.mesh, comm);
   check_groups(config, mesh);
   const double t_mesh = MPI_Wtime() - t_start;
@@ -89,7 +92,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
     bordered = std::make_unique<BorderedNewton>(problem, *constraints);
   else
     newton = std::make_unique<NewtonSolver>(problem);
-  ResultRecorder recorder(problem, config, comm);
+  ResultRecorder recorder(problem, config, std::move(output_folder), comm);
   const double t_setup = MPI_Wtime() - t_start;
 
   Vec u = problem.create_vector();
@@ -114,7 +117,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm) {
   if (staged) {
     std::unique_ptr<ControlLoop> control_loop;
     if (config.control)
-      control_loop = std::make_unique<ControlLoop>(config, problem, *constraints, *bordered);
+      control_loop =
+          std::make_unique<ControlLoop>(config, problem, *constraints, *bordered, std::move(io));
     state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats);
     if (control_loop)
       control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()));

@@ -1,7 +1,8 @@
 // One run of hydrosoft on a resolved deck: mesh, distribution, problem, stepping, output.
 // Static and quasi-static runs follow a schedule of load factors with automatic cutback;
 // dynamic runs step in time with Newmark or backward Euler. Returns summary.json's object
-// (complete on rank 0).
+// (complete on rank 0). `io`: where the interactive mode (control.targets_from_stdin) reads
+// and answers its lines.
 #pragma once
 
 #include <mpi.h>
@@ -9,9 +10,10 @@
 #include <nlohmann/json.hpp>
 
 #include "deck/config.hpp"
+#include "solvers/interactive_io.hpp"
 
 namespace hs {
 
-nlohmann::json run_simulation(const Config& config, MPI_Comm comm);
+nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo io = {});
 
 }  // namespace hs

@@ -1,7 +1,10 @@
 // main() for MPI GoogleTest executables: PETSc (and so MPI) is initialised once,
-// and only rank 0 prints, so that the output of 2 ranks stays readable.
+// only rank 0 prints, so that the output of 2 ranks stays readable, and each test gets a
+// private folder for its files, removed when it ends (mpi_test_folder.hpp).
 #include <gtest/gtest.h>
 #include <petscsys.h>
+
+#include "mpi_test_folder.hpp"
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
@@ -12,6 +15,7 @@ int main(int argc, char** argv) {
     auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
     delete listeners.Release(listeners.default_result_printer());
   }
+  ::testing::UnitTest::GetInstance()->listeners().Append(new hs_test::TestFolderListener);
   int result = RUN_ALL_TESTS();
   // Every rank must agree on the verdict; a failure on any rank fails the test.
   int global = 0;

@@ -1,17 +1,53 @@
 #include "solvers/output/result_recorder.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "common/error.hpp"
 #include "solvers/output/gather.hpp"
 
 namespace hs {
+namespace {
 
-ResultRecorder::ResultRecorder(Problem& problem, const Config& config, MPI_Comm comm)
-    : problem_(problem) {
+// Rank 0's outcome, shared: 0 done, 1 an InputError, 2 any other error; then its message.
+void share_outcome(int& outcome, std::string& message, MPI_Comm comm) {
+  MPI_Bcast(&outcome, 1, MPI_INT, 0, comm);
+  int n = static_cast<int>(message.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, comm);
+  message.resize(n);
+  MPI_Bcast(message.data(), n, MPI_CHAR, 0, comm);
+}
+
+}  // namespace
+
+std::unique_ptr<OutputFolder> open_output_folder(const std::string& folder, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::unique_ptr<OutputFolder> opened;
+  int outcome = 0;
+  std::string message;
+  if (rank == 0) {
+    try {
+      opened = std::make_unique<OutputFolder>(folder);
+    } catch (const InputError& e) {
+      outcome = 1;
+      message = e.what();
+    } catch (const std::exception& e) {
+      outcome = 2;
+      message = "output folder '" + folder + "': " + e.what();
+    }
+  }
+  share_outcome(outcome, message, comm);
+  if (outcome == 1) throw InputError(message);
+  if (outcome == 2) throw std::runtime_error(message);
+  return opened;
+}
+
+ResultRecorder::ResultRecorder(Problem& problem, const Config& config,
+                               std::unique_ptr<OutputFolder> folder, MPI_Comm comm)
+    : problem_(problem), folder_(std::move(folder)) {
   MPI_Comm_rank(comm, &rank_);
   if (rank_ == 0) {
-    folder_ = std::make_unique<OutputFolder>(config.output.folder);
     writer_ = std::make_unique<XdmfWriter>(folder_->staging(), config.deck_name, problem.mesh());
   }
   load_ = problem.create_vector();

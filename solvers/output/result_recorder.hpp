@@ -13,9 +13,17 @@
 
 namespace hs {
 
+// Collective, before any work of the run: rank 0 opens the output folder (locks it, clears a
+// crashed run's staging folder; OutputFolder) and gets it, the other ranks get null. When it
+// cannot (another run is writing the folder, a foreign folder, a file-system error), every
+// rank throws rank 0's message: InputError for the first two, std::runtime_error otherwise.
+std::unique_ptr<OutputFolder> open_output_folder(const std::string& folder, MPI_Comm comm);
+
 class ResultRecorder {
  public:
-  ResultRecorder(Problem& problem, const Config& config, MPI_Comm comm);
+  // folder: open_output_folder's result (null except on rank 0).
+  ResultRecorder(Problem& problem, const Config& config, std::unique_ptr<OutputFolder> folder,
+                 MPI_Comm comm);
   ~ResultRecorder();
   ResultRecorder(const ResultRecorder&) = delete;
   ResultRecorder& operator=(const ResultRecorder&) = delete;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/folder_lock.hpp"
 #include "mesh/mesh.hpp"
 
 namespace hs {
@@ -21,7 +22,10 @@ std::string output_folder_problem(const std::string& folder);
 // A staging folder "<folder>.partial" that becomes <folder> on commit(); removed if the
 // object dies uncommitted (an exception unwinds the run). An existing <folder> is replaced
 // (deleted) on commit, so it must be empty or an earlier hydrosoft output folder (marked
-// by the file .hydrosoft_output): the constructor throws InputError otherwise.
+// by the file .hydrosoft_output): the constructor throws InputError otherwise. The folder is
+// locked for the object's life (FolderLock, "<folder>.lock"): while one run holds it, the
+// constructor of another throws InputError saying that another run is writing the folder,
+// before it deletes or creates anything.
 class OutputFolder {
  public:
   explicit OutputFolder(std::string folder);
@@ -34,6 +38,7 @@ class OutputFolder {
 
  private:
   std::string final_, staging_;
+  std::unique_ptr<FolderLock> lock_;
   bool committed_ = false;
 };
 

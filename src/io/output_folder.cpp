@@ -1,7 +1,9 @@
 // OutputFolder: results are written to "<folder>.partial" and replace <folder> only when
 // the run succeeds. Replacing means deleting, so a folder is only ever deleted when it
 // carries the marker file that hydrosoft writes into every output folder (or is empty):
-// a mistyped output.folder cannot wipe out a user's own files.
+// a mistyped output.folder cannot wipe out a user's own files. The folder is locked for the
+// object's life (FolderLock), so that a second run on the same folder stops at once instead
+// of deleting this run's staging folder.
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -45,13 +47,16 @@ OutputFolder::OutputFolder(std::string folder) {
   if (!path.has_filename()) path = path.parent_path();
   final_ = path.string();
   staging_ = final_ + ".partial";
-  fs::remove_all(staging_);  // a crashed run's leftovers
+  if (path.has_parent_path()) fs::create_directories(path.parent_path());
+  lock_ = std::make_unique<FolderLock>(final_);  // before anything is deleted
+  fs::remove_all(staging_);  // a crashed run's leftovers (no other run holds the lock)
   fs::create_directories(staging_);
   std::ofstream(fs::path(staging_) / kMarker)
       << "Written by hydrosoft. The next run with this output folder replaces the folder.\n";
 }
 
 OutputFolder::~OutputFolder() {
+  // The lock (member lock_) is released after this body, once nothing is left to delete.
   if (committed_) return;
   std::error_code ignored;
   fs::remove_all(staging_, ignored);

@@ -1,5 +1,9 @@
-// OutputFolder (staging, commit, clean-up, never deleting foreign folders) and write_json.
+// OutputFolder (staging, commit, clean-up, never deleting foreign folders, one run at a time
+// per folder), FolderLock, and write_json.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -106,6 +110,83 @@ TEST(OutputFolder, NeverDeletesAFolderItDidNotWrite) {
   EXPECT_EQ(output_folder_problem((tmp.path() / "empty").string()), "");
   EXPECT_NE(output_folder_problem("."), "");
   EXPECT_NE(output_folder_problem("out/.."), "");
+}
+
+// The message of the InputError that opening `folder` throws, or "" if it opens.
+std::string refusal(const std::string& folder) {
+  try {
+    OutputFolder second(folder);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(OutputFolder, ASecondRunOnTheSameFolderStopsAtOnceAndDeletesNothing) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "run").string();
+  previous_run(final, "old");
+  OutputFolder first(final);
+  write_text(first.staging() + "/result.txt", "first");
+  EXPECT_EQ(read_text(final + ".lock").find("process " + std::to_string(getpid())), 0u);
+  const std::string message = refusal(final + "/");  // the same folder, spelled otherwise
+  EXPECT_NE(message.find("output folder '" + final + "': another run is writing it (process " +
+                         std::to_string(getpid())),
+            std::string::npos)
+      << message;
+  // The first run's staging folder and the old results are untouched, and it commits.
+  EXPECT_EQ(read_text(first.staging() + "/result.txt"), "first");
+  EXPECT_EQ(read_text(final + "/result.txt"), "old");
+  first.commit();
+  EXPECT_EQ(read_text(final + "/result.txt"), "first");
+}
+
+TEST(OutputFolder, TheLockIsReleasedWithTheRunCommittedOrNot) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "run").string();
+  previous_run(final, "one");
+  EXPECT_FALSE(fs::exists(final + ".lock"));  // removed on release
+  { OutputFolder failed(final); }             // a run that fails
+  EXPECT_FALSE(fs::exists(final + ".lock"));
+  EXPECT_EQ(refusal(final), "");
+  // Other folders beside it are not locked by it.
+  OutputFolder a(final);
+  EXPECT_EQ(refusal((tmp.path() / "run2").string()), "");
+}
+
+TEST(FolderLock, ALockLeftByAKilledRunDoesNotBlock) {
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "run").string();
+  int ready[2];
+  ASSERT_EQ(pipe(ready), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {  // a run that takes the lock and is killed while it holds it
+    FolderLock lock(folder);
+    if (write(ready[1], "1", 1) != 1) _exit(1);
+    pause();
+    _exit(0);
+  }
+  char c = 0;
+  ASSERT_EQ(read(ready[0], &c, 1), 1);
+  EXPECT_THROW(FolderLock{folder}, InputError);  // held by the child
+  kill(child, SIGKILL);
+  waitpid(child, nullptr, 0);
+  close(ready[0]);
+  close(ready[1]);
+  EXPECT_TRUE(fs::exists(folder + ".lock"));  // its file is left behind ...
+  FolderLock next(folder);                    // ... and taken over at once
+  EXPECT_EQ(read_text(folder + ".lock").find("process " + std::to_string(getpid())), 0u);
+}
+
+TEST(FolderLock, AFolderThatCannotHoldALockSaysWhy) {
+  try {
+    FolderLock lock("/proc/hydrosoft_no_such_folder/run");
+    ADD_FAILURE() << "locked in /proc";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot create its lock file"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(WriteJson, WritesPrettyJsonThatReadsBack) {

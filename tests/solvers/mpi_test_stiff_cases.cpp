@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "../mpi_test_folder.hpp"
 #include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "solvers/simulation.hpp"
@@ -15,13 +16,8 @@ namespace {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
-std::string out_folder(const std::string& name) {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return (std::filesystem::temp_directory_path() /
-          ("hydrosoft_stiff_" + name + "_np" + std::to_string(size)))
-      .string();
-}
+// Inside the test's own folder, removed when the test ends.
+std::string out_folder(const std::string& name) { return (hs_test::test_folder() / name).string(); }
 
 nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
                    const std::string& out) {
@@ -77,6 +73,7 @@ TEST(StiffCases, InvertedElementsStopWithStepAndCause) {
     EXPECT_NE(msg.find("step 1"), std::string::npos) << msg;
     EXPECT_NE(msg.find("did not converge"), std::string::npos) << msg;
   }
+  MPI_Barrier(MPI_COMM_WORLD);  // rank 0 removes the staging folder as the error unwinds it
   EXPECT_FALSE(std::filesystem::exists(out));
   EXPECT_FALSE(std::filesystem::exists(out + ".partial"));
 }

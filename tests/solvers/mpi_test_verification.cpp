@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "../mpi_test_folder.hpp"
 #include "deck/deck.hpp"
 #include "solvers/simulation.hpp"
 
@@ -21,12 +22,8 @@ int world_size() {
   return size;
 }
 
-// A private output folder per test and per world size (ctest runs np1 and np2 together).
-std::string out_folder(const std::string& name) {
-  return (std::filesystem::temp_directory_path() /
-          ("hydrosoft_test_" + name + "_np" + std::to_string(world_size())))
-      .string();
-}
+// Inside the test's own folder, removed when the test ends.
+std::string out_folder(const std::string& name) { return (hs_test::test_folder() / name).string(); }
 
 nlohmann::json run(const std::string& deck, std::vector<std::string> overrides,
                    MPI_Comm comm = MPI_COMM_WORLD, const std::string& tag = "") {

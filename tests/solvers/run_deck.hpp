@@ -1,5 +1,6 @@
-// Running a deck of input/ from a test: a private output folder per tag and world size (ctest
-// runs the 1- and 2-rank variants at once), and the summary shared with every rank.
+// Running a deck of input/ from a test: an output folder per tag inside the test's own
+// folder (removed when the test ends, ../mpi_test_folder.hpp), and the summary shared with
+// every rank.
 #pragma once
 
 #include <mpi.h>
@@ -9,18 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "../mpi_test_folder.hpp"
 #include "deck/deck.hpp"
 #include "solvers/simulation.hpp"
 
 namespace hs_test {
 
-inline std::string out_folder(const std::string& tag) {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return (std::filesystem::temp_directory_path() /
-          ("hydrosoft_" + tag + "_np" + std::to_string(size)))
-      .string();
-}
+inline std::string out_folder(const std::string& tag) { return (test_folder() / tag).string(); }
 
 // Runs input/<deck> on `comm`. With MPI_COMM_WORLD every rank gets rank 0's summary; with
 // MPI_COMM_SELF rank 0 runs it alone and the other ranks get null.

@@ -1,0 +1,18 @@
+// Where the interactive mode (`hydrosoft DECK --targets -`, docs/control.md) reads its target
+// lines and writes its JSON lines, on rank 0: standard input, and standard output flushed
+// after each line, unless given. main gives a descriptor of its own so that nothing else
+// reaches standard output; a test gives strings.
+#pragma once
+
+#include <functional>
+#include <istream>
+#include <string>
+
+namespace hs {
+
+struct InteractiveIo {
+  std::istream* input = nullptr;                            // null: std::cin
+  std::function<void(const std::string& line)> write_line;  // null: std::cout, flushed
+};
+
+}  // namespace hs

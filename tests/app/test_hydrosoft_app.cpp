@@ -1,0 +1,142 @@
+// The hydrosoft executable as a client or a user runs it: in the interactive mode
+// (`--targets -`) standard output carries only the JSON lines, one per input line, whatever
+// else the run prints (its configuration, its summary, a PETSc-level monitor), on 1 and 2
+// ranks; and a second run on the output folder of a run in progress fails at once while the
+// first one finishes with consistent results.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "../deck/temp_folder.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hs::testing::TempFolder;
+
+const std::string kFinger = std::string(HYDROSOFT_SOURCE_DIR) + "/input/finger_hydraulic.yaml";
+
+// The small finger, writing into `folder`.
+std::string finger_command(const std::string& folder) {
+  return std::string(HYDROSOFT_EXE) + " " + kFinger +
+         " --set mesh.parameters.h=0.006 --set control.steps_per_target=1 --set output.folder=" +
+         folder;
+}
+
+// Starts `command` under /bin/sh; returns its process id.
+pid_t start(const std::string& command) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+// The exit status of a process started by start() (-1 if it did not exit).
+int wait_for(pid_t pid) {
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
+}
+
+std::vector<std::string> lines_of(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::string text_of(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class InteractiveOutput : public ::testing::TestWithParam<int> {};
+
+TEST_P(InteractiveOutput, StandardOutputHoldsOnlyTheJsonLines) {
+  const int ranks = GetParam();
+  TempFolder tmp;
+  const std::string input =
+      tmp.write("in.txt", "0.09 0 -0.012\n1 2\n\n0.09 0 nan\n0.09 0 -0.008\n");
+  const std::string out = (tmp.path() / "out.txt").string(),
+                    err = (tmp.path() / "err.txt").string();
+  std::string command = finger_command((tmp.path() / "run").string()) +
+                        " --targets - -hs_newton_monitor < " + input + " > " + out + " 2> " + err;
+  if (ranks > 1) command = std::string(HYDROSOFT_MPIEXEC) + " -np 2 " + command;
+  ASSERT_EQ(wait_for(start(command)), 0) << text_of(err);
+  const auto lines = lines_of(out);
+  ASSERT_EQ(lines.size(), 5u) << text_of(out);
+  for (size_t k = 0; k < lines.size(); ++k) {
+    const auto j = nlohmann::json::parse(lines[k]);  // every line is one JSON object
+    EXPECT_EQ(j["line"], k + 1);
+    EXPECT_EQ(j.contains("answer"), k == 0 || k == 4) << lines[k];
+    EXPECT_EQ(j.contains("error"), k != 0 && k != 4) << lines[k];
+  }
+  // The rest went to standard error: configuration, the monitor's lines, the summary.
+  const std::string messages = text_of(err);
+  EXPECT_NE(messages.find("# hydrosoft: resolved configuration"), std::string::npos);
+  EXPECT_NE(messages.find("|R|"), std::string::npos);
+  EXPECT_NE(messages.find("# hydrosoft: done"), std::string::npos);
+  EXPECT_NE(messages.find("line 2 refused"), std::string::npos);
+}
+
+INSTANTIATE_TEST_SUITE_P(Ranks, InteractiveOutput, ::testing::Values(1, 2));
+
+TEST(SharedOutputFolder, ASecondRunFailsAtOnceAndTheFirstFinishes) {
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "run").string();
+  const std::string fifo = (tmp.path() / "targets").string();
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  // The first run waits for its targets (holding the folder) until the test sends them.
+  const pid_t first =
+      start(finger_command(folder) + " --targets - < " + fifo + " > " +
+            (tmp.path() / "first.out").string() + " 2> " + (tmp.path() / "first.err").string());
+  const int targets = open(fifo.c_str(), O_WRONLY);
+  ASSERT_GE(targets, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (text_of(folder + ".lock").find("process") == std::string::npos &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_NE(text_of(folder + ".lock").find("process"), std::string::npos);
+
+  const std::string second_err = (tmp.path() / "second.err").string();
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(wait_for(start(finger_command(folder) + " > /dev/null 2> " + second_err)), 2);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string message = text_of(second_err);
+  EXPECT_NE(message.find("hydrosoft: error: output folder '" + folder +
+                         "': another run is writing it (process"),
+            std::string::npos)
+      << message;
+  std::cout << "the second run stopped after " << seconds << " s" << std::endl;
+
+  const std::string line = "0.09 0 -0.012\n";
+  ASSERT_EQ(write(targets, line.data(), line.size()), static_cast<ssize_t>(line.size()));
+  close(targets);
+  ASSERT_EQ(wait_for(first), 0) << text_of((tmp.path() / "first.err").string());
+  // The first run's results, whole: every output step of the .xmf, the summary's count.
+  const auto summary = nlohmann::json::parse(text_of(folder + "/summary.json"));
+  EXPECT_EQ(summary["targets"].size(), 1u);
+  const std::string xmf = text_of(folder + "/finger_hydraulic.xmf");
+  int grids = 0;
+  for (size_t at = xmf.find("GridType=\"Uniform\""); at != std::string::npos;
+       at = xmf.find("GridType=\"Uniform\"", at + 1))
+    ++grids;
+  EXPECT_EQ(grids, summary["outputs"].get<int>());
+  EXPECT_FALSE(fs::exists(folder + ".partial"));
+  EXPECT_FALSE(fs::exists(folder + ".lock"));
+}
+
+}  // namespace

@@ -1,0 +1,147 @@
+// The interactive mode (`hydrosoft DECK --targets -`, docs/control.md) inside the process, on
+// 1 and 2 ranks: every line gets exactly one JSON line; a bad one (wrong count of words, not
+// a number, NaN or inf, a target too far to be answered, an empty line, an unknown effector,
+// a megabyte of garbage) gets an error naming its line and changes nothing, and the loop goes
+// on to the end of the input; the run's results are kept.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "run_deck.hpp"
+
+namespace {
+
+const std::vector<std::string> kSmallFinger = {"mesh.parameters.h=0.006",
+                                               "control.steps_per_target=2"};
+
+int world_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+hs::Config finger(const std::string& tag) {
+  std::vector<std::string> overrides = kSmallFinger;
+  overrides.push_back("output.folder=" + hs_test::out_folder(tag));
+  hs::Config config =
+      hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/finger_hydraulic.yaml", overrides);
+  config.control->targets_from_stdin = true;
+  return config;
+}
+
+// Runs the small hydraulic finger with `input` as its standard input; the JSON lines it
+// writes (rank 0) go to `written`. Returns the summary (complete on rank 0).
+nlohmann::json run_interactive(const std::string& input, std::vector<nlohmann::json>& written,
+                               const std::string& tag) {
+  std::istringstream in(input);
+  hs::InteractiveIo io;
+  io.input = &in;
+  io.write_line = [&](const std::string& line) { written.push_back(nlohmann::json::parse(line)); };
+  return hs::run_simulation(finger(tag), MPI_COMM_WORLD, io);
+}
+
+std::string error_of(const nlohmann::json& line) {
+  return line.contains("error") ? line["error"].get<std::string>() : "(no error)";
+}
+
+TEST(Interactive, BadLinesAreAnsweredWithAnErrorAndTheLoopGoesOn) {
+  const std::string huge(1 << 20, 'x');
+  const std::vector<std::string> lines = {
+      "0.09 0 -0.012",        // 1: answered
+      "1 2",                  // 2: two numbers
+      "a b c",                // 3: not numbers
+      "nan 0 0",              // 4
+      "0 inf 0",              // 5
+      "0.09 0 1e300",         // 6: finite, but no answer can be computed
+      "",                     // 7: empty
+      "nosuch 0.09 0 -0.01",  // 8: unknown effector
+      huge,                   // 9: a megabyte
+      "tip 0.09 0 -0.008",    // 10: answered
+  };
+  std::string input;
+  for (const auto& line : lines) input += line + "\n";
+  std::vector<nlohmann::json> written;
+  const nlohmann::json summary = run_interactive(input, written, "bad_lines");
+  if (world_rank() != 0) return;
+
+  ASSERT_EQ(written.size(), lines.size());  // one JSON line per input line
+  for (size_t k = 0; k < written.size(); ++k) EXPECT_EQ(written[k]["line"], k + 1);
+  for (size_t k : {0, 9}) {
+    ASSERT_TRUE(written[k].contains("answer")) << written[k];
+    EXPECT_LT(written[k]["answer"]["error_m"].get<double>(), 3e-3);
+  }
+  const std::vector<std::pair<size_t, std::string>> reasons = {
+      {1, "got 2 words: '1 2'"},
+      {2, "coordinate x 'a' is not a finite number"},
+      {3, "coordinate x 'nan' is not a finite number"},
+      {4, "coordinate y 'inf' is not a finite number"},
+      {5, "1e+300 m from the body, farther than 1000 times its size"},
+      {6, "empty line"},
+      {7, "no effector named 'nosuch'"},
+      {8, "line too long"},
+  };
+  for (const auto& [k, reason] : reasons) {
+    EXPECT_FALSE(written[k].contains("answer")) << written[k];
+    EXPECT_NE(error_of(written[k]).find(reason), std::string::npos) << error_of(written[k]);
+  }
+  // The megabyte is quoted by its start and its length, not echoed.
+  EXPECT_LT(written[8].dump().size(), 300u);
+  EXPECT_NE(error_of(written[8]).find("(1048576 characters)"), std::string::npos);
+
+  // The results are kept: two target sets, one output step each, in summary.json too.
+  EXPECT_EQ(summary["input"], nlohmann::json({{"lines", 10}, {"answered", 2}, {"rejected", 8}}));
+  ASSERT_EQ(summary["targets"].size(), 2u);
+  EXPECT_EQ(summary["targets"][1]["line"], 10);
+  EXPECT_EQ(written[9]["answer"]["step"].get<int>(), written[0]["answer"]["step"].get<int>() + 1);
+  std::ifstream file(summary["output"]["folder"].get<std::string>() + "/summary.json");
+  ASSERT_TRUE(file.good());
+  EXPECT_EQ(nlohmann::json::parse(file)["targets"].size(), 2u);
+}
+
+TEST(Interactive, ARefusedLineChangesNothing) {
+  // The same two targets without the bad lines in between: the same answer.
+  std::vector<nlohmann::json> with_bad, without;
+  run_interactive("0.09 0 -0.012\n0.09 0 1e300\n\n1 2 3 4 5\n0.09 0 -0.008\n", with_bad, "with");
+  run_interactive("0.09 0 -0.012\n0.09 0 -0.008\n", without, "without");
+  if (world_rank() != 0) return;
+  ASSERT_EQ(with_bad.size(), 5u);
+  ASSERT_EQ(without.size(), 2u);
+  const auto& a = with_bad[4]["answer"];
+  const auto& b = without[1]["answer"];
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(a["reached"][d].get<double>(), b["reached"][d].get<double>(), 1e-12);
+  EXPECT_NEAR(a["actuation"][0].get<double>(), b["actuation"][0].get<double>(), 1e-6);
+  EXPECT_EQ(a["step"], b["step"]);
+}
+
+TEST(Interactive, EndOfInputAtOnceEndsTheRunWithItsStates) {
+  std::vector<nlohmann::json> written;
+  const nlohmann::json summary = run_interactive("", written, "empty");
+  if (world_rank() != 0) return;
+  EXPECT_TRUE(written.empty());
+  EXPECT_EQ(summary["input"]["lines"], 0);
+  EXPECT_TRUE(summary["targets"].empty());
+}
+
+TEST(Interactive, ADeckTargetTooFarStopsTheRunBeforeAnyStep) {
+  hs::Config config = finger("deck_target");
+  config.control->targets_from_stdin = false;
+  config.control->targets[1][0].position = {0.09, 0.0, 1e12};
+  std::string message;
+  try {
+    hs::run_simulation(config, MPI_COMM_WORLD);
+  } catch (const hs::InputError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("finger_hydraulic.yaml: control.targets[1].tip: target (0.09, 0, 1e+12) "
+                         "is 1e+12 m from the body"),
+            std::string::npos)
+      << message;
+  EXPECT_FALSE(std::filesystem::exists(hs_test::out_folder("deck_target")));
+}
+
+}  // namespace

@@ -1,0 +1,79 @@
+// Runs and their output folders, on 1 and 2 ranks: a run on a folder that another run is
+// writing stops before any work on every rank, with a message naming the folder, and
+// leaves the other run's staging folder alone; and each test's files live in its own folder,
+// removed when the test ends (../mpi_test_folder.hpp), so that the tests leave nothing in
+// the temporary folder.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "common/error.hpp"
+#include "io/output.hpp"
+#include "run_deck.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The smallest deck: one P2 block (a second or less on 2 ranks).
+const char* kDeck = "hydrostatic_patch.yaml";
+
+int world_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+TEST(OutputFolders, ARunOnAFolderThatAnotherRunIsWritingStopsAtOnce) {
+  const std::string folder = hs_test::out_folder("shared");
+  // Another run (on rank 0, like every run's output) holds the folder and has staged a file.
+  std::unique_ptr<hs::OutputFolder> other;
+  if (world_rank() == 0) {
+    other = std::make_unique<hs::OutputFolder>(folder);
+    std::ofstream(other->staging() + "/step.txt") << "the other run's";
+  }
+  std::string message;
+  try {
+    hs_test::run_deck(kDeck, {}, "shared");
+  } catch (const hs::InputError& e) {
+    message = e.what();
+  }
+  // Every rank stops with the same message (none waits in a collective for rank 0).
+  EXPECT_NE(message.find("output folder '" + folder + "': another run is writing it"),
+            std::string::npos)
+      << message;
+  if (world_rank() == 0) {
+    std::ifstream staged(other->staging() + "/step.txt");
+    std::string text;
+    std::getline(staged, text);
+    EXPECT_EQ(text, "the other run's");
+    EXPECT_FALSE(fs::exists(folder));
+    other.reset();  // the other run ends (fails): its lock goes with it
+  }
+  // Now the folder is free.
+  const auto summary = hs_test::run_deck(kDeck, {}, "shared");
+  EXPECT_EQ(summary["output"]["folder"], folder);
+}
+
+// What the first test of the pair below wrote, for the second to look at.
+fs::path written_by_the_previous_test;
+
+TEST(TestFolders, ATestWritesItsOutputsIntoItsOwnFolder) {
+  hs_test::run_deck(kDeck, {}, "mine");
+  const fs::path out = hs_test::out_folder("mine");
+  EXPECT_EQ(out.parent_path(), hs_test::test_folder());
+  if (world_rank() == 0) EXPECT_TRUE(fs::exists(out / "summary.json"));
+  written_by_the_previous_test = out;
+}
+
+TEST(TestFolders, AndTheFolderIsRemovedWhenTheTestEnds) {
+  // Runs after the test above (GoogleTest keeps the order of a file unless shuffled).
+  ASSERT_FALSE(written_by_the_previous_test.empty());
+  EXPECT_FALSE(fs::exists(written_by_the_previous_test));
+  EXPECT_FALSE(fs::exists(written_by_the_previous_test.parent_path()));
+  EXPECT_NE(hs_test::test_folder(), written_by_the_previous_test.parent_path());
+}
+
+}  // namespace
