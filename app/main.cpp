@@ -35,7 +35,8 @@ const char* usage =
     "                    resolved configuration and the mesh's statistics; solve nothing\n"
     "  --set key=value   override a deck key, e.g. --set mesh.order=2 --set mesh.parameters.h=0.1\n"
     "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
-    "                    'effector x y z'; each is answered with one JSON line\n"
+    "                    'effector x y z'; each line gets one JSON line on standard output,\n"
+    "                    its answer or why it was refused; the rest goes to standard error\n"
     "  PETSc options     e.g. -snes_monitor -ksp_type cg -pc_type gamg (they win over the deck)\n";
 
 // In the interactive mode standard output carries the JSON lines alone, so that a client can

@@ -8,8 +8,9 @@
 Starts `mpirun -np NP build/bin/hydrosoft DECK --targets - --set
 control.steps_per_target=STEPS` and, for each point of the circle (in the horizontal plane
 through the centre, starting on +x), writes one line "x y z" to its standard input and
-waits for the answer line (one JSON object, docs/control.md), so each target is sent only
-once the previous one is answered: what a user's interactive loop does. Writes OUT.csv
+waits for its line on standard output (one JSON object: the answer, or why the target was
+refused; docs/control.md), so each target is sent only once the previous one is answered:
+what a user's interactive loop does. Writes OUT.csv
 (one row per target: wall time since the first target was sent, the answer's round-trip
 time, target, reached position, error, actuation) and OUT.png (the path in the horizontal
 plane over the circle, and the error against time). The output files are written under
@@ -56,7 +57,7 @@ def main():
         cmd += ["--set", kv]
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     log_path = os.path.join(tempfile.gettempdir(), "hydrosoft_circle.log")
-    log = open(log_path, "w")  # the resolved configuration and any error message
+    log = open(log_path, "w")  # the configuration, the summary and any message
     proc = subprocess.Popen(cmd, cwd=ROOT, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                             stderr=log, text=True, bufsize=1, env=env)
     rows = []
@@ -70,15 +71,16 @@ def main():
         t0 = sent if t0 is None else t0
         proc.stdin.write("%.9g %.9g %.9g\n" % tuple(target))
         proc.stdin.flush()
-        answer = None
-        for line in proc.stdout:  # the configuration goes to stderr; skip anything else
-            if line.startswith('{"answer"'):
-                answer = json.loads(line)["answer"]
-                break
-        if answer is None:
+        line = proc.stdout.readline()  # one JSON line per target line, nothing else
+        if not line:
             proc.kill()
             sys.exit("track_circle.py: hydrosoft stopped before answering target %d (its "
                      "messages: %s)" % (k, log_path))
+        reply = json.loads(line)
+        if "error" in reply:
+            proc.kill()
+            sys.exit("track_circle.py: target %d refused: %s" % (k, reply["error"]))
+        answer = reply["answer"]
         # The equilibrium's error where the answer has it (one_step with check_equilibrium),
         # else the answer's own (the equilibrium in the newton mode).
         rows.append({"time_s": sent - t0, "answer_ms": 1e3 * (time.perf_counter() - sent),
