@@ -6,12 +6,12 @@
 #include <regex>
 #include <set>
 
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "deck/cable_section.hpp"
 #include "deck/cavity_sections.hpp"
 #include "deck/control_section.hpp"
 #include "deck/exact_section.hpp"
-#include "common/deck_reader.hpp"
 #include "deck/overrides.hpp"
 #include "io/output.hpp"
 #include "materials/registry.hpp"
@@ -20,7 +20,6 @@ namespace hs {
 namespace {
 
 namespace fs = std::filesystem;
-
 
 YAML::Node load_yaml(const std::string& path) {
   if (!fs::is_regular_file(path)) throw InputError(path + ": deck file not found");
@@ -36,7 +35,7 @@ YAML::Node load_yaml(const std::string& path) {
 
 MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::path& deck_dir) {
   const std::string key = "mesh";
-  r.check_map(node, key, {"file", "order", "parameters", "refine"});
+  r.check_map(node, key, {"file", "order", "parameters", "refine", "trust_geo", "max_elements"});
   MeshConfig mesh;
   const YAML::Node file = required(r, node, key, "file");
   const fs::path given = r.text(file, "mesh.file");
@@ -63,6 +62,16 @@ MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::pat
     mesh.refine = r.integer(n, "mesh.refine");
     require(mesh.refine >= 0, r, n, "mesh.refine", "must be >= 0");
   }
+  if (const auto n = node["trust_geo"]) {
+    require(extension == ".geo", r, n, "mesh.trust_geo", geo_only);
+    mesh.trust_geo = r.boolean(n, "mesh.trust_geo");
+  }
+  if (const auto n = node["max_elements"]) {
+    mesh.max_elements = r.integer(n, "mesh.max_elements");
+    require(mesh.max_elements >= 1, r, n, "mesh.max_elements", "must be >= 1");
+  }
+  mesh.deck_dir =
+      (deck_dir.empty() ? fs::current_path() : fs::absolute(deck_dir)).lexically_normal().string();
   return mesh;
 }
 
@@ -160,10 +169,11 @@ TimeConfig parse_time(const DeckReader& r, const YAML::Node& node) {
             "must be > 0, got " + format_number(t.end_time));
     require(t.dt <= t.end_time, r, dt, "time.dt", "must not exceed time.end_time");
     if (const auto n = node["integrator"])
-      t.integrator = enum_of<Integrator>(kIntegratorNames,
-                                         one_of(r, n, "time.integrator", kIntegratorNames));
+      t.integrator =
+          enum_of<Integrator>(kIntegratorNames, one_of(r, n, "time.integrator", kIntegratorNames));
     if (const auto n = node["newmark"]) {
-      require(t.integrator == Integrator::newmark, r, n, "time.newmark", "only used by integrator newmark");
+      require(t.integrator == Integrator::newmark, r, n, "time.newmark",
+              "only used by integrator newmark");
       r.check_map(n, "time.newmark", {"beta", "gamma"});
       if (n["beta"]) t.newmark_beta = r.number(n["beta"], "time.newmark.beta");
       if (n["gamma"]) t.newmark_gamma = r.number(n["gamma"], "time.newmark.gamma");
@@ -200,8 +210,8 @@ SolverConfig parse_solver(const DeckReader& r, const YAML::Node& node) {
   r.check_map(node, "solver", {"preset", "petsc_options"});
   SolverConfig s;
   if (const auto n = node["preset"])
-    s.preset =
-        enum_of<SolverPreset>(kSolverPresetNames, one_of(r, n, "solver.preset", kSolverPresetNames));
+    s.preset = enum_of<SolverPreset>(kSolverPresetNames,
+                                     one_of(r, n, "solver.preset", kSolverPresetNames));
   if (const auto options = node["petsc_options"]) {
     if (!options.IsMap())
       r.fail("solver.petsc_options", options, "expected a map of option: value");
