@@ -272,5 +272,8 @@ int main(int argc, char** argv) {
   } catch (const fw::DeviceError& e) {
     std::cerr << "fluidweight: cuda error: " << e.what() << "\n";
     return 1;
+  } catch (const std::exception& e) {  // e.g. out of memory: a message, not an abort
+    std::cerr << "fluidweight: error: " << e.what() << "\n";
+    return 1;
   }
 }

@@ -99,17 +99,30 @@ void skip_section(detail::TextReader& in, const std::string& name) {
   }
 }
 
+// The fewest bytes an item takes in an ASCII file: a node "1\n0 0 0\n" (tag and coordinates),
+// an element its tag and nodes, each a digit and a space, a block header "0 1 0 0\n".
+constexpr long long kNodeBytes = 8, kBlockBytes = 8;
+long long element_bytes(int nodes) { return 2 * (1 + nodes); }
+
 void read_v41(detail::TextReader& in, Builder& b, bool nodes) {
+  const std::string what = nodes ? "nodes" : "elements";
   long long blocks = in.integer("entity block count");
-  in.integer("count");
+  in.check_count(blocks, kBlockBytes, "entity blocks");
+  long long total = in.integer("count");
+  in.check_count(total, nodes ? kNodeBytes : element_bytes(1), what);
   in.integer("min tag");
   in.integer("max tag");
+  long long sum = 0;
   for (long long k = 0; k < blocks; ++k) {
     if (nodes) {
       in.integer("entity dimension");
       in.integer("entity tag");
       long long parametric = in.integer("parametric flag");
       long long count = in.integer("node count");
+      in.check_count(count, kNodeBytes, "nodes in entity block " + std::to_string(k + 1));
+      if ((sum += count) > total) {
+        in.fail("the entity blocks hold more nodes than the header's " + std::to_string(total));
+      }
       std::vector<long long> tags(count);
       for (auto& t : tags) t = in.integer("node tag");
       for (long long t : tags) {
@@ -124,6 +137,10 @@ void read_v41(detail::TextReader& in, Builder& b, bool nodes) {
       long long count = in.integer("element count");
       int n = nodes_of(type);
       if (n < 0) in.fail("element type " + std::to_string(type) + " is not supported");
+      in.check_count(count, element_bytes(n), "elements in entity block " + std::to_string(k + 1));
+      if ((sum += count) > total) {
+        in.fail("the entity blocks hold more elements than the header's " + std::to_string(total));
+      }
       std::vector<long long> v(n);
       for (long long e = 0; e < count; ++e) {
         long long tag = in.integer("element tag");
@@ -136,6 +153,7 @@ void read_v41(detail::TextReader& in, Builder& b, bool nodes) {
 
 void read_v22(detail::TextReader& in, Builder& b, bool nodes) {
   long long count = in.integer("count");
+  in.check_count(count, nodes ? kNodeBytes : element_bytes(1), nodes ? "nodes" : "elements");
   for (long long k = 0; k < count; ++k) {
     if (nodes) {
       long long tag = in.integer("node tag");

@@ -1,6 +1,7 @@
 // Readers for .obj, .off and .stl surfaces, and the dispatch by extension.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <map>
@@ -44,6 +45,8 @@ SurfaceMesh read_obj(const std::string& path) {
         char* end = nullptr;
         double x = std::strtod(t[d].c_str(), &end);
         if (end == t[d].c_str() || *end != '\0') fail("bad coordinate '" + t[d] + "'");
+        // NaN, inf and values beyond a double (strtod gives inf) carry no geometry.
+        if (!std::isfinite(x)) fail("coordinate '" + t[d] + "' is not a finite number");
         mesh.vertices.push_back(x);
       }
     } else if (t[0] == "f") {
@@ -78,8 +81,12 @@ SurfaceMesh read_off(const std::string& path) {
   if (header != "OFF") in.fail("expected the header 'OFF', got '" + header + "'");
   long long nv = in.integer("vertex count"), nf = in.integer("face count");
   in.integer("edge count");
+  // Checked against the file's size before anything is allocated for them: a vertex takes at
+  // least "0 0 0\n", a face "3 0 1 2\n".
+  in.check_count(nv, 6, "vertices");
+  in.check_count(nf, 8, "faces");
+  if (nv > INT32_MAX / 3) in.fail("more than " + std::to_string(INT32_MAX / 3) + " vertices");
   in.line();
-  if (nv < 0 || nf < 0 || nv > INT32_MAX / 3) in.fail("bad vertex or face count");
   SurfaceMesh mesh;
   mesh.vertices.reserve(3 * nv);
   for (long long v = 0; v < nv; ++v) {
@@ -124,7 +131,7 @@ struct CornerMerger {
   }
 };
 
-SurfaceMesh read_stl_binary(const std::string& bytes) {
+SurfaceMesh read_stl_binary(const std::string& path, const std::string& bytes) {
   uint32_t count;
   std::memcpy(&count, bytes.data() + 80, 4);
   CornerMerger merger;
@@ -135,6 +142,10 @@ SurfaceMesh read_stl_binary(const std::string& bytes) {
       for (int d = 0; d < 3; ++d) {
         float x;
         std::memcpy(&x, facet + 4 * (3 * k + d), 4);
+        if (!std::isfinite(x)) {
+          throw InputError(path + ": facet " + std::to_string(f + 1) +
+                           ": a corner coordinate is not a finite number");
+        }
         c[k][d] = x;
       }
     }
@@ -175,7 +186,7 @@ SurfaceMesh read_stl(const std::string& path) {
   if (bytes.size() >= 84) {
     uint32_t count;
     std::memcpy(&count, bytes.data() + 80, 4);
-    if (bytes.size() == 84 + 50 * static_cast<size_t>(count)) return read_stl_binary(bytes);
+    if (bytes.size() == 84 + 50 * static_cast<size_t>(count)) return read_stl_binary(path, bytes);
   }
   if (bytes.compare(0, 5, "solid") == 0) return read_stl_ascii(path, std::move(bytes));
   throw InputError(path +

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -53,7 +54,22 @@ double TextReader::number(const char* what) {
   if (end == t.c_str() || *end != '\0' || errno == ERANGE) {
     fail(std::string("expected a number (") + what + "), got '" + t + "'");
   }
+  if (!std::isfinite(v)) {
+    fail(std::string("expected a finite number (") + what + "), got '" + t + "'");
+  }
   return v;
+}
+
+void TextReader::check_count(long long count, long long min_bytes, const std::string& what) const {
+  if (count < 0)
+    fail("claims " + std::to_string(count) + " " + what + ": a count cannot be negative");
+  const long long left = static_cast<long long>(text_.size() - pos_);
+  if (count > left / min_bytes) {
+    fail("claims " + std::to_string(count) + " " + what + ", more than the " +
+         std::to_string(text_.size()) + "-byte file can hold (at most " +
+         std::to_string(left / min_bytes) + " in the " + std::to_string(left) +
+         " bytes after this line)");
+  }
 }
 
 long long TextReader::integer(const char* what) {

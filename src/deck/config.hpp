@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -20,6 +21,13 @@ struct MeshConfig {
   int order = 1;     // 1: Tet4, 2: Tet10
   std::map<std::string, double> parameters;  // .geo only: numbers set before meshing (e.g. h)
   int refine = 0;                            // .geo only: uniform refinements after meshing
+  // .geo only: run the source as it is, even when it runs commands, writes files or names
+  // files outside its own and the deck's folders (docs/reliability.md).
+  bool trust_geo = false;
+  // The most tetrahedra the mesh may have (after refinement); a .geo is refused before
+  // meshing when its sizes already promise more, a .msh when its header says more.
+  int64_t max_elements = 20'000'000;
+  std::string deck_dir;  // the deck's folder (not a key): a .geo may read files there
 };
 
 // A material: what the deck owns (group, density) and the law its model names, made by the

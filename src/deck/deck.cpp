@@ -44,7 +44,7 @@ YAML::Node load_yaml(const std::string& path) {
 
 MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::path& deck_dir) {
   const std::string key = "mesh";
-  r.check_map(node, key, {"file", "order", "parameters", "refine"});
+  r.check_map(node, key, {"file", "order", "parameters", "refine", "trust_geo", "max_elements"});
   MeshConfig mesh;
   const YAML::Node file = required(r, node, key, "file");
   const fs::path given = r.text(file, "mesh.file");
@@ -71,6 +71,16 @@ MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::pat
     mesh.refine = r.integer(n, "mesh.refine");
     require(mesh.refine >= 0, r, n, "mesh.refine", "must be >= 0");
   }
+  if (const auto n = node["trust_geo"]) {
+    require(extension == ".geo", r, n, "mesh.trust_geo", geo_only);
+    mesh.trust_geo = r.boolean(n, "mesh.trust_geo");
+  }
+  if (const auto n = node["max_elements"]) {
+    mesh.max_elements = r.integer(n, "mesh.max_elements");
+    require(mesh.max_elements >= 1, r, n, "mesh.max_elements", "must be >= 1");
+  }
+  mesh.deck_dir =
+      (deck_dir.empty() ? fs::current_path() : fs::absolute(deck_dir)).lexically_normal().string();
   return mesh;
 }
 

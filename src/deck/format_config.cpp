@@ -39,7 +39,9 @@ void emit_mesh(YAML::Emitter& out, const MeshConfig& mesh) {
   if (std::filesystem::path(mesh.file).extension() == ".geo") {
     emit_number_map(out, "parameters", mesh.parameters);
     out << YAML::Key << "refine" << YAML::Value << mesh.refine;
+    out << YAML::Key << "trust_geo" << YAML::Value << mesh.trust_geo;
   }
+  out << YAML::Key << "max_elements" << YAML::Value << mesh.max_elements;
   out << YAML::EndMap;
 }
 

@@ -18,10 +18,19 @@ namespace hs {
 // mentions, or a plain assignment that overwrites the value, is an error. A .msh (any
 // version gmsh reads) of another order is converted (setOrder), after cfg.refine uniform
 // refinements if any. gmsh is initialised and finalised inside each call, silently.
+//
+// Untrusted input (docs/reliability.md): a .geo is checked before gmsh runs it unless
+// cfg.trust_geo (geo_guard.hpp: no commands, no writes, files read only from its folder and
+// cfg.deck_dir); a .msh's counts are checked against its size before gmsh reads it
+// (msh_prescan.hpp); more than cfg.max_elements tetrahedra (after cfg.refine) are refused,
+// for a .geo before meshing when its size options already promise more, and after meshing; the
+// loaded mesh is refused for non-finite coordinates, degenerate, inverted or overlapping tetrahedra
+// and duplicated nodes (mesh_checks.hpp). Nothing is written to disk.
 Mesh load_mesh(const MeshConfig& cfg);
 
 // Rank `root` loads, the others receive a copy (the mesh is replicated; see
-// docs/architecture.md for why and for the size limits this implies).
+// docs/architecture.md for why and for the size limits this implies). The root prints
+// units_warning's warning, if any, to standard error.
 Mesh load_mesh_replicated(const MeshConfig& cfg, MPI_Comm comm, int root = 0);
 
 // Throws InputError unless `name` is a group of the mesh with at least one node.

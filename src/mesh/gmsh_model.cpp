@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "common/error.hpp"
+#include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_faces.hpp"
 
 namespace hs {
@@ -76,9 +77,10 @@ class NodeNumbering {
 };
 
 // The tetrahedra of every volume entity, with their volume group. Fills mesh.volume_names,
-// mesh.tet_volume and returns the gmsh node tags of the tetrahedra (nodes_per_tet each).
-std::vector<size_t> read_tets(Mesh& mesh, const std::vector<Group>& groups,
-                              const std::string& file) {
+// mesh.tet_volume and tet_tags (their element tags) and returns the gmsh node tags of the
+// tetrahedra (nodes_per_tet each).
+std::vector<size_t> read_tets(Mesh& mesh, const std::vector<Group>& groups, const std::string& file,
+                              std::vector<size_t>& tet_tags) {
   check_tetrahedra_only(file);
   std::map<int, int> volume_of_tag;  // physical tag -> index into volume_names
   for (const auto& g : groups)
@@ -112,6 +114,7 @@ std::vector<size_t> read_tets(Mesh& mesh, const std::vector<Group>& groups,
       volume = volume_of_tag.at(physical[0]);
     }
     mesh.tet_volume.insert(mesh.tet_volume.end(), element_tags.size(), volume);
+    tet_tags.insert(tet_tags.end(), element_tags.begin(), element_tags.end());
     node_tags.insert(node_tags.end(), nodes.begin(), nodes.end());
   }
   if (node_tags.empty()) throw InputError(file + ": the mesh contains no tetrahedra");
@@ -198,14 +201,21 @@ Mesh mesh_from_gmsh_model(const std::string& file, int order) {
   Mesh mesh;
   mesh.order = order;
   const std::vector<Group> groups = named_groups(file);
-  const std::vector<size_t> tet_tags = read_tets(mesh, groups, file);
-  const NodeNumbering numbering(tet_tags);
+  MeshLabels labels;
+  const std::vector<size_t> tet_nodes = read_tets(mesh, groups, file, labels.tet_tags);
+  const NodeNumbering numbering(tet_nodes);
+  labels.node_tags = numbering.tags();
   mesh.x = read_coordinates(numbering);
-  mesh.tets.resize(tet_tags.size());
-  for (size_t i = 0; i < tet_tags.size(); ++i) mesh.tets[i] = numbering(tet_tags[i]);
-  orient_tets_positively(mesh, file);
+  mesh.tets.resize(tet_nodes.size());
+  for (size_t i = 0; i < tet_nodes.size(); ++i) mesh.tets[i] = numbering(tet_nodes[i]);
+  // Bad meshes stop here, naming the node or element, before any work is done with them.
+  check_finite_coordinates(mesh, file, labels);
+  orient_tets_positively(mesh, file, &labels);
+  check_curved_tets(mesh, file, labels);
+  check_duplicate_nodes(mesh, file, labels);
 
   const FaceIndex faces(mesh);
+  check_no_overlap(mesh, faces, file, labels);
   for (const auto& g : groups) {
     if (g.dim == 2) attach_surface(mesh, faces, g.name, group_triangles(g, numbering, file), file);
     mesh.node_groups[g.name] = group_nodes(g, numbering, file);

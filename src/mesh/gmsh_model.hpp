@@ -19,6 +19,9 @@ void check_tetrahedra_only(const std::string& file);
 // (and the node group "body"). A tetrahedron in no volume group, or in two, is an error.
 // Surface groups: triangles only, each bounding a tetrahedron (see attach_surface).
 // Node groups: one per named group of any dimension; every node must be a tetrahedron's.
+// Refused, naming the node or element by its tag: a coordinate that is not finite, a
+// degenerate tetrahedron, a P2 tetrahedron with a non-positive Jacobian, two nodes at the
+// same place, two tetrahedra that overlap (mesh_checks.hpp).
 Mesh mesh_from_gmsh_model(const std::string& file, int order);
 
 }  // namespace hs

@@ -1,10 +1,12 @@
 // load_mesh_replicated: the root rank loads, every other rank receives a full copy.
 #include <algorithm>
 #include <climits>
+#include <iostream>
 #include <stdexcept>
 
 #include "common/error.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "mesh/mesh_checks.hpp"
 
 namespace hs {
 namespace {
@@ -86,6 +88,8 @@ Mesh load_mesh_replicated(const MeshConfig& cfg, MPI_Comm comm, int root) {
   if (rank == root) {
     try {
       mesh = load_mesh(cfg);
+      const std::string warning = units_warning(mesh, cfg.file);
+      if (!warning.empty()) std::cerr << "warning: " << warning << std::endl;
     } catch (const InputError& e) {
       status = kInputError;
       message = e.what();

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "mesh/mesh_checks.hpp"
 
 namespace hs {
 namespace {
@@ -28,7 +29,7 @@ Eigen::Vector3d node_x(const Mesh& mesh, int64_t n) {
 
 }  // namespace
 
-void orient_tets_positively(Mesh& mesh, const std::string& file) {
+void orient_tets_positively(Mesh& mesh, const std::string& file, const MeshLabels* labels) {
   const int npe = mesh.nodes_per_tet();
   int64_t tet_copy[10];
   for (int64_t t = 0; t < mesh.num_tets(); ++t) {
@@ -39,12 +40,9 @@ void orient_tets_positively(Mesh& mesh, const std::string& file) {
     const double det = edges.determinant();
     // Degenerate relative to the cube of the longest vertex-to-vertex-0 edge.
     const double scale = edges.colwise().norm().maxCoeff();
-    if (!(std::abs(det) > 1e-12 * scale * scale * scale)) {
-      std::ostringstream msg;
-      msg << file << ": tetrahedron " << t << " (first vertex at " << x0.transpose()
-          << ") is degenerate (zero volume)";
-      throw InputError(msg.str());
-    }
+    if (!(std::abs(det) > 1e-12 * scale * scale * scale))
+      throw InputError(file + ": " + (labels ? *labels : MeshLabels{}).tet(mesh, t) +
+                       " is degenerate (zero volume)");
     if (det > 0) continue;
     std::copy(tet, tet + npe, tet_copy);
     for (int i = 0; i < npe; ++i) tet[i] = tet_copy[kSwap12[i]];
@@ -58,6 +56,13 @@ size_t FaceIndex::KeyHash::operator()(const std::array<int64_t, 3>& k) const {
   return h;
 }
 
+namespace {
+
+// Whether (p, q, r) is an odd permutation of its sorted order.
+bool odd_order(int64_t p, int64_t q, int64_t r) { return ((p > q) + (p > r) + (q > r)) % 2 == 1; }
+
+}  // namespace
+
 FaceIndex::FaceIndex(const Mesh& mesh) {
   const int npe = mesh.nodes_per_tet();
   faces_.reserve(static_cast<size_t>(2.2 * static_cast<double>(mesh.num_tets())) + 16);
@@ -66,8 +71,13 @@ FaceIndex::FaceIndex(const Mesh& mesh) {
     for (int v = 0; v < 4; ++v) {
       const int* f = kOutwardFace[v];
       std::array<int64_t, 3> key{tet[f[0]], tet[f[1]], tet[f[2]]};
+      const bool odd = odd_order(key[0], key[1], key[2]);
       std::sort(key.begin(), key.end());
-      faces_.emplace(key, Hit{t, v});  // keeps the first (lowest) tetrahedron
+      auto [it, inserted] = faces_.emplace(key, Entry{Hit{t, v}, 1, odd});  // keeps the lowest
+      if (inserted) continue;
+      Entry& e = it->second;
+      // A second tetrahedron must see the face the other way round, and none may be third.
+      if (overlap_.first < 0 && (++e.uses > 2 || e.odd == odd)) overlap_ = {e.hit.tet, t};
     }
   }
 }
@@ -76,7 +86,7 @@ FaceIndex::Hit FaceIndex::find(int64_t a, int64_t b, int64_t c) const {
   std::array<int64_t, 3> key{a, b, c};
   std::sort(key.begin(), key.end());
   const auto it = faces_.find(key);
-  return it == faces_.end() ? Hit{} : it->second;
+  return it == faces_.end() ? Hit{} : it->second.hit;
 }
 
 void attach_surface(Mesh& mesh, const FaceIndex& index, const std::string& name,

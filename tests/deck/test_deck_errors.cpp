@@ -215,6 +215,14 @@ TEST_F(DeckErrors, MeshFiles) {
       {"mesh: {file: mesh.stl}\n" + kMaterials, "mesh.file", "expected a .msh or .geo file"},
       {"mesh: {file: body.msh, parameters: {h: 1}}\n" + kMaterials, "mesh.parameters",
        "only used with a .geo mesh file"},
+      {"mesh: {file: body.msh, trust_geo: true}\n" + kMaterials, "mesh.trust_geo",
+       "only used with a .geo mesh file"},
+      {"mesh: {file: body.geo, trust_geo: yes please}\n" + kMaterials, "mesh.trust_geo",
+       "expected true or false"},
+      {"mesh: {file: body.msh, max_elements: 0}\n" + kMaterials, "mesh.max_elements",
+       "must be >= 1"},
+      {"mesh: {file: body.msh, max_elements: 1.5e7}\n" + kMaterials, "mesh.max_elements",
+       "expected an integer"},
   });
 }
 

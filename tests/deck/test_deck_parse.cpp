@@ -26,6 +26,8 @@ mesh:
   order: 2
   parameters: {h: 0.05, a: 1.5}
   refine: 1
+  trust_geo: true
+  max_elements: 5000000
 materials:
   - {group: body, model: neo_hookean, E: 2.98e5, nu: 0.49, density: 1100}
   - {group: insert, model: linear_elastic, mu: 1.0e5, lambda: 2.0e5}
@@ -160,6 +162,8 @@ void expect_same(const Config& a, const Config& b) {
   EXPECT_EQ(a.mesh.order, b.mesh.order);
   EXPECT_EQ(a.mesh.parameters, b.mesh.parameters);
   EXPECT_EQ(a.mesh.refine, b.mesh.refine);
+  EXPECT_EQ(a.mesh.trust_geo, b.mesh.trust_geo);
+  EXPECT_EQ(a.mesh.max_elements, b.mesh.max_elements);
   ASSERT_EQ(a.materials.size(), b.materials.size());
   for (size_t i = 0; i < a.materials.size(); ++i) {
     const auto &m = a.materials[i], &n = b.materials[i];
@@ -287,6 +291,9 @@ TEST_F(DeckParse, ReadsEveryKey) {
   EXPECT_EQ(c.mesh.order, 2);
   EXPECT_EQ(c.mesh.parameters, (std::map<std::string, double>{{"h", 0.05}, {"a", 1.5}}));
   EXPECT_EQ(c.mesh.refine, 1);
+  EXPECT_TRUE(c.mesh.trust_geo);
+  EXPECT_EQ(c.mesh.max_elements, 5000000);
+  EXPECT_EQ(c.mesh.deck_dir, (tmp.path() / "decks").string());  // where a .geo may read too
 
   ASSERT_EQ(c.materials.size(), 4u);
   EXPECT_EQ(c.materials[0].law->name(), "neo_hookean");
@@ -339,6 +346,8 @@ TEST_F(DeckParse, FillsDefaults) {
   const Config c = parse_deck(path);
   const Config defaults;
   EXPECT_EQ(c.mesh.order, 1);
+  EXPECT_FALSE(c.mesh.trust_geo);
+  EXPECT_EQ(c.mesh.max_elements, 20'000'000);
   EXPECT_TRUE(c.dirichlet.empty());
   EXPECT_TRUE(c.pressures.empty());
   EXPECT_EQ(c.gravity, (std::array<double, 3>{0, 0, 0}));

@@ -3,14 +3,19 @@
 // the library.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <stdlib.h>
 
 #include <Eigen/Dense>
 #include <array>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
+#include "common/error.hpp"
 #include "deck/config.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "mesh/mesh.hpp"
@@ -113,6 +118,82 @@ inline Vec3 face_centroid(const Mesh& m, const std::string& group, int64_t f) {
 
 inline int64_t num_faces(const Mesh& m, const std::string& group) {
   return static_cast<int64_t>(m.surfaces.at(group).size()) / m.nodes_per_face();
+}
+
+// A gmsh 4.1 ASCII file with one entity per dimension (tag 1), each optionally in a
+// named physical group (tag = 10 + dim), and all nodes classified on the volume.
+struct MshFile {
+  std::vector<std::array<double, 3>> nodes;  // node tags 1, 2, ...
+  struct Block {
+    int dim, type;
+    std::vector<std::vector<int>> elements;  // node tags
+  };
+  std::vector<Block> blocks;
+  std::map<int, std::string> group_of_dim;
+
+  std::string write(const TempDir& dir, const std::string& name) const {
+    std::ostringstream s;
+    s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n" << group_of_dim.size() << "\n";
+    for (const auto& [dim, g] : group_of_dim) s << dim << " " << 10 + dim << " \"" << g << "\"\n";
+    s << "$EndPhysicalNames\n$Entities\n";
+    int count[4] = {0, 0, 0, 0};
+    for (const auto& b : blocks) count[b.dim] = 1;
+    s << count[0] << " " << count[1] << " " << count[2] << " " << count[3] << "\n";
+    auto physical = [&](int dim) {
+      return group_of_dim.count(dim) ? "1 " + std::to_string(10 + dim) : std::string("0");
+    };
+    for (const auto& b : blocks) {
+      if (b.dim == 0) {
+        const auto& x = nodes[b.elements[0][0] - 1];
+        s << "1 " << x[0] << " " << x[1] << " " << x[2] << " " << physical(0) << "\n";
+      }
+    }
+    for (int dim = 1; dim <= 3; ++dim)
+      if (count[dim]) s << "1 -10 -10 -10 10 10 10 " << physical(dim) << " 0\n";
+    s << "$EndEntities\n$Nodes\n1 " << nodes.size() << " 1 " << nodes.size() << "\n3 1 0 "
+      << nodes.size() << "\n";
+    for (size_t i = 0; i < nodes.size(); ++i) s << i + 1 << "\n";
+    for (const auto& x : nodes) s << x[0] << " " << x[1] << " " << x[2] << "\n";
+    size_t total = 0;
+    for (const auto& b : blocks) total += b.elements.size();
+    s << "$EndNodes\n$Elements\n" << blocks.size() << " " << total << " 1 " << total << "\n";
+    int tag = 1;
+    for (const auto& b : blocks) {
+      s << b.dim << " 1 " << b.type << " " << b.elements.size() << "\n";
+      for (const auto& e : b.elements) {
+        s << tag++;
+        for (int n : e) s << " " << n;
+        s << "\n";
+      }
+    }
+    s << "$EndElements\n";
+    const std::string path = dir.file(name);
+    std::ofstream(path) << s.str();
+    return path;
+  }
+};
+
+// The unit corner tetrahedron, given with negative orientation (vertices 1 and 2 swapped),
+// its face z = 0 as group "base" and its apex (0, 0, 1) as point group "apex".
+inline MshFile corner_tet() {
+  MshFile f;
+  f.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  f.blocks = {{0, 15, {{4}}}, {2, 2, {{1, 2, 3}}}, {3, 4, {{1, 3, 2, 4}}}};
+  f.group_of_dim = {{0, "apex"}, {2, "base"}, {3, "solid"}};
+  return f;
+}
+
+// Runs `body` and expects an InputError whose message contains every one of `parts`.
+template <typename F>
+void expect_input_error(F body, const std::vector<std::string>& parts) {
+  try {
+    body();
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    for (const auto& p : parts)
+      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
+          << "'" << p << "' not in: " << e.what();
+  }
 }
 
 }  // namespace hs::test

@@ -1,0 +1,53 @@
+// Checks of a loaded mesh that refuse it before any work, each naming the node or element at
+// fault (docs/reliability.md, "Untrusted meshes and surfaces"), and the warning of a mesh that
+// looks drawn in other units than the deck's metres. Used by load_mesh; no gmsh needed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+#include "mesh/mesh_faces.hpp"
+
+namespace hs {
+
+// How messages name nodes and tetrahedra: by their tags in the mesh file (gmsh's), when
+// known, else by their index in the Mesh; always with their coordinates.
+struct MeshLabels {
+  std::vector<size_t> node_tags;  // per node of the Mesh, or empty
+  std::vector<size_t> tet_tags;   // per tetrahedron of the Mesh, or empty
+
+  std::string node(const Mesh& mesh, int64_t n) const;  // "node 12 at (0, 0, 1)"
+  std::string tet(const Mesh& mesh, int64_t t) const;   // "element 7 (vertices ...)"
+};
+
+// Throws InputError "FILE: node N: reason" at the first node with a NaN or infinite
+// coordinate (a number that overflowed a double reads as infinite).
+void check_finite_coordinates(const Mesh& mesh, const std::string& file,
+                              const MeshLabels& labels = {});
+
+// P2 only: throws InputError naming the element whose map from the reference tetrahedron has
+// a non-positive Jacobian at one of its nodes or at a quadrature point of the element
+// routines (an edge node pulled across the element: inverted, or curved too strongly).
+// Requires positively oriented vertices (orient_tets_positively).
+void check_curved_tets(const Mesh& mesh, const std::string& file, const MeshLabels& labels = {});
+
+// Throws InputError naming both nodes when two distinct nodes lie at the same place (to
+// 1e-12 of the mesh's extent): the tetrahedra on either side are then not connected (a
+// crack, or a volume meshed twice), which the run would silently treat as two bodies.
+void check_duplicate_nodes(const Mesh& mesh, const std::string& file,
+                           const MeshLabels& labels = {});
+
+// Throws InputError naming both elements when a face is shared by two tetrahedra on the same
+// side of it, or by more than two: tetrahedra that overlap (one folded over its neighbour).
+void check_no_overlap(const Mesh& mesh, const FaceIndex& faces, const std::string& file,
+                      const MeshLabels& labels = {});
+
+// Empty, or a warning naming `file` and the bounding box when the mesh's largest extent is
+// above 100 m or below 1e-4 m: likely a mesh drawn in millimetres (or in metres under a deck
+// meant in millimetres); the deck's numbers are SI.
+std::string units_warning(const Mesh& mesh, const std::string& file);
+
+}  // namespace hs

@@ -1,0 +1,307 @@
+// prescan_msh: the file is mapped read-only; the $Nodes and $Elements headers (and, in format
+// 4.1, each entity block's header, whose count gmsh allocates too) are read and every count is
+// compared with the bytes left after it, at the fewest bytes an item can take: 8 for a node
+// ("1\n0 0 0\n"), 4 for an element ("1 1\n"), more in binary files. The data itself is skipped,
+// not parsed: gmsh reads it afterwards.
+#include "mesh/msh_prescan.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <cstring>
+#include <map>
+#include <string_view>
+
+#include "common/error.hpp"
+
+namespace hs {
+namespace {
+
+// The whole file, mapped read-only (nothing is copied; pages are read as they are touched).
+class MappedFile {
+ public:
+  explicit MappedFile(const std::string& file) {
+    const int fd = open(file.c_str(), O_RDONLY);
+    if (fd < 0) throw InputError(file + ": cannot open the mesh file (missing or unreadable)");
+    struct stat st {};
+    if (fstat(fd, &st) == 0 && st.st_size > 0) {
+      size_ = static_cast<size_t>(st.st_size);
+      void* p = mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+      data_ = p == MAP_FAILED ? nullptr : static_cast<const char*>(p);
+    }
+    close(fd);
+    if (size_ > 0 && !data_) throw InputError(file + ": cannot read the mesh file");
+  }
+  ~MappedFile() {
+    if (data_) munmap(const_cast<char*>(data_), size_);
+  }
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::string_view text() const {
+    return data_ ? std::string_view(data_, size_) : std::string_view();
+  }
+
+ private:
+  const char* data_ = nullptr;
+  size_t size_ = 0;
+};
+
+// Nodes of each gmsh element type (binary blocks are skipped by size).
+int nodes_of_type(int64_t type) {
+  static const std::map<int64_t, int> kNodes = {
+      {1, 2},   {2, 3},   {3, 4},   {4, 4},   {5, 8},   {6, 6},   {7, 5},   {8, 3},   {9, 6},
+      {10, 9},  {11, 10}, {12, 27}, {13, 18}, {14, 14}, {15, 1},  {16, 8},  {17, 20}, {18, 15},
+      {19, 13}, {20, 9},  {21, 10}, {22, 12}, {23, 15}, {24, 15}, {25, 21}, {26, 4},  {27, 5},
+      {28, 6},  {29, 20}, {30, 35}, {31, 56}, {92, 64}, {93, 125}};
+  const auto it = kNodes.find(type);
+  return it == kNodes.end() ? -1 : it->second;
+}
+
+bool is_tet(int64_t type) { return type == 4 || type == 11; }
+
+class Scanner {
+ public:
+  Scanner(const std::string& file, std::string_view text) : file_(file), d_(text) {}
+
+  MshCounts run() {
+    MshCounts counts;
+    size_t at = line_after("$MeshFormat", 0);
+    if (at == npos) return v1(counts);
+    const std::string version(token(at));
+    const int64_t file_type = integer(at, "$MeshFormat", "the file type");
+    integer(at, "$MeshFormat", "the data size");
+    binary_ = file_type == 1;
+    if (binary_) {
+      at = skip_line(at);
+      if (at + 4 <= d_.size()) {
+        int32_t one = 0;
+        std::memcpy(&one, d_.data() + at, 4);
+        swap_ = one != 1;
+      }
+    }
+    if (version.rfind("4.1", 0) == 0) return v41_counts(counts);
+    const bool v40 = version.rfind("4", 0) == 0;
+    if (binary_ && v40) return counts;  // gmsh reads format 4.0 in ASCII only
+    return totals(counts, v40);
+  }
+
+ private:
+  static constexpr size_t npos = std::string_view::npos;
+  static constexpr int64_t kNodeBytes = 8, kElementBytes = 4;
+
+  [[noreturn]] void fail(const std::string& section, const std::string& reason, size_t at) const {
+    throw InputError(file_ + ": " + section + ": " + reason + " (" + where(at) + ")");
+  }
+
+  // Line numbers mean nothing in a binary file: there, the byte.
+  std::string where(size_t at) const {
+    if (binary_) return "byte " + std::to_string(at);
+    int64_t line = 1;
+    for (size_t k = 0; k < at && k < d_.size(); ++k) line += d_[k] == '\n';
+    return "line " + std::to_string(line);
+  }
+
+  // The position after the line that holds exactly `marker` (at a line's start), or npos.
+  size_t line_after(std::string_view marker, size_t from) const {
+    for (size_t p = d_.find(marker, from); p != npos; p = d_.find(marker, p + 1)) {
+      const size_t end = p + marker.size();
+      if ((p == 0 || d_[p - 1] == '\n') && (end == d_.size() || d_[end] == '\n' || d_[end] == '\r'))
+        return skip_line(end);
+    }
+    return npos;
+  }
+
+  size_t skip_line(size_t at) const {
+    const size_t nl = d_.find('\n', at);
+    return nl == npos ? d_.size() : nl + 1;
+  }
+
+  std::string_view token(size_t& at) const {
+    while (at < d_.size() && std::isspace(static_cast<unsigned char>(d_[at]))) ++at;
+    const size_t start = at;
+    while (at < d_.size() && !std::isspace(static_cast<unsigned char>(d_[at]))) ++at;
+    return d_.substr(start, at - start);
+  }
+
+  int64_t integer(size_t& at, const std::string& section, const std::string& what) const {
+    const size_t start = at;
+    const std::string_view t = token(at);
+    int64_t value = 0;
+    const auto [end, error] = std::from_chars(t.data(), t.data() + t.size(), value);
+    if (t.empty() || error != std::errc() || end != t.data() + t.size())
+      fail(section,
+           "expected an integer for " + what + ", got '" + std::string(t.substr(0, 40)) + "'",
+           start);
+    return value;
+  }
+
+  // `count` items of at least `bytes` each must fit in what follows `at`.
+  void check_count(int64_t count, int64_t bytes, size_t at, const std::string& section,
+                   const std::string& what, size_t reported_at) const {
+    if (count < 0)
+      fail(section, "claims " + std::to_string(count) + " " + what + ": a count cannot be negative",
+           reported_at);
+    const int64_t left = static_cast<int64_t>(d_.size() - std::min(at, d_.size()));
+    if (count > left / bytes)
+      fail(section,
+           "claims " + std::to_string(count) + " " + what + ", more than the " +
+               std::to_string(d_.size()) + "-byte file can hold (at most " +
+               std::to_string(left / bytes) + " in the " + std::to_string(left) +
+               " bytes after it)",
+           reported_at);
+  }
+
+  // Formats 1, 2 and 4.0: the header's count only ($NOD/$ELM in format 1).
+  MshCounts totals(MshCounts counts, bool v40) {
+    for (const bool nodes : {true, false}) {
+      const std::string section = nodes ? "$Nodes" : "$Elements";
+      size_t at = line_after(section, 0);
+      if (at == npos) continue;
+      const size_t header = at;
+      if (v40) integer(at, section, "the entity block count");
+      const int64_t count = integer(at, section, nodes ? "the node count" : "the element count");
+      check_count(count, nodes ? kNodeBytes : kElementBytes, at, section,
+                  nodes ? "nodes" : "elements", header);
+      (nodes ? counts.nodes : counts.elements) = count;
+    }
+    return counts;
+  }
+
+  MshCounts v1(MshCounts counts) {
+    for (const bool nodes : {true, false}) {
+      const std::string section = nodes ? "$NOD" : "$ELM";
+      size_t at = line_after(section, 0);
+      if (at == npos) continue;
+      const size_t header = at;
+      const int64_t count = integer(at, section, nodes ? "the node count" : "the element count");
+      check_count(count, nodes ? kNodeBytes : kElementBytes, at, section,
+                  nodes ? "nodes" : "elements", header);
+      (nodes ? counts.nodes : counts.elements) = count;
+    }
+    return counts;
+  }
+
+  // Binary values of the file's byte order.
+  template <typename T>
+  T read_binary(size_t& at, const std::string& section) const {
+    if (at + sizeof(T) > d_.size()) fail(section, "the file ends inside a block header", at);
+    unsigned char bytes[sizeof(T)];
+    std::memcpy(bytes, d_.data() + at, sizeof(T));
+    if (swap_)
+      for (size_t k = 0; k < sizeof(T) / 2; ++k) std::swap(bytes[k], bytes[sizeof(T) - 1 - k]);
+    T value;
+    std::memcpy(&value, bytes, sizeof(T));
+    at += sizeof(T);
+    return value;
+  }
+
+  int64_t count_at(size_t& at, const std::string& section, const std::string& what) {
+    if (!binary_) return integer(at, section, what);
+    const uint64_t v = read_binary<uint64_t>(at, section);
+    return v > static_cast<uint64_t>(INT64_MAX) ? -1 : static_cast<int64_t>(v);
+  }
+
+  int64_t int_at(size_t& at, const std::string& section, const std::string& what) {
+    return binary_ ? read_binary<int32_t>(at, section) : integer(at, section, what);
+  }
+
+  // Skips `count` whitespace-separated tokens (ASCII) or `count` 8-byte values (binary).
+  void skip_values(size_t& at, int64_t count) const {
+    if (binary_) {
+      at = std::min(d_.size(), at + static_cast<size_t>(count) * 8);
+      return;
+    }
+    for (int64_t k = 0; k < count && at < d_.size(); ++k) token(at);
+  }
+
+  MshCounts v41_counts(MshCounts counts) {
+    counts.nodes = v41_section(true, counts.tets);
+    counts.elements = v41_section(false, counts.tets);
+    return counts;
+  }
+
+  // One $Nodes or $Elements section of format 4.1: the header, then each block's header,
+  // each block's data skipped; returns the header's count. Counts tetrahedra into `tets`.
+  int64_t v41_section(bool nodes, int64_t& tets) {
+    const std::string section = nodes ? "$Nodes" : "$Elements";
+    const std::string what = nodes ? "nodes" : "elements";
+    size_t at = line_after(section, 0);
+    if (at == npos) return 0;
+    const size_t header = at;
+    const int64_t blocks = count_at(at, section, "the entity block count");
+    const int64_t total =
+        count_at(at, section, "the " + what.substr(0, what.size() - 1) + " count");
+    count_at(at, section, "the smallest tag");
+    count_at(at, section, "the largest tag");
+    const int64_t block_bytes = binary_ ? 20 : 8;  // "0 1 0 0\n"
+    const int64_t item_bytes = binary_ ? (nodes ? 32 : 16) : (nodes ? kNodeBytes : kElementBytes);
+    check_count(blocks, block_bytes, at, section, "entity blocks", header);
+    check_count(total, item_bytes, at, section, what, header);
+    if (!nodes) tets = 0;
+    int64_t sum = 0;
+    for (int64_t b = 0; b < blocks; ++b) {
+      const size_t block = at;
+      const int64_t dim = int_at(at, section, "an entity dimension");
+      int_at(at, section, "an entity tag");
+      const int64_t kind = int_at(at, section, nodes ? "the parametric flag" : "the element type");
+      const int64_t count = count_at(at, section, "a block's " + what + " count");
+      check_count(count, item_bytes, at, section,
+                  what + " in entity block " + std::to_string(b + 1), block);
+      sum += count;
+      if (sum > total)
+        fail(section,
+             "the entity blocks hold more " + what + " than the header's " + std::to_string(total),
+             block);
+      if (nodes) {
+        const int64_t per_node = 3 + (kind != 0 ? std::max<int64_t>(dim, 0) : 0);
+        skip_values(at, count);
+        skip_values(at, count * per_node);
+      } else {
+        if (is_tet(kind)) tets += count;
+        skip_elements(at, section, kind, count, block);
+      }
+    }
+    if (sum != total)
+      fail(section,
+           "the entity blocks hold " + std::to_string(sum) + " " + what + ", the header says " +
+               std::to_string(total),
+           header);
+    return total;
+  }
+
+  // ASCII: one element a line (its tag, then its nodes), as gmsh reads them; binary: by size.
+  void skip_elements(size_t& at, const std::string& section, int64_t type, int64_t count,
+                     size_t block) const {
+    if (binary_) {
+      const int n = nodes_of_type(type);
+      if (n < 0)
+        fail(section, "element type " + std::to_string(type) + " is not known to hydrosoft", block);
+      const int64_t left = static_cast<int64_t>(d_.size() - std::min(at, d_.size()));
+      if (count > left / (8 * (1 + n)))
+        fail(section,
+             "an entity block claims " + std::to_string(count) + " elements of " +
+                 std::to_string(n) + " nodes, more than the rest of the file can hold",
+             block);
+      at += static_cast<size_t>(count) * 8 * (1 + n);
+      return;
+    }
+    at = skip_line(at);
+    for (int64_t k = 0; k < count && at < d_.size(); ++k) at = skip_line(at);
+  }
+
+  const std::string& file_;
+  std::string_view d_;
+  bool binary_ = false, swap_ = false;
+};
+
+}  // namespace
+
+MshCounts prescan_msh(const std::string& file) {
+  const MappedFile mapped(file);
+  return Scanner(file, mapped.text()).run();
+}
+
+}  // namespace hs

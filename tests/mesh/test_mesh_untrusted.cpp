@@ -1,0 +1,402 @@
+// Untrusted meshes (docs/reliability.md, "Untrusted meshes and surfaces"): a .geo that runs
+// commands or reaches outside its folders is refused before gmsh runs it; meshing leaves no
+// file behind; mesh.max_elements stops huge meshes; a .msh whose counts its size cannot back
+// is refused before gmsh allocates for them; bad coordinates and bad elements are refused
+// naming the node or element; a mesh far from metres draws a warning. Every file is written
+// by the test into a temporary folder that the test removes.
+#include <gmsh.h>
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <climits>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "mesh/geo_guard.hpp"
+#include "mesh/mesh_checks.hpp"
+#include "mesh/msh_prescan.hpp"
+#include "mesh_test_util.hpp"
+
+namespace hs::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+Mesh load(const std::string& file, int64_t max_elements = 20'000'000, int refine = 0,
+          std::map<std::string, double> parameters = {}, bool trust_geo = false) {
+  MeshConfig cfg;
+  cfg.file = file;
+  cfg.max_elements = max_elements;
+  cfg.refine = refine;
+  cfg.parameters = std::move(parameters);
+  cfg.trust_geo = trust_geo;
+  return load_mesh(cfg);
+}
+
+// A unit cube that gmsh meshes in a moment, with `before` in front of it.
+std::string cube_geo(const TempDir& dir, const std::string& name, const std::string& before) {
+  const std::string path = dir.file(name);
+  std::ofstream(path) << before
+                      << "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\n"
+                         "Physical Volume(\"body\") = {1};\n";
+  return path;
+}
+
+std::string read(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// The text with the first `from` after `anchor` replaced by `to`.
+std::string replace_after(std::string text, const std::string& anchor, const std::string& from,
+                          const std::string& to) {
+  const size_t at = text.find(from, text.find(anchor));
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+// ---- 1. A .geo is code: commands and files outside its folders are refused -------------
+
+TEST(UntrustedGeo, ShellCommandIsRefusedBeforeItRuns) {
+  TempDir dir;
+  const std::string marker = dir.file("ran");
+  const std::string geo =
+      cube_geo(dir, "evil.geo", "// a cube\nSystemCall \"touch " + marker + "\";\n");
+  expect_input_error([&] { load(geo); },
+                     {geo, "SystemCall", "shell command", "mesh.trust_geo", "(line 2)"});
+  EXPECT_FALSE(fs::exists(marker));
+}
+
+TEST(UntrustedGeo, EveryCommandThatReachesOutIsNamedWithItsLine) {
+  TempDir dir;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"System \"ls\";", "System"},
+      {"NonBlockingSystemCall \"ls\";", "NonBlockingSystemCall"},
+      {"OnelabRun(\"x\", \"ls\");", "OnelabRun"},
+      {"Exit;", "Exit"},
+      {"n = GetValue(\"size?\", 1);", "GetValue"},
+      {"Save \"copy.msh\";", "Save"},
+      {"Print \"picture.png\";", "Print"},
+      {"Printf(\"%g\", 1) > \"out.txt\";", "Printf"},
+      {"CreateDir \"sub\";", "CreateDir"},
+      {"DeleteFile \"other.geo\";", "DeleteFile"},
+      {"Include \"/etc/passwd\";", "Include \"/etc/passwd\""},
+      {"Merge \"../outside.step\";", "Merge \"../outside.step\""},
+      {"Include StrCat(\"a\", \".geo\");", "Include"},
+      {"ShapeFromFile(\"/tmp/x.step\");", "ShapeFromFile"},
+      {"General.SessionFileName = \"x\";", "General.SessionFileName"},
+      {"Solver.Executable0 = \"sh\";", "Solver.Executable0"},
+      {"s = \"/etc/shadow\";", "\"/etc/shadow\""},
+      {"s = \"~/.bashrc\";", "\"~/.bashrc\""},
+  };
+  for (const auto& [command, named] : cases) {
+    const std::string geo = cube_geo(dir, "case.geo", "a = 1;\n/* line 2 */\n" + command + "\n");
+    SCOPED_TRACE(command);
+    expect_input_error([&] { check_untrusted_geo(geo, {}); }, {geo + ": " + named, "(line 3)"});
+  }
+}
+
+TEST(UntrustedGeo, CommentsPlainPrintfAndFilesInsideItsFoldersAreFine) {
+  TempDir dir;
+  fs::create_directory(dir.file("parts"));
+  write(dir.file("parts/size.geo"), "DefineConstant[ h = 0.5 ];\n");
+  const std::string geo = cube_geo(dir, "good.geo",
+                                   "// SystemCall \"rm -rf /\"; in a comment\n"
+                                   "/* Include \"/etc/passwd\"; */\n"
+                                   "Include \"parts/size.geo\";\n"
+                                   "Printf(\"SystemCall %g / 2\", h);\n"
+                                   "Mesh.MeshSizeMax = h;\n");
+  EXPECT_NO_THROW(check_untrusted_geo(geo, {}));
+  EXPECT_GT(load(geo).num_tets(), 0);
+}
+
+TEST(UntrustedGeo, AnIncludedFileIsCheckedToo) {
+  TempDir dir;
+  write(dir.file("inner.geo"), "x = 1;\nSystemCall \"ls\";\n");
+  const std::string geo = cube_geo(dir, "outer.geo", "Include \"inner.geo\";\n");
+  expect_input_error([&] { load(geo); }, {dir.file("inner.geo") + ": SystemCall", "(line 2)"});
+}
+
+TEST(UntrustedGeo, TheDecksFolderIsAllowedToo) {
+  TempDir dir;
+  fs::create_directory(dir.file("deck"));
+  fs::create_directory(dir.file("meshes"));
+  write(dir.file("deck/size.geo"), "h = 0.5;\n");
+  const std::string geo = cube_geo(dir, "meshes/body.geo", "Include \"../deck/size.geo\";\n");
+  expect_input_error([&] { check_untrusted_geo(geo, {}); }, {"outside"});
+  EXPECT_NO_THROW(check_untrusted_geo(geo, {dir.file("deck")}));
+}
+
+TEST(UntrustedGeo, TrustedFileRunsAsItIs) {
+  TempDir dir;
+  const std::string geo =
+      cube_geo(dir, "trusted.geo", "Printf(\"written\") > \"" + dir.file("out.txt") + "\";\n");
+  expect_input_error([&] { load(geo); }, {"Printf", "writes to a file"});
+  EXPECT_FALSE(fs::exists(dir.file("out.txt")));
+  EXPECT_GT(load(geo, 20'000'000, 0, {}, /*trust_geo=*/true).num_tets(), 0);
+  EXPECT_TRUE(fs::exists(dir.file("out.txt")));
+}
+
+TEST(UntrustedGeo, EveryShippedGeoPasses) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(std::string(HYDROSOFT_SOURCE_DIR) + "/meshes"))
+    if (entry.path().extension() == ".geo") {
+      SCOPED_TRACE(entry.path().string());
+      EXPECT_NO_THROW(check_untrusted_geo(entry.path().string(), {}));
+      ++count;
+    }
+  EXPECT_GE(count, 7);
+}
+
+// ---- 2. Nothing left behind; a limit on the element count ------------------------------
+
+// The files of `dir`, by name.
+std::vector<std::string> files_in(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename());
+  return names;
+}
+
+TEST(MeshingLeavesNothing, NotEvenWhenGmshEndsTheProcess) {
+  TempDir dir, tmp;
+  // A trusted .geo with deck parameters whose Exit ends the process inside gmsh: no
+  // destructor runs. The child's temporary folder must stay empty.
+  const std::string geo = cube_geo(dir, "exit.geo", "DefineConstant[ h = 0.5 ];\nExit;\n");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    setenv("TMPDIR", tmp.file("").c_str(), 1);
+    try {
+      load(geo, 20'000'000, 0, {{"h", 0.3}}, /*trust_geo=*/true);
+    } catch (...) {
+    }
+    _exit(3);  // not reached: gmsh's Exit ends the child first
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);  // gmsh's exit(0)
+  EXPECT_EQ(files_in(tmp.file("")), std::vector<std::string>{});
+}
+
+TEST(MeshingLeavesNothing, WhenAParameterIsRefused) {
+  TempDir dir, tmp;
+  const std::string geo = cube_geo(dir, "plain.geo", "h = 0.5;\n");
+  const char* old = getenv("TMPDIR");
+  const std::string saved = old ? old : "";
+  setenv("TMPDIR", tmp.file("").c_str(), 1);
+  expect_input_error([&] { load(geo, 20'000'000, 0, {{"h", 0.3}}); }, {"DefineConstant"});
+  if (old)
+    setenv("TMPDIR", saved.c_str(), 1);
+  else
+    unsetenv("TMPDIR");
+  EXPECT_EQ(files_in(tmp.file("")), std::vector<std::string>{});
+}
+
+TEST(MaxElements, HugeParametersAreRefusedBeforeMeshing) {
+  const auto start = std::chrono::steady_clock::now();
+  expect_input_error(
+      [] {
+        load(source_mesh("cantilever.geo"), 20'000'000, 0, {{"L", 1e9}});
+      },
+      {"cantilever.geo: mesh.max_elements", "at least", "above the limit of 20000000"});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 30);  // refused before meshing, not after
+}
+
+// Above the limit's reach (the limit raised out of the way), gmsh fails inside its parallel
+// 2D mesher, whence no exception can return: the run must stop with gmsh's message, not die
+// of std::terminate in silence.
+TEST(MaxElements, GmshErrorInsideItsParallelMesherIsReported) {
+  TempDir dir;
+  const std::string log = dir.file("stderr.txt"), out = dir.file("stdout.txt");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    if (!freopen(log.c_str(), "w", stderr) || !freopen(out.c_str(), "w", stdout)) _exit(5);
+    try {
+      load(source_mesh("cantilever.geo"), INT64_MAX, 0, {{"L", 1e9}});
+    } catch (...) {
+      _exit(4);
+    }
+    _exit(3);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status);
+  const std::string text = read(log);
+  if (WEXITSTATUS(status) == 4) GTEST_SKIP() << "this gmsh raised the error where it can be caught";
+  EXPECT_EQ(WEXITSTATUS(status), 2) << text;
+  EXPECT_NE(text.find("hydrosoft: error: " + source_mesh("cantilever.geo") + ": gmsh: "),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("the run stops here"), std::string::npos) << text;
+  EXPECT_EQ(read(out), "") << "gmsh asked a question on standard input";
+}
+
+TEST(MaxElements, CountedAfterMeshingAndBeforeRefinement) {
+  const Mesh m = load(source_mesh("block.geo"));
+  const int64_t n = m.num_tets();
+  EXPECT_EQ(load(source_mesh("block.geo"), n).num_tets(), n);
+  expect_input_error([&] { load(source_mesh("block.geo"), n - 1); },
+                     {"mesh.max_elements", "the mesh has " + std::to_string(n) + " tetrahedra"});
+  expect_input_error([&] { load(source_mesh("block.geo"), 8 * n - 1, 1); },
+                     {"mesh.max_elements", "after 1 refinements"});
+}
+
+TEST(MaxElements, MshIsCountedFromItsHeader) {
+  TempDir dir;
+  MshFile f;  // two tetrahedra sharing the face z = 0
+  f.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}};
+  f.blocks = {{3, 4, {{1, 2, 3, 4}, {1, 3, 2, 5}}}};
+  const std::string path = f.write(dir, "two.msh");
+  EXPECT_EQ(prescan_msh(path).tets, 2);
+  EXPECT_EQ(load(path, 2).num_tets(), 2);
+  expect_input_error([&] { load(path, 1); },
+                     {path + ": mesh.max_elements", "$Elements section holds 2 tetrahedra"});
+}
+
+// ---- 3. Counts against the file's size; coordinates ------------------------------------
+
+TEST(MshCounts, NodesClaimedBeyondTheFilesSizeAreRefused) {
+  TempDir dir;
+  const std::string good = read(corner_tet().write(dir, "corner.msh"));
+  // 2^24 nodes would take gmsh a quarter of a gigabyte before it read the first one.
+  const std::string path = dir.file("claim.msh");
+  write(path, replace_after(good, "$Nodes", "1 4 1 4", "1 16777216 1 16777216"));
+  expect_input_error([&] { load(path); },
+                     {path + ": $Nodes: claims 16777216 nodes", "-byte file", "(line "});
+  write(path, replace_after(good, "$Nodes", "3 1 0 4", "3 1 0 16777216"));
+  expect_input_error([&] { load(path); }, {"$Nodes", "16777216 nodes in entity block 1"});
+  write(path, replace_after(good, "$Nodes", "3 1 0 4", "3 1 0 -4"));
+  expect_input_error([&] { load(path); }, {"$Nodes", "-4", "cannot be negative"});
+  write(path, replace_after(good, "$Elements", "3 3 1 3", "3 300000000 1 3"));
+  expect_input_error([&] { load(path); }, {"$Elements: claims 300000000 elements"});
+}
+
+TEST(MshCounts, BinaryAndVersion2FilesAreScannedToo) {
+  TempDir dir;
+  for (const auto& [format, binary] :
+       std::vector<std::pair<double, int>>{{4.1, 1}, {2.2, 0}, {2.2, 1}}) {
+    SCOPED_TRACE(std::to_string(format) + (binary ? " binary" : " ASCII"));
+    const std::string msh = dir.file("block.msh");
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::open(source_mesh("block.geo"));
+    gmsh::model::mesh::generate(3);
+    gmsh::option::setNumber("Mesh.MshFileVersion", format);
+    gmsh::option::setNumber("Mesh.Binary", binary);
+    gmsh::write(msh);
+    gmsh::finalize();
+    const Mesh m = load(msh);
+    EXPECT_EQ(m.num_tets(), load_geo("block.geo", {}).num_tets());
+    // The $Nodes count made far larger than the file.
+    const std::string text = read(msh);
+    const size_t at = text.find("$Nodes\n") + 7;
+    std::string bad = text;
+    if (format > 4) {  // binary 4.1: four 8-byte counts; the second is the node count
+      const uint64_t claim = uint64_t{1} << 30;
+      bad.replace(at + 8, 8, reinterpret_cast<const char*>(&claim), 8);
+    } else {
+      bad.replace(at, text.find('\n', at) - at, "1073741824");
+    }
+    write(msh, bad);
+    expect_input_error([&] { load(msh); }, {"$Nodes: claims 1073741824 nodes"});
+  }
+}
+
+TEST(MeshCoordinates, NanInfiniteAndOverflowingAreRefusedNamingTheNode) {
+  TempDir dir;
+  const std::string good = read(corner_tet().write(dir, "corner.msh"));
+  const std::string path = dir.file("bad.msh");
+  for (const std::string& value : {"nan", "inf", "1e999"}) {
+    SCOPED_TRACE(value);
+    write(path, replace_after(good, "$Nodes", "\n1 0 0\n", "\n" + value + " 0 0\n"));
+    expect_input_error([&] { load(path); }, {path + ": node 2 at (", "not a finite number"});
+  }
+}
+
+// ---- 4. Bad elements and nodes, named; units ------------------------------------------
+
+TEST(BadElements, DegenerateTetrahedronIsNamedByItsTag) {
+  TempDir dir;
+  MshFile f;
+  f.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};  // four points in the plane z = 0
+  f.blocks = {{3, 4, {{1, 2, 3, 4}}}};
+  const std::string path = f.write(dir, "flat.msh");
+  expect_input_error([&] { load(path); }, {path + ": element 1 (vertices (0, 0, 0)", "degenerate"});
+}
+
+TEST(BadElements, OverlappingTetrahedraAreRefusedNamingBoth) {
+  TempDir dir;
+  MshFile f;  // two tetrahedra on the same side of their common face z = 0: one folded over
+  f.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.1, 0.1, 0.5}};
+  f.blocks = {{3, 4, {{1, 2, 3, 4}, {1, 3, 2, 5}}}};
+  const std::string path = f.write(dir, "folded.msh");
+  expect_input_error([&] { load(path); }, {path + ": element 1", "and element 2", "overlap"});
+  // A third tetrahedron on a face that two already share.
+  f.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}, {0.2, 0.2, 2}};
+  f.blocks = {{3, 4, {{1, 2, 3, 4}, {1, 3, 2, 5}, {1, 2, 3, 6}}}};
+  expect_input_error([&] { load(f.write(dir, "three.msh")); }, {"element 3", "overlap"});
+}
+
+TEST(BadElements, InvertedCurvedTetrahedronIsRefused) {
+  TempDir dir;
+  MshFile f;  // Tet10, gmsh order; the edge node of (0, 1) pulled to 0.9: past 3/4 of the edge
+  f.nodes = {{0, 0, 0},     {1, 0, 0},   {0, 1, 0},   {0, 0, 1},     {0.9, 0, 0},
+             {0.5, 0.5, 0}, {0, 0.5, 0}, {0, 0, 0.5}, {0, 0.5, 0.5}, {0.5, 0, 0.5}};
+  f.blocks = {{3, 11, {{1, 2, 3, 4, 5, 6, 7, 8, 9, 10}}}};
+  const std::string path = f.write(dir, "inverted.msh");
+  MeshConfig cfg;
+  cfg.file = path;
+  cfg.order = 2;
+  expect_input_error([&] { load_mesh(cfg); },
+                     {path + ": element 1", "inverted or curved too strongly"});
+  f.nodes[4] = {0.6, 0, 0};  // curved, still valid
+  cfg.file = f.write(dir, "curved.msh");
+  EXPECT_EQ(load_mesh(cfg).num_tets(), 1);
+}
+
+TEST(BadElements, DuplicatedNodesAreRefusedNamingBoth) {
+  TempDir dir;
+  MshFile f;  // two tetrahedra on either side of z = 0, their base triangles copied, not shared
+  f.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1},
+             {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, -1}};
+  f.blocks = {{3, 4, {{1, 2, 3, 4}, {5, 7, 6, 8}}}};
+  const std::string path = f.write(dir, "crack.msh");
+  expect_input_error([&] { load(path); },
+                     {path + ": node 1 at (0, 0, 0) and node 5 at (0, 0, 0)", "same place"});
+}
+
+TEST(Units, MillimetreMeshDrawsAWarningWithItsBoundingBox) {
+  TempDir dir;
+  MshFile f = corner_tet();
+  for (auto& x : f.nodes)
+    for (double& c : x) c *= 150;  // a 15 cm part drawn in millimetres
+  const std::string path = f.write(dir, "mm.msh");
+  const std::string warning = units_warning(load(path), path);
+  EXPECT_NE(warning.find(path + ": the mesh spans 150 m"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("[0, 150] x [0, 150] x [0, 150]"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("millimetres"), std::string::npos) << warning;
+  for (auto& x : f.nodes)
+    for (double& c : x) c *= 1e-7;  // 15 micrometres
+  EXPECT_NE(units_warning(load(f.write(dir, "tiny.msh")), path).find("1.5e-05 m"),
+            std::string::npos);
+  EXPECT_EQ(units_warning(load(corner_tet().write(dir, "m.msh")), path), "");
+}
+
+}  // namespace
+}  // namespace hs::test
