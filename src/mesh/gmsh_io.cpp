@@ -201,30 +201,30 @@ double occ_measure(int dim) {
 }
 
 // Before meshing: a lower bound on the tetrahedra of the model, from the largest element size
-// its options allow (Mesh.MeshSizeMax, or MeshSizeMin if larger, times MeshSizeFactor when
-// above 1). No edge gmsh makes is much longer than that size h, so counting with edges of 2 h:
-// the curves need length / 2h segments (each an edge of a tetrahedron, which has 6), the
-// surfaces area / (sqrt 3 h^2) triangles (each a face of a tetrahedron, which has 4), the
-// volumes volume / ((2 h)^3 / (6 sqrt 2)) tetrahedra. Huge mesh.parameters (a length of 1e9 at
-// a size of 0.025) are refused here, before gmsh meshes (and exhausts the memory).
+// h its options allow (Mesh.MeshSizeMax, or MeshSizeMin if larger, times MeshSizeFactor when
+// above 1). gmsh accepts edges up to about 1.4 h, so counting with edges e = 1.5 h: the curves
+// need length / e segments (each an edge of a tetrahedron, which has 6), the surfaces
+// area / (sqrt 3 e^2 / 4) triangles (each a face of a tetrahedron, which has 4), the volumes
+// volume / (e^3 / (6 sqrt 2)) tetrahedra. On every .geo of meshes/ this bound lies 2 to 5
+// times below the tetrahedra gmsh makes. Huge mesh.parameters (a length of 1e9 at a size of
+// 0.025) are refused here, before gmsh meshes (and exhausts the memory or fails).
 void check_size_estimate(const MeshConfig& cfg) {
   double size_max = 0, size_min = 0, factor = 1;
   gmsh::option::getNumber("Mesh.MeshSizeMax", size_max);
   gmsh::option::getNumber("Mesh.MeshSizeMin", size_min);
   gmsh::option::getNumber("Mesh.MeshSizeFactor", factor);
-  const double h = 2 * std::max(size_max, size_min) * std::max(factor, 1.0);
-  if (!(h > 0) || !std::isfinite(h)) return;
+  const double h = std::max(size_max, size_min) * std::max(factor, 1.0), e = 1.5 * h;
+  if (!(e > 0) || !std::isfinite(e)) return;
   const double length = curve_length(), area = occ_measure(2), volume = occ_measure(3);
-  const double by_curves = length / h / 6;
-  const double by_surfaces = area / (std::sqrt(3.0) / 4 * h * h) / 4;
-  const double by_volume = volume / (h * h * h / (6 * std::sqrt(2.0)));
+  const double by_curves = length / e / 6;
+  const double by_surfaces = area / (std::sqrt(3.0) / 4 * e * e) / 4;
+  const double by_volume = volume / (e * e * e / (6 * std::sqrt(2.0)));
   const double bound = std::max({by_curves, by_surfaces, by_volume});
   if (tets_after_refine(cfg, bound) > cfg.max_elements)
     refuse_size(
         cfg, "meshing would make at least " + count_text(bound) + " tetrahedra (curves " +
                  count_text(length) + " m long, surfaces " + count_text(area) + " m^2, volume " +
-                 count_text(volume) + " m^3, at a mesh size of at most " + count_text(h / 2) +
-                 " m)" +
+                 count_text(volume) + " m^3, at a mesh size of at most " + count_text(h) + " m)" +
                  (cfg.refine > 0 ? " before " + std::to_string(cfg.refine) + " refinements" : ""));
 }
 
