@@ -51,10 +51,11 @@ double TextReader::number(const char* what) {
   char* end = nullptr;
   errno = 0;
   double v = std::strtod(t.c_str(), &end);
-  if (end == t.c_str() || *end != '\0' || errno == ERANGE) {
+  if (end == t.c_str() || *end != '\0') {
     fail(std::string("expected a number (") + what + "), got '" + t + "'");
   }
-  if (!std::isfinite(v)) {
+  // NaN and inf parse, and so does a number beyond a double's range (as inf, with ERANGE).
+  if (errno == ERANGE || !std::isfinite(v)) {
     fail(std::string("expected a finite number (") + what + "), got '" + t + "'");
   }
   return v;

@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -149,4 +151,87 @@ TEST(Readers, ErrorsNameTheFileAndLine) {
             temp_path("missing.obj") + ": cannot open the file");
   EXPECT_NE(expect_error(write("mesh.ply", "")).find("unknown mesh format '.ply'"),
             std::string::npos);
+}
+
+namespace {
+
+// A fresh folder for one test's files, removed with the object.
+class TempFolder {
+ public:
+  TempFolder() {
+    std::string pattern = testing::TempDir() + "fluidweight_untrusted_XXXXXX";
+    path_ = mkdtemp(pattern.data());
+  }
+  ~TempFolder() { std::filesystem::remove_all(path_); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ + "/" + name, std::ios::binary) << text;
+    return path_ + "/" + name;
+  }
+
+ private:
+  std::string path_;
+};
+
+}  // namespace
+
+// Counts are checked against the file's size before anything is allocated for them: these
+// files once took 16.8 GB (2^31 nodes in 330 bytes) or ended in std::bad_alloc and
+// std::length_error. Each error names the file, the line and the count.
+TEST(UntrustedReaders, CountsBeyondTheFilesSizeAreRefused) {
+  TempFolder dir;
+  const std::string tail = "1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n";
+  const std::string head = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n";
+  std::string msh = dir.write("claim.msh", head + "1 2147483648 1 2147483648\n2 1 0 3\n" + tail);
+  EXPECT_EQ(expect_error(msh).rfind(msh + ":5: claims 2147483648 nodes, more than the ", 0), 0u)
+      << expect_error(msh);
+  msh = dir.write("block.msh", head + "1 3 1 3\n2 1 0 2147483648\n" + tail);
+  EXPECT_NE(expect_error(msh).find(":6: claims 2147483648 nodes in entity block 1"),
+            std::string::npos);
+  msh = dir.write("negative.msh", head + "1 3 1 3\n2 1 0 -3\n" + tail);
+  EXPECT_NE(expect_error(msh).find(":6: claims -3 nodes in entity block 1: a count cannot be "
+                                   "negative"),
+            std::string::npos);
+  msh = dir.write("v22.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n268435456\n");
+  EXPECT_NE(expect_error(msh).find(":5: claims 268435456 nodes"), std::string::npos);
+
+  const std::string faces = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  std::string off = dir.write("claim.off", "OFF\n715000000 1 0\n" + faces);
+  EXPECT_NE(expect_error(off).find(off + ":2: claims 715000000 vertices"), std::string::npos);
+  off = dir.write("negative.off", "OFF\n-5 1 0\n" + faces);
+  EXPECT_EQ(expect_error(off), off + ":2: claims -5 vertices: a count cannot be negative");
+  off = dir.write("faces.off", "OFF\n3 100000000 0\n" + faces);
+  EXPECT_NE(expect_error(off).find(":2: claims 100000000 faces"), std::string::npos);
+}
+
+TEST(UntrustedReaders, NonFiniteCoordinatesAreRefused) {
+  TempFolder dir;
+  const std::string faces = "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
+  for (const std::string value : {"nan", "inf", "-inf", "1e999"}) {
+    SCOPED_TRACE(value);
+    const std::string obj =
+        dir.write("bad.obj", "v 0 0 0\nv " + value + " 0 0\nv 0 1 0\nv 0 0 1\n" + faces);
+    EXPECT_EQ(expect_error(obj), obj + ":2: coordinate '" + value + "' is not a finite number");
+    const std::string off =
+        dir.write("bad.off", "OFF\n4 1 0\n0 0 0\n" + value + " 0 0\n0 1 0\n0 0 1\n3 0 1 2\n");
+    EXPECT_NE(expect_error(off).find(":4: expected a finite number (vertex coordinate)"),
+              std::string::npos)
+        << expect_error(off);
+    const std::string msh =
+        dir.write("bad.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 " +
+                                 value + " 0 0\n3 0 1 0\n$EndNodes\n");
+    EXPECT_NE(expect_error(msh).find(":7: expected a finite number (x)"), std::string::npos);
+    const std::string stl =
+        dir.write("bad.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex " +
+                                 value + " 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n");
+    EXPECT_NE(expect_error(stl).find(":5: expected a finite number"), std::string::npos);
+  }
+  // A binary STL with a NaN corner.
+  std::string binary(80, ' ');
+  const uint32_t one = 1;
+  binary.append(reinterpret_cast<const char*>(&one), 4);
+  float record[12] = {0, 0, 1, 0, 0, 0, std::nanf(""), 0, 0, 0, 1, 0};
+  binary.append(reinterpret_cast<const char*>(record), 48);
+  binary.append(2, '\0');
+  const std::string stl = dir.write("bad_binary.stl", binary);
+  EXPECT_EQ(expect_error(stl), stl + ": facet 1: a corner coordinate is not a finite number");
 }

@@ -1,6 +1,9 @@
 // Triangle surfaces from files: Wavefront .obj, .off, .stl (ASCII and binary) and gmsh's ASCII
 // .msh (versions 4.1 and 2.2). Polygons are split into fans of triangles. Errors throw
-// InputError naming the file, the line and the reason.
+// InputError naming the file, the line and the reason. Files may be hostile: a count (of
+// nodes, elements, vertices, faces) is checked against the rest of the file's size before
+// anything is allocated for it, and coordinates must be finite (NaN, inf and numbers beyond
+// a double are refused).
 #pragma once
 
 #include <string>
