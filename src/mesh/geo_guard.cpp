@@ -112,8 +112,9 @@ class GeoGuard {
     std::ostringstream text;
     text << in.rdbuf();
     const std::vector<Token> tokens = tokenize(text.str());
-    for (size_t i = 0; i < tokens.size(); ++i)
-      check_token(file, here.parent_path(), tokens, i, depth);
+    // gmsh reads a relative name from the folder of the name it was given (a link's own).
+    const fs::path folder = fs::absolute(fs::path(file)).parent_path();
+    for (size_t i = 0; i < tokens.size(); ++i) check_token(file, folder, tokens, i, depth);
   }
 
  private:

@@ -1,3 +1,5 @@
+// The checks of a loaded mesh (mesh_checks.hpp): coordinates, P2 Jacobians, duplicated nodes,
+// overlapping tetrahedra, and the units warning.
 #include "mesh/mesh_checks.hpp"
 
 #include <Eigen/Dense>
