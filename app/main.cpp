@@ -99,7 +99,7 @@ void check_deck(const hs::Config& config) {
   if (rank == 0)
     std::cout << "# hydrosoft: resolved configuration\n" << hs::format_config(config) << std::endl;
   const hs::Mesh mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-  hs::check_groups(config, mesh);
+  hs::check_groups(config, hs::groups_of(mesh));
   std::vector<std::string> cavities;
   for (const auto& c : config.cavities) cavities.push_back(c.group);
   if (rank == 0)

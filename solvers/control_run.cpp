@@ -69,13 +69,15 @@ ControlLoop::ControlLoop(const Config& config, Problem& problem, ConstraintSet& 
   if (!io_.input) io_.input = &std::cin;
   if (!io_.write_line)
     io_.write_line = [](const std::string& line) { std::cout << line << std::endl; };
-  const std::vector<double>& x = problem.mesh().x;
+  const std::vector<double>& x = problem.distribution().x;
   body_low_.fill(HUGE_VAL);
   body_high_.fill(-HUGE_VAL);
   for (size_t i = 0; i < x.size(); ++i) {
     body_low_[i % 3] = std::min(body_low_[i % 3], x[i]);
     body_high_[i % 3] = std::max(body_high_[i % 3], x[i]);
   }
+  MPI_Allreduce(MPI_IN_PLACE, body_low_.data(), 3, MPI_DOUBLE, MPI_MIN, problem.comm());
+  MPI_Allreduce(MPI_IN_PLACE, body_high_.data(), 3, MPI_DOUBLE, MPI_MAX, problem.comm());
   const auto& sets = config.control->targets;
   for (size_t k = 0; k < sets.size(); ++k)
     for (const auto& t : sets[k]) {

@@ -5,17 +5,12 @@
 
 namespace hs {
 
-DofMap::DofMap(const Config& config, const Mesh& mesh, const Distribution& dist,
-               ExactDirichlet exact)
-    : num_owned_(dist.num_owned()), exact_(std::move(exact)) {
+DofMap::DofMap(const Config& config, const Distribution& dist, ExactDirichlet exact)
+    : num_owned_(dist.num_owned()), X_(dist.x), exact_(std::move(exact)) {
   const int64_t nlocal = dist.num_local();
-  X_.resize(3 * nlocal);
   global_.resize(3 * nlocal);
   for (int64_t i = 0; i < nlocal; ++i)
-    for (int d = 0; d < 3; ++d) {
-      X_[3 * i + d] = mesh.x[3 * dist.old_of_local[i] + d];
-      global_[3 * i + d] = static_cast<PetscInt>(3 * dist.local_nodes[i] + d);
-    }
+    for (int d = 0; d < 3; ++d) global_[3 * i + d] = static_cast<PetscInt>(3 * dist.local_nodes[i] + d);
   for (int64_t i = dist.num_owned(); i < nlocal; ++i)
     ghost_blocks_.push_back(static_cast<PetscInt>(dist.local_nodes[i]));
 

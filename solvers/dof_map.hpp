@@ -24,7 +24,7 @@ using ExactDirichlet =
 class DofMap {
  public:
   // Throws InputError for a condition marked exact when `exact` is empty.
-  DofMap(const Config& config, const Mesh& mesh, const Distribution& dist, ExactDirichlet exact);
+  DofMap(const Config& config, const Distribution& dist, ExactDirichlet exact);
 
   Vec create_vector(MPI_Comm comm) const;  // ghosted, block size 3, zeroed
   int64_t num_owned_dofs() const { return 3 * num_owned_; }

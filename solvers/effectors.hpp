@@ -16,15 +16,28 @@
 
 namespace hs {
 
-// The tetrahedron containing X (reference coordinates) and the shape-function values of its
-// nodes there, or false when X lies outside the mesh. Located by the barycentric
-// coordinates of the corners (straight-sided tetrahedra; for P2 meshes the corner simplex,
-// exact where the edges are straight); on a shared face or edge, the most inside one.
-bool locate(const Mesh& mesh, const std::array<double, 3>& X, std::vector<int64_t>& nodes,
-            std::vector<double>& N);
+// A material point: the nodes around it (PETSc node numbers), their shape-function values
+// there, whether each of their dofs is free (not held by a Dirichlet condition), and its
+// reference position. The same on every rank.
+struct MaterialPoint {
+  std::vector<int64_t> nodes;
+  std::vector<double> N;
+  std::vector<char> free_dofs;  // 3 per node
+  std::array<double, 3> X{};
+};
+
+// Collective: the point at X (reference coordinates) in the tetrahedron that holds it, or
+// false when X lies outside the mesh. Located by the barycentric coordinates of the corners
+// (straight-sided tetrahedra; for P2 meshes the corner simplex, exact where the edges are
+// straight); on a shared face or edge, the most inside one, over every rank's tetrahedra.
+bool locate(const Problem& problem, const std::array<double, 3>& X, MaterialPoint& point);
+
+// Collective: the node of a point group that holds exactly one (check_groups makes sure).
+MaterialPoint group_point(const Problem& problem, const std::string& group);
 
 // The three coordinates of the material point sum_a N_a (X_a + u_a) as rows over u:
-// distributed vectors with N_a at the dofs (a, d), appended to `rows` (collective).
+// distributed vectors with N_a at the dofs (a, d), appended to `rows` (collective; `nodes` are
+// PETSc node numbers).
 void append_point_rows(Problem& problem, const std::vector<int64_t>& nodes,
                        const std::vector<double>& N, std::vector<Vec>& rows);
 

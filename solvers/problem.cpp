@@ -11,28 +11,28 @@
 
 namespace hs {
 
-Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dist, MPI_Comm comm,
+Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
                  ExactDirichlet exact)
     : comm_(comm),
-      mesh_(mesh),
       dist_(dist),
-      npe_(mesh.nodes_per_tet()),
-      dofs_(config, mesh, dist, std::move(exact)),
+      npe_(dist.nodes_per_tet()),
+      dofs_(config, dist, std::move(exact)),
       X_(dofs_.reference()) {
   // Materials per volume group of the mesh.
-  materials_.resize(mesh.volume_names.size());
-  std::vector<char> has_material(mesh.volume_names.size(), 0);
+  const std::vector<std::string>& volumes = dist.groups.volumes;
+  materials_.resize(volumes.size());
+  std::vector<char> has_material(volumes.size(), 0);
   for (const auto& mc : config.materials) {
-    auto it = std::find(mesh.volume_names.begin(), mesh.volume_names.end(), mc.group);
-    if (it == mesh.volume_names.end())
+    auto it = std::find(volumes.begin(), volumes.end(), mc.group);
+    if (it == volumes.end())
       throw InputError("material group '" + mc.group + "' is not a volume");
-    const auto v = static_cast<size_t>(it - mesh.volume_names.begin());
+    const auto v = static_cast<size_t>(it - volumes.begin());
     materials_[v] = mc;
     has_material[v] = 1;
   }
   for (size_t v = 0; v < has_material.size(); ++v)
     if (!has_material[v])
-      throw InputError("volume group '" + mesh.volume_names[v] + "' has no material");
+      throw InputError("volume group '" + volumes[v] + "' has no material");
 
   // Body force per local tet at full load.
   const auto nt = dist.local_tets.size();
@@ -40,9 +40,9 @@ Problem::Problem(const Config& config, const Mesh& mesh, const Distribution& dis
   std::vector<double> X(3 * npe_);
   for (size_t e = 0; e < nt; ++e) {
     element_coordinates(e, X.data());
-    const auto& m = materials_[mesh.tet_volume[dist.local_tets[e]]];
-    tet_body_force(mesh.order, X.data(), m.density, config.gravity, &body_force_[e * 3 * npe_]);
-    if (mesh.order == 1) p1_geometry_.push_back(tet_p1_geometry(X.data()));
+    const auto& m = materials_[dist.tet_volume[e]];
+    tet_body_force(dist.order, X.data(), m.density, config.gravity, &body_force_[e * 3 * npe_]);
+    if (dist.order == 1) p1_geometry_.push_back(tet_p1_geometry(X.data()));
   }
 
   for (const auto& pc : config.pressures) {
@@ -76,10 +76,10 @@ void Problem::element_coordinates(int64_t e, double* X) const {
 ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const {
   double X[30], ue[30];
   element_displacement(ua, e, ue);
-  const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
+  const auto& m = materials_[dist_.tet_volume[e]];
   if (!p1_geometry_.empty()) return tet_internal_force_p1(p1_geometry_[e], ue, *m.law, r, K);
   element_coordinates(e, X);
-  return tet_internal_force(mesh_.order, X, ue, *m.law, r, K);
+  return tet_internal_force(dist_.order, X, ue, *m.law, r, K);
 }
 
 void Problem::element_displacement(const PetscScalar* u_local, int64_t e, double* u) const {
@@ -110,14 +110,14 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
       }
     }
     if (b == 0) return;
-    const int npf = mesh_.nodes_per_face();
+    const int npf = dist_.nodes_per_face();
     double xf[18], ff[18];
     for (const auto& surface : pressure_faces_)
       for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
         const int32_t* nodes = &surface.faces[f * npf];
         for (int k = 0; k < 3 * npf; ++k)
           xf[k] = X_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
-        face_pressure(mesh_.order, xf, pressure_at(surface, s), ff, nullptr);
+        face_pressure(dist_.order, xf, pressure_at(surface, s), ff, nullptr);
         for (int k = 0; k < 3 * npf; ++k) ra[3 * nodes[k / 3] + k % 3] += b * ff[k];
       }
   });
@@ -164,7 +164,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
       const ElementOutput out = element_force(e, ua, re, value);
       if (!out.valid && bad < 0) bad = dist_.local_tets[e];
     }
-    const int npf = mesh_.nodes_per_face();
+    const int npf = dist_.nodes_per_face();
     const int nf = 3 * npf;
     double xf[18], ff[18];
     for (const auto& surface : pressure_faces_) {
@@ -172,7 +172,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
         const int32_t* nodes = &surface.faces[f * npf];
         for (int a = 0; a < npf; ++a)
           for (int d = 0; d < 3; ++d) xf[3 * a + d] = X_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
-        face_pressure(mesh_.order, xf, pressure_at(surface, s), ff, value);
+        face_pressure(dist_.order, xf, pressure_at(surface, s), ff, value);
         for (int k = 0; k < nf * nf; ++k) value[k] = -value[k];  // R = ... - f_pressure
       }
     }
@@ -235,8 +235,8 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
     for (size_t e = 0; e < nt; ++e) {
       element_coordinates(e, X);
       element_displacement(ua, e, ue);
-      const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-      const ElementFields f = tet_fields(mesh_.order, X, ue, *m.law);
+      const auto& m = materials_[dist_.tet_volume[e]];
+      const ElementFields f = tet_fields(dist_.order, X, ue, *m.law);
       von_mises[e] = f.von_mises;
       J[e] = f.J;
     }
@@ -255,7 +255,7 @@ bool Problem::orientation_preserved(Vec u) {
     for (size_t e = 0; e < dist_.local_tets.size() && bad < 0; ++e) {
       element_coordinates(e, X);
       element_displacement(ua, e, ue);
-      if (!tet_orientation_preserved(mesh_.order, X, ue)) bad = dist_.local_tets[e];
+      if (!tet_orientation_preserved(dist_.order, X, ue)) bad = dist_.local_tets[e];
     }
   }
   HS_PETSC(VecDestroy(&uw));
@@ -266,7 +266,7 @@ double Problem::total_mass() const {
   double local = 0, X[30];
   for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
     element_coordinates(e, X);
-    local += materials_[mesh_.tet_volume[dist_.local_tets[e]]].density * tet_volume(mesh_.order, X);
+    local += materials_[dist_.tet_volume[e]].density * tet_volume(dist_.order, X);
   }
   double total = 0;
   MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);

@@ -40,14 +40,12 @@ struct AssemblyTimers {
 class Problem {
  public:
   // `exact` (may be empty) gives the values of Dirichlet conditions marked exact.
-  Problem(const Config& config, const Mesh& mesh, const Distribution& dist, MPI_Comm comm,
-          ExactDirichlet exact = {});
+  Problem(const Config& config, const Distribution& dist, MPI_Comm comm, ExactDirichlet exact = {});
   ~Problem();
   Problem(const Problem&) = delete;
   Problem& operator=(const Problem&) = delete;
 
   MPI_Comm comm() const { return comm_; }
-  const Mesh& mesh() const { return mesh_; }
   const Distribution& distribution() const { return dist_; }
   PetscInt num_global_dofs() const { return 3 * static_cast<PetscInt>(dist_.num_global()); }
 
@@ -136,6 +134,8 @@ class Problem {
   void set_coupling(int k, const std::vector<PetscScalar>& values);
   // Zeroes the Dirichlet dofs of a vector (owned entries).
   void zero_constrained(Vec v) const { dofs_.zero(v); }
+  // Whether a local dof (3 per local node) is held by a Dirichlet condition.
+  bool constrained(int64_t local_dof) const { return dofs_.constrained(local_dof); }
   double total_mass() const;
 
  private:
@@ -168,7 +168,6 @@ class Problem {
   size_t num_face_entries() const;
 
   MPI_Comm comm_;
-  const Mesh& mesh_;
   const Distribution& dist_;
   int npe_;
   std::vector<MaterialConfig> materials_;  // per mesh volume group: its law and density

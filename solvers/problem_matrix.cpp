@@ -26,7 +26,7 @@ void Problem::tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>
     dofs_.indices(&dist_.tet_nodes[e * npe_], npe_, idx);
     block(idx, 3 * npe_);
   }
-  const int npf = mesh_.nodes_per_face();
+  const int npf = dist_.nodes_per_face();
   for (const auto& surface : pressure_faces_)
     for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
       dofs_.indices(&surface.faces[f * npf], npf, idx);
@@ -55,7 +55,7 @@ void Problem::set_coupling(int k, const std::vector<PetscScalar>& values) {
 }
 
 size_t Problem::num_face_entries() const {
-  const size_t nf = 3 * mesh_.nodes_per_face();
+  const size_t nf = 3 * dist_.nodes_per_face();
   size_t faces = 0;
   for (const auto& surface : pressure_faces_) faces += surface.faces.size() / (nf / 3);
   return faces * nf * nf;
@@ -108,8 +108,8 @@ Mat Problem::create_mass_matrix() {
   double X[30];
   for (size_t e = 0; e < dist_.local_tets.size(); ++e, value += n * n) {
     element_coordinates(e, X);
-    const auto& m = materials_[mesh_.tet_volume[dist_.local_tets[e]]];
-    tet_mass(mesh_.order, X, m.density, value);
+    const auto& m = materials_[dist_.tet_volume[e]];
+    tet_mass(dist_.order, X, m.density, value);
   }
   value += num_face_entries();
   for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)

@@ -20,14 +20,14 @@ int Problem::add_cavity_surface(const std::string& group) {
 double Problem::enclosed_volume(int surface, Vec u) {
   LocalView view(u, u_work_);
   const PetscScalar* ua = view.values();
-  const int npf = mesh_.nodes_per_face();
+  const int npf = dist_.nodes_per_face();
   const auto& faces = pressure_faces_[surface].faces;
   double local = 0, xf[18];
   for (size_t f = 0; f < faces.size() / npf; ++f) {
     const int32_t* nodes = &faces[f * npf];
     for (int k = 0; k < 3 * npf; ++k)
       xf[k] = X_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
-    local += face_enclosed_volume(mesh_.order, xf);
+    local += face_enclosed_volume(dist_.order, xf);
   }
   double total = 0;
   MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);
@@ -36,14 +36,14 @@ double Problem::enclosed_volume(int surface, Vec u) {
 
 void Problem::volume_gradient(int surface, Vec u, Vec g) {
   assemble_local(u, g, [&](const PetscScalar* ua, PetscScalar* ra) {
-    const int npf = mesh_.nodes_per_face();
+    const int npf = dist_.nodes_per_face();
     const auto& faces = pressure_faces_[surface].faces;
     double xf[18], ff[18];
     for (size_t f = 0; f < faces.size() / npf; ++f) {
       const int32_t* nodes = &faces[f * npf];
       for (int k = 0; k < 3 * npf; ++k)
         xf[k] = X_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
-      face_pressure(mesh_.order, xf, 1.0, ff, nullptr);
+      face_pressure(dist_.order, xf, 1.0, ff, nullptr);
       for (int k = 0; k < 3 * npf; ++k) ra[3 * nodes[k / 3] + k % 3] += ff[k];
     }
   });
@@ -56,13 +56,13 @@ std::array<double, 3> Problem::area_vector(const std::string& group, Vec u) {
   if (it != dist_.faces.end()) {
     LocalView view(u, u_work_);
     const PetscScalar* ua = view.values();
-    const int npf = mesh_.nodes_per_face();
+    const int npf = dist_.nodes_per_face();
     double xf[18], ff[18];
     for (size_t f = 0; f < it->second.size() / npf; ++f) {
       const int32_t* nodes = &it->second[f * npf];
       for (int k = 0; k < 3 * npf; ++k)
         xf[k] = X_[3 * nodes[k / 3] + k % 3] + ua[3 * nodes[k / 3] + k % 3];
-      face_pressure(mesh_.order, xf, -1.0, ff, nullptr);  // f_a = int N_a n da
+      face_pressure(dist_.order, xf, -1.0, ff, nullptr);  // f_a = int N_a n da
       for (int k = 0; k < 3 * npf; ++k) local[k % 3] += ff[k];
     }
   }

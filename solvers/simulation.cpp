@@ -14,7 +14,7 @@
 #include "deck/exact_section.hpp"
 #include "io/output.hpp"
 #include "mesh/distribution.hpp"
-#include "mesh/gmsh_io.hpp"
+#include "solvers/distributed_mesh.hpp"
 #include "solvers/control_run.hpp"
 #include "solvers/newton_solver.hpp"
 #include "solvers/output/result_recorder.hpp"
@@ -24,19 +24,6 @@
 #include "solvers/verification/error_norms.hpp"
 
 namespace hs {
-namespace {
-
-std::vector<int> partition_on_root(const Mesh& mesh, MPI_Comm comm) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  std::vector<int> part(mesh.num_tets());
-  if (rank == 0) part = partition_tets(mesh, size);
-  MPI_Bcast(part.data(), static_cast<int>(part.size()), MPI_INT, 0, comm);
-  return part;
-}
-
-}  // namespace
 
 nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo io) {
   const double t_start = MPI_Wtime();
@@ -53,9 +40,9 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
                      "needs one to remove the rigid motions, e.g. boundary: [{group: clamped}]");
   // First, before any work: a second run on the same output folder stops here, at once.
   auto output_folder = open_output_folder(config.output.folder, comm);
-  const Mesh mesh = load_mesh_replicated(config.mesh, comm);
-  check_groups(config, mesh);
-  const double t_mesh = MPI_Wtime() - t_start;
+  MeshLoadTimes mesh_times;
+  const Distribution dist = load_distributed_mesh(config.mesh, comm, &mesh_times);
+  check_groups(config, dist.groups);
   // The deck's exact solution, if any: the values of Dirichlet conditions marked exact, and
   // the reference of the errors and verification quantities reported below.
   const auto exact_solution = make_exact_solution(config);
@@ -65,18 +52,13 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     exact_dirichlet = [exact](const std::array<double, 3>& X, double s) {
       return exact->displacement(X, s);
     };
-  const double t_partition_start = MPI_Wtime();
-  const std::vector<int> part = partition_on_root(mesh, comm);
-  const double t_partition = MPI_Wtime() - t_partition_start;
-  const Distribution dist = distribute(mesh, part, rank, size);
-
-  Problem problem(config, mesh, dist, comm, exact_dirichlet);
+  Problem problem(config, dist, comm, exact_dirichlet);
   // A scene with cavities or states runs the bordered Newton (displacements and cavity
   // pressures); any other the plain SNES. No cavity code runs in a scene without cavities.
   const bool staged = !config.cavities.empty() || !config.cables.empty() ||
                       !config.states.empty() || config.tip || config.control;
   std::unique_ptr<ConstraintSet> constraints;
-  if (staged) constraints = std::make_unique<ConstraintSet>(config, problem, mesh, dist);
+  if (staged) constraints = std::make_unique<ConstraintSet>(config, problem);
   // Symmetric unless the deck puts a follower pressure on an open surface or a constraint's
   // forces are no gradient (a cable with friction). Definite (CG) only for linear laws without
   // any pressure stiffness (a cavity's can make the tangent indefinite near a limit point).
@@ -149,9 +131,9 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   summary["deck"] = config.deck_path;
   summary["ranks"] = size;
   summary["dofs"] = problem.num_global_dofs();
-  summary["nodes"] = mesh.num_nodes();
-  summary["elements"] = mesh.num_tets();
-  summary["order"] = mesh.order;
+  summary["nodes"] = dist.num_global();
+  summary["elements"] = dist.num_global_tets;
+  summary["order"] = dist.order;
   summary["steps"] = stats.steps;
   summary["cutbacks"] = stats.cutbacks;
   summary["newton_iterations"] = stats.newton_iterations;
@@ -182,8 +164,17 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   MPI_Allreduce(MPI_IN_PLACE, &assembly, 1, MPI_DOUBLE, MPI_MAX, comm);
   MPI_Allreduce(MPI_IN_PLACE, &solve, 1, MPI_DOUBLE, MPI_MAX, comm);
   summary["time_s"]["setup"] = t_setup;
-  summary["time_s"]["setup_mesh"] = t_mesh;
-  summary["time_s"]["setup_partition"] = t_partition;
+  summary["time_s"]["setup_mesh"] = mesh_times.read_s;
+  summary["time_s"]["setup_partition"] = mesh_times.partition_s;
+  summary["time_s"]["setup_distribute"] = mesh_times.distribute_s;
+  double output_s = recorder.seconds();
+  MPI_Allreduce(MPI_IN_PLACE, &output_s, 1, MPI_DOUBLE, MPI_MAX, comm);
+  summary["time_s"]["output"] = output_s;
+  // The largest rank's share of the mesh: its tetrahedra and its local (owned + ghost) nodes.
+  int64_t largest[2] = {static_cast<int64_t>(dist.local_tets.size()), dist.num_local()};
+  MPI_Allreduce(MPI_IN_PLACE, largest, 2, MPI_INT64_T, MPI_MAX, comm);
+  summary["mesh"]["largest_rank_tets"] = largest[0];
+  summary["mesh"]["largest_rank_nodes"] = largest[1];
   summary["time_s"]["assembly"] = assembly;
   summary["time_s"]["solve"] = solve;
   // Peak resident memory: the largest rank's, and the sum over ranks.
@@ -199,7 +190,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   MPI_Allreduce(MPI_IN_PLACE, &jacobian_s, 1, MPI_DOUBLE, MPI_MAX, comm);
   summary["assembly"]["jacobian_calls"] = t.jacobian_calls;
   summary["assembly"]["elements_per_second"] =
-      t.jacobian_calls > 0 ? mesh.num_tets() * t.jacobian_calls / std::max(jacobian_s, 1e-12) : 0.0;
+      t.jacobian_calls > 0 ? dist.num_global_tets * t.jacobian_calls / std::max(jacobian_s, 1e-12) : 0.0;
   if (staged) {
     summary["states"] = state_run.states;
     for (const auto& [key, value] : control.items()) summary[key] = value;

@@ -10,36 +10,21 @@ namespace hs {
 
 CablePath::CablePath(const CableConfig& config, Problem& problem, const std::string& deck_path)
     : config_(config) {
-  const Mesh& mesh = problem.mesh();
-  const Distribution& dist = problem.distribution();
-  // Which dofs are constrained, on every rank (a mask of the whole vector, once).
-  Vec mask = problem.create_vector(), all = nullptr;
-  VecScatter to_all = nullptr;
-  HS_PETSC(VecSet(mask, 1.0));
-  problem.zero_constrained(mask);
-  HS_PETSC(VecScatterCreateToAll(mask, &to_all, &all));
-  HS_PETSC(VecScatterBegin(to_all, mask, all, INSERT_VALUES, SCATTER_FORWARD));
-  HS_PETSC(VecScatterEnd(to_all, mask, all, INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar* free_dof;
-  HS_PETSC(VecGetArrayRead(all, &free_dof));
   for (size_t i = 0; i < config.points.size(); ++i) {
     const auto& X = config.points[i];
-    std::vector<int64_t> nodes;
-    std::vector<double> N;
-    if (!locate(mesh, X, nodes, N))
+    MaterialPoint p;
+    if (!locate(problem, X, p))
       throw InputError(deck_path + ": cables '" + config.name + "' points[" + std::to_string(i) +
                        "] (" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
                        std::to_string(X[2]) + ") lies outside the mesh");
     std::vector<PetscInt> dofs;
-    for (int64_t node : nodes)
-      for (int d = 0; d < 3; ++d) {
-        const PetscInt dof = static_cast<PetscInt>(3 * dist.new_of_old[node] + d);
-        dofs.push_back(free_dof[dof] != 0 ? dof : -1);
-      }
+    for (size_t a = 0; a < p.nodes.size(); ++a)
+      for (int d = 0; d < 3; ++d)
+        dofs.push_back(p.free_dofs[3 * a + d] ? static_cast<PetscInt>(3 * p.nodes[a] + d) : -1);
     dofs_.push_back(dofs);
-    shape_.push_back(N);
+    shape_.push_back(p.N);
     for (int d = 0; d < 3; ++d) reference_.push_back(X[d]);
-    append_point_rows(problem, nodes, N, rows_);
+    append_point_rows(problem, p.nodes, p.N, rows_);
   }
   // The turning stiffness couples the points of each segment (the last one ends at the
   // fixed pull point, if any): one block of the tangent each, set by rank 0.
@@ -51,10 +36,6 @@ CablePath::CablePath(const CableConfig& config, Problem& problem, const std::str
     if (i + 1 < dofs_.size()) ends.insert(ends.end(), dofs_[i + 1].begin(), dofs_[i + 1].end());
     couplings_.push_back(problem.add_coupling(std::move(ends)));
   }
-  HS_PETSC(VecRestoreArrayRead(all, &free_dof));
-  HS_PETSC(VecScatterDestroy(&to_all));
-  HS_PETSC(VecDestroy(&all));
-  HS_PETSC(VecDestroy(&mask));
 }
 
 CablePath::~CablePath() {

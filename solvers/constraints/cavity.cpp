@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "common/error.hpp"
+#include "common/exchange.hpp"
+#include "solvers/gathered_surface.hpp"
 #include "fluidweight/fluidweight.hpp"
 #include "solvers/problem.hpp"
 
@@ -16,28 +18,33 @@ std::string format_si(double x) {
   return text;
 }
 
-// Refuses a cavity whose faces do not form a closed, manifold, consistently oriented surface,
-// naming the first bad edge by its mesh node numbers.
-void check_cavity_surface(const Mesh& mesh, const std::string& deck, const std::string& group) {
-  const auto& faces = mesh.surfaces.at(group);
-  const int npf = mesh.nodes_per_face();
-  fluidweight::SurfaceMesh corners;
-  corners.vertices = mesh.x;
-  for (size_t f = 0; f < faces.size() / npf; ++f)
-    for (int a = 0; a < 3; ++a) corners.triangles.push_back(static_cast<int>(faces[f * npf + a]));
-  try {
-    fluidweight::check_closed_surface(corners, "cavity '" + group + "'");
-  } catch (const fluidweight::InputError& e) {
-    throw InputError(deck + ": " + e.what() + " (mesh node numbers, 0-based)");
+// Refuses (on every rank) a cavity whose faces do not form a closed, manifold, consistently
+// oriented surface, naming the first bad edge by its mesh node numbers.
+void check_cavity_surface(const Problem& problem, const std::string& deck,
+                          const std::string& group) {
+  const GatheredSurface s = gather_surface(problem.distribution(), group, 0, problem.comm());
+  std::string error;
+  if (!s.faces.empty()) {
+    fluidweight::SurfaceMesh corners;
+    corners.vertices = s.x;
+    for (size_t f = 0; f < s.faces.size() / s.nodes_per_face; ++f)
+      for (int a = 0; a < 3; ++a) corners.triangles.push_back(s.faces[f * s.nodes_per_face + a]);
+    try {
+      fluidweight::check_closed_surface(corners, "cavity '" + group + "'");
+    } catch (const fluidweight::InputError& e) {
+      error = deck + ": " + e.what() + " (the surface's own node numbers, 0-based; mesh nodes " +
+              std::to_string(s.mesh_nodes.front()) + ".." + std::to_string(s.mesh_nodes.back()) +
+              ")";
+    }
   }
+  throw_together<InputError>(error, problem.comm());
 }
 
 }  // namespace
 
-Cavity::Cavity(const CavityConfig& config, Problem& problem, const Mesh& mesh,
-               const std::string& deck_path)
+Cavity::Cavity(const CavityConfig& config, Problem& problem, const std::string& deck_path)
     : Constraint(config.group), problem_(problem), config_(config) {
-  check_cavity_surface(mesh, deck_path, config.group);
+  check_cavity_surface(problem, deck_path, config.group);
   surface_ = problem.add_cavity_surface(config.group);
   Vec zero = problem.create_vector();
   reference_measure = problem.enclosed_volume(surface_, zero);

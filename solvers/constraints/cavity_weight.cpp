@@ -10,33 +10,26 @@
 
 namespace hs {
 
-CavityTriangles cavity_triangles(const Mesh& mesh, const std::string& group) {
-  const auto& faces = mesh.surfaces.at(group);
-  CavityTriangles t;
-  t.nodes.assign(faces.begin(), faces.end());
-  std::sort(t.nodes.begin(), t.nodes.end());
-  t.nodes.erase(std::unique(t.nodes.begin(), t.nodes.end()), t.nodes.end());
-  auto index = [&](int64_t node) {
-    return static_cast<int>(std::lower_bound(t.nodes.begin(), t.nodes.end(), node) -
-                            t.nodes.begin());
-  };
-  const int npf = mesh.nodes_per_face();
+std::vector<int> cavity_triangles(const GatheredSurface& surface) {
+  const std::vector<int>& faces = surface.faces;
+  std::vector<int> t;
+  const int npf = surface.nodes_per_face;
   // Tri6 (vertices 0-2, edge nodes 3:(0,1) 4:(1,2) 5:(2,0)): four triangles of the same
   // orientation, so every node, edge nodes included, receives its share.
   static const int kSplit[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {3, 4, 5}};
   for (size_t f = 0; f < faces.size() / npf; ++f) {
-    const int64_t* face = &faces[f * npf];
+    const int* face = &faces[f * npf];
     if (npf == 3) {
-      for (int a = 0; a < 3; ++a) t.triangles.push_back(index(face[a]));
+      for (int a = 0; a < 3; ++a) t.push_back(face[a]);
     } else {
       for (const auto& tri : kSplit)
-        for (int a : tri) t.triangles.push_back(index(face[a]));
+        for (int a : tri) t.push_back(face[a]);
     }
   }
   return t;
 }
 
-CavityWeight::CavityWeight(const Mesh& mesh, const Distribution& dist, const CavityConfig& cavity,
+CavityWeight::CavityWeight(const Distribution& dist, const CavityConfig& cavity,
                            const std::array<double, 3>& gravity, int owner, MPI_Comm comm)
     : comm_(comm), owner_(owner), density_(cavity.density) {
   MPI_Comm_rank(comm, &rank_);
@@ -63,24 +56,18 @@ CavityWeight::CavityWeight(const Mesh& mesh, const Distribution& dist, const Cav
                      "': fluid_weight.device is cuda, but this build has no CUDA or the machine "
                      "no GPU (use device: cpu)");
 
-  const CavityTriangles tris = cavity_triangles(mesh, cavity.group);
-  const auto n = static_cast<PetscInt>(tris.nodes.size());
-  std::vector<PetscInt> from;
+  const GatheredSurface walls = gather_surface(dist, cavity.group, owner_, comm_);
   if (rank_ == owner_) {
-    for (int64_t node : tris.nodes)
-      for (int d = 0; d < 3; ++d) {
-        from.push_back(static_cast<PetscInt>(3 * dist.new_of_old[node] + d));
-        reference_.push_back(mesh.x[3 * node + d]);
-      }
+    for (int64_t node : walls.global_nodes)
+      for (int d = 0; d < 3; ++d) global_dofs_.push_back(static_cast<PetscInt>(3 * node + d));
+    reference_ = walls.x;
     positions_ = reference_;
-    global_dofs_ = from;
     fluidweight::SurfaceMesh surface;
     surface.vertices = reference_;
-    surface.triangles = tris.triangles;
+    surface.triangles = cavity_triangles(walls);
     context_ = std::make_unique<fluidweight::Context>(options_);
     context_->set_cavities({surface});
   }
-  (void)n;
   HS_PETSC(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(global_dofs_.size()), &surface_u_));
 }
 

@@ -13,22 +13,18 @@
 
 #include "deck/config.hpp"
 #include "mesh/distribution.hpp"
-#include "mesh/mesh.hpp"
+#include "solvers/gathered_surface.hpp"
 
 namespace hs {
 
 // The triangles the fluid-weight module sees for a cavity's faces: Tri3 as they are, Tri6 as
-// four flat triangles through the edge nodes. Vertices index `nodes` (mesh node ids).
-struct CavityTriangles {
-  std::vector<int64_t> nodes;  // sorted mesh node ids of the surface
-  std::vector<int> triangles;  // 3 per triangle, indices into nodes
-};
-CavityTriangles cavity_triangles(const Mesh& mesh, const std::string& group);
+// four flat triangles through the edge nodes; 3 per triangle, indices into the surface's nodes.
+std::vector<int> cavity_triangles(const GatheredSurface& surface);
 
 class CavityWeight {
  public:
   // Collective. `owner` is the rank that runs the fluid-weight module for this cavity.
-  CavityWeight(const Mesh& mesh, const Distribution& dist, const CavityConfig& cavity,
+  CavityWeight(const Distribution& dist, const CavityConfig& cavity,
                const std::array<double, 3>& gravity, int owner, MPI_Comm comm);
   ~CavityWeight();
   CavityWeight(const CavityWeight&) = delete;

@@ -12,9 +12,8 @@ namespace {
 
 // The deck's constraints, one line per kind. The fluid-weight module of each weighing
 // hydraulic cavity runs on its own rank, round robin.
-std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config, Problem& problem,
-                                                          const Mesh& mesh,
-                                                          const Distribution& dist) {
+std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config,
+                                                          Problem& problem) {
   int ranks = 1;
   MPI_Comm_size(problem.comm(), &ranks);
   int weighing = 0;
@@ -23,16 +22,16 @@ std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config, 
   for (const CavityConfig& c : config.cavities) {
     switch (c.kind) {
       case CavityKind::pneumatic:
-        list.push_back(std::make_unique<Cavity>(c, problem, mesh, deck));
+        list.push_back(std::make_unique<Cavity>(c, problem, deck));
         break;
       case CavityKind::hydraulic:
-        list.push_back(std::make_unique<HydraulicCavity>(c, problem, mesh, dist, config.gravity,
+        list.push_back(std::make_unique<HydraulicCavity>(c, problem, config.gravity,
                                                          weighing % ranks, deck));
         weighing += HydraulicCavity::weighs(c, config.gravity);
         break;
       case CavityKind::sealed_gas:
       case CavityKind::sealed_volume:
-        list.push_back(std::make_unique<SealedCavity>(c, problem, mesh, deck));
+        list.push_back(std::make_unique<SealedCavity>(c, problem, deck));
         break;
     }
   }
@@ -47,9 +46,8 @@ std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config, 
 
 }  // namespace
 
-ConstraintSet::ConstraintSet(const Config& config, Problem& problem, const Mesh& mesh,
-                             const Distribution& dist)
-    : problem_(problem), constraints_(make_constraints(config, problem, mesh, dist)) {
+ConstraintSet::ConstraintSet(const Config& config, Problem& problem)
+    : problem_(problem), constraints_(make_constraints(config, problem)) {
   bool any_load = false;
   for (const auto& c : constraints_) {
     any_load |= c->adds_load();

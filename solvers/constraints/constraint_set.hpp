@@ -32,7 +32,7 @@ struct ConstraintLinearization {
 class ConstraintSet {
  public:
   // Collective. Makes the deck's cavities and cables (InputError for a bad one).
-  ConstraintSet(const Config& config, Problem& problem, const Mesh& mesh, const Distribution& dist);
+  ConstraintSet(const Config& config, Problem& problem);
   ~ConstraintSet();
   ConstraintSet(const ConstraintSet&) = delete;
   ConstraintSet& operator=(const ConstraintSet&) = delete;

@@ -10,12 +10,13 @@ bool HydraulicCavity::weighs(const CavityConfig& config, const std::array<double
   return config.density > 0 && std::hypot(gravity[0], gravity[1], gravity[2]) > 0;
 }
 
-HydraulicCavity::HydraulicCavity(const CavityConfig& config, Problem& problem, const Mesh& mesh,
-                                 const Distribution& dist, const std::array<double, 3>& gravity,
-                                 int owner, const std::string& deck_path)
-    : Cavity(config, problem, mesh, deck_path) {
+HydraulicCavity::HydraulicCavity(const CavityConfig& config, Problem& problem,
+                                 const std::array<double, 3>& gravity, int owner,
+                                 const std::string& deck_path)
+    : Cavity(config, problem, deck_path) {
   if (!weighs(config, gravity)) return;
-  weight_ = std::make_unique<CavityWeight>(mesh, dist, config, gravity, owner, problem.comm());
+  weight_ = std::make_unique<CavityWeight>(problem.distribution(), config, gravity, owner,
+                                           problem.comm());
   W_ = problem.create_vector();
   if (config.fluid_weight.coupling == WeightCoupling::linearized) frozen_ = problem.create_vector();
 }

@@ -17,9 +17,8 @@ namespace hs {
 class HydraulicCavity : public Cavity {
  public:
   // `owner`: the rank that runs the fluid-weight module for this cavity.
-  HydraulicCavity(const CavityConfig& config, Problem& problem, const Mesh& mesh,
-                  const Distribution& dist, const std::array<double, 3>& gravity, int owner,
-                  const std::string& deck_path);
+  HydraulicCavity(const CavityConfig& config, Problem& problem,
+                  const std::array<double, 3>& gravity, int owner, const std::string& deck_path);
   ~HydraulicCavity() override;
 
   // Whether the liquid weighs anything (density > 0 under gravity).

@@ -2,9 +2,9 @@
 
 namespace hs {
 
-SealedCavity::SealedCavity(const CavityConfig& config, Problem& problem, const Mesh& mesh,
+SealedCavity::SealedCavity(const CavityConfig& config, Problem& problem,
                            const std::string& deck_path)
-    : Cavity(config, problem, mesh, deck_path),
+    : Cavity(config, problem, deck_path),
       gas_(config.kind == CavityKind::sealed_gas),
       atmospheric_pressure_(config.atmospheric_pressure) {
   control = Control::own_law;

@@ -10,8 +10,7 @@ namespace hs {
 
 class SealedCavity : public Cavity {
  public:
-  SealedCavity(const CavityConfig& config, Problem& problem, const Mesh& mesh,
-               const std::string& deck_path);
+  SealedCavity(const CavityConfig& config, Problem& problem, const std::string& deck_path);
 
  protected:
   double law_residual() const override;

@@ -1,5 +1,5 @@
-// Fields of a distributed run gathered on rank 0 in mesh numbering, for the writer: no other
-// rank returns anything.
+// Fields of a distributed run gathered on rank 0 in mesh numbering, for tests and checks on
+// small meshes (the writer gathers nothing: output.hpp); no other rank returns anything.
 #pragma once
 
 #include <petscvec.h>

@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
-#include "solvers/output/gather.hpp"
+#include "common/exchange.hpp"
 
 namespace hs {
 namespace {
@@ -43,47 +43,75 @@ std::unique_ptr<OutputFolder> open_output_folder(const std::string& folder, MPI_
   return opened;
 }
 
+std::vector<double> ResultRecorder::owned_values(Vec v) const {
+  const PetscScalar* a;
+  HS_PETSC(VecGetArrayRead(v, &a));
+  std::vector<double> values(a, a + 3 * problem_.distribution().num_owned());
+  HS_PETSC(VecRestoreArrayRead(v, &a));
+  return values;
+}
+
+OutputLayout output_layout(const Distribution& dist, MPI_Comm comm) {
+  OutputLayout l;
+  l.order = dist.order;
+  l.nodes = dist.num_global();
+  l.tets = dist.num_global_tets;
+  l.first_node = dist.owned_offsets[dist.rank];
+  const int64_t mine = static_cast<int64_t>(dist.local_tets.size());
+  MPI_Exscan(&mine, &l.first_tet, 1, MPI_INT64_T, MPI_SUM, comm);
+  if (dist.rank == 0) l.first_tet = 0;
+  l.x.assign(dist.x.begin(), dist.x.begin() + 3 * dist.num_owned());
+  l.node_ids.assign(dist.old_of_local.begin(), dist.old_of_local.begin() + dist.num_owned());
+  l.tet_ids = dist.local_tets;
+  l.topology.reserve(dist.tet_nodes.size());
+  for (int32_t n : dist.tet_nodes) l.topology.push_back(dist.local_nodes[n]);
+  return l;
+}
+
 ResultRecorder::ResultRecorder(Problem& problem, const Config& config,
                                std::unique_ptr<OutputFolder> folder, MPI_Comm comm)
     : problem_(problem), folder_(std::move(folder)) {
   MPI_Comm_rank(comm, &rank_);
-  if (rank_ == 0) {
-    writer_ = std::make_unique<XdmfWriter>(folder_->staging(), config.deck_name, problem.mesh());
-  }
+  // Every rank writes into rank 0's staging folder.
+  std::string staging = rank_ == 0 ? folder_->staging() : std::string();
+  int n = static_cast<int>(staging.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, comm);
+  staging.resize(n);
+  MPI_Bcast(staging.data(), n, MPI_CHAR, 0, comm);
+  writer_ = std::make_unique<XdmfWriter>(comm, staging, config.deck_name,
+                                         output_layout(problem.distribution(), comm));
   load_ = problem.create_vector();
 }
 
 ResultRecorder::~ResultRecorder() { VecDestroy(&load_); }
 
 void ResultRecorder::record(double time, Vec u, double s) {
+  const double t0 = MPI_Wtime();
   StepFields f;
   f.time = time;
-  f.displacement = gather_nodal(problem_, u);
+  f.displacement = owned_values(u);
   problem_.external_load(u, s, load_);
-  f.nodal_load = gather_nodal(problem_, load_);
-  std::vector<double> vm, J;
-  problem_.element_fields(u, vm, J);
-  f.von_mises = gather_elemental(problem_, vm);
-  f.J = gather_elemental(problem_, J);
-  std::vector<double> rank(vm.size(), problem_.distribution().rank);
-  const auto ranks = gather_elemental(problem_, rank);
-  // Decided together, so that every rank stops on a non-finite result, not rank 0 alone.
+  f.nodal_load = owned_values(load_);
+  problem_.element_fields(u, f.von_mises, f.J);
+  f.rank.assign(f.J.size(), rank_);
+  // Decided together, so that every rank stops on a non-finite result.
   int finite = 1;
   for (const auto* field : {&f.displacement, &f.nodal_load, &f.von_mises, &f.J})
     for (double x : *field) finite &= std::isfinite(x);
-  MPI_Bcast(&finite, 1, MPI_INT, 0, problem_.comm());
+  MPI_Allreduce(MPI_IN_PLACE, &finite, 1, MPI_INT, MPI_MIN, problem_.comm());
   if (!finite)
     throw SolveError("output at time/load " + std::to_string(time) +
                      ": a computed field is not finite; nothing was written");
-  if (rank_ != 0) return;
-  f.rank.assign(ranks.begin(), ranks.end());
   writer_->write_step(f);
   ++written_;
+  seconds_ += MPI_Wtime() - t0;
 }
 
 std::string ResultRecorder::finish(const nlohmann::json& summary) {
-  if (rank_ != 0) return {};
+  const double t0 = MPI_Wtime();
   writer_->close();
+  seconds_ += MPI_Wtime() - t0;
+  if (rank_ != 0) return {};
   write_json(folder_->staging() + "/summary.json", summary);
   folder_->commit();
   return folder_->final();

@@ -1,5 +1,5 @@
-// Output of a run: every output step's fields gathered on rank 0 and written as HDF5 + XDMF
-// into the run's staging folder; finish() writes summary.json and commits the folder
+// Output of a run: every output step's fields written by every rank, its own rows, as HDF5 +
+// XDMF into the run's staging folder; finish() writes summary.json and commits the folder
 // (docs/output.md).
 #pragma once
 
@@ -19,6 +19,9 @@ namespace hs {
 // rank throws rank 0's message: InputError for the first two, std::runtime_error otherwise.
 std::unique_ptr<OutputFolder> open_output_folder(const std::string& folder, MPI_Comm comm);
 
+// This rank's rows of the output: its owned nodes and its tetrahedra (output.hpp).
+OutputLayout output_layout(const Distribution& dist, MPI_Comm comm);
+
 class ResultRecorder {
  public:
   // folder: open_output_folder's result (null except on rank 0).
@@ -35,11 +38,14 @@ class ResultRecorder {
   std::string finish(const nlohmann::json& summary);
   std::string xdmf_path() const;
   int written() const { return written_; }
+  double seconds() const { return seconds_; }  // spent in record() and finish()
 
  private:
+  std::vector<double> owned_values(Vec v) const;  // 3 per owned node
   Problem& problem_;
   int rank_ = 0;
   int written_ = 0;
+  double seconds_ = 0;
   std::unique_ptr<OutputFolder> folder_;
   std::unique_ptr<XdmfWriter> writer_;
   Vec load_ = nullptr;

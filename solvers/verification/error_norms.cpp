@@ -13,9 +13,8 @@
 namespace hs {
 
 ErrorNorms displacement_error(const Problem& problem, Vec u, const ExactSolution& exact, double s) {
-  const Mesh& mesh = problem.mesh();
   const Distribution& dist = problem.distribution();
-  const int order = mesh.order, npe = mesh.nodes_per_tet();
+  const int order = dist.order, npe = dist.nodes_per_tet();
   const TetQuadrature& rule = tet_quadrature(2 * (order + 1));
 
   // The displacement of the local (owned + ghost) nodes.

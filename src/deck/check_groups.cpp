@@ -8,42 +8,41 @@
 namespace hs {
 namespace {
 
-bool has_nodes(const Mesh& mesh, const std::string& group) {
-  const auto it = mesh.node_groups.find(group);
-  return it != mesh.node_groups.end() && !it->second.empty();
+bool has_nodes(const MeshGroups& mesh, const std::string& group) {
+  const auto it = mesh.group_nodes.find(group);
+  return it != mesh.group_nodes.end() && it->second > 0;
 }
 
-bool is_volume(const Mesh& mesh, const std::string& group) {
-  return std::find(mesh.volume_names.begin(), mesh.volume_names.end(), group) !=
-         mesh.volume_names.end();
+bool is_volume(const MeshGroups& mesh, const std::string& group) {
+  return std::find(mesh.volumes.begin(), mesh.volumes.end(), group) != mesh.volumes.end();
 }
 
-bool is_surface(const Mesh& mesh, const std::string& group) {
-  const auto it = mesh.surfaces.find(group);
-  return it != mesh.surfaces.end() && !it->second.empty();
+bool is_surface(const MeshGroups& mesh, const std::string& group) {
+  const auto it = mesh.surface_faces.find(group);
+  return it != mesh.surface_faces.end() && it->second > 0;
 }
 
 // "volumes: body; surfaces: inner, outer; other groups: tip".
-std::string listing(const Mesh& mesh) {
+std::string listing(const MeshGroups& mesh) {
   std::vector<std::string> surfaces, others;
-  for (const auto& [name, faces] : mesh.surfaces) surfaces.push_back(name);
-  for (const auto& [name, nodes] : mesh.node_groups)
-    if (!is_volume(mesh, name) && !mesh.surfaces.count(name)) others.push_back(name);
+  for (const auto& [name, faces] : mesh.surface_faces) surfaces.push_back(name);
+  for (const auto& [name, nodes] : mesh.group_nodes)
+    if (!is_volume(mesh, name) && !mesh.surface_faces.count(name)) others.push_back(name);
   auto names = [](const std::vector<std::string>& v) { return v.empty() ? "none" : join(v); };
-  return "volumes: " + names(mesh.volume_names) + "; surfaces: " + names(surfaces) +
+  return "volumes: " + names(mesh.volumes) + "; surfaces: " + names(surfaces) +
          "; other groups: " + names(others);
 }
 
 }  // namespace
 
-void check_groups(const Config& c, const Mesh& mesh) {
+void check_groups(const Config& c, const MeshGroups& mesh) {
   auto fail = [&](const std::string& key, const std::string& reason) {
     throw InputError(c.deck_path + ": " + key + ": " + reason + " (mesh " + c.mesh.file + " has " +
                      listing(mesh) + ")");
   };
   // Every group must carry nodes: an empty one would silently constrain or load nothing.
   auto require_nodes = [&](const std::string& key, const std::string& group) {
-    if (!mesh.node_groups.count(group)) fail(key, "group '" + group + "' is not in the mesh");
+    if (!mesh.group_nodes.count(group)) fail(key, "group '" + group + "' is not in the mesh");
     if (!has_nodes(mesh, group)) fail(key, "group '" + group + "' has no nodes");
   };
 
@@ -53,7 +52,7 @@ void check_groups(const Config& c, const Mesh& mesh) {
     require_nodes(key, group);
     if (!is_volume(mesh, group)) fail(key, "group '" + group + "' is not a volume");
   }
-  for (const auto& volume : mesh.volume_names) {
+  for (const auto& volume : mesh.volumes) {
     const bool assigned = std::any_of(c.materials.begin(), c.materials.end(),
                                       [&](const MaterialConfig& m) { return m.group == volume; });
     if (!assigned) fail("materials", "volume '" + volume + "' of the mesh has no material");
@@ -85,7 +84,7 @@ void check_groups(const Config& c, const Mesh& mesh) {
       const std::string group = c.control->effectors[i].point;
       if (group.empty()) continue;  // a material point (position), located by the solver
       require_nodes(key, group);
-      const size_t n = mesh.node_groups.at(group).size();
+      const int64_t n = mesh.group_nodes.at(group);
       if (n != 1)
         fail(key, "group '" + group + "' has " + std::to_string(n) +
                       " nodes, an effector point needs exactly one");

@@ -55,9 +55,11 @@ MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::pat
            "mesh file '" + mesh.file + "' not found (a relative path starts at the deck's folder)");
   std::string extension = resolved.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  require(extension == ".msh" || extension == ".geo", r, file, "mesh.file",
-          "expected a .msh or .geo file, got '" + extension + "'");
+  require(extension == ".msh" || extension == ".geo" || extension == ".h5", r, file, "mesh.file",
+          "expected a .msh, .geo or .h5 (hydrosoft mesh) file, got '" + extension + "'");
   if (const auto n = node["order"]) {
+    require(extension != ".h5", r, n, "mesh.order",
+            "an .h5 mesh keeps the order it was meshed at (set it when meshing)");
     mesh.order = r.integer(n, "mesh.order");
     require(mesh.order == 1 || mesh.order == 2, r, n, "mesh.order", "must be 1 or 2");
   }

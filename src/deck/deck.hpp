@@ -18,7 +18,7 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
 // Throws InputError if a group named by the deck is missing from the mesh or has no
 // nodes, or a material group is not a volume, a pressure, cavity or tip group not a surface,
 // or an effector's point group has more than one node.
-void check_groups(const Config& config, const Mesh& mesh);
+void check_groups(const Config& config, const MeshGroups& mesh);
 
 // The resolved configuration, defaults included, as YAML (printed at start).
 std::string format_config(const Config& config);

@@ -1,10 +1,12 @@
 // A thin RAII layer over the HDF5 C API for the few things the writer needs: groups,
-// 1D/2D datasets of double, int64 and int32, and double attributes. Serial access with the
-// default file access properties (this works with the parallel HDF5 build too).
+// 1D/2D datasets of double, int64 and int32, and double attributes. Opened with a
+// communicator, every call is collective (MPI-IO): each rank writes its own rows of a dataset
+// in one collective write, and nothing is gathered anywhere. Opened without one, it is serial.
 // Every failure throws std::runtime_error naming the file and the object.
 #pragma once
 
 #include <hdf5.h>
+#include <mpi.h>
 
 #include <cstdint>
 #include <string>
@@ -15,7 +17,7 @@ namespace hs {
 class Hdf5File {
  public:
   enum class Mode { Create, Append };  // Create truncates an existing file
-  Hdf5File(const std::string& path, Mode mode);
+  Hdf5File(const std::string& path, Mode mode, MPI_Comm comm = MPI_COMM_NULL);
   ~Hdf5File();
   Hdf5File(const Hdf5File&) = delete;
   Hdf5File& operator=(const Hdf5File&) = delete;
@@ -25,16 +27,24 @@ class Hdf5File {
   void write(const std::string& name, const std::vector<double>& data, size_t rows, size_t cols);
   void write(const std::string& name, const std::vector<int64_t>& data, size_t rows, size_t cols);
   void write(const std::string& name, const std::vector<int>& data, size_t rows, size_t cols);
+  // This rank's rows [first, first + data.size() / max(cols, 1)) of a dataset of `rows` rows.
+  void write_rows(const std::string& name, const std::vector<double>& data, size_t rows,
+                  size_t cols, size_t first);
+  void write_rows(const std::string& name, const std::vector<int64_t>& data, size_t rows,
+                  size_t cols, size_t first);
+  void write_rows(const std::string& name, const std::vector<int>& data, size_t rows, size_t cols,
+                  size_t first);
   void set_attribute(const std::string& object, const std::string& name, double value);
   void close();  // flushes; the destructor closes too (without throwing)
 
  private:
   void write_raw(const std::string& name, hid_t file_type, hid_t memory_type, const void* data,
-                 size_t count, size_t rows, size_t cols);
+                 size_t count, size_t rows, size_t cols, size_t first);
   [[noreturn]] void fail(const std::string& what) const;
 
   std::string path_;
   hid_t file_ = -1;
+  bool parallel_ = false;
 };
 
 }  // namespace hs

@@ -1,6 +1,7 @@
 // Results of a run: HDF5 + XDMF time series for ParaView and summary.json.
-// The writer is serial: the solver gathers fields to rank 0 (mesh numbering) and rank 0
-// writes. Everything goes to a staging folder that replaces the output folder only when
+// The writer is parallel: every rank writes its own rows of every dataset (its owned nodes,
+// its tetrahedra) into the one .h5 with collective MPI-IO writes; rank 0 writes the .xmf.
+// Nothing is gathered. Everything goes to a staging folder that replaces the output folder only when
 // the run succeeds, so a failed run leaves nothing half-written behind.
 #pragma once
 
@@ -8,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include <mpi.h>
 
 #include "io/folder_lock.hpp"
 #include "mesh/mesh.hpp"
@@ -42,23 +45,43 @@ class OutputFolder {
   bool committed_ = false;
 };
 
+// The rows of the output one rank writes: its owned nodes and its tetrahedra. Rank r's rows
+// follow rank r-1's, so the file's nodes are in the solver's numbering; /mesh/node_ids and
+// /mesh/tet_ids give each row's number in the mesh file (identity on one rank).
+struct OutputLayout {
+  int order = 1;
+  int64_t nodes = 0, tets = 0;               // of the whole mesh
+  int64_t first_node = 0, first_tet = 0;     // this rank's first rows
+  std::vector<double> x;                     // its nodes' reference coordinates, 3 each
+  std::vector<int64_t> topology;             // its tetrahedra, in file rows (gmsh node order)
+  std::vector<int64_t> node_ids, tet_ids;    // numbers in the mesh file of its rows
+  int64_t my_nodes() const { return static_cast<int64_t>(node_ids.size()); }
+  int64_t my_tets() const { return static_cast<int64_t>(tet_ids.size()); }
+};
+
+// The layout of a whole mesh written by one process.
+OutputLayout whole_layout(const Mesh& mesh);
+
 struct StepFields {
   double time = 0;                   // load factor (static) or physical time (dynamic)
-  std::vector<double> displacement;  // 3 per mesh node
-  std::vector<double> nodal_load;    // 3 per mesh node: applied external load (gravity, pressure)
-  std::vector<double> von_mises;     // per tetrahedron (Cauchy, at the centroid)
+  std::vector<double> displacement;  // 3 per node of this rank's rows
+  std::vector<double> nodal_load;    // 3 per node: applied external load (gravity, pressure)
+  std::vector<double> von_mises;     // per tetrahedron of its rows (Cauchy, at the centroid)
   std::vector<double> J;             // per tetrahedron (det F at the centroid)
   std::vector<int> rank;             // per tetrahedron: the MPI rank that owns it
 };
 
 // <folder>/<name>.h5 and <folder>/<name>.xmf (layout: docs/output.md). P2 meshes are
 // written as Tetrahedron_10 in VTK's node order. write_step() refuses non-finite values
-// (throws SolveError naming the field and entry): a NaN is never written as a result. The
-// .xmf is rewritten (atomically) after every step. HDF5 or file-system failures throw
-// std::runtime_error naming the file.
+// (throws SolveError on every rank, naming the field and the mesh's node or tetrahedron): a
+// NaN is never written as a result. The .xmf is rewritten (atomically) after every step.
+// HDF5 or file-system failures throw std::runtime_error naming the file. With a
+// communicator every call is collective; `folder` must be the same path on every rank.
 class XdmfWriter {
  public:
   XdmfWriter(const std::string& folder, const std::string& name, const Mesh& mesh);
+  XdmfWriter(MPI_Comm comm, const std::string& folder, const std::string& name,
+             OutputLayout layout);
   ~XdmfWriter();
   void write_step(const StepFields& fields);
   void close();                   // writes the .xmf; called by the destructor too

@@ -1,6 +1,7 @@
 // XdmfWriter: one HDF5 file with the mesh once and the fields of every step, and an XDMF
 // file that ParaView reads (docs/output.md). Layout of <name>.h5:
 //   /mesh/coordinates  N x 3 float64      /mesh/topology  E x 4 or E x 10 int64 (VTK order)
+//   /mesh/node_ids  N int64, /mesh/tet_ids  E int64 (the rows' numbers in the mesh file)
 //   /step_<k>/displacement, nodal_load  N x 3 float64;  von_mises, J  E float64;
 //   /step_<k>/rank  E int32;  attribute /step_<k>/time.
 // The .xmf is a Temporal collection of Uniform grids, each with its own <Time Value=.../>
@@ -13,6 +14,7 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
+#include "common/exchange.hpp"
 #include "io/atomic_file.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/output.hpp"
@@ -20,9 +22,13 @@
 namespace hs {
 
 struct XdmfWriter::Impl {
+  MPI_Comm comm = MPI_COMM_NULL;  // null: serial
+  int rank = 0;
   std::string folder, name;
   int nodes_per_tet = 4;
   int64_t nodes = 0, tets = 0;
+  int64_t first_node = 0, first_tet = 0, my_nodes = 0, my_tets = 0;
+  std::vector<int64_t> node_ids, tet_ids;
   std::vector<double> times;  // of the steps written so far
   bool closed = false;
 
@@ -70,10 +76,10 @@ std::string data_item(const std::string& h5_file, const std::string& dataset, in
 
 // gmsh orders the Tet10 edge nodes (0,1) (1,2) (2,0) (3,0) (3,2) (3,1), VTK (and so XDMF's
 // Tetrahedron_10 in ParaView) (0,1) (1,2) (2,0) (0,3) (1,3) (2,3): nodes 8 and 9 swap.
-std::vector<int64_t> vtk_topology(const Mesh& mesh) {
-  std::vector<int64_t> topology = mesh.tets;
-  if (mesh.order == 2)
-    for (int64_t e = 0; e < mesh.num_tets(); ++e)
+std::vector<int64_t> vtk_topology(const OutputLayout& layout) {
+  std::vector<int64_t> topology = layout.topology;
+  if (layout.order == 2)
+    for (int64_t e = 0; e < layout.my_tets(); ++e)
       std::swap(topology[10 * e + 8], topology[10 * e + 9]);
   return topology;
 }
@@ -85,20 +91,23 @@ void require_size(const char* field, size_t size, int64_t expected) {
                                 std::to_string(expected));
 }
 
-// Throws SolveError naming the first non-finite entry (and, for nodal fields, its node).
-void require_finite(const char* field, const std::vector<double>& values, bool nodal, size_t step,
-                    double time) {
+// The first non-finite entry of this rank's rows, named by its mesh node or tetrahedron
+// ("" if none).
+std::string first_non_finite(const char* field, const std::vector<double>& values,
+                             const std::vector<int64_t>& ids, bool nodal, size_t step,
+                             double time) {
   for (size_t i = 0; i < values.size(); ++i) {
     if (std::isfinite(values[i])) continue;
-    std::string where = std::string(field) + "[" + std::to_string(i) + "]";
+    const int64_t row = nodal ? static_cast<int64_t>(i / 3) : static_cast<int64_t>(i);
+    std::string where = std::string(field) + "[" + std::to_string(nodal ? 3 * ids[row] + i % 3 : ids[row]) + "]";
     if (nodal)
-      where += " (node " + std::to_string(i / 3) + ", " + "xyz"[i % 3] + ")";
+      where += " (node " + std::to_string(ids[row]) + ", " + "xyz"[i % 3] + ")";
     else
-      where += " (tetrahedron " + std::to_string(i) + ")";
-    throw SolveError("output step " + std::to_string(step) + " (time " + number_text(time) +
-                     "): " + where + " is not finite (" + std::to_string(values[i]) +
-                     "); the step was not written");
+      where += " (tetrahedron " + std::to_string(ids[row]) + ")";
+    return "output step " + std::to_string(step) + " (time " + number_text(time) + "): " + where +
+           " is not finite (" + std::to_string(values[i]) + "); the step was not written";
   }
+  return {};
 }
 
 }  // namespace
@@ -159,19 +168,48 @@ void XdmfWriter::Impl::write_xdmf() const {
   write_file_atomically(xmf_path(), x.str());
 }
 
+OutputLayout whole_layout(const Mesh& mesh) {
+  OutputLayout l;
+  l.order = mesh.order;
+  l.nodes = mesh.num_nodes();
+  l.tets = mesh.num_tets();
+  l.x = mesh.x;
+  l.topology = mesh.tets;
+  l.node_ids.resize(l.nodes);
+  l.tet_ids.resize(l.tets);
+  for (int64_t n = 0; n < l.nodes; ++n) l.node_ids[n] = n;
+  for (int64_t t = 0; t < l.tets; ++t) l.tet_ids[t] = t;
+  return l;
+}
+
 XdmfWriter::XdmfWriter(const std::string& folder, const std::string& name, const Mesh& mesh)
+    : XdmfWriter(MPI_COMM_NULL, folder, name, whole_layout(mesh)) {}
+
+XdmfWriter::XdmfWriter(MPI_Comm comm, const std::string& folder, const std::string& name,
+                       OutputLayout layout)
     : impl_(std::make_unique<Impl>()) {
-  impl_->folder = folder;
-  impl_->name = name;
-  impl_->nodes_per_tet = mesh.nodes_per_tet();
-  impl_->nodes = mesh.num_nodes();
-  impl_->tets = mesh.num_tets();
-  Hdf5File h5(impl_->h5_path(), Hdf5File::Mode::Create);
+  Impl& w = *impl_;
+  w.comm = comm;
+  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &w.rank);
+  w.folder = folder;
+  w.name = name;
+  w.nodes_per_tet = layout.order == 1 ? 4 : 10;
+  w.nodes = layout.nodes;
+  w.tets = layout.tets;
+  w.first_node = layout.first_node;
+  w.first_tet = layout.first_tet;
+  w.my_nodes = layout.my_nodes();
+  w.my_tets = layout.my_tets();
+  Hdf5File h5(w.h5_path(), Hdf5File::Mode::Create, comm);
   h5.create_group("/mesh");
-  h5.write("/mesh/coordinates", mesh.x, impl_->nodes, 3);
-  h5.write("/mesh/topology", vtk_topology(mesh), impl_->tets, impl_->nodes_per_tet);
+  h5.write_rows("/mesh/coordinates", layout.x, w.nodes, 3, w.first_node);
+  h5.write_rows("/mesh/topology", vtk_topology(layout), w.tets, w.nodes_per_tet, w.first_tet);
+  h5.write_rows("/mesh/node_ids", layout.node_ids, w.nodes, 0, w.first_node);
+  h5.write_rows("/mesh/tet_ids", layout.tet_ids, w.tets, 0, w.first_tet);
   h5.close();
-  impl_->write_xdmf();  // the mesh alone until the first step
+  w.node_ids = std::move(layout.node_ids);
+  w.tet_ids = std::move(layout.tet_ids);
+  if (w.rank == 0) w.write_xdmf();  // the mesh alone until the first step
 }
 
 XdmfWriter::~XdmfWriter() {
@@ -185,36 +223,40 @@ XdmfWriter::~XdmfWriter() {
 void XdmfWriter::write_step(const StepFields& f) {
   Impl& w = *impl_;
   if (w.closed) throw std::logic_error("XdmfWriter::write_step after close");
-  require_size("displacement", f.displacement.size(), 3 * w.nodes);
-  require_size("nodal_load", f.nodal_load.size(), 3 * w.nodes);
-  require_size("von_mises", f.von_mises.size(), w.tets);
-  require_size("J", f.J.size(), w.tets);
-  require_size("rank", f.rank.size(), w.tets);
+  require_size("displacement", f.displacement.size(), 3 * w.my_nodes);
+  require_size("nodal_load", f.nodal_load.size(), 3 * w.my_nodes);
+  require_size("von_mises", f.von_mises.size(), w.my_tets);
+  require_size("J", f.J.size(), w.my_tets);
+  require_size("rank", f.rank.size(), w.my_tets);
   const size_t k = w.times.size();
   if (!std::isfinite(f.time))
     throw SolveError("output step " + std::to_string(k) + ": the time is not finite");
-  require_finite("displacement", f.displacement, true, k, f.time);
-  require_finite("nodal_load", f.nodal_load, true, k, f.time);
-  require_finite("von_mises", f.von_mises, false, k, f.time);
-  require_finite("J", f.J, false, k, f.time);
+  std::string error = first_non_finite("displacement", f.displacement, w.node_ids, true, k, f.time);
+  if (error.empty()) error = first_non_finite("nodal_load", f.nodal_load, w.node_ids, true, k, f.time);
+  if (error.empty()) error = first_non_finite("von_mises", f.von_mises, w.tet_ids, false, k, f.time);
+  if (error.empty()) error = first_non_finite("J", f.J, w.tet_ids, false, k, f.time);
+  if (w.comm != MPI_COMM_NULL)
+    throw_together<SolveError>(error, w.comm);
+  else if (!error.empty())
+    throw SolveError(error);
 
   const std::string step = "/step_" + std::to_string(k);
-  Hdf5File h5(w.h5_path(), Hdf5File::Mode::Append);
+  Hdf5File h5(w.h5_path(), Hdf5File::Mode::Append, w.comm);
   h5.create_group(step);
   h5.set_attribute(step, "time", f.time);
-  h5.write(step + "/displacement", f.displacement, w.nodes, 3);
-  h5.write(step + "/nodal_load", f.nodal_load, w.nodes, 3);
-  h5.write(step + "/von_mises", f.von_mises, w.tets, 0);
-  h5.write(step + "/J", f.J, w.tets, 0);
-  h5.write(step + "/rank", f.rank, w.tets, 0);
+  h5.write_rows(step + "/displacement", f.displacement, w.nodes, 3, w.first_node);
+  h5.write_rows(step + "/nodal_load", f.nodal_load, w.nodes, 3, w.first_node);
+  h5.write_rows(step + "/von_mises", f.von_mises, w.tets, 0, w.first_tet);
+  h5.write_rows(step + "/J", f.J, w.tets, 0, w.first_tet);
+  h5.write_rows(step + "/rank", f.rank, w.tets, 0, w.first_tet);
   h5.close();
   w.times.push_back(f.time);
-  w.write_xdmf();
+  if (w.rank == 0) w.write_xdmf();
 }
 
 void XdmfWriter::close() {
   if (impl_->closed) return;
-  impl_->write_xdmf();
+  if (impl_->rank == 0) impl_->write_xdmf();
   impl_->closed = true;
 }
 

@@ -48,6 +48,9 @@ Distribution distribute(const Mesh& mesh, const std::vector<int>& tet_part, int 
   Distribution d;
   d.rank = rank;
   d.size = size;
+  d.order = mesh.order;
+  d.num_global_tets = ntets;
+  d.groups = groups_of(mesh);
   const std::vector<int> owner = node_owners(mesh, tet_part, size);
 
   // Contiguous new numbering per owner, in mesh order within each owner.
@@ -55,8 +58,8 @@ Distribution distribute(const Mesh& mesh, const std::vector<int>& tet_part, int 
   for (int o : owner) ++d.owned_offsets[o + 1];
   for (int r = 0; r < size; ++r) d.owned_offsets[r + 1] += d.owned_offsets[r];
   std::vector<int64_t> next(d.owned_offsets.begin(), d.owned_offsets.end() - 1);
-  d.new_of_old.resize(nnodes);
-  for (int64_t n = 0; n < nnodes; ++n) d.new_of_old[n] = next[owner[n]]++;
+  std::vector<int64_t> new_of_old(nnodes);
+  for (int64_t n = 0; n < nnodes; ++n) new_of_old[n] = next[owner[n]]++;
 
   // Local nodes: owned ones (in new-id order, which is their mesh order), then ghosts.
   for (int64_t n = 0; n < nnodes; ++n)
@@ -65,13 +68,14 @@ Distribution distribute(const Mesh& mesh, const std::vector<int>& tet_part, int 
   for (int64_t t = 0; t < ntets; ++t) {
     if (tet_part[t] != rank) continue;
     d.local_tets.push_back(t);
+    d.tet_volume.push_back(mesh.tet_volume[t]);
     for (int k = 0; k < npe; ++k) {
       const int64_t n = mesh.tets[t * npe + k];
       if (owner[n] != rank) ghosts.push_back(n);
     }
   }
   std::sort(ghosts.begin(), ghosts.end(),
-            [&](int64_t a, int64_t b) { return d.new_of_old[a] < d.new_of_old[b]; });
+            [&](int64_t a, int64_t b) { return new_of_old[a] < new_of_old[b]; });
   ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
   d.old_of_local.insert(d.old_of_local.end(), ghosts.begin(), ghosts.end());
   if (d.old_of_local.size() > static_cast<size_t>(std::numeric_limits<int32_t>::max()))
@@ -80,7 +84,8 @@ Distribution distribute(const Mesh& mesh, const std::vector<int>& tet_part, int 
   std::vector<int32_t> local_of_old(nnodes, -1);
   for (size_t i = 0; i < d.old_of_local.size(); ++i) {
     local_of_old[d.old_of_local[i]] = static_cast<int32_t>(i);
-    d.local_nodes.push_back(d.new_of_old[d.old_of_local[i]]);
+    d.local_nodes.push_back(new_of_old[d.old_of_local[i]]);
+    for (int k = 0; k < 3; ++k) d.x.push_back(mesh.x[3 * d.old_of_local[i] + k]);
   }
 
   d.tet_nodes.reserve(d.local_tets.size() * npe);
@@ -92,8 +97,10 @@ Distribution distribute(const Mesh& mesh, const std::vector<int>& tet_part, int 
   for (const auto& [name, faces] : mesh.surfaces) {
     const std::vector<int64_t>& face_tets = mesh.surface_tets.at(name);
     std::vector<int32_t>& local = d.faces[name];
+    std::vector<int64_t>& index = d.face_index[name];
     for (size_t f = 0; f < face_tets.size(); ++f) {
       if (tet_part[face_tets[f]] != rank) continue;
+      index.push_back(static_cast<int64_t>(f));
       for (int k = 0; k < npf; ++k) local.push_back(local_of_old[faces[f * npf + k]]);
     }
   }

@@ -1,6 +1,7 @@
 // load_mesh: file checks, the gmsh session, meshing of .geo sources with deck parameters.
 // The model -> Mesh step is in gmsh_model.cpp, the broadcast in mesh_broadcast.cpp.
 #include "mesh/gmsh_io.hpp"
+#include "mesh/mesh_h5.hpp"
 
 #include <gmsh.h>
 #include <sys/mman.h>
@@ -237,8 +238,13 @@ Mesh load_mesh(const MeshConfig& cfg) {
   std::string extension = fs::path(file).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const bool is_geo = extension == ".geo";
+  if (extension == ".h5") {  // a hydrosoft mesh, whole, on this process
+    Mesh mesh = whole_mesh(read_mesh_h5(file, MPI_COMM_SELF));
+    check_tet_count(cfg, static_cast<double>(mesh.num_tets()), "it holds " + std::to_string(mesh.num_tets()) + " tetrahedra");
+    return mesh;
+  }
   if (!is_geo && extension != ".msh")
-    throw InputError(file + ": unknown mesh file type '" + extension + "' (.msh or .geo)");
+    throw InputError(file + ": unknown mesh file type '" + extension + "' (.msh, .geo or .h5)");
   if (!is_geo && !cfg.parameters.empty())
     throw InputError(file + ": mesh.parameters apply to .geo files only");
   open_input(file);  // gmsh reports a missing file only as a warning

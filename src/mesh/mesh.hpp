@@ -41,4 +41,14 @@ struct Mesh {
   int64_t num_tets() const { return static_cast<int64_t>(tets.size()) / nodes_per_tet(); }
 };
 
+// The named groups of a mesh and their sizes, which every rank knows even when it holds a
+// part of the mesh only: what a deck's group names are checked against.
+struct MeshGroups {
+  std::vector<std::string> volumes;
+  std::map<std::string, int64_t> surface_faces;  // per surface group: its number of faces
+  std::map<std::string, int64_t> group_nodes;    // per named group: its number of nodes
+};
+
+MeshGroups groups_of(const Mesh& mesh);
+
 }  // namespace hs

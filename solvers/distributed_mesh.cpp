@@ -1,0 +1,105 @@
+#include "solvers/distributed_mesh.hpp"
+
+#include <petscmat.h>
+
+#include <iostream>
+#include <stdexcept>
+
+#include "common/error.hpp"
+#include "common/exchange.hpp"
+#include "mesh/gmsh_io.hpp"
+#include "mesh/mesh_checks.hpp"
+#include "mesh/mesh_distribute.hpp"
+#include "mesh/mesh_h5.hpp"
+#include "solvers/petsc_check.hpp"
+
+namespace hs {
+namespace {
+
+bool is_h5(const std::string& file) {
+  const auto dot = file.rfind('.');
+  return dot != std::string::npos && file.substr(dot) == ".h5";
+}
+
+// Rank 0 loads through gmsh and keeps the whole mesh only until the blocks are sent.
+MeshSlab load_on_root_and_scatter(const MeshConfig& cfg, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::unique_ptr<Mesh> mesh;
+  std::string input_error, other_error;
+  if (rank == 0) {
+    try {
+      mesh = std::make_unique<Mesh>(load_mesh(cfg));
+      const std::string warning = units_warning(*mesh, cfg.file);
+      if (!warning.empty()) std::cerr << "warning: " << warning << std::endl;
+    } catch (const InputError& e) {
+      input_error = e.what();
+    } catch (const std::exception& e) {
+      other_error = e.what();
+    }
+  }
+  throw_together<InputError>(input_error, comm);
+  throw_together<std::runtime_error>(other_error, comm);
+  return scatter_mesh(mesh.get(), 0, comm);
+}
+
+}  // namespace
+
+std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  const int64_t n = slab.slab_tets();
+  if (size == 1) return std::vector<int>(n, 0);
+  if (slab.num_tets < size)
+    throw InputError("the mesh has " + std::to_string(slab.num_tets) +
+                     " tetrahedra, fewer than the " + std::to_string(size) +
+                     " parts (MPI ranks) asked for");
+  const DualGraph graph = dual_graph(slab, comm);
+  // MatCreateMPIAdj takes ownership of the PetscMalloc'd rows.
+  PetscInt *ia = nullptr, *ja = nullptr;
+  HS_PETSC(PetscMalloc1(n + 1, &ia));
+  HS_PETSC(PetscMalloc1(graph.neighbours.size(), &ja));
+  for (int64_t i = 0; i <= n; ++i) ia[i] = static_cast<PetscInt>(graph.offsets[i]);
+  for (size_t k = 0; k < graph.neighbours.size(); ++k)
+    ja[k] = static_cast<PetscInt>(graph.neighbours[k]);
+  Mat adjacency;
+  HS_PETSC(MatCreateMPIAdj(comm, static_cast<PetscInt>(n), static_cast<PetscInt>(slab.num_tets),
+                           ia, ja, nullptr, &adjacency));
+  MatPartitioning partitioning;
+  HS_PETSC(MatPartitioningCreate(comm, &partitioning));
+  HS_PETSC(MatPartitioningSetAdjacency(partitioning, adjacency));
+  HS_PETSC(MatPartitioningSetType(partitioning, MATPARTITIONINGPTSCOTCH));
+  HS_PETSC(MatPartitioningSetFromOptions(partitioning));
+  IS parts;
+  HS_PETSC(MatPartitioningApply(partitioning, &parts));
+  const PetscInt* p;
+  HS_PETSC(ISGetIndices(parts, &p));
+  std::vector<int> part(p, p + n);
+  HS_PETSC(ISRestoreIndices(parts, &p));
+  HS_PETSC(ISDestroy(&parts));
+  HS_PETSC(MatPartitioningDestroy(&partitioning));
+  HS_PETSC(MatDestroy(&adjacency));
+  return part;
+}
+
+Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm, MeshLoadTimes* times) {
+  const double t0 = MPI_Wtime();
+  const MeshSlab slab =
+      is_h5(cfg.file) ? read_mesh_h5(cfg.file, comm) : load_on_root_and_scatter(cfg, comm);
+  if (slab.num_tets > cfg.max_elements)
+    throw InputError(cfg.file + ": " + std::to_string(slab.num_tets) +
+                     " tetrahedra, more than mesh.max_elements = " +
+                     std::to_string(cfg.max_elements));
+  const double t1 = MPI_Wtime();
+  const std::vector<int> part = partition_slab(slab, comm);
+  const double t2 = MPI_Wtime();
+  Distribution d = distribute_slabs(slab, part, comm);
+  if (times) {
+    times->read_s = t1 - t0;
+    times->partition_s = t2 - t1;
+    times->distribute_s = MPI_Wtime() - t2;
+  }
+  return d;
+}
+
+}  // namespace hs

@@ -1,0 +1,33 @@
+// Each rank's piece of the deck's mesh, the way a run gets it (docs/architecture.md, "The
+// distributed mesh"): a .h5 mesh (hydrosoft mesh DECK) is read in blocks by every rank; a
+// .msh or .geo is loaded by rank 0 through gmsh and sent out in blocks. Either way the
+// tetrahedra are partitioned in parallel by PTScotch (PETSc's MatPartitioning on their dual
+// graph) and moved to their parts (distribute_slabs); no rank ever holds the whole mesh
+// unless rank 0 had to load a .msh or .geo.
+#pragma once
+
+#include <mpi.h>
+
+#include <vector>
+
+#include "deck/config.hpp"
+#include "mesh/distribution.hpp"
+#include "mesh/mesh_slab.hpp"
+
+namespace hs {
+
+struct MeshLoadTimes {
+  double read_s = 0, partition_s = 0, distribute_s = 0;
+};
+
+// Collective. Throws InputError on every rank for a bad mesh (naming the file) and for more
+// tetrahedra than cfg.max_elements.
+Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm,
+                                   MeshLoadTimes* times = nullptr);
+
+// Collective: the part (rank) of each of the slab's tetrahedra, balanced, with few faces
+// cut. Deterministic for a given mesh and number of ranks. The PETSc option
+// -mat_partitioning_type chooses another of PETSc's partitioners.
+std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm);
+
+}  // namespace hs

@@ -1,0 +1,83 @@
+// Personalised all-to-all of plain records, and an error that every rank raises together.
+// The parallel mesh construction moves everything with all_to_all(): each rank hands a list of
+// records to each other rank and receives the lists addressed to it.
+#pragma once
+
+#include <mpi.h>
+
+#include <climits>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace hs {
+
+// Sends send[r] to rank r (send has one list per rank) and returns the records received,
+// in the order of the sending ranks; from[r], if given, gets how many came from rank r.
+template <class T>
+std::vector<T> all_to_all(const std::vector<std::vector<T>>& send, MPI_Comm comm,
+                        std::vector<int64_t>* from = nullptr) {
+  static_assert(std::is_trivially_copyable<T>::value, "all_to_all moves plain records");
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  if (static_cast<int>(send.size()) != size)
+    throw std::logic_error("all_to_all: one list per rank is needed");
+  std::vector<int> scount(size), sdispl(size), rcount(size), rdispl(size);
+  std::vector<char> sbuf;
+  int64_t total = 0;
+  for (int r = 0; r < size; ++r) total += static_cast<int64_t>(send[r].size() * sizeof(T));
+  if (total > INT_MAX)
+    throw std::runtime_error("all_to_all: more than 2 GiB to send from one rank (use more ranks)");
+  sbuf.reserve(total);
+  for (int r = 0; r < size; ++r) {
+    sdispl[r] = static_cast<int>(sbuf.size());
+    scount[r] = static_cast<int>(send[r].size() * sizeof(T));
+    const char* p = reinterpret_cast<const char*>(send[r].data());
+    sbuf.insert(sbuf.end(), p, p + scount[r]);
+  }
+  MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm);
+  int64_t received = 0;
+  for (int r = 0; r < size; ++r) {
+    rdispl[r] = static_cast<int>(received);
+    received += rcount[r];
+  }
+  if (received > INT_MAX)
+    throw std::runtime_error("all_to_all: more than 2 GiB to receive on one rank (use more ranks)");
+  std::vector<T> out(received / sizeof(T));
+  MPI_Alltoallv(sbuf.data(), scount.data(), sdispl.data(), MPI_BYTE, out.data(), rcount.data(),
+                rdispl.data(), MPI_BYTE, comm);
+  if (from) {
+    from->resize(size);
+    for (int r = 0; r < size; ++r) (*from)[r] = rcount[r] / static_cast<int64_t>(sizeof(T));
+  }
+  return out;
+}
+
+// The first item of the block that rank r of `size` holds when n items are split in
+// contiguous blocks as evenly as possible, and the rank whose block holds item i.
+inline int64_t block_begin(int64_t n, int rank, int size) { return n * rank / size; }
+inline int block_owner(int64_t n, int64_t i, int size) {
+  return static_cast<int>(((i + 1) * size + n - 1) / n - 1);
+}
+
+// Collective: when any rank has a non-empty `error`, every rank throws E with the message of
+// the lowest such rank; otherwise returns.
+template <class E>
+void throw_together(const std::string& error, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  int first = error.empty() ? size : rank;
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first == size) return;
+  std::string message = error;
+  int n = static_cast<int>(message.size());
+  MPI_Bcast(&n, 1, MPI_INT, first, comm);
+  message.resize(n);
+  MPI_Bcast(message.data(), n, MPI_CHAR, first, comm);
+  throw E(message);
+}
+
+}  // namespace hs

@@ -1,0 +1,300 @@
+// The mesh file in HDF5: written once by one process, read by all in blocks (mesh_h5.hpp).
+// Reads are independent (each rank its hyperslabs): the blocks do not overlap, and a
+// collective read would make every rank wait for the slowest.
+#include "mesh/mesh_h5.hpp"
+
+#include <hdf5.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "common/error.hpp"
+#include "common/exchange.hpp"
+
+namespace hs {
+namespace {
+
+const char* kFormat = "hydrosoft mesh";
+
+// Closes an HDF5 handle at scope exit.
+struct H5 {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~H5() {
+    if (id >= 0) close(id);
+  }
+};
+
+// HDF5's own error stack printing off while an object lives: failures become our messages.
+struct QuietHdf5 {
+  H5E_auto2_t func = nullptr;
+  void* data = nullptr;
+  QuietHdf5() {
+    H5Eget_auto2(H5E_DEFAULT, &func, &data);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func, data); }
+};
+
+class Writer {
+ public:
+  explicit Writer(const std::string& path) : path_(path) {
+    file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (file_ < 0) fail("cannot create the file");
+  }
+  ~Writer() {
+    if (file_ >= 0) H5Fclose(file_);
+  }
+  void group(const std::string& name) {
+    H5 g{H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+    if (g.id < 0) fail("cannot create group " + name);
+  }
+  template <class T>
+  void dataset(const std::string& name, hid_t type, const std::vector<T>& data, size_t cols) {
+    const hsize_t dims[2] = {cols ? data.size() / cols : data.size(), cols};
+    H5 space{H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose};
+    H5 set{H5Dcreate2(file_, name.c_str(), type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Dclose};
+    if (set.id < 0) fail("cannot create " + name);
+    if (!data.empty() && H5Dwrite(set.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
+      fail("cannot write " + name);
+  }
+  void attribute(const std::string& object, const std::string& name, int value) {
+    H5 space{H5Screate(H5S_SCALAR), H5Sclose};
+    H5 a{H5Acreate_by_name(file_, object.c_str(), name.c_str(), H5T_NATIVE_INT, space.id,
+                           H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+         H5Aclose};
+    if (a.id < 0 || H5Awrite(a.id, H5T_NATIVE_INT, &value) < 0) fail("cannot write " + name);
+  }
+  void attribute(const std::string& name, const std::string& value) {
+    H5 type{H5Tcopy(H5T_C_S1), H5Tclose};
+    H5Tset_size(type.id, value.size());
+    H5 space{H5Screate(H5S_SCALAR), H5Sclose};
+    H5 a{H5Acreate2(file_, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    if (a.id < 0 || H5Awrite(a.id, type.id, value.data()) < 0) fail("cannot write " + name);
+  }
+  void close() {
+    const herr_t status = H5Fclose(file_);
+    file_ = -1;
+    if (status < 0) fail("cannot close the file");
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(path_ + ": HDF5: " + what);
+  }
+  std::string path_;
+  hid_t file_ = -1;
+};
+
+void check_name(const std::string& path, const std::string& name) {
+  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
+    throw InputError(path + ": the group name '" + name +
+                     "' cannot be written to HDF5 (it is empty or holds '/')");
+}
+
+// Reading: every failure is recorded as the first error and ends the read on every rank.
+class Reader {
+ public:
+  Reader(const std::string& path, MPI_Comm comm) : path_(path) {
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    H5 fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+    if (size > 1) H5Pset_fapl_mpio(fapl.id, comm, MPI_INFO_NULL);
+    file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.id);
+  }
+  ~Reader() {
+    if (file_ >= 0) H5Fclose(file_);
+  }
+  bool open() const { return file_ >= 0; }
+  std::string format() const {
+    H5 a{H5Aopen(file_, "format", H5P_DEFAULT), H5Aclose};
+    if (a.id < 0) return {};
+    H5 type{H5Aget_type(a.id), H5Tclose};
+    std::string s(H5Tget_size(type.id), '\0');
+    if (H5Tget_class(type.id) != H5T_STRING || H5Aread(a.id, type.id, s.data()) < 0) return {};
+    return s;
+  }
+  int attribute(const std::string& object, const std::string& name, int fallback) const {
+    int value = fallback;
+    H5 a{H5Aopen_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    if (a.id < 0 || H5Aread(a.id, H5T_NATIVE_INT, &value) < 0) return fallback;
+    return value;
+  }
+  // Rows and columns (0 for a 1D dataset); rows = -1 if it is missing or not 1D/2D.
+  std::pair<int64_t, int> shape(const std::string& name) const {
+    if (H5Lexists(file_, name.c_str(), H5P_DEFAULT) <= 0) return {-1, 0};
+    H5 set{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
+    if (set.id < 0) return {-1, 0};
+    H5 space{H5Dget_space(set.id), H5Sclose};
+    const int rank = H5Sget_simple_extent_ndims(space.id);
+    hsize_t dims[2] = {0, 0};
+    if (rank < 1 || rank > 2) return {-1, 0};
+    H5Sget_simple_extent_dims(space.id, dims, nullptr);
+    return {static_cast<int64_t>(dims[0]), rank == 2 ? static_cast<int>(dims[1]) : 0};
+  }
+  // Rows [begin, end) of a dataset with `cols` columns (0: 1D).
+  template <class T>
+  bool rows(const std::string& name, hid_t type, int64_t begin, int64_t end, int cols,
+            std::vector<T>& out) const {
+    const size_t width = cols ? cols : 1;
+    out.resize((end - begin) * width);
+    if (end == begin) return true;
+    H5 set{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
+    if (set.id < 0) return false;
+    H5 space{H5Dget_space(set.id), H5Sclose};
+    const hsize_t start[2] = {static_cast<hsize_t>(begin), 0};
+    const hsize_t count[2] = {static_cast<hsize_t>(end - begin), width};
+    H5Sselect_hyperslab(space.id, H5S_SELECT_SET, start, nullptr, count, nullptr);
+    H5 memory{H5Screate_simple(cols ? 2 : 1, count, nullptr), H5Sclose};
+    return H5Dread(set.id, type, memory.id, space.id, H5P_DEFAULT, out.data()) >= 0;
+  }
+  std::vector<std::string> children(const std::string& group) const {
+    std::vector<std::string> names;
+    if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0) return names;
+    H5Literate_by_name(
+        file_, group.c_str(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
+        [](hid_t, const char* name, const H5L_info_t*, void* list) -> herr_t {
+          static_cast<std::vector<std::string>*>(list)->push_back(name);
+          return 0;
+        },
+        &names, H5P_DEFAULT);
+    return names;
+  }
+
+ private:
+  std::string path_;
+  hid_t file_ = -1;
+};
+
+}  // namespace
+
+void write_mesh_h5(const Mesh& mesh, const std::string& path) {
+  for (const auto& v : mesh.volume_names) check_name(path, v);
+  for (const auto& [name, faces] : mesh.surfaces) check_name(path, name);
+  for (const auto& [name, nodes] : mesh.node_groups) check_name(path, name);
+  Writer w(path);
+  w.attribute("format", kFormat);
+  w.attribute("/", "version", 1);
+  w.attribute("/", "order", mesh.order);
+  w.dataset("/nodes", H5T_NATIVE_DOUBLE, mesh.x, 3);
+  w.dataset("/tets", H5T_NATIVE_INT64, mesh.tets, mesh.nodes_per_tet());
+  w.dataset("/tet_volume", H5T_NATIVE_INT, mesh.tet_volume, 0);
+  w.group("/volumes");
+  for (size_t v = 0; v < mesh.volume_names.size(); ++v) {
+    w.group("/volumes/" + mesh.volume_names[v]);
+    w.attribute("/volumes/" + mesh.volume_names[v], "index", static_cast<int>(v));
+  }
+  w.group("/surfaces");
+  for (const auto& [name, faces] : mesh.surfaces) {
+    w.group("/surfaces/" + name);
+    w.dataset("/surfaces/" + name + "/faces", H5T_NATIVE_INT64, faces, mesh.nodes_per_face());
+    w.dataset("/surfaces/" + name + "/tets", H5T_NATIVE_INT64, mesh.surface_tets.at(name), 0);
+  }
+  w.group("/node_groups");
+  for (const auto& [name, nodes] : mesh.node_groups)
+    w.dataset("/node_groups/" + name, H5T_NATIVE_INT64, nodes, 0);
+  w.close();
+}
+
+MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const QuietHdf5 quiet;
+  Reader h5(path, comm);
+  MeshSlab s;
+  std::string error;
+  auto fail = [&](const std::string& what) {
+    if (error.empty()) error = path + ": " + what;
+  };
+  if (!h5.open()) fail("cannot open it as an HDF5 file");
+  else if (h5.format() != kFormat) fail("not a hydrosoft mesh (no attribute format = '" + std::string(kFormat) + "'; write one with `hydrosoft mesh DECK`)");
+  throw_together<InputError>(error, comm);
+
+  s.order = h5.attribute("/", "order", 0);
+  if (s.order != 1 && s.order != 2) fail("attribute order must be 1 or 2");
+  const auto nodes = h5.shape("/nodes"), tets = h5.shape("/tets"), vol = h5.shape("/tet_volume");
+  if (nodes.first < 0 || nodes.second != 3) fail("/nodes must be an N x 3 dataset");
+  if (tets.first < 1 || tets.second != s.nodes_per_tet())
+    fail("/tets must be a T x " + std::to_string(s.nodes_per_tet()) + " dataset with T >= 1");
+  if (vol.first != tets.first || vol.second != 0) fail("/tet_volume must hold one entry per tetrahedron");
+  const std::vector<std::string> volumes = h5.children("/volumes");
+  s.groups.volumes.assign(volumes.size(), "");
+  for (const auto& v : volumes) {
+    const int index = h5.attribute("/volumes/" + v, "index", -1);
+    if (index < 0 || index >= static_cast<int>(volumes.size()) || !s.groups.volumes[index].empty())
+      fail("/volumes/" + v + ": its index is missing, out of range or repeated");
+    else s.groups.volumes[index] = v;
+  }
+  throw_together<InputError>(error, comm);
+  s.num_nodes = nodes.first;
+  s.num_tets = tets.first;
+  const int npe = s.nodes_per_tet(), npf = s.nodes_per_face();
+
+  s.node_begin = block_begin(s.num_nodes, rank, size);
+  s.tet_begin = block_begin(s.num_tets, rank, size);
+  if (!h5.rows("/nodes", H5T_NATIVE_DOUBLE, s.node_begin, block_begin(s.num_nodes, rank + 1, size), 3, s.x))
+    fail("cannot read /nodes");
+  if (!h5.rows("/tets", H5T_NATIVE_INT64, s.tet_begin, block_begin(s.num_tets, rank + 1, size), npe, s.tets))
+    fail("cannot read /tets");
+  if (!h5.rows("/tet_volume", H5T_NATIVE_INT, s.tet_begin, block_begin(s.num_tets, rank + 1, size), 0, s.tet_volume))
+    fail("cannot read /tet_volume");
+  for (size_t i = 0; i < s.x.size(); ++i)
+    if (!std::isfinite(s.x[i])) {
+      fail("/nodes: node " + std::to_string(s.node_begin + i / 3) + " has a coordinate that is not finite");
+      break;
+    }
+  auto node_in_range = [&](const std::string& where, const std::vector<int64_t>& list, int64_t first, int width) {
+    for (size_t i = 0; i < list.size(); ++i)
+      if (list[i] < 0 || list[i] >= s.num_nodes) {
+        fail(where + ": row " + std::to_string(first + static_cast<int64_t>(i) / width) + " names node " + std::to_string(list[i]) + ", outside 0.." + std::to_string(s.num_nodes - 1));
+        return;
+      }
+  };
+  node_in_range("/tets", s.tets, s.tet_begin, npe);
+  for (size_t i = 0; i < s.tet_volume.size(); ++i)
+    if (s.tet_volume[i] < 0 || s.tet_volume[i] >= static_cast<int>(volumes.size())) {
+      fail("/tet_volume: tetrahedron " + std::to_string(s.tet_begin + i) + " names volume " + std::to_string(s.tet_volume[i]) + ", which /volumes does not hold");
+      break;
+    }
+
+  for (const auto& name : h5.children("/surfaces")) {
+    const std::string at = "/surfaces/" + name;
+    const auto faces = h5.shape(at + "/faces"), bounds = h5.shape(at + "/tets");
+    if (faces.first < 0 || faces.second != npf || bounds.first != faces.first || bounds.second != 0) {
+      fail(at + ": faces must be F x " + std::to_string(npf) + " and tets F entries");
+      continue;
+    }
+    s.groups.surface_faces[name] = faces.first;
+    MeshSlab::Faces& f = s.surfaces[name];
+    f.begin = block_begin(faces.first, rank, size);
+    const int64_t end = block_begin(faces.first, rank + 1, size);
+    if (!h5.rows(at + "/faces", H5T_NATIVE_INT64, f.begin, end, npf, f.nodes) ||
+        !h5.rows(at + "/tets", H5T_NATIVE_INT64, f.begin, end, 0, f.tets))
+      fail("cannot read " + at);
+    node_in_range(at + "/faces", f.nodes, f.begin, npf);
+    for (int64_t t : f.tets)
+      if (t < 0 || t >= s.num_tets) {
+        fail(at + "/tets: tetrahedron " + std::to_string(t) + " is out of range");
+        break;
+      }
+  }
+  for (const auto& name : h5.children("/node_groups")) {
+    const std::string at = "/node_groups/" + name;
+    const auto n = h5.shape(at);
+    if (n.first < 0 || n.second != 0) {
+      fail(at + " must be a 1D dataset");
+      continue;
+    }
+    s.groups.group_nodes[name] = n.first;
+    std::vector<int64_t>& list = s.node_groups[name];
+    if (!h5.rows(at, H5T_NATIVE_INT64, block_begin(n.first, rank, size), block_begin(n.first, rank + 1, size), 0, list))
+      fail("cannot read " + at);
+    node_in_range(at, list, block_begin(n.first, rank, size), 1);
+  }
+  throw_together<InputError>(error, comm);
+  return s;
+}
+
+}  // namespace hs
