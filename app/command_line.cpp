@@ -35,7 +35,12 @@ Arguments parse_arguments(int argc, const char* const* argv) {
     return std::string(argv[++i]);
   };
   bool after_petsc_option = false;  // the previous argument was -name: a bare word is its value
-  for (int i = 1; i < argc; ++i) {
+  int first = 1;
+  if (argc > 1 && std::strcmp(argv[1], "mesh") == 0) {
+    args.mesh = true;
+    first = 2;
+  }
+  for (int i = first; i < argc; ++i) {
     const std::string a = argv[i];
     const bool was_after_option = after_petsc_option;
     after_petsc_option = false;
@@ -64,6 +69,9 @@ Arguments parse_arguments(int argc, const char* const* argv) {
     } else if (args.deck.empty() && (a.size() > 5 && (a.rfind(".yaml") == a.size() - 5 ||
                                                       a.rfind(".yml") == a.size() - 4))) {
       args.deck = a;  // a deck, even right after a PETSc flag (-snes_monitor deck.yaml)
+    } else if (args.mesh && !args.deck.empty() && args.mesh_output.empty() && a.size() > 3 &&
+               a.rfind(".h5") == a.size() - 3) {
+      args.mesh_output = a;
     } else if (was_after_option) {
       args.petsc.push_back(a);  // the value of the PETSc option before it
     } else if (args.deck.empty()) {
@@ -74,6 +82,10 @@ Arguments parse_arguments(int argc, const char* const* argv) {
           (a.find('=') != std::string::npos ? " (to override a key: --set " + a + ")" : ""));
     }
   }
+  if (args.mesh && (args.deck.empty() || args.mesh_output.empty()))
+    throw UsageError("mesh: usage: hydrosoft mesh DECK.yaml OUT.h5 [--set key=value ...]");
+  if (args.mesh && (args.check || !args.targets.empty()))
+    throw UsageError("mesh: --check and --targets do not apply (it solves nothing)");
   return args;
 }
 

@@ -1,6 +1,8 @@
 // hydrosoft's command line: its own arguments apart from PETSc's, strictly. Any argument that
 // is neither hydrosoft's (DECK, --set key=value, --targets -, --check, --help/-h, --version) nor a
 // PETSc option (-name, or -name value) is an error that names it; nothing is silently ignored.
+// `hydrosoft mesh DECK.yaml OUT.h5` (the word mesh first) meshes the deck's mesh once into a
+// hydrosoft mesh file that runs then read in parallel.
 #pragma once
 
 #include <stdexcept>
@@ -15,6 +17,8 @@ struct Arguments {
   std::string targets;                 // of --targets ("" when not given)
   bool help = false, version = false;
   bool check = false;                    // --check: validate the deck and its mesh, solve nothing
+  bool mesh = false;                     // hydrosoft mesh DECK OUT.h5: write the mesh, solve nothing
+  std::string mesh_output;               // its OUT.h5
   std::vector<std::string> petsc;        // PETSc's arguments, in order (values included)
   std::vector<std::string> petsc_names;  // the PETSc options among them, e.g. "-snes_monitor"
 };

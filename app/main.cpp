@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,7 @@
 #include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_statistics.hpp"
 #include "solvers/simulation.hpp"
 #include "version.hpp"
@@ -30,9 +32,12 @@ namespace {
 const char* usage =
     "usage: hydrosoft DECK.yaml [--set key=value ...] [--targets -] [PETSc options]\n"
     "       hydrosoft --check DECK.yaml [--set key=value ...]\n"
+    "       hydrosoft mesh DECK.yaml OUT.h5 [--set key=value ...]\n"
     "       hydrosoft --version | --help\n"
     "  --check           validate the deck, load or mesh its mesh, check its groups, print the\n"
     "                    resolved configuration and the mesh's statistics; solve nothing\n"
+    "  mesh              mesh (or read) the deck's mesh once and write it to OUT.h5, which a\n"
+    "                    deck names as mesh.file and every rank of a run reads its part of\n"
     "  --set key=value   override a deck key, e.g. --set mesh.order=2 --set mesh.parameters.h=0.1\n"
     "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
     "                    'effector x y z'; each line gets one JSON line on standard output,\n"
@@ -108,6 +113,27 @@ void check_deck(const hs::Config& config) {
               << "# hydrosoft: the deck and its mesh are valid; nothing was solved" << std::endl;
 }
 
+// hydrosoft mesh: the deck's mesh loaded (or meshed) and checked on rank 0 and written, whole
+// or not at all, to `output`.
+void write_mesh(const hs::Config& config, const std::string& output) {
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank != 0) return;
+  const hs::Mesh mesh = hs::load_mesh(config.mesh);
+  hs::check_groups(config, hs::groups_of(mesh));
+  const std::string partial = output + ".partial";
+  try {
+    hs::write_mesh_h5(mesh, partial);
+    std::filesystem::rename(partial, output);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(partial, ignored);
+    throw;
+  }
+  std::cout << "# hydrosoft: mesh " << config.mesh.file << " written to " << output << "\n"
+            << hs::format_statistics(hs::mesh_statistics(mesh, {})) << std::flush;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -157,6 +183,11 @@ int main(int argc, char** argv) {
       if (!config.control)
         return fail(2, deck + ": --targets - needs a deck with a control section");
       config.control->targets_from_stdin = true;
+    }
+    if (args.mesh) {
+      write_mesh(config, args.mesh_output);
+      PetscFinalize();
+      return 0;
     }
     if (args.check) {
       check_deck(config);

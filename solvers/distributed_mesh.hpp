@@ -26,7 +26,9 @@ Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm,
                                    MeshLoadTimes* times = nullptr);
 
 // Collective: the part (rank) of each of the slab's tetrahedra, balanced, with few faces
-// cut. Deterministic for a given mesh and number of ranks. The PETSc option
+// cut. Not bit-for-bit repeatable: Debian's Scotch seeds and threads its search per run (a
+// fixed seed did not change that), so two runs may split a mesh differently and their
+// results differ in round-off (docs/architecture.md). The PETSc option
 // -mat_partitioning_type chooses another of PETSc's partitioners.
 std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm);
 

@@ -33,6 +33,19 @@ TEST(CommandLine, SplitsOwnArgumentsFromPetscOptions) {
   EXPECT_FALSE(a.help || a.version);
 }
 
+TEST(CommandLine, MeshWordWritesTheDecksMesh) {
+  const Arguments a = parse({"mesh", "deck.yaml", "out.h5", "--set", "mesh.parameters.h=0.1"});
+  EXPECT_TRUE(a.mesh);
+  EXPECT_EQ(a.deck, "deck.yaml");
+  EXPECT_EQ(a.mesh_output, "out.h5");
+  EXPECT_EQ(a.overrides, (std::vector<std::string>{"mesh.parameters.h=0.1"}));
+  EXPECT_NE(error_of({"mesh", "deck.yaml"}).find("hydrosoft mesh DECK.yaml OUT.h5"),
+            std::string::npos);
+  EXPECT_NE(error_of({"mesh", "deck.yaml", "out.h5", "--check"}).find("solves nothing"),
+            std::string::npos);
+  EXPECT_FALSE(parse({"deck.yaml"}).mesh);
+}
+
 TEST(CommandLine, HelpAndVersion) {
   EXPECT_TRUE(parse({"-h"}).help);
   EXPECT_TRUE(parse({"--help"}).help);

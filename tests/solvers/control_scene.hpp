@@ -14,6 +14,7 @@
 
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
+#include "distribute_whole.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "solvers/bordered_newton.hpp"
 #include "solvers/constraints/constraint_set.hpp"
@@ -23,6 +24,7 @@
 #include "solvers/problem.hpp"
 
 namespace hs_test {
+
 
 // A deck of input/ read, meshed, distributed over PETSC_COMM_WORLD, and its Problem.
 struct DeckProblem {
@@ -36,11 +38,8 @@ struct DeckProblem {
     config = hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + deck, overrides);
     if (adjust) adjust(config);
     mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-    int rank, size;
-    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-    MPI_Comm_size(PETSC_COMM_WORLD, &size);
-    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
-    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
+    dist = distribute_whole(mesh);
+    problem = std::make_unique<hs::Problem>(config, dist, PETSC_COMM_WORLD);
   }
 };
 
@@ -63,7 +62,7 @@ struct ControlScene : DeckProblem {
           control.newton_finish = true;
           config.control = control;
         }) {
-    cavities = std::make_unique<hs::ConstraintSet>(config, *problem, mesh, dist);
+    cavities = std::make_unique<hs::ConstraintSet>(config, *problem);
     hs::set_solver_options(config.solver, false);
     newton = std::make_unique<hs::BorderedNewton>(*problem, *cavities);
     effectors = std::make_unique<hs::Effectors>(config, *problem);

@@ -30,12 +30,11 @@ struct Body : hs_test::DeckProblem {
   // u = A X at every node (owned entries; the new numbering of the distribution).
   Vec affine(const double A[3][3]) {
     Vec u = problem->create_vector();
-    for (int64_t old = 0; old < mesh.num_nodes(); ++old) {
-      const int64_t id = dist.new_of_old[old];
-      if (id < dist.owned_offsets[dist.rank] || id >= dist.owned_offsets[dist.rank + 1]) continue;
+    for (int64_t l = 0; l < dist.num_owned(); ++l) {
+      const int64_t id = dist.local_nodes[l];
       for (int d = 0; d < 3; ++d) {
         double v = 0;
-        for (int e = 0; e < 3; ++e) v += A[d][e] * mesh.x[3 * old + e];
+        for (int e = 0; e < 3; ++e) v += A[d][e] * dist.x[3 * l + e];
         HS_PETSC(VecSetValue(u, 3 * id + d, v, INSERT_VALUES));
       }
     }

@@ -8,12 +8,14 @@
 #include <gtest/gtest.h>
 #include <petscsnes.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
+#include "distribute_whole.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "run_deck.hpp"
 #include "solvers/bordered_newton.hpp"
@@ -36,12 +38,9 @@ struct Scene {
   explicit Scene(const std::string& deck, std::vector<std::string> overrides) {
     config = hs::parse_deck(kSource + "/input/" + deck, overrides);
     mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-    int rank, size;
-    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-    MPI_Comm_size(PETSC_COMM_WORLD, &size);
-    dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
-    problem = std::make_unique<hs::Problem>(config, mesh, dist, PETSC_COMM_WORLD);
-    cavities = std::make_unique<hs::ConstraintSet>(config, *problem, mesh, dist);
+    dist = hs_test::distribute_whole(mesh);
+    problem = std::make_unique<hs::Problem>(config, dist, PETSC_COMM_WORLD);
+    cavities = std::make_unique<hs::ConstraintSet>(config, *problem);
   }
 };
 
@@ -314,17 +313,24 @@ TEST(Cavities, DistributedWeightsMatchOneSerialComputation) {
   hs::Problem& p = *s.problem;
   Vec u = p.create_vector(), w = p.create_vector();
   bend(p, u, 0.01);
-  hs::CavityWeight weight(s.mesh, s.dist, s.config.cavities[0], s.config.gravity, s.dist.size - 1,
+  hs::CavityWeight weight(s.dist, s.config.cavities[0], s.config.gravity, s.dist.size - 1,
                           PETSC_COMM_WORLD);  // owned by the last rank
   weight.add_weight(u, 0.5, w);
   const std::vector<double> displacement = hs::gather_nodal(p, u), forces = hs::gather_nodal(p, w);
   if (s.dist.rank == 0) {
-    const hs::CavityTriangles t = hs::cavity_triangles(s.mesh, "cavity");
+    // The cavity's faces straight from the whole mesh (P1: the faces are the triangles).
+    ASSERT_EQ(s.mesh.order, 1);
+    const std::vector<int64_t>& faces = s.mesh.surfaces.at("cavity");
+    std::vector<int64_t> nodes(faces.begin(), faces.end());
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     fluidweight::SurfaceMesh surface;
-    for (int64_t node : t.nodes)
+    for (int64_t node : nodes)
       for (int d = 0; d < 3; ++d)
         surface.vertices.push_back(s.mesh.x[3 * node + d] + displacement[3 * node + d]);
-    surface.triangles = t.triangles;
+    for (int64_t node : faces)
+      surface.triangles.push_back(
+          static_cast<int>(std::lower_bound(nodes.begin(), nodes.end(), node) - nodes.begin()));
     fluidweight::Options o;
     o.implementation = fluidweight::Implementation::cpu_reference;
     o.grid = 120;
@@ -332,9 +338,9 @@ TEST(Cavities, DistributedWeightsMatchOneSerialComputation) {
     o.gravity = {0, -0.5 * 9.81, 0};
     const fluidweight::Result r = fluidweight::compute(surface, o);
     double worst = 0, scale = 0;
-    for (size_t i = 0; i < t.nodes.size(); ++i)
+    for (size_t i = 0; i < nodes.size(); ++i)
       for (int d = 0; d < 3; ++d) {
-        worst = std::max(worst, std::abs(forces[3 * t.nodes[i] + d] - r.forces[3 * i + d]));
+        worst = std::max(worst, std::abs(forces[3 * nodes[i] + d] - r.forces[3 * i + d]));
         scale = std::max(scale, std::abs(r.forces[3 * i + d]));
       }
     EXPECT_GT(scale, 0.0);
@@ -351,9 +357,9 @@ TEST(Cavities, ColumnAndHydrostaticWeightsHaveTheSameResultantAndMoment) {
   Vec u = p.create_vector(), column = p.create_vector(), exact = p.create_vector();
   bend(p, u, 0.01);
   hs::CavityConfig c = s.config.cavities[0];
-  hs::CavityWeight by_columns(s.mesh, s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
+  hs::CavityWeight by_columns(s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
   c.fluid_weight.method = hs::WeightMethod::hydrostatic;
-  hs::CavityWeight by_pressure(s.mesh, s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
+  hs::CavityWeight by_pressure(s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
   by_columns.add_weight(u, 1.0, column);
   by_pressure.add_weight(u, 1.0, exact);
   double f1[3], m1[3], f2[3], m2[3];

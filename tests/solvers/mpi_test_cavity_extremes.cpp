@@ -13,6 +13,7 @@
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "solvers/distributed_mesh.hpp"
 #include "run_deck.hpp"
 #include "solvers/bordered_newton.hpp"
 #include "solvers/constraints/constraint_set.hpp"
@@ -141,13 +142,9 @@ TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   // Mirroring the body through the plane y = 0 turns the cavity inside out (V -> -V). Newton
   // refuses to start there and names the cavity instead of an inverted element.
   const hs::Config config = hs::parse_deck(kSource + "/input/cylinder_air.yaml", {});
-  const hs::Mesh mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-  int rank, size;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  const hs::Distribution dist = hs::distribute(mesh, hs::partition_tets(mesh, size), rank, size);
-  hs::Problem problem(config, mesh, dist, PETSC_COMM_WORLD);
-  hs::ConstraintSet cavities(config, problem, mesh, dist);
+  const hs::Distribution dist = hs::load_distributed_mesh(config.mesh, PETSC_COMM_WORLD);
+  hs::Problem problem(config, dist, PETSC_COMM_WORLD);
+  hs::ConstraintSet cavities(config, problem);
   hs::set_solver_options(config.solver, false);
   hs::BorderedNewton newton(problem, cavities);
   Vec u = problem.create_vector(), R = problem.create_vector();

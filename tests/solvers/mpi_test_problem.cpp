@@ -11,7 +11,7 @@
 #include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
-#include "mesh/gmsh_io.hpp"
+#include "solvers/distributed_mesh.hpp"
 #include "run_deck.hpp"
 #include "solvers/multi_solve.hpp"
 #include "solvers/newton_solver.hpp"
@@ -23,18 +23,12 @@ const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
 struct Fixture {
   hs::Config config;
-  hs::Mesh mesh;
   hs::Distribution dist;
   explicit Fixture(std::vector<std::string> overrides) {
     overrides.push_back("mesh.parameters.h=0.5");
     config = hs::parse_deck(kSource + "/input/lame_sphere.yaml", overrides);
     config.gravity = {0.3, -9.81, 0.1};
-    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-    int rank, size;
-    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-    MPI_Comm_size(PETSC_COMM_WORLD, &size);
-    std::vector<int> part = hs::partition_tets(mesh, size);
-    dist = hs::distribute(mesh, part, rank, size);
+    dist = hs::load_distributed_mesh(config.mesh, PETSC_COMM_WORLD);
   }
 };
 
@@ -57,7 +51,7 @@ TEST_P(TangentTest, TangentIsDerivativeOfResidual) {
   const auto [order, model] = GetParam();
   Fixture f({"mesh.order=" + std::to_string(order), "materials[0].model=" + model,
              "materials[0].density=1000", "loads.pressure[0].value=2e5"});
-  hs::Problem problem(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+  hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
   Vec u = problem.create_vector(), v = problem.create_vector();
   fill_random(u, 0.02, 1);
   fill_random(v, 1.0, 2);
@@ -113,11 +107,11 @@ INSTANTIATE_TEST_SUITE_P(Models, TangentTest,
 TEST(PotentialEnergy, DerivativeIsTheResidual) {
   Fixture f({"mesh.order=2", "materials[0].model=neo_hookean", "materials[0].density=1000"});
   {
-    hs::Problem with_pressure(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+    hs::Problem with_pressure(f.config, f.dist, PETSC_COMM_WORLD);
     EXPECT_FALSE(with_pressure.has_potential());
   }
   f.config.pressures.clear();
-  hs::Problem problem(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+  hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
   ASSERT_TRUE(problem.has_potential());
   Vec u = problem.create_vector(), v = problem.create_vector(), R = problem.create_vector();
   fill_random(u, 0.02, 3);
@@ -171,7 +165,7 @@ INSTANTIATE_TEST_SUITE_P(Solvers, FullNewtonSteps, ::testing::Values("mumps", "g
 // evaluation without any clears it (an earlier trial step must not be blamed later).
 TEST(InvertedElement, NamedOnEveryRankAndClearedByTheNextEvaluation) {
   Fixture f({"materials[0].model=neo_hookean"});  // linear elasticity never inverts
-  hs::Problem problem(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+  hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
   Vec u = problem.create_vector(), R = problem.create_vector();
   Mat J = problem.create_matrix();
   const auto agreed = [&](int64_t e) {
@@ -183,7 +177,7 @@ TEST(InvertedElement, NamedOnEveryRankAndClearedByTheNextEvaluation) {
   fill_random(u, 5.0, 3);  // ten times the element size: many elements turn inside out
   EXPECT_FALSE(problem.residual(u, 1.0, R));
   EXPECT_GE(problem.inverted_element(), 0);
-  EXPECT_LT(problem.inverted_element(), f.mesh.num_tets());
+  EXPECT_LT(problem.inverted_element(), f.dist.num_global_tets);
   EXPECT_TRUE(agreed(problem.inverted_element()));
   fill_random(u, 1e-4, 4);
   EXPECT_TRUE(problem.residual(u, 1.0, R));
@@ -206,7 +200,7 @@ class SolveColumns : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SolveColumns, EqualOneSolveEach) {
   Fixture f({"materials[0].model=neo_hookean"});
-  hs::Problem problem(f.config, f.mesh, f.dist, PETSC_COMM_WORLD);
+  hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
   Vec u = problem.create_vector();
   fill_random(u, 0.01, 7);
   problem.apply_dirichlet(u, 1.0);
