@@ -42,7 +42,7 @@ Config valid_config() {
 
 std::string error_of(const Config& c) {
   try {
-    check_groups(c, two_tet_mesh());
+    check_groups(c, groups_of(two_tet_mesh()));
   } catch (const InputError& e) {
     return e.what();
   }
@@ -53,7 +53,7 @@ const std::string kListing =
     "(mesh robot.msh has volumes: body, insert; surfaces: inner; other groups: empty, tip)";
 
 TEST(CheckGroups, AcceptsAValidDeck) {
-  EXPECT_NO_THROW(check_groups(valid_config(), two_tet_mesh()));
+  EXPECT_NO_THROW(check_groups(valid_config(), groups_of(two_tet_mesh())));
 }
 
 TEST(CheckGroups, MaterialGroupMissing) {
