@@ -209,10 +209,14 @@ TEST_F(DeckErrors, PetscOptionNames) {
 TEST_F(DeckErrors, MeshFiles) {
   tmp.write("mesh.stl", "");
   tmp.write("body.msh", "");
+  tmp.write("body.h5", "");
   expect_errors({
       {"mesh: {file: nowhere.msh}\n" + kMaterials, "mesh.file",
        "mesh file '" + (tmp.path() / "nowhere.msh").string() + "' not found"},
-      {"mesh: {file: mesh.stl}\n" + kMaterials, "mesh.file", "expected a .msh or .geo file"},
+      {"mesh: {file: mesh.stl}\n" + kMaterials, "mesh.file",
+       "expected a .msh, .geo or .h5 (hydrosoft mesh) file"},
+      {"mesh: {file: body.h5, order: 2}\n" + kMaterials, "mesh.order",
+       "an .h5 mesh keeps the order it was meshed at"},
       {"mesh: {file: body.msh, parameters: {h: 1}}\n" + kMaterials, "mesh.parameters",
        "only used with a .geo mesh file"},
       {"mesh: {file: body.msh, trust_geo: true}\n" + kMaterials, "mesh.trust_geo",
