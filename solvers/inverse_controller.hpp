@@ -70,6 +70,8 @@ class InverseController {
   InverseController(const InverseController&) = delete;
   InverseController& operator=(const InverseController&) = delete;
 
+  // The background factorizations (control.factor_threads > 0), else null.
+  BackgroundFactorizations* background() { return background_.get(); }
   int num_actuators() const { return static_cast<int>(actuators_.size()); }
   // Records the rest state's volumes (volume growth is counted from there).
   void set_rest(Vec u);

@@ -114,6 +114,7 @@ bool BackgroundFactorizations::submit_if_idle(Mat J, int state) {
   HS_PETSC(MatCreateSubMatrices(J, 1, &rows, &rows, MAT_INITIAL_MATRIX, &whole));
   if (rank_ == 0) {
     CsrMatrix A = csr_of(whole[0]);
+    if (filter_) filter_(A);
     pool_->submit(A, state);
   }
   HS_PETSC(MatDestroySubMatrices(1, &whole));

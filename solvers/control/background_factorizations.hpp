@@ -11,6 +11,7 @@
 
 #include <petscksp.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -50,6 +51,9 @@ class BackgroundFactorizations {
   // Blocks until the threads are idle (tests: makes the adoption of a factorization
   // deterministic).
   void wait_idle();
+  // Applied on rank 0 to every copy of the tangent before a thread factors it (tests: a copy
+  // made indefinite, so that the background factorization really fails).
+  void set_copy_filter(std::function<void(CsrMatrix&)> filter) { filter_ = std::move(filter); }
 
  private:
   enum class Source { none, inline_ksp, background };
@@ -65,6 +69,7 @@ class BackgroundFactorizations {
   int state_ = -1;
   VecScatter to_zero_ = nullptr;  // the whole vector on rank 0, for the factor's solves
   Vec x0_ = nullptr, y0_ = nullptr;
+  std::function<void(CsrMatrix&)> filter_;
 };
 
 }  // namespace hs
