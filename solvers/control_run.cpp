@@ -142,8 +142,9 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       iterations.push_back(r.correction_iterations);
       if (!r.background_failure.empty()) {
         failures.push_back({{"step", total.size() - 1}, {"error", r.background_failure}});
-        if (rank == 0) std::cerr << "hydrosoft: control: " << r.background_failure
-                                 << "; factored in line" << std::endl;
+        if (rank == 0)
+          std::cerr << "hydrosoft: control: " << r.background_failure << "; factored in line"
+                    << std::endl;
       }
     }
     // With the free configuration converged by Newton, the reported position is the

@@ -188,8 +188,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // correction's operator), and factors in line only without a usable preconditioner.
   const bool background = one_step && background_;
   ++step_count_;
-  const bool refactor = !one_step || background || !factored_ || stale_failed ||
-                        force_refactor_ ||
+  const bool refactor = !one_step || background || !factored_ || stale_failed || force_refactor_ ||
                         steps_since_factorization_ + 1 >= config_.control->refactor_every ||
                         r_norm > residual_at_factorization_;
   bool fresh = refactor;  // factored at this step's state
@@ -202,8 +201,8 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     if (background) {
       const BackgroundFactorizations::Poll polled = background_->poll();
       report.background_failure = polled.error;
-      fresh = polled.failed || !background_->has_preconditioner() || stale_failed ||
-              force_refactor_;
+      fresh =
+          polled.failed || !background_->has_preconditioner() || stale_failed || force_refactor_;
       if (!fresh) background_->submit_if_idle(J_, step_count_);
       t_compliance = MPI_Wtime();
       if (!fresh) {

@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "solvers/bordered_newton.hpp"
-#include "solvers/control/background_factorizations.hpp"
 #include "solvers/constraints/constraint_set.hpp"
+#include "solvers/control/background_factorizations.hpp"
 #include "solvers/effectors.hpp"
 
 namespace hs {
@@ -106,7 +106,7 @@ class InverseController {
   std::vector<Actuator> actuators_;
   KSP ksp_ = nullptr;
   std::unique_ptr<BackgroundFactorizations> background_;  // control.factor_threads > 0
-  int step_count_ = 0;                                     // steps begun, retakes included
+  int step_count_ = 0;                                    // steps begun, retakes included
   Mat J_ = nullptr;
   std::vector<Vec> Y_, Z_, response_;  // per cavity; per weighted cavity; per actuator
   ConstraintLinearization lin_;

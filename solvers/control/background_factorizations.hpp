@@ -63,8 +63,8 @@ class BackgroundFactorizations {
   int rank_ = 0, threads_ = 0;
   KSP inline_ksp_;
   KSP correction_ = nullptr;
-  std::unique_ptr<FactorPool> pool_;         // rank 0
-  std::unique_ptr<CholeskyFactor> factor_;   // rank 0: the adopted background factorization
+  std::unique_ptr<FactorPool> pool_;        // rank 0
+  std::unique_ptr<CholeskyFactor> factor_;  // rank 0: the adopted background factorization
   Source source_ = Source::none;
   int state_ = -1;
   VecScatter to_zero_ = nullptr;  // the whole vector on rank 0, for the factor's solves

@@ -64,8 +64,7 @@ void FactorPool::work() {
     } catch (const std::exception& e) {
       result.error = e.what();
     }
-    result.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     {
       std::lock_guard<std::mutex> lock(mutex_);
       finished_.push_back(std::move(result));

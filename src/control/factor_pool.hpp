@@ -18,10 +18,10 @@
 namespace hs {
 
 struct FactorResult {
-  int state = 0;                            // the step whose tangent it is
-  std::unique_ptr<CholeskyFactor> factor;   // null when it failed
-  std::string error;                        // why it failed
-  double seconds = 0;                       // the factorization's time (its thread's clock)
+  int state = 0;                           // the step whose tangent it is
+  std::unique_ptr<CholeskyFactor> factor;  // null when it failed
+  std::string error;                       // why it failed
+  double seconds = 0;                      // the factorization's time (its thread's clock)
 };
 
 class FactorPool {

@@ -54,9 +54,7 @@ struct CholeskyFactor::State {
   cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;  // cholmod_solve2's workspaces
 };
 
-CholeskyAnalysis::CholeskyAnalysis() : state_(std::make_unique<State>()) {
-  start(state_->common);
-}
+CholeskyAnalysis::CholeskyAnalysis() : state_(std::make_unique<State>()) { start(state_->common); }
 
 CholeskyAnalysis::~CholeskyAnalysis() {
   cholmod_free_factor(&state_->symbolic, &state_->common);
@@ -70,8 +68,8 @@ std::unique_ptr<CholeskyFactor> CholeskyAnalysis::factor(const CsrMatrix& A, std
     cholmod_free_factor(&s.symbolic, &s.common);
     s.symbolic = cholmod_analyze(&a, &s.common);
     if (!s.symbolic) {
-      if (error) *error = "CHOLMOD: the analysis failed (status " +
-                          std::to_string(s.common.status) + ")";
+      if (error)
+        *error = "CHOLMOD: the analysis failed (status " + std::to_string(s.common.status) + ")";
       return nullptr;
     }
     s.row_start = A.row_start;

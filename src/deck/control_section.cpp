@@ -203,10 +203,10 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
   if (node.IsMap() && node["targets_from_stdin"])
     r.fail(child_key(key, "targets_from_stdin"), node["targets_from_stdin"],
            "not a deck key: the command line sets it (--targets -)");
-  r.check_map(node, key,
-              {"effectors", "actuators", "targets", "steps_per_target", "regularization",
-               "newton_finish", "free_solve", "refactor_every", "check_equilibrium",
-               "factor_threads"});
+  r.check_map(
+      node, key,
+      {"effectors", "actuators", "targets", "steps_per_target", "regularization", "newton_finish",
+       "free_solve", "refactor_every", "check_equilibrium", "factor_threads"});
   ControlConfig control;
   control.effectors =
       parse_effectors(r, required(r, node, key, "effectors"), child_key(key, "effectors"));
