@@ -14,7 +14,7 @@ namespace {
 
 // The background mode's correction: GMRES's relative residual for each right-hand side
 // (-hs_control_correction_ksp_rtol overrides it).
-constexpr double kCorrectionRtol = 1e-2;
+constexpr double kCorrectionRtol = 1e-5;
 
 double max_over_ranks(double x, MPI_Comm comm) {
   MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, comm);
