@@ -9,6 +9,7 @@ packages=(
   libopenmpi-dev openmpi-bin
   libmetis-dev              # partitioning (Debian's PETSc is built without METIS)
   libeigen3-dev
+  libsuitesparse-dev        # CHOLMOD: the control loop's background factorizations
   libhdf5-openmpi-dev
   gmsh libgmsh-dev
   libyaml-cpp-dev nlohmann-json3-dev

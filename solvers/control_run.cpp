@@ -123,6 +123,11 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
   for (const auto& part : ControlStepReport{}.parts()) parts[part.first];  // even without steps
   double kkt_max = 0;
   int unsolved = 0, set = 0;
+  // control.factor_threads > 0: per step, the staleness of the preconditioning factorization
+  // and the correction's iterations; the background factorizations that failed.
+  const bool background = config.control->factor_threads > 0;
+  std::vector<int> staleness, iterations;
+  nlohmann::json failures = nlohmann::json::array();
   // Steps towards one target set, its output step, and its entries in `targets` (answered at
   // once on the interactive output, with the number of its input line).
   auto reach = [&](const std::vector<ControlTarget>& targets, int line_number) {
@@ -135,6 +140,14 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       for (const auto& [name, ms] : r.parts()) parts[name].push_back(ms);
       kkt_max = std::max(kkt_max, r.kkt_residual);
       unsolved += !r.qp_solved;
+      staleness.push_back(r.staleness);
+      iterations.push_back(r.correction_iterations);
+      if (!r.background_failure.empty()) {
+        failures.push_back({{"step", total.size() - 1}, {"error", r.background_failure}});
+        if (rank == 0)
+          std::cerr << "hydrosoft: control: " << r.background_failure << "; factored in line"
+                    << std::endl;
+      }
     }
     // With the free configuration converged by Newton, the reported position is the
     // equilibrium at the final actuation, not the last step's linear prediction (the same
@@ -166,6 +179,10 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
         j["equilibrium_error_m"] = error_of(equilibrium, e, t);
       }
       j["step_ms"] = r.total_ms;
+      if (background) {
+        j["staleness"] = r.staleness;
+        j["correction_iterations"] = r.correction_iterations;
+      }
       j["actuation"] = r.actuation;
       j["saturated"] = r.saturated;
       j["limit_point"] = limit_point;
@@ -210,13 +227,24 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
         {"lines", line.number}, {"answered", line.number - rejected}, {"rejected", rejected}};
   }
   auto timing = [](const std::vector<double>& v) {
-    return nlohmann::json{{"median", percentile(v, 0.5)}, {"p95", percentile(v, 0.95)}};
+    double sum = 0;
+    for (double x : v) sum += x;
+    return nlohmann::json{{"median", percentile(v, 0.5)},
+                          {"mean", v.empty() ? 0.0 : sum / v.size()},
+                          {"p95", percentile(v, 0.95)},
+                          {"max", percentile(v, 1.0)}};
   };
   out["step_time_ms"] = timing(total);
   for (const auto& [name, v] : parts)
     out["step_time_ms"]["split_median"][name] = percentile(v, 0.5);
   out["step_time_ms"]["steps"] = total.size();
   out["qp"] = {{"kkt_residual_max", kkt_max}, {"unsolved", unsolved}};
+  if (background)
+    out["background_factorization"] = {{"threads", config.control->factor_threads},
+                                       {"step_ms", total},
+                                       {"staleness", staleness},
+                                       {"correction_iterations", iterations},
+                                       {"failures", failures}};
   return out;
 }
 

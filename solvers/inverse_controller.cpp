@@ -12,6 +12,10 @@
 namespace hs {
 namespace {
 
+// The background mode's correction: GMRES's relative residual for each right-hand side
+// (-hs_control_correction_ksp_rtol overrides it).
+constexpr double kCorrectionRtol = 1e-5;
+
 double max_over_ranks(double x, MPI_Comm comm) {
   MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, comm);
   return x;
@@ -41,6 +45,9 @@ InverseController::InverseController(const Config& config, Problem& problem,
   J_ = problem.create_matrix();
   HS_PETSC(KSPCreate(problem.comm(), &ksp_));
   HS_PETSC(KSPSetFromOptions(ksp_));
+  if (config.control->factor_threads > 0 && config.control->free_solve == FreeSolve::one_step)
+    background_ = std::make_unique<BackgroundFactorizations>(
+        problem.comm(), config.control->factor_threads, ksp_, kCorrectionRtol);
   for (int c = 0; c < constraints.size(); ++c) {
     Y_.push_back(problem.create_vector());
     if (constraints[c].measure_load()) Z_.push_back(problem.create_vector());
@@ -52,6 +59,7 @@ InverseController::InverseController(const Config& config, Problem& problem,
 }
 
 InverseController::~InverseController() {
+  background_.reset();
   KSPDestroy(&ksp_);
   MatDestroy(&J_);
   VecDestroy(&last_free_);
@@ -65,7 +73,7 @@ InverseController::~InverseController() {
 // take their input, the other cavities keep their control (alpha g^T du + b dlambda = -c),
 // eta_h = g_h^T du; and the response of the whole system to each actuator.
 // a_ = K^-1 R_ is solved with them, all through the factors at once.
-void InverseController::factor_responses() {
+bool InverseController::factor_responses(KSP ksp, int* iterations) {
   const int m = constraints_.size(), n = num_actuators();
   columns_.clear();
   weighted_.clear();
@@ -82,8 +90,7 @@ void InverseController::factor_responses() {
     }
   std::vector<Vec> solutions{a_};
   solutions.insert(solutions.end(), columns_.begin(), columns_.end());
-  if (!solve_columns(ksp_, rhs, solutions))
-    throw SolveError("control step: the factorization of the tangent failed");
+  if (!solve_columns(ksp, rhs, solutions, iterations)) return false;
   const int k = static_cast<int>(columns_.size());
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(k, k), inputs = Eigen::MatrixXd::Zero(k, n);
   std::vector<PetscScalar> dots(k);
@@ -114,6 +121,7 @@ void InverseController::factor_responses() {
     const Eigen::VectorXd z = zeta_.col(a);
     HS_PETSC(VecMAXPY(response_[a], k, z.data(), columns_.data()));
   }
+  return true;
 }
 
 ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget>& targets) {
@@ -176,19 +184,47 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     HS_PETSC(VecCopy(u, step_start_));
     step_start_pressures_ = constraints_.multipliers();
   }
-  const bool refactor = !one_step || !factored_ || stale_failed || force_refactor_ ||
+  // control.factor_threads > 0: every step linearises (the current tangent is the
+  // correction's operator), and factors in line only without a usable preconditioner.
+  const bool background = one_step && background_;
+  ++step_count_;
+  const bool refactor = !one_step || background || !factored_ || stale_failed || force_refactor_ ||
                         steps_since_factorization_ + 1 >= config_.control->refactor_every ||
                         r_norm > residual_at_factorization_;
+  bool fresh = refactor;  // factored at this step's state
   const double t_factor0 = MPI_Wtime();
   double t_factor = t_factor0, t_compliance = t_factor0;
   if (refactor) {
     if (!constraints_.linearize(u, 1.0, J_, lin_))
       throw SolveError("control step: an element is inverted at the free configuration");
     t_factor = MPI_Wtime();
-    HS_PETSC(KSPSetOperators(ksp_, J_, J_));
-    HS_PETSC(KSPSetUp(ksp_));
-    t_compliance = MPI_Wtime();
-    factor_responses();
+    if (background) {
+      const BackgroundFactorizations::Poll polled = background_->poll();
+      report.background_failure = polled.error;
+      fresh =
+          polled.failed || !background_->has_preconditioner() || stale_failed || force_refactor_;
+      if (!fresh) background_->submit_if_idle(J_, step_count_);
+      t_compliance = MPI_Wtime();
+      if (!fresh) {
+        report.staleness = step_count_ - background_->preconditioner_state();
+        fresh = !factor_responses(background_->correction(J_), &report.correction_iterations);
+        if (fresh) report.background_failure = "the correction did not converge";
+      }
+      if (fresh) HS_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
+    }
+    if (fresh) {
+      t_factor = MPI_Wtime();
+      HS_PETSC(KSPSetOperators(ksp_, J_, J_));
+      HS_PETSC(KSPSetUp(ksp_));
+      t_compliance = MPI_Wtime();
+      if (!factor_responses(ksp_))
+        throw SolveError("control step: the factorization of the tangent failed");
+      report.staleness = 0;
+      if (background) {
+        background_->use_inline(step_count_);
+        background_->submit_if_idle(J_, step_count_);
+      }
+    }
     factored_ = true;
     steps_since_factorization_ = 0;
     residual_at_factorization_ = r_norm;
@@ -319,7 +355,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   if (one_step && !problem_.orientation_preserved(u)) {
     HS_PETSC(VecCopy(step_start_, u));
     constraints_.set_multipliers(step_start_pressures_);
-    (refactor ? retake_converged_ : force_refactor_) = true;
+    (fresh ? retake_converged_ : force_refactor_) = true;
     ControlStepReport again = step(u, targets);
     again.total_ms += 1e3 * max_over_ranks(MPI_Wtime() - t_start, comm);
     return again;

@@ -17,11 +17,13 @@
 #include <petscksp.h>
 
 #include <Eigen/Dense>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <vector>
 
 #include "solvers/bordered_newton.hpp"
 #include "solvers/constraints/constraint_set.hpp"
+#include "solvers/control/background_factorizations.hpp"
 #include "solvers/effectors.hpp"
 
 namespace hs {
@@ -47,6 +49,13 @@ struct ControlStepReport {
             {"correction", correction_ms}};
   }
   int newton_iterations = 0;
+  // control.factor_threads > 0: how many steps old the state of the factorization that
+  // preconditioned this step's correction was (0: factored in line at this step's state),
+  // the correction's GMRES iterations over all right-hand sides, and a background
+  // factorization that failed (the step then factored in line).
+  int staleness = 0;
+  int correction_iterations = 0;
+  std::string background_failure;
   // The free configuration could not reach the actuation of the last correction (a limit
   // point of the pressure: no equilibrium there) and stayed at the last one reached.
   bool limit_point = false;
@@ -61,6 +70,8 @@ class InverseController {
   InverseController(const InverseController&) = delete;
   InverseController& operator=(const InverseController&) = delete;
 
+  // The background factorizations (control.factor_threads > 0), else null.
+  BackgroundFactorizations* background() { return background_.get(); }
   int num_actuators() const { return static_cast<int>(actuators_.size()); }
   // Records the rest state's volumes (volume growth is counted from there).
   void set_rest(Vec u);
@@ -83,7 +94,9 @@ class InverseController {
   };
 
   NewtonResult solve_free(Vec u, ControlStepReport& report);
-  void factor_responses();
+  // Solves the step's right-hand sides with ksp (adding its iterations to *iterations) and
+  // forms the responses; false when a solve failed.
+  bool factor_responses(KSP ksp, int* iterations = nullptr);
 
   const Config& config_;
   Problem& problem_;
@@ -92,6 +105,8 @@ class InverseController {
   Effectors& effectors_;
   std::vector<Actuator> actuators_;
   KSP ksp_ = nullptr;
+  std::unique_ptr<BackgroundFactorizations> background_;  // control.factor_threads > 0
+  int step_count_ = 0;                                    // steps begun, retakes included
   Mat J_ = nullptr;
   std::vector<Vec> Y_, Z_, response_;  // per cavity; per weighted cavity; per actuator
   ConstraintLinearization lin_;

@@ -213,6 +213,9 @@ struct ControlConfig {
   // one_step: after each target set, also solve for the equilibrium at its actuation (on a
   // copy, outside the step times) and report its error: the prediction's real accuracy.
   bool check_equilibrium = false;
+  // one_step: threads that factor the tangent in the background while the loop steps on
+  // with the latest factorization, corrected by GMRES on the current tangent (0: in line).
+  int factor_threads = 0;
   bool targets_from_stdin = false;  // `--targets -` on the command line (not a deck key)
 };
 

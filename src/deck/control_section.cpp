@@ -203,9 +203,10 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
   if (node.IsMap() && node["targets_from_stdin"])
     r.fail(child_key(key, "targets_from_stdin"), node["targets_from_stdin"],
            "not a deck key: the command line sets it (--targets -)");
-  r.check_map(node, key,
-              {"effectors", "actuators", "targets", "steps_per_target", "regularization",
-               "newton_finish", "free_solve", "refactor_every", "check_equilibrium"});
+  r.check_map(
+      node, key,
+      {"effectors", "actuators", "targets", "steps_per_target", "regularization", "newton_finish",
+       "free_solve", "refactor_every", "check_equilibrium", "factor_threads"});
   ControlConfig control;
   control.effectors =
       parse_effectors(r, required(r, node, key, "effectors"), child_key(key, "effectors"));
@@ -237,6 +238,14 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
   }
   if (const auto n = node["check_equilibrium"])
     control.check_equilibrium = r.boolean(n, "control.check_equilibrium");
+  if (const auto n = node["factor_threads"]) {
+    control.factor_threads = r.integer(n, "control.factor_threads");
+    require(control.factor_threads >= 0 && control.factor_threads <= 64, r, n,
+            "control.factor_threads",
+            "must be 0 ... 64, got " + std::to_string(control.factor_threads));
+    require(control.factor_threads == 0 || control.free_solve == FreeSolve::one_step, r, n,
+            "control.factor_threads", "needs free_solve: one_step");
+  }
   return control;
 }
 

@@ -243,6 +243,7 @@ void emit_control(YAML::Emitter& out, const ControlConfig& control,
   out << YAML::Key << "free_solve" << YAML::Value << name_of(kFreeSolveNames, control.free_solve);
   out << YAML::Key << "refactor_every" << YAML::Value << control.refactor_every;
   out << YAML::Key << "check_equilibrium" << YAML::Value << control.check_equilibrium;
+  out << YAML::Key << "factor_threads" << YAML::Value << control.factor_threads;
   out << YAML::EndMap;
 }
 
