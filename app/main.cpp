@@ -24,6 +24,7 @@
 #include "mesh/gmsh_io.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_statistics.hpp"
+#include "solvers/distributed_mesh.hpp"
 #include "solvers/simulation.hpp"
 #include "version.hpp"
 
@@ -168,6 +169,7 @@ int main(int argc, char** argv) {
     }
     io.write_line = [answers](const std::string& line) { write_answer_line(answers, line); };
   }
+  hs::use_one_scotch_thread();
   int pargc = static_cast<int>(petsc_args.size());
   petsc_args.push_back(nullptr);
   char** pargv = petsc_args.data();

@@ -26,10 +26,15 @@ Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm,
                                    MeshLoadTimes* times = nullptr);
 
 // Collective: the part (rank) of each of the slab's tetrahedra, balanced, with few faces
-// cut. Not bit-for-bit repeatable: Debian's Scotch seeds and threads its search per run (a
-// fixed seed did not change that), so two runs may split a mesh differently and their
-// results differ in round-off (docs/architecture.md). The PETSc option
-// -mat_partitioning_type chooses another of PETSc's partitioners.
+// cut. The same mesh on the same ranks splits the same way when Scotch runs one thread per
+// process (use_one_scotch_thread; with several its search is not repeatable). The PETSc
+// option -mat_partitioning_type chooses another of PETSc's partitioners.
 std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm);
+
+// Before the first partition (main, and the tests' main): Scotch runs one thread per process,
+// unless SCOTCH_PTHREAD_NUMBER is set. The ranks already fill the cores; Scotch's default,
+// a thread per core in every rank, oversubscribes them (250 s instead of seconds for 1.9M
+// tetrahedra on 16 ranks) and makes its partitions differ from run to run.
+void use_one_scotch_thread();
 
 }  // namespace hs

@@ -5,9 +5,11 @@
 #include <petscsys.h>
 
 #include "mpi_test_folder.hpp"
+#include "solvers/distributed_mesh.hpp"
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
+  hs::use_one_scotch_thread();
   PetscInitialize(&argc, &argv, nullptr, nullptr);
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);

@@ -17,18 +17,21 @@ import sys
 def main(folder):
     runs = {}
     for path in glob.glob(os.path.join(folder, "h*_np*.json")):
-        h, n = re.match(r"h([0-9.]+)_np(\d+)\.json", os.path.basename(path)).groups()
+        h, n = re.match(r"h([^_]+)_np(\d+)\.json", os.path.basename(path)).groups()
         with open(path) as f:
-            runs[(float(h), int(n))] = json.load(f)
-    print("| dofs | ranks | Newton its | KSP its | setup s | assembly s | solve s | whole s |"
-          " speed-up whole | speed-up solve | peak MB (largest rank) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for h, n in sorted(runs, key=lambda k: (-k[0], k[1])):
+            runs[(h, int(n))] = json.load(f)
+    print("| dofs | ranks | Newton its | KSP its | read s | partition s | setup s | assembly s |"
+          " solve s | output s | whole s | speed-up whole | speed-up solve |"
+          " peak MB (largest rank) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for h, n in sorted(runs, key=lambda k: (runs[k]["dofs"], k[1])):
         s, t = runs[(h, n)], runs[(h, n)]["time_s"]
         one = runs.get((h, 1))
         up = lambda key: f"{one['time_s'][key] / t[key]:.1f}" if one else ""
+        part = t.get("setup_partition", 0) + t.get("setup_distribute", 0)
         print(f"| {s['dofs']:,} | {n} | {s['newton_iterations']} | {s['linear_iterations']} |"
-              f" {t['setup']:.2f} | {t['assembly']:.2f} | {t['solve']:.2f} | {t['total']:.2f} |"
+              f" {t['setup_mesh']:.2f} | {part:.2f} | {t['setup']:.2f} | {t['assembly']:.2f} |"
+              f" {t['solve']:.2f} | {t.get('output', 0):.2f} | {t['total']:.2f} |"
               f" {up('total')} | {up('solve')} | {s['memory_mb']['peak_rank_max']:.0f} |")
 
 

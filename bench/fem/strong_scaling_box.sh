@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Strong scaling of a whole run (read, partition, set-up, assembly, solve, output) of the
+# cantilever of bench/fem/cantilever_box.yaml on box meshes written by box_mesh (NXxNYxNZ
+# cubes of 6 tetrahedra; 200x40x40 is 1.0M dofs, 430x86x86 9.8M): each size on each rank count,
+# one run each, every summary.json kept as OUTDIR/h<size>_np<n>.json, the mesh writing time in
+# OUTDIR/mesh_<size>.txt. Made to run on the GPU machine from a bundle
+# (scripts/device_bundle.sh: hydrosoft, box_mesh and mpirun on PATH, no Python needed there);
+# bench/fem/strong_scaling_table.py turns the folder into the table of docs/benchmarks.md.
+#   bash bench/fem/strong_scaling_box.sh OUTDIR "200x40x40" "1 2 4 8 16"
+set -uo pipefail
+outdir=$1 sizes=$2 ranks=$3
+deck=$(cd "$(dirname "$0")" && pwd)/cantilever_box.yaml
+mkdir -p "$outdir"
+nproc >"$outdir/cores.txt"
+grep -m1 "model name" /proc/cpuinfo >>"$outdir/cores.txt"
+work=$(mktemp -d)
+for size in $sizes; do
+  mesh=$work/box_$size.h5
+  start=$(date +%s.%N)
+  box_mesh ${size//x/ } "$mesh" >"$outdir/mesh_$size.txt"
+  echo "seconds $(echo "$(date +%s.%N) - $start" | bc)" >>"$outdir/mesh_$size.txt"
+  for n in $ranks; do
+    if mpirun -np "$n" hydrosoft "$deck" --set "mesh.file=$mesh" \
+      --set "output.folder=$work/run" >"$outdir/h${size}_np$n.log" 2>&1; then
+      cp "$work/run/summary.json" "$outdir/h${size}_np$n.json"
+    else
+      echo "$size np=$n failed (see h${size}_np$n.log)"
+    fi
+    rm -rf "$work/run"
+  done
+  rm -f "$mesh"
+done
+rm -rf "$work"
