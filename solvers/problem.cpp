@@ -153,31 +153,35 @@ bool Problem::residual(Vec u, double s, Vec R) {
 bool Problem::jacobian(Vec u, double s, Mat J) {
   const double t0 = MPI_Wtime();
   int64_t bad = -1;
-  // Values in the order of tangent_entries; kernels write their blocks in place.
+  // Values in the order of tangent_entries: element and face matrices summed into the
+  // node-pair blocks, then the constraint entries.
   PetscScalar* value = tangent_values_.data();
+  const int64_t block_values = 9 * pairs_->num_pairs();
+  std::fill(value, value + block_values, 0.0);
   {
     LocalView view(u, u_work_);
     const PetscScalar* ua = view.values();
-    const int n = 3 * npe_;
-    double re[30];
-    for (size_t e = 0; e < dist_.local_tets.size(); ++e, value += n * n) {
-      const ElementOutput out = element_force(e, ua, re, value);
+    double re[30], K[900];
+    for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+      const ElementOutput out = element_force(e, ua, re, K);
       if (!out.valid && bad < 0) bad = dist_.local_tets[e];
+      pairs_->add_tet(static_cast<int64_t>(e), K, value);
     }
     const int npf = dist_.nodes_per_face();
     const int nf = 3 * npf;
-    double xf[18], ff[18];
+    double xf[18], ff[18], Kf[324];
     for (const auto& surface : pressure_faces_) {
-      for (size_t f = 0; f < surface.faces.size() / npf; ++f, value += nf * nf) {
+      for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
         const int32_t* nodes = &surface.faces[f * npf];
         for (int a = 0; a < npf; ++a)
           for (int d = 0; d < 3; ++d) xf[3 * a + d] = X_[3 * nodes[a] + d] + ua[3 * nodes[a] + d];
-        face_pressure(dist_.order, xf, pressure_at(surface, s), ff, value);
-        for (int k = 0; k < nf * nf; ++k) value[k] = -value[k];  // R = ... - f_pressure
+        face_pressure(dist_.order, xf, pressure_at(surface, s), ff, Kf);
+        for (int k = 0; k < nf * nf; ++k) Kf[k] = -Kf[k];  // R = ... - f_pressure
+        pairs_->add_nodes(nodes, npf, Kf, value);
       }
     }
   }
-  fill_constraint_entries(value);
+  fill_constraint_entries(value + block_values);
   HS_PETSC(MatSetValuesCOO(J, tangent_values_.data(), INSERT_VALUES));
   if (inertia_) HS_PETSC(MatAXPY(J, inertia_->c, inertia_->M, SUBSET_NONZERO_PATTERN));
 

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "deck/config.hpp"
@@ -21,6 +22,7 @@
 #include "mesh/distribution.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/dof_map.hpp"
+#include "solvers/node_pair_blocks.hpp"
 #include "solvers/petsc_check.hpp"
 
 namespace hs {
@@ -159,13 +161,13 @@ class Problem {
   bool record_inverted(int64_t local_bad);
   // Internal force (and tangent, K not null) of local tet e at local displacements ua.
   ElementOutput element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const;
-  // The tangent's entries by coordinates, in the order jacobian() fills their values: element
-  // blocks, pressure-face blocks, Dirichlet diagonals, registered couplings.
+  // The tangent's entries by coordinates, in the order jacobian() fills their values: the
+  // node-pair blocks (elements and faces summed into them), Dirichlet diagonals, registered
+  // couplings.
   void tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) const;
-  // Writes the values of the entries after the faces (Dirichlet diagonals, couplings) from
-  // `value` on.
+  // Writes the values of the entries after the node-pair blocks (Dirichlet diagonals,
+  // couplings) from `value` on.
   void fill_constraint_entries(PetscScalar* value) const;
-  size_t num_face_entries() const;
 
   MPI_Comm comm_;
   const Distribution& dist_;
@@ -180,6 +182,7 @@ class Problem {
   Vec extra_load_ = nullptr;
   std::vector<std::vector<PetscInt>> couplings_;
   std::vector<std::vector<PetscScalar>> coupling_values_;
+  std::unique_ptr<NodePairBlocks> pairs_;    // made with the first matrix
   std::vector<PetscScalar> tangent_values_;  // one per entry of tangent_entries
   bool pattern_fixed_ = false;               // a matrix exists: no new surfaces or couplings
   Vec u_work_ = nullptr, r_work_ = nullptr;

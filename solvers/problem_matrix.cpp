@@ -5,12 +5,13 @@
 
 namespace hs {
 
-// Assembly by coordinates: every element, face, Dirichlet diagonal and coupling block is one
-// run of entries whose position PETSc resolves once (MatSetPreallocationCOO, which also
-// communicates entries of rows owned elsewhere); each tangent then writes its values straight
-// into that array and hands it over in one MatSetValuesCOO. Adding blocks one by one with
-// MatSetValues searched the row of every entry again on every assembly: three times slower on
-// the control step's tangent (docs/architecture.md, Assembly of the tangent).
+// Assembly by coordinates: every node-pair block (NodePairBlocks: the element and face
+// matrices summed over the tetrahedra around the pair), Dirichlet diagonal and coupling block
+// is one run of entries whose position PETSc resolves once (MatSetPreallocationCOO, which
+// also communicates entries of rows owned elsewhere); each tangent then writes its values
+// straight into that array and hands it over in one MatSetValuesCOO. Adding blocks one by one
+// with MatSetValues searched the row of every entry again on every assembly: three times
+// slower on the control step's tangent (docs/architecture.md, Assembly of the tangent).
 void Problem::tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) const {
   rows.clear();
   cols.clear();
@@ -21,17 +22,21 @@ void Problem::tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>
         cols.push_back(idx[c]);
       }
   };
-  PetscInt idx[30];
-  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-    dofs_.indices(&dist_.tet_nodes[e * npe_], npe_, idx);
-    block(idx, 3 * npe_);
-  }
-  const int npf = dist_.nodes_per_face();
-  for (const auto& surface : pressure_faces_)
-    for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
-      dofs_.indices(&surface.faces[f * npf], npf, idx);
-      block(idx, 3 * npf);
+  rows.reserve(9 * pairs_->num_pairs());
+  cols.reserve(9 * pairs_->num_pairs());
+  PetscInt row_idx[3], col_idx[3];
+  for (int32_t a = 0; a < pairs_->num_nodes(); ++a) {
+    dofs_.indices(&a, 1, row_idx);
+    for (int64_t k = pairs_->offset(a); k < pairs_->offset(a + 1); ++k) {
+      const int32_t b = pairs_->column(k);
+      dofs_.indices(&b, 1, col_idx);
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          rows.push_back(row_idx[r]);
+          cols.push_back(col_idx[c]);
+        }
     }
+  }
   for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)
     if (dofs_.constrained(l)) {
       rows.push_back(dofs_.global(l));
@@ -54,13 +59,6 @@ void Problem::set_coupling(int k, const std::vector<PetscScalar>& values) {
   coupling_values_[k] = values;
 }
 
-size_t Problem::num_face_entries() const {
-  const size_t nf = 3 * dist_.nodes_per_face();
-  size_t faces = 0;
-  for (const auto& surface : pressure_faces_) faces += surface.faces.size() / (nf / 3);
-  return faces * nf * nf;
-}
-
 void Problem::fill_constraint_entries(PetscScalar* value) const {
   for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)
     if (dofs_.constrained(l)) *value++ = 1.0;
@@ -70,6 +68,7 @@ void Problem::fill_constraint_entries(PetscScalar* value) const {
 Mat Problem::create_matrix() {
   pattern_fixed_ = true;
   const int64_t nowned = dist_.num_owned();
+  if (!pairs_) pairs_ = std::make_unique<NodePairBlocks>(dist_.tet_nodes, npe_, dist_.num_local());
   std::vector<PetscInt> rows, cols;
   tangent_entries(rows, cols);
   tangent_values_.assign(rows.size(), 0.0);
@@ -103,15 +102,14 @@ Mat Problem::create_matrix() {
 Mat Problem::create_mass_matrix() {
   Mat M = create_matrix();
   std::vector<PetscScalar> values(tangent_values_.size(), 0.0);
-  PetscScalar* value = values.data();
-  const int n = 3 * npe_;
-  double X[30];
-  for (size_t e = 0; e < dist_.local_tets.size(); ++e, value += n * n) {
+  double X[30], Me[900];
+  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
     element_coordinates(e, X);
     const auto& m = materials_[dist_.tet_volume[e]];
-    tet_mass(dist_.order, X, m.density, value);
+    tet_mass(dist_.order, X, m.density, Me);
+    pairs_->add_tet(static_cast<int64_t>(e), Me, values.data());
   }
-  value += num_face_entries();
+  PetscScalar* value = values.data() + 9 * pairs_->num_pairs();
   for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)
     if (dofs_.constrained(l)) *value++ = 1.0;
   HS_PETSC(MatSetValuesCOO(M, values.data(), INSERT_VALUES));
