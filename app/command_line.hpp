@@ -16,10 +16,10 @@ struct Arguments {
   std::vector<std::string> overrides;  // of --set, in order
   std::string targets;                 // of --targets ("" when not given)
   bool help = false, version = false;
-  bool check = false;                    // --check: validate the deck and its mesh, solve nothing
-  bool mesh = false;                     // hydrosoft mesh DECK OUT.h5: write the mesh, solve nothing
-  std::string mesh_output;               // its OUT.h5
-  std::vector<std::string> petsc;        // PETSc's arguments, in order (values included)
+  bool check = false;              // --check: validate the deck and its mesh, solve nothing
+  bool mesh = false;               // hydrosoft mesh DECK OUT.h5: write the mesh, solve nothing
+  std::string mesh_output;         // its OUT.h5
+  std::vector<std::string> petsc;  // PETSc's arguments, in order (values included)
   std::vector<std::string> petsc_names;  // the PETSc options among them, e.g. "-snes_monitor"
 };
 

@@ -70,8 +70,8 @@ std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm) {
   for (size_t k = 0; k < graph.neighbours.size(); ++k)
     ja[k] = static_cast<PetscInt>(graph.neighbours[k]);
   Mat adjacency;
-  HS_PETSC(MatCreateMPIAdj(comm, static_cast<PetscInt>(n), static_cast<PetscInt>(slab.num_tets),
-                           ia, ja, nullptr, &adjacency));
+  HS_PETSC(MatCreateMPIAdj(comm, static_cast<PetscInt>(n), static_cast<PetscInt>(slab.num_tets), ia,
+                           ja, nullptr, &adjacency));
   MatPartitioning partitioning;
   HS_PETSC(MatPartitioningCreate(comm, &partitioning));
   HS_PETSC(MatPartitioningSetAdjacency(partitioning, adjacency));
@@ -95,9 +95,9 @@ Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm, MeshLoa
   const MeshSlab slab =
       is_h5(cfg.file) ? read_mesh_h5(cfg.file, comm) : load_on_root_and_scatter(cfg, comm);
   if (slab.num_tets > cfg.max_elements)
-    throw InputError(cfg.file + ": " + std::to_string(slab.num_tets) +
-                     " tetrahedra, more than mesh.max_elements = " +
-                     std::to_string(cfg.max_elements));
+    throw InputError(
+        cfg.file + ": " + std::to_string(slab.num_tets) +
+        " tetrahedra, more than mesh.max_elements = " + std::to_string(cfg.max_elements));
   const double t1 = MPI_Wtime();
   const std::vector<int> part = partition_slab(slab, comm);
   const double t2 = MPI_Wtime();

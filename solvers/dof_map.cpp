@@ -10,7 +10,8 @@ DofMap::DofMap(const Config& config, const Distribution& dist, ExactDirichlet ex
   const int64_t nlocal = dist.num_local();
   global_.resize(3 * nlocal);
   for (int64_t i = 0; i < nlocal; ++i)
-    for (int d = 0; d < 3; ++d) global_[3 * i + d] = static_cast<PetscInt>(3 * dist.local_nodes[i] + d);
+    for (int d = 0; d < 3; ++d)
+      global_[3 * i + d] = static_cast<PetscInt>(3 * dist.local_nodes[i] + d);
   for (int64_t i = dist.num_owned(); i < nlocal; ++i)
     ghost_blocks_.push_back(static_cast<PetscInt>(dist.local_nodes[i]));
 

@@ -105,7 +105,7 @@ Effectors::Effectors(const Config& config, Problem& problem) {
       if (it == groups.group_nodes.end() || it->second != 1)
         throw InputError(where + ": point group '" + e.point + "' must hold exactly one node (" +
                          (it == groups.group_nodes.end() ? std::string("not in the mesh")
-                                                          : std::to_string(it->second) + " nodes") +
+                                                         : std::to_string(it->second) + " nodes") +
                          ")");
       p = group_point(problem, e.point);
     } else if (!locate(problem, e.position, p)) {
@@ -127,8 +127,7 @@ void append_point_rows(Problem& problem, const std::vector<int64_t>& nodes,
     Vec row = problem.create_vector();
     if (dist.rank == 0)
       for (size_t a = 0; a < nodes.size(); ++a)
-        HS_PETSC(VecSetValue(row, static_cast<PetscInt>(3 * nodes[a] + d), N[a],
-                             ADD_VALUES));
+        HS_PETSC(VecSetValue(row, static_cast<PetscInt>(3 * nodes[a] + d), N[a], ADD_VALUES));
     HS_PETSC(VecAssemblyBegin(row));
     HS_PETSC(VecAssemblyEnd(row));
     rows.push_back(row);

@@ -47,8 +47,8 @@ GatheredSurface gather_surface(const Distribution& dist, const std::string& grou
   }
   std::vector<FaceRecord> all(total / sizeof(FaceRecord));
   if (root < 0)
-    MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(),
-                   MPI_BYTE, comm);
+    MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
+                   comm);
   else
     MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
                 root, comm);

@@ -24,15 +24,13 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
   std::vector<char> has_material(volumes.size(), 0);
   for (const auto& mc : config.materials) {
     auto it = std::find(volumes.begin(), volumes.end(), mc.group);
-    if (it == volumes.end())
-      throw InputError("material group '" + mc.group + "' is not a volume");
+    if (it == volumes.end()) throw InputError("material group '" + mc.group + "' is not a volume");
     const auto v = static_cast<size_t>(it - volumes.begin());
     materials_[v] = mc;
     has_material[v] = 1;
   }
   for (size_t v = 0; v < has_material.size(); ++v)
-    if (!has_material[v])
-      throw InputError("volume group '" + volumes[v] + "' has no material");
+    if (!has_material[v]) throw InputError("volume group '" + volumes[v] + "' has no material");
 
   // Body force per local tet at full load.
   const auto nt = dist.local_tets.size();

@@ -14,8 +14,8 @@
 #include "deck/exact_section.hpp"
 #include "io/output.hpp"
 #include "mesh/distribution.hpp"
-#include "solvers/distributed_mesh.hpp"
 #include "solvers/control_run.hpp"
+#include "solvers/distributed_mesh.hpp"
 #include "solvers/newton_solver.hpp"
 #include "solvers/output/result_recorder.hpp"
 #include "solvers/problem.hpp"
@@ -190,7 +190,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   MPI_Allreduce(MPI_IN_PLACE, &jacobian_s, 1, MPI_DOUBLE, MPI_MAX, comm);
   summary["assembly"]["jacobian_calls"] = t.jacobian_calls;
   summary["assembly"]["elements_per_second"] =
-      t.jacobian_calls > 0 ? dist.num_global_tets * t.jacobian_calls / std::max(jacobian_s, 1e-12) : 0.0;
+      t.jacobian_calls > 0 ? dist.num_global_tets * t.jacobian_calls / std::max(jacobian_s, 1e-12)
+                           : 0.0;
   if (staged) {
     summary["states"] = state_run.states;
     for (const auto& [key, value] : control.items()) summary[key] = value;

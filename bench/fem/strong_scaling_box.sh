@@ -6,7 +6,9 @@
 # OUTDIR/mesh_<size>.txt. Made to run on the GPU machine from a bundle
 # (scripts/device_bundle.sh: hydrosoft, box_mesh and mpirun on PATH, no Python needed there);
 # bench/fem/strong_scaling_table.py turns the folder into the table of docs/benchmarks.md.
-#   bash bench/fem/strong_scaling_box.sh OUTDIR "200x40x40" "1 2 4 8 16"
+#   HS_EXTRA="--set materials[0].model=linear_elastic" \
+#     bash bench/fem/strong_scaling_box.sh OUTDIR "200x40x40" "1 2 4 8 16"
+# (HS_EXTRA: further arguments of every run)
 set -uo pipefail
 outdir=$1 sizes=$2 ranks=$3
 deck=$(cd "$(dirname "$0")" && pwd)/cantilever_box.yaml
@@ -18,9 +20,9 @@ for size in $sizes; do
   mesh=$work/box_$size.h5
   start=$(date +%s.%N)
   box_mesh ${size//x/ } "$mesh" >"$outdir/mesh_$size.txt"
-  echo "seconds $(echo "$(date +%s.%N) - $start" | bc)" >>"$outdir/mesh_$size.txt"
+  echo "seconds $(awk "BEGIN {print $(date +%s.%N) - $start}")" >>"$outdir/mesh_$size.txt"
   for n in $ranks; do
-    if mpirun -np "$n" hydrosoft "$deck" --set "mesh.file=$mesh" \
+    if mpirun -np "$n" hydrosoft "$deck" --set "mesh.file=$mesh" ${HS_EXTRA:-} \
       --set "output.folder=$work/run" >"$outdir/h${size}_np$n.log" 2>&1; then
       cp "$work/run/summary.json" "$outdir/h${size}_np$n.json"
     else

@@ -5,8 +5,8 @@
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
-#include "solvers/gathered_surface.hpp"
 #include "fluidweight/fluidweight.hpp"
+#include "solvers/gathered_surface.hpp"
 #include "solvers/problem.hpp"
 
 namespace hs {

@@ -18,8 +18,7 @@ class Cavity : public Constraint {
   // Collective. Refuses (InputError naming the deck and the cavity) a surface that is not
   // closed, manifold and consistently oriented, one that encloses no positive volume, and an
   // added volume that would leave none.
-  Cavity(const CavityConfig& config, Problem& problem,
-         const std::string& deck_path);
+  Cavity(const CavityConfig& config, Problem& problem, const std::string& deck_path);
 
   std::string kind() const override { return name_of(kCavityKindNames, config_.kind); }
   bool actuated() const override { return is_actuated(config_.kind); }

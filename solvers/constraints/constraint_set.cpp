@@ -12,8 +12,7 @@ namespace {
 
 // The deck's constraints, one line per kind. The fluid-weight module of each weighing
 // hydraulic cavity runs on its own rank, round robin.
-std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config,
-                                                          Problem& problem) {
+std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config, Problem& problem) {
   int ranks = 1;
   MPI_Comm_size(problem.comm(), &ranks);
   int weighing = 0;
@@ -25,8 +24,8 @@ std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config,
         list.push_back(std::make_unique<Cavity>(c, problem, deck));
         break;
       case CavityKind::hydraulic:
-        list.push_back(std::make_unique<HydraulicCavity>(c, problem, config.gravity,
-                                                         weighing % ranks, deck));
+        list.push_back(
+            std::make_unique<HydraulicCavity>(c, problem, config.gravity, weighing % ranks, deck));
         weighing += HydraulicCavity::weighs(c, config.gravity);
         break;
       case CavityKind::sealed_gas:

@@ -18,7 +18,7 @@ namespace hs {
 // in the order of the sending ranks; from[r], if given, gets how many came from rank r.
 template <class T>
 std::vector<T> all_to_all(const std::vector<std::vector<T>>& send, MPI_Comm comm,
-                        std::vector<int64_t>* from = nullptr) {
+                          std::vector<int64_t>* from = nullptr) {
   static_assert(std::is_trivially_copyable<T>::value, "all_to_all moves plain records");
   int size = 1;
   MPI_Comm_size(comm, &size);

@@ -1,9 +1,9 @@
 // check_groups: the deck's group names against the mesh, before any assembly.
 #include <algorithm>
 
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "deck/deck.hpp"
-#include "common/deck_reader.hpp"
 
 namespace hs {
 namespace {

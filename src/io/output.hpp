@@ -1,16 +1,16 @@
 // Results of a run: HDF5 + XDMF time series for ParaView and summary.json.
 // The writer is parallel: every rank writes its own rows of every dataset (its owned nodes,
 // its tetrahedra) into the one .h5 with collective MPI-IO writes; rank 0 writes the .xmf.
-// Nothing is gathered. Everything goes to a staging folder that replaces the output folder only when
-// the run succeeds, so a failed run leaves nothing half-written behind.
+// Nothing is gathered. Everything goes to a staging folder that replaces the output folder only
+// when the run succeeds, so a failed run leaves nothing half-written behind.
 #pragma once
+
+#include <mpi.h>
 
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <mpi.h>
 
 #include "io/folder_lock.hpp"
 #include "mesh/mesh.hpp"
@@ -50,11 +50,11 @@ class OutputFolder {
 // /mesh/tet_ids give each row's number in the mesh file (identity on one rank).
 struct OutputLayout {
   int order = 1;
-  int64_t nodes = 0, tets = 0;               // of the whole mesh
-  int64_t first_node = 0, first_tet = 0;     // this rank's first rows
-  std::vector<double> x;                     // its nodes' reference coordinates, 3 each
-  std::vector<int64_t> topology;             // its tetrahedra, in file rows (gmsh node order)
-  std::vector<int64_t> node_ids, tet_ids;    // numbers in the mesh file of its rows
+  int64_t nodes = 0, tets = 0;             // of the whole mesh
+  int64_t first_node = 0, first_tet = 0;   // this rank's first rows
+  std::vector<double> x;                   // its nodes' reference coordinates, 3 each
+  std::vector<int64_t> topology;           // its tetrahedra, in file rows (gmsh node order)
+  std::vector<int64_t> node_ids, tet_ids;  // numbers in the mesh file of its rows
   int64_t my_nodes() const { return static_cast<int64_t>(node_ids.size()); }
   int64_t my_tets() const { return static_cast<int64_t>(tet_ids.size()); }
 };

@@ -99,7 +99,8 @@ std::string first_non_finite(const char* field, const std::vector<double>& value
   for (size_t i = 0; i < values.size(); ++i) {
     if (std::isfinite(values[i])) continue;
     const int64_t row = nodal ? static_cast<int64_t>(i / 3) : static_cast<int64_t>(i);
-    std::string where = std::string(field) + "[" + std::to_string(nodal ? 3 * ids[row] + i % 3 : ids[row]) + "]";
+    std::string where =
+        std::string(field) + "[" + std::to_string(nodal ? 3 * ids[row] + i % 3 : ids[row]) + "]";
     if (nodal)
       where += " (node " + std::to_string(ids[row]) + ", " + "xyz"[i % 3] + ")";
     else
@@ -232,8 +233,10 @@ void XdmfWriter::write_step(const StepFields& f) {
   if (!std::isfinite(f.time))
     throw SolveError("output step " + std::to_string(k) + ": the time is not finite");
   std::string error = first_non_finite("displacement", f.displacement, w.node_ids, true, k, f.time);
-  if (error.empty()) error = first_non_finite("nodal_load", f.nodal_load, w.node_ids, true, k, f.time);
-  if (error.empty()) error = first_non_finite("von_mises", f.von_mises, w.tet_ids, false, k, f.time);
+  if (error.empty())
+    error = first_non_finite("nodal_load", f.nodal_load, w.node_ids, true, k, f.time);
+  if (error.empty())
+    error = first_non_finite("von_mises", f.von_mises, w.tet_ids, false, k, f.time);
   if (error.empty()) error = first_non_finite("J", f.J, w.tet_ids, false, k, f.time);
   if (w.comm != MPI_COMM_NULL)
     throw_together<SolveError>(error, w.comm);

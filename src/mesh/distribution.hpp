@@ -1,7 +1,8 @@
-// How the mesh is spread over MPI ranks: every rank assembles the tetrahedra of its part; nodes are renumbered so that each rank owns a contiguous range of the
-// new global numbering (the PETSc layout, 3 dofs per node); the nodes of a rank's
-// tetrahedra that other ranks own are its ghosts. A node is owned by the lowest part among
-// the tetrahedra that contain it; inside a rank, new ids keep the mesh order of the nodes.
+// How the mesh is spread over MPI ranks: every rank assembles the tetrahedra of its part; nodes are
+// renumbered so that each rank owns a contiguous range of the new global numbering (the PETSc
+// layout, 3 dofs per node); the nodes of a rank's tetrahedra that other ranks own are its ghosts. A
+// node is owned by the lowest part among the tetrahedra that contain it; inside a rank, new ids
+// keep the mesh order of the nodes.
 #pragma once
 
 #include <cstdint>

@@ -58,8 +58,9 @@ DualGraph dual_graph(const MeshSlab& slab, MPI_Comm comm) {
   }
   mine = {};
   std::vector<Edge> in = all_to_all(edges, comm);
-  std::sort(in.begin(), in.end(),
-            [](const Edge& a, const Edge& b) { return a.from != b.from ? a.from < b.from : a.to < b.to; });
+  std::sort(in.begin(), in.end(), [](const Edge& a, const Edge& b) {
+    return a.from != b.from ? a.from < b.from : a.to < b.to;
+  });
   DualGraph g;
   g.offsets.assign(slab.slab_tets() + 1, 0);
   for (const Edge& e : in) ++g.offsets[e.from - slab.tet_begin + 1];

@@ -1,7 +1,6 @@
 // load_mesh: file checks, the gmsh session, meshing of .geo sources with deck parameters.
 // The model -> Mesh step is in gmsh_model.cpp, the broadcast in mesh_broadcast.cpp.
 #include "mesh/gmsh_io.hpp"
-#include "mesh/mesh_h5.hpp"
 
 #include <gmsh.h>
 #include <sys/mman.h>
@@ -21,6 +20,7 @@
 #include "common/error.hpp"
 #include "mesh/geo_guard.hpp"
 #include "mesh/gmsh_model.hpp"
+#include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_size_limit.hpp"
 #include "mesh/msh_prescan.hpp"
 
@@ -240,7 +240,8 @@ Mesh load_mesh(const MeshConfig& cfg) {
   const bool is_geo = extension == ".geo";
   if (extension == ".h5") {  // a hydrosoft mesh, whole, on this process
     Mesh mesh = whole_mesh(read_mesh_h5(file, MPI_COMM_SELF));
-    check_tet_count(cfg, static_cast<double>(mesh.num_tets()), "it holds " + std::to_string(mesh.num_tets()) + " tetrahedra");
+    check_tet_count(cfg, static_cast<double>(mesh.num_tets()),
+                    "it holds " + std::to_string(mesh.num_tets()) + " tetrahedra");
     return mesh;
   }
   if (!is_geo && extension != ".msh")

@@ -22,10 +22,10 @@
 namespace hs {
 
 struct Mesh {
-  int order = 1;                       // 1 (Tet4) or 2 (Tet10)
-  std::vector<double> x;               // reference coordinates, 3 per node
-  std::vector<int64_t> tets;           // nodes_per_tet() per tetrahedron
-  std::vector<int> tet_volume;         // per tetrahedron: index into volume_names
+  int order = 1;                // 1 (Tet4) or 2 (Tet10)
+  std::vector<double> x;        // reference coordinates, 3 per node
+  std::vector<int64_t> tets;    // nodes_per_tet() per tetrahedron
+  std::vector<int> tet_volume;  // per tetrahedron: index into volume_names
   std::vector<std::string> volume_names;
   // Per named surface group: its triangles, nodes_per_face() each, oriented so that the
   // right-hand normal points out of the body (away from the tetrahedron they bound).

@@ -2,13 +2,14 @@
 // personalised exchange, so that each rank stores only what concerns its own tetrahedra and
 // its own blocks. A node's block (block_owner over the nodes) is where its owner is decided,
 // its coordinates and its groups are kept, and where ranks ask for them.
+#include "mesh/mesh_distribute.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
-#include "mesh/mesh_distribute.hpp"
 
 namespace hs {
 namespace {
@@ -160,9 +161,9 @@ Distribution distribute_slabs(const MeshSlab& slab, const std::vector<int>& part
       for (int64_t i = 0; i < asked_by[r]; ++i, ++k) {
         const int64_t n = asked[k], b = n - slab.node_begin;
         reply[r].push_back({owner[b], {slab.x[3 * b], slab.x[3 * b + 1], slab.x[3 * b + 2]}});
-        auto it = std::lower_bound(
-            block_members.begin(), block_members.end(), n,
-            [](const NodeInGroup& m, int64_t node) { return m.node < node; });
+        auto it =
+            std::lower_bound(block_members.begin(), block_members.end(), n,
+                             [](const NodeInGroup& m, int64_t node) { return m.node < node; });
         for (; it != block_members.end() && it->node == n; ++it) members[r].push_back(*it);
       }
   }
@@ -195,7 +196,8 @@ Distribution distribute_slabs(const MeshSlab& slab, const std::vector<int>& part
         ids[r].push_back({ghost_asked[k], first + position(owned, ghost_asked[k])});
   }
   std::vector<NewId> ghosts = all_to_all(ids, comm);
-  std::sort(ghosts.begin(), ghosts.end(), [](const NewId& a, const NewId& b) { return a.id < b.id; });
+  std::sort(ghosts.begin(), ghosts.end(),
+            [](const NewId& a, const NewId& b) { return a.id < b.id; });
 
   // Local nodes: owned (their order is the file's), then ghosts by new number.
   for (int64_t i = 0; i < nowned; ++i) {
@@ -211,8 +213,7 @@ Distribution distribute_slabs(const MeshSlab& slab, const std::vector<int>& part
   for (size_t l = 0; l < d.old_of_local.size(); ++l)
     local_of[position(nodes, d.old_of_local[l])] = static_cast<int32_t>(l);
   d.x.resize(3 * d.old_of_local.size());
-  for (size_t i = 0; i < nodes.size(); ++i)
-    std::copy_n(about[i].x, 3, &d.x[3 * local_of[i]]);
+  for (size_t i = 0; i < nodes.size(); ++i) std::copy_n(about[i].x, 3, &d.x[3 * local_of[i]]);
   auto local = [&](int64_t node) { return local_of[position(nodes, node)]; };
 
   for (const TetRecord& t : tets) {
@@ -241,7 +242,8 @@ Distribution distribute_slabs(const MeshSlab& slab, const std::vector<int>& part
     d.face_index[surface_names[f.group]].push_back(f.index);
   }
   for (const auto& name : group_names) d.node_groups[name];
-  for (const NodeInGroup& m : my_members) d.node_groups[group_names[m.group]].push_back(local(m.node));
+  for (const NodeInGroup& m : my_members)
+    d.node_groups[group_names[m.group]].push_back(local(m.node));
   for (auto& [name, list] : d.node_groups) {
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());

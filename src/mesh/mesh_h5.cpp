@@ -208,8 +208,11 @@ MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
   auto fail = [&](const std::string& what) {
     if (error.empty()) error = path + ": " + what;
   };
-  if (!h5.open()) fail("cannot open it as an HDF5 file");
-  else if (h5.format() != kFormat) fail("not a hydrosoft mesh (no attribute format = '" + std::string(kFormat) + "'; write one with `hydrosoft mesh DECK`)");
+  if (!h5.open())
+    fail("cannot open it as an HDF5 file");
+  else if (h5.format() != kFormat)
+    fail("not a hydrosoft mesh (no attribute format = '" + std::string(kFormat) +
+         "'; write one with `hydrosoft mesh DECK`)");
   throw_together<InputError>(error, comm);
 
   s.order = h5.attribute("/", "order", 0);
@@ -218,14 +221,16 @@ MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
   if (nodes.first < 0 || nodes.second != 3) fail("/nodes must be an N x 3 dataset");
   if (tets.first < 1 || tets.second != s.nodes_per_tet())
     fail("/tets must be a T x " + std::to_string(s.nodes_per_tet()) + " dataset with T >= 1");
-  if (vol.first != tets.first || vol.second != 0) fail("/tet_volume must hold one entry per tetrahedron");
+  if (vol.first != tets.first || vol.second != 0)
+    fail("/tet_volume must hold one entry per tetrahedron");
   const std::vector<std::string> volumes = h5.children("/volumes");
   s.groups.volumes.assign(volumes.size(), "");
   for (const auto& v : volumes) {
     const int index = h5.attribute("/volumes/" + v, "index", -1);
     if (index < 0 || index >= static_cast<int>(volumes.size()) || !s.groups.volumes[index].empty())
       fail("/volumes/" + v + ": its index is missing, out of range or repeated");
-    else s.groups.volumes[index] = v;
+    else
+      s.groups.volumes[index] = v;
   }
   throw_together<InputError>(error, comm);
   s.num_nodes = nodes.first;
@@ -234,35 +239,44 @@ MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
 
   s.node_begin = block_begin(s.num_nodes, rank, size);
   s.tet_begin = block_begin(s.num_tets, rank, size);
-  if (!h5.rows("/nodes", H5T_NATIVE_DOUBLE, s.node_begin, block_begin(s.num_nodes, rank + 1, size), 3, s.x))
+  if (!h5.rows("/nodes", H5T_NATIVE_DOUBLE, s.node_begin, block_begin(s.num_nodes, rank + 1, size),
+               3, s.x))
     fail("cannot read /nodes");
-  if (!h5.rows("/tets", H5T_NATIVE_INT64, s.tet_begin, block_begin(s.num_tets, rank + 1, size), npe, s.tets))
+  if (!h5.rows("/tets", H5T_NATIVE_INT64, s.tet_begin, block_begin(s.num_tets, rank + 1, size), npe,
+               s.tets))
     fail("cannot read /tets");
-  if (!h5.rows("/tet_volume", H5T_NATIVE_INT, s.tet_begin, block_begin(s.num_tets, rank + 1, size), 0, s.tet_volume))
+  if (!h5.rows("/tet_volume", H5T_NATIVE_INT, s.tet_begin, block_begin(s.num_tets, rank + 1, size),
+               0, s.tet_volume))
     fail("cannot read /tet_volume");
   for (size_t i = 0; i < s.x.size(); ++i)
     if (!std::isfinite(s.x[i])) {
-      fail("/nodes: node " + std::to_string(s.node_begin + i / 3) + " has a coordinate that is not finite");
+      fail("/nodes: node " + std::to_string(s.node_begin + i / 3) +
+           " has a coordinate that is not finite");
       break;
     }
-  auto node_in_range = [&](const std::string& where, const std::vector<int64_t>& list, int64_t first, int width) {
+  auto node_in_range = [&](const std::string& where, const std::vector<int64_t>& list,
+                           int64_t first, int width) {
     for (size_t i = 0; i < list.size(); ++i)
       if (list[i] < 0 || list[i] >= s.num_nodes) {
-        fail(where + ": row " + std::to_string(first + static_cast<int64_t>(i) / width) + " names node " + std::to_string(list[i]) + ", outside 0.." + std::to_string(s.num_nodes - 1));
+        fail(where + ": row " + std::to_string(first + static_cast<int64_t>(i) / width) +
+             " names node " + std::to_string(list[i]) + ", outside 0.." +
+             std::to_string(s.num_nodes - 1));
         return;
       }
   };
   node_in_range("/tets", s.tets, s.tet_begin, npe);
   for (size_t i = 0; i < s.tet_volume.size(); ++i)
     if (s.tet_volume[i] < 0 || s.tet_volume[i] >= static_cast<int>(volumes.size())) {
-      fail("/tet_volume: tetrahedron " + std::to_string(s.tet_begin + i) + " names volume " + std::to_string(s.tet_volume[i]) + ", which /volumes does not hold");
+      fail("/tet_volume: tetrahedron " + std::to_string(s.tet_begin + i) + " names volume " +
+           std::to_string(s.tet_volume[i]) + ", which /volumes does not hold");
       break;
     }
 
   for (const auto& name : h5.children("/surfaces")) {
     const std::string at = "/surfaces/" + name;
     const auto faces = h5.shape(at + "/faces"), bounds = h5.shape(at + "/tets");
-    if (faces.first < 0 || faces.second != npf || bounds.first != faces.first || bounds.second != 0) {
+    if (faces.first < 0 || faces.second != npf || bounds.first != faces.first ||
+        bounds.second != 0) {
       fail(at + ": faces must be F x " + std::to_string(npf) + " and tets F entries");
       continue;
     }
@@ -289,7 +303,8 @@ MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
     }
     s.groups.group_nodes[name] = n.first;
     std::vector<int64_t>& list = s.node_groups[name];
-    if (!h5.rows(at, H5T_NATIVE_INT64, block_begin(n.first, rank, size), block_begin(n.first, rank + 1, size), 0, list))
+    if (!h5.rows(at, H5T_NATIVE_INT64, block_begin(n.first, rank, size),
+                 block_begin(n.first, rank + 1, size), 0, list))
       fail("cannot read " + at);
     node_in_range(at, list, block_begin(n.first, rank, size), 1);
   }

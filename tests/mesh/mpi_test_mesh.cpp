@@ -60,7 +60,8 @@ TEST(Replicated, OwnedRangesFormThePetscLayout) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   const Mesh mesh = load_mesh_replicated(sphere_config(), MPI_COMM_WORLD);
   std::vector<int> part(mesh.num_tets());
-  for (int64_t t = 0; t < mesh.num_tets(); ++t) part[t] = static_cast<int>(t * size / mesh.num_tets());
+  for (int64_t t = 0; t < mesh.num_tets(); ++t)
+    part[t] = static_cast<int>(t * size / mesh.num_tets());
   const Distribution d = distribute(mesh, part, rank, size);
   // The first owned id of each rank is the sum of the owned counts of the ranks before it.
   int64_t owned = d.num_owned(), before = 0, total = 0;

@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 
+#include "../mpi_test_folder.hpp"
 #include "common/error.hpp"
 #include "common/exchange.hpp"
 #include "mesh/distribution.hpp"
@@ -19,7 +20,6 @@
 #include "mesh/mesh_h5.hpp"
 #include "mesh_test_util.hpp"
 #include "solvers/distributed_mesh.hpp"
-#include "../mpi_test_folder.hpp"
 
 namespace hs::test {
 namespace {

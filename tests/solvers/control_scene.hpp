@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "deck/deck.hpp"
-#include "mesh/distribution.hpp"
 #include "distribute_whole.hpp"
+#include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "solvers/bordered_newton.hpp"
 #include "solvers/constraints/constraint_set.hpp"
@@ -24,7 +24,6 @@
 #include "solvers/problem.hpp"
 
 namespace hs_test {
-
 
 // A deck of input/ read, meshed, distributed over PETSC_COMM_WORLD, and its Problem.
 struct DeckProblem {

@@ -14,8 +14,8 @@
 
 #include "common/error.hpp"
 #include "deck/deck.hpp"
-#include "mesh/distribution.hpp"
 #include "distribute_whole.hpp"
+#include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "run_deck.hpp"
 #include "solvers/bordered_newton.hpp"

@@ -13,10 +13,10 @@
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/gmsh_io.hpp"
-#include "solvers/distributed_mesh.hpp"
 #include "run_deck.hpp"
 #include "solvers/bordered_newton.hpp"
 #include "solvers/constraints/constraint_set.hpp"
+#include "solvers/distributed_mesh.hpp"
 #include "solvers/problem.hpp"
 #include "solvers/simulation.hpp"
 
