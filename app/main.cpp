@@ -20,8 +20,10 @@
 
 #include "command_line.hpp"
 #include "common/error.hpp"
+#include "common/exchange.hpp"
 #include "deck/deck.hpp"
 #include "mesh/gmsh_io.hpp"
+#include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_statistics.hpp"
 #include "solvers/distributed_mesh.hpp"
@@ -97,6 +99,11 @@ void report_unused(const std::vector<std::string>& names) {
   }
 }
 
+void print_units_warning(const hs::Mesh& mesh, const std::string& file) {
+  const std::string warning = hs::units_warning(mesh, file);
+  if (!warning.empty()) std::cerr << "warning: " << warning << std::endl;
+}
+
 // --check: the deck validated and printed resolved, its mesh loaded (or meshed) and its groups
 // checked, the mesh's statistics printed; nothing solved, nothing written.
 void check_deck(const hs::Config& config) {
@@ -104,8 +111,22 @@ void check_deck(const hs::Config& config) {
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0)
     std::cout << "# hydrosoft: resolved configuration\n" << hs::format_config(config) << std::endl;
-  const hs::Mesh mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
-  hs::check_groups(config, hs::groups_of(mesh));
+  // Rank 0 loads and checks; a bad mesh stops every rank with its message.
+  hs::Mesh mesh;
+  std::string input_error, other_error;
+  if (rank == 0) {
+    try {
+      mesh = hs::load_mesh(config.mesh);
+      print_units_warning(mesh, config.mesh.file);
+      hs::check_groups(config, hs::groups_of(mesh));
+    } catch (const hs::InputError& e) {
+      input_error = e.what();
+    } catch (const std::exception& e) {
+      other_error = e.what();
+    }
+  }
+  hs::throw_together<hs::InputError>(input_error, PETSC_COMM_WORLD);
+  hs::throw_together<std::runtime_error>(other_error, PETSC_COMM_WORLD);
   std::vector<std::string> cavities;
   for (const auto& c : config.cavities) cavities.push_back(c.group);
   if (rank == 0)
@@ -121,6 +142,7 @@ void write_mesh(const hs::Config& config, const std::string& output) {
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank != 0) return;
   const hs::Mesh mesh = hs::load_mesh(config.mesh);
+  print_units_warning(mesh, config.mesh.file);
   hs::check_groups(config, hs::groups_of(mesh));
   const std::string partial = output + ".partial";
   try {

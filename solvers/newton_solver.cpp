@@ -73,11 +73,17 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent, bool
   for (const auto& [name, value] : solver.petsc_options) set_default(name, value);
 
   // Convergence is judged on the residual (never on a small step alone: a stalled
-  // iterative solve would otherwise look converged).
+  // iterative solve would otherwise look converged). No divergence tolerance: a full Newton
+  // step from rest can raise the residual by more than PETSc's default factor 1e4 before it
+  // converges (the 1M-dof cantilever: x1.2e4 after its first step, then 5 more to 1e-8,
+  // where the default stopped it and cost a cutback and 6 iterations); a step that truly
+  // diverges is stopped by snes_max_it, an inverted element or a non-finite residual, and cut
+  // back.
   const std::map<std::string, std::string> common = {{"snes_type", "newtonls"},
                                                      {"snes_linesearch_type", "basic"},
                                                      {"snes_rtol", "1e-8"},
                                                      {"snes_stol", "0"},
+                                                     {"snes_divergence_tolerance", "-1"},
                                                      {"snes_max_it", "30"}};
   for (const auto& [k, v] : common) set_default(k, v);
   switch (solver.preset) {

@@ -28,11 +28,6 @@ namespace hs {
 // and duplicated nodes (mesh_checks.hpp). Nothing is written to disk.
 Mesh load_mesh(const MeshConfig& cfg);
 
-// Rank `root` loads, the others receive a copy (the mesh is replicated; see
-// docs/architecture.md for why and for the size limits this implies). The root prints
-// units_warning's warning, if any, to standard error.
-Mesh load_mesh_replicated(const MeshConfig& cfg, MPI_Comm comm, int root = 0);
-
 // Throws InputError unless `name` is a group of the mesh with at least one node.
 void require_group(const Mesh& mesh, const std::string& name, const std::string& where);
 

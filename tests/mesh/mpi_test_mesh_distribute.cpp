@@ -224,6 +224,17 @@ TEST(PartitionSlab, BalancedPartsThatCutFewFaces) {
   EXPECT_LE(cut, interior / 10);
 }
 
+TEST(LoadDistributedMesh, AMissingFileFailsOnEveryRankWithTheRootsMessage) {
+  MeshConfig cfg;
+  cfg.file = "/nonexistent/cavity.msh";
+  try {
+    load_distributed_mesh(cfg, MPI_COMM_WORLD);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/cavity.msh"), std::string::npos);
+  }
+}
+
 TEST(PartitionSlab, MorePartsThanTetrahedraIsAnError) {
   const Ranks r;
   if (r.size < 2) GTEST_SKIP() << "needs 2 ranks";

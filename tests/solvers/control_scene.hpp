@@ -36,7 +36,7 @@ struct DeckProblem {
               const std::function<void(hs::Config&)>& adjust = nullptr) {
     config = hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + deck, overrides);
     if (adjust) adjust(config);
-    mesh = hs::load_mesh_replicated(config.mesh, PETSC_COMM_WORLD);
+    mesh = hs::load_mesh(config.mesh);  // gmsh is deterministic: the same on every rank
     dist = distribute_whole(mesh);
     problem = std::make_unique<hs::Problem>(config, dist, PETSC_COMM_WORLD);
   }
