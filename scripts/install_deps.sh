@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   petsc-dev                 # PETSc 3.18 with MUMPS, hypre, HDF5, PTScotch (Open MPI flavour)
   libopenmpi-dev openmpi-bin
-  libmetis-dev              # partitioning (Debian's PETSc is built without METIS)
+  libscotch-dev libptscotch-dev  # the parallel mesh partition (PTScotch, through PETSc)
   libeigen3-dev
   libsuitesparse-dev        # CHOLMOD: the control loop's background factorizations
   libhdf5-openmpi-dev

@@ -1,4 +1,5 @@
-// distribute: one rank's piece of the replicated mesh, computed without communication.
+// distribute: one rank's piece of a whole mesh, computed without communication (the
+// reference of the parallel distribute_slabs).
 //
 // Node ownership: a node belongs to the lowest part among the tetrahedra that contain it.
 // Any rule that every rank evaluates alike would do; this one needs only the partition, and
