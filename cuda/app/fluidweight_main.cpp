@@ -226,7 +226,9 @@ int run(const Args& a) {
                     r.forces[3 * v + 2]);
       out << line;
     }
-    if (!out) throw fw::InputError(a.forces + ": writing the forces failed");
+    // A full disk shows only when the buffer is flushed: close first, then ask.
+    out.close();
+    if (out.fail()) throw fw::InputError(a.forces + ": writing the forces failed");
   }
   const bool on_gpu = o.implementation == fw::Implementation::cuda;
   if (a.json) {

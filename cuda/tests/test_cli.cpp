@@ -109,6 +109,11 @@ TEST(Cli, ErrorsAreClear) {
   CliRun bad = run_cli(write_obj(open, "cli_open.obj"));
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.output.find("not a closed surface: edge ("), std::string::npos) << bad.output;
+  // A device that takes no data (a full disk) is an error, not a success.
+  CliRun full = run_cli(write_obj(e_shape(), "cli_full.obj") + " --forces /dev/full");
+  EXPECT_EQ(full.status, 1) << full.output;
+  EXPECT_NE(full.output.find("/dev/full: writing the forces failed"), std::string::npos)
+      << full.output;
   CliRun kernel = run_cli(write_obj(e_shape(), "cli_k.obj") + " --device cpu --kernel leveraging");
   EXPECT_EQ(kernel.status, 1);
   EXPECT_NE(kernel.output.find("not a cpu kernel"), std::string::npos);
