@@ -1,7 +1,11 @@
 #include "support.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <numeric>
 #include <random>
 
@@ -171,6 +175,27 @@ double force_difference(const Result& f, const Result& g) {
     scale = std::max(scale, std::sqrt(s));
   }
   return scale > 0 ? worst / scale : worst;
+}
+
+namespace {
+
+struct ScratchFolder {
+  std::string path;
+  ScratchFolder() {
+    std::string pattern = testing::TempDir() + "fluidweight_test_XXXXXX";
+    if (mkdtemp(pattern.data())) path = pattern + "/";
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    if (!path.empty()) std::filesystem::remove_all(path, ignored);
+  }
+};
+
+}  // namespace
+
+const std::string& scratch_folder() {
+  static const ScratchFolder folder;
+  return folder.path;
 }
 
 }  // namespace fwtest

@@ -51,4 +51,8 @@ Vec3 total_moment(const SurfaceMesh& mesh, const Result& r);
 // max_v |f_v - g_v| / max_v |g_v|.
 double force_difference(const Result& f, const Result& g);
 
+// A folder of this test process's own (made at first use under the test temp dir), with a
+// trailing '/', removed with everything in it when the process exits: tests leave no files.
+const std::string& scratch_folder();
+
 }  // namespace fwtest

@@ -39,7 +39,7 @@ double json_number(const std::string& json, const std::string& key) {
 }
 
 std::string write_obj(const SurfaceMesh& m, const std::string& name) {
-  std::string path = testing::TempDir() + name;
+  std::string path = fwtest::scratch_folder() + name;
   std::ofstream out(path);
   out.precision(17);
   for (int v = 0; v < m.num_vertices(); ++v) {
@@ -58,7 +58,7 @@ std::string write_obj(const SurfaceMesh& m, const std::string& name) {
 TEST(Cli, JsonAndForcesMatchTheLibrary) {
   SurfaceMesh m = fw::shapes::icosphere(3);
   std::string mesh = write_obj(m, "cli_sphere.obj");
-  std::string forces = testing::TempDir() + "cli_forces.txt";
+  std::string forces = fwtest::scratch_folder() + "cli_forces.txt";
   CliRun r = run_cli(
       mesh + " --grid 64 --rho 1000 --gravity 0,-9.81,0 --repeat 3 --json --forces " + forces);
   ASSERT_EQ(r.status, 0) << r.output;

@@ -18,9 +18,7 @@ using namespace fwtest;
 
 namespace {
 
-std::string temp_path(const std::string& name) {
-  return testing::TempDir() + "fluidweight_" + name;
-}
+std::string temp_path(const std::string& name) { return scratch_folder() + name; }
 
 std::string write(const std::string& name, const std::string& text) {
   std::string path = temp_path(name);
@@ -159,7 +157,7 @@ namespace {
 class TempFolder {
  public:
   TempFolder() {
-    std::string pattern = testing::TempDir() + "fluidweight_untrusted_XXXXXX";
+    std::string pattern = scratch_folder() + "untrusted_XXXXXX";
     path_ = mkdtemp(pattern.data());
   }
   ~TempFolder() { std::filesystem::remove_all(path_); }
