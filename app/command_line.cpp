@@ -6,7 +6,8 @@
 namespace hs {
 namespace {
 
-const char* const kOwnOptions[] = {"--set", "--targets", "--check", "--help", "--version"};
+const char* const kOwnOptions[] = {"--set",     "--targets", "--check",  "--help",
+                                   "--version", "--quiet",   "--verbose"};
 
 // A PETSc option is -name with a letter first; "-5" or "-1e3" is a (negative) value.
 bool is_petsc_option(const std::string& a) {
@@ -57,6 +58,10 @@ Arguments parse_arguments(int argc, const char* const* argv) {
       args.version = true;
     } else if (a == "--check") {
       args.check = true;
+    } else if (a == "-q" || a == "--quiet") {
+      args.quiet = true;
+    } else if (a == "-v" || a == "--verbose") {
+      args.verbose = true;
     } else if (a.rfind("--", 0) == 0) {
       const std::string near = nearest_own(a);
       throw UsageError("unknown argument '" + a + "'" +

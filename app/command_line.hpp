@@ -16,6 +16,8 @@ struct Arguments {
   std::vector<std::string> overrides;  // of --set, in order
   std::string targets;                 // of --targets ("" when not given)
   bool help = false, version = false;
+  bool quiet = false;              // -q: no progress lines (output.progress = false)
+  bool verbose = false;            // -v: the solvers' monitors (SNES, KSP, the cavities' Newton)
   bool check = false;              // --check: validate the deck and its mesh, solve nothing
   bool mesh = false;               // hydrosoft mesh DECK OUT.h5: write the mesh, solve nothing
   std::string mesh_output;         // its OUT.h5

@@ -41,6 +41,9 @@ const char* usage =
     "                    resolved configuration and the mesh's statistics; solve nothing\n"
     "  mesh              mesh (or read) the deck's mesh once and write it to OUT.h5, which a\n"
     "                    deck names as mesh.file and every rank of a run reads its part of\n"
+    "  -q, --quiet       no progress line per step (the deck's output.progress: false)\n"
+    "  -v, --verbose     the solvers' monitors: -snes_monitor -ksp_converged_reason and the\n"
+    "                    cavities' Newton (-hs_newton_monitor)\n"
     "  --set key=value   override a deck key, e.g. --set mesh.order=2 --set mesh.parameters.h=0.1\n"
     "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
     "                    'effector x y z'; each line gets one JSON line on standard output,\n"
@@ -178,7 +181,8 @@ int main(int argc, char** argv) {
   }
   const std::string& deck = args.deck;
   const std::string& targets = args.targets;
-  const std::vector<std::string>& overrides = args.overrides;
+  std::vector<std::string> overrides = args.overrides;
+  if (args.quiet) overrides.push_back("output.progress=false");
   std::vector<char*> petsc_args = {argv[0]};
   for (auto& a : args.petsc) petsc_args.push_back(a.data());
   hs::InteractiveIo io;
@@ -197,6 +201,9 @@ int main(int argc, char** argv) {
   char** pargv = petsc_args.data();
   if (PetscInitialize(&pargc, &pargv, nullptr, usage)) return 1;
   if (deck.empty()) return fail(2, std::string("no deck given\n") + usage);
+  if (args.verbose)
+    for (const char* option : {"-snes_monitor", "-ksp_converged_reason", "-hs_newton_monitor"})
+      PetscOptionsSetValue(nullptr, option, nullptr);
 
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);

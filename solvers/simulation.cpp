@@ -9,6 +9,7 @@
 #include <memory>
 #include <utility>
 
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "deck/exact_section.hpp"
@@ -19,6 +20,7 @@
 #include "solvers/newton_solver.hpp"
 #include "solvers/output/result_recorder.hpp"
 #include "solvers/problem.hpp"
+#include "solvers/progress.hpp"
 #include "solvers/state_stepping.hpp"
 #include "solvers/stepping.hpp"
 #include "solvers/verification/error_norms.hpp"
@@ -101,21 +103,26 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     if (config.control)
       control_loop =
           std::make_unique<ControlLoop>(config, problem, *constraints, *bordered, std::move(io));
-    state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats);
+    state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats, comm);
     if (control_loop)
       control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()));
   } else if (config.time.type == TimeType::dynamic) {
     const int nsteps = static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9));
     recorder.record(0.0, u, 1.0);
+    Progress progress(config.output.progress, comm, nsteps);
     run_dynamic(problem, *newton, config.time, u, stats, [&](int n, double t, Vec un) {
+      progress.step(n, "time " + format_number(t) + " s", stats.newton_iterations);
       if (output_due(n, nsteps)) recorder.record(t, un, 1.0);
     });
   } else {
     const auto schedule = load_schedule(config.time);
     history = nlohmann::json::array();
     LoadStepper stepper(problem, *newton, config.time.max_cutbacks);
+    Progress progress(config.output.progress, comm, static_cast<int>(schedule.size()));
     for (size_t k = 0; k < schedule.size(); ++k) {
       stepper.advance(u, schedule[k], static_cast<int>(k + 1), stats);
+      progress.step(static_cast<int>(k + 1), "load " + format_number(schedule[k]),
+                    stats.newton_iterations);
       if (exact) {
         const auto v = verification_quantities(*exact, problem, u, schedule[k]);
         if (!v.is_null()) history.push_back(v);

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "common/error.hpp"
+#include "solvers/progress.hpp"
 
 namespace hs {
 namespace {
@@ -212,15 +214,22 @@ double tip_angle_deg(Problem& problem, const std::string& group,
 }
 
 StateRun run_states(const Config& config, Problem& problem, ConstraintSet& constraints,
-                    BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats) {
+                    BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats,
+                    MPI_Comm comm) {
   StateRun run;
   std::vector<StatePlan> plans = plan_states(config);
   StateStepper stepper(config, problem, constraints, newton, stats);
+  int total = 0, done = 0;
+  for (const StatePlan& plan : plans) total += static_cast<int>(plan.taus.size());
+  Progress progress(config.output.progress, comm, total);
   for (size_t k = 0; k < plans.size(); ++k) {
     StatePlan& plan = plans[k];
     stepper.begin(plan);
     for (size_t i = 0; i < plan.taus.size(); ++i) {
       stepper.advance(u, plan.taus[i]);
+      char what[160];
+      std::snprintf(what, sizeof what, "state %s %.3g", plan.name.c_str(), plan.taus[i]);
+      progress.step(++done, what, stats.newton_iterations);
       const bool last = i + 1 == plan.taus.size();
       if (last || (i + 1) % config.output.every == 0)
         recorder.record(static_cast<double>(k) + plan.taus[i], u,

@@ -23,7 +23,8 @@ struct StateRun {
 // state; the step attribute `time` is state index + fraction of the state (1.0 = end of the
 // first state, 2.0 = end of the second, ...).
 StateRun run_states(const Config& config, Problem& problem, ConstraintSet& constraints,
-                    BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats);
+                    BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats,
+                    MPI_Comm comm);
 
 // Inclination of a face group's mean deformed normal below the plane normal to gravity, in
 // degrees (positive: tilted towards gravity): asin(n . g / |g|).

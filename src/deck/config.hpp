@@ -79,8 +79,9 @@ struct SolverConfig {
 };
 
 struct OutputConfig {
-  std::string folder;  // default: out/<deck name>, relative to the working directory
-  int every = 1;       // write every n-th step (the last one always)
+  std::string folder;    // default: out/<deck name>, relative to the working directory
+  int every = 1;         // write every n-th step (the last one always)
+  bool progress = true;  // a line per converged step on standard error (solvers/progress.hpp)
 };
 
 // The deck's exact solution: its entry in the registry of src/verification/ (null for

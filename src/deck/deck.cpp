@@ -256,13 +256,14 @@ SolverConfig parse_solver(const DeckReader& r, const YAML::Node& node) {
 }
 
 OutputConfig parse_output(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "output", {"folder", "every"});
+  r.check_map(node, "output", {"folder", "every", "progress"});
   OutputConfig o;
   if (const auto n = node["folder"]) o.folder = r.text(n, "output.folder");
   if (const auto n = node["every"]) {
     o.every = r.integer(n, "output.every");
     require(o.every >= 1, r, n, "output.every", "must be >= 1");
   }
+  if (const auto n = node["progress"]) o.progress = r.boolean(n, "output.progress");
   return o;
 }
 

@@ -303,6 +303,7 @@ std::string format_config(const Config& c) {
   out << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "folder" << YAML::Value << c.output.folder;
   out << YAML::Key << "every" << YAML::Value << c.output.every;
+  out << YAML::Key << "progress" << YAML::Value << c.output.progress;
   out << YAML::EndMap;
 
   out << YAML::Key << "exact" << YAML::Value << YAML::BeginMap;

@@ -46,6 +46,17 @@ TEST(CommandLine, MeshWordWritesTheDecksMesh) {
   EXPECT_FALSE(parse({"deck.yaml"}).mesh);
 }
 
+TEST(CommandLine, QuietAndVerboseAreOursNotPetscs) {
+  const Arguments q = parse({"deck.yaml", "-q", "-snes_monitor"});
+  EXPECT_TRUE(q.quiet);
+  EXPECT_FALSE(q.verbose);
+  EXPECT_EQ(q.petsc, (std::vector<std::string>{"-snes_monitor"}));
+  const Arguments v = parse({"--verbose", "deck.yaml"});
+  EXPECT_TRUE(v.verbose);
+  EXPECT_TRUE(v.petsc.empty());
+  EXPECT_NE(error_of({"deck.yaml", "--quie"}).find("did you mean --quiet?"), std::string::npos);
+}
+
 TEST(CommandLine, HelpAndVersion) {
   EXPECT_TRUE(parse({"-h"}).help);
   EXPECT_TRUE(parse({"--help"}).help);
@@ -56,8 +67,8 @@ TEST(CommandLine, MistypedArgumentsAreErrorsThatNameThem) {
   EXPECT_EQ(error_of({"deck.yaml", "--sett", "mesh.order=2"}),
             "unknown argument '--sett' (did you mean --set?); PETSc options take one dash, e.g. "
             "-snes_monitor");
-  EXPECT_EQ(error_of({"deck.yaml", "--verbose"}),
-            "unknown argument '--verbose'; PETSc options take one dash, e.g. -snes_monitor");
+  EXPECT_EQ(error_of({"deck.yaml", "--debug"}),
+            "unknown argument '--debug'; PETSc options take one dash, e.g. -snes_monitor");
   EXPECT_EQ(error_of({"deck.yaml", "mesh.order=2"}),
             "unexpected argument 'mesh.order=2' after the deck deck.yaml (to override a key: --set "
             "mesh.order=2)");

@@ -1,0 +1,33 @@
+#include "solvers/progress.hpp"
+
+#include <cstdio>
+#include <iostream>
+
+namespace hs {
+
+Progress::Progress(bool enabled, MPI_Comm comm, int total_steps)
+    : total_(total_steps), start_(MPI_Wtime()) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  enabled_ = enabled && rank == 0;
+}
+
+std::string Progress::line(int k, int total, const std::string& what, int newton_step,
+                           int newton_total, double elapsed_s) {
+  char text[256];
+  const double left = k > 0 && total > k ? elapsed_s / k * (total - k) : 0;
+  std::snprintf(text, sizeof text,
+                "hydrosoft: step %d/%d  %s  Newton %d (%d in all)  elapsed %.1f s  left ~%.1f s", k,
+                total, what.c_str(), newton_step, newton_total, elapsed_s, left);
+  return text;
+}
+
+void Progress::step(int k, const std::string& what, int newton_total) {
+  if (!enabled_) return;
+  std::cerr << line(k, total_, what, newton_total - newton_before_, newton_total,
+                    MPI_Wtime() - start_)
+            << std::endl;
+  newton_before_ = newton_total;
+}
+
+}  // namespace hs
