@@ -23,7 +23,6 @@
 #include "common/exchange.hpp"
 #include "deck/deck.hpp"
 #include "mesh/gmsh_io.hpp"
-#include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_statistics.hpp"
 #include "solvers/distributed_mesh.hpp"
@@ -102,11 +101,6 @@ void report_unused(const std::vector<std::string>& names) {
   }
 }
 
-void print_units_warning(const hs::Mesh& mesh, const std::string& file) {
-  const std::string warning = hs::units_warning(mesh, file);
-  if (!warning.empty()) std::cerr << "warning: " << warning << std::endl;
-}
-
 // --check: the deck validated and printed resolved, its mesh loaded (or meshed) and its groups
 // checked, the mesh's statistics printed; nothing solved, nothing written.
 void check_deck(const hs::Config& config) {
@@ -114,50 +108,35 @@ void check_deck(const hs::Config& config) {
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0)
     std::cout << "# hydrosoft: resolved configuration\n" << hs::format_config(config) << std::endl;
-  // Rank 0 loads and checks; a bad mesh stops every rank with its message.
-  hs::Mesh mesh;
-  std::string input_error, other_error;
-  if (rank == 0) {
-    try {
-      mesh = hs::load_mesh(config.mesh);
-      print_units_warning(mesh, config.mesh.file);
-      hs::check_groups(config, hs::groups_of(mesh));
-    } catch (const hs::InputError& e) {
-      input_error = e.what();
-    } catch (const std::exception& e) {
-      other_error = e.what();
-    }
-  }
-  hs::throw_together<hs::InputError>(input_error, PETSC_COMM_WORLD);
-  hs::throw_together<std::runtime_error>(other_error, PETSC_COMM_WORLD);
-  std::vector<std::string> cavities;
-  for (const auto& c : config.cavities) cavities.push_back(c.group);
-  if (rank == 0)
+  const auto mesh = hs::load_mesh_on_rank_zero(config.mesh, PETSC_COMM_WORLD);
+  hs::on_rank_zero(PETSC_COMM_WORLD, [&] {
+    hs::check_groups(config, hs::groups_of(*mesh));
+    std::vector<std::string> cavities;
+    for (const auto& c : config.cavities) cavities.push_back(c.group);
     std::cout << "# hydrosoft: mesh " << config.mesh.file << "\n"
-              << hs::format_statistics(hs::mesh_statistics(mesh, cavities))
+              << hs::format_statistics(hs::mesh_statistics(*mesh, cavities))
               << "# hydrosoft: the deck and its mesh are valid; nothing was solved" << std::endl;
+  });
 }
 
 // hydrosoft mesh: the deck's mesh loaded (or meshed) and checked on rank 0 and written, whole
 // or not at all, to `output`.
 void write_mesh(const hs::Config& config, const std::string& output) {
-  int rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  if (rank != 0) return;
-  const hs::Mesh mesh = hs::load_mesh(config.mesh);
-  print_units_warning(mesh, config.mesh.file);
-  hs::check_groups(config, hs::groups_of(mesh));
-  const std::string partial = output + ".partial";
-  try {
-    hs::write_mesh_h5(mesh, partial);
-    std::filesystem::rename(partial, output);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(partial, ignored);
-    throw;
-  }
-  std::cout << "# hydrosoft: mesh " << config.mesh.file << " written to " << output << "\n"
-            << hs::format_statistics(hs::mesh_statistics(mesh, {})) << std::flush;
+  const auto mesh = hs::load_mesh_on_rank_zero(config.mesh, PETSC_COMM_WORLD);
+  hs::on_rank_zero(PETSC_COMM_WORLD, [&] {
+    hs::check_groups(config, hs::groups_of(*mesh));
+    const std::string partial = output + ".partial";
+    try {
+      hs::write_mesh_h5(*mesh, partial);
+      std::filesystem::rename(partial, output);
+    } catch (...) {
+      std::error_code ignored;
+      std::filesystem::remove(partial, ignored);
+      throw;
+    }
+    std::cout << "# hydrosoft: mesh " << config.mesh.file << " written to " << output << "\n"
+              << hs::format_statistics(hs::mesh_statistics(*mesh, {})) << std::flush;
+  });
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 
 #include <petscmat.h>
 
+#include <cctype>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 
@@ -21,34 +23,24 @@ extern "C" void SCOTCH_randomReset(void);
 namespace hs {
 namespace {
 
+// As the deck parser and load_mesh read extensions: in any case.
 bool is_h5(const std::string& file) {
-  const auto dot = file.rfind('.');
-  return dot != std::string::npos && file.substr(dot) == ".h5";
-}
-
-// Rank 0 loads through gmsh and keeps the whole mesh only until the blocks are sent.
-MeshSlab load_on_root_and_scatter(const MeshConfig& cfg, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  std::unique_ptr<Mesh> mesh;
-  std::string input_error, other_error;
-  if (rank == 0) {
-    try {
-      mesh = std::make_unique<Mesh>(load_mesh(cfg));
-      const std::string warning = units_warning(*mesh, cfg.file);
-      if (!warning.empty()) std::cerr << "warning: " << warning << std::endl;
-    } catch (const InputError& e) {
-      input_error = e.what();
-    } catch (const std::exception& e) {
-      other_error = e.what();
-    }
-  }
-  throw_together<InputError>(input_error, comm);
-  throw_together<std::runtime_error>(other_error, comm);
-  return scatter_mesh(mesh.get(), 0, comm);
+  std::string extension = std::filesystem::path(file).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".h5";
 }
 
 }  // namespace
+
+std::unique_ptr<Mesh> load_mesh_on_rank_zero(const MeshConfig& cfg, MPI_Comm comm) {
+  std::unique_ptr<Mesh> mesh;
+  on_rank_zero(comm, [&] {
+    mesh = std::make_unique<Mesh>(load_mesh(cfg));
+    const std::string warning = units_warning(*mesh, cfg.file);
+    if (!warning.empty()) std::cerr << "warning: " << warning << std::endl;
+  });
+  return mesh;
+}
 
 void use_one_scotch_thread() { setenv("SCOTCH_PTHREAD_NUMBER", "1", 0); }
 
@@ -92,8 +84,10 @@ std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm) {
 
 Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm, MeshLoadTimes* times) {
   const double t0 = MPI_Wtime();
-  const MeshSlab slab =
-      is_h5(cfg.file) ? read_mesh_h5(cfg.file, comm) : load_on_root_and_scatter(cfg, comm);
+  // From a .msh or .geo, rank 0 keeps the whole mesh only until the blocks are sent.
+  const MeshSlab slab = is_h5(cfg.file)
+                            ? read_mesh_h5(cfg.file, comm)
+                            : scatter_mesh(load_mesh_on_rank_zero(cfg, comm).get(), 0, comm);
   if (slab.num_tets > cfg.max_elements)
     throw InputError(
         cfg.file + ": " + std::to_string(slab.num_tets) +

@@ -8,6 +8,7 @@
 
 #include <mpi.h>
 
+#include <memory>
 #include <vector>
 
 #include "deck/config.hpp"
@@ -24,6 +25,10 @@ struct MeshLoadTimes {
 // tetrahedra than cfg.max_elements.
 Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm,
                                    MeshLoadTimes* times = nullptr);
+
+// Collective: the whole mesh on rank 0 (null elsewhere), loaded or meshed through gmsh; its
+// units warning, if any, on standard error. A failure is thrown on every rank.
+std::unique_ptr<Mesh> load_mesh_on_rank_zero(const MeshConfig& cfg, MPI_Comm comm);
 
 // Collective: the part (rank) of each of the slab's tetrahedra, balanced, with few faces
 // cut. The same mesh on the same ranks splits the same way when Scotch runs one thread per

@@ -47,7 +47,7 @@ class DofMap {
 
  private:
   int64_t num_owned_ = 0;
-  std::vector<double> X_;
+  const std::vector<double>& X_;  // the distribution's: it outlives the map
   std::vector<PetscInt> global_, ghost_blocks_;
   std::vector<char> constrained_, scaled_, from_exact_;  // per local dof
   std::vector<double> prescribed_;                       // per local dof, at full load

@@ -1,45 +1,23 @@
 #include "solvers/output/result_recorder.hpp"
 
-#include <cmath>
 #include <stdexcept>
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
 
 namespace hs {
-namespace {
-
-// Rank 0's outcome, shared: 0 done, 1 an InputError, 2 any other error; then its message.
-void share_outcome(int& outcome, std::string& message, MPI_Comm comm) {
-  MPI_Bcast(&outcome, 1, MPI_INT, 0, comm);
-  int n = static_cast<int>(message.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, comm);
-  message.resize(n);
-  MPI_Bcast(message.data(), n, MPI_CHAR, 0, comm);
-}
-
-}  // namespace
 
 std::unique_ptr<OutputFolder> open_output_folder(const std::string& folder, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
   std::unique_ptr<OutputFolder> opened;
-  int outcome = 0;
-  std::string message;
-  if (rank == 0) {
+  on_rank_zero(comm, [&] {
     try {
       opened = std::make_unique<OutputFolder>(folder);
-    } catch (const InputError& e) {
-      outcome = 1;
-      message = e.what();
+    } catch (const InputError&) {
+      throw;
     } catch (const std::exception& e) {
-      outcome = 2;
-      message = "output folder '" + folder + "': " + e.what();
+      throw std::runtime_error("output folder '" + folder + "': " + e.what());
     }
-  }
-  share_outcome(outcome, message, comm);
-  if (outcome == 1) throw InputError(message);
-  if (outcome == 2) throw std::runtime_error(message);
+  });
   return opened;
 }
 
@@ -74,10 +52,7 @@ ResultRecorder::ResultRecorder(Problem& problem, const Config& config,
   MPI_Comm_rank(comm, &rank_);
   // Every rank writes into rank 0's staging folder.
   std::string staging = rank_ == 0 ? folder_->staging() : std::string();
-  int n = static_cast<int>(staging.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, comm);
-  staging.resize(n);
-  MPI_Bcast(staging.data(), n, MPI_CHAR, 0, comm);
+  broadcast_string(staging, 0, comm);
   writer_ = std::make_unique<XdmfWriter>(comm, staging, config.deck_name,
                                          output_layout(problem.distribution(), comm));
   load_ = problem.create_vector();
@@ -94,15 +69,7 @@ void ResultRecorder::record(double time, Vec u, double s) {
   f.nodal_load = owned_values(load_);
   problem_.element_fields(u, f.von_mises, f.J);
   f.rank.assign(f.J.size(), rank_);
-  // Decided together, so that every rank stops on a non-finite result.
-  int finite = 1;
-  for (const auto* field : {&f.displacement, &f.nodal_load, &f.von_mises, &f.J})
-    for (double x : *field) finite &= std::isfinite(x);
-  MPI_Allreduce(MPI_IN_PLACE, &finite, 1, MPI_INT, MPI_MIN, problem_.comm());
-  if (!finite)
-    throw SolveError("output at time/load " + std::to_string(time) +
-                     ": a computed field is not finite; nothing was written");
-  writer_->write_step(f);
+  writer_->write_step(f);  // refuses a non-finite value on every rank, before writing
   ++written_;
   seconds_ += MPI_Wtime() - t0;
 }

@@ -12,6 +12,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "common/error.hpp"
+
 namespace hs {
 
 // Sends send[r] to rank r (send has one list per rank) and returns the records received,
@@ -62,6 +64,14 @@ inline int block_owner(int64_t n, int64_t i, int size) {
   return static_cast<int>(((i + 1) * size + n - 1) / n - 1);
 }
 
+// Collective: `text` of rank `root` on every rank.
+inline void broadcast_string(std::string& text, int root, MPI_Comm comm) {
+  int n = static_cast<int>(text.size());
+  MPI_Bcast(&n, 1, MPI_INT, root, comm);
+  text.resize(n);
+  MPI_Bcast(text.data(), n, MPI_CHAR, root, comm);
+}
+
 // Collective: when any rank has a non-empty `error`, every rank throws E with the message of
 // the lowest such rank; otherwise returns.
 template <class E>
@@ -73,11 +83,28 @@ void throw_together(const std::string& error, MPI_Comm comm) {
   MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
   if (first == size) return;
   std::string message = error;
-  int n = static_cast<int>(message.size());
-  MPI_Bcast(&n, 1, MPI_INT, first, comm);
-  message.resize(n);
-  MPI_Bcast(message.data(), n, MPI_CHAR, first, comm);
+  broadcast_string(message, first, comm);
   throw E(message);
+}
+
+// Collective: rank 0 runs `work`; what it throws is thrown on every rank with its message, an
+// InputError as InputError, anything else as std::runtime_error.
+template <class F>
+void on_rank_zero(MPI_Comm comm, F&& work) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string input_error, other_error;
+  if (rank == 0) {
+    try {
+      work();
+    } catch (const InputError& e) {
+      input_error = e.what();
+    } catch (const std::exception& e) {
+      other_error = e.what();
+    }
+  }
+  throw_together<InputError>(input_error, comm);
+  throw_together<std::runtime_error>(other_error, comm);
 }
 
 }  // namespace hs
