@@ -3,21 +3,8 @@
 #include <stdexcept>
 
 namespace hs {
-namespace {
-
-// Closes an HDF5 handle at scope exit.
-struct Handle {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
-
-}  // namespace
-
 Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm) : path_(path) {
-  Handle access{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+  Hdf5Handle access{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
   if (comm != MPI_COMM_NULL) {
     int size = 1;
     MPI_Comm_size(comm, &size);
@@ -45,7 +32,8 @@ void Hdf5File::fail(const std::string& what) const {
 }
 
 void Hdf5File::create_group(const std::string& name) {
-  Handle group{H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+  Hdf5Handle group{H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                   H5Gclose};
   if (group.id < 0) fail("cannot create group " + name);
 }
 
@@ -58,23 +46,23 @@ void Hdf5File::write_raw(const std::string& name, hid_t file_type, hid_t memory_
                                 " values from row " + std::to_string(first) + " for a " +
                                 std::to_string(rows) + " x " + std::to_string(cols) + " dataset");
   const hsize_t dims[2] = {rows, cols};
-  Handle space{H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose};
+  Hdf5Handle space{H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose};
   if (space.id < 0) fail("cannot create the dataspace of " + name);
-  Handle set{
+  Hdf5Handle set{
       H5Dcreate2(file_, name.c_str(), file_type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
       H5Dclose};
   if (set.id < 0) fail("cannot create dataset " + name);
   if (rows == 0) return;
   // Every rank takes part in a collective write, those without rows by selecting nothing.
   const hsize_t start[2] = {first, 0}, block[2] = {mine, width};
-  Handle memory{H5Screate_simple(cols ? 2 : 1, block, nullptr), H5Sclose};
+  Hdf5Handle memory{H5Screate_simple(cols ? 2 : 1, block, nullptr), H5Sclose};
   if (mine == 0) {
     H5Sselect_none(space.id);
     H5Sselect_none(memory.id);
   } else {
     H5Sselect_hyperslab(space.id, H5S_SELECT_SET, start, nullptr, block, nullptr);
   }
-  Handle transfer{H5Pcreate(H5P_DATASET_XFER), H5Pclose};
+  Hdf5Handle transfer{H5Pcreate(H5P_DATASET_XFER), H5Pclose};
   if (parallel_) H5Pset_dxpl_mpio(transfer.id, H5FD_MPIO_COLLECTIVE);
   if (H5Dwrite(set.id, memory_type, memory.id, space.id, transfer.id, data) < 0)
     fail("cannot write dataset " + name);
@@ -110,14 +98,30 @@ void Hdf5File::write_rows(const std::string& name, const std::vector<int>& data,
   write_raw(name, H5T_STD_I32LE, H5T_NATIVE_INT, data.data(), data.size(), rows, cols, first);
 }
 
-void Hdf5File::set_attribute(const std::string& object, const std::string& name, double value) {
-  Handle space{H5Screate(H5S_SCALAR), H5Sclose};
-  Handle attribute{H5Acreate_by_name(file_, object.c_str(), name.c_str(), H5T_IEEE_F64LE, space.id,
-                                     H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                   H5Aclose};
+void Hdf5File::write_attribute(const std::string& object, const std::string& name, hid_t type,
+                               const void* value) {
+  Hdf5Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  Hdf5Handle attribute{H5Acreate_by_name(file_, object.c_str(), name.c_str(), type, space.id,
+                                         H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                       H5Aclose};
   if (attribute.id < 0) fail("cannot create attribute " + object + "/" + name);
-  if (H5Awrite(attribute.id, H5T_NATIVE_DOUBLE, &value) < 0)
+  if (H5Awrite(attribute.id, type, value) < 0)
     fail("cannot write attribute " + object + "/" + name);
+}
+
+void Hdf5File::set_attribute(const std::string& object, const std::string& name, double value) {
+  write_attribute(object, name, H5T_NATIVE_DOUBLE, &value);
+}
+
+void Hdf5File::set_attribute(const std::string& object, const std::string& name, int value) {
+  write_attribute(object, name, H5T_NATIVE_INT, &value);
+}
+
+void Hdf5File::set_attribute(const std::string& object, const std::string& name,
+                             const std::string& value) {
+  Hdf5Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, value.size());
+  write_attribute(object, name, type.id, value.data());
 }
 
 }  // namespace hs

@@ -14,6 +14,15 @@
 
 namespace hs {
 
+// Closes an HDF5 handle (of the kind `close` closes) at scope exit.
+struct Hdf5Handle {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Hdf5Handle() {
+    if (id >= 0) close(id);
+  }
+};
+
 class Hdf5File {
  public:
   enum class Mode { Create, Append };  // Create truncates an existing file
@@ -35,11 +44,15 @@ class Hdf5File {
   void write_rows(const std::string& name, const std::vector<int>& data, size_t rows, size_t cols,
                   size_t first);
   void set_attribute(const std::string& object, const std::string& name, double value);
+  void set_attribute(const std::string& object, const std::string& name, int value);
+  void set_attribute(const std::string& object, const std::string& name, const std::string& value);
   void close();  // flushes; the destructor closes too (without throwing)
 
  private:
   void write_raw(const std::string& name, hid_t file_type, hid_t memory_type, const void* data,
                  size_t count, size_t rows, size_t cols, size_t first);
+  void write_attribute(const std::string& object, const std::string& name, hid_t type,
+                       const void* value);
   [[noreturn]] void fail(const std::string& what) const;
 
   std::string path_;

@@ -10,20 +10,12 @@
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
+#include "io/hdf5_file.hpp"
 
 namespace hs {
 namespace {
 
 const char* kFormat = "hydrosoft mesh";
-
-// Closes an HDF5 handle at scope exit.
-struct H5 {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~H5() {
-    if (id >= 0) close(id);
-  }
-};
 
 // HDF5's own error stack printing off while an object lives: failures become our messages.
 struct QuietHdf5 {
@@ -34,57 +26,6 @@ struct QuietHdf5 {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   }
   ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func, data); }
-};
-
-class Writer {
- public:
-  explicit Writer(const std::string& path) : path_(path) {
-    file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (file_ < 0) fail("cannot create the file");
-  }
-  ~Writer() {
-    if (file_ >= 0) H5Fclose(file_);
-  }
-  void group(const std::string& name) {
-    H5 g{H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
-    if (g.id < 0) fail("cannot create group " + name);
-  }
-  template <class T>
-  void dataset(const std::string& name, hid_t type, const std::vector<T>& data, size_t cols) {
-    const hsize_t dims[2] = {cols ? data.size() / cols : data.size(), cols};
-    H5 space{H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose};
-    H5 set{H5Dcreate2(file_, name.c_str(), type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-           H5Dclose};
-    if (set.id < 0) fail("cannot create " + name);
-    if (!data.empty() && H5Dwrite(set.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
-      fail("cannot write " + name);
-  }
-  void attribute(const std::string& object, const std::string& name, int value) {
-    H5 space{H5Screate(H5S_SCALAR), H5Sclose};
-    H5 a{H5Acreate_by_name(file_, object.c_str(), name.c_str(), H5T_NATIVE_INT, space.id,
-                           H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-         H5Aclose};
-    if (a.id < 0 || H5Awrite(a.id, H5T_NATIVE_INT, &value) < 0) fail("cannot write " + name);
-  }
-  void attribute(const std::string& name, const std::string& value) {
-    H5 type{H5Tcopy(H5T_C_S1), H5Tclose};
-    H5Tset_size(type.id, value.size());
-    H5 space{H5Screate(H5S_SCALAR), H5Sclose};
-    H5 a{H5Acreate2(file_, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
-    if (a.id < 0 || H5Awrite(a.id, type.id, value.data()) < 0) fail("cannot write " + name);
-  }
-  void close() {
-    const herr_t status = H5Fclose(file_);
-    file_ = -1;
-    if (status < 0) fail("cannot close the file");
-  }
-
- private:
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error(path_ + ": HDF5: " + what);
-  }
-  std::string path_;
-  hid_t file_ = -1;
 };
 
 void check_name(const std::string& path, const std::string& name) {
@@ -99,7 +40,7 @@ class Reader {
   Reader(const std::string& path, MPI_Comm comm) : path_(path) {
     int size = 1;
     MPI_Comm_size(comm, &size);
-    H5 fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+    Hdf5Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
     if (size > 1) H5Pset_fapl_mpio(fapl.id, comm, MPI_INFO_NULL);
     file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.id);
   }
@@ -108,25 +49,26 @@ class Reader {
   }
   bool open() const { return file_ >= 0; }
   std::string format() const {
-    H5 a{H5Aopen(file_, "format", H5P_DEFAULT), H5Aclose};
+    Hdf5Handle a{H5Aopen(file_, "format", H5P_DEFAULT), H5Aclose};
     if (a.id < 0) return {};
-    H5 type{H5Aget_type(a.id), H5Tclose};
+    Hdf5Handle type{H5Aget_type(a.id), H5Tclose};
     std::string s(H5Tget_size(type.id), '\0');
     if (H5Tget_class(type.id) != H5T_STRING || H5Aread(a.id, type.id, s.data()) < 0) return {};
     return s;
   }
   int attribute(const std::string& object, const std::string& name, int fallback) const {
     int value = fallback;
-    H5 a{H5Aopen_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    Hdf5Handle a{H5Aopen_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+                 H5Aclose};
     if (a.id < 0 || H5Aread(a.id, H5T_NATIVE_INT, &value) < 0) return fallback;
     return value;
   }
   // Rows and columns (0 for a 1D dataset); rows = -1 if it is missing or not 1D/2D.
   std::pair<int64_t, int> shape(const std::string& name) const {
     if (H5Lexists(file_, name.c_str(), H5P_DEFAULT) <= 0) return {-1, 0};
-    H5 set{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
+    Hdf5Handle set{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
     if (set.id < 0) return {-1, 0};
-    H5 space{H5Dget_space(set.id), H5Sclose};
+    Hdf5Handle space{H5Dget_space(set.id), H5Sclose};
     const int rank = H5Sget_simple_extent_ndims(space.id);
     hsize_t dims[2] = {0, 0};
     if (rank < 1 || rank > 2) return {-1, 0};
@@ -140,13 +82,13 @@ class Reader {
     const size_t width = cols ? cols : 1;
     out.resize((end - begin) * width);
     if (end == begin) return true;
-    H5 set{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
+    Hdf5Handle set{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
     if (set.id < 0) return false;
-    H5 space{H5Dget_space(set.id), H5Sclose};
+    Hdf5Handle space{H5Dget_space(set.id), H5Sclose};
     const hsize_t start[2] = {static_cast<hsize_t>(begin), 0};
     const hsize_t count[2] = {static_cast<hsize_t>(end - begin), width};
     H5Sselect_hyperslab(space.id, H5S_SELECT_SET, start, nullptr, count, nullptr);
-    H5 memory{H5Screate_simple(cols ? 2 : 1, count, nullptr), H5Sclose};
+    Hdf5Handle memory{H5Screate_simple(cols ? 2 : 1, count, nullptr), H5Sclose};
     return H5Dread(set.id, type, memory.id, space.id, H5P_DEFAULT, out.data()) >= 0;
   }
   std::vector<std::string> children(const std::string& group) const {
@@ -173,28 +115,30 @@ void write_mesh_h5(const Mesh& mesh, const std::string& path) {
   for (const auto& v : mesh.volume_names) check_name(path, v);
   for (const auto& [name, faces] : mesh.surfaces) check_name(path, name);
   for (const auto& [name, nodes] : mesh.node_groups) check_name(path, name);
-  Writer w(path);
-  w.attribute("format", kFormat);
-  w.attribute("/", "version", 1);
-  w.attribute("/", "order", mesh.order);
-  w.dataset("/nodes", H5T_NATIVE_DOUBLE, mesh.x, 3);
-  w.dataset("/tets", H5T_NATIVE_INT64, mesh.tets, mesh.nodes_per_tet());
-  w.dataset("/tet_volume", H5T_NATIVE_INT, mesh.tet_volume, 0);
-  w.group("/volumes");
+  Hdf5File h5(path, Hdf5File::Mode::Create);
+  h5.set_attribute("/", "format", std::string(kFormat));
+  h5.set_attribute("/", "version", 1);
+  h5.set_attribute("/", "order", mesh.order);
+  h5.write("/nodes", mesh.x, mesh.num_nodes(), 3);
+  h5.write("/tets", mesh.tets, mesh.num_tets(), mesh.nodes_per_tet());
+  h5.write("/tet_volume", mesh.tet_volume, mesh.num_tets(), 0);
+  h5.create_group("/volumes");
   for (size_t v = 0; v < mesh.volume_names.size(); ++v) {
-    w.group("/volumes/" + mesh.volume_names[v]);
-    w.attribute("/volumes/" + mesh.volume_names[v], "index", static_cast<int>(v));
+    h5.create_group("/volumes/" + mesh.volume_names[v]);
+    h5.set_attribute("/volumes/" + mesh.volume_names[v], "index", static_cast<int>(v));
   }
-  w.group("/surfaces");
+  const int npf = mesh.nodes_per_face();
+  h5.create_group("/surfaces");
   for (const auto& [name, faces] : mesh.surfaces) {
-    w.group("/surfaces/" + name);
-    w.dataset("/surfaces/" + name + "/faces", H5T_NATIVE_INT64, faces, mesh.nodes_per_face());
-    w.dataset("/surfaces/" + name + "/tets", H5T_NATIVE_INT64, mesh.surface_tets.at(name), 0);
+    h5.create_group("/surfaces/" + name);
+    h5.write("/surfaces/" + name + "/faces", faces, faces.size() / npf, npf);
+    const auto& tets = mesh.surface_tets.at(name);
+    h5.write("/surfaces/" + name + "/tets", tets, tets.size(), 0);
   }
-  w.group("/node_groups");
+  h5.create_group("/node_groups");
   for (const auto& [name, nodes] : mesh.node_groups)
-    w.dataset("/node_groups/" + name, H5T_NATIVE_INT64, nodes, 0);
-  w.close();
+    h5.write("/node_groups/" + name, nodes, nodes.size(), 0);
+  h5.close();
 }
 
 MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
