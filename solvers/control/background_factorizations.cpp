@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "common/exchange.hpp"
 #include "solvers/petsc_check.hpp"
 
 namespace hs {
@@ -24,13 +25,6 @@ CsrMatrix csr_of(Mat A) {
   HS_PETSC(MatSeqAIJRestoreArrayRead(A, &a));
   HS_PETSC(MatRestoreRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
   return m;
-}
-
-void broadcast(std::string& s, MPI_Comm comm) {
-  int n = static_cast<int>(s.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, comm);
-  s.resize(n);
-  MPI_Bcast(s.data(), n, MPI_CHAR, 0, comm);
 }
 
 }  // namespace
@@ -85,7 +79,7 @@ BackgroundFactorizations::Poll BackgroundFactorizations::poll() {
   p.failed = flags[0];
   adopted_state = flags[1];
   MPI_Bcast(&p.factor_ms, 1, MPI_DOUBLE, 0, comm_);
-  broadcast(p.error, comm_);
+  broadcast_string(p.error, 0, comm_);
   if (adopted_state >= 0) {
     p.adopted = true;
     source_ = Source::background;
