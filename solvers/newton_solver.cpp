@@ -79,12 +79,9 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent, bool
   // where the default stopped it and cost a cutback and 6 iterations); a step that truly
   // diverges is stopped by snes_max_it, an inverted element or a non-finite residual, and cut
   // back.
-  const std::map<std::string, std::string> common = {{"snes_type", "newtonls"},
-                                                     {"snes_linesearch_type", "basic"},
-                                                     {"snes_rtol", "1e-8"},
-                                                     {"snes_stol", "0"},
-                                                     {"snes_divergence_tolerance", "-1"},
-                                                     {"snes_max_it", "30"}};
+  const std::map<std::string, std::string> common = {
+      {"snes_type", "newtonls"}, {"snes_linesearch_type", "basic"},   {"snes_rtol", "1e-8"},
+      {"snes_stol", "0"},        {"snes_divergence_tolerance", "-1"}, {"snes_max_it", "30"}};
   for (const auto& [k, v] : common) set_default(k, v);
   switch (solver.preset) {
     case SolverPreset::mumps:
@@ -120,6 +117,9 @@ NewtonSolver::NewtonSolver(Problem& problem) : problem_(problem) {
   HS_PETSC(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
   if (problem.has_potential()) HS_PETSC(SNESSetObjective(snes_, form_objective, this));
   HS_PETSC(SNESSetFromOptions(snes_));
+  PetscBool roundoff = PETSC_TRUE;  // -hs_newton_roundoff false: PETSc's test alone
+  HS_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-hs_newton_roundoff", &roundoff, nullptr));
+  if (roundoff) HS_PETSC(SNESSetConvergenceTest(snes_, converged, this, nullptr));
 }
 
 NewtonSolver::~NewtonSolver() {
@@ -161,6 +161,32 @@ PetscErrorCode NewtonSolver::form_objective(SNES, Vec u, PetscReal* energy, void
   return 0;
 }
 
+PetscErrorCode NewtonSolver::converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm,
+                                       PetscReal fnorm, SNESConvergedReason* reason, void* ctx) {
+  auto* self = static_cast<NewtonSolver*>(ctx);
+  PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
+  if (it == 0) {
+    self->first_norm_ = fnorm;
+    self->roundoff_ = -1;
+  }
+  if (*reason != SNES_CONVERGED_ITERATING || it == 0 || !(fnorm <= 1e-6 * self->first_norm_))
+    return 0;
+  Vec u;
+  PetscCall(SNESGetSolution(snes, &u));
+  double floor = 0;
+  try {
+    floor = self->problem_.residual_roundoff(u);
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  PetscCall(PetscInfo(snes, "residual norm %g, its round-off %g\n", (double)fnorm, floor));
+  if (fnorm <= floor) {
+    *reason = SNES_CONVERGED_FNORM_ABS;
+    self->roundoff_ = floor;
+  }
+  return 0;
+}
+
 void NewtonSolver::scale_absolute_tolerance(double load_norm) {
   PetscBool set = PETSC_FALSE;
   HS_PETSC(PetscOptionsHasName(nullptr, nullptr, "-snes_atol", &set));
@@ -190,7 +216,7 @@ NewtonResult NewtonSolver::solve(Vec u, double s) {
   r.iterations = static_cast<int>(its);
   r.linear_iterations = static_cast<int>(lits);
   r.residual_norm = norm;
-  r.reason = SNESConvergedReasons[reason];
+  r.reason = roundoff_ >= 0 && reason > 0 ? "CONVERGED_ROUNDOFF" : SNESConvergedReasons[reason];
   // A law defined at every strain (small-strain elasticity) gives a solution even where it
   // turns a tetrahedron inside out: refused as the finite-strain laws' residual refuses it.
   if (r.converged && !problem_.orientation_preserved(u)) {

@@ -28,7 +28,7 @@ struct NewtonResult {
   int iterations = 0;
   int linear_iterations = 0;
   double residual_norm = 0;
-  std::string reason;  // PETSc's converged/diverged reason
+  std::string reason;  // PETSc's converged/diverged reason, or CONVERGED_ROUNDOFF
 };
 
 class NewtonSolver {
@@ -52,6 +52,10 @@ class NewtonSolver {
   static PetscErrorCode form_residual(SNES, Vec u, Vec R, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec u, Mat J, Mat P, void* ctx);
   static PetscErrorCode form_objective(SNES, Vec u, PetscReal* energy, void* ctx);
+  // PETSc's test, and convergence when the residual is down to the round-off of its own
+  // evaluation (Problem::residual_roundoff), checked once it is 1e-6 of the first.
+  static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm,
+                                  PetscReal fnorm, SNESConvergedReason* reason, void* ctx);
 
   Problem& problem_;
   SNES snes_ = nullptr;
@@ -59,6 +63,8 @@ class NewtonSolver {
   Vec R_ = nullptr;
   double load_ = 0;
   double solve_s_ = 0;
+  double first_norm_ = 0;  // of this solve's first residual
+  double roundoff_ = -1;   // the floor it converged at, -1 when it converged otherwise
 };
 
 }  // namespace hs

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "common/error.hpp"
@@ -220,6 +221,34 @@ bool Problem::potential_energy(Vec u, double s, double* energy) {
   timers_.residual_s += MPI_Wtime() - t0;
   if (ok) *energy = stored - work + kinetic;
   return ok;
+}
+
+double Problem::residual_roundoff(Vec u) {
+  Vec bound;
+  HS_PETSC(VecDuplicate(u, &bound));
+  assemble_local(u, bound, [&](const PetscScalar* ua, PetscScalar* ra) {
+    const int n = 3 * npe_;
+    double X[30], ue[30], re[30], K[900], size[30];
+    for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
+      element_force(static_cast<int64_t>(e), ua, re, K);
+      element_coordinates(static_cast<int64_t>(e), X);
+      element_displacement(ua, static_cast<int64_t>(e), ue);
+      double c[3] = {0, 0, 0};
+      for (int k = 0; k < n; ++k) c[k % 3] += X[k] / npe_;
+      for (int k = 0; k < n; ++k) size[k] = std::abs(ue[k]) + std::abs(X[k] - c[k % 3]);
+      const int32_t* nodes = &dist_.tet_nodes[e * npe_];
+      for (int i = 0; i < n; ++i) {
+        double sum = 0;
+        for (int j = 0; j < n; ++j) sum += std::abs(K[i * n + j]) * size[j];
+        ra[3 * nodes[i / 3] + i % 3] += sum;
+      }
+    }
+  });
+  dofs_.zero(bound);
+  PetscReal norm = 0;
+  HS_PETSC(VecNorm(bound, NORM_2, &norm));
+  HS_PETSC(VecDestroy(&bound));
+  return std::numeric_limits<double>::epsilon() * norm;
 }
 
 void Problem::external_load(Vec u, double s, Vec f) { assemble_forces(u, s, 0.0, 1.0, f, nullptr); }

@@ -88,6 +88,12 @@ class Problem {
   // That energy, Pi(u; s) = int psi dV - s f_body . u [+ c/2 (u - u_pred)^T M (u - u_pred)],
   // in *energy; false (and *energy untouched) on an inverted element. Requires has_potential().
   bool potential_energy(Vec u, double s, double* energy);
+  // The round-off of the residual's evaluation at u: eps || sum_e |K_e| (|u_e| + |X_e - c_e|) ||
+  // (c_e the element's centroid), over the free dofs. Forming F = I + grad u from
+  // displacements of size |u| and element size h loses eps |u| / h and eps in F; the tangent
+  // carries that to the nodal forces. On fine meshes under body loads this floor exceeds
+  // 1e-8 of the load (the 10M-dof cantilever: 3e-8), which a relative test alone never meets.
+  double residual_roundoff(Vec u);
   double reference_coordinate(int64_t local_node, int d) const { return X_[3 * local_node + d]; }
 
   // Whether every tetrahedron keeps its orientation on configuration u (J > 0 at its

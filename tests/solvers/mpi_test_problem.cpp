@@ -161,6 +161,38 @@ TEST_P(FullNewtonSteps, NeoHookeanCantileverInOneLoadStep) {
 
 INSTANTIATE_TEST_SUITE_P(Solvers, FullNewtonSteps, ::testing::Values("mumps", "gamg"));
 
+// Tolerances below what floating point can reach (the 10M-dof cantilever's residual stalls
+// at 3e-8 of its load, above snes_rtol 1e-8): Newton stops where the residual is within the
+// round-off of its own evaluation, at the solution the reachable tolerances give; PETSc's
+// test alone iterates on the noise until snes_max_it.
+TEST(NewtonRoundoff, UnreachableTolerancesStopAtTheResidualsRoundoff) {
+  const std::vector<std::string> deck = {
+      "materials[0].model=neo_hookean", "materials[0].E=1e6",      "materials[0].nu=0.45",
+      "materials[0].density=1070",      "mesh.parameters.L=0.1",   "mesh.parameters.h=0.01",
+      "exact.parameters.L=0.1",         "exact.parameters.h=0.01", "solver.preset=mumps"};
+  // Each run starts from an empty options database: a run's defaults stay in it, and a
+  // later deck's options do not replace them.
+  PetscOptionsClear(nullptr);
+  const auto reference = hs_test::run_deck("cantilever_gravity.yaml", deck, "roundoff_ref");
+  PetscOptionsClear(nullptr);
+  auto unreachable = deck;
+  unreachable.push_back("solver.petsc_options.snes_rtol=1e-20");
+  unreachable.push_back("solver.petsc_options.snes_atol=1e-30");
+  const auto summary = hs_test::run_deck("cantilever_gravity.yaml", unreachable, "roundoff");
+  EXPECT_LE(summary["newton_iterations"].get<int>(), reference["newton_iterations"].get<int>() + 2);
+  EXPECT_EQ(summary["cutbacks"].get<int>(), 0);
+  const double tip = reference["verification"]["tip_deflection"].get<double>();
+  EXPECT_NEAR(summary["verification"]["tip_deflection"].get<double>(), tip, 1e-9 * tip);
+
+  unreachable.push_back("solver.petsc_options.hs_newton_roundoff=false");
+  unreachable.push_back("solver.petsc_options.snes_max_it=12");
+  unreachable.push_back("time.max_cutbacks=0");
+  PetscOptionsClear(nullptr);
+  EXPECT_THROW(hs_test::run_deck("cantilever_gravity.yaml", unreachable, "roundoff_off"),
+               hs::SolveError);
+  PetscOptionsClear(nullptr);
+}
+
 // An evaluation that meets inverted elements names one, the same on every rank; the next
 // evaluation without any clears it (an earlier trial step must not be blamed later).
 TEST(InvertedElement, NamedOnEveryRankAndClearedByTheNextEvaluation) {
