@@ -13,7 +13,7 @@ set -uo pipefail
 outdir=$1 sizes=$2 ranks=$3
 deck=$(cd "$(dirname "$0")" && pwd)/cantilever_box.yaml
 mkdir -p "$outdir"
-nproc >"$outdir/cores.txt"
+nproc --all >"$outdir/cores.txt"  # --all: OMP_NUM_THREADS=1 makes plain nproc say 1
 grep -m1 "model name" /proc/cpuinfo >>"$outdir/cores.txt"
 work=$(mktemp -d)
 for size in $sizes; do
