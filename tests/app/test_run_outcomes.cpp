@@ -1,11 +1,14 @@
 // The executable's outcomes beyond success: a run that fails mid-way keeps its converged steps
 // in "<folder>.failed" (an .h5 and .xmf with exactly those steps, summary.json saying why)
 // and leaves an earlier good <folder> alone; SIGTERM stops a run at a step boundary with exit
-// status 143, on 1 rank and on 2 under mpiexec; history.csv and /history of the .h5 hold one
+// status 143, on 1 rank and on 2 under mpiexec, and in the interactive mode while it waits for
+// a target line; history.csv and /history of the .h5 hold one
 // row per output step, equal to summary.json's values.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -249,6 +252,37 @@ TEST_P(Interrupted, BySigtermKeepsTheStepsSoFarAndExits143) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Ranks, Interrupted, ::testing::Values(1, 2));
+
+TEST(InterruptedInteractive, ASignalWhileWaitingForATargetStopsTheReading) {
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "finger").string();
+  const std::string fifo = (tmp.path() / "targets").string(), out = (tmp.path() / "out").string(),
+                    err = (tmp.path() / "err").string();
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const pid_t pid = start(std::string(HYDROSOFT_EXE) + " " + kSource +
+                          "/input/finger_hydraulic.yaml -q --set mesh.parameters.h=0.006 "
+                          "--set control.steps_per_target=1 --set output.folder=" +
+                          folder + " --targets - < " + fifo + " > " + out + " 2> " + err);
+  const int targets = open(fifo.c_str(), O_WRONLY);  // held open: the input never ends
+  ASSERT_GE(targets, 0);
+  const std::string line = "0.09 0 -0.012\n";
+  ASSERT_EQ(write(targets, line.data(), line.size()), static_cast<ssize_t>(line.size()));
+  // Its answer is out: the run is waiting for the next line.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (text_of(out).find("answer") == std::string::npos &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_NE(text_of(out).find("answer"), std::string::npos) << text_of(err);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_EQ(kill(pid, SIGTERM), 0);
+  EXPECT_EQ(wait_for(pid), 143) << text_of(err);
+  close(targets);
+  const auto summary = json_of(folder + ".failed/summary.json");
+  EXPECT_EQ(summary["reason"], "interrupted by SIGTERM");
+  EXPECT_EQ(summary["outputs"], 5);  // the 4 steps of the state, the one target
+  EXPECT_EQ(summary["last_converged"]["step"], 4);
+  EXPECT_EQ(csv_of(folder + ".failed/history.csv").rows.size(), 5u);
+}
 
 TEST(History, EveryOutputStepHasARowEqualToTheSummaryAndTheH5) {
   TempFolder tmp;
