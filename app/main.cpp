@@ -21,6 +21,7 @@
 #include "command_line.hpp"
 #include "common/error.hpp"
 #include "common/exchange.hpp"
+#include "common/interrupt.hpp"
 #include "deck/deck.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "mesh/mesh_h5.hpp"
@@ -83,6 +84,23 @@ int fail(int code, const std::string& message) {
   if (size > 1 && code == 4) MPI_Abort(PETSC_COMM_WORLD, code);  // a rank-local failure
   PetscFinalize();
   return code;
+}
+
+// A run that failed after writing some steps: where they are, after the error. An
+// interrupted run says so in one line and exits with 128 + the signal, as a process killed by
+// it would (a batch system reads it so), but with its converged steps kept.
+int stopped(const hs::SolveError& e) {
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  const auto* interrupted = dynamic_cast<const hs::Interrupted*>(&e);
+  const std::string kept = e.kept_in.empty() ? "no step had converged: nothing was kept"
+                                             : "the " + std::to_string(e.kept_steps) +
+                                                   " converged output steps are in " + e.kept_in +
+                                                   "/ (summary.json: \"status\": \"failed\")";
+  if (!interrupted) return fail(3, std::string(e.what()) + "\n  " + kept);
+  if (rank == 0) std::cerr << "hydrosoft: " << e.what() << "; " << kept << std::endl;
+  PetscFinalize();
+  return 128 + interrupted->signal;
 }
 
 // PETSc options of the command line that no object used: mistyped, or for a solver this scene
@@ -209,13 +227,17 @@ int main(int argc, char** argv) {
     std::ostream& report = targets.empty() ? std::cout : std::cerr;
     if (rank == 0)
       report << "# hydrosoft: resolved configuration\n" << hs::format_config(config) << std::endl;
+    // SIGTERM or SIGINT now stops the run at a step boundary, keeping what converged (set
+    // after PetscInitialize, whose own SIGTERM handler it replaces; --check and mesh keep the
+    // default: they have nothing to keep).
+    hs::install_interrupt_handlers();
     const auto summary = hs::run_simulation(config, PETSC_COMM_WORLD, io);
     if (rank == 0) report << "# hydrosoft: done\n" << summary.dump(2) << std::endl;
     if (rank == 0) report_unused(args.petsc_names);
   } catch (const hs::InputError& e) {
     return fail(2, e.what());
   } catch (const hs::SolveError& e) {
-    return fail(3, e.what());
+    return stopped(e);
   } catch (const std::exception& e) {
     return fail(4, e.what());
   }

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "control/target_line.hpp"
 
 namespace hs {
@@ -63,6 +64,7 @@ ControlLoop::ControlLoop(const Config& config, Problem& problem, ConstraintSet& 
                          BorderedNewton& newton, InteractiveIo io)
     : config_(config),
       problem_(problem),
+      constraints_(constraints),
       effectors_(config, problem),
       controller_(config, problem, constraints, newton, effectors_),
       io_(std::move(io)) {
@@ -106,6 +108,17 @@ std::vector<ControlTarget> ControlLoop::targets_of_line(const std::string& line)
   return {t};
 }
 
+void ControlLoop::add_history(Vec u, HistoryRow& row) const {
+  const std::vector<double> x = effectors_.positions(u);
+  for (int e = 0; e < effectors_.size(); ++e)
+    for (int d = 0; d < 3; ++d)
+      row.add("effector_" + effectors_.name(e) + "_" + "xyz"[d] + "_m", x[3 * e + d]);
+  for (const auto& actuator : config_.control->actuators) {
+    const Constraint& c = constraints_[constraints_.find(actuator.constraint)];
+    row.add("actuator_" + c.name() + (c.is_cavity() ? "_Pa" : "_N"), c.lambda);
+  }
+}
+
 nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_time) {
   const Config& config = config_;
   Effectors& effectors = effectors_;
@@ -135,6 +148,7 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
     bool limit_point = false;
     for (int k = 0; k < config.control->steps_per_target; ++k) {
       r = controller.step(u, targets);
+      newton_iterations_ += r.newton_iterations;
       limit_point |= r.limit_point;
       total.push_back(r.total_ms);
       for (const auto& [name, ms] : r.parts()) parts[name].push_back(ms);
@@ -195,13 +209,19 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
   };
 
   if (!interactive) {
-    for (const auto& targets : config.control->targets) reach(targets, 0);
+    for (const auto& targets : config.control->targets) {
+      reach(targets, 0);
+      stop_if_interrupted(problem_.comm());  // after the target set's output step
+    }
   } else {
     // Every line gets exactly one JSON line: its answer, or why it was refused. A refused
     // line changes nothing (no step, no output step), and the next line is read.
     InputLine line;
     int rejected = 0;
-    while (next_line(*io_.input, problem_.comm(), line)) {
+    // A signal stops the reading between lines. One that comes while rank 0 waits for a line
+    // interrupts the read (the handler does not restart it), which ends the input: the check
+    // after the loop then stops the run.
+    while (!interrupt_requested(problem_.comm()) && next_line(*io_.input, problem_.comm(), line)) {
       std::vector<ControlTarget> targets;
       std::string error;
       try {
@@ -223,6 +243,7 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
                   << std::endl;
       }
     }
+    stop_if_interrupted(problem_.comm());
     out["input"] = {
         {"lines", line.number}, {"answered", line.number - rejected}, {"rejected", rejected}};
   }

@@ -35,11 +35,20 @@ class ControlLoop {
   // too far from the body (target_reach_problem).
   std::vector<ControlTarget> targets_of_line(const std::string& line) const;
 
+  // Collective: the history's columns at u (docs/output.md): effector_<name>_x_m, _y_m, _z_m
+  // per effector, and per actuator its actuation, actuator_<name>_Pa (a cavity's pressure)
+  // or actuator_<name>_N (a cable's tension).
+  void add_history(Vec u, HistoryRow& row) const;
+  // The control steps' Newton iterations so far.
+  int newton_iterations() const { return newton_iterations_; }
+
  private:
   void check_reach(const ControlTarget& target) const;
 
   const Config& config_;
   Problem& problem_;
+  ConstraintSet& constraints_;
+  int newton_iterations_ = 0;
   Effectors effectors_;
   InverseController controller_;
   InteractiveIo io_;

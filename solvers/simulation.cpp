@@ -1,7 +1,6 @@
 #include "solvers/simulation.hpp"
 
 #include <petscsys.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 
 #include "common/deck_reader.hpp"
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "deck/deck.hpp"
 #include "deck/exact_section.hpp"
 #include "io/output.hpp"
@@ -21,6 +21,7 @@
 #include "solvers/output/result_recorder.hpp"
 #include "solvers/problem.hpp"
 #include "solvers/progress.hpp"
+#include "solvers/run_output.hpp"
 #include "solvers/state_stepping.hpp"
 #include "solvers/stepping.hpp"
 #include "solvers/verification/error_norms.hpp"
@@ -92,60 +93,107 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   }
   SteppingStats stats;
   double final_load = 1.0;
-  int outputs = 0;
   nlohmann::json history;  // verification quantities after every load step
   auto output_due = [&](int k, int last) { return k == last || (k % config.output.every) == 0; };
 
   StateRun state_run;
   nlohmann::json control;
-  if (staged) {
-    std::unique_ptr<ControlLoop> control_loop;
-    if (config.control)
-      control_loop =
-          std::make_unique<ControlLoop>(config, problem, *constraints, *bordered, std::move(io));
-    state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats, comm);
-    if (control_loop)
-      control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()));
-  } else if (config.time.type == TimeType::dynamic) {
-    const int nsteps = static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9));
-    recorder.record(0.0, u, 1.0);
-    Progress progress(config.output.progress, comm, nsteps);
-    run_dynamic(problem, *newton, config.time, u, stats, [&](int n, double t, Vec un) {
-      progress.step(n, "time " + format_number(t) + " s", stats.newton_iterations);
-      if (output_due(n, nsteps)) recorder.record(t, un, 1.0);
-    });
-  } else {
-    const auto schedule = load_schedule(config.time);
-    history = nlohmann::json::array();
-    LoadStepper stepper(problem, *newton, config.time.max_cutbacks);
-    Progress progress(config.output.progress, comm, static_cast<int>(schedule.size()));
-    for (size_t k = 0; k < schedule.size(); ++k) {
-      stepper.advance(u, schedule[k], static_cast<int>(k + 1), stats);
-      progress.step(static_cast<int>(k + 1), "load " + format_number(schedule[k]),
-                    stats.newton_iterations);
-      if (exact) {
-        const auto v = verification_quantities(*exact, problem, u, schedule[k]);
-        if (!v.is_null()) history.push_back(v);
-      }
-      if (output_due(static_cast<int>(k + 1), static_cast<int>(schedule.size())))
-        recorder.record(schedule[k], u, schedule[k]);
-    }
-    final_load = schedule.back();
-  }
-  outputs = recorder.written();
+  std::unique_ptr<ControlLoop> control_loop;
+  if (config.control)
+    control_loop =
+        std::make_unique<ControlLoop>(config, problem, *constraints, *bordered, std::move(io));
+  recorder.set_history(
+      history_sources(config, staged, constraints.get(), control_loop.get(), stats));
 
-  nlohmann::json summary;
-  summary["deck"] = config.deck_path;
-  summary["ranks"] = size;
-  summary["dofs"] = problem.num_global_dofs();
-  summary["nodes"] = dist.num_global();
-  summary["elements"] = dist.num_global_tets;
-  summary["order"] = dist.order;
-  summary["steps"] = stats.steps;
-  summary["cutbacks"] = stats.cutbacks;
-  summary["newton_iterations"] = stats.newton_iterations;
-  summary["linear_iterations"] = stats.linear_iterations;
-  summary["outputs"] = outputs;
+  // The summary's keys that any run has, ended or failed: sizes, counts, timings.
+  auto run_summary = [&] {
+    nlohmann::json summary;
+    summary["deck"] = config.deck_path;
+    summary["ranks"] = size;
+    summary["dofs"] = problem.num_global_dofs();
+    summary["nodes"] = dist.num_global();
+    summary["elements"] = dist.num_global_tets;
+    summary["order"] = dist.order;
+    summary["steps"] = stats.steps;
+    summary["cutbacks"] = stats.cutbacks;
+    summary["newton_iterations"] = stats.newton_iterations;
+    summary["linear_iterations"] = stats.linear_iterations;
+    summary["outputs"] = recorder.written();
+    add_timings(summary, problem, dist, mesh_times, recorder, comm);
+    summary["time_s"]["setup"] = t_setup;
+    double solve = newton ? newton->solve_seconds() : bordered->solve_seconds();
+    MPI_Allreduce(MPI_IN_PLACE, &solve, 1, MPI_DOUBLE, MPI_MAX, comm);
+    summary["time_s"]["solve"] = solve;
+    if (staged) {
+      summary["parts"] = constraints->parts();
+      double fluid = constraints->fluid_weight_seconds(),
+             constraint = bordered->constraint_seconds();
+      MPI_Allreduce(MPI_IN_PLACE, &fluid, 1, MPI_DOUBLE, MPI_MAX, comm);
+      MPI_Allreduce(MPI_IN_PLACE, &constraint, 1, MPI_DOUBLE, MPI_MAX, comm);
+      summary["time_s"]["fluid_weight"] = fluid;
+      summary["time_s"]["constraint"] = constraint;
+      double build = constraints->constraint_build_seconds();
+      MPI_Allreduce(MPI_IN_PLACE, &build, 1, MPI_DOUBLE, MPI_MAX, comm);
+      summary["time_s"]["constraint_build"] = build;
+    } else {
+      summary["parts"] = {
+          {"cavities", 0},
+          {"cables", 0},
+          {"fluid_weight", {{"cavities", 0}, {"device", "none"}, {"method", "none"}}},
+          {"cuda_context", false}};
+    }
+    summary["output"]["xdmf"] = recorder.xdmf_path();
+    summary["time_s"]["total"] = MPI_Wtime() - t_start;
+    return summary;
+  };
+
+  try {
+    // A signal during the set-up stops the run here, before any step (nothing to keep).
+    stop_if_interrupted(comm);
+    if (staged) {
+      state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats, comm);
+      if (control_loop)
+        control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()));
+    } else if (config.time.type == TimeType::dynamic) {
+      const int nsteps = static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9));
+      recorder.record(0.0, u, 1.0);
+      Progress progress(config.output.progress, comm, nsteps);
+      run_dynamic(problem, *newton, config.time, u, stats, [&](int n, double t, Vec un) {
+        progress.step(n, "time " + format_number(t) + " s", stats.newton_iterations);
+        // A signal stops the run at this step boundary, the step written first.
+        const int signal = interrupt_requested(comm);
+        if (output_due(n, nsteps) || signal) recorder.record(t, un, 1.0);
+        if (signal) throw Interrupted(signal);
+      });
+    } else {
+      const auto schedule = load_schedule(config.time);
+      history = nlohmann::json::array();
+      LoadStepper stepper(problem, *newton, config.time.max_cutbacks);
+      Progress progress(config.output.progress, comm, static_cast<int>(schedule.size()));
+      for (size_t k = 0; k < schedule.size(); ++k) {
+        stepper.advance(u, schedule[k], static_cast<int>(k + 1), stats);
+        progress.step(static_cast<int>(k + 1), "load " + format_number(schedule[k]),
+                      stats.newton_iterations);
+        if (exact) {
+          const auto v = verification_quantities(*exact, problem, u, schedule[k]);
+          if (!v.is_null()) history.push_back(v);
+        }
+        const int signal = interrupt_requested(comm);
+        if (output_due(static_cast<int>(k + 1), static_cast<int>(schedule.size())) || signal)
+          recorder.record(schedule[k], u, schedule[k]);
+        if (signal) throw Interrupted(signal);
+      }
+      final_load = schedule.back();
+    }
+  } catch (SolveError& e) {
+    // Every rank is here together (a failed solve, an inverted element, a refused step and a
+    // signal are all decided collectively): the converged steps go to "<folder>.failed".
+    keep_converged_steps(e, recorder, run_summary(), comm);
+    HS_PETSC(VecDestroy(&u));
+    throw;
+  }
+
+  nlohmann::json summary = run_summary();
   if (!stats.energy.empty()) {
     // Drift of the total energy relative to the largest stored energy reached.
     double drift = 0;
@@ -164,63 +212,13 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     summary["verification"] = history.back();
     summary["verification"]["steps"] = history;
   }
-
-  const auto& t = problem.timers();
-  double assembly = t.residual_s + t.jacobian_s;
-  double solve = newton ? newton->solve_seconds() : bordered->solve_seconds();
-  MPI_Allreduce(MPI_IN_PLACE, &assembly, 1, MPI_DOUBLE, MPI_MAX, comm);
-  MPI_Allreduce(MPI_IN_PLACE, &solve, 1, MPI_DOUBLE, MPI_MAX, comm);
-  summary["time_s"]["setup"] = t_setup;
-  summary["time_s"]["setup_mesh"] = mesh_times.read_s;
-  summary["time_s"]["setup_partition"] = mesh_times.partition_s;
-  summary["time_s"]["setup_distribute"] = mesh_times.distribute_s;
-  double output_s = recorder.seconds();
-  MPI_Allreduce(MPI_IN_PLACE, &output_s, 1, MPI_DOUBLE, MPI_MAX, comm);
-  summary["time_s"]["output"] = output_s;
-  // The largest rank's share of the mesh: its tetrahedra and its local (owned + ghost) nodes.
-  int64_t largest[2] = {static_cast<int64_t>(dist.local_tets.size()), dist.num_local()};
-  MPI_Allreduce(MPI_IN_PLACE, largest, 2, MPI_INT64_T, MPI_MAX, comm);
-  summary["mesh"]["largest_rank_tets"] = largest[0];
-  summary["mesh"]["largest_rank_nodes"] = largest[1];
-  summary["time_s"]["assembly"] = assembly;
-  summary["time_s"]["solve"] = solve;
-  // Peak resident memory: the largest rank's, and the sum over ranks.
-  struct rusage usage;
-  getrusage(RUSAGE_SELF, &usage);
-  double rss_mb = usage.ru_maxrss / 1024.0, rss_max = 0, rss_sum = 0;
-  MPI_Allreduce(&rss_mb, &rss_max, 1, MPI_DOUBLE, MPI_MAX, comm);
-  MPI_Allreduce(&rss_mb, &rss_sum, 1, MPI_DOUBLE, MPI_SUM, comm);
-  summary["memory_mb"]["peak_rank_max"] = rss_max;
-  summary["memory_mb"]["peak_total"] = rss_sum;
-  // Tangent assemblies (element residual + tangent + insertion) per second, all ranks together.
-  double jacobian_s = t.jacobian_s;
-  MPI_Allreduce(MPI_IN_PLACE, &jacobian_s, 1, MPI_DOUBLE, MPI_MAX, comm);
-  summary["assembly"]["jacobian_calls"] = t.jacobian_calls;
-  summary["assembly"]["elements_per_second"] =
-      t.jacobian_calls > 0 ? dist.num_global_tets * t.jacobian_calls / std::max(jacobian_s, 1e-12)
-                           : 0.0;
   if (staged) {
     summary["states"] = state_run.states;
     for (const auto& [key, value] : control.items()) summary[key] = value;
     summary["cavities"] = constraints->report();
-    summary["parts"] = constraints->parts();
-    double fluid = constraints->fluid_weight_seconds(), constraint = bordered->constraint_seconds();
-    MPI_Allreduce(MPI_IN_PLACE, &fluid, 1, MPI_DOUBLE, MPI_MAX, comm);
-    MPI_Allreduce(MPI_IN_PLACE, &constraint, 1, MPI_DOUBLE, MPI_MAX, comm);
-    summary["time_s"]["fluid_weight"] = fluid;
-    summary["time_s"]["constraint"] = constraint;
-    double build = constraints->constraint_build_seconds();
-    MPI_Allreduce(MPI_IN_PLACE, &build, 1, MPI_DOUBLE, MPI_MAX, comm);
-    summary["time_s"]["constraint_build"] = build;
-  } else {
-    summary["parts"] = {{"cavities", 0},
-                        {"cables", 0},
-                        {"fluid_weight", {{"cavities", 0}, {"device", "none"}, {"method", "none"}}},
-                        {"cuda_context", false}};
   }
-  summary["output"]["xdmf"] = recorder.xdmf_path();
   summary["time_s"]["total"] = MPI_Wtime() - t_start;
-  const std::string folder = recorder.finish(summary);
+  const std::string folder = recorder.finish(summary);  // adds "status": "ok"
   summary["output"]["folder"] = folder;
   HS_PETSC(VecDestroy(&u));
   return summary;

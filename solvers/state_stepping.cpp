@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "solvers/progress.hpp"
 
 namespace hs {
@@ -231,9 +232,12 @@ StateRun run_states(const Config& config, Problem& problem, ConstraintSet& const
       std::snprintf(what, sizeof what, "state %s %.3g", plan.name.c_str(), plan.taus[i]);
       progress.step(++done, what, stats.newton_iterations);
       const bool last = i + 1 == plan.taus.size();
-      if (last || (i + 1) % config.output.every == 0)
+      // A signal stops the run at this step boundary, the step written first.
+      const int signal = interrupt_requested(comm);
+      if (last || (i + 1) % config.output.every == 0 || signal)
         recorder.record(static_cast<double>(k) + plan.taus[i], u,
                         stepper.load_factor(plan.taus[i]));
+      if (signal) throw Interrupted(signal);
     }
     if (plan.first)
       for (int c = 0; c < constraints.size(); ++c)

@@ -191,4 +191,21 @@ nlohmann::json ConstraintSet::report() const {
   return list;
 }
 
+void ConstraintSet::add_history(HistoryRow& row) const {
+  for (const auto& c : constraints_) {
+    const nlohmann::json j = c->report();  // collective (the fluid weight's sum)
+    if (c->is_cavity()) {
+      const std::string prefix = "cavity_" + c->name() + "_";
+      row.add(prefix + "pressure_Pa", j["pressure"].get<double>());
+      row.add(prefix + "volume_m3", j["volume"].get<double>());
+      row.add(prefix + "added_volume_m3", c->measure - c->rest_measure);
+      if (c->measure_load()) row.add(prefix + "fluid_weight_N", j["fluid_weight_total"]);
+    } else {
+      const std::string prefix = "cable_" + c->name() + "_";
+      row.add(prefix + "force_N", c->lambda);
+      row.add(prefix + "pull_m", c->measure - c->rest_measure);
+    }
+  }
+}
+
 }  // namespace hs

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "deck/config.hpp"
+#include "io/step_history.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/constraints/constraint.hpp"
@@ -70,6 +71,11 @@ class ConstraintSet {
   double constraint_build_seconds() const { return build_seconds_; }
   nlohmann::json parts() const;
   nlohmann::json report() const;  // one entry per constraint
+  // Collective: the history's columns now (docs/output.md), as report() has them: per cavity
+  // cavity_<name>_pressure_Pa, _volume_m3, _added_volume_m3 (since the end of the first
+  // state) and, with a liquid's weight, _fluid_weight_N; per cable cable_<name>_force_N and
+  // _pull_m.
+  void add_history(HistoryRow& row) const;
 
  private:
   Problem& problem_;

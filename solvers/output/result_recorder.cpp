@@ -48,12 +48,12 @@ OutputLayout output_layout(const Distribution& dist, MPI_Comm comm) {
 
 ResultRecorder::ResultRecorder(Problem& problem, const Config& config,
                                std::unique_ptr<OutputFolder> folder, MPI_Comm comm)
-    : problem_(problem), folder_(std::move(folder)) {
+    : problem_(problem), comm_(comm), folder_(std::move(folder)) {
   MPI_Comm_rank(comm, &rank_);
   // Every rank writes into rank 0's staging folder.
-  std::string staging = rank_ == 0 ? folder_->staging() : std::string();
-  broadcast_string(staging, 0, comm);
-  writer_ = std::make_unique<XdmfWriter>(comm, staging, config.deck_name,
+  staging_ = rank_ == 0 ? folder_->staging() : std::string();
+  broadcast_string(staging_, 0, comm);
+  writer_ = std::make_unique<XdmfWriter>(comm, staging_, config.deck_name,
                                          output_layout(problem.distribution(), comm));
   load_ = problem.create_vector();
 }
@@ -69,19 +69,51 @@ void ResultRecorder::record(double time, Vec u, double s) {
   f.nodal_load = owned_values(load_);
   problem_.element_fields(u, f.von_mises, f.J);
   f.rank.assign(f.J.size(), rank_);
+  HistoryRow row;
+  row.add_count("step", written_);
+  row.add(sources_.time_column, time);
+  const int newton = sources_.newton_iterations ? sources_.newton_iterations() : 0;
+  if (sources_.newton_iterations) row.add_count("newton_iterations", newton - newton_at_last_row_);
+  for (const auto& columns : sources_.columns) columns(u, row);
   writer_->write_step(f);  // refuses a non-finite value on every rank, before writing
   ++written_;
+  newton_at_last_row_ = newton;
+  // Only rank 0 writes the file; every rank keeps the rows for the .h5's collective write.
+  history_.append(row, rank_ == 0 ? staging_ + "/history.csv" : std::string());
   seconds_ += MPI_Wtime() - t0;
 }
 
-std::string ResultRecorder::finish(const nlohmann::json& summary) {
+void ResultRecorder::close_files() {
   const double t0 = MPI_Wtime();
   writer_->close();
+  history_.write_h5(staging_ + "/" + writer_->h5_file(), comm_);
   seconds_ += MPI_Wtime() - t0;
+}
+
+std::string ResultRecorder::finish(nlohmann::json& summary) {
+  close_files();
+  summary["status"] = "ok";
   if (rank_ != 0) return {};
   write_json(folder_->staging() + "/summary.json", summary);
   folder_->commit();
   return folder_->final();
+}
+
+std::string ResultRecorder::keep_failed(nlohmann::json summary, const std::string& reason) {
+  if (written_ == 0) return {};
+  close_files();
+  std::string kept;
+  on_rank_zero(comm_, [&] {
+    summary["status"] = "failed";
+    summary["reason"] = reason;
+    summary["last_converged"] = history_.last_row();
+    summary["output"]["folder"] = folder_->final() + ".failed";
+    summary["output"]["xdmf"] = folder_->final() + ".failed/" + writer_->xdmf_file();
+    write_json(folder_->staging() + "/summary.json", summary);
+    kept = folder_->keep_failed();
+  });
+  broadcast_string(kept, 0, comm_);
+  return kept;
 }
 
 std::string ResultRecorder::xdmf_path() const {

@@ -1,14 +1,18 @@
 // Output of a run: every output step's fields written by every rank, its own rows, as HDF5 +
-// XDMF into the run's staging folder; finish() writes summary.json and commits the folder
-// (docs/output.md).
+// XDMF into the run's staging folder, and its row of history.csv; finish() writes
+// summary.json and commits the folder, keep_failed() keeps the steps of a failed run in
+// "<folder>.failed" (docs/output.md).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "deck/config.hpp"
 #include "io/output.hpp"
+#include "io/step_history.hpp"
 #include "solvers/problem.hpp"
 
 namespace hs {
@@ -22,6 +26,15 @@ std::unique_ptr<OutputFolder> open_output_folder(const std::string& folder, MPI_
 // This rank's rows of the output: its owned nodes and its tetrahedra (output.hpp).
 OutputLayout output_layout(const Distribution& dist, MPI_Comm comm);
 
+// What a history row holds after its `step`: the step's time under the name that says what
+// it is, the Newton iterations since the previous row, then each source's columns.
+struct HistorySources {
+  std::string time_column = "load_factor";  // load_factor, time_s or state
+  std::function<int()> newton_iterations;   // the run's total so far (none: no column)
+  // Collective, called on every rank at every output step with the step's configuration.
+  std::vector<std::function<void(Vec u, HistoryRow& row)>> columns;
+};
+
 class ResultRecorder {
  public:
   // folder: open_output_folder's result (null except on rank 0).
@@ -31,23 +44,39 @@ class ResultRecorder {
   ResultRecorder(const ResultRecorder&) = delete;
   ResultRecorder& operator=(const ResultRecorder&) = delete;
 
-  // Writes the fields of u at `time` (the step's attribute), loads at load factor s.
-  // Collective; refuses (SolveError, nothing written) a step with a non-finite value.
+  // Set before the first record().
+  void set_history(HistorySources sources) { sources_ = std::move(sources); }
+  // Writes the fields of u at `time` (the step's attribute), loads at load factor s, and the
+  // step's history row. Collective; refuses (SolveError, nothing written) a step with a
+  // non-finite value.
   void record(double time, Vec u, double s);
-  // Closes the files and moves them to the output folder (rank 0); returns its path there.
-  std::string finish(const nlohmann::json& summary);
+  // Collective. Closes the files, writes the history into the .h5 and summary.json with
+  // "status": "ok", and moves them to the output folder (rank 0); returns its path there.
+  std::string finish(nlohmann::json& summary);
+  // Collective, after a failure (every rank): with at least one step written, closes the
+  // files, writes the history and summary.json (status "failed", the reason, the last
+  // converged row) and renames the staging folder "<folder>.failed"; returns that path
+  // (on every rank). Without a step, returns "" and the staging folder goes with the object.
+  std::string keep_failed(nlohmann::json summary, const std::string& reason);
   std::string xdmf_path() const;
   int written() const { return written_; }
+  const StepHistory& history() const { return history_; }
   double seconds() const { return seconds_; }  // spent in record() and finish()
 
  private:
   std::vector<double> owned_values(Vec v) const;  // 3 per owned node
+  void close_files();                             // the .xmf, and the history into the .h5
   Problem& problem_;
+  MPI_Comm comm_;
   int rank_ = 0;
   int written_ = 0;
   double seconds_ = 0;
   std::unique_ptr<OutputFolder> folder_;
   std::unique_ptr<XdmfWriter> writer_;
+  std::string staging_;  // every rank
+  HistorySources sources_;
+  StepHistory history_;
+  int newton_at_last_row_ = 0;
   Vec load_ = nullptr;
 };
 

@@ -2,7 +2,8 @@
 // The writer is parallel: every rank writes its own rows of every dataset (its owned nodes,
 // its tetrahedra) into the one .h5 with collective MPI-IO writes; rank 0 writes the .xmf.
 // Nothing is gathered. Everything goes to a staging folder that replaces the output folder only
-// when the run succeeds, so a failed run leaves nothing half-written behind.
+// when the run succeeds; a run that fails after some steps leaves them in "<folder>.failed"
+// (with an .xmf that names only those steps), never over an earlier good result.
 #pragma once
 
 #include <mpi.h>
@@ -17,7 +18,7 @@
 
 namespace hs {
 
-// Why `folder` cannot serve as an output folder (it, or its .partial or .old sibling,
+// Why `folder` cannot serve as an output folder (it, or its .partial, .old or .failed sibling,
 // exists and is not ours to delete; or it is . or ..), or "" if it can. parse_deck checks
 // output.folder with it on every rank, before any work.
 std::string output_folder_problem(const std::string& folder);
@@ -38,11 +39,14 @@ class OutputFolder {
   const std::string& staging() const { return staging_; }  // where files are written now
   const std::string& final() const { return final_; }      // where they end up
   void commit();
+  // A failed run: the staging folder becomes "<folder>.failed" (replacing an earlier run's);
+  // <folder> is left as it is. Returns the new path.
+  std::string keep_failed();
 
  private:
   std::string final_, staging_;
   std::unique_ptr<FolderLock> lock_;
-  bool committed_ = false;
+  bool committed_ = false, kept_ = false;
 };
 
 // The rows of the output one rank writes: its owned nodes and its tetrahedra. Rank r's rows
@@ -86,6 +90,7 @@ class XdmfWriter {
   void write_step(const StepFields& fields);
   void close();                   // writes the .xmf; called by the destructor too
   std::string xdmf_file() const;  // file name (no folder) of the .xmf
+  std::string h5_file() const;    // file name (no folder) of the .h5
 
  private:
   struct Impl;

@@ -1,9 +1,9 @@
 // OutputFolder: results are written to "<folder>.partial" and replace <folder> only when
-// the run succeeds. Replacing means deleting, so a folder is only ever deleted when it
-// carries the marker file that hydrosoft writes into every output folder (or is empty):
-// a mistyped output.folder cannot wipe out a user's own files. The folder is locked for the
-// object's life (FolderLock), so that a second run on the same folder stops at once instead
-// of deleting this run's staging folder.
+// the run succeeds; a run that fails after some steps keeps them in "<folder>.failed". Replacing
+// means deleting, so a folder is only ever deleted when it carries the marker file that hydrosoft
+// writes into every output folder (or is empty): a mistyped output.folder cannot wipe out a user's
+// own files. The folder is locked for the object's life (FolderLock), so that a second run on the
+// same folder stops at once instead of deleting this run's staging folder.
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -31,7 +31,8 @@ std::string output_folder_problem(const std::string& folder) {
   const std::string name = path.filename().string();
   if (name.empty() || name == "." || name == "..") return "must name a folder (not . or ..)";
   for (const fs::path& p :
-       {path, fs::path(path.string() + ".partial"), fs::path(path.string() + ".old")}) {
+       {path, fs::path(path.string() + ".partial"), fs::path(path.string() + ".old"),
+        fs::path(path.string() + ".failed")}) {
     if (!fs::exists(p)) continue;
     if (!fs::is_directory(p)) return "'" + p.string() + "' exists and is not a folder";
     if (!fs::is_empty(p) && !fs::exists(p / kMarker))
@@ -57,13 +58,13 @@ OutputFolder::OutputFolder(std::string folder) {
 
 OutputFolder::~OutputFolder() {
   // The lock (member lock_) is released after this body, once nothing is left to delete.
-  if (committed_) return;
+  if (committed_ || kept_) return;
   std::error_code ignored;
   fs::remove_all(staging_, ignored);
 }
 
 void OutputFolder::commit() {
-  if (committed_) throw std::logic_error("OutputFolder::commit called twice");
+  if (committed_ || kept_) throw std::logic_error("OutputFolder::commit after commit or keep");
   // Move the old results aside first, so that they come back if the rename fails.
   const fs::path old = final_ + ".old";
   const bool had_old = fs::exists(final_);
@@ -80,6 +81,17 @@ void OutputFolder::commit() {
   }
   committed_ = true;
   if (had_old) fs::remove_all(old);
+}
+
+std::string OutputFolder::keep_failed() {
+  if (committed_ || kept_) throw std::logic_error("OutputFolder::keep_failed after commit or keep");
+  // Only "<folder>.failed" is replaced: the results of an earlier good run stay in <folder>.
+  const std::string failed = final_ + ".failed";
+  require_usable(final_);  // .failed, if it exists, is an earlier run's (marked) folder
+  fs::remove_all(failed);
+  fs::rename(staging_, failed);
+  kept_ = true;
+  return failed;
 }
 
 }  // namespace hs

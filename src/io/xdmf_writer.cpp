@@ -265,4 +265,6 @@ void XdmfWriter::close() {
 
 std::string XdmfWriter::xdmf_file() const { return impl_->name + ".xmf"; }
 
+std::string XdmfWriter::h5_file() const { return impl_->name + ".h5"; }
+
 }  // namespace hs

@@ -76,6 +76,42 @@ TEST(OutputFolder, UncommittedRunLeavesTheOldFolderAlone) {
   EXPECT_EQ(read_text(final + "/result.txt"), "old");
 }
 
+TEST(OutputFolder, AFailedRunKeepsItsStepsInFailedAndLeavesTheGoodFolderAlone) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "run").string();
+  previous_run(final, "good");
+  {
+    OutputFolder out(final);
+    write_text(out.staging() + "/result.txt", "first failure");
+    EXPECT_EQ(out.keep_failed(), final + ".failed");
+  }  // the object's end deletes nothing once kept
+  EXPECT_EQ(read_text(final + ".failed/result.txt"), "first failure");
+  EXPECT_TRUE(fs::exists(final + ".failed/.hydrosoft_output"));
+  EXPECT_EQ(read_text(final + "/result.txt"), "good");
+  EXPECT_FALSE(fs::exists(final + ".partial"));
+  {
+    OutputFolder out(final);
+    write_text(out.staging() + "/other.txt", "second failure");
+    out.keep_failed();
+  }
+  // The earlier .failed was replaced, not merged.
+  EXPECT_FALSE(fs::exists(final + ".failed/result.txt"));
+  EXPECT_EQ(read_text(final + ".failed/other.txt"), "second failure");
+  EXPECT_EQ(read_text(final + "/result.txt"), "good");
+}
+
+TEST(OutputFolder, AForeignFailedFolderIsRefusedBeforeTheRun) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "run").string();
+  fs::create_directories(final + ".failed");
+  write_text(final + ".failed/notes.txt", "mine");
+  EXPECT_NE(output_folder_problem(final).find("run.failed' exists and was not written by"),
+            std::string::npos)
+      << output_folder_problem(final);
+  EXPECT_THROW(OutputFolder{final}, InputError);
+  EXPECT_EQ(read_text(final + ".failed/notes.txt"), "mine");
+}
+
 TEST(OutputFolder, ClearsTheStagingFolderOfACrashedRun) {
   TempFolder tmp;
   const std::string final = (tmp.path() / "run").string();

@@ -1,0 +1,105 @@
+#include "io/step_history.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "io/hdf5_file.hpp"
+
+namespace hs {
+
+namespace {
+
+std::string column_name(const std::string& name) {
+  std::string column = name;
+  for (char& c : column) {
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                       c == '_' || c == '-' || c == '.';
+    if (!plain) c = '_';
+  }
+  return column;
+}
+
+}  // namespace
+
+void HistoryRow::add(const std::string& name, double value) {
+  cells.push_back({column_name(name), value, false});
+}
+
+void HistoryRow::add_count(const std::string& name, int64_t value) {
+  cells.push_back({column_name(name), static_cast<double>(value), true});
+}
+
+void StepHistory::append(const HistoryRow& row, const std::string& csv_path) {
+  const bool first = values_.empty();
+  if (first) {
+    for (const auto& cell : row.cells) {
+      columns_.push_back(cell.column);
+      integer_.push_back(cell.integer);
+    }
+  } else {
+    bool same = row.cells.size() == columns_.size();
+    for (size_t c = 0; same && c < columns_.size(); ++c) same = row.cells[c].column == columns_[c];
+    if (!same) throw std::logic_error("StepHistory::append: a row with other columns");
+  }
+  std::vector<double> values;
+  for (const auto& cell : row.cells) values.push_back(cell.value);
+  values_.push_back(values);
+  if (csv_path.empty()) return;
+  std::FILE* file = std::fopen(csv_path.c_str(), first ? "w" : "a");
+  if (!file) throw std::runtime_error(csv_path + ": cannot write: " + std::strerror(errno));
+  std::string text;
+  if (first) {
+    for (size_t c = 0; c < columns_.size(); ++c) text += (c ? "," : "") + columns_[c];
+    text += "\n";
+  }
+  char number[32];
+  for (size_t c = 0; c < values.size(); ++c) {
+    // %.17g: the CSV holds the same doubles as the .h5 and summary.json.
+    std::snprintf(number, sizeof number, "%.17g", values[c]);
+    text += (c ? "," : "") + std::string(number);
+  }
+  text += "\n";
+  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+  if (std::fclose(file) != 0 || !written)
+    throw std::runtime_error(csv_path + ": cannot write: " + std::strerror(errno));
+}
+
+std::vector<double> StepHistory::column(size_t c) const {
+  std::vector<double> out;
+  for (const auto& row : values_) out.push_back(row[c]);
+  return out;
+}
+
+nlohmann::json StepHistory::last_row() const {
+  if (values_.empty()) return nullptr;
+  nlohmann::json j = nlohmann::json::object();
+  for (size_t c = 0; c < columns_.size(); ++c) {
+    const double v = values_.back()[c];
+    if (integer_[c])
+      j[columns_[c]] = static_cast<int64_t>(v);
+    else
+      j[columns_[c]] = v;
+  }
+  return j;
+}
+
+void StepHistory::write_h5(const std::string& h5_path, MPI_Comm comm) const {
+  if (columns_.empty()) return;
+  int rank = 0;
+  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
+  Hdf5File h5(h5_path, Hdf5File::Mode::Append, comm);
+  h5.create_group("/history");
+  for (size_t c = 0; c < columns_.size(); ++c) {
+    const std::string name = "/history/" + columns_[c];
+    std::vector<double> values = rank == 0 ? column(c) : std::vector<double>();
+    if (integer_[c])
+      h5.write_rows(name, std::vector<int64_t>(values.begin(), values.end()), rows(), 0, 0);
+    else
+      h5.write_rows(name, values, rows(), 0, 0);
+  }
+  h5.close();
+}
+
+}  // namespace hs
