@@ -9,7 +9,7 @@ tip angles.
 Each folder is a run's output folder: summary.json (its "states" list: "name",
 "tip_angle_deg" and "step", the output step of the state's last load step) and <deck>.h5
 (/mesh/coordinates, /mesh/topology, /step_<k>/displacement; docs/output.md). For every state
-of every folder, left to right, the deformed boundary surface (the faces of the tetrahedra
+of every folder (one row per folder, its states left to right), the deformed boundary surface (the faces of the tetrahedra
 that belong to one tetrahedron only; the 4 corner nodes of a P2 tetrahedron) is drawn as
 seen from +x: the y-z plane with y up and -z to the right, so a cylinder clamped at z = 0
 hangs from the left. Faces of the outer surface are coloured by the displacement magnitude
@@ -223,11 +223,17 @@ def render(runs, out, scale, dpi):
     pad = 0.05 * (hi - lo).max()
     lo, hi = lo - pad, hi + pad
     width = min(max(3.6 * (hi[0] - lo[0]) / (hi[1] - lo[1]), 2.5), 8.0)
-    fig, axes = plt.subplots(1, len(panels), figsize=(width * len(panels) + 1.0, 4.4),
+    # One row per run, its states left to right: a figure a page's column can hold.
+    ncol = max(len(run["states"]) for run in runs)
+    fig, axes = plt.subplots(len(runs), ncol, figsize=(width * ncol + 1.0, 4.0 * len(runs)),
                              squeeze=False, constrained_layout=True)
     cmap = plt.get_cmap("viridis")
     norm = matplotlib.colors.Normalize(0, vmax)
-    for ax, (run, s) in zip(axes[0], panels):
+    places = [(i, j) for i, run in enumerate(runs) for j in range(len(run["states"]))]
+    for i, j in {(i, j) for i in range(len(runs)) for j in range(ncol)} - set(places):
+        axes[i][j].axis("off")
+    for (i, j), (run, s) in zip(places, panels):
+        ax = axes[i][j]
         X, faces = run["X"], run["faces"]
         rfront, redges = side_view(X, faces)
         ax.add_collection(PolyCollection(yz(X[rfront]) * 1e3, facecolors="0.93",
@@ -256,7 +262,7 @@ def render(runs, out, scale, dpi):
             title += f" (displacement x{scale:g})"
         ax.set_title(title, fontsize=10)
         ax.tick_params(labelsize=8)
-    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=list(axes[0]),
+    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=list(axes.flat),
                  label="|u| (mm)", shrink=0.9, aspect=30)
     if os.path.isdir(out):
         raise RenderError(f"{out}: is a folder; --out names the PNG file to write")

@@ -11,7 +11,8 @@ Each folder is a run's output folder: summary.json (its "targets" list: "target"
 set) and <deck>.h5 (docs/output.md). The body's boundary surface is drawn as seen along
 --view (y: the x-z plane, x to the right and z up; x: the y-z plane), the undeformed body
 in light grey behind it; the target is a red cross, the reached position a black dot,
-filled green when the target is met to 0.1 mm. Prints a Markdown table of the targets.
+filled green when the target is met to 0.1 mm. Every panel has the same scale, with axes in
+mm and a legend. Prints a Markdown table of the targets.
 The PNG is written to a temporary name and renamed.
 """
 import argparse
@@ -53,40 +54,59 @@ def render(runs, out, view):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
     axes2d = (0, 2) if view == "y" else (1, 2)
+    names = ("x", "z") if view == "y" else ("y", "z")
     ncol = max(len(r["panels"]) for r in runs)
-    fig, axes = plt.subplots(len(runs), ncol, figsize=(2.6 * ncol, 2.4 * len(runs)),
-                             squeeze=False)
     mm = 1e3
+    # One scale for every panel, so that deflections compare across targets and runs.
+    pts = [mm * np.concatenate([r["X"], r["X"] + p["u"], [p["target"]]])[:, axes2d]
+           for r in runs for p in r["panels"]]
+    lo = np.min([q.min(axis=0) for q in pts], axis=0)
+    hi = np.max([q.max(axis=0) for q in pts], axis=0)
+    pad = 0.06 * (hi - lo).max()
+    aspect = (hi[1] - lo[1] + 2 * pad) / (hi[0] - lo[0] + 2 * pad)
+    fig, axes = plt.subplots(len(runs), ncol,
+                             figsize=(2.3 * ncol, len(runs) * (2.0 * aspect + 0.9) + 0.4),
+                             squeeze=False, sharex=True, sharey=True)
     for i, r in enumerate(runs):
         X, faces = r["X"], r["faces"]
         for j in range(ncol):
             ax = axes[i][j]
             ax.set_aspect("equal")
-            ax.axis("off")
+            ax.set_xlim(lo[0] - pad, hi[0] + pad)
+            ax.set_ylim(lo[1] - pad, hi[1] + pad)
+            ax.tick_params(labelsize=6, length=2)
+            if j == 0:
+                ax.set_ylabel(f"{r['deck']}\n{names[1]} (mm)", fontsize=7)
+            if i == len(runs) - 1:
+                ax.set_xlabel(f"{names[0]} (mm)", fontsize=7)
             if j >= len(r["panels"]):
+                ax.axis("off")
                 continue
             p = r["panels"][j]
             x = X + p["u"]
-            for pts, colour in ((X, "0.88"), (x, "#5b8fd6")):
-                poly = mm * pts[faces][:, :, axes2d]
+            for q, colour in ((X, "0.88"), (x, "#5b8fd6")):
+                poly = mm * q[faces][:, :, axes2d]
                 ax.add_collection(PolyCollection(poly, facecolors=colour, edgecolors="none"))
             t, q = mm * np.array(p["target"]), mm * np.array(p["reached"])
-            ax.plot(t[axes2d[0]], t[axes2d[1]], "x", color="red", ms=8, mew=2)
+            ax.plot(t[axes2d[0]], t[axes2d[1]], "x", color="red", ms=7, mew=2)
             met = p["error_m"] <= REACHED_M
-            ax.plot(q[axes2d[0]], q[axes2d[1]], "o", ms=5, mec="k",
+            ax.plot(q[axes2d[0]], q[axes2d[1]], "o", ms=4.5, mec="k",
                     mfc="limegreen" if met else "k")
-            allp = mm * np.concatenate([X, x])[:, axes2d]
-            lo = np.minimum(allp.min(axis=0), t[list(axes2d)]) - 3
-            hi = np.maximum(allp.max(axis=0), t[list(axes2d)]) + 3
-            ax.set_xlim(lo[0], hi[0])
-            ax.set_ylim(lo[1], hi[1])
             act = ", ".join("%.1f" % (round(a / 1e3, 2) + 0.0) for a in p["actuation"])
-            sat = "sat." if any(p["saturated"]) else ""
-            where = f"z* {t[2]:.1f}" if view == "y" else f"x*, y* {t[0]:.1f}, {t[1]:.1f}"
-            ax.set_title(f"{r['deck']}\n{where} mm: err {mm * p['error_m']:.2f} mm\n"
-                         f"p {act} kPa {sat}", fontsize=7)
-    fig.tight_layout()
+            sat = " (sat.)" if any(p["saturated"]) else ""
+            where = f"z* {t[2]:.1f} mm" if view == "y" else f"x*, y* {t[0]:.1f}, {t[1]:.1f} mm"
+            ax.set_title(f"{where}: error {mm * p['error_m']:.2f} mm\np {act} kPa{sat}",
+                         fontsize=6.5)
+    legend = [Patch(color="0.88", label="undeformed"), Patch(color="#5b8fd6", label="deformed"),
+              Line2D([], [], ls="none", marker="x", color="red", mew=2, label="target"),
+              Line2D([], [], ls="none", marker="o", mec="k", mfc="limegreen",
+                     label="reached, within 0.1 mm"),
+              Line2D([], [], ls="none", marker="o", mec="k", mfc="k", label="reached, farther")]
+    fig.legend(handles=legend, loc="lower center", ncol=5, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     tmp = out + ".tmp.png"
     fig.savefig(tmp, dpi=110)
     os.replace(tmp, out)
