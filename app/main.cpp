@@ -26,6 +26,7 @@
 #include "mesh/gmsh_io.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_statistics.hpp"
+#include "run_report.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/simulation.hpp"
 #include "version.hpp"
@@ -232,7 +233,7 @@ int main(int argc, char** argv) {
     // default: they have nothing to keep).
     hs::install_interrupt_handlers();
     const auto summary = hs::run_simulation(config, PETSC_COMM_WORLD, io);
-    if (rank == 0) report << "# hydrosoft: done\n" << summary.dump(2) << std::endl;
+    if (rank == 0) report << hs::run_report(summary) << std::flush;
     if (rank == 0) report_unused(args.petsc_names);
   } catch (const hs::InputError& e) {
     return fail(2, e.what());

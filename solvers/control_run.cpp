@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <map>
 
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "control/target_line.hpp"
+#include "solvers/progress.hpp"
 
 namespace hs {
 namespace {
@@ -209,8 +211,16 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
   };
 
   if (!interactive) {
-    for (const auto& targets : config.control->targets) {
-      reach(targets, 0);
+    const auto& sets = config.control->targets;
+    Progress progress(config.output.progress, problem_.comm(), static_cast<int>(sets.size()));
+    for (size_t k = 0; k < sets.size(); ++k) {
+      reach(sets[k], 0);
+      double worst = 0;  // over the set's effectors
+      for (size_t i = out["targets"].size() - sets[k].size(); i < out["targets"].size(); ++i)
+        worst = std::max(worst, out["targets"][i]["error_m"].get<double>());
+      char what[64];
+      std::snprintf(what, sizeof what, "target set %zu  error %.3f mm", k + 1, 1e3 * worst);
+      progress.step(static_cast<int>(k + 1), what, newton_iterations_);
       stop_if_interrupted(problem_.comm());  // after the target set's output step
     }
   } else {

@@ -1,0 +1,117 @@
+#include "run_report.hpp"
+
+#include <cstdio>
+#include <sstream>
+#include <vector>
+
+namespace hs {
+namespace {
+
+using Json = nlohmann::json;
+
+std::string format(const char* spec, double v) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, spec, v);
+  return buffer;
+}
+
+double number(const Json& j, const char* key, double fallback = 0) {
+  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : fallback;
+}
+
+std::string millimetres(const Json& point) {
+  std::string s;
+  for (const auto& c : point) s += (s.empty() ? "" : ", ") + format("%.2f", 1e3 * c.get<double>());
+  return s;
+}
+
+// Rows of cells, each column padded to its widest cell, two spaces apart.
+std::string table(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<size_t> width;
+  for (const auto& row : rows)
+    for (size_t k = 0; k < row.size(); ++k) {
+      if (width.size() <= k) width.push_back(0);
+      width[k] = std::max(width[k], row[k].size());
+    }
+  std::ostringstream out;
+  for (const auto& row : rows) {
+    std::string line = " ";
+    for (size_t k = 0; k < row.size(); ++k)
+      line += " " + row[k] + std::string(width[k] - row[k].size() + 1, ' ');
+    out << line.substr(0, line.find_last_not_of(' ') + 1) << "\n";
+  }
+  return out.str();
+}
+
+std::string states_table(const Json& states) {
+  std::vector<std::vector<std::string>> rows = {
+      {"state", "tip angle (deg)", "cavity", "p (kPa)", "V (ml)", "added (ml)"}};
+  for (const auto& s : states) {
+    const std::string angle = s.contains("tip_angle_deg") && s["tip_angle_deg"].is_number()
+                                  ? format("%.2f", s["tip_angle_deg"].get<double>())
+                                  : "-";
+    bool first = true;
+    for (const auto& c : s.value("cavities", Json::array())) {
+      rows.push_back({first ? s.value("name", "") : "", first ? angle : "", c.value("name", ""),
+                      format("%.3f", 1e-3 * number(c, "pressure")),
+                      format("%.3f", number(c, "volume_ml")),
+                      format("%.3f", number(c, "added_volume_ml"))});
+      first = false;
+    }
+    if (first) rows.push_back({s.value("name", ""), angle, "-", "-", "-", "-"});
+  }
+  return table(rows);
+}
+
+std::string targets_table(const Json& targets) {
+  std::vector<std::vector<std::string>> rows = {
+      {"target (mm)", "reached (mm)", "error (mm)", "actuation (Pa or N)"}};
+  for (const auto& t : targets) {
+    std::string actuation;
+    for (const auto& a : t.value("actuation", Json::array()))
+      actuation += (actuation.empty() ? "" : ", ") + format("%.4g", a.get<double>());
+    rows.push_back(
+        {millimetres(t.value("target", Json::array())),
+         millimetres(t.value("reached", Json::array())),
+         t["error_m"].is_number() ? format("%.3f", 1e3 * t["error_m"].get<double>()) : "-",
+         actuation});
+  }
+  return table(rows);
+}
+
+// The scalars of a map, one "key value" line each.
+std::string scalars(const Json& map) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& [key, value] : map.items())
+    if (value.is_number()) rows.push_back({key, format("%.6g", value.get<double>())});
+  return table(rows);
+}
+
+}  // namespace
+
+std::string run_report(const Json& summary) {
+  std::ostringstream out;
+  const Json time = summary.value("time_s", Json::object());
+  const bool control = summary.contains("targets") && !summary["targets"].empty();
+  out << "# hydrosoft: done: ";
+  if (control)  // its steps and Newton iterations count the loading before the control only
+    out << summary["targets"].size() << " targets, ";
+  else
+    out << summary.value("steps", 0) << " steps, " << summary.value("newton_iterations", 0)
+        << " Newton iterations, ";
+  out << format("%.2f", number(time, "total")) << " s on " << summary.value("ranks", 1)
+      << (summary.value("ranks", 1) == 1 ? " rank\n" : " ranks\n");
+  const Json output = summary.value("output", Json::object());
+  if (output.contains("xdmf"))
+    out << "# results: " << output["xdmf"].get<std::string>()
+        << " (ParaView); summary.json and history.csv beside it\n";
+  if (control)
+    out << targets_table(summary["targets"]);
+  else if (summary.contains("states") && !summary["states"].empty())
+    out << states_table(summary["states"]);
+  for (const char* key : {"verification", "error"})
+    if (summary.contains(key) && summary[key].is_object()) out << scalars(summary[key]);
+  return out.str();
+}
+
+}  // namespace hs

@@ -1,0 +1,58 @@
+// The lines a run prints when it ends (app/run_report.cpp): made from the summary, with the
+// numbers in the units the header names.
+#include <gtest/gtest.h>
+
+#include "run_report.hpp"
+
+namespace {
+
+using Json = nlohmann::json;
+
+TEST(RunReport, StatesGiveEachCavitysPressureInKilopascalsAndVolumesInMillilitres) {
+  const Json summary = Json::parse(R"({
+    "steps": 14, "newton_iterations": 40, "ranks": 2, "time_s": {"total": 1.3},
+    "output": {"xdmf": "out/cylinder_air/cylinder_air.xmf"},
+    "states": [
+      {"name": "rest", "tip_angle_deg": 10.574,
+       "cavities": [{"name": "cavity", "pressure": 0.0, "volume_ml": 78.98, "added_volume_ml": 0}]},
+      {"name": "inflated", "tip_angle_deg": 8.11,
+       "cavities": [{"name": "cavity", "pressure": 7915.9, "volume_ml": 93.98,
+                     "added_volume_ml": 15.0}]}]})");
+  const std::string report = hs::run_report(summary);
+  EXPECT_NE(report.find("# hydrosoft: done: 14 steps, 40 Newton iterations, 1.30 s on 2 ranks\n"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("out/cylinder_air/cylinder_air.xmf"), std::string::npos);
+  EXPECT_NE(report.find("tip angle (deg)"), std::string::npos);
+  EXPECT_NE(report.find("inflated  8.11"), std::string::npos) << report;
+  EXPECT_NE(report.find("7.916"), std::string::npos) << report;   // kPa
+  EXPECT_NE(report.find("93.980"), std::string::npos) << report;  // ml
+  EXPECT_NE(report.find("15.000"), std::string::npos) << report;
+  EXPECT_EQ(report.find("{"), std::string::npos) << "no JSON on the screen";
+}
+
+TEST(RunReport, TargetsGiveMillimetresAndTheError) {
+  const Json summary = Json::parse(R"({
+    "steps": 4, "newton_iterations": 9, "ranks": 1, "time_s": {"total": 0.5},
+    "targets": [{"target": [0.09, 0.0, -0.012], "reached": [0.08997, -0.0004, -0.012],
+                 "error_m": 2.5e-4, "actuation": [21759.1]},
+                {"target": [0.09, 0.0, 0.03], "reached": [0.09, 0.0, 0.01],
+                 "error_m": null, "actuation": [30000]}]})");
+  const std::string report = hs::run_report(summary);
+  EXPECT_NE(report.find("# hydrosoft: done: 2 targets, 0.50 s on 1 rank\n"), std::string::npos)
+      << report;
+  EXPECT_NE(report.find("90.00, 0.00, -12.00"), std::string::npos) << report;
+  EXPECT_NE(report.find("89.97, -0.40, -12.00"), std::string::npos) << report;
+  EXPECT_NE(report.find("0.250"), std::string::npos) << report;
+  EXPECT_NE(report.find("2.176e+04"), std::string::npos) << report;
+}
+
+TEST(RunReport, VerificationFiguresAreListed) {
+  const Json summary = Json::parse(R"({"steps": 1, "newton_iterations": 6,
+    "error": {"l2_relative": 0.0659667, "l2_absolute": 5.4e-8}})");
+  const std::string report = hs::run_report(summary);
+  EXPECT_NE(report.find("l2_relative  0.0659667"), std::string::npos) << report;
+  EXPECT_NE(report.find("l2_absolute  5.4e-08"), std::string::npos) << report;
+}
+
+}  // namespace
