@@ -1,8 +1,15 @@
 // Factorization and solve times of one tangent, for choosing a direct solver for the control
 // step (docs/control.md, "Time per control step"). The tangent comes from a run:
 //
-//   build/bin/hydrosoft input/finger_hydraulic.yaml --set control.steps_per_target=1
-//       --set control.free_solve=one_step -ksp_view_mat binary:/tmp/K.bin
+//   build/bin/hydrosoft input/finger_hydraulic.yaml --set control.steps_per_target=3
+//       --set control.free_solve=one_step --set control.refactor_every=4
+//       --set "control.targets=[{tip: [0.09, 0, -0.012]}]" --set output.folder=/tmp/k
+//       -ksp_view_mat binary:/tmp/K.bin::append
+//
+// (A kept factorization's step is the only KSPSolve of such a run: the cavities' bordered
+// Newton and a refactoring step solve through MatMatSolve, solvers/multi_solve.cpp, so with
+// refactor_every=1 the file stays empty. Readers take the first matrix of the file.)
+//
 //   build/bin/bench_factor /tmp/K.bin -pc_factor_mat_solver_type mumps [-mat_mumps_icntl_7 5]
 //
 // Every PETSc option applies (the KSP is preonly + Cholesky unless told otherwise; -spd
