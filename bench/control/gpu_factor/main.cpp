@@ -1,7 +1,7 @@
 // Usage: gpu_factor K.bin [--repeats N] [--methods m1,m2,...]
 // K.bin: a tangent written by hydrosoft with -ksp_view_mat binary:K.bin (bench_factor.cpp).
 // Methods: chol:ORDERING (cuSOLVER csrchol), rf:ORDERING:FACTOR_ALG:SOLVE_ALG (cusolverRf),
-// eigen:llt, eigen:ldlt (CPU), cudss:spd, cudss:sym (when built with cuDSS); ORDERING is
+// eigen:llt, eigen:ldlt (CPU); ORDERING is
 // metis, symamd or symrcm. Prints one JSON line per method and a Markdown table last.
 #include <cstdio>
 #include <fstream>
@@ -38,9 +38,6 @@ Result run_method(const Protocol& p, const std::string& spec) {
     return run_rf(p, f.size() > 1 ? f[1] : "metis", f.size() > 2 ? std::stoi(f[2]) : 0,
                   f.size() > 3 ? std::stoi(f[3]) : 1);
   if (f[0] == "eigen") return run_eigen(p, f.size() > 1 && f[1] == "ldlt");
-#ifdef HAVE_CUDSS
-  if (f[0] == "cudss") return run_cudss(p, f.size() < 2 || f[1] == "spd");
-#endif
   throw std::runtime_error("unknown or not built: " + spec);
 }
 
@@ -60,9 +57,6 @@ int main(int argc, char** argv) {
   }
   int repeats = 21;
   std::string methods = "eigen:llt,chol:metis,chol:symamd,rf:metis:0:1,rf:metis:2:3";
-#ifdef HAVE_CUDSS
-  methods += ",cudss:spd,cudss:sym";
-#endif
   for (int i = 2; i + 1 < argc; i += 2) {
     std::string o = argv[i];
     if (o == "--repeats")
@@ -81,8 +75,7 @@ int main(int argc, char** argv) {
     std::printf("# %s: n = %d, nnz = %d; CPU: %s\n", argv[1], a.n, a.nnz(), cpu_model().c_str());
     std::vector<Result> results;
     bool gpu = methods.find("chol") != std::string::npos ||
-               methods.find("rf") != std::string::npos ||
-               methods.find("cudss") != std::string::npos;
+               methods.find("rf") != std::string::npos;
     double up = NAN;
     if (gpu) {
       cudaDeviceProp prop;

@@ -26,5 +26,4 @@ Reordered reorder(const Csr& a, const std::string& ordering);
 Result run_csrchol(const Protocol& p, const std::string& ordering);
 Result run_rf(const Protocol& p, const std::string& ordering, int factor_alg, int solve_alg);
 Result run_eigen(const Protocol& p, bool ldlt);
-Result run_cudss(const Protocol& p, bool spd);
 double upload_ms(const Protocol& p);
