@@ -369,6 +369,34 @@ TEST(Finger, ParametersMoveTheCavityAndRefineTheMesh) {
   expect_refused("finger.geo", {{"ez", -0.006}}, "thinner than");
 }
 
+// finger_cad.geo imports finger_cad.step (millimetres, scaled to metres) and names its groups
+// by bounding boxes (docs/tutorial_cad.md): the same finger as finger.geo with its long edges
+// rounded, so the volumes are those of the CAD model less what the facets cut off.
+TEST(FingerCad, StepFileMeshedWithItsGroups) {
+  const double kMm3 = 1e-9;
+  const double fillets = 4 * (1 - kPi / 4) * 70 * 1.5 * 1.5 * kMm3;  // the cavity's 4 edges
+  const double cavity = 70 * 10 * 5 * kMm3 - fillets;               // 3.365 ml
+  const double body = (90 * 18 * 16 - 4 * (1 - kPi / 4) * 90 * 3 * 3) * kMm3 - cavity;
+  const Mesh m = load_geo("finger_cad.geo", {});
+  EXPECT_EQ(m.volume_names, std::vector<std::string>{"body"});
+  EXPECT_GT(m.num_nodes(), 700);  // about 1,000 nodes at the default h = 0.004
+  EXPECT_LT(m.num_nodes(), 1400);
+  expect_closed_boundary(m, {"base", "tip", "cavity", "outer"});
+  // Flat facets cut into the rounded edges: a little less cavity, within a few percent.
+  EXPECT_LT(cavity_volume(m, "cavity"), cavity);
+  EXPECT_GT(cavity_volume(m, "cavity"), 0.95 * cavity);
+  EXPECT_NEAR(mesh_volume(m), body, 0.01 * body);
+  for (int64_t n : m.node_groups.at("base")) EXPECT_NEAR(node(m, n)[0], 0.0, 1e-12);
+  for (int64_t n : m.node_groups.at("tip")) EXPECT_NEAR(node(m, n)[0], 0.09, 1e-12);
+  // The cavity's nodes lie within its box, 10 mm from either end, below the mid-plane.
+  const Vec3 lo(0.01, -0.005, -0.0055), hi(0.08, 0.005, -0.0005);
+  for (int64_t n : m.node_groups.at("cavity")) {
+    const Vec3 x = node(m, n);
+    EXPECT_TRUE(((x - lo).minCoeff() > -1e-9) && ((hi - x).minCoeff() > -1e-9)) << x.transpose();
+  }
+  expect_point_node(m, "effector", Vec3(0.09, 0, 0), 1e-12);
+}
+
 // The nodes of pendulum.geo's cavity k (0-based) lie on the faces of its sector:
 // r1 <= r <= r2, |angle - k 90 degrees| <= phi / 2, z0 <= z <= z0 + lc.
 void expect_on_sector(const Mesh& m, int k, double r1, double r2, double phi_deg, double z0,
