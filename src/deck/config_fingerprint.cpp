@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 
 #include "deck/deck.hpp"
 
@@ -12,7 +13,8 @@ std::string config_fingerprint(const Config& config) {
   solved.output = OutputConfig{};
   solved.deck_path.clear();
   solved.deck_name.clear();
-  solved.mesh.file.clear();
+  // The file by its name alone: the same mesh reached by another path is the same problem.
+  solved.mesh.file = std::filesystem::path(solved.mesh.file).filename().string();
   solved.mesh.deck_dir.clear();
   const std::string text = format_config(solved);
   uint64_t hash = 14695981039346656037ull;  // FNV-1a: stable across builds and machines
