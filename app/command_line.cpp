@@ -6,8 +6,8 @@
 namespace hs {
 namespace {
 
-const char* const kOwnOptions[] = {"--set",     "--targets", "--check",  "--help",
-                                   "--version", "--quiet",   "--verbose"};
+const char* const kOwnOptions[] = {"--set",  "--targets", "--restart", "--check",
+                                   "--help", "--version", "--quiet",   "--verbose"};
 
 // A PETSc option is -name with a letter first; "-5" or "-1e3" is a (negative) value.
 bool is_petsc_option(const std::string& a) {
@@ -32,7 +32,9 @@ Arguments parse_arguments(int argc, const char* const* argv) {
   auto value_of = [&](int& i, const std::string& option) {
     if (i + 1 >= argc || std::strncmp(argv[i + 1], "--", 2) == 0)
       throw UsageError(option + ": needs a value" +
-                       (option == "--set" ? " (--set key=value)" : " (--targets -)"));
+                       (option == "--set"       ? " (--set key=value)"
+                        : option == "--restart" ? " (--restart FOLDER, a run's output folder)"
+                                                : " (--targets -)"));
     return std::string(argv[++i]);
   };
   bool after_petsc_option = false;  // the previous argument was -name: a bare word is its value
@@ -52,6 +54,9 @@ Arguments parse_arguments(int argc, const char* const* argv) {
       args.overrides.push_back(v);
     } else if (a == "--targets") {
       args.targets = value_of(i, a);
+    } else if (a == "--restart") {
+      if (!args.restart.empty()) throw UsageError("--restart: given twice");
+      args.restart = value_of(i, a);
     } else if (a == "--help" || a == "-h" || a == "-help") {
       args.help = true;
     } else if (a == "--version") {
@@ -89,8 +94,10 @@ Arguments parse_arguments(int argc, const char* const* argv) {
   }
   if (args.mesh && (args.deck.empty() || args.mesh_output.empty()))
     throw UsageError("mesh: usage: hydrosoft mesh DECK.yaml OUT.h5 [--set key=value ...]");
-  if (args.mesh && (args.check || !args.targets.empty()))
-    throw UsageError("mesh: --check and --targets do not apply (it solves nothing)");
+  if (args.mesh && (args.check || !args.targets.empty() || !args.restart.empty()))
+    throw UsageError("mesh: --check, --targets and --restart do not apply (it solves nothing)");
+  if (args.check && !args.restart.empty())
+    throw UsageError("--check: --restart does not apply (it solves nothing)");
   return args;
 }
 

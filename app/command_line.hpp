@@ -1,5 +1,6 @@
 // hydrosoft's command line: its own arguments apart from PETSc's, strictly. Any argument that
-// is neither hydrosoft's (DECK, --set key=value, --targets -, --check, --help/-h, --version) nor a
+// is neither hydrosoft's (DECK, --set key=value, --targets -, --restart FOLDER, --check,
+// --help/-h, --version) nor a
 // PETSc option (-name, or -name value) is an error that names it; nothing is silently ignored.
 // `hydrosoft mesh DECK.yaml OUT.h5` (the word mesh first) meshes the deck's mesh once into a
 // hydrosoft mesh file that runs then read in parallel.
@@ -15,6 +16,7 @@ struct Arguments {
   std::string deck;
   std::vector<std::string> overrides;  // of --set, in order
   std::string targets;                 // of --targets ("" when not given)
+  std::string restart;                 // of --restart: a run's folder with checkpoint.h5
   bool help = false, version = false;
   bool quiet = false;              // -q: no progress lines (output.progress = false)
   bool verbose = false;            // -v: the solvers' monitors (SNES, KSP, the cavities' Newton)

@@ -34,7 +34,8 @@
 namespace {
 
 const char* usage =
-    "usage: hydrosoft DECK.yaml [--set key=value ...] [--targets -] [PETSc options]\n"
+    "usage: hydrosoft DECK.yaml [--set key=value ...] [--targets -] [--restart FOLDER]\n"
+    "                 [PETSc options]\n"
     "       hydrosoft --check DECK.yaml [--set key=value ...]\n"
     "       hydrosoft mesh DECK.yaml OUT.h5 [--set key=value ...]\n"
     "       hydrosoft --version | --help\n"
@@ -49,6 +50,9 @@ const char* usage =
     "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
     "                    'effector x y z'; each line gets one JSON line on standard output,\n"
     "                    its answer or why it was refused; the rest goes to standard error\n"
+    "  --restart FOLDER  continue from FOLDER/checkpoint.h5 (the deck's output.checkpoint wrote\n"
+    "                    it; FOLDER a finished, .failed or .partial output folder) on any number\n"
+    "                    of ranks; the deck must be the one that wrote it, output keys aside\n"
     "  PETSc options     e.g. -snes_monitor -ksp_type cg -pc_type gamg (they win over the deck)\n";
 
 // In the interactive mode standard output carries the JSON lines alone, so that a client can
@@ -232,7 +236,7 @@ int main(int argc, char** argv) {
     // after PetscInitialize, whose own SIGTERM handler it replaces; --check and mesh keep the
     // default: they have nothing to keep).
     hs::install_interrupt_handlers();
-    const auto summary = hs::run_simulation(config, PETSC_COMM_WORLD, io);
+    const auto summary = hs::run_simulation(config, PETSC_COMM_WORLD, io, args.restart);
     if (rank == 0) report << hs::run_report(summary) << std::flush;
     if (rank == 0) report_unused(args.petsc_names);
   } catch (const hs::InputError& e) {

@@ -15,6 +15,7 @@
 #include "deck/exact_section.hpp"
 #include "io/output.hpp"
 #include "mesh/distribution.hpp"
+#include "solvers/checkpoint.hpp"
 #include "solvers/control_run.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/newton_solver.hpp"
@@ -28,7 +29,8 @@
 
 namespace hs {
 
-nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo io) {
+nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo io,
+                              const std::string& restart_folder) {
   const double t_start = MPI_Wtime();
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -41,6 +43,10 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     throw InputError(config.deck_path +
                      ": boundary: nothing holds the body (no Dirichlet condition): a static run "
                      "needs one to remove the rigid motions, e.g. boundary: [{group: clamped}]");
+  // The checkpoint to continue from is opened and checked first: the output folder, opened
+  // next, may be the very folder it lies in (its .partial is cleared then).
+  std::unique_ptr<Restart> restart;
+  if (!restart_folder.empty()) restart = std::make_unique<Restart>(restart_folder, config, comm);
   // First, before any work: a second run on the same output folder stops here, at once.
   auto output_folder = open_output_folder(config.output.folder, comm);
   MeshLoadTimes mesh_times;
@@ -56,6 +62,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
       return exact->displacement(X, s);
     };
   Problem problem(config, dist, comm, exact_dirichlet);
+  if (restart) restart->check_mesh(problem);
   // A scene with cavities or states runs the bordered Newton (displacements and cavity
   // pressures); any other the plain SNES. No cavity code runs in a scene without cavities.
   const bool staged = !config.cavities.empty() || !config.cables.empty() ||
@@ -92,6 +99,11 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     if (bordered) bordered->set_load_norm(norm);
   }
   SteppingStats stats;
+  Checkpointer checkpoints(config, problem, stats, recorder.staging(), comm);
+  if (restart) {
+    restart->restore(stats);
+    recorder.set_newton_before(stats.newton_iterations);
+  }
   double final_load = 1.0;
   nlohmann::json history;  // verification quantities after every load step
   auto output_due = [&](int k, int last) { return k == last || (k % config.output.every) == 0; };
@@ -143,6 +155,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
           {"cuda_context", false}};
     }
     summary["output"]["xdmf"] = recorder.xdmf_path();
+    if (restart) summary["restarted_from"] = restart->summary();
     summary["time_s"]["total"] = MPI_Wtime() - t_start;
     return summary;
   };
@@ -151,26 +164,53 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     // A signal during the set-up stops the run here, before any step (nothing to keep).
     stop_if_interrupted(comm);
     if (staged) {
-      state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats, comm);
+      state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats, comm,
+                             checkpoints, restart.get());
       if (control_loop)
         control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()));
     } else if (config.time.type == TimeType::dynamic) {
       const int nsteps = static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9));
-      recorder.record(0.0, u, 1.0);
+      DynamicResume resume;
+      if (restart) {
+        resume.step = restart->position().at("step");
+        restart->read("displacement", problem, u);
+        resume.fill = [&](Vec v, Vec a) {
+          restart->read("velocity", problem, v);
+          restart->read("acceleration", problem, a);
+        };
+        stats.energy = restart->series("energy");
+      } else {
+        recorder.record(0.0, u, 1.0);
+      }
       Progress progress(config.output.progress, comm, nsteps);
-      run_dynamic(problem, *newton, config.time, u, stats, [&](int n, double t, Vec un) {
+      auto on_step = [&](int n, double t, Vec un, Vec v, Vec a) {
         progress.step(n, "time " + format_number(t) + " s", stats.newton_iterations);
         // A signal stops the run at this step boundary, the step written first.
         const int signal = interrupt_requested(comm);
         if (output_due(n, nsteps) || signal) recorder.record(t, un, 1.0);
+        if (checkpoints.due(signal))
+          checkpoints.write(
+              {{"step", n}, {"time", t}, {"dt", config.time.dt}, {"last", n == nsteps}},
+              {{"displacement", un}, {"velocity", v}, {"acceleration", a}},
+              {{"energy", stats.energy}});
         if (signal) throw Interrupted(signal);
-      });
+      };
+      run_dynamic(problem, *newton, config.time, u, stats, on_step, restart ? &resume : nullptr);
     } else {
       const auto schedule = load_schedule(config.time);
       history = nlohmann::json::array();
       LoadStepper stepper(problem, *newton, config.time.max_cutbacks);
+      size_t first = 0;
+      if (restart) {
+        const nlohmann::json& p = restart->position();
+        first = p.at("step");
+        restart->read("displacement", problem, u);
+        restart->read("previous_displacement", problem, stepper.previous());
+        stepper.resume(p.at("load_factor"), p.at("previous_load_factor"), p.at("has_previous"));
+        history = p.at("verification");
+      }
       Progress progress(config.output.progress, comm, static_cast<int>(schedule.size()));
-      for (size_t k = 0; k < schedule.size(); ++k) {
+      for (size_t k = first; k < schedule.size(); ++k) {
         stepper.advance(u, schedule[k], static_cast<int>(k + 1), stats);
         progress.step(static_cast<int>(k + 1), "load " + format_number(schedule[k]),
                       stats.newton_iterations);
@@ -181,6 +221,14 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
         const int signal = interrupt_requested(comm);
         if (output_due(static_cast<int>(k + 1), static_cast<int>(schedule.size())) || signal)
           recorder.record(schedule[k], u, schedule[k]);
+        if (checkpoints.due(signal))
+          checkpoints.write({{"step", k + 1},
+                             {"load_factor", stepper.load_factor()},
+                             {"previous_load_factor", stepper.previous_load_factor()},
+                             {"has_previous", stepper.has_previous()},
+                             {"verification", history},
+                             {"last", k + 1 == schedule.size()}},
+                            {{"displacement", u}, {"previous_displacement", stepper.previous()}});
         if (signal) throw Interrupted(signal);
       }
       final_load = schedule.back();

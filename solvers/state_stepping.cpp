@@ -111,6 +111,37 @@ class StateStepper {
 
   double load_factor(double tau) const { return plan_->first ? tau : 1.0; }
 
+  // For a checkpoint: the ramps of the current state and the predictor's memory (u_last()
+  // is the vector). resume() puts them back in place of begin().
+  nlohmann::json position() const {
+    nlohmann::json ramps = nlohmann::json::array();
+    for (const auto& r : plan_->ramps)
+      ramps.push_back({{"active", r.active},
+                       {"control", static_cast<int>(r.control)},
+                       {"from", r.from},
+                       {"to", r.to}});
+    return {{"ramps", ramps},
+            {"tau", tau_},
+            {"tau_last", tau_last_},
+            {"has_last", has_last_},
+            {"lambda_last", lambda_last_}};
+  }
+  Vec u_last() const { return u_last_; }
+  void resume(StatePlan& plan, const nlohmann::json& p) {
+    plan_ = &plan;
+    for (size_t c = 0; c < plan.ramps.size(); ++c) {
+      const auto& r = p.at("ramps").at(c);
+      plan.ramps[c].active = r.at("active");
+      plan.ramps[c].control = static_cast<Constraint::Control>(r.at("control").get<int>());
+      plan.ramps[c].from = r.at("from");
+      plan.ramps[c].to = r.at("to");
+    }
+    tau_ = p.at("tau");
+    tau_last_ = p.at("tau_last");
+    has_last_ = p.at("has_last");
+    lambda_last_ = p.at("lambda_last").get<std::vector<double>>();
+  }
+
   // Sets the cavity targets at tau.
   void set_targets(double tau) {
     for (int c = 0; c < constraints_.size(); ++c) {
@@ -216,17 +247,36 @@ double tip_angle_deg(Problem& problem, const std::string& group,
 
 StateRun run_states(const Config& config, Problem& problem, ConstraintSet& constraints,
                     BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats,
-                    MPI_Comm comm) {
+                    MPI_Comm comm, Checkpointer& checkpoints, const Restart* restart) {
   StateRun run;
   std::vector<StatePlan> plans = plan_states(config);
   StateStepper stepper(config, problem, constraints, newton, stats);
   int total = 0, done = 0;
   for (const StatePlan& plan : plans) total += static_cast<int>(plan.taus.size());
+  // A restart continues state k0 after its increment i0 (i0 = its size: at its end).
+  size_t k0 = 0, i0 = 0;
+  if (restart) {
+    const nlohmann::json& p = restart->position();
+    k0 = p.at("state");
+    i0 = p.at("increment");
+    if (k0 >= plans.size() || i0 > plans[k0].taus.size())
+      throw InputError("--restart: the checkpoint's state " + std::to_string(k0) +
+                       " is not one of this deck's");
+    restart->read("displacement", problem, u);
+    restart->read("previous_displacement", problem, stepper.u_last());
+    restore_constraint_states(constraints, p.at("constraints"));
+    stepper.resume(plans[k0], p.at("stepper"));
+    run.states = p.at("states");
+    for (auto& state : run.states) state["step"] = nullptr;  // in the earlier run's .h5
+    for (size_t k = 0; k < k0; ++k) done += static_cast<int>(plans[k].taus.size());
+    done += static_cast<int>(i0);
+  }
   Progress progress(config.output.progress, comm, total);
-  for (size_t k = 0; k < plans.size(); ++k) {
+  for (size_t k = k0; k < plans.size(); ++k) {
     StatePlan& plan = plans[k];
-    stepper.begin(plan);
-    for (size_t i = 0; i < plan.taus.size(); ++i) {
+    const bool resumed = restart && k == k0;
+    if (!resumed) stepper.begin(plan);
+    for (size_t i = resumed ? i0 : 0; i < plan.taus.size(); ++i) {
       stepper.advance(u, plan.taus[i]);
       char what[160];
       std::snprintf(what, sizeof what, "state %s %.3g", plan.name.c_str(), plan.taus[i]);
@@ -237,6 +287,17 @@ StateRun run_states(const Config& config, Problem& problem, ConstraintSet& const
       if (last || (i + 1) % config.output.every == 0 || signal)
         recorder.record(static_cast<double>(k) + plan.taus[i], u,
                         stepper.load_factor(plan.taus[i]));
+      if (checkpoints.due(signal)) {
+        nlohmann::json position = {{"state", k},
+                                   {"increment", i + 1},
+                                   {"state_time", static_cast<double>(k) + plan.taus[i]},
+                                   {"stepper", stepper.position()},
+                                   {"constraints", constraint_states(constraints)},
+                                   {"states", run.states},
+                                   {"last", last && k + 1 == plans.size()}};
+        checkpoints.write(position,
+                          {{"displacement", u}, {"previous_displacement", stepper.u_last()}});
+      }
       if (signal) throw Interrupted(signal);
     }
     if (plan.first)
@@ -245,7 +306,8 @@ StateRun run_states(const Config& config, Problem& problem, ConstraintSet& const
     nlohmann::json state;
     state["name"] = plan.name;
     state["time"] = static_cast<double>(k + 1);
-    state["step"] = recorder.written() - 1;
+    // Its output step in this run's .h5 (null: written by the run restarted from).
+    state["step"] = recorder.written() > 0 ? nlohmann::json(recorder.written() - 1) : nullptr;
     state["load_factor"] = stepper.load_factor(plan.taus.back());
     if (config.tip)
       state["tip_angle_deg"] = tip_angle_deg(problem, config.tip->group, config.gravity, u);

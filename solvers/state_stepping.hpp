@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "solvers/bordered_newton.hpp"
+#include "solvers/checkpoint.hpp"
 #include "solvers/constraints/constraint_set.hpp"
 #include "solvers/output/result_recorder.hpp"
 #include "solvers/stepping.hpp"
@@ -19,12 +20,13 @@ struct StateRun {
   nlohmann::json states = nlohmann::json::array();  // one entry per state, for summary.json
 };
 
-// u starts at rest (zero). Writes every output.every-th increment and the last of every
-// state; the step attribute `time` is state index + fraction of the state (1.0 = end of the
-// first state, 2.0 = end of the second, ...).
+// u starts at rest (zero), or at `restart`'s position (u, the constraints and the stepper
+// read from it). Writes every output.every-th increment and the last of every state; the step
+// attribute `time` is state index + fraction of the state (1.0 = end of the first state, 2.0 =
+// end of the second, ...). Hands `checkpoints` the position after every increment.
 StateRun run_states(const Config& config, Problem& problem, ConstraintSet& constraints,
                     BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats,
-                    MPI_Comm comm);
+                    MPI_Comm comm, Checkpointer& checkpoints, const Restart* restart = nullptr);
 
 // Inclination of a face group's mean deformed normal below the plane normal to gravity, in
 // degrees (positive: tilted towards gravity): asin(n . g / |g|).

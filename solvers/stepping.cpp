@@ -97,7 +97,7 @@ void LoadStepper::advance(Vec u, double s_to, int step, SteppingStats& stats) {
 }
 
 void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time, Vec u,
-                 SteppingStats& stats, const StepCallback& on_step) {
+                 SteppingStats& stats, const StepCallback& on_step, const DynamicResume* resume) {
   const bool newmark = time.integrator == Integrator::newmark;
   const double dt = time.dt, beta = time.newmark_beta, gamma = time.newmark_gamma;
   InertiaTerm inertia;
@@ -110,20 +110,24 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
   HS_PETSC(VecDuplicate(u, &inertia.u_pred));
   HS_PETSC(VecSet(v, 0.0));
 
-  // Initial acceleration from M a0 = -(f_int(u0) - f_ext): CG on the mass matrix.
-  problem.apply_dirichlet(u, 1.0);
-  problem.residual(u, 1.0, R);
-  KSP mass_solver;
-  HS_PETSC(KSPCreate(problem.comm(), &mass_solver));
-  HS_PETSC(KSPSetOperators(mass_solver, inertia.M, inertia.M));
-  HS_PETSC(KSPSetType(mass_solver, KSPCG));
-  PC pc;
-  HS_PETSC(KSPGetPC(mass_solver, &pc));
-  HS_PETSC(PCSetType(pc, PCJACOBI));
-  HS_PETSC(KSPSetTolerances(mass_solver, 1e-12, 1e-30, PETSC_DEFAULT, 1000));
-  HS_PETSC(KSPSolve(mass_solver, R, a));
-  HS_PETSC(VecScale(a, -1.0));
-  HS_PETSC(KSPDestroy(&mass_solver));
+  if (resume) {
+    resume->fill(v, a);
+  } else {
+    // Initial acceleration from M a0 = -(f_int(u0) - f_ext): CG on the mass matrix.
+    problem.apply_dirichlet(u, 1.0);
+    problem.residual(u, 1.0, R);
+    KSP mass_solver;
+    HS_PETSC(KSPCreate(problem.comm(), &mass_solver));
+    HS_PETSC(KSPSetOperators(mass_solver, inertia.M, inertia.M));
+    HS_PETSC(KSPSetType(mass_solver, KSPCG));
+    PC pc;
+    HS_PETSC(KSPGetPC(mass_solver, &pc));
+    HS_PETSC(PCSetType(pc, PCJACOBI));
+    HS_PETSC(KSPSetTolerances(mass_solver, 1e-12, 1e-30, PETSC_DEFAULT, 1000));
+    HS_PETSC(KSPSolve(mass_solver, R, a));
+    HS_PETSC(VecScale(a, -1.0));
+    HS_PETSC(KSPDestroy(&mass_solver));
+  }
 
   // E = 1/2 v.M v + int psi - f_ext.u (f_ext at full load on the current configuration).
   Vec Mv, f_ext, scratch;
@@ -140,11 +144,11 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
     stats.max_stored_energy = std::max(stats.max_stored_energy, stored);
     return 0.5 * kinetic + stored - work;
   };
-  stats.energy.push_back(total_energy());
+  if (!resume) stats.energy.push_back(total_energy());
 
   problem.set_inertia(&inertia);
   const int nsteps = static_cast<int>(std::ceil(time.end_time / dt - 1e-9));
-  for (int n = 1; n <= nsteps; ++n) {
+  for (int n = resume ? resume->step + 1 : 1; n <= nsteps; ++n) {
     // u_pred = u + dt v + dt^2 (1/2 - beta) a  (Newmark), u + dt v (backward Euler);
     // the step solves c M (u - u_pred) + f_int(u) - f_ext = 0, c = 1/(beta dt^2) or 1/dt^2.
     HS_PETSC(VecWAXPY(inertia.u_pred, dt, v, u));
@@ -169,7 +173,7 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
     }
     HS_PETSC(VecCopy(a_new, a));
     stats.energy.push_back(total_energy());
-    on_step(n, n * dt, u);
+    on_step(n, n * dt, u, v, a);
   }
   problem.set_inertia(nullptr);
   VecDestroy(&Mv);

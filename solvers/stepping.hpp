@@ -53,6 +53,18 @@ class LoadStepper {
   // u holds the converged state at the current load factor (0 at the start).
   void advance(Vec u, double s_to, int step, SteppingStats& stats);
 
+  // What the secant predictor remembers, for a checkpoint: the load factor of u, the previous
+  // converged state and its load factor; resume() puts them back (previous() filled first).
+  double load_factor() const { return s_; }
+  double previous_load_factor() const { return s_last_; }
+  bool has_previous() const { return has_last_; }
+  Vec previous() const { return u_last_; }
+  void resume(double s, double s_last, bool has_last) {
+    s_ = s;
+    s_last_ = s_last;
+    has_last_ = has_last;
+  }
+
  private:
   void predict(Vec u, double s_next);
 
@@ -65,12 +77,20 @@ class LoadStepper {
   Vec u_last_ = nullptr, saved_ = nullptr;
 };
 
-// Called after every converged time or load step with (step index, time or load factor, u).
-using StepCallback = std::function<void(int, double, Vec)>;
+// Called after every converged time step with (step index, time, u, v, a).
+using StepCallback = std::function<void(int, double, Vec, Vec, Vec)>;
+
+// Where a restarted dynamic run starts: its step, and fill(v, a) sets the velocity and the
+// acceleration there (u is given); stats.energy holds the energies so far.
+struct DynamicResume {
+  int step = 0;
+  std::function<void(Vec v, Vec a)> fill;
+};
 
 // Implicit dynamics at full load from rest: u(0) = Dirichlet values, v(0) = 0,
-// M a(0) = f_ext - f_int(u(0)).
+// M a(0) = f_ext - f_int(u(0)); or, with `resume`, from its step on.
 void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time, Vec u,
-                 SteppingStats& stats, const StepCallback& on_step);
+                 SteppingStats& stats, const StepCallback& on_step,
+                 const DynamicResume* resume = nullptr);
 
 }  // namespace hs

@@ -59,6 +59,11 @@ class ResultRecorder {
   // (on every rank). Without a step, returns "" and the staging folder goes with the object.
   std::string keep_failed(nlohmann::json summary, const std::string& reason);
   std::string xdmf_path() const;
+  // The staging folder the run writes into (every rank).
+  const std::string& staging() const { return staging_; }
+  // A restarted run: the Newton iterations before its first row, so that the first row
+  // counts only its own.
+  void set_newton_before(int iterations) { newton_at_last_row_ = iterations; }
   int written() const { return written_; }
   const StepHistory& history() const { return history_; }
   double seconds() const { return seconds_; }  // spent in record() and finish()

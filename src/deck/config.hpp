@@ -78,10 +78,18 @@ struct SolverConfig {
   std::map<std::string, std::string> petsc_options;  // any PETSc option, without the dash
 };
 
+// When a run writes checkpoint.h5 (docs/output.md): after `every` converged steps or
+// `minutes` of wall time since the last one, whichever comes first (0: not by that measure).
+struct CheckpointConfig {
+  int every = 0;
+  double minutes = 0;
+};
+
 struct OutputConfig {
   std::string folder;    // default: out/<deck name>, relative to the working directory
   int every = 1;         // write every n-th step (the last one always)
   bool progress = true;  // a line per converged step on standard error (solvers/progress.hpp)
+  std::optional<CheckpointConfig> checkpoint;  // none: no checkpoints
 };
 
 // The deck's exact solution: its entry in the registry of src/verification/ (null for

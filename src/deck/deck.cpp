@@ -255,8 +255,24 @@ SolverConfig parse_solver(const DeckReader& r, const YAML::Node& node) {
   return s;
 }
 
+CheckpointConfig parse_checkpoint(const DeckReader& r, const YAML::Node& node) {
+  r.check_map(node, "output.checkpoint", {"every", "minutes"});
+  CheckpointConfig c;
+  if (const auto n = node["every"]) {
+    c.every = r.integer(n, "output.checkpoint.every");
+    require(c.every >= 1, r, n, "output.checkpoint.every", "must be >= 1 (converged steps)");
+  }
+  if (const auto n = node["minutes"]) {
+    c.minutes = r.number(n, "output.checkpoint.minutes");
+    require(c.minutes > 0, r, n, "output.checkpoint.minutes", "must be > 0");
+  }
+  if (c.every == 0 && c.minutes == 0)
+    r.fail("output.checkpoint", node, "needs every (steps) or minutes, or both");
+  return c;
+}
+
 OutputConfig parse_output(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "output", {"folder", "every", "progress"});
+  r.check_map(node, "output", {"folder", "every", "progress", "checkpoint"});
   OutputConfig o;
   if (const auto n = node["folder"]) o.folder = r.text(n, "output.folder");
   if (const auto n = node["every"]) {
@@ -264,6 +280,7 @@ OutputConfig parse_output(const DeckReader& r, const YAML::Node& node) {
     require(o.every >= 1, r, n, "output.every", "must be >= 1");
   }
   if (const auto n = node["progress"]) o.progress = r.boolean(n, "output.progress");
+  if (const auto n = node["checkpoint"]) o.checkpoint = parse_checkpoint(r, n);
   return o;
 }
 
@@ -304,6 +321,10 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
       r.fail("output.folder", output["folder"], problem);
     r.fail("output.folder", "the default '" + c.output.folder + "': " + problem);
   }
+  if (c.output.checkpoint && c.control)
+    r.fail("output.checkpoint", root["output"]["checkpoint"],
+           "not supported in a deck with a control section (the inverse controller's state is "
+           "not saved, so such a run cannot be restarted)");
   parse_exact_section(r, root, c);
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
     if (c.dirichlet[i].exact && !c.exact.type)

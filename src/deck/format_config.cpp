@@ -304,6 +304,13 @@ std::string format_config(const Config& c) {
   out << YAML::Key << "folder" << YAML::Value << c.output.folder;
   out << YAML::Key << "every" << YAML::Value << c.output.every;
   out << YAML::Key << "progress" << YAML::Value << c.output.progress;
+  if (c.output.checkpoint) {
+    out << YAML::Key << "checkpoint" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    if (c.output.checkpoint->every > 0)
+      out << YAML::Key << "every" << YAML::Value << c.output.checkpoint->every;
+    if (c.output.checkpoint->minutes > 0) emit_number(out, "minutes", c.output.checkpoint->minutes);
+    out << YAML::EndMap;
+  }
   out << YAML::EndMap;
 
   out << YAML::Key << "exact" << YAML::Value << YAML::BeginMap;

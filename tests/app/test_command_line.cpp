@@ -78,6 +78,11 @@ TEST(CommandLine, MistypedArgumentsAreErrorsThatNameThem) {
   EXPECT_EQ(error_of({"deck.yaml", "--set", "mesh.order"}),
             "--set mesh.order: expected key=value, e.g. --set mesh.order=2");
   EXPECT_EQ(error_of({"deck.yaml", "--targets"}), "--targets: needs a value (--targets -)");
+  EXPECT_EQ(error_of({"deck.yaml", "--restart"}),
+            "--restart: needs a value (--restart FOLDER, a run's output folder)");
+  EXPECT_EQ(error_of({"--check", "deck.yaml", "--restart", "out/x"}),
+            "--check: --restart does not apply (it solves nothing)");
+  EXPECT_EQ(parse({"deck.yaml", "--restart", "out/x.failed"}).restart, "out/x.failed");
   EXPECT_EQ(error_of({"a.yaml", "b.yaml"}), "unexpected argument 'b.yaml' after the deck a.yaml");
 }
 

@@ -1,0 +1,273 @@
+#include "solvers/checkpoint.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <unordered_map>
+
+#include "common/error.hpp"
+#include "common/exchange.hpp"
+#include "deck/config_fingerprint.hpp"
+
+namespace hs {
+namespace {
+
+// An order-free fingerprint of the mesh's nodes: sum over nodes of (x + 2y + 3z) weighted by
+// its id modulo 7, and the sum of the magnitudes (the scale of its rounding). Collective.
+std::array<double, 2> coordinate_checksum(const Distribution& dist, MPI_Comm comm) {
+  std::array<double, 2> sum{0, 0};
+  for (int64_t i = 0; i < dist.num_owned(); ++i) {
+    const double* x = &dist.x[3 * i];
+    const double term = (x[0] + 2 * x[1] + 3 * x[2]) * (1 + dist.old_of_local[i] % 7);
+    sum[0] += term;
+    sum[1] += std::abs(term);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sum.data(), 2, MPI_DOUBLE, MPI_SUM, comm);
+  return sum;
+}
+
+std::vector<double> owned_values(const Problem& problem, Vec v) {
+  const PetscScalar* a;
+  HS_PETSC(VecGetArrayRead(v, &a));
+  std::vector<double> values(a, a + 3 * problem.distribution().num_owned());
+  HS_PETSC(VecRestoreArrayRead(v, &a));
+  return values;
+}
+
+double wall_minutes(MPI_Comm comm) {
+  double t = MPI_Wtime() / 60;
+  MPI_Bcast(&t, 1, MPI_DOUBLE, 0, comm);  // rank 0's clock decides for every rank
+  return t;
+}
+
+}  // namespace
+
+std::string stepping_kind(const Config& config) {
+  const bool staged = !config.cavities.empty() || !config.cables.empty() ||
+                      !config.states.empty() || config.tip || config.control;
+  if (staged) return "states";
+  return config.time.type == TimeType::dynamic ? "dynamic" : "static";
+}
+
+Checkpointer::Checkpointer(const Config& config, const Problem& problem, const SteppingStats& stats,
+                           std::string folder, MPI_Comm comm)
+    : config_(config),
+      problem_(problem),
+      stats_(stats),
+      path_(std::move(folder) + "/checkpoint.h5"),
+      comm_(comm),
+      active_(config.output.checkpoint.has_value()) {
+  if (active_) last_time_ = wall_minutes(comm);
+}
+
+bool Checkpointer::due(bool signal) {
+  if (!active_) return false;
+  ++steps_since_;
+  const CheckpointConfig& c = *config_.output.checkpoint;
+  if (signal || (c.every > 0 && steps_since_ >= c.every)) return true;
+  return c.minutes > 0 && wall_minutes(comm_) - last_time_ >= c.minutes;
+}
+
+void Checkpointer::write(nlohmann::json position, const NamedVecs& fields,
+                         const NamedValues& series) {
+  const Distribution& dist = problem_.distribution();
+  int size = 1;
+  MPI_Comm_size(comm_, &size);
+  nlohmann::json state;
+  state["kind"] = stepping_kind(config_);
+  state["fingerprint"] = config_fingerprint(config_);
+  state["deck"] = config_.deck_path;
+  state["nodes"] = dist.num_global();
+  state["elements"] = dist.num_global_tets;
+  state["order"] = dist.order;
+  state["ranks"] = size;
+  const auto checksum = coordinate_checksum(dist, comm_);
+  state["coordinate_checksum"] = {checksum[0], checksum[1]};
+  state["stats"] = {{"steps", stats_.steps},
+                    {"cutbacks", stats_.cutbacks},
+                    {"newton_iterations", stats_.newton_iterations},
+                    {"linear_iterations", stats_.linear_iterations},
+                    {"max_stored_energy", stats_.max_stored_energy}};
+  state["position"] = std::move(position);
+  CheckpointRows rows;
+  rows.nodes = dist.num_global();
+  rows.first = dist.owned_offsets[dist.rank];
+  rows.node_ids.assign(dist.old_of_local.begin(), dist.old_of_local.begin() + dist.num_owned());
+  NamedValues values;
+  for (const auto& [name, v] : fields) values.emplace_back(name, owned_values(problem_, v));
+  write_checkpoint(path_, comm_, state, rows, values, series);
+  ++written_;
+  steps_since_ = 0;
+  if (config_.output.checkpoint->minutes > 0) last_time_ = wall_minutes(comm_);
+}
+
+Restart::Restart(const std::string& folder, const Config& config, MPI_Comm comm)
+    : folder_(folder), comm_(comm) {
+  const std::string path =
+      std::filesystem::is_directory(folder) ? folder + "/checkpoint.h5" : folder;
+  std::string error;
+  try {
+    file_ = std::make_unique<CheckpointFile>(path);
+    const nlohmann::json& s = file_->state();
+    const std::string kind = s.value("kind", ""), mine = stepping_kind(config);
+    if (config.control)
+      error =
+          "--restart: a deck with a control section cannot be restarted (the inverse "
+          "controller's state is not checkpointed)";
+    else if (kind != mine)
+      error = "--restart: " + path + ": written by a " + kind + " run, this deck runs " + mine;
+    else if (s.value("fingerprint", "") != config_fingerprint(config))
+      error = "--restart: " + path + ": written for another deck or other values (" +
+              s.value("deck", std::string("?")) + "; configuration fingerprint " +
+              s.value("fingerprint", "") + ", this deck's " + config_fingerprint(config) +
+              "; only output keys may differ)";
+    else if (!s.contains("position"))
+      error = "--restart: " + path + ": holds no stepping position";
+    else if (s.at("position").value("last", false))
+      error = "--restart: " + path + ": written at the run's last step; nothing is left to run";
+  } catch (const InputError& e) {
+    error = e.what();
+  } catch (const std::exception& e) {
+    error = "--restart: " + path + ": " + e.what();
+  }
+  throw_together<InputError>(error, comm);
+}
+
+void Restart::check_mesh(const Problem& problem) const {
+  const Distribution& dist = problem.distribution();
+  const nlohmann::json& s = file_->state();
+  const auto checksum = coordinate_checksum(dist, comm_);
+  std::string reason;
+  if (s.value("nodes", int64_t{-1}) != dist.num_global() || file_->nodes() != dist.num_global() ||
+      s.value("elements", int64_t{-1}) != dist.num_global_tets ||
+      s.value("order", 0) != dist.order) {
+    reason = "written on a mesh of " + std::to_string(s.value("nodes", int64_t{-1})) +
+             " nodes and " + std::to_string(s.value("elements", int64_t{-1})) + " P" +
+             std::to_string(s.value("order", 0)) + " tetrahedra; this deck's has " +
+             std::to_string(dist.num_global()) + " nodes and " +
+             std::to_string(dist.num_global_tets) + " P" + std::to_string(dist.order);
+  } else {
+    const double written = s.at("coordinate_checksum").at(0).get<double>();
+    if (std::abs(written - checksum[0]) > 1e-10 * checksum[1] + 1e-300)
+      reason = "written on a mesh of the same size but other node coordinates";
+  }
+  if (!reason.empty()) throw InputError("--restart: " + file_->path() + ": " + reason);
+}
+
+void Restart::read(const std::string& name, const Problem& problem, Vec v) const {
+  const Distribution& dist = problem.distribution();
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm_, &rank);
+  MPI_Comm_size(comm_, &size);
+  const int64_t n = file_->nodes();
+  // 1. Each rank reads a block of the file's rows and sends each row to the rank that keeps
+  //    the ids of its block (a directory by node id).
+  struct Row {
+    int64_t id;
+    double value[3];
+  };
+  std::string error;
+  const int64_t begin = block_begin(n, rank, size), end = block_begin(n, rank + 1, size);
+  std::vector<std::vector<Row>> to_directory(size);
+  try {
+    const auto ids = file_->node_ids(begin, end);
+    const auto values = file_->field(name, begin, end);
+    for (size_t i = 0; i < ids.size(); ++i) {
+      if (ids[i] < 0 || ids[i] >= n) {
+        error =
+            "--restart: " + file_->path() + ": node id " + std::to_string(ids[i]) + " out of range";
+        break;
+      }
+      to_directory[block_owner(n, ids[i], size)].push_back(
+          {ids[i], {values[3 * i], values[3 * i + 1], values[3 * i + 2]}});
+    }
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  throw_together<InputError>(error, comm_);
+  const std::vector<Row> kept = all_to_all(to_directory, comm_);
+  std::vector<Row> directory(end - begin, Row{-1, {0, 0, 0}});
+  for (const Row& row : kept) directory[row.id - begin] = row;
+  // 2. Each rank asks the directory for its owned nodes' rows and gets them back.
+  std::vector<std::vector<int64_t>> asks(size);
+  for (int64_t i = 0; i < dist.num_owned(); ++i)
+    asks[block_owner(n, dist.old_of_local[i], size)].push_back(dist.old_of_local[i]);
+  std::vector<int64_t> from;
+  const std::vector<int64_t> asked = all_to_all(asks, comm_, &from);
+  std::vector<std::vector<Row>> answers(size);
+  size_t next = 0;
+  for (int r = 0; r < size; ++r)
+    for (int64_t k = 0; k < from[r]; ++k, ++next)
+      answers[r].push_back(directory[asked[next] - begin]);
+  const std::vector<Row> answered = all_to_all(answers, comm_);
+  std::unordered_map<int64_t, int64_t> local_of;
+  for (int64_t i = 0; i < dist.num_owned(); ++i) local_of[dist.old_of_local[i]] = i;
+  PetscScalar* a;
+  HS_PETSC(VecGetArray(v, &a));
+  int64_t placed = 0;
+  for (const Row& row : answered) {
+    const auto it = local_of.find(row.id);
+    if (it == local_of.end()) continue;  // a node the file lacks (id -1)
+    for (int c = 0; c < 3; ++c) a[3 * it->second + c] = row.value[c];
+    ++placed;
+  }
+  HS_PETSC(VecRestoreArray(v, &a));
+  HS_PETSC(VecGhostUpdateBegin(v, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostUpdateEnd(v, INSERT_VALUES, SCATTER_FORWARD));
+  throw_together<InputError>(placed == dist.num_owned()
+                                 ? std::string()
+                                 : "--restart: " + file_->path() + ": /fields/" + name +
+                                       " lacks some of this mesh's nodes",
+                             comm_);
+}
+
+void Restart::restore(SteppingStats& stats) const {
+  const nlohmann::json& s = file_->state().at("stats");
+  stats.steps = s.at("steps");
+  stats.cutbacks = s.at("cutbacks");
+  stats.newton_iterations = s.at("newton_iterations");
+  stats.linear_iterations = s.at("linear_iterations");
+  stats.max_stored_energy = s.at("max_stored_energy");
+}
+
+nlohmann::json Restart::summary() const {
+  nlohmann::json j;
+  j["folder"] = folder_;
+  j["file"] = file_->path();
+  j["ranks"] = file_->state().value("ranks", 0);
+  j["position"] = position();
+  return j;
+}
+
+nlohmann::json constraint_states(const ConstraintSet& constraints) {
+  nlohmann::json list = nlohmann::json::array();
+  for (int k = 0; k < constraints.size(); ++k) {
+    const Constraint& c = constraints[k];
+    list.push_back({{"name", c.name()},
+                    {"lambda", c.lambda},
+                    {"target", c.target},
+                    {"control", static_cast<int>(c.control)},
+                    {"measure", c.measure},
+                    {"rest_measure", c.rest_measure}});
+  }
+  return list;
+}
+
+void restore_constraint_states(ConstraintSet& constraints, const nlohmann::json& states) {
+  if (static_cast<int>(states.size()) != constraints.size())
+    throw InputError("--restart: the checkpoint holds " + std::to_string(states.size()) +
+                     " constraints, this deck has " + std::to_string(constraints.size()));
+  for (int k = 0; k < constraints.size(); ++k) {
+    Constraint& c = constraints[k];
+    const nlohmann::json& s = states[k];
+    if (s.at("name") != c.name())
+      throw InputError("--restart: the checkpoint's constraint " + std::to_string(k) + " is '" +
+                       s.at("name").get<std::string>() + "', this deck's '" + c.name() + "'");
+    c.lambda = s.at("lambda");
+    c.target = s.at("target");
+    c.control = static_cast<Constraint::Control>(s.at("control").get<int>());
+    c.measure = s.at("measure");
+    c.rest_measure = s.at("rest_measure");
+  }
+}
+
+}  // namespace hs

@@ -1,0 +1,68 @@
+// checkpoint.h5: what a run needs to continue from a converged step (docs/output.md,
+// "Checkpoints and restarts"). Layout:
+//   attributes of /: format = "hydrosoft checkpoint", version = 1, state = JSON text (the
+//     step, the stepping's and the constraints' scalars, sizes, the deck's fingerprint)
+//   /node_ids        N int64: each row's node number in the mesh file
+//   /fields/<name>   N x 3 float64 (displacement, velocity, ...), rows as /node_ids
+//   /series/<name>   K float64: per-step scalars of the run so far (a dynamic run's energies)
+// Rows are in the writing run's solver numbering; a reader on any number of ranks places
+// them by node id. The file is written whole or not at all: into "<path>.tmp", renamed over
+// <path> once closed, so a run killed while writing leaves the previous checkpoint intact.
+#pragma once
+
+#include <hdf5.h>
+#include <mpi.h>
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hs {
+
+// One rank's rows: [first, first + node_ids.size()) of `nodes`.
+struct CheckpointRows {
+  int64_t nodes = 0, first = 0;
+  std::vector<int64_t> node_ids;
+};
+
+using NamedValues = std::vector<std::pair<std::string, std::vector<double>>>;
+
+// Collective. fields: 3 values per row of this rank; series: rank 0's values (others empty).
+// Throws std::runtime_error naming the file when it cannot be written.
+void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::json& state,
+                      const CheckpointRows& rows, const NamedValues& fields,
+                      const NamedValues& series);
+
+// Reading, each rank on its own (no collective calls). The file stays open for the object's
+// life, so it can still be read after its folder was removed (an open file outlives its name).
+class CheckpointFile {
+ public:
+  // Throws InputError naming the file when it is missing or not a hydrosoft checkpoint.
+  explicit CheckpointFile(const std::string& path);
+  ~CheckpointFile();
+  CheckpointFile(const CheckpointFile&) = delete;
+  CheckpointFile& operator=(const CheckpointFile&) = delete;
+
+  const std::string& path() const { return path_; }
+  const nlohmann::json& state() const { return state_; }
+  int64_t nodes() const { return nodes_; }
+  bool has_field(const std::string& name) const;
+  // Rows [begin, end): node ids, and 3 values per row of a field. InputError if unreadable.
+  std::vector<int64_t> node_ids(int64_t begin, int64_t end) const;
+  std::vector<double> field(const std::string& name, int64_t begin, int64_t end) const;
+  std::vector<double> series(const std::string& name) const;  // empty if it is missing
+
+ private:
+  [[noreturn]] void fail(const std::string& reason) const;
+  template <class T>
+  std::vector<T> rows(const std::string& name, hid_t type, int64_t begin, int64_t end,
+                      int cols) const;
+  std::string path_;
+  hid_t file_ = -1;
+  nlohmann::json state_;
+  int64_t nodes_ = 0;
+};
+
+}  // namespace hs
