@@ -4,6 +4,9 @@
 // writes into every output folder (or is empty): a mistyped output.folder cannot wipe out a user's
 // own files. The folder is locked for the object's life (FolderLock), so that a second run on the
 // same folder stops at once instead of deleting this run's staging folder.
+#include <fcntl.h>  // AT_FDCWD
+#include <stdio.h>  // renameat2, RENAME_EXCHANGE
+
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -65,10 +68,20 @@ OutputFolder::~OutputFolder() {
 
 void OutputFolder::commit() {
   if (committed_ || kept_) throw std::logic_error("OutputFolder::commit after commit or keep");
-  // Move the old results aside first, so that they come back if the rename fails.
-  const fs::path old = final_ + ".old";
-  const bool had_old = fs::exists(final_);
   require_usable(final_);  // checked at construction; the folder may have changed since
+  const bool had_old = fs::exists(final_);
+  // One atomic exchange of the two folders: a kill at any moment leaves either the old
+  // results or the new ones at <folder>, never neither. The staging name then holds the old
+  // results, deleted here or, after a kill, by the next run on the folder.
+  if (had_old &&
+      renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, final_.c_str(), RENAME_EXCHANGE) == 0) {
+    committed_ = true;
+    fs::remove_all(staging_);
+    return;
+  }
+  // No exchange (none to make, or a file system without it): move the old results aside
+  // first, so that they come back if the rename fails.
+  const fs::path old = final_ + ".old";
   if (had_old) {
     fs::remove_all(old);
     fs::rename(final_, old);

@@ -2,6 +2,7 @@
 // per folder), FolderLock, and write_json.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/inotify.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "../deck/temp_folder.hpp"
 #include "common/error.hpp"
@@ -59,6 +61,36 @@ TEST(OutputFolder, CommitReplacesAnOldFolder) {
   EXPECT_EQ(read_text(final + "/result.txt"), "new");
   EXPECT_FALSE(fs::exists(final + "/only_in_old.txt"));  // replaced, not merged
   EXPECT_FALSE(fs::exists(final + ".old"));
+  EXPECT_FALSE(fs::exists(final + ".partial"));
+}
+
+// The commit swaps the new results and the old ones in one rename: a kill at any moment
+// leaves one of them at <folder>. Seen from the parent folder: only the two names move, and
+// the earlier result never goes through <folder>.old (the two-rename commit, where a kill
+// between the renames left no <folder>).
+TEST(OutputFolder, CommitExchangesTheFolders) {
+  TempFolder tmp;
+  const std::string final = (tmp.path() / "run").string();
+  previous_run(final, "old");
+  OutputFolder out(final);
+  write_text(out.staging() + "/result.txt", "new");
+  const int watch = inotify_init1(IN_NONBLOCK);
+  ASSERT_GE(watch, 0);
+  ASSERT_GE(inotify_add_watch(watch, tmp.path().c_str(), IN_MOVED_FROM | IN_MOVED_TO | IN_CREATE),
+            0);
+  out.commit();
+  std::vector<std::string> names;
+  alignas(inotify_event) char buffer[8192];
+  for (ssize_t n; (n = read(watch, buffer, sizeof buffer)) > 0;)
+    for (char* p = buffer; p < buffer + n;) {
+      const auto* event = reinterpret_cast<const inotify_event*>(p);
+      if (event->len > 0) names.emplace_back(event->name);
+      p += sizeof(inotify_event) + event->len;
+    }
+  close(watch);
+  for (const auto& name : names) EXPECT_NE(name, "run.old");
+  EXPECT_FALSE(names.empty());  // the exchange itself is seen
+  EXPECT_EQ(read_text(final + "/result.txt"), "new");
   EXPECT_FALSE(fs::exists(final + ".partial"));
 }
 
