@@ -59,6 +59,16 @@ TEST_F(DeckErrors, UnknownKeysSuggestTheNearest) {
   });
 }
 
+// Found by the fuzz harness (tests/fuzz/): a carriage return inside a key was printed as it was,
+// and the terminal wrote the rest of the message over its start.
+TEST_F(DeckErrors, ControlCharactersOfTheDeckAreWrittenOut) {
+  expect_errors({
+      {kMesh + kMaterials + "tim\re: {}\n", "tim\\re", "unknown key (did you mean 'time'?"},
+      {kMesh + kMaterials + "time: {type: \"st\\x1batic\"}\n", "time.type",
+       "unknown name 'st\\x1batic'"},
+  });
+}
+
 TEST_F(DeckErrors, WrongTypes) {
   expect_errors({
       {kMesh + "materials:\n  - {group: body, model: linear_elastic, E: stiff, nu: 0.3}\n",
