@@ -2,11 +2,12 @@
 
 accepted   exit 0 (and, for a real run, every number of its results finite)
 rejected   exit 1 or 2 (3 for a real run that fails to converge) with ONE line on standard
-           error, `hydrosoft: error: FILE: ...`, that names the deck or the mesh file
+           error, `hydrosoft: error: FILE: KEY: reason (line N)`, FILE the deck or the mesh
 time_limit a real run still going at its time limit (a valid deck may ask for many steps)
 defect     anything else: a signal, an abort, exit 4 (an exception that is not an input
-           error), a PETSc error dump, several lines of error, a message naming no file,
-           exit 0 with a NaN in the results, --check past its time limit, the memory limit
+           error), a PETSc error dump, several lines of error, a message that does not start
+           with its file, exit 0 with a NaN in the results, --check past its time limit, the
+           memory limit
 """
 import json
 import math
@@ -94,8 +95,10 @@ def classify(returncode, stderr, files, real_run, results_folder):
     if len(errors) != 1 or noise:
         return "defect", f"{len(errors)} error lines and {len(noise)} other lines on stderr"
     message = errors[0][len("hydrosoft: error: ") :]
-    if not any(f in message for f in files):
-        return "defect", "the message names no file: " + message[:300]
+    # FILE: KEY: reason (line N), or FILE: reason: the message starts with the file it is about.
+    head = message.split(": ", 1)[0]
+    if not any(head == f or head.endswith("/" + f) for f in files) or ": " not in message:
+        return "defect", "the message does not start with the file: " + message[:300]
     return "rejected", ""
 
 

@@ -174,8 +174,13 @@ def main():
     ids = args.only if args.only else range(args.first, args.first + args.cases)
     cases = [make_case(args.seed, i, decks, meshes, args.run_share, args.mesh_share) for i in ids]
     start = time.monotonic()
+    results = []
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        results = list(pool.map(lambda c: run_one(c, args), cases))
+        for r in pool.map(lambda c: run_one(c, args), cases):
+            results.append(r)
+            if len(results) % 500 == 0:  # a line now and then for the long campaign
+                print(f"fuzz: {len(results)} of {len(cases)} cases, {time.monotonic() - start:.0f} s",
+                      file=sys.stderr, flush=True)
     shutil.rmtree(os.path.join(args.out, "work"), ignore_errors=True)
 
     counts, by_kind = {}, {}
