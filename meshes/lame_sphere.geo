@@ -9,6 +9,11 @@ DefineConstant[ a = 1.0, b = 2.0, h = 0.25 ];
 If (a <= 0 || b <= a || h <= 0)
   Error("lame_sphere.geo: need 0 < a < b and h > 0 (a = %g, b = %g, h = %g)", a, b, h);
 EndIf
+// A far smaller inner sphere is below what OpenCASCADE and the mesher resolve: gmsh then ran
+// without end (a = 1e-30) instead of failing.
+If (a < 1e-3 * b)
+  Error("lame_sphere.geo: need a >= b / 1000 (a = %g, b = %g)", a, b);
+EndIf
 
 // Sphere(tag) = {centre, radius, polar angle from, polar angle to, azimuth}:
 // latitude 0..pi/2 (z >= 0) and azimuth 0..pi/2 (x, y >= 0) is the first octant.

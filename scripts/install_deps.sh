@@ -15,7 +15,7 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev
   libgtest-dev googletest
   libopenblas0-pthread      # the reference BLAS makes MUMPS several times slower
-  python3-numpy python3-h5py python3-matplotlib python3-paraview xvfb
+  python3-numpy python3-h5py python3-yaml python3-matplotlib python3-paraview xvfb
   clang-format
 )
 

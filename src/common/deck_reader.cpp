@@ -63,6 +63,22 @@ std::string format_number(double value) {
   return std::string(buffer, result.ptr);
 }
 
+std::string printable(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7f) {
+      out += c;
+    } else if (c == '\n' || c == '\r' || c == '\t') {
+      out += c == '\n' ? "\\n" : c == '\r' ? "\\r" : "\\t";
+    } else {
+      static const char hex[] = "0123456789abcdef";
+      out += std::string("\\x") + hex[u >> 4] + hex[u & 15];
+    }
+  }
+  return out;
+}
+
 std::string join(const std::vector<std::string>& words, const std::string& separator) {
   std::string out;
   for (size_t i = 0; i < words.size(); ++i) out += (i ? separator : "") + words[i];
@@ -112,8 +128,8 @@ void DeckReader::fail(const std::string& key, const YAML::Node& node,
 
 void DeckReader::fail(const std::string& key, const std::string& reason) const {
   const std::string from = override_for(key);
-  throw InputError(file_ + ": " + key + ": " + reason +
-                   (from.empty() ? "" : " [from override '" + from + "']"));
+  throw InputError(printable(file_ + ": " + key + ": " + reason +
+                             (from.empty() ? "" : " [from override '" + from + "']")));
 }
 
 std::string DeckReader::override_for(const std::string& key) const {

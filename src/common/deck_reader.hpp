@@ -73,6 +73,10 @@ std::string nearest(const std::string& word, const std::vector<std::string>& can
 // The shortest text that reads back as exactly `value` (e.g. 0.3, 1e+06).
 std::string format_number(double value);
 
+// `text` with its control characters written out (\r, \t, \x1b, ...): a message that quotes a
+// deck's bytes stays one line on a terminal and cannot move its cursor.
+std::string printable(const std::string& text);
+
 // "a, b, c".
 std::string join(const std::vector<std::string>& words, const std::string& separator = ", ");
 

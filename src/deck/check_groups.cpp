@@ -37,8 +37,8 @@ std::string listing(const MeshGroups& mesh) {
 
 void check_groups(const Config& c, const MeshGroups& mesh) {
   auto fail = [&](const std::string& key, const std::string& reason) {
-    throw InputError(c.deck_path + ": " + key + ": " + reason + " (mesh " + c.mesh.file + " has " +
-                     listing(mesh) + ")");
+    throw InputError(printable(c.deck_path + ": " + key + ": " + reason + " (mesh " + c.mesh.file +
+                               " has " + listing(mesh) + ")"));
   };
   // Every group must carry nodes: an empty one would silently constrain or load nothing.
   auto require_nodes = [&](const std::string& key, const std::string& group) {

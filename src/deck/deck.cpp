@@ -26,7 +26,12 @@ namespace fs = std::filesystem;
 constexpr double kMaxTimeSteps = 1e7;
 
 YAML::Node load_yaml(const std::string& path) {
-  if (!fs::is_regular_file(path)) throw InputError(path + ": deck file not found");
+  std::error_code error;  // a name too long for the system is a missing file, not an exception
+  if (!fs::is_regular_file(path, error))
+    throw InputError(printable(path) + ": deck file not found" +
+                     (error && error != std::errc::no_such_file_or_directory
+                          ? " (" + error.message() + ")"
+                          : ""));
   try {
     // A second document (after ---) would be ignored: refused rather than half-read.
     const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
@@ -50,9 +55,14 @@ MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::pat
   const fs::path given = r.text(file, "mesh.file");
   const fs::path resolved = fs::absolute(given.is_absolute() ? given : deck_dir / given);
   mesh.file = resolved.lexically_normal().string();
-  if (!fs::is_regular_file(mesh.file))
-    r.fail("mesh.file", file,
-           "mesh file '" + mesh.file + "' not found (a relative path starts at the deck's folder)");
+  std::error_code error;  // a name too long for the system is a missing file, not an exception
+  if (!fs::is_regular_file(mesh.file, error))
+    r.fail(
+        "mesh.file", file,
+        "mesh file '" + (mesh.file.size() > 200 ? mesh.file.substr(0, 200) + "..." : mesh.file) +
+            "' not found (a relative path starts at the deck's folder" +
+            (error && error != std::errc::no_such_file_or_directory ? "; " + error.message() : "") +
+            ")");
   std::string extension = resolved.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   require(extension == ".msh" || extension == ".geo" || extension == ".h5", r, file, "mesh.file",

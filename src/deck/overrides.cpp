@@ -2,8 +2,8 @@
 
 #include <cctype>
 
-#include "common/error.hpp"
 #include "common/deck_reader.hpp"
+#include "common/error.hpp"
 
 namespace hs {
 namespace {
@@ -57,7 +57,7 @@ std::map<std::string, std::string> apply_overrides(YAML::Node& root,
   std::map<std::string, std::string> override_of_key;
   for (const std::string& text : overrides) {
     auto fail = [&](const std::string& reason) {
-      throw InputError(file + ": override '" + text + "': " + reason);
+      throw InputError(printable(file + ": override '" + text + "': " + reason));
     };
     const size_t eq = text.find('=');
     if (eq == std::string::npos) fail("expected key=value");

@@ -217,7 +217,8 @@ class GeoGuard {
       fail(file, w + " \"" + t[k].text + "\"",
            "reads a file outside the .geo's folder and the deck's folder", t[i].line);
     if (w == "Include" || has_extension(p.string(), ".geo")) {
-      if (fs::is_regular_file(p)) check(p.string(), depth + 1);
+      std::error_code error;  // a name too long for the system: gmsh will not find it either
+      if (fs::is_regular_file(p, error)) check(p.string(), depth + 1);
     }
   }
 

@@ -68,6 +68,33 @@ bool is_identifier(const std::string& s) {
   return true;
 }
 
+// The .geo text with its comments and strings blanked: a parameter named only in a comment
+// ("// A selection that ...") or a message is not used by the file.
+std::string code_only(const std::string& text) {
+  std::string code = text;
+  for (size_t i = 0; i < code.size(); ++i) {
+    size_t end = i;
+    if (code.compare(i, 2, "//") == 0) {
+      end = code.find('\n', i);
+    } else if (code.compare(i, 2, "/*") == 0) {
+      end = code.find("*/", i + 2);
+      if (end != std::string::npos) end += 2;
+    } else if (code[i] == '"') {
+      end = i + 1;
+      while (end < code.size() && code[end] != '"' && code[end] != '\n')
+        end += code[end] == '\\' ? 2 : 1;
+      end = std::min(end + 1, code.size());
+    } else {
+      continue;
+    }
+    if (end == std::string::npos) end = code.size();
+    for (size_t k = i; k < end; ++k)
+      if (code[k] != '\n') code[k] = ' ';
+    i = end - 1;
+  }
+  return code;
+}
+
 // Whether `name` occurs in `text` as a whole word (a guard against misspelt parameters).
 bool mentions(const std::string& text, const std::string& name) {
   auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
@@ -110,6 +137,7 @@ class ParameterWrapper {
   static std::string wrapper_text(const std::string& file,
                                   const std::map<std::string, double>& parameters) {
     const std::string source = read_text(file);
+    const std::string code = code_only(source);
     const std::string absolute = fs::absolute(file).lexically_normal().string();
     if (absolute.find('"') != std::string::npos)
       throw InputError(file + ": a .geo path with a double quote cannot be included");
@@ -119,7 +147,8 @@ class ParameterWrapper {
       const std::string where = file + ": mesh parameter '" + name + "'";
       if (!is_identifier(name)) throw InputError(where + " is not a .geo identifier");
       if (!std::isfinite(value)) throw InputError(where + " is not a finite number");
-      if (!mentions(source, name)) throw InputError(where + " does not occur in the file");
+      if (!mentions(code, name))
+        throw InputError(where + " does not occur in the file (outside its comments and strings)");
       geo << name << " = " << value << ";\n";
     }
     geo << "Include \"" << absolute << "\";\n";

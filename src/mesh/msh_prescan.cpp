@@ -16,6 +16,7 @@
 #include <cstring>
 #include <map>
 #include <string_view>
+#include <utility>
 
 #include "common/error.hpp"
 
@@ -236,8 +237,9 @@ class Scanner {
     const int64_t blocks = count_at(at, section, "the entity block count");
     const int64_t total =
         count_at(at, section, "the " + what.substr(0, what.size() - 1) + " count");
-    count_at(at, section, "the smallest tag");
-    count_at(at, section, "the largest tag");
+    const int64_t smallest_tag = count_at(at, section, "the smallest tag");
+    const int64_t largest_tag = count_at(at, section, "the largest tag");
+    if (nodes) node_tags_ = {smallest_tag, largest_tag};
     const int64_t block_bytes = binary_ ? 20 : 8;  // "0 1 0 0\n"
     const int64_t item_bytes = binary_ ? (nodes ? 32 : 16) : (nodes ? kNodeBytes : kElementBytes);
     check_count(blocks, block_bytes, at, section, "entity blocks", header);
@@ -274,11 +276,24 @@ class Scanner {
     return total;
   }
 
-  // ASCII: one element a line (its tag, then its nodes), as gmsh reads them; binary: by size.
+  // A node tag of an element outside the $Nodes header's range: gmsh 4.8 looks such a tag up
+  // past the end of its table (a tag of -1 read as 2^64 - 1 crashed it) instead of saying
+  // "Unknown node" as it does for a tag inside the range that no node has.
+  void check_node_tag(int64_t tag, int64_t element, size_t at) const {
+    if (tag < std::max<int64_t>(node_tags_.first, 1) || tag > node_tags_.second)
+      fail("$Elements",
+           "element " + std::to_string(element) + " names node " + std::to_string(tag) +
+               ", outside the node tags " + std::to_string(node_tags_.first) + " to " +
+               std::to_string(node_tags_.second) + " of $Nodes",
+           at);
+  }
+
+  // An element's tag, then its nodes: one line of ASCII (as gmsh reads them) or 1 + n 8-byte
+  // values; the node tags are checked against the range of $Nodes.
   void skip_elements(size_t& at, const std::string& section, int64_t type, int64_t count,
                      size_t block) const {
+    const int n = nodes_of_type(type);
     if (binary_) {
-      const int n = nodes_of_type(type);
       if (n < 0)
         fail(section, "element type " + std::to_string(type) + " is not known to hydrosoft", block);
       const int64_t left = static_cast<int64_t>(d_.size() - std::min(at, d_.size()));
@@ -287,16 +302,41 @@ class Scanner {
              "an entity block claims " + std::to_string(count) + " elements of " +
                  std::to_string(n) + " nodes, more than the rest of the file can hold",
              block);
-      at += static_cast<size_t>(count) * 8 * (1 + n);
+      for (int64_t k = 0; k < count; ++k) {
+        const size_t start = at;
+        const auto element = static_cast<int64_t>(read_binary<uint64_t>(at, section));
+        for (int j = 0; j < n; ++j) {
+          const uint64_t tag = read_binary<uint64_t>(at, section);
+          check_node_tag(tag > static_cast<uint64_t>(INT64_MAX) ? -1 : static_cast<int64_t>(tag),
+                         element, start);
+        }
+      }
       return;
     }
     at = skip_line(at);
-    for (int64_t k = 0; k < count && at < d_.size(); ++k) at = skip_line(at);
+    for (int64_t k = 0; k < count && at < d_.size(); ++k) {
+      const size_t start = at, end = skip_line(at);
+      const int64_t element = integer(at, section, "an element's tag");
+      for (int j = 0; j < n && at < end; ++j) {
+        const size_t before = at;
+        if (token_before(at, end).empty()) break;  // gmsh reports a short line itself
+        at = before;
+        check_node_tag(integer(at, section, "a node tag"), element, start);
+      }
+      at = end;
+    }
+  }
+
+  // The next token if it starts before `end` (the end of its line), else empty.
+  std::string_view token_before(size_t& at, size_t end) const {
+    const std::string_view t = token(at);
+    return at - t.size() < end ? t : std::string_view();
   }
 
   const std::string& file_;
   std::string_view d_;
   bool binary_ = false, swap_ = false;
+  std::pair<int64_t, int64_t> node_tags_{1, INT64_MAX};  // the smallest and largest of $Nodes
 };
 
 }  // namespace

@@ -51,6 +51,14 @@ void check(const ExactParameters& p) {
 
 std::unique_ptr<ExactSolution> make(const ExactParameters& p, const ExactSetting& setting) {
   const ExactMaterial& m = only_material(setting, "cantilever_gravity");
+  // Without a load the reference deflection is 0 and the relative error 0/0: refused before
+  // the run rather than failing at its end with a NaN summary.json cannot hold.
+  if (setting.gravity[2] == 0)
+    throw ExactInputError("loads.gravity",
+                          "the cantilever_gravity solution needs a gravity component along z");
+  if (m.density == 0)
+    throw ExactInputError("materials[0].density",
+                          "the cantilever_gravity solution needs a density above 0");
   return std::make_unique<Cantilever>(p["L"], p["h"], m.E, m.density, std::abs(setting.gravity[2]));
 }
 

@@ -4,6 +4,7 @@
 
 #include "common/error.hpp"
 #include "deck/deck.hpp"
+#include "deck/exact_section.hpp"
 #include "temp_folder.hpp"
 
 namespace hs {
@@ -56,6 +57,16 @@ TEST_F(DeckErrors, UnknownKeysSuggestTheNearest) {
        "did you mean 'steps'?"},
       {kMesh + kMaterials + "loads: {gravity: [0, 0, -1], gravity: [0, 0, 1]}\n", "loads.gravity",
        "duplicate key"},
+  });
+}
+
+// Found by the fuzz harness (tests/fuzz/): a carriage return inside a key was printed as it was,
+// and the terminal wrote the rest of the message over its start.
+TEST_F(DeckErrors, ControlCharactersOfTheDeckAreWrittenOut) {
+  expect_errors({
+      {kMesh + kMaterials + "tim\re: {}\n", "tim\\re", "unknown key (did you mean 'time'?"},
+      {kMesh + kMaterials + "time: {type: \"st\\x1batic\"}\n", "time.type",
+       "unknown name 'st\\x1batic'"},
   });
 }
 
@@ -210,6 +221,28 @@ TEST_F(DeckErrors, PetscOptionNames) {
       {kMesh + kMaterials + "solver: {petsc_options: {ksp type: cg}}\n",
        "solver.petsc_options.ksp type", "not a PETSc option name"},
   });
+}
+
+// Found by the fuzz harness (tests/fuzz/): a 5,000-character mesh.file ended in an uncaught
+// std::filesystem error (exit status 4); a cantilever without gravity ran, then failed at its
+// end on a NaN relative error (now refused when the run makes its exact solution, first).
+TEST_F(DeckErrors, FoundByFuzzing) {
+  expect_errors({
+      {"mesh: {file: " + std::string(5000, 'x') + ".msh}\n" + kMaterials, "mesh.file",
+       "...' not found (a relative path starts at the deck's folder; File name too long)"},
+  });
+  const std::string path = tmp.write(
+      "cantilever.yaml",
+      kMesh + kMaterials + "exact: {type: cantilever_gravity, parameters: {L: 1, h: 0.1}}\n");
+  const Config config = parse_deck(path);
+  try {
+    make_exact_solution(config);
+    ADD_FAILURE() << "no InputError for a cantilever without gravity";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path +
+                                         ": loads.gravity: the cantilever_gravity solution "
+                                         "needs a gravity component along z");
+  }
 }
 
 TEST_F(DeckErrors, MeshFiles) {

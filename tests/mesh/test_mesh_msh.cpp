@@ -192,6 +192,14 @@ TEST(MeshErrors, ParametersMustBeDefineConstants) {
   EXPECT_GT(load(defined, 1, {{"h", 0.25}}).num_tets(), 2 * load(defined).num_tets());
   const std::string sphere = source_mesh("lame_sphere.geo");
   expect_input_error([&] { load(sphere, 1, {{"hh", 0.3}}); }, {sphere, "'hh'", "does not occur"});
+  // Found by the fuzz harness: 'A' for 'a' passed because a comment of the file starts with "A";
+  // comments and strings do not count.
+  expect_input_error([&] { load(sphere, 1, {{"A", 1.0}}); }, {sphere, "'A'", "does not occur"});
+  expect_input_error(
+      [&] {
+        load(sphere, 1, {{"need", 1.0}});
+      },
+      {sphere, "'need'", "does not occur"});
   expect_input_error(
       [&] {
         load(sphere, 1, {{"Mesh.MeshSizeMax", 0.3}});

@@ -287,6 +287,22 @@ TEST(MshCounts, NodesClaimedBeyondTheFilesSizeAreRefused) {
   expect_input_error([&] { load(path); }, {"$Elements: claims 300000000 elements"});
 }
 
+// Found by the fuzz harness (tests/fuzz/): gmsh 4.8 crashed (SIGSEGV) on a node tag of -1 or -5
+// in format 4.1, where it says "Unknown node" for a tag inside the range that no node has.
+TEST(MshCounts, ElementNodesOutsideTheNodeTagsAreRefused) {
+  TempDir dir;
+  const std::string good = read(corner_tet().write(dir, "corner.msh"));
+  const std::string path = dir.file("tags.msh");
+  for (const std::string tag : {"-5", "-1", "0", "5"}) {
+    SCOPED_TRACE(tag);
+    write(path, replace_after(good, "$Elements", "3 1 3 2 4", "3 1 3 2 " + tag));
+    expect_input_error([&] { load(path); }, {path + ": $Elements: element 3 names node " + tag,
+                                             "outside the node tags 1 to 4 of $Nodes", "(line "});
+  }
+  write(path, replace_after(good, "$Elements", "3 1 3 2 4", "3 1 3 2 18446744073709551615"));
+  expect_input_error([&] { load(path); }, {"$Elements: expected an integer for a node tag"});
+}
+
 TEST(MshCounts, BinaryAndVersion2FilesAreScannedToo) {
   TempDir dir;
   for (const auto& [format, binary] :

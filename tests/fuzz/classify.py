@@ -1,0 +1,126 @@
+"""Runs one mutated case of hydrosoft and says which class its outcome is in.
+
+accepted   exit 0 (and, for a real run, every number of its results finite)
+rejected   exit 1 or 2 (3 for a real run that fails to converge) with ONE line on standard
+           error, `hydrosoft: error: FILE: KEY: reason (line N)`, FILE the deck or the mesh
+time_limit a real run still going at its time limit (a valid deck may ask for many steps)
+defect     anything else: a signal, an abort, exit 4 (an exception that is not an input
+           error), a PETSc error dump, several lines of error, a message that does not start
+           with its file, exit 0 with a NaN in the results, --check past its time limit, the
+           memory limit
+"""
+import json
+import math
+import os
+import resource
+import subprocess
+
+# Lines a clean refusal may print beside its one error line.
+BENIGN_PREFIXES = ("hydrosoft: warning:", "hydrosoft: step ")
+
+
+def _limit_memory(megabytes):
+    def apply():
+        limit = megabytes * 1024 * 1024
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+        resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+
+    return apply
+
+
+def _non_finite_in_results(folder):
+    """A description of the first non-finite number in summary.json or the .h5, or ''."""
+    summary = os.path.join(folder, "summary.json")
+    if not os.path.exists(summary):
+        return "no summary.json"
+    with open(summary) as f:
+        text = f.read()
+    try:
+        data = json.loads(text, parse_constant=lambda c: float("nan"))
+    except ValueError as e:
+        return f"summary.json is not JSON: {e}"
+
+    def walk(node, path):
+        if isinstance(node, float) and not math.isfinite(node):
+            return path
+        items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else []
+        for k, v in items:
+            found = walk(v, f"{path}.{k}")
+            if found:
+                return found
+        return ""
+
+    found = walk(data, "summary")
+    if found:
+        return f"{found} is not finite"
+    try:
+        import h5py
+        import numpy
+    except ImportError:
+        return ""
+    for name in os.listdir(folder):
+        if name.endswith(".h5"):
+            bad = []
+
+            def visit(path, obj):
+                if isinstance(obj, h5py.Dataset) and obj.dtype.kind == "f" and not bad:
+                    if not numpy.isfinite(obj[()]).all():
+                        bad.append(path)
+
+            with h5py.File(os.path.join(folder, name), "r") as h5:
+                h5.visititems(visit)
+            if bad:
+                return f"{name}:{bad[0]} holds a non-finite number"
+    return ""
+
+
+def classify(returncode, stderr, files, real_run, results_folder):
+    """(class, reason) of one finished case."""
+    lines = [l for l in stderr.splitlines() if l.strip()]
+    errors = [l for l in lines if l.startswith("hydrosoft: error:")]
+    noise = [l for l in lines if not l.startswith(BENIGN_PREFIXES) and l not in errors]
+    if returncode < 0:
+        return "defect", f"signal {-returncode}"
+    if any("PETSC ERROR" in l for l in lines):
+        return "defect", "PETSc error dump"
+    if returncode == 0:
+        if real_run:
+            bad = _non_finite_in_results(results_folder)
+            if bad:
+                return "defect", f"exit 0 but {bad}"
+        return "accepted", ""
+    clean_codes = (1, 2, 3) if real_run else (1, 2)
+    if returncode not in clean_codes:
+        return "defect", f"exit {returncode}: " + (errors[0] if errors else (lines or [""])[-1])[:300]
+    if len(errors) != 1 or noise:
+        return "defect", f"{len(errors)} error lines and {len(noise)} other lines on stderr"
+    message = errors[0][len("hydrosoft: error: ") :]
+    # FILE: KEY: reason (line N), or FILE: reason: the message starts with the file it is about.
+    head = message.split(": ", 1)[0]
+    if not any(head == f or head.endswith("/" + f) for f in files) or ": " not in message:
+        return "defect", "the message does not start with the file: " + message[:300]
+    return "rejected", ""
+
+
+def run_case(hydrosoft, deck, overrides, files, real_run, work, timeout, memory_mb):
+    """Runs one case in `work`; returns (class, reason, exit code, stderr)."""
+    command = [hydrosoft] + ([] if real_run else ["--check"]) + [deck]
+    for o in overrides:
+        command += ["--set", o]
+    results = os.path.join(work, "results")
+    if real_run:
+        command += ["-q", "--set", "output.folder=" + results]
+    # Isolated singleton: no Open MPI daemon started for each of thousands of short processes.
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", OMPI_MCA_ess_singleton_isolated="1")
+    try:
+        p = subprocess.run(command, cwd=work, env=env, stdin=subprocess.DEVNULL,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout,
+                           preexec_fn=_limit_memory(memory_mb))
+    except subprocess.TimeoutExpired as e:
+        stderr = (e.stderr or b"").decode("utf-8", "replace")
+        if real_run:
+            return "time_limit", f"still running after {timeout} s", None, stderr, command
+        return "defect", f"--check still running after {timeout} s", None, stderr, command
+    stderr = p.stderr.decode("utf-8", "replace")
+    cls, reason = classify(p.returncode, stderr, files, real_run, results)
+    return cls, reason, p.returncode, stderr, command

@@ -1,0 +1,215 @@
+#!/usr/bin/python3
+"""Fuzzes hydrosoft's input: mutated decks of input/, mutated .msh meshes and --set overrides,
+each run with `hydrosoft --check` and a sample also for real, each outcome classified
+(classify.py). Deterministic: case i of seed s is the same on every machine and can be run
+alone (--only i).
+
+    tests/fuzz/fuzz.py --hydrosoft build/bin/hydrosoft --out /tmp/fuzz --seed 1 --cases 3000
+
+Writes OUT/report.json (counts per class and per mutation, every defect), OUT/cases.csv (one
+row a case) and OUT/defects/<id>/ (the mutated deck and mesh, the command, its stderr);
+nothing into the source tree. Exit status 1 if a defect was found.
+"""
+import argparse
+import concurrent.futures
+import csv
+import glob
+import json
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from classify import run_case  # noqa: E402
+from deck_mutations import mutate_deck, override_mutation  # noqa: E402
+from mesh_mutations import mutate_msh  # noqa: E402
+
+SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+# Decks whose real run ends in seconds: the sample of real runs is drawn from these.
+FAST_DECKS = {"cantilever_gravity", "hydrostatic_patch", "bimaterial_bar", "lame_sphere", "gent_sphere",
+              "cantilever_dynamic", "neo_hookean_sphere", "finger_cable", "cylinder_air"}
+
+# The deck of the mesh cases: a block held at its bottom under its own weight.
+MESH_DECK = """mesh:
+  file: mesh.msh
+  order: {order}
+materials:
+  - {{group: body, model: neo_hookean, E: 1.0e6, nu: 0.3, density: 1000}}
+boundary:
+  - {{group: bottom}}
+loads:
+  gravity: [0, 0, -9.81]
+time: {{type: static, steps: 1}}
+solver: {{preset: mumps}}
+"""
+
+# The base meshes: (name, gmsh arguments, order of the deck).
+BASE_MESHES = [
+    ("block_v41", ["-format", "msh41"], 1),
+    ("block_v22", ["-format", "msh22"], 1),
+    ("block_v41_p2", ["-format", "msh41", "-order", "2"], 2),
+]
+
+
+def make_base_meshes(folder):
+    os.makedirs(folder, exist_ok=True)
+    meshes = {}
+    for name, args, order in BASE_MESHES:
+        path = os.path.join(folder, name + ".msh")
+        subprocess.run(["gmsh", "-3", "-setnumber", "h", "0.5", "-nt", "1", *args, "-o", path,
+                        os.path.join(SOURCE, "meshes", "block.geo")],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        with open(path) as f:
+            meshes[name] = (f.read(), order)
+    return meshes
+
+
+def load_decks(pattern):
+    decks = {}
+    for path in sorted(glob.glob(pattern)):
+        with open(path) as f:
+            text = f.read()
+        # The mutated deck lives elsewhere: its mesh is named by its absolute path.
+        text = re.sub(r"(file:\s*)\.\./meshes/", r"\g<1>" + os.path.join(SOURCE, "meshes") + "/", text)
+        decks[os.path.splitext(os.path.basename(path))[0]] = text
+    return decks
+
+
+def make_case(seed, i, decks, meshes, run_share, mesh_share):
+    """The case i of `seed`: what to write and how to run it, from its own generator."""
+    rng = random.Random(f"{seed}/{i}")
+    case = {"id": i, "overrides": [], "mesh": None}
+    draw = rng.random()
+    if draw < mesh_share:
+        name = rng.choice(sorted(meshes))
+        text, order = meshes[name]
+        case["source"] = name
+        case["kind"], case["detail"], case["mesh"] = mutate_msh(rng, text)
+        case["deck"] = MESH_DECK.format(order=order)
+    else:
+        name = rng.choice(sorted(decks))
+        case["source"] = name
+        if draw < mesh_share + 0.08:
+            case["kind"], case["detail"] = "override", ""
+            case["deck"] = decks[name]
+            case["overrides"] = [override_mutation(rng, decks[name])]
+            case["detail"] = case["overrides"][0][:80]
+        else:
+            case["kind"], case["detail"], case["deck"] = mutate_deck(rng, decks[name])
+    fast = case["mesh"] is not None or case["source"] in FAST_DECKS
+    case["real_run"] = fast and rng.random() < run_share
+    return case
+
+
+def write_case(case, folder):
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, "deck.yaml"), "w", encoding="utf-8", errors="surrogateescape") as f:
+        f.write(case["deck"])
+    if case["mesh"] is not None:
+        with open(os.path.join(folder, "mesh.msh"), "w") as f:
+            f.write(case["mesh"])
+
+
+def run_one(case, args):
+    folder = os.path.join(args.out, "work", str(case["id"]))
+    shutil.rmtree(folder, ignore_errors=True)
+    write_case(case, folder)
+    files = ["deck.yaml", "mesh.msh"] + re.findall(r"meshes/(\w+\.geo)", case["deck"])
+    start = time.monotonic()
+    outcome = run_case(args.hydrosoft, "deck.yaml", case["overrides"], files, False, folder,
+                       args.check_timeout, args.memory_mb)
+    if case["real_run"] and outcome[0] == "accepted":
+        outcome = run_case(args.hydrosoft, "deck.yaml", case["overrides"], files, True, folder,
+                           args.run_timeout, args.memory_mb)
+    cls, reason, code, stderr, command = outcome
+    result = {k: case[k] for k in ("id", "source", "kind", "detail", "real_run")}
+    result.update({"class": cls, "reason": reason, "exit": code, "seconds": round(time.monotonic() - start, 2)})
+    if cls == "defect" or (cls == "time_limit" and args.keep_time_limits):
+        kept = os.path.join(args.out, "defects" if cls == "defect" else "time_limits", str(case["id"]))
+        shutil.rmtree(kept, ignore_errors=True)
+        shutil.rmtree(os.path.join(folder, "results"), ignore_errors=True)
+        shutil.move(folder, kept)
+        with open(os.path.join(kept, "command.txt"), "w") as f:
+            f.write("cd " + kept + " && " + " ".join(repr(c) if " " in c else c for c in command) + "\n")
+        with open(os.path.join(kept, "stderr.txt"), "w") as f:
+            f.write(stderr)
+        result["reproducer"] = kept
+        result["stderr_tail"] = stderr[-2000:]
+    else:
+        shutil.rmtree(folder, ignore_errors=True)
+    return result
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--hydrosoft", required=True)
+    parser.add_argument("--out", required=True, help="report and reproducers (not in the source tree)")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--cases", type=int, default=300)
+    parser.add_argument("--first", type=int, default=0, help="the first case's id")
+    parser.add_argument("--only", type=int, nargs="*", help="run these case ids alone")
+    parser.add_argument("--decks", default=os.path.join(SOURCE, "input", "*.yaml"))
+    parser.add_argument("--run-share", type=float, default=0.0, help="share of fast cases also run for real")
+    parser.add_argument("--mesh-share", type=float, default=0.3)
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--check-timeout", type=float, default=60)
+    parser.add_argument("--run-timeout", type=float, default=60)
+    parser.add_argument("--memory-mb", type=int, default=4096)
+    parser.add_argument("--keep-time-limits", action="store_true")
+    args = parser.parse_args()
+    args.hydrosoft = os.path.abspath(args.hydrosoft)
+    args.out = os.path.abspath(args.out)
+    if os.path.commonpath([args.out, SOURCE]) == SOURCE and "/build" not in args.out:
+        sys.exit("fuzz: --out must lie outside the source tree (or in a build folder)")
+    shutil.rmtree(os.path.join(args.out, "defects"), ignore_errors=True)
+    os.makedirs(args.out, exist_ok=True)
+
+    decks = load_decks(args.decks)
+    meshes = make_base_meshes(os.path.join(args.out, "base"))
+    ids = args.only if args.only else range(args.first, args.first + args.cases)
+    cases = [make_case(args.seed, i, decks, meshes, args.run_share, args.mesh_share) for i in ids]
+    start = time.monotonic()
+    results = []
+    with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+        for r in pool.map(lambda c: run_one(c, args), cases):
+            results.append(r)
+            if len(results) % 500 == 0:  # a line now and then for the long campaign
+                print(f"fuzz: {len(results)} of {len(cases)} cases, {time.monotonic() - start:.0f} s",
+                      file=sys.stderr, flush=True)
+    shutil.rmtree(os.path.join(args.out, "work"), ignore_errors=True)
+
+    counts, by_kind = {}, {}
+    for r in results:
+        counts[r["class"]] = counts.get(r["class"], 0) + 1
+        kind = by_kind.setdefault(r["kind"], {})
+        kind[r["class"]] = kind.get(r["class"], 0) + 1
+    defects = [r for r in results if r["class"] == "defect"]
+    report = {
+        "seed": args.seed, "cases": len(results), "first": args.first,
+        "real_runs": sum(r["real_run"] for r in results),
+        "seconds": round(time.monotonic() - start, 1), "counts": counts, "by_kind": by_kind,
+        "defects": defects,
+        "time_limits": [r for r in results if r["class"] == "time_limit"],
+    }
+    with open(os.path.join(args.out, "report.json"), "w") as f:
+        json.dump(report, f, indent=1)
+    with open(os.path.join(args.out, "cases.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, ["id", "source", "kind", "detail", "real_run", "class", "exit", "seconds", "reason"],
+                           extrasaction="ignore")
+        w.writeheader()
+        w.writerows(results)
+    print(f"fuzz: seed {args.seed}, {len(results)} cases ({report['real_runs']} also run), "
+          f"{report['seconds']} s: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    for d in defects:
+        print(f"fuzz: defect in case {d['id']} ({d['source']}, {d['kind']}: {d['detail']}): {d['reason']}"
+              f"\n      reproducer: {d['reproducer']}")
+    return 1 if defects else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
