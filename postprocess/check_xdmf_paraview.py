@@ -6,9 +6,11 @@
 
 For every reader (XDMFReader, Xdmf3ReaderS, Xdmf3ReaderT) and every time step it checks
 the number of points and cells, the cell type (VTK tetra or quadratic tetra), the point and
-cell arrays (displacement, nodal_load; von_mises, J, rank) and the time values; then it
-compares the points, the connectivity and every array with the datasets of the .h5 file
-(read with h5py), so that a reader that misreads a field or a step is caught.
+cell arrays (each step's datasets: displacement, nodal_load and, with cavities,
+cavity_pressure_load and fluid_weight_load; von_mises, J, rank; and the mesh's physical
+groups: volume_group per cell, group_<name> per node) and the time values; then it compares
+the points, the connectivity and every array with the datasets of the .h5 file (read with
+h5py), so that a reader that misreads a field or a step is caught.
 Expected counts default to those of the .h5 file. Exit status 0 when every reader agrees.
 Runs under /usr/bin/pvpython (Debian's paraview, which also has numpy and h5py).
 """
@@ -21,8 +23,16 @@ import numpy as np
 from paraview import servermanager, simple
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
-POINT_ARRAYS = ["displacement", "nodal_load"]
-CELL_ARRAYS = ["von_mises", "J", "rank"]
+
+def arrays_of(h5, step):
+    """The point and cell arrays a step's grid has: {name: dataset}, from the .h5."""
+    mesh = h5["mesh"]
+    points = {k: mesh[k] for k in mesh if k.startswith("group_")}
+    cells = {k: mesh[k] for k in ("volume_group",) if k in mesh}
+    for k, data in step.items():
+        (points if data.ndim == 2 else cells)[k] = data
+    return points, cells
+
 VTK_TETRA, VTK_QUADRATIC_TETRA = 10, 24
 
 READERS = {
@@ -88,8 +98,9 @@ def check_reader(name, xmf, h5, expected):
                f"{where}: cell types {set(np.unique(grid.CellTypes))}, expected {cell_type}")
         point_names = sorted(grid.PointData.keys())
         cell_names = sorted(grid.CellData.keys())
-        expect(point_names == sorted(POINT_ARRAYS), f"{where}: point arrays {point_names}")
-        expect(cell_names == sorted(CELL_ARRAYS), f"{where}: cell arrays {cell_names}")
+        point_arrays, cell_arrays = arrays_of(h5, h5[f"step_{k}"])
+        expect(point_names == sorted(point_arrays), f"{where}: point arrays {point_names}")
+        expect(cell_names == sorted(cell_arrays), f"{where}: cell arrays {cell_names}")
         if len(errors) > errors_before:
             break  # the values cannot be compared
         # The values, against the .h5 file: points, connectivity (in VTK order) and fields.
@@ -100,12 +111,11 @@ def check_reader(name, xmf, h5, expected):
         expect(np.array_equal(cells, topology), f"{where}: connectivity differs from the .h5")
         if expected["straight_edges"]:
             expect(edges_are_straight(vtk_grid), f"{where}: a mid-edge node is off its edge")
-        step = h5[f"step_{k}"]
-        for array in POINT_ARRAYS:
-            expect(np.array_equal(grid.PointData[array], step[array][:]),
+        for array, data in point_arrays.items():
+            expect(np.array_equal(grid.PointData[array], data[:]),
                    f"{where}: {array} differs from the .h5")
-        for array in CELL_ARRAYS:
-            expect(np.array_equal(grid.CellData[array], step[array][:]),
+        for array, data in cell_arrays.items():
+            expect(np.array_equal(grid.CellData[array], data[:]),
                    f"{where}: {array} differs from the .h5")
     simple.Delete(reader)
     return errors

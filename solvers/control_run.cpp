@@ -176,7 +176,7 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
     std::vector<double> equilibrium;
     if (config.control->free_solve == FreeSolve::one_step && config.control->check_equilibrium)
       equilibrium = controller.equilibrium_positions(u);
-    recorder.record(first_time + ++set, u, 1.0);
+    recorder.record(first_time + ++set, u, 1.0, "target_set");
     auto error_of = [&](const std::vector<double>& x, int e, const ControlTarget& t) {
       double err2 = 0;
       for (int d = 0; d < 3; ++d)

@@ -129,6 +129,9 @@ class Problem {
   // g = dV/du of that volume: the nodal forces of a unit pressure (the paper's J_p^T), zero on
   // Dirichlet dofs.
   void volume_gradient(int surface, Vec u, Vec g);
+  // The pressure of the cavity surfaces alone (the part of external_load they are) on
+  // configuration u, into f.
+  void cavity_pressure_load(Vec u, Vec f);
   // A further load vector f (not owned; nullptr for none): R -= f, external_load += f.
   void set_extra_load(Vec f) { extra_load_ = f; }
   // int n da over the deformed faces of a surface group (summed over ranks): its area times

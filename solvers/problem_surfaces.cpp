@@ -50,6 +50,24 @@ void Problem::volume_gradient(int surface, Vec u, Vec g) {
   dofs_.zero(g);
 }
 
+void Problem::cavity_pressure_load(Vec u, Vec f) {
+  // As assemble_forces adds them, so that external_load minus this is the rest exactly.
+  assemble_local(u, f, [&](const PetscScalar* ua, PetscScalar* ra) {
+    const int npf = dist_.nodes_per_face();
+    double xf[18], ff[18];
+    for (const auto& surface : pressure_faces_) {
+      if (surface.scaled) continue;  // a deck's pressure load, not a cavity's
+      for (size_t k = 0; k < surface.faces.size() / npf; ++k) {
+        const int32_t* nodes = &surface.faces[k * npf];
+        for (int i = 0; i < 3 * npf; ++i)
+          xf[i] = X_[3 * nodes[i / 3] + i % 3] + ua[3 * nodes[i / 3] + i % 3];
+        face_pressure(dist_.order, xf, surface.value, ff, nullptr);
+        for (int i = 0; i < 3 * npf; ++i) ra[3 * nodes[i / 3] + i % 3] += ff[i];
+      }
+    }
+  });
+}
+
 std::array<double, 3> Problem::area_vector(const std::string& group, Vec u) {
   std::array<double, 3> local{0, 0, 0}, total{0, 0, 0};
   auto it = dist_.faces.find(group);

@@ -114,6 +114,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   if (config.control)
     control_loop =
         std::make_unique<ControlLoop>(config, problem, *constraints, *bordered, std::move(io));
+  if (constraints) recorder.set_constraints(constraints.get());
   recorder.set_history(
       history_sources(config, staged, constraints.get(), control_loop.get(), stats));
 

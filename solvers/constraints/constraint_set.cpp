@@ -137,6 +137,23 @@ bool ConstraintSet::linearize(Vec u, double s, Mat J, ConstraintLinearization& l
   return ok;
 }
 
+int ConstraintSet::cavity_count() const {
+  return static_cast<int>(std::count_if(constraints_.begin(), constraints_.end(),
+                                        [](const auto& c) { return c->is_cavity(); }));
+}
+
+bool ConstraintSet::fluid_weight_load(Vec f) const {
+  bool any = false;
+  for (const auto& c : constraints_) {
+    // A cavity's load that follows its measure is its liquid's weight.
+    if (!c->is_cavity() || !c->measure_load()) continue;
+    if (!any) HS_PETSC(VecSet(f, 0.0));
+    HS_PETSC(VecAXPY(f, 1.0, c->measure_load()));
+    any = true;
+  }
+  return any;
+}
+
 bool ConstraintSet::symmetric() const {
   return std::all_of(constraints_.begin(), constraints_.end(),
                      [](const auto& c) { return c->symmetric_stiffness(); });

@@ -63,6 +63,11 @@ class ConstraintSet {
   void freeze_weights(Vec u, double s);
   bool linearized() const { return linearized_; }
 
+  int cavity_count() const;
+  // The liquids' weights of the hydraulic cavities, as the last residual added them, into f
+  // (assembled); false, f untouched, when no cavity's liquid weighs anything.
+  bool fluid_weight_load(Vec f) const;
+
   // Fluid-weight seconds and calls so far, and what ran (for summary.json).
   double fluid_weight_seconds() const;
   int fluid_weight_calls() const;

@@ -1,5 +1,6 @@
 #include "solvers/output/result_recorder.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "common/error.hpp"
@@ -43,6 +44,20 @@ OutputLayout output_layout(const Distribution& dist, MPI_Comm comm) {
   l.tet_ids = dist.local_tets;
   l.topology.reserve(dist.tet_nodes.size());
   for (int32_t n : dist.tet_nodes) l.topology.push_back(dist.local_nodes[n]);
+  l.volume_group = dist.tet_volume;
+  l.volume_names = dist.groups.volumes;
+  // Every rank lists the whole mesh's groups (in the map's order), so the writes match.
+  const auto& volumes = dist.groups.volumes;
+  for (const auto& entry : dist.groups.group_nodes) {
+    const std::string& name = entry.first;
+    if (std::find(volumes.begin(), volumes.end(), name) != volumes.end()) continue;
+    OutputLayout::NodeGroup group{name, std::vector<int>(dist.num_owned(), 0)};
+    auto it = dist.node_groups.find(name);
+    if (it != dist.node_groups.end())
+      for (int32_t n : it->second)
+        if (n < dist.num_owned()) group.mask[n] = 1;  // ghosts are their owner's rows
+    l.node_groups.push_back(std::move(group));
+  }
   return l;
 }
 
@@ -60,13 +75,22 @@ ResultRecorder::ResultRecorder(Problem& problem, const Config& config,
 
 ResultRecorder::~ResultRecorder() { VecDestroy(&load_); }
 
-void ResultRecorder::record(double time, Vec u, double s) {
+void ResultRecorder::record(double time, Vec u, double s, const std::string& time_kind) {
   const double t0 = MPI_Wtime();
   StepFields f;
   f.time = time;
   f.displacement = owned_values(u);
+  f.time_kind = time_kind.empty() ? sources_.time_column : time_kind;
   problem_.external_load(u, s, load_);
   f.nodal_load = owned_values(load_);
+  // The parts of that load, as the residual last had them (the cavities' pressures on their
+  // walls, the liquids' weights): nodal_load minus these is gravity, the deck's pressures and
+  // the cables' forces.
+  if (constraints_ && constraints_->cavity_count() > 0) {
+    problem_.cavity_pressure_load(u, load_);
+    f.cavity_pressure_load = owned_values(load_);
+    if (constraints_->fluid_weight_load(load_)) f.fluid_weight_load = owned_values(load_);
+  }
   problem_.element_fields(u, f.von_mises, f.J);
   f.rank.assign(f.J.size(), rank_);
   HistoryRow row;

@@ -13,6 +13,7 @@
 #include "deck/config.hpp"
 #include "io/output.hpp"
 #include "io/step_history.hpp"
+#include "solvers/constraints/constraint_set.hpp"
 #include "solvers/problem.hpp"
 
 namespace hs {
@@ -49,7 +50,11 @@ class ResultRecorder {
   // Writes the fields of u at `time` (the step's attribute), loads at load factor s, and the
   // step's history row. Collective; refuses (SolveError, nothing written) a step with a
   // non-finite value.
-  void record(double time, Vec u, double s);
+  // time_kind: what `time` is in the .h5 and .xmf (docs/output.md); empty: the history's
+  // time column (load_factor, time_s or state).
+  void record(double time, Vec u, double s, const std::string& time_kind = "");
+  // Decks with cavities: the constraints whose loads the steps split out of nodal_load.
+  void set_constraints(const ConstraintSet* constraints) { constraints_ = constraints; }
   // Collective. Closes the files, writes the history into the .h5 and summary.json with
   // "status": "ok", and moves them to the output folder (rank 0); returns its path there.
   std::string finish(nlohmann::json& summary);
@@ -83,6 +88,7 @@ class ResultRecorder {
   StepHistory history_;
   int newton_at_last_row_ = 0;
   Vec load_ = nullptr;
+  const ConstraintSet* constraints_ = nullptr;
 };
 
 }  // namespace hs

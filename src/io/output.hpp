@@ -59,6 +59,16 @@ struct OutputLayout {
   std::vector<double> x;                   // its nodes' reference coordinates, 3 each
   std::vector<int64_t> topology;           // its tetrahedra, in file rows (gmsh node order)
   std::vector<int64_t> node_ids, tet_ids;  // numbers in the mesh file of its rows
+  // Physical groups, for ParaView's selections: per tetrahedron its volume group's index in
+  // volume_names; per named surface, curve or point group (every rank the same list, in the
+  // same order) a 0/1 mask over its nodes.
+  std::vector<int> volume_group;
+  std::vector<std::string> volume_names;
+  struct NodeGroup {
+    std::string name;
+    std::vector<int> mask;  // 1 per node of its rows in the group, else 0
+  };
+  std::vector<NodeGroup> node_groups;
   int64_t my_nodes() const { return static_cast<int64_t>(node_ids.size()); }
   int64_t my_tets() const { return static_cast<int64_t>(tet_ids.size()); }
 };
@@ -67,12 +77,17 @@ struct OutputLayout {
 OutputLayout whole_layout(const Mesh& mesh);
 
 struct StepFields {
-  double time = 0;                   // load factor (static) or physical time (dynamic)
+  double time = 0;  // load factor (static) or physical time (dynamic)
+  // What `time` is: load_factor, time_s, state (index plus fraction) or target_set.
+  std::string time_kind = "load_factor";
   std::vector<double> displacement;  // 3 per node of this rank's rows
   std::vector<double> nodal_load;    // 3 per node: applied external load (gravity, pressure)
-  std::vector<double> von_mises;     // per tetrahedron of its rows (Cauchy, at the centroid)
-  std::vector<double> J;             // per tetrahedron (det F at the centroid)
-  std::vector<int> rank;             // per tetrahedron: the MPI rank that owns it
+  // Parts of nodal_load, 3 per node, written only when not empty (decks with cavities, resp.
+  // a liquid's weight): the cavities' pressure on their walls, the liquid's weight.
+  std::vector<double> cavity_pressure_load, fluid_weight_load;
+  std::vector<double> von_mises;  // per tetrahedron of its rows (Cauchy, at the centroid)
+  std::vector<double> J;          // per tetrahedron (det F at the centroid)
+  std::vector<int> rank;          // per tetrahedron: the MPI rank that owns it
 };
 
 // <folder>/<name>.h5 and <folder>/<name>.xmf (layout: docs/output.md). P2 meshes are

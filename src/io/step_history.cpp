@@ -85,6 +85,17 @@ nlohmann::json StepHistory::last_row() const {
   return j;
 }
 
+// A column's unit, from the suffix its name ends with (docs/output.md, "History").
+static std::string column_units(const std::string& column) {
+  auto ends_with = [&](const std::string& suffix) {
+    return column.size() >= suffix.size() &&
+           column.compare(column.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  for (const char* unit : {"Pa", "m3", "N", "m", "s"})
+    if (ends_with(std::string("_") + unit)) return std::string(unit) == "m3" ? "m^3" : unit;
+  return "1";
+}
+
 void StepHistory::write_h5(const std::string& h5_path, MPI_Comm comm) const {
   if (columns_.empty()) return;
   int rank = 0;
@@ -98,6 +109,7 @@ void StepHistory::write_h5(const std::string& h5_path, MPI_Comm comm) const {
       h5.write_rows(name, std::vector<int64_t>(values.begin(), values.end()), rows(), 0, 0);
     else
       h5.write_rows(name, values, rows(), 0, 0);
+    h5.set_attribute(name, "units", column_units(columns_[c]));
   }
   h5.close();
 }

@@ -3,11 +3,17 @@
 //   /mesh/coordinates  N x 3 float64      /mesh/topology  E x 4 or E x 10 int64 (VTK order)
 //   /mesh/node_ids  N int64, /mesh/tet_ids  E int64 (the rows' numbers in the mesh file)
 //   /step_<k>/displacement, nodal_load  N x 3 float64;  von_mises, J  E float64;
-//   /step_<k>/rank  E int32;  attribute /step_<k>/time.
+//   /step_<k>/rank  E int32;  attributes /step_<k>/time, time_kind;
+//   with cavities /step_<k>/cavity_pressure_load (and with a liquid's weight
+//   fluid_weight_load)  N x 3 float64, the parts of nodal_load they are.
+//   /mesh/volume_group  E int32, /mesh/group_<name>  N int32 0/1 (physical groups).
+// Every dataset has a string attribute `units` (m, N, Pa or 1).
 // The .xmf is a Temporal collection of Uniform grids, each with its own <Time Value=.../>
 // (ParaView 5.11's Xdmf3 readers abort on a <Time TimeType="List"> on the collection), all
 // pointing at the same /mesh datasets. It is rewritten atomically after every step, so the
 // staging folder of a run that is still going (or died) can be opened.
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -30,6 +36,9 @@ struct XdmfWriter::Impl {
   int64_t first_node = 0, first_tet = 0, my_nodes = 0, my_tets = 0;
   std::vector<int64_t> node_ids, tet_ids;
   std::vector<double> times;  // of the steps written so far
+  std::vector<std::string> time_kinds;
+  std::vector<char> has_pressure, has_weight;  // per step: its optional fields
+  std::vector<std::string> mask_names;         // /mesh/group_<name> datasets
   bool closed = false;
 
   std::string h5_path() const { return folder + "/" + name + ".h5"; }
@@ -84,6 +93,21 @@ std::vector<int64_t> vtk_topology(const OutputLayout& layout) {
   return topology;
 }
 
+// A group's name as an HDF5 dataset name and an XDMF attribute name: letters, digits, _, -
+// and . kept, anything else (a / would make a path) replaced by _.
+std::string dataset_name(const std::string& group) {
+  std::string out = "group_";
+  for (char c : group)
+    out +=
+        std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ? c : '_';
+  return out;
+}
+
+// The names as a JSON list, the index -> name mapping kept beside an index field.
+std::string json_list(const std::vector<std::string>& names) {
+  return nlohmann::json(names).dump();
+}
+
 void require_size(const char* field, size_t size, int64_t expected) {
   if (static_cast<int64_t>(size) != expected)
     throw std::invalid_argument(std::string("XdmfWriter::write_step: ") + field + " has " +
@@ -135,9 +159,23 @@ std::string XdmfWriter::Impl::grid(const std::string& indent, int step) const {
       << in2 << data_item(h5, dataset, rows, cols, number_type, precision) << "\n"
       << in << "</Attribute>\n";
   };
+  // The physical groups on every grid, so that ParaView can threshold by them at any step.
+  auto mesh_attribute = [&](const std::string& field, const char* center, int64_t rows) {
+    x << in << "<Attribute Name=\"" << escape_xml(field) << "\" AttributeType=\"Scalar\" Center=\""
+      << center << "\">\n"
+      << in2 << data_item(h5, "/mesh/" + field, rows, 0, "Int", 4) << "\n"
+      << in << "</Attribute>\n";
+  };
+  mesh_attribute("volume_group", "Cell", tets);
+  for (const std::string& mask : mask_names) mesh_attribute(mask, "Node", nodes);
   if (step >= 0) {
+    x << in << "<Information Name=\"time_kind\" Value=\"" << escape_xml(time_kinds[step])
+      << "\"/>\n";
     attribute("displacement", "Vector", "Node", nodes, 3, "Float", 8);
     attribute("nodal_load", "Vector", "Node", nodes, 3, "Float", 8);
+    if (has_pressure[step])
+      attribute("cavity_pressure_load", "Vector", "Node", nodes, 3, "Float", 8);
+    if (has_weight[step]) attribute("fluid_weight_load", "Vector", "Node", nodes, 3, "Float", 8);
     attribute("von_mises", "Scalar", "Cell", tets, 0, "Float", 8);
     attribute("J", "Scalar", "Cell", tets, 0, "Float", 8);
     attribute("rank", "Scalar", "Cell", tets, 0, "Int", 4);
@@ -180,6 +218,15 @@ OutputLayout whole_layout(const Mesh& mesh) {
   l.tet_ids.resize(l.tets);
   for (int64_t n = 0; n < l.nodes; ++n) l.node_ids[n] = n;
   for (int64_t t = 0; t < l.tets; ++t) l.tet_ids[t] = t;
+  l.volume_group = mesh.tet_volume;
+  l.volume_names = mesh.volume_names;
+  for (const auto& [name, members] : mesh.node_groups) {
+    if (std::find(l.volume_names.begin(), l.volume_names.end(), name) != l.volume_names.end())
+      continue;  // volume_group holds it
+    OutputLayout::NodeGroup group{name, std::vector<int>(l.nodes, 0)};
+    for (int64_t n : members) group.mask[n] = 1;
+    l.node_groups.push_back(std::move(group));
+  }
   return l;
 }
 
@@ -201,12 +248,33 @@ XdmfWriter::XdmfWriter(MPI_Comm comm, const std::string& folder, const std::stri
   w.first_tet = layout.first_tet;
   w.my_nodes = layout.my_nodes();
   w.my_tets = layout.my_tets();
+  require_size("volume_group", layout.volume_group.size(), w.my_tets);
   Hdf5File h5(w.h5_path(), Hdf5File::Mode::Create, comm);
   h5.create_group("/mesh");
   h5.write_rows("/mesh/coordinates", layout.x, w.nodes, 3, w.first_node);
+  h5.set_attribute("/mesh/coordinates", "units", std::string("m"));
   h5.write_rows("/mesh/topology", vtk_topology(layout), w.tets, w.nodes_per_tet, w.first_tet);
   h5.write_rows("/mesh/node_ids", layout.node_ids, w.nodes, 0, w.first_node);
   h5.write_rows("/mesh/tet_ids", layout.tet_ids, w.tets, 0, w.first_tet);
+  h5.write_rows("/mesh/volume_group", layout.volume_group, w.tets, 0, w.first_tet);
+  h5.set_attribute("/mesh/volume_group", "names", json_list(layout.volume_names));
+  std::vector<std::string> groups;
+  for (const auto& group : layout.node_groups) {
+    require_size(group.name.c_str(), group.mask.size(), w.my_nodes);
+    const std::string dataset = "/mesh/" + dataset_name(group.name);
+    if (std::find(w.mask_names.begin(), w.mask_names.end(), dataset_name(group.name)) !=
+        w.mask_names.end())
+      continue;  // two names that differ only in replaced characters: the first one is kept
+    h5.write_rows(dataset, group.mask, w.nodes, 0, w.first_node);
+    h5.set_attribute(dataset, "group", group.name);
+    w.mask_names.push_back(dataset_name(group.name));
+    groups.push_back(group.name);
+  }
+  h5.set_attribute("/mesh", "node_groups", json_list(groups));
+  for (const char* index : {"topology", "node_ids", "tet_ids", "volume_group"})
+    h5.set_attribute(std::string("/mesh/") + index, "units", std::string("1"));
+  for (const std::string& mask : w.mask_names)
+    h5.set_attribute("/mesh/" + mask, "units", std::string("1"));
   h5.close();
   w.node_ids = std::move(layout.node_ids);
   w.tet_ids = std::move(layout.tet_ids);
@@ -229,6 +297,9 @@ void XdmfWriter::write_step(const StepFields& f) {
   require_size("von_mises", f.von_mises.size(), w.my_tets);
   require_size("J", f.J.size(), w.my_tets);
   require_size("rank", f.rank.size(), w.my_tets);
+  const bool pressure = !f.cavity_pressure_load.empty(), weight = !f.fluid_weight_load.empty();
+  if (pressure) require_size("cavity_pressure_load", f.cavity_pressure_load.size(), 3 * w.my_nodes);
+  if (weight) require_size("fluid_weight_load", f.fluid_weight_load.size(), 3 * w.my_nodes);
   const size_t k = w.times.size();
   if (!std::isfinite(f.time))
     throw SolveError("output step " + std::to_string(k) + ": the time is not finite");
@@ -238,6 +309,11 @@ void XdmfWriter::write_step(const StepFields& f) {
   if (error.empty())
     error = first_non_finite("von_mises", f.von_mises, w.tet_ids, false, k, f.time);
   if (error.empty()) error = first_non_finite("J", f.J, w.tet_ids, false, k, f.time);
+  if (error.empty())
+    error = first_non_finite("cavity_pressure_load", f.cavity_pressure_load, w.node_ids, true, k,
+                             f.time);
+  if (error.empty())
+    error = first_non_finite("fluid_weight_load", f.fluid_weight_load, w.node_ids, true, k, f.time);
   if (w.comm != MPI_COMM_NULL)
     throw_together<SolveError>(error, w.comm);
   else if (!error.empty())
@@ -247,13 +323,26 @@ void XdmfWriter::write_step(const StepFields& f) {
   Hdf5File h5(w.h5_path(), Hdf5File::Mode::Append, w.comm);
   h5.create_group(step);
   h5.set_attribute(step, "time", f.time);
-  h5.write_rows(step + "/displacement", f.displacement, w.nodes, 3, w.first_node);
-  h5.write_rows(step + "/nodal_load", f.nodal_load, w.nodes, 3, w.first_node);
+  h5.set_attribute(step, "time_kind", f.time_kind);
+  auto nodal = [&](const char* field, const std::vector<double>& values, const char* units) {
+    h5.write_rows(step + "/" + field, values, w.nodes, 3, w.first_node);
+    h5.set_attribute(step + "/" + field, "units", std::string(units));
+  };
+  nodal("displacement", f.displacement, "m");
+  nodal("nodal_load", f.nodal_load, "N");
+  if (pressure) nodal("cavity_pressure_load", f.cavity_pressure_load, "N");
+  if (weight) nodal("fluid_weight_load", f.fluid_weight_load, "N");
   h5.write_rows(step + "/von_mises", f.von_mises, w.tets, 0, w.first_tet);
+  h5.set_attribute(step + "/von_mises", "units", std::string("Pa"));
   h5.write_rows(step + "/J", f.J, w.tets, 0, w.first_tet);
+  h5.set_attribute(step + "/J", "units", std::string("1"));
   h5.write_rows(step + "/rank", f.rank, w.tets, 0, w.first_tet);
+  h5.set_attribute(step + "/rank", "units", std::string("1"));
   h5.close();
   w.times.push_back(f.time);
+  w.time_kinds.push_back(f.time_kind);
+  w.has_pressure.push_back(pressure);
+  w.has_weight.push_back(weight);
   if (w.rank == 0) w.write_xdmf();
 }
 

@@ -26,8 +26,10 @@ Mesh two_tets(int order) {
   Mesh m;
   m.x = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1.2, 0.9, 1.1};
   m.tets = {0, 1, 2, 3, 1, 2, 3, 4};
-  m.tet_volume = {0, 0};
-  m.volume_names = {"body"};
+  m.tet_volume = {0, 1};
+  m.volume_names = {"base", "cap"};
+  // The volumes' nodes have no mask (volume_group holds them); a name with a space does.
+  m.node_groups = {{"base", {0, 1, 2, 3}}, {"cap", {1, 2, 3, 4}}, {"tip face", {1, 4}}};
   if (order == 2) {
     const int gmsh_edges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}};
     std::map<std::pair<int64_t, int64_t>, int64_t> midpoint;
@@ -58,6 +60,10 @@ StepFields fields(const Mesh& mesh, int step, double time) {
   for (int64_t i = 0; i < 3 * mesh.num_nodes(); ++i) {
     f.displacement.push_back(std::sin(0.7 * i + step) * 1e-3);
     f.nodal_load.push_back(std::cos(0.3 * i - step) * 1e4);
+    if (step == 1) {  // a step with cavities: the load's parts
+      f.cavity_pressure_load.push_back(std::sin(0.2 * i) * 1e3);
+      f.fluid_weight_load.push_back(-0.5 * i);
+    }
   }
   for (int64_t e = 0; e < mesh.num_tets(); ++e) {
     f.von_mises.push_back(1e5 * (e + 1) + step);
@@ -109,6 +115,23 @@ std::vector<int64_t> read_int64(const std::string& file, const std::string& name
   H5Dclose(set);
   H5Fclose(f);
   return values;
+}
+
+// A fixed-length string attribute ("" if there is none).
+std::string read_text_attribute(const std::string& file, const std::string& object,
+                                const std::string& name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  std::string value;
+  if (H5Aexists_by_name(f, object.c_str(), name.c_str(), H5P_DEFAULT) > 0) {
+    const hid_t a = H5Aopen_by_name(f, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t type = H5Aget_type(a);
+    value.assign(H5Tget_size(type), '\0');
+    H5Aread(a, type, value.data());
+    H5Tclose(type);
+    H5Aclose(a);
+  }
+  H5Fclose(f);
+  return value.substr(0, value.find('\0'));
 }
 
 double read_time(const std::string& file, const std::string& group) {
@@ -245,7 +268,13 @@ void check_xmf(const std::string& folder, const std::string& name, const Mesh& m
   }
   EXPECT_GE(collection, 0);
   EXPECT_EQ(grids, static_cast<int>(times.size()));
-  EXPECT_EQ(items, 7 * grids);  // topology, geometry and five fields per step
+  int loaded = 0;  // steps with the load parts
+  for (int k = 0; k < grids; ++k)
+    loaded += !read_dataset(folder + "/" + name + ".h5",
+                            "/step_" + std::to_string(k) + "/cavity_pressure_load")
+                   .dims.empty();
+  // Topology, geometry, volume_group, the one node mask and five fields per step.
+  EXPECT_EQ(items, 9 * grids + 2 * loaded);
 }
 
 // ---- Tests ----
@@ -293,6 +322,35 @@ TEST_P(XdmfWriterTest, Hdf5HoldsEveryArray) {
     EXPECT_EQ(rank.type_class, H5T_INTEGER);
   }
   EXPECT_TRUE(read_dataset(h5(), "/step_2/J").dims.empty());
+  // The load parts only where the step has them.
+  EXPECT_TRUE(read_dataset(h5(), "/step_0/cavity_pressure_load").dims.empty());
+  EXPECT_TRUE(read_dataset(h5(), "/step_0/fluid_weight_load").dims.empty());
+  const StepFields f = fields(mesh, 1, 1.0);
+  EXPECT_EQ(read_dataset(h5(), "/step_1/cavity_pressure_load").values, f.cavity_pressure_load);
+  EXPECT_EQ(read_dataset(h5(), "/step_1/fluid_weight_load").values, f.fluid_weight_load);
+  // The physical groups, their names and every dataset's units.
+  EXPECT_EQ(read_dataset(h5(), "/mesh/volume_group").values, (std::vector<double>{0, 1}));
+  EXPECT_EQ(read_text_attribute(h5(), "/mesh/volume_group", "names"), "[\"base\",\"cap\"]");
+  std::vector<double> tip(N, 0.0);
+  tip[1] = tip[4] = 1;
+  EXPECT_EQ(read_dataset(h5(), "/mesh/group_tip_face").values, tip);
+  EXPECT_EQ(read_text_attribute(h5(), "/mesh/group_tip_face", "group"), "tip face");
+  EXPECT_EQ(read_text_attribute(h5(), "/mesh", "node_groups"), "[\"tip face\"]");
+  EXPECT_TRUE(read_dataset(h5(), "/mesh/group_base").dims.empty());
+  EXPECT_EQ(read_text_attribute(h5(), "/step_1", "time_kind"), "load_factor");
+  const std::map<std::string, std::string> units = {{"/mesh/coordinates", "m"},
+                                                    {"/mesh/topology", "1"},
+                                                    {"/mesh/volume_group", "1"},
+                                                    {"/mesh/group_tip_face", "1"},
+                                                    {"/step_1/displacement", "m"},
+                                                    {"/step_1/nodal_load", "N"},
+                                                    {"/step_1/cavity_pressure_load", "N"},
+                                                    {"/step_1/fluid_weight_load", "N"},
+                                                    {"/step_1/von_mises", "Pa"},
+                                                    {"/step_1/J", "1"},
+                                                    {"/step_1/rank", "1"}};
+  for (const auto& [dataset, unit] : units)
+    EXPECT_EQ(read_text_attribute(h5(), dataset, "units"), unit) << dataset;
 }
 
 TEST_P(XdmfWriterTest, TopologyIsInVtkNodeOrder) {
@@ -384,7 +442,7 @@ TEST(XdmfWriter, MeshAloneBeforeTheFirstStep) {
   int grids = 0, items = 0;
   for (const auto& e : elements) grids += e.name == "Grid", items += e.name == "DataItem";
   EXPECT_EQ(grids, 1);
-  EXPECT_EQ(items, 2);  // topology and geometry
+  EXPECT_EQ(items, 4);  // topology, geometry, volume_group, group_tip_face
 }
 
 }  // namespace
