@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "../deck/temp_folder.hpp"
+#include "child_process.hpp"
 
 namespace {
 
@@ -31,22 +32,8 @@ std::string finger_command(const std::string& folder) {
          folder;
 }
 
-// Starts `command` under /bin/sh; returns its process id.
-pid_t start(const std::string& command) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
-
-// The exit status of a process started by start() (-1 if it did not exit).
-int wait_for(pid_t pid) {
-  int status = 0;
-  if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
-  return WEXITSTATUS(status);
-}
+using hs::testing::start;
+using hs::testing::wait_for;
 
 std::vector<std::string> lines_of(const std::string& path) {
   std::ifstream in(path);

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "../deck/temp_folder.hpp"
+#include "child_process.hpp"
 
 namespace {
 
@@ -40,24 +41,9 @@ const std::string kFailsAtStep3 =
     "--set materials[0].model=neo_hookean --set materials[0].E=1e5 --set time.steps=5 "
     "--set time.schedule=[0.01,0.02,100,200,300] --set time.max_cutbacks=0";
 
-// Starts `command` under /bin/sh (exec'd: the process id is the command's); returns it.
-pid_t start(const std::string& command) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
-
-// The exit status of a process started by start() (-1 if it did not exit).
-int wait_for(pid_t pid) {
-  int status = 0;
-  if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
-  return WEXITSTATUS(status);
-}
-
-int run(const std::string& command) { return wait_for(start(command)); }
+using hs::testing::run;
+using hs::testing::start;
+using hs::testing::wait_for;
 
 std::string text_of(const std::string& path) {
   std::ifstream in(path);
