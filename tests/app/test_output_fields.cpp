@@ -205,4 +205,23 @@ TEST(OutputFields, ADeckWithoutCavitiesWritesNoLoadParts) {
   EXPECT_TRUE(h5.has("/mesh/volume_group"));
 }
 
+// A control run's output steps after its loading are target sets, and say so.
+TEST(OutputFields, AControlRunLabelsItsStepsAsTargetSets) {
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "finger").string();
+  const std::string command = std::string(HYDROSOFT_EXE) + " " + kSource +
+                              "/input/finger_hydraulic.yaml -q --set mesh.parameters.h=0.006 "
+                              "--set control.steps_per_target=1 --set output.folder=" +
+                              folder + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  const auto summary = nlohmann::json::parse(text_of(folder + "/summary.json"));
+  const H5 h5(folder + "/finger_hydraulic.h5");
+  const int first = summary["targets"][0]["step"].get<int>();
+  ASSERT_GT(first, 0);  // the loading to rest comes first
+  EXPECT_EQ(h5.text("/step_0", "time_kind"), "state");
+  for (const auto& target : summary["targets"])
+    EXPECT_EQ(h5.text("/step_" + std::to_string(target["step"].get<int>()), "time_kind"),
+              "target_set");
+}
+
 }  // namespace
