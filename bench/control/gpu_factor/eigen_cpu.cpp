@@ -27,22 +27,13 @@ Result run(const Protocol& p, const char* name) {
   Eigen::VectorXd x = solver.solve(b);
   res.setup_ms = 1e3 * (now_s() - t0);
   res.nnz_factor = double(solver.matrixL().nestedExpression().nonZeros());
-  std::vector<double> tf, ts;
-  for (int k = 0; k < p.repeats; ++k) {
-    const auto& v = p.sets[k % p.sets.size()];
-    double t = now_s();
+  auto factor = [&](const std::vector<double>& v) {
     solver.factorize(view(v));
-    tf.push_back(now_s() - t);
     if (solver.info() != Eigen::Success) throw std::runtime_error(std::string(name) + " failed");
-    t = now_s();
-    x = solver.solve(b);
-    ts.push_back(now_s() - t);
-    if (k == p.repeats - 1)
-      res.relres =
-          relative_residual(a, v.data(), p.b, std::vector<double>(x.data(), x.data() + a.n));
-  }
-  res.factor_ms = 1e3 * median(tf);
-  res.solve_ms = 1e3 * median(ts);
+  };
+  auto solution = [&] { return std::vector<double>(x.data(), x.data() + a.n); };
+  time_repeats(
+      p, factor, [&] { x = solver.solve(b); }, solution, res);
   return res;
 }
 

@@ -74,8 +74,7 @@ int main(int argc, char** argv) {
     for (int i = 0; i < a.n; ++i) p.b[i] = std::sin(0.37 * i + 1.0);  // not special, not zero
     std::printf("# %s: n = %d, nnz = %d; CPU: %s\n", argv[1], a.n, a.nnz(), cpu_model().c_str());
     std::vector<Result> results;
-    bool gpu = methods.find("chol") != std::string::npos ||
-               methods.find("rf") != std::string::npos;
+    bool gpu = methods.find("chol") != std::string::npos || methods.find("rf") != std::string::npos;
     double up = NAN;
     if (gpu) {
       cudaDeviceProp prop;

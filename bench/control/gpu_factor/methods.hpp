@@ -23,6 +23,26 @@ struct Reordered {
 };
 Reordered reorder(const Csr& a, const std::string& ordering);
 
+// The protocol's repeats, each a factorization of the next set of values and one solve:
+// their medians and the last solve's relative residual go into res. solution() gives the
+// solve's result on the host (read after the timing).
+template <class Factor, class Solve, class Solution>
+void time_repeats(const Protocol& p, Factor factor, Solve solve, Solution solution, Result& res) {
+  std::vector<double> tf, ts;
+  for (int k = 0; k < p.repeats; ++k) {
+    const auto& v = p.sets[k % p.sets.size()];
+    double t = now_s();
+    factor(v);
+    tf.push_back(now_s() - t);
+    t = now_s();
+    solve();
+    ts.push_back(now_s() - t);
+    if (k == p.repeats - 1) res.relres = relative_residual(*p.a, v.data(), p.b, solution());
+  }
+  res.factor_ms = 1e3 * median(tf);
+  res.solve_ms = 1e3 * median(ts);
+}
+
 Result run_csrchol(const Protocol& p, const std::string& ordering);
 Result run_rf(const Protocol& p, const std::string& ordering, int factor_alg, int solve_alg);
 Result run_eigen(const Protocol& p, bool ldlt);

@@ -85,19 +85,8 @@ Result run_rf(const Protocol& p, const std::string& ordering, int factor_alg, in
   factor(a.value);
   solve();
   res.setup_ms = 1e3 * (now_s() - t0);
-  std::vector<double> tf, ts;
-  for (int k = 0; k < p.repeats; ++k) {
-    const auto& v = p.sets[k % p.sets.size()];
-    double t = now_s();
-    factor(v);
-    tf.push_back(now_s() - t);
-    t = now_s();
-    solve();
-    ts.push_back(now_s() - t);
-    if (k == p.repeats - 1) res.relres = relative_residual(a, v.data(), p.b, xh);
-  }
-  res.factor_ms = 1e3 * median(tf);
-  res.solve_ms = 1e3 * median(ts);
+  time_repeats(
+      p, factor, solve, [&] { return xh; }, res);
   cusolverRfDestroy(rf);
   cusolverSpDestroyCsrluInfoHost(lu);
   cusparseDestroyMatDescr(d);
