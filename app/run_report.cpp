@@ -44,24 +44,41 @@ std::string table(const std::vector<std::vector<std::string>>& rows) {
   return out.str();
 }
 
+// The tip face's inclination below the plane normal to gravity and its rotation since the
+// undeformed mesh (summary.json's per-state `tip`), or "-" without a tip.
+std::vector<std::string> tip_cells(const Json& state) {
+  if (!state.contains("tip") || !state["tip"].is_object()) return {"-", "-"};
+  return {format("%.2f", number(state["tip"], "inclination_deg")),
+          format("%.2f", number(state["tip"], "rotation_deg"))};
+}
+
 std::string states_table(const Json& states) {
-  std::vector<std::vector<std::string>> rows = {
-      {"state", "tip angle (deg)", "cavity", "p (kPa)", "V (ml)", "added (ml)"}};
+  std::vector<std::vector<std::string>> rows = {{"state", "tip inclination (deg)",
+                                                 "tip rotation (deg)", "cavity", "p (kPa)",
+                                                 "V (ml)", "added (ml)"}};
   for (const auto& s : states) {
-    const std::string angle = s.contains("tip_angle_deg") && s["tip_angle_deg"].is_number()
-                                  ? format("%.2f", s["tip_angle_deg"].get<double>())
-                                  : "-";
+    const auto tip = tip_cells(s);
     bool first = true;
     for (const auto& c : s.value("cavities", Json::array())) {
-      rows.push_back({first ? s.value("name", "") : "", first ? angle : "", c.value("name", ""),
-                      format("%.3f", 1e-3 * number(c, "pressure")),
+      rows.push_back({first ? s.value("name", "") : "", first ? tip[0] : "", first ? tip[1] : "",
+                      c.value("name", ""), format("%.3f", 1e-3 * number(c, "pressure")),
                       format("%.3f", number(c, "volume_ml")),
                       format("%.3f", number(c, "added_volume_ml"))});
       first = false;
     }
-    if (first) rows.push_back({s.value("name", ""), angle, "-", "-", "-", "-"});
+    if (first) rows.push_back({s.value("name", ""), tip[0], tip[1], "-", "-", "-", "-"});
   }
   return table(rows);
+}
+
+// Per state and cable: its tension and how far it was pulled since the end of the first state.
+std::string cables_table(const Json& states) {
+  std::vector<std::vector<std::string>> rows = {{"state", "cable", "force (N)", "pull (mm)"}};
+  for (const auto& s : states)
+    for (const auto& c : s.value("cables", Json::array()))
+      rows.push_back({s.value("name", ""), c.value("name", ""), format("%.4g", number(c, "force")),
+                      format("%.3f", 1e3 * number(c, "pull"))});
+  return rows.size() > 1 ? table(rows) : "";
 }
 
 std::string targets_table(const Json& targets) {
@@ -109,7 +126,7 @@ std::string run_report(const Json& summary) {
   if (control)
     out << targets_table(summary["targets"]);
   else if (summary.contains("states") && !summary["states"].empty())
-    out << states_table(summary["states"]);
+    out << states_table(summary["states"]) << cables_table(summary["states"]);
   for (const char* key : {"verification", "error"})
     if (summary.contains(key) && summary[key].is_object()) out << scalars(summary[key]);
   return out.str();

@@ -137,7 +137,7 @@ def run(args, case, variant, deck, sets, np_=1, extra=()):
         lam_max, lam_p90, min_j = stretches(h5, s["step"])
         rho = args.density.get((case, variant), 0.0)
         rows.append(dict(
-            base, state=s["name"], tip_angle_deg=s.get("tip_angle_deg"),
+            base, state=s["name"], tip_angle_deg=s.get("tip", {}).get("inclination_deg"),
             volume_ml=c["volume_ml"], added_ml=c["added_volume_ml"], pressure_pa=c["pressure"],
             fluid_weight_n=c["fluid_weight_total"],
             rho_g_v_n=rho * gravity * c["volume"] if rho else 0.0,

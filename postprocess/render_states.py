@@ -7,7 +7,7 @@ tip angles.
         --out docs/figures/cylinder_states.png
 
 Each folder is a run's output folder: summary.json (its "states" list: "name",
-"tip_angle_deg" and "step", the output step of the state's last load step) and <deck>.h5
+"tip" (its "inclination_deg") and "step", the output step of the state's last load step) and <deck>.h5
 (/mesh/coordinates, /mesh/topology, /step_<k>/displacement; docs/output.md). For every state
 of every folder (one row per folder, its states left to right), the deformed boundary surface (the faces of the tetrahedra
 that belong to one tetrahedron only; the 4 corner nodes of a P2 tetrahedron) is drawn as
@@ -47,7 +47,7 @@ class RenderError(Exception):
 
 # ---------------------------------------------------------------- reading
 
-def read_summary(folder, state_keys=("name", "tip_angle_deg", "step")):
+def read_summary(folder, state_keys=("name", "tip", "step")):
     path = os.path.join(folder, "summary.json")
     if not os.path.isfile(path):
         raise RenderError(f"{path}: file not found (is '{folder}' a finished run's output folder?)")
@@ -147,7 +147,7 @@ def load_run(folder):
             if not np.all(np.isfinite(u)):
                 raise RenderError(f"{path}: /{name} has non-finite entries")
             t = f[f"step_{k}"].attrs.get("time")
-            states.append({"name": str(s["name"]), "angle": float(s["tip_angle_deg"]),
+            states.append({"name": str(s["name"]), "angle": float(s["tip"]["inclination_deg"]),
                            "step": k, "time": None if t is None else float(t), "u": u,
                            "added_ml": added_volume_ml(s)})
     outer, inner = split_outer(X, boundary_faces(X, topo[:, :4]))

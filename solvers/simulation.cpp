@@ -264,7 +264,8 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   if (staged) {
     summary["states"] = state_run.states;
     for (const auto& [key, value] : control.items()) summary[key] = value;
-    summary["cavities"] = constraints->report();
+    // After the last state, or in a control run after its last target set.
+    summary["end_of_run"] = constraints->report();
   }
   summary["time_s"]["total"] = MPI_Wtime() - t_start;
   const std::string folder = recorder.finish(summary);  // adds "status": "ok"

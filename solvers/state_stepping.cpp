@@ -234,15 +234,30 @@ class StateStepper {
 
 }  // namespace
 
-double tip_angle_deg(Problem& problem, const std::string& group,
-                     const std::array<double, 3>& gravity, Vec u) {
+namespace {
+
+double angle_deg(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  const double cross =
+      std::hypot(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
+  return std::atan2(cross, a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * 180 / kPi;
+}
+
+}  // namespace
+
+TipOrientation tip_orientation(Problem& problem, const std::string& group,
+                               const std::array<double, 3>& gravity, Vec u) {
+  TipOrientation t;
   const auto n = problem.area_vector(group, u);
-  const double n_norm = std::hypot(n[0], n[1], n[2]);
-  const double g_norm = std::hypot(gravity[0], gravity[1], gravity[2]);
-  if (n_norm == 0 || g_norm == 0) return 0;
-  const double sine =
-      (n[0] * gravity[0] + n[1] * gravity[1] + n[2] * gravity[2]) / (n_norm * g_norm);
-  return std::asin(std::clamp(sine, -1.0, 1.0)) * 180 / kPi;
+  Vec zero;
+  HS_PETSC(VecDuplicate(u, &zero));
+  HS_PETSC(VecZeroEntries(zero));
+  const auto n0 = problem.area_vector(group, zero);
+  HS_PETSC(VecDestroy(&zero));
+  t.rotation_deg = angle_deg(n0, n);
+  // The angle to gravity is 90 deg minus the inclination below the plane normal to it.
+  if (std::hypot(gravity[0], gravity[1], gravity[2]) > 0 && std::hypot(n[0], n[1], n[2]) > 0)
+    t.inclination_deg = 90 - angle_deg(n, gravity);
+  return t;
 }
 
 StateRun run_states(const Config& config, Problem& problem, ConstraintSet& constraints,
@@ -309,8 +324,12 @@ StateRun run_states(const Config& config, Problem& problem, ConstraintSet& const
     // Its output step in this run's .h5 (null: written by the run restarted from).
     state["step"] = recorder.written() > 0 ? nlohmann::json(recorder.written() - 1) : nullptr;
     state["load_factor"] = stepper.load_factor(plan.taus.back());
-    if (config.tip)
-      state["tip_angle_deg"] = tip_angle_deg(problem, config.tip->group, config.gravity, u);
+    if (config.tip) {
+      const TipOrientation t = tip_orientation(problem, config.tip->group, config.gravity, u);
+      state["tip"] = {{"group", config.tip->group},
+                      {"inclination_deg", t.inclination_deg},
+                      {"rotation_deg", t.rotation_deg}};
+    }
     double added = 0, change = 0;
     for (int c = 0; c < constraints.size(); ++c) {
       if (!constraints[c].is_cavity()) continue;
@@ -319,7 +338,9 @@ StateRun run_states(const Config& config, Problem& problem, ConstraintSet& const
     }
     state["added_volume_ml"] = added * 1e6;
     state["volume_change_ml"] = change * 1e6;
-    state["cavities"] = constraints.report();
+    const nlohmann::json actuators = constraints.report();
+    state["cavities"] = actuators["cavities"];
+    state["cables"] = actuators["cables"];
     run.states.push_back(state);
   }
   return run;

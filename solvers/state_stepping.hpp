@@ -28,9 +28,16 @@ StateRun run_states(const Config& config, Problem& problem, ConstraintSet& const
                     BorderedNewton& newton, ResultRecorder& recorder, Vec u, SteppingStats& stats,
                     MPI_Comm comm, Checkpointer& checkpoints, const Restart* restart = nullptr);
 
-// Inclination of a face group's mean deformed normal below the plane normal to gravity, in
-// degrees (positive: tilted towards gravity): asin(n . g / |g|).
-double tip_angle_deg(Problem& problem, const std::string& group,
-                     const std::array<double, 3>& gravity, Vec u);
+// The orientation of a face group's mean normal (summary.json's per-state `tip`), in degrees:
+// inclination_deg, below the plane normal to gravity (positive: tilted towards gravity),
+// asin(n . g / |g|): the paper's tip angle when the face is vertical in the undeformed mesh;
+// rotation_deg, the angle between the mean normal now and in the undeformed mesh, which
+// means the same for a face of any orientation.
+struct TipOrientation {
+  double inclination_deg = 0;
+  double rotation_deg = 0;
+};
+TipOrientation tip_orientation(Problem& problem, const std::string& group,
+                               const std::array<double, 3>& gravity, Vec u);
 
 }  // namespace hs

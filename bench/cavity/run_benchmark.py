@@ -134,7 +134,7 @@ def refinement(args):
             s = ss[0]
             rest, infl = state(s, "rest"), state(s, "inflated")
             row = dict(fluid=fluid, order=order, h=h, nodes=s["nodes"], dofs=s["dofs"],
-                       rest_angle_deg=rest["tip_angle_deg"], inflated_angle_deg=infl["tip_angle_deg"],
+                       rest_angle_deg=rest["tip"]["inclination_deg"], inflated_angle_deg=infl["tip"]["inclination_deg"],
                        pressure_pa=infl["cavities"][0]["pressure"],
                        weight_n=infl["cavities"][0]["fluid_weight_total"],
                        steps=s["steps"], newton=s["newton_iterations"], runs=len(ss),
@@ -234,7 +234,7 @@ def coupling(args):
     for order, h in COUPLING_MESHES:
         ref = cylinder(args, "water", order, h)  # converged coupling, the decks' steps
         u_ref = final_displacement(ref[0]["_folder"])
-        ref_angle = {n: state(ref[0], n)["tip_angle_deg"] for n in ("rest", "inflated")}
+        ref_angle = {n: state(ref[0], n)["tip"]["inclination_deg"] for n in ("rest", "inflated")}
         for coupling_name in ("linearized", "converged"):
             for steps in COUPLING_STEPS:
                 if coupling_name == "converged" and steps not in ((1, 2), DECK_STEPS):
@@ -244,9 +244,9 @@ def coupling(args):
                 u = final_displacement(s["_folder"])
                 row = dict(order=order, h=h, nodes=s["nodes"], coupling=coupling_name,
                            rest_steps=steps[0], inflated_steps=steps[1],
-                           inflated_angle_deg=state(s, "inflated")["tip_angle_deg"],
-                           angle_error_deg=state(s, "inflated")["tip_angle_deg"] - ref_angle["inflated"],
-                           rest_angle_error_deg=state(s, "rest")["tip_angle_deg"] - ref_angle["rest"],
+                           inflated_angle_deg=state(s, "inflated")["tip"]["inclination_deg"],
+                           angle_error_deg=state(s, "inflated")["tip"]["inclination_deg"] - ref_angle["inflated"],
+                           rest_angle_error_deg=state(s, "rest")["tip"]["inclination_deg"] - ref_angle["rest"],
                            displacement_error=float(np.linalg.norm(u - u_ref) / np.linalg.norm(u_ref)),
                            newton=s["newton_iterations"], fluid_weight_calls=s["parts"]["fluid_weight"]["calls"],
                            runs=len(ss), total_s=med(ss, lambda x: x["time_s"]["total"]))

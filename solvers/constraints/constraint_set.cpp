@@ -203,9 +203,10 @@ nlohmann::json ConstraintSet::parts() const {
 }
 
 nlohmann::json ConstraintSet::report() const {
-  nlohmann::json list = nlohmann::json::array();
-  for (const auto& c : constraints_) list.push_back(c->report());
-  return list;
+  nlohmann::json r = {{"cavities", nlohmann::json::array()}, {"cables", nlohmann::json::array()}};
+  for (const auto& c : constraints_)
+    r[c->is_cavity() ? "cavities" : "cables"].push_back(c->report());
+  return r;
 }
 
 void ConstraintSet::add_history(HistoryRow& row) const {

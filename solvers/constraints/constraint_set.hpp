@@ -75,7 +75,8 @@ class ConstraintSet {
   // cables' stiffness (not the FEM assembly).
   double constraint_build_seconds() const { return build_seconds_; }
   nlohmann::json parts() const;
-  nlohmann::json report() const;  // one entry per constraint
+  // Collective: summary.json's {"cavities": [...], "cables": [...]}, an entry per constraint.
+  nlohmann::json report() const;
   // Collective: the history's columns now (docs/output.md), as report() has them: per cavity
   // cavity_<name>_pressure_Pa, _volume_m3, _added_volume_m3 (since the end of the first
   // state) and, with a liquid's weight, _fluid_weight_N; per cable cable_<name>_force_N and

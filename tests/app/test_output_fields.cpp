@@ -163,7 +163,7 @@ void check_cylinder(const std::string& launcher) {
       if (top[n])
         EXPECT_EQ(std::abs(u[3 * n]) + std::abs(u[3 * n + 1]) + std::abs(u[3 * n + 2]), 0);
   }
-  const auto& report = summary["cavities"][0];
+  const auto& report = summary["end_of_run"]["cavities"][0];
   EXPECT_EQ(weight.back(), report["fluid_weight_total"].get<double>());
   EXPECT_NEAR(weight.back(), 1000 * 9.81 * report["fluid_weight_volume"].get<double>(),
               1e-9 * weight.back());

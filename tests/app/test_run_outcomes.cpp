@@ -301,7 +301,7 @@ TEST(History, EveryOutputStepHasARowEqualToTheSummaryAndTheH5) {
   ASSERT_EQ(csv.rows.size(), 6u);
   for (size_t k = 0; k < csv.rows.size(); ++k) EXPECT_EQ(csv.rows[k][0], k);
   const auto& last = csv.rows.back();
-  const auto& cavity = summary["cavities"][0];
+  const auto& cavity = summary["end_of_run"]["cavities"][0];
   EXPECT_EQ(last[csv.column("cavity_cavity_pressure_Pa")], cavity["pressure"].get<double>());
   EXPECT_EQ(last[csv.column("cavity_cavity_volume_m3")], cavity["volume"].get<double>());
   EXPECT_NEAR(last[csv.column("cavity_cavity_added_volume_m3")] * 1e6,

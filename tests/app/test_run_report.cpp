@@ -13,9 +13,9 @@ TEST(RunReport, StatesGiveEachCavitysPressureInKilopascalsAndVolumesInMillilitre
     "steps": 14, "newton_iterations": 40, "ranks": 2, "time_s": {"total": 1.3},
     "output": {"xdmf": "out/cylinder_air/cylinder_air.xmf"},
     "states": [
-      {"name": "rest", "tip_angle_deg": 10.574,
+      {"name": "rest", "tip": {"group": "tip", "inclination_deg": 10.574, "rotation_deg": 10.6},
        "cavities": [{"name": "cavity", "pressure": 0.0, "volume_ml": 78.98, "added_volume_ml": 0}]},
-      {"name": "inflated", "tip_angle_deg": 8.11,
+      {"name": "inflated", "tip": {"group": "tip", "inclination_deg": 8.11, "rotation_deg": 8.2},
        "cavities": [{"name": "cavity", "pressure": 7915.9, "volume_ml": 93.98,
                      "added_volume_ml": 15.0}]}]})");
   const std::string report = hs::run_report(summary);
@@ -23,12 +23,24 @@ TEST(RunReport, StatesGiveEachCavitysPressureInKilopascalsAndVolumesInMillilitre
             std::string::npos)
       << report;
   EXPECT_NE(report.find("out/cylinder_air/cylinder_air.xmf"), std::string::npos);
-  EXPECT_NE(report.find("tip angle (deg)"), std::string::npos);
+  EXPECT_NE(report.find("tip inclination (deg)"), std::string::npos);
   EXPECT_NE(report.find("inflated  8.11"), std::string::npos) << report;
+  EXPECT_NE(report.find("8.20"), std::string::npos) << report;    // the rotation
   EXPECT_NE(report.find("7.916"), std::string::npos) << report;   // kPa
   EXPECT_NE(report.find("93.980"), std::string::npos) << report;  // ml
   EXPECT_NE(report.find("15.000"), std::string::npos) << report;
   EXPECT_EQ(report.find("{"), std::string::npos) << "no JSON on the screen";
+}
+
+TEST(RunReport, CablesGiveTheirForceAndPullInMillimetres) {
+  const Json summary = Json::parse(R"({"steps": 8, "newton_iterations": 20,
+    "states": [{"name": "pulled", "cavities": [],
+                "cables": [{"name": "tendon", "kind": "cable", "length": 0.1, "pull": 0.0042,
+                            "force": 1.5}]}]})");
+  const std::string report = hs::run_report(summary);
+  EXPECT_NE(report.find("force (N)  pull (mm)"), std::string::npos) << report;
+  EXPECT_NE(report.find("pulled  tendon  1.5        4.200"), std::string::npos) << report;
+  EXPECT_EQ(report.find("tendon  -"), std::string::npos) << "a cable is not listed as a cavity";
 }
 
 TEST(RunReport, TargetsGiveMillimetresAndTheError) {

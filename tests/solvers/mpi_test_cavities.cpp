@@ -24,6 +24,7 @@
 #include "solvers/output/gather.hpp"
 #include "solvers/problem.hpp"
 #include "solvers/simulation.hpp"
+#include "solvers/state_stepping.hpp"
 
 namespace {
 
@@ -144,8 +145,8 @@ TEST(Cavities, VolumeControlReachesItsVolumeAndWaterWeighs) {
   }
   // Air carries no weight; water's total weight is rho g V of its column volume.
   EXPECT_EQ(air["parts"]["fluid_weight"]["device"], "none");
-  EXPECT_EQ(air["cavities"][0]["fluid_weight_total"].get<double>(), 0.0);
-  const auto& w = water["cavities"][0];
+  EXPECT_EQ(air["end_of_run"]["cavities"][0]["fluid_weight_total"].get<double>(), 0.0);
+  const auto& w = water["end_of_run"]["cavities"][0];
   EXPECT_NEAR(w["fluid_weight_total"].get<double>(),
               1000 * 9.81 * w["fluid_weight_volume"].get<double>(),
               1e-10 * w["fluid_weight_total"].get<double>());
@@ -154,8 +155,8 @@ TEST(Cavities, VolumeControlReachesItsVolumeAndWaterWeighs) {
               2e-3 * w["volume"].get<double>());
   // The water-filled cylinder hangs lower, at rest and inflated.
   for (int k : {0, 1})
-    EXPECT_GT(water["states"][k]["tip_angle_deg"].get<double>(),
-              air["states"][k]["tip_angle_deg"].get<double>() + 2.0);
+    EXPECT_GT(water["states"][k]["tip"]["inclination_deg"].get<double>(),
+              air["states"][k]["tip"]["inclination_deg"].get<double>() + 2.0);
 }
 
 TEST(Cavities, BadCavitiesAreRefusedWithTheirNameAndReason) {
@@ -192,7 +193,8 @@ TEST(Cavities, AllRanksAgreeWithOneRank) {
   if (rank != 0) return;
   for (int k : {0, 1}) {
     const auto &a = all["states"][k], &b = one["states"][k];
-    EXPECT_NEAR(a["tip_angle_deg"].get<double>(), b["tip_angle_deg"].get<double>(), 1e-8);
+    EXPECT_NEAR(a["tip"]["inclination_deg"].get<double>(),
+                b["tip"]["inclination_deg"].get<double>(), 1e-8);
     for (const char* key : {"volume", "pressure", "fluid_weight_total"}) {
       const double x = a["cavities"][0][key].get<double>(), y = b["cavities"][0][key].get<double>();
       EXPECT_NEAR(x, y, 1e-8 * std::max(std::abs(y), 1e-12)) << key << " in state " << k;
@@ -215,7 +217,8 @@ TEST(Cavities, FluidWeightOnTheGpuGivesTheCpuNumbers) {
   const auto gpu = with("cuda"), cpu = with("cpu");
   for (int k : {0, 1}) {
     const auto &a = gpu["states"][k], &b = cpu["states"][k];
-    EXPECT_NEAR(a["tip_angle_deg"].get<double>(), b["tip_angle_deg"].get<double>(), 1e-10);
+    EXPECT_NEAR(a["tip"]["inclination_deg"].get<double>(),
+                b["tip"]["inclination_deg"].get<double>(), 1e-10);
     for (const char* key : {"volume", "pressure", "fluid_weight_total", "fluid_weight_volume"}) {
       const double x = a["cavities"][0][key].get<double>(), y = b["cavities"][0][key].get<double>();
       EXPECT_NEAR(x, y, 1e-12 * std::max(std::abs(y), 1e-12)) << key << " in state " << k;
@@ -240,8 +243,8 @@ TEST(Cavities, SealedChambersKeepTheirGasOrVolume) {
                                  {"cavities[0]={group: cavity, kind: sealed_gas}",
                                   "states=[{name: rest, steps: 2}]", "loads.gravity=[0, -40, 0]"},
                                  "gas0");
-  const auto& g = gas["cavities"][0];
-  const auto& f = fixed["cavities"][0];
+  const auto& g = gas["end_of_run"]["cavities"][0];
+  const auto& f = fixed["end_of_run"]["cavities"][0];
   const double v0 = f["volume"].get<double>();  // the sealed volume is the undeformed one
   const double p_atm = 101325;
   EXPECT_NEAR((g["pressure"].get<double>() + p_atm) * g["volume"].get<double>(),
@@ -252,8 +255,8 @@ TEST(Cavities, SealedChambersKeepTheirGasOrVolume) {
   // The open cavity shrinks under this load; sealed air at atmospheric pressure (bulk
   // modulus p_atm, comparable to the silicone's E) resists part of it, with an overpressure
   // below the one that keeps the volume exactly.
-  const double dv_free = std::abs(free["cavities"][0]["volume"].get<double>() - v0);
-  const auto& a = at_atmosphere["cavities"][0];
+  const double dv_free = std::abs(free["end_of_run"]["cavities"][0]["volume"].get<double>() - v0);
+  const auto& a = at_atmosphere["end_of_run"]["cavities"][0];
   EXPECT_GT(dv_free, 1e-4 * v0);
   const double dv_gas = std::abs(a["volume"].get<double>() - v0);
   EXPECT_GT(dv_gas, 0.05 * dv_free);
@@ -377,6 +380,41 @@ TEST(Cavities, ColumnAndHydrostaticWeightsHaveTheSameResultantAndMoment) {
   VecNorm(column, NORM_2, &difference);
   EXPECT_GT(difference, 1e-2 * weight);
   for (Vec* v : {&u, &column, &exact}) VecDestroy(v);
+}
+
+// u = (R - I) X: a rigid rotation by 30 deg turns the tip face's mean normal by 30 deg. About
+// x (normal to the face's normal -z and to gravity -y) the face tilts by 30 deg out of the
+// vertical; about y (gravity's axis) it stays vertical: the inclination stays 0 where the
+// rotation says 30 deg, which is why both are reported.
+TEST(TipOrientation, RigidRotationTurnsTheTipFaceByItsAngle) {
+  Scene s("cylinder_air.yaml", {});
+  hs::Problem& p = *s.problem;
+  const double theta = 30 * M_PI / 180, c = std::cos(theta), sn = std::sin(theta);
+  for (int axis : {0, 1}) {
+    Vec u = p.create_vector();
+    PetscScalar* a;
+    VecGetArray(u, &a);
+    for (int64_t n = 0; n < p.distribution().num_owned(); ++n) {
+      const double x = p.reference_coordinate(n, 0), y = p.reference_coordinate(n, 1),
+                   z = p.reference_coordinate(n, 2);
+      if (axis == 0) {  // about x: (y, z) -> (c y - s z, s y + c z)
+        a[3 * n + 1] = c * y - sn * z - y;
+        a[3 * n + 2] = sn * y + c * z - z;
+      } else {  // about y: (z, x) -> (c z - s x, s z + c x)
+        a[3 * n + 2] = c * z - sn * x - z;
+        a[3 * n] = sn * z + c * x - x;
+      }
+    }
+    VecRestoreArray(u, &a);
+    const hs::TipOrientation t = hs::tip_orientation(p, "tip", s.config.gravity, u);
+    EXPECT_NEAR(t.rotation_deg, 30, 1e-10) << "axis " << axis;
+    EXPECT_NEAR(std::abs(t.inclination_deg), axis == 0 ? 30 : 0, 1e-10) << "axis " << axis;
+    VecZeroEntries(u);
+    const hs::TipOrientation rest = hs::tip_orientation(p, "tip", s.config.gravity, u);
+    EXPECT_NEAR(rest.rotation_deg, 0, 1e-12);
+    EXPECT_NEAR(rest.inclination_deg, 0, 1e-10);
+    VecDestroy(&u);
+  }
 }
 
 }  // namespace

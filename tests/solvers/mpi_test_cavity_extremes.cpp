@@ -68,8 +68,8 @@ TEST(CavityExtremes, MercuryConvergesAndWeighsRhoGV) {
     EXPECT_NEAR(total, 13600 * 9.81 * volume, 2e-3 * total) << "state " << k;
   }
   EXPECT_NEAR(s["states"][0]["cavities"][0]["fluid_weight_total"].get<double>(), 10.39, 0.02);
-  EXPECT_NEAR(s["states"][0]["tip_angle_deg"].get<double>(), 60.72, 0.3);
-  EXPECT_NEAR(s["states"][1]["tip_angle_deg"].get<double>(), 60.14, 0.3);
+  EXPECT_NEAR(s["states"][0]["tip"]["inclination_deg"].get<double>(), 60.72, 0.3);
+  EXPECT_NEAR(s["states"][1]["tip"]["inclination_deg"].get<double>(), 60.14, 0.3);
   EXPECT_NEAR(s["states"][1]["added_volume_ml"].get<double>(), 15.0, 1e-8);
 }
 
@@ -83,7 +83,8 @@ TEST(CavityExtremes, WeightlessLiquidIsAnAirCavity) {
   EXPECT_EQ(liquid["parts"]["fluid_weight"]["calls"], 0);
   for (int k : {0, 1}) {
     const auto &a = liquid["states"][k], &b = air["states"][k];
-    EXPECT_NEAR(a["tip_angle_deg"].get<double>(), b["tip_angle_deg"].get<double>(), 1e-10);
+    EXPECT_NEAR(a["tip"]["inclination_deg"].get<double>(),
+                b["tip"]["inclination_deg"].get<double>(), 1e-10);
     const double p = b["cavities"][0]["pressure"].get<double>();
     EXPECT_NEAR(a["cavities"][0]["pressure"].get<double>(), p, 1e-10 * std::abs(p) + 1e-12);
     EXPECT_EQ(a["cavities"][0]["fluid_weight_total"].get<double>(), 0.0);

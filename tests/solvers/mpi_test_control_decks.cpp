@@ -151,7 +151,11 @@ TEST(ControlDecks, CableFingerCurlsDownAndCannotPush) {
   EXPECT_GT(force(1), force(0));  // lower takes more tension
   EXPECT_EQ(force(2), 0.0);       // above the rest position: no push
   EXPECT_EQ(s["parts"]["cables"].get<int>(), 1);
-  EXPECT_EQ(s["cavities"][0]["kind"], "cable");
+  // The cable is reported as a cable, at the end of the run and per state, never as a cavity.
+  EXPECT_EQ(s["end_of_run"]["cables"][0]["kind"], "cable");
+  EXPECT_EQ(s["end_of_run"]["cables"][0]["force"].get<double>(), force(2));
+  EXPECT_TRUE(s["end_of_run"]["cavities"].empty());
+  EXPECT_EQ(s["states"].back()["cables"][0]["name"], s["end_of_run"]["cables"][0]["name"]);
 }
 
 }  // namespace
