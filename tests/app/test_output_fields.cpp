@@ -224,4 +224,28 @@ TEST(OutputFields, AControlRunLabelsItsStepsAsTargetSets) {
               "target_set");
 }
 
+// A dynamic run's output steps are physical times, in seconds, and say so: step k at k dt.
+TEST(OutputFields, ADynamicRunLabelsItsStepsAsSeconds) {
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "dynamic").string();
+  const std::string command = std::string(HYDROSOFT_EXE) + " " + kSource +
+                              "/input/cantilever_dynamic.yaml -q --set mesh.order=1 "
+                              "--set time.end_time=0.3 --set output.every=1 --set output.folder=" +
+                              folder + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  const auto summary = nlohmann::json::parse(text_of(folder + "/summary.json"));
+  const H5 h5(folder + "/cantilever_dynamic.h5");
+  const int steps = summary["outputs"].get<int>();
+  ASSERT_GE(steps, 3);
+  const double first = h5.number("/step_0", "time");
+  for (int k = 0; k < steps; ++k) {
+    const std::string step = "/step_" + std::to_string(k);
+    EXPECT_EQ(h5.text(step, "time_kind"), "time_s") << step;
+    EXPECT_NEAR(h5.number(step, "time") - first, 0.1 * k, 1e-12) << step;
+  }
+  EXPECT_NEAR(h5.number("/step_" + std::to_string(steps - 1), "time"), 0.3, 1e-12);
+  const std::string xmf = text_of(folder + "/cantilever_dynamic.xmf");
+  EXPECT_NE(xmf.find("<Information Name=\"time_kind\" Value=\"time_s\"/>"), std::string::npos);
+}
+
 }  // namespace
