@@ -4,7 +4,7 @@
 # built and run (its checks: consumer/main.cpp). The temporary folder is removed at the end,
 # failed or not. Run as
 #   cmake -DBUILD_DIR=... -DCONSUMER_DIR=... -DGENERATOR=... -DC_COMPILER=... -DCXX_COMPILER=...
-#         [-DLAUNCHER=ccache] -P install_test.cmake
+#         [-DLAUNCHER=ccache] [-DMPIEXEC="mpiexec;--oversubscribe"] -P install_test.cmake
 set(base "$ENV{TMPDIR}")
 if(NOT base)
   set(base /tmp)
@@ -15,7 +15,21 @@ set(prefix "${tmp}/prefix")
 file(MAKE_DIRECTORY "${tmp}")
 
 function(fail what)
-  file(REMOVE_RECURSE "${tmp}")
+  # The controller from another program, on 1 rank and, with MPIEXEC, on 2.
+step("run control" "${tmp}/build/control")
+message("${output}")
+if(NOT output MATCHES "control: all checks passed")
+  fail("unexpected control output:\n${output}")
+endif()
+if(MPIEXEC)
+  step("run control on 2 ranks" ${MPIEXEC} -np 2 "${tmp}/build/control")
+  message("${output}")
+  if(NOT output MATCHES "control: all checks passed")
+    fail("unexpected control output on 2 ranks:\n${output}")
+  endif()
+endif()
+
+file(REMOVE_RECURSE "${tmp}")
   message(FATAL_ERROR "install test: ${what}")
 endfunction()
 
@@ -62,6 +76,20 @@ message("${output}")
 if(NOT output MATCHES "mesh .*/share/hydrosoft/meshes/finger_cad.geo"
    OR NOT output MATCHES "consumer: all checks passed")
   fail("unexpected consumer output:\n${output}")
+endif()
+
+# The controller from another program, on 1 rank and, with MPIEXEC, on 2.
+step("run control" "${tmp}/build/control")
+message("${output}")
+if(NOT output MATCHES "control: all checks passed")
+  fail("unexpected control output:\n${output}")
+endif()
+if(MPIEXEC)
+  step("run control on 2 ranks" ${MPIEXEC} -np 2 "${tmp}/build/control")
+  message("${output}")
+  if(NOT output MATCHES "control: all checks passed")
+    fail("unexpected control output on 2 ranks:\n${output}")
+  endif()
 endif()
 
 file(REMOVE_RECURSE "${tmp}")
