@@ -27,6 +27,9 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/solvers/
 set(HYDROSOFT_INSTALL_DATADIR ${CMAKE_INSTALL_DATADIR}/hydrosoft)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/input ${PROJECT_SOURCE_DIR}/meshes
         DESTINATION ${HYDROSOFT_INSTALL_DATADIR})
+# The Python control package and its example (PYTHONPATH=PREFIX/share/hydrosoft/python).
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/python/hydrosoft_control ${PROJECT_SOURCE_DIR}/python/examples
+        DESTINATION ${HYDROSOFT_INSTALL_DATADIR}/python PATTERN "__pycache__" EXCLUDE)
 
 set(HYDROSOFT_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/hydrosoft)
 install(EXPORT hydrosoftTargets NAMESPACE hydrosoft:: DESTINATION ${HYDROSOFT_INSTALL_CMAKEDIR})

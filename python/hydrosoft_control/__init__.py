@@ -1,0 +1,211 @@
+"""Drive a hydrosoft control scene from Python: start it, send targets, read the answers.
+
+    import sys; sys.path.insert(0, "python")        # or PYTHONPATH=<prefix>/share/hydrosoft/python
+    from hydrosoft_control import Scene, TargetRefused
+
+    with Scene("input/pendulum.yaml", ranks=1) as scene:
+        answer = scene.reach([0.0015, 0.0, -0.1012])          # the first effector
+        print(answer.reached, answer.error_m, answer.actuation)
+        scene.reach([0.0, 0.0015, -0.1012], effector="bottom")
+    print(scene.summary["input"])                              # summary.json of the run
+
+A Scene runs `[mpirun -np RANKS] hydrosoft DECK --targets -` and speaks its protocol
+(docs/control.md, "Interactive use"): one target a line on its standard input, one JSON
+line in return on its standard output, the answer or why the line was refused. Closing the
+input ends the run, which then writes its output folder as any run does. Numbers are SI
+(m, Pa, N); positions come back as numpy arrays. Needs numpy only (Debian's python3-numpy).
+"""
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+__all__ = ["Scene", "Answer", "TargetRefused", "SceneError", "find_executable"]
+
+_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+class SceneError(RuntimeError):
+    """The scene could not start, or stopped without answering (its messages are quoted)."""
+
+
+class TargetRefused(ValueError):
+    """hydrosoft refused a target line; the scene goes on from where it was."""
+
+    def __init__(self, message, line):
+        super().__init__(message)
+        self.line = line
+
+
+class Answer:
+    """One answered target: where the effector should go and where it went.
+
+    effector, target (m), reached (m, the equilibrium at the final actuation), error_m (over
+    the steered directions), actuation (Pa or N per actuator), saturated (per actuator: a
+    bound active), limit_point, step (the output step in the run's .h5), step_ms (the control
+    steps' time), round_trip_ms (sent to read, as the client saw it), line (its input line),
+    raw (the JSON object as hydrosoft wrote it).
+    """
+
+    def __init__(self, raw, line, round_trip_ms):
+        self.raw = raw
+        self.line = line
+        self.round_trip_ms = round_trip_ms
+        self.effector = raw["effector"]
+        self.target = np.array(raw["target"], dtype=float)
+        self.reached = np.array(raw["reached"], dtype=float)
+        self.error_m = raw["error_m"]
+        self.actuation = np.array(raw["actuation"], dtype=float)
+        self.saturated = list(raw.get("saturated", []))
+        self.limit_point = bool(raw.get("limit_point", False))
+        self.step = raw.get("step")
+        self.step_ms = raw.get("step_ms")
+
+    def __repr__(self):
+        return ("Answer(%s: target %s, reached %s, error %.3g mm)"
+                % (self.effector, self.target, self.reached, 1e3 * self.error_m))
+
+
+def find_executable():
+    """$HYDROSOFT, else the source tree's build/bin/hydrosoft, else the install's
+    PREFIX/bin/hydrosoft (this package in PREFIX/share/hydrosoft/python), else PATH's."""
+    installed = os.path.join(_ROOT, os.pardir, os.pardir, "bin", "hydrosoft")
+    for path in (os.environ.get("HYDROSOFT"), os.path.join(_ROOT, "build", "bin", "hydrosoft"),
+                 os.path.normpath(installed), shutil.which("hydrosoft")):
+        if path and os.access(path, os.X_OK):
+            return path
+    raise SceneError("no hydrosoft executable: set HYDROSOFT, build it (bash scripts/build.sh) "
+                     "or put an installed bin/ on PATH")
+
+
+class Scene:
+    """A running control scene. Collective work happens in hydrosoft; this object only talks.
+
+    deck: the deck file (with a `control` section); ranks: MPI ranks (1 runs without mpirun);
+    overrides: ["key=value", ...] as --set; output_folder: where the run writes (default: a
+    new temporary folder, kept; see .folder); executable: hydrosoft (find_executable()).
+    The resolved configuration, the progress and the final report go to `log` (a file path;
+    default: OUTPUT_FOLDER.log beside the folder).
+    """
+
+    def __init__(self, deck, ranks=1, overrides=(), output_folder=None, executable=None,
+                 log=None, timeout_s=600):
+        self.deck = os.path.abspath(deck)
+        if not os.path.isfile(self.deck):
+            raise SceneError("%s: no such deck" % deck)
+        if output_folder is None:
+            output_folder = os.path.join(tempfile.mkdtemp(prefix="hydrosoft_scene_"), "run")
+        self.folder = os.path.abspath(output_folder)
+        self.log_path = log or self.folder + ".log"
+        self.timeout_s = timeout_s
+        self.summary = None
+        self._lines = 0
+        exe = executable or find_executable()
+        cmd = []
+        if ranks > 1:
+            cmd = [shutil.which("mpirun") or "mpirun", "--oversubscribe", "-np", str(ranks)]
+            if os.geteuid() == 0:
+                cmd.append("--allow-run-as-root")
+        cmd += [exe, self.deck, "--targets", "-", "--set", "output.folder=" + self.folder]
+        for kv in overrides:
+            cmd += ["--set", kv]
+        env = dict(os.environ)
+        env.setdefault("OPENBLAS_NUM_THREADS", "1")
+        self._log = open(self.log_path, "w")
+        self._proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                      stderr=self._log, text=True, bufsize=1, env=env)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, value, traceback):
+        if kind is None:
+            self.close()
+        else:
+            self.kill()
+        return False
+
+    def _messages(self):
+        if not self._log.closed:
+            self._log.flush()
+        with open(self.log_path, errors="replace") as f:
+            tail = f.read()[-2000:]
+        return tail.strip() or "(none)"
+
+    def reach(self, target, effector=None):
+        """Sends one target (3 numbers, m) for `effector` (default: the deck's first) and waits
+        for its answer. Raises TargetRefused for a refused line (the scene goes on) and
+        SceneError when hydrosoft stopped."""
+        position = [float(v) for v in target]
+        if len(position) != 3:
+            raise ValueError("a target is 3 numbers (x, y, z in m), got %d" % len(position))
+        words = "%.17g %.17g %.17g" % tuple(position)
+        return self.send_line(words if effector is None else "%s %s" % (effector, words))
+
+    def send_line(self, text):
+        """Sends one raw protocol line (no newline in it) and returns its Answer."""
+        if "\n" in text:
+            raise ValueError("one line at a time")
+        if self._proc.poll() is not None:
+            raise SceneError("hydrosoft has stopped (exit %d); its messages:\n%s"
+                             % (self._proc.returncode, self._messages()))
+        sent = time.perf_counter()
+        try:
+            self._proc.stdin.write(text + "\n")
+            self._proc.stdin.flush()
+        except BrokenPipeError:
+            raise SceneError("hydrosoft stopped reading; its messages:\n%s" % self._messages())
+        self._lines += 1
+        reply = self._proc.stdout.readline()
+        if not reply:
+            self._proc.wait()
+            raise SceneError("hydrosoft stopped before answering line %d (exit %s); its "
+                             "messages:\n%s" % (self._lines, self._proc.returncode,
+                                                self._messages()))
+        message = json.loads(reply)
+        if "error" in message:
+            raise TargetRefused(message["error"], message.get("line", self._lines))
+        return Answer(message["answer"], message.get("line", self._lines),
+                      1e3 * (time.perf_counter() - sent))
+
+    def close(self):
+        """Ends the input; waits for the run to write its folder; returns summary.json."""
+        if self.summary is not None:
+            return self.summary
+        self._proc.stdin.close()
+        try:
+            code = self._proc.wait(timeout=self.timeout_s)
+        except subprocess.TimeoutExpired:
+            self.kill()
+            raise SceneError("hydrosoft did not end within %g s of its input's end"
+                             % self.timeout_s)
+        self._release()
+        if code != 0:
+            raise SceneError("hydrosoft ended with exit %d; its messages:\n%s"
+                             % (code, self._messages()))
+        with open(os.path.join(self.folder, "summary.json")) as f:
+            self.summary = json.load(f)
+        return self.summary
+
+    def kill(self):
+        """Stops the run at once (SIGTERM: it keeps its answered steps in FOLDER.failed)."""
+        if self._proc.poll() is None:
+            self._proc.terminate()
+            try:
+                self._proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                self._proc.kill()
+                self._proc.wait()
+        self._release()
+
+    def _release(self):
+        for stream in (self._proc.stdin, self._proc.stdout, self._log):
+            if stream and not stream.closed:
+                try:
+                    stream.close()
+                except BrokenPipeError:
+                    pass

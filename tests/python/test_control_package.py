@@ -1,0 +1,80 @@
+#!/usr/bin/python3
+"""The Python control package (python/hydrosoft_control) against real runs of the coarse
+hydraulic finger: answers reach the target, a refused line raises and the scene goes on, the
+answers are those summary.json records, 2 ranks answer as 1, and a scene that cannot start
+says why.
+
+    HYDROSOFT=build/bin/hydrosoft /usr/bin/python3 tests/python/test_control_package.py
+"""
+import os
+import shutil
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from hydrosoft_control import Scene, SceneError, TargetRefused  # noqa: E402
+
+DECK = os.path.join(ROOT, "input", "finger_hydraulic.yaml")
+COARSE = ["mesh.parameters.h=0.006"]
+LOW, HIGH = [0.09, 0.0, -0.012], [0.09, 0.0, -0.008]  # the deck's targets 0 and 4 (z steered)
+
+
+class ControlPackage(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="hydrosoft_python_test_")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def scene(self, name, ranks=1, deck=DECK, overrides=COARSE):
+        return Scene(deck, ranks=ranks, overrides=overrides,
+                     output_folder=os.path.join(self.tmp, name))
+
+    def test_answers_reach_the_targets_and_a_refused_line_changes_nothing(self):
+        with self.scene("one") as scene:
+            low = scene.reach(LOW)
+            with self.assertRaises(TargetRefused) as refused:
+                scene.send_line("0.09 abc -0.01")
+            high = scene.reach(HIGH, effector="tip")
+        self.assertEqual(refused.exception.line, 2)
+        self.assertIn("abc", str(refused.exception))
+        for answer, target in ((low, LOW), (high, HIGH)):
+            self.assertEqual(answer.effector, "tip")
+            np.testing.assert_array_equal(answer.target, target)
+            self.assertLess(abs(answer.reached[2] - target[2]), 5e-5)  # z is steered
+            self.assertAlmostEqual(answer.error_m, abs(answer.reached[2] - target[2]), delta=1e-15)
+            self.assertTrue(0 < answer.actuation[0] <= 30000)
+        self.assertLess(low.actuation[0], high.actuation[0])  # higher takes more pressure
+        self.assertEqual((low.line, high.line), (1, 3))
+        summary = scene.summary
+        self.assertEqual(summary["input"], {"lines": 3, "answered": 2, "rejected": 1})
+        for answer, entry in zip((low, high), summary["targets"]):
+            np.testing.assert_array_equal(answer.reached, entry["reached"])
+            np.testing.assert_array_equal(answer.actuation, entry["actuation"])
+            self.assertEqual(answer.line, entry["line"])
+
+    def test_two_ranks_answer_as_one(self):
+        with self.scene("np1") as one:
+            a = one.reach(LOW)
+        with self.scene("np2", ranks=2) as two:
+            b = two.reach(LOW)
+        np.testing.assert_allclose(b.reached, a.reached, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(b.actuation, a.actuation, rtol=1e-7)
+
+    def test_a_scene_that_cannot_start_says_why(self):
+        with self.assertRaises(SceneError) as missing:
+            self.scene("missing", deck=os.path.join(self.tmp, "no_such.yaml"))
+        self.assertIn("no_such.yaml", str(missing.exception))
+        scene = self.scene("bad", overrides=COARSE + ["control.steps_per_target=0"])
+        with self.assertRaises(SceneError) as bad:
+            scene.reach(LOW)
+        self.assertIn("control.steps_per_target", str(bad.exception))
+        scene.kill()
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
