@@ -6,7 +6,7 @@
         [--steps 1] [--out out/circle_tracking] [--set KEY=VALUE ...]
 
 Starts `mpirun -np NP build/bin/hydrosoft DECK --targets - --set
-control.steps_per_target=STEPS` and, for each point of the circle (in the horizontal plane
+control.steps_per_target=STEPS` (through python/hydrosoft_control) and, for each point of the circle (in the horizontal plane
 through the centre, starting on +x), writes one line "x y z" to its standard input and
 waits for its line on standard output (one JSON object: the answer, or why the target was
 refused; docs/control.md), so each target is sent only once the previous one is answered:
@@ -21,12 +21,13 @@ import csv
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from hydrosoft_control import Scene, SceneError, TargetRefused  # noqa: E402
 
 
 def main():
@@ -45,51 +46,31 @@ def main():
     centre = [float(v) for v in a.centre.split(",")]
     if len(centre) != 3 or a.radius <= 0 or a.points < 2 or a.steps < 1:
         sys.exit("track_circle.py: need --centre x,y,z, --radius > 0, --points >= 2, --steps >= 1")
-    exe = os.path.join(ROOT, "build", "bin", "hydrosoft")
-    if not os.path.exists(exe):
-        sys.exit("track_circle.py: %s not built (bash scripts/build.sh)" % exe)
-    cmd = ["mpirun", "--oversubscribe", "-np", str(a.np)]
-    if os.geteuid() == 0:
-        cmd.append("--allow-run-as-root")
-    cmd += [exe, a.deck, "--targets", "-", "--set", "control.steps_per_target=%d" % a.steps,
-            "--set", "output.folder=" + os.path.join(tempfile.gettempdir(), "hydrosoft_circle")]
-    for kv in a.set:
-        cmd += ["--set", kv]
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    log_path = os.path.join(tempfile.gettempdir(), "hydrosoft_circle.log")
-    log = open(log_path, "w")  # the configuration, the summary and any message
-    proc = subprocess.Popen(cmd, cwd=ROOT, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                            stderr=log, text=True, bufsize=1, env=env)
     rows = []
     n = int(round(a.points * a.turns))
     t0 = None
-    for k in range(n + 1):
-        phi = 2 * math.pi * k / a.points
-        target = [centre[0] + a.radius * math.cos(phi), centre[1] + a.radius * math.sin(phi),
-                  centre[2]]
-        sent = time.perf_counter()
-        t0 = sent if t0 is None else t0
-        proc.stdin.write("%.9g %.9g %.9g\n" % tuple(target))
-        proc.stdin.flush()
-        line = proc.stdout.readline()  # one JSON line per target line, nothing else
-        if not line:
-            proc.kill()
-            sys.exit("track_circle.py: hydrosoft stopped before answering target %d (its "
-                     "messages: %s)" % (k, log_path))
-        reply = json.loads(line)
-        if "error" in reply:
-            proc.kill()
-            sys.exit("track_circle.py: target %d refused: %s" % (k, reply["error"]))
-        answer = reply["answer"]
-        # The equilibrium's error where the answer has it (one_step with check_equilibrium),
-        # else the answer's own (the equilibrium in the newton mode).
-        rows.append({"time_s": sent - t0, "answer_ms": 1e3 * (time.perf_counter() - sent),
-                     "step_ms": answer["step_ms"], "target": target,
-                     "reached": answer.get("equilibrium", answer["reached"]),
-                     "error_m": answer.get("equilibrium_error_m", answer["error_m"]),
-                     "actuation": answer["actuation"]})
-    proc.stdin.close()
-    proc.wait()
+    overrides = ["control.steps_per_target=%d" % a.steps] + a.set
+    folder = os.path.join(tempfile.gettempdir(), "hydrosoft_circle")
+    try:
+        with Scene(os.path.join(ROOT, a.deck), ranks=a.np, overrides=overrides,
+                   output_folder=folder) as scene:
+            for k in range(n + 1):
+                phi = 2 * math.pi * k / a.points
+                target = [centre[0] + a.radius * math.cos(phi),
+                          centre[1] + a.radius * math.sin(phi), centre[2]]
+                sent = time.perf_counter()
+                t0 = sent if t0 is None else t0
+                answer = scene.reach(target)
+                raw = answer.raw
+                # The equilibrium's error where the answer has it (one_step with
+                # check_equilibrium), else the answer's own (the equilibrium in the newton mode).
+                rows.append({"time_s": sent - t0, "answer_ms": answer.round_trip_ms,
+                             "step_ms": answer.step_ms, "target": target,
+                             "reached": raw.get("equilibrium", raw["reached"]),
+                             "error_m": raw.get("equilibrium_error_m", answer.error_m),
+                             "actuation": list(answer.actuation)})
+    except (SceneError, TargetRefused) as e:
+        sys.exit("track_circle.py: target %d: %s" % (len(rows), e))
 
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     tmp = a.out + ".csv.tmp"
