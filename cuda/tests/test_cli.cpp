@@ -118,3 +118,18 @@ TEST(Cli, ErrorsAreClear) {
   EXPECT_EQ(kernel.status, 1);
   EXPECT_NE(kernel.output.find("not a cpu kernel"), std::string::npos);
 }
+
+// A density and gravity whose product with the volume overflows printed "null" with exit 0
+// (found by fuzzing surfaces with huge coordinates; the readers now refuse those).
+TEST(Cli, AWeightBeyondADoubleIsAnError) {
+  std::string mesh = write_obj(e_shape(), "cli_overflow.obj");
+  CliRun ok = run_cli(mesh + " --rho 1e70 --gravity 0,-1e70,0 --json");
+  ASSERT_EQ(ok.status, 0) << ok.output;
+  EXPECT_NEAR(json_number(ok.output, "total_weight"), 51e140, 1e-9 * 51e140);
+  CliRun bad = run_cli(mesh + " --rho 1e308 --gravity 0,-1e10,0 --json");
+  EXPECT_EQ(bad.status, 1) << bad.output;
+  EXPECT_EQ(bad.output.rfind(
+                "fluidweight: error: " + mesh + ": the volume or the weight is not finite", 0),
+            0u)
+      << bad.output;
+}
