@@ -194,9 +194,18 @@ SurfaceMesh read_stl(const std::string& path) {
     if (bytes.size() == 84 + 50 * static_cast<size_t>(count)) return read_stl_binary(path, bytes);
   }
   if (bytes.compare(0, 5, "solid") == 0) return read_stl_ascii(path, std::move(bytes));
-  throw InputError(path +
-                   ": neither a binary STL (size does not match its facet count) nor "
-                   "an ASCII one (no leading 'solid')");
+  std::ostringstream msg;
+  msg << path << ": neither a binary STL (";
+  if (bytes.size() < 84) {
+    msg << bytes.size() << " bytes, fewer than the 84 of its header and facet count";
+  } else {
+    uint32_t count;
+    std::memcpy(&count, bytes.data() + 80, 4);
+    msg << bytes.size() << " bytes, but its facet count " << count << " needs 84 + 50 x " << count
+        << " = " << 84 + 50 * static_cast<uint64_t>(count);
+  }
+  msg << ") nor an ASCII one (no leading 'solid')";
+  throw InputError(msg.str());
 }
 
 namespace {

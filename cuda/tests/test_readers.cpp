@@ -144,7 +144,20 @@ TEST(Readers, ErrorsNameTheFileAndLine) {
   std::string msh = write("bad.msh", "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n");
   EXPECT_EQ(expect_error(msh), msh + ":2: binary .msh files are not supported: save as ASCII");
   std::string stl = write("bad.stl", "not an stl");
-  EXPECT_NE(expect_error(stl).find("neither a binary STL"), std::string::npos);
+  EXPECT_EQ(expect_error(stl), stl +
+                                   ": neither a binary STL (10 bytes, fewer than the 84 of its "
+                                   "header and facet count) nor an ASCII one (no leading "
+                                   "'solid')");
+  // A binary STL whose size disagrees with its facet count (one facet's 50 bytes missing).
+  std::string binary(80, ' ');
+  const uint32_t two = 2;
+  binary.append(reinterpret_cast<const char*>(&two), 4);
+  binary.append(50, '\0');
+  stl = write("short.stl", binary);
+  EXPECT_EQ(expect_error(stl), stl +
+                                   ": neither a binary STL (134 bytes, but its facet count 2 "
+                                   "needs 84 + 50 x 2 = 184) nor an ASCII one (no leading "
+                                   "'solid')");
   EXPECT_EQ(expect_error(temp_path("missing.obj")),
             temp_path("missing.obj") + ": cannot open the file");
   EXPECT_NE(expect_error(write("mesh.ply", "")).find("unknown mesh format '.ply'"),

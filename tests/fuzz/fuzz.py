@@ -32,6 +32,7 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from classify import run_case, run_surface_case  # noqa: E402
 from deck_mutations import mutate_deck, override_mutation  # noqa: E402
+import mini_yaml  # noqa: E402
 from mesh_mutations import mutate_msh  # noqa: E402
 from surface_mutations import mutate_surface  # noqa: E402
 
@@ -92,6 +93,19 @@ def load_decks(pattern):
         # The mutated deck lives elsewhere: its mesh is named by its absolute path.
         text = re.sub(r"(file:\s*)\.\./meshes/", r"\g<1>" + os.path.join(SOURCE, "meshes") + "/", text)
         decks[os.path.splitext(os.path.basename(path))[0]] = text
+    for name, text in decks.items():
+        try:
+            mini_yaml.load(text)
+        except (ValueError, IndexError) as e:
+            sys.exit(f"fuzz: tests/fuzz/mini_yaml.py cannot read {name}.yaml ({e}): extend it")
+    try:  # where PyYAML is installed: the harness's own reader must see the same trees
+        import yaml
+    except ImportError:
+        return decks
+    for name, text in decks.items():
+        if mini_yaml.shape(mini_yaml.load(text)) != mini_yaml.shape(yaml.safe_load(text)):
+            sys.exit(f"fuzz: tests/fuzz/mini_yaml.py reads {name}.yaml otherwise than PyYAML: "
+                     "extend it to the YAML that deck uses")
     return decks
 
 
