@@ -1,6 +1,7 @@
 // The fluidweight command line: JSON fields against the library, the forces file, errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -132,4 +133,29 @@ TEST(Cli, AWeightBeyondADoubleIsAnError) {
                 "fluidweight: error: " + mesh + ": the volume or the weight is not finite", 0),
             0u)
       << bad.output;
+}
+
+// At the readers' bounds (a surface spanning 2e-30, coordinates up to 1e30) the weight is the
+// closed form: the E shape's 51 times the cube of the scale (rho = 1, |g| = 1).
+TEST(Cli, TheWeightIsRightAtTheBoundsOfSize) {
+  SurfaceMesh m = e_shape();
+  double extent = 0, largest = 0;
+  for (int d = 0; d < 3; ++d) {
+    double lo = m.vertices[d], hi = lo;
+    for (size_t k = d; k < m.vertices.size(); k += 3) {
+      lo = std::min(lo, m.vertices[k]);
+      hi = std::max(hi, m.vertices[k]);
+      largest = std::max(largest, std::fabs(m.vertices[k]));
+    }
+    extent = std::max(extent, hi - lo);
+  }
+  for (double scale : {2e-30 / extent, 0.999e30 / largest}) {
+    SurfaceMesh s = m;
+    for (double& x : s.vertices) x *= scale;
+    CliRun r = run_cli(write_obj(s, "cli_bound.obj") + " --grid 30 --json");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const double expected = 51.0 * scale * scale * scale;
+    EXPECT_NEAR(json_number(r.output, "volume"), expected, 1e-12 * expected);
+    EXPECT_NEAR(json_number(r.output, "total_weight"), expected, 1e-9 * expected);
+  }
 }

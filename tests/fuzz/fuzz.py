@@ -276,16 +276,17 @@ def main():
             fmt = by_format.setdefault(r["source"].split(".")[1], {})
             fmt[r["class"]] = fmt.get(r["class"], 0) + 1
     surfaces = [r for r in results if r["kind"].startswith("surface:")]
-    surface_counts = {}
-    for r in surfaces:
-        surface_counts[r["class"]] = surface_counts.get(r["class"], 0) + 1
+    surface_counts, deck_counts = {}, {}
+    for r in results:
+        part = surface_counts if r["kind"].startswith("surface:") else deck_counts
+        part[r["class"]] = part.get(r["class"], 0) + 1
     defects = [r for r in results if r["class"] == "defect"]
     report = {
         "seed": args.seed, "cases": len(results), "first": args.first,
         "real_runs": sum(r["real_run"] for r in results),
         "surface_cases": len(surfaces), "surface_first": args.surfaces_first,
         "seconds": round(time.monotonic() - start, 1), "jobs": args.jobs, "counts": counts,
-        "surface_counts": surface_counts, "by_kind": by_kind, "surfaces_by_format": by_format,
+        "deck_counts": deck_counts, "surface_counts": surface_counts, "by_kind": by_kind, "surfaces_by_format": by_format,
         "defects": defects,
         "time_limits": [r for r in results if r["class"] == "time_limit"],
     }
@@ -299,7 +300,8 @@ def main():
     print(f"fuzz: seed {args.seed}, {len(results)} cases ({report['real_runs']} also run, "
           f"{len(surfaces)} surfaces), {report['seconds']} s: "
           + ", ".join(f"{k} {v}" for k, v in sorted(counts.items()))
-          + " (surfaces: " + (", ".join(f"{k} {v}" for k, v in sorted(surface_counts.items())) or "none") + ")")
+          + " (decks and meshes: " + (", ".join(f"{k} {v}" for k, v in sorted(deck_counts.items())) or "none")
+          + "; surfaces: " + (", ".join(f"{k} {v}" for k, v in sorted(surface_counts.items())) or "none") + ")")
     for d in defects:
         print(f"fuzz: defect in case {d['id']} ({d['source']}, {d['kind']}: {d['detail']}): {d['reason']}"
               f"\n      reproducer: {d['reproducer']}")
