@@ -217,6 +217,18 @@ int run(const Args& a) {
     wall.push_back(r.timings.wall_ms);
     gpu.push_back(r.timings.gpu_ms);
   }
+  // The readers keep coordinates within 1e30 and sizes above 1e-30; a density or gravity
+  // beyond a double's range can still overflow: an error, not "null" printed with exit 0.
+  bool finite = std::isfinite(r.signed_volume) && std::isfinite(r.column_volume) &&
+                std::isfinite(r.total_weight);
+  for (double f : r.forces) finite = finite && std::isfinite(f);
+  if (!finite) {
+    std::ostringstream msg;
+    msg << a.mesh << ": the volume or the weight is not finite (signed volume " << r.signed_volume
+        << ", weight " << r.total_weight << ", rho " << o.rho
+        << "): the density, gravity or the surface's size overflow a double";
+    throw fw::InputError(msg.str());
+  }
   if (!a.forces.empty()) {
     std::ofstream out(a.forces);
     if (!out) throw fw::InputError(a.forces + ": cannot write the forces file");

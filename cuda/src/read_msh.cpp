@@ -90,7 +90,7 @@ struct Builder {
 
 void expect(detail::TextReader& in, const std::string& word) {
   std::string t = in.token();
-  if (t != word) in.fail("expected '" + word + "', got '" + t + "'");
+  if (t != word) in.fail("expected '" + word + "', got " + detail::quoted(t));
 }
 
 void skip_section(detail::TextReader& in, const std::string& name) {
@@ -126,7 +126,8 @@ void read_v41(detail::TextReader& in, Builder& b, bool nodes) {
       std::vector<long long> tags(count);
       for (auto& t : tags) t = in.integer("node tag");
       for (long long t : tags) {
-        double x = in.number("x"), y = in.number("y"), z = in.number("z");
+        double x = in.coordinate("x coordinate"), y = in.coordinate("y coordinate"),
+               z = in.coordinate("z coordinate");
         if (parametric) in.line();
         b.node(in, t, x, y, z);
       }
@@ -157,7 +158,8 @@ void read_v22(detail::TextReader& in, Builder& b, bool nodes) {
   for (long long k = 0; k < count; ++k) {
     if (nodes) {
       long long tag = in.integer("node tag");
-      double x = in.number("x"), y = in.number("y"), z = in.number("z");
+      double x = in.coordinate("x coordinate"), y = in.coordinate("y coordinate"),
+             z = in.coordinate("z coordinate");
       b.node(in, tag, x, y, z);
     } else {
       long long tag = in.integer("element tag");
@@ -183,7 +185,8 @@ SurfaceMesh read_msh(const std::string& path) {
   in.integer("data size");
   if (file_type != 0) in.fail("binary .msh files are not supported: save as ASCII");
   bool v41 = version.rfind("4.1", 0) == 0, v22 = version.rfind("2.2", 0) == 0;
-  if (!v41 && !v22) in.fail("version " + version + " is not supported (4.1 or 2.2)");
+  if (!v41 && !v22)
+    in.fail("version " + detail::quoted(version) + " is not supported (4.1 or 2.2)");
   expect(in, "$EndMeshFormat");
   Builder b;
   bool seen_elements = false;
@@ -197,7 +200,7 @@ SurfaceMesh read_msh(const std::string& path) {
     } else if (section.size() > 1 && section[0] == '$') {
       skip_section(in, section);
     } else {
-      in.fail("expected a section ($Nodes, $Elements, ...), got '" + section + "'");
+      in.fail("expected a section ($Nodes, $Elements, ...), got " + detail::quoted(section));
     }
   }
   if (!seen_elements || b.mesh.triangles.empty()) {

@@ -42,11 +42,9 @@ SurfaceMesh read_obj(const std::string& path) {
     if (t[0] == "v") {
       if (t.size() < 4) fail("a vertex needs 3 coordinates");
       for (int d = 1; d <= 3; ++d) {
-        char* end = nullptr;
-        double x = std::strtod(t[d].c_str(), &end);
-        if (end == t[d].c_str() || *end != '\0') fail("bad coordinate '" + t[d] + "'");
-        // NaN, inf and values beyond a double (strtod gives inf) carry no geometry.
-        if (!std::isfinite(x)) fail("coordinate '" + t[d] + "' is not a finite number");
+        double x = 0;
+        std::string problem = detail::coordinate_problem(t[d], x);
+        if (!problem.empty()) fail("coordinate " + detail::quoted(t[d]) + " " + problem);
         mesh.vertices.push_back(x);
       }
     } else if (t[0] == "f") {
@@ -56,14 +54,15 @@ SurfaceMesh read_obj(const std::string& path) {
         // "v", "v/vt", "v//vn" or "v/vt/vn"; negative indices count back from the last vertex.
         char* end = nullptr;
         long index = std::strtol(t[k].c_str(), &end, 10);
-        if (end == t[k].c_str() || (*end != '\0' && *end != '/')) {
-          fail("bad face corner '" + t[k] + "'");
+        const char* stop = t[k].c_str() + t[k].size();
+        if (end == t[k].c_str() || (end != stop && *end != '/')) {
+          fail("bad face corner " + detail::quoted(t[k]));
         }
         long nv = mesh.num_vertices();
         long v = index > 0 ? index - 1 : nv + index;
         if (index == 0 || v < 0 || v >= nv) {
-          fail("face corner " + t[k] + " refers to no vertex (" + std::to_string(nv) +
-               " defined so far)");
+          fail("face corner " + detail::quoted(t[k]) + " refers to no vertex (" +
+               std::to_string(nv) + " defined so far)");
         }
         corners.push_back(static_cast<int>(v));
       }
@@ -78,7 +77,7 @@ SurfaceMesh read_off(const std::string& path) {
   detail::TextReader in(path, detail::read_file(path));
   in.set_comments(true);
   std::string header = in.token();
-  if (header != "OFF") in.fail("expected the header 'OFF', got '" + header + "'");
+  if (header != "OFF") in.fail("expected the header 'OFF', got " + detail::quoted(header));
   long long nv = in.integer("vertex count"), nf = in.integer("face count");
   in.integer("edge count");
   // Checked against the file's size before anything is allocated for them: a vertex takes at
@@ -90,7 +89,7 @@ SurfaceMesh read_off(const std::string& path) {
   SurfaceMesh mesh;
   mesh.vertices.reserve(3 * nv);
   for (long long v = 0; v < nv; ++v) {
-    for (int d = 0; d < 3; ++d) mesh.vertices.push_back(in.number("vertex coordinate"));
+    for (int d = 0; d < 3; ++d) mesh.vertices.push_back(in.coordinate("vertex coordinate"));
     in.line();  // optional colour values
   }
   for (long long f = 0; f < nf; ++f) {
@@ -146,6 +145,12 @@ SurfaceMesh read_stl_binary(const std::string& path, const std::string& bytes) {
           throw InputError(path + ": facet " + std::to_string(f + 1) +
                            ": a corner coordinate is not a finite number");
         }
+        if (std::fabs(x) > kMaxCoordinate) {
+          std::ostringstream msg;
+          msg << path << ": facet " << f + 1 << ": corner coordinate " << x
+              << " is beyond 1e30 in magnitude (the volume and the weight would overflow)";
+          throw InputError(msg.str());
+        }
         c[k][d] = x;
       }
     }
@@ -162,13 +167,13 @@ SurfaceMesh read_stl_ascii(const std::string& path, std::string text) {
   for (;;) {
     std::string word = in.token();
     if (word == "endsolid") break;
-    if (word != "facet") in.fail("expected 'facet' or 'endsolid', got '" + word + "'");
+    if (word != "facet") in.fail("expected 'facet' or 'endsolid', got " + detail::quoted(word));
     in.line();  // normal: recomputed from the corners
     if (in.token() != "outer" || in.token() != "loop") in.fail("expected 'outer loop'");
     std::array<std::array<double, 3>, 3> c;
     for (int k = 0; k < 3; ++k) {
       if (in.token() != "vertex") in.fail("expected 'vertex' (facets must be triangles)");
-      for (int d = 0; d < 3; ++d) c[k][d] = in.number("vertex coordinate");
+      for (int d = 0; d < 3; ++d) c[k][d] = in.coordinate("vertex coordinate");
     }
     if (in.token() != "endloop") in.fail("expected 'endloop' (facets must be triangles)");
     if (in.token() != "endfacet") in.fail("expected 'endfacet'");
@@ -189,12 +194,44 @@ SurfaceMesh read_stl(const std::string& path) {
     if (bytes.size() == 84 + 50 * static_cast<size_t>(count)) return read_stl_binary(path, bytes);
   }
   if (bytes.compare(0, 5, "solid") == 0) return read_stl_ascii(path, std::move(bytes));
-  throw InputError(path +
-                   ": neither a binary STL (size does not match its facet count) nor "
-                   "an ASCII one (no leading 'solid')");
+  std::ostringstream msg;
+  msg << path << ": neither a binary STL (";
+  if (bytes.size() < 84) {
+    msg << bytes.size() << " bytes, fewer than the 84 of its header and facet count";
+  } else {
+    uint32_t count;
+    std::memcpy(&count, bytes.data() + 80, 4);
+    msg << bytes.size() << " bytes, but its facet count " << count << " needs 84 + 50 x " << count
+        << " = " << 84 + 50 * static_cast<uint64_t>(count);
+  }
+  msg << ") nor an ASCII one (no leading 'solid')";
+  throw InputError(msg.str());
 }
 
-SurfaceMesh read_surface(const std::string& path) {
+namespace {
+
+// A surface smaller than kMinExtent has a volume and nodal weights below a double's range.
+void check_extent(const SurfaceMesh& mesh, const std::string& path) {
+  if (mesh.vertices.empty()) return;  // no triangles either: the closed-surface check says so
+  double largest = 0;
+  for (int d = 0; d < 3; ++d) {
+    double lo = mesh.vertices[d], hi = lo;
+    for (size_t k = d; k < mesh.vertices.size(); k += 3) {
+      lo = std::min(lo, mesh.vertices[k]);
+      hi = std::max(hi, mesh.vertices[k]);
+    }
+    largest = std::max(largest, hi - lo);
+  }
+  if (largest < kMinExtent) {
+    std::ostringstream msg;
+    msg << path << ": the surface spans only " << largest
+        << " (the largest side of its bounding box): below 1e-30 its volume and weight "
+           "underflow";
+    throw InputError(msg.str());
+  }
+}
+
+SurfaceMesh read_by_extension(const std::string& path) {
   std::string ext;
   size_t dot = path.find_last_of('.');
   if (dot != std::string::npos) ext = path.substr(dot + 1);
@@ -204,7 +241,16 @@ SurfaceMesh read_surface(const std::string& path) {
   if (ext == "off") return read_off(path);
   if (ext == "stl") return read_stl(path);
   if (ext == "msh") return read_msh(path);
-  throw InputError(path + ": unknown mesh format '." + ext + "' (expected .obj, .off, .stl, .msh)");
+  throw InputError(path + ": unknown mesh format " + detail::quoted("." + ext) +
+                   " (expected .obj, .off, .stl, .msh)");
+}
+
+}  // namespace
+
+SurfaceMesh read_surface(const std::string& path) {
+  SurfaceMesh mesh = read_by_extension(path);
+  check_extent(mesh, path);
+  return mesh;
 }
 
 }  // namespace fluidweight

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -46,18 +47,44 @@ std::string TextReader::token() {
   return text_.substr(start, pos_ - start);
 }
 
-double TextReader::number(const char* what) {
-  std::string t = token();
+std::string quoted(const std::string& token) {
+  constexpr size_t kShown = 40;
+  std::string out = "'";
+  for (size_t k = 0; k < token.size() && k < kShown; ++k) {
+    unsigned char c = static_cast<unsigned char>(token[k]);
+    if (c < 0x20 || c >= 0x7f || c == '\\') {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  out += "'";
+  if (token.size() > kShown) out += " (" + std::to_string(token.size()) + " characters)";
+  return out;
+}
+
+std::string coordinate_problem(const std::string& token, double& value) {
   char* end = nullptr;
   errno = 0;
-  double v = std::strtod(t.c_str(), &end);
-  if (end == t.c_str() || *end != '\0') {
-    fail(std::string("expected a number (") + what + "), got '" + t + "'");
-  }
+  value = std::strtod(token.c_str(), &end);
+  // strtod stops at a NUL: "0.3\0" "9" would read as 0.3 without this comparison.
+  if (end == token.c_str() || end != token.c_str() + token.size()) return "is not a number";
   // NaN and inf parse, and so does a number beyond a double's range (as inf, with ERANGE).
-  if (errno == ERANGE || !std::isfinite(v)) {
-    fail(std::string("expected a finite number (") + what + "), got '" + t + "'");
+  if (errno == ERANGE && std::fabs(value) > 1.0) return "is not a finite number";
+  if (!std::isfinite(value)) return "is not a finite number";
+  if (std::fabs(value) > kMaxCoordinate) {
+    return "is beyond 1e30 in magnitude (the volume and the weight would overflow)";
   }
+  return "";
+}
+
+double TextReader::coordinate(const char* what) {
+  std::string t = token();
+  double v = 0;
+  std::string problem = coordinate_problem(t, v);
+  if (!problem.empty()) fail(std::string(what) + " " + quoted(t) + " " + problem);
   return v;
 }
 
@@ -78,8 +105,8 @@ long long TextReader::integer(const char* what) {
   char* end = nullptr;
   errno = 0;
   long long v = std::strtoll(t.c_str(), &end, 10);
-  if (end == t.c_str() || *end != '\0' || errno == ERANGE) {
-    fail(std::string("expected an integer (") + what + "), got '" + t + "'");
+  if (end == t.c_str() || end != t.c_str() + t.size() || errno == ERANGE) {
+    fail(std::string("expected an integer (") + what + "), got " + quoted(t));
   }
   return v;
 }

@@ -1,6 +1,7 @@
 // The fluidweight command line: JSON fields against the library, the forces file, errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -117,4 +118,44 @@ TEST(Cli, ErrorsAreClear) {
   CliRun kernel = run_cli(write_obj(e_shape(), "cli_k.obj") + " --device cpu --kernel leveraging");
   EXPECT_EQ(kernel.status, 1);
   EXPECT_NE(kernel.output.find("not a cpu kernel"), std::string::npos);
+}
+
+// A density and gravity whose product with the volume overflows printed "null" with exit 0
+// (found by fuzzing surfaces with huge coordinates; the readers now refuse those).
+TEST(Cli, AWeightBeyondADoubleIsAnError) {
+  std::string mesh = write_obj(e_shape(), "cli_overflow.obj");
+  CliRun ok = run_cli(mesh + " --rho 1e70 --gravity 0,-1e70,0 --json");
+  ASSERT_EQ(ok.status, 0) << ok.output;
+  EXPECT_NEAR(json_number(ok.output, "total_weight"), 51e140, 1e-9 * 51e140);
+  CliRun bad = run_cli(mesh + " --rho 1e308 --gravity 0,-1e10,0 --json");
+  EXPECT_EQ(bad.status, 1) << bad.output;
+  EXPECT_EQ(bad.output.rfind(
+                "fluidweight: error: " + mesh + ": the volume or the weight is not finite", 0),
+            0u)
+      << bad.output;
+}
+
+// At the readers' bounds (a surface spanning 2e-30, coordinates up to 1e30) the weight is the
+// closed form: the E shape's 51 times the cube of the scale (rho = 1, |g| = 1).
+TEST(Cli, TheWeightIsRightAtTheBoundsOfSize) {
+  SurfaceMesh m = e_shape();
+  double extent = 0, largest = 0;
+  for (int d = 0; d < 3; ++d) {
+    double lo = m.vertices[d], hi = lo;
+    for (size_t k = d; k < m.vertices.size(); k += 3) {
+      lo = std::min(lo, m.vertices[k]);
+      hi = std::max(hi, m.vertices[k]);
+      largest = std::max(largest, std::fabs(m.vertices[k]));
+    }
+    extent = std::max(extent, hi - lo);
+  }
+  for (double scale : {2e-30 / extent, 0.999e30 / largest}) {
+    SurfaceMesh s = m;
+    for (double& x : s.vertices) x *= scale;
+    CliRun r = run_cli(write_obj(s, "cli_bound.obj") + " --grid 30 --json");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const double expected = 51.0 * scale * scale * scale;
+    EXPECT_NEAR(json_number(r.output, "volume"), expected, 1e-12 * expected);
+    EXPECT_NEAR(json_number(r.output, "total_weight"), expected, 1e-9 * expected);
+  }
 }

@@ -138,13 +138,26 @@ TEST(Readers, Msh41And22) {
 
 TEST(Readers, ErrorsNameTheFileAndLine) {
   std::string obj = write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
-  EXPECT_EQ(expect_error(obj), obj + ":4: face corner 4 refers to no vertex (3 defined so far)");
+  EXPECT_EQ(expect_error(obj), obj + ":4: face corner '4' refers to no vertex (3 defined so far)");
   std::string off = write("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n");
-  EXPECT_EQ(expect_error(off), off + ":4: expected a number (vertex coordinate), got 'x'");
+  EXPECT_EQ(expect_error(off), off + ":4: vertex coordinate 'x' is not a number");
   std::string msh = write("bad.msh", "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n");
   EXPECT_EQ(expect_error(msh), msh + ":2: binary .msh files are not supported: save as ASCII");
   std::string stl = write("bad.stl", "not an stl");
-  EXPECT_NE(expect_error(stl).find("neither a binary STL"), std::string::npos);
+  EXPECT_EQ(expect_error(stl), stl +
+                                   ": neither a binary STL (10 bytes, fewer than the 84 of its "
+                                   "header and facet count) nor an ASCII one (no leading "
+                                   "'solid')");
+  // A binary STL whose size disagrees with its facet count (one facet's 50 bytes missing).
+  std::string binary(80, ' ');
+  const uint32_t two = 2;
+  binary.append(reinterpret_cast<const char*>(&two), 4);
+  binary.append(50, '\0');
+  stl = write("short.stl", binary);
+  EXPECT_EQ(expect_error(stl), stl +
+                                   ": neither a binary STL (134 bytes, but its facet count 2 "
+                                   "needs 84 + 50 x 2 = 184) nor an ASCII one (no leading "
+                                   "'solid')");
   EXPECT_EQ(expect_error(temp_path("missing.obj")),
             temp_path("missing.obj") + ": cannot open the file");
   EXPECT_NE(expect_error(write("mesh.ply", "")).find("unknown mesh format '.ply'"),
@@ -211,17 +224,17 @@ TEST(UntrustedReaders, NonFiniteCoordinatesAreRefused) {
     EXPECT_EQ(expect_error(obj), obj + ":2: coordinate '" + value + "' is not a finite number");
     const std::string off =
         dir.write("bad.off", "OFF\n4 1 0\n0 0 0\n" + value + " 0 0\n0 1 0\n0 0 1\n3 0 1 2\n");
-    EXPECT_NE(expect_error(off).find(":4: expected a finite number (vertex coordinate)"),
-              std::string::npos)
-        << expect_error(off);
+    EXPECT_EQ(expect_error(off),
+              off + ":4: vertex coordinate '" + value + "' is not a finite number");
     const std::string msh =
         dir.write("bad.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 " +
                                  value + " 0 0\n3 0 1 0\n$EndNodes\n");
-    EXPECT_NE(expect_error(msh).find(":7: expected a finite number (x)"), std::string::npos);
+    EXPECT_EQ(expect_error(msh), msh + ":7: x coordinate '" + value + "' is not a finite number");
     const std::string stl =
         dir.write("bad.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex " +
                                  value + " 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n");
-    EXPECT_NE(expect_error(stl).find(":5: expected a finite number"), std::string::npos);
+    EXPECT_EQ(expect_error(stl),
+              stl + ":5: vertex coordinate '" + value + "' is not a finite number");
   }
   // A binary STL with a NaN corner.
   std::string binary(80, ' ');
@@ -232,4 +245,99 @@ TEST(UntrustedReaders, NonFiniteCoordinatesAreRefused) {
   binary.append(2, '\0');
   const std::string stl = dir.write("bad_binary.stl", binary);
   EXPECT_EQ(expect_error(stl), stl + ": facet 1: a corner coordinate is not a finite number");
+}
+
+// Found by fuzzing surfaces (tests/fuzz/surface_mutations.py, docs/reliability.md): strtod and
+// strtoll stop at a NUL, and the rest of the token was ignored: "-0.3\0" "09017" read as -0.3.
+TEST(UntrustedReaders, ANulInsideANumberIsRefused) {
+  TempFolder dir;
+  const std::string nul("\0", 1);
+  const std::string faces = "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
+  std::string obj =
+      dir.write("nul.obj", "v 0 0 0\nv -0.3" + nul + "09017 0 0\nv 0 1 0\nv 0 0 1\n" + faces);
+  EXPECT_EQ(expect_error(obj), obj + ":2: coordinate '-0.3\\x0009017' is not a number");
+  std::string off =
+      dir.write("nul.off", "OFF\n4 1 0\n0 0 0\n1 0 3." + nul + "5\n0 1 0\n0 0 1\n3 0 1 2\n");
+  EXPECT_EQ(expect_error(off), off + ":4: vertex coordinate '3.\\x005' is not a number");
+  std::string msh = dir.write("nul.msh",
+                              "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n"
+                              "3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 2 1" +
+                                  nul + " 1 1 2 3\n$EndElements\n");
+  EXPECT_EQ(expect_error(msh), msh + ":12: expected an integer (element tag value), got '1\\x00'");
+  std::string stl = dir.write("nul.stl",
+                              "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                              "vertex 1 0 0" +
+                                  nul + "7\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n");
+  EXPECT_EQ(expect_error(stl), stl + ":5: vertex coordinate '0\\x007' is not a number");
+}
+
+// A token quoted by an error message had its bytes as they were: a \x1c or \x85 split the
+// message's line, an escape sequence reached the terminal, a 1 MB token made a 1 MB message.
+TEST(UntrustedReaders, MessagesWriteOutControlBytesAndShortenLongTokens) {
+  TempFolder dir;
+  std::string msh = dir.write("ctrl.msh",
+                              "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n"
+                              "1 0.5\x1c\x85\x1b[2J 0 0\n$EndNodes\n");
+  EXPECT_EQ(expect_error(msh), msh + ":6: x coordinate '0.5\\x1c\\x85\\x1b[2J' is not a number");
+  std::string off = dir.write("long.off", std::string(1000000, '9') + "\n");
+  const std::string e = expect_error(off);
+  EXPECT_EQ(e, off + ":1: expected the header 'OFF', got '" + std::string(40, '9') +
+                   "' (1000000 characters)");
+}
+
+namespace {
+
+// A tetrahedron of side s (volume s^3 / 6), its second vertex's x given as text if odd_x is.
+std::string tetrahedron_obj(double s, const std::string& odd_x = "") {
+  std::ostringstream out;
+  out.precision(17);
+  out << "v 0 0 0\nv ";
+  if (odd_x.empty()) {
+    out << s;
+  } else {
+    out << odd_x;
+  }
+  out << " 0 0\nv 0 " << s << " 0\nv 0 0 " << s << "\n";
+  out << "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  return out.str();
+}
+
+}  // namespace
+
+// Coordinates up to 1e308 were read, and the volume, the weight and the forces came out inf
+// or NaN (printed "null", exit 0); a surface scaled by 1e-150 gave a weight of exactly 0.
+TEST(UntrustedReaders, CoordinatesBeyond1e30AndSurfacesBelow1e30AreRefused) {
+  TempFolder dir;
+  std::string big = dir.write("big.obj", tetrahedron_obj(1, "1e31"));
+  EXPECT_EQ(expect_error(big), big +
+                                   ":2: coordinate '1e31' is beyond 1e30 in magnitude (the "
+                                   "volume and the weight would overflow)");
+  std::string off = dir.write("big.off", "OFF\n4 1 0\n0 0 0\n1 -1e308 0\n0 1 0\n0 0 1\n3 0 1 2\n");
+  EXPECT_NE(expect_error(off).find(":4: vertex coordinate '-1e308' is beyond 1e30"),
+            std::string::npos);
+  // A binary STL's float32 reaches 3.4e38.
+  std::string binary(80, ' ');
+  const uint32_t one = 1;
+  binary.append(reinterpret_cast<const char*>(&one), 4);
+  float record[12] = {0, 0, 1, 0, 0, 0, 1e38f, 0, 0, 0, 1, 0};
+  binary.append(reinterpret_cast<const char*>(record), 48);
+  binary.append(2, '\0');
+  std::string stl = dir.write("big.stl", binary);
+  EXPECT_NE(expect_error(stl).find(stl + ": facet 1: corner coordinate 1e+38 is beyond 1e30"),
+            std::string::npos)
+      << expect_error(stl);
+
+  // At the bounds: read, with the volume s^3 / 6 of the tetrahedron.
+  for (double s : {1e30, 1e-29}) {
+    SurfaceMesh m = fw::read_surface(dir.write("edge.obj", tetrahedron_obj(s)));
+    fw::check_closed_surface(m);
+    EXPECT_NEAR(volume(m), s * s * s / 6, 1e-14 * s * s * s);
+  }
+  std::string small = dir.write("small.obj", tetrahedron_obj(1e-150));
+  EXPECT_EQ(expect_error(small), small +
+                                     ": the surface spans only 1e-150 (the largest side of "
+                                     "its bounding box): below 1e-30 its volume and weight "
+                                     "underflow");
+  std::string point = dir.write("point.off", "OFF\n3 1 0\n5 5 5\n5 5 5\n5 5 5\n3 0 1 2\n");
+  EXPECT_NE(expect_error(point).find(": the surface spans only 0 "), std::string::npos);
 }

@@ -124,3 +124,81 @@ def run_case(hydrosoft, deck, overrides, files, real_run, work, timeout, memory_
     stderr = p.stderr.decode("utf-8", "replace")
     cls, reason = classify(p.returncode, stderr, files, real_run, results)
     return cls, reason, p.returncode, stderr, command
+
+
+# ---- the fluidweight executable's cases (surface files) ----
+
+SURFACE_MEMORY_FLOOR_MB = 256
+SURFACE_MEMORY_PER_BYTE = 50
+# The executable starts a worker thread a core (idle for small surfaces), each with an 8 MB
+# stack reserved: address space that does not grow with the file.
+THREAD_STACK_MB = 8
+
+
+def surface_memory_mb(file_bytes):
+    """The address-space limit of one surface case: max(256 MB, 50 x the file) + the stacks."""
+    per_file = -(-SURFACE_MEMORY_PER_BYTE * file_bytes // (1024 * 1024))
+    return max(SURFACE_MEMORY_FLOOR_MB, per_file) + THREAD_STACK_MB * (os.cpu_count() or 1)
+
+
+def classify_surface(returncode, stdout, stderr, file, expect, volume):
+    """(class, reason) of one fluidweight run on `file`.
+
+    accepted   exit 0, one JSON object with finite volumes and weight; where the mutation
+               keeps the volume known, the volume it encloses
+    rejected   exit 1 with ONE line on standard error, `fluidweight: error: FILE...: reason`
+    defect     anything else, and an accepted case that had to be refused (an open surface, a
+               NaN coordinate: a weight printed for it would be wrong) or the reverse
+    """
+    lines = [l for l in stderr.splitlines() if l.strip()]
+    if returncode < 0:
+        return "defect", f"signal {-returncode}"
+    if returncode == 0:
+        try:
+            result = json.loads(stdout)
+        except ValueError:
+            return "defect", "exit 0 without one JSON object on standard output"
+        for key in ("signed_volume", "volume", "total_weight"):
+            if not isinstance(result.get(key), (int, float)):  # NaN and inf print as null
+                return "defect", f"exit 0 but {key} is {result.get(key)}"
+        if lines:
+            return "defect", f"exit 0 with {len(lines)} lines on stderr: {lines[0][:200]}"
+        if expect == "reject":
+            return "defect", (f"accepted what must be refused: volume {result['volume']}, "
+                              f"weight {result['total_weight']}")
+        if volume is not None:
+            tolerance = 1e-6 * abs(volume) if volume else 1e-12
+            if abs(abs(result["signed_volume"]) - abs(volume)) > tolerance:
+                return "defect", f"signed volume {result['signed_volume']}, expected +-{volume}"
+            if abs(result["volume"] - abs(volume)) > max(0.01 * abs(volume), tolerance):
+                return "defect", f"column volume {result['volume']}, expected {abs(volume)}"
+        return "accepted", ""
+    if returncode != 1:
+        return "defect", f"exit {returncode}: " + (lines[-1] if lines else "")[:300]
+    if len(lines) != 1 or not lines[0].startswith("fluidweight: error: "):
+        return "defect", f"{len(lines)} lines on stderr: " + " | ".join(lines)[:300]
+    message = lines[0][len("fluidweight: error: "):]
+    if "bad_alloc" in message:
+        return "defect", "the memory limit: " + message[:300]
+    # FILE:LINE: reason or FILE: reason (the element or facet inside the reason).
+    if not (message.startswith(file + ":") and len(message) > len(file) + 3):
+        return "defect", "the message does not start with the file: " + message[:300]
+    if expect == "accept":
+        return "defect", "refused a valid surface: " + message[:300]
+    return "rejected", ""
+
+
+def run_surface_case(fluidweight, file, work, timeout, expect, volume):
+    """Runs `fluidweight FILE --json` in `work`; returns (class, reason, exit, stderr, command)."""
+    command = [fluidweight, file, "--json"]
+    size = os.path.getsize(os.path.join(work, file))
+    try:
+        p = subprocess.run(command, cwd=work, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, timeout=timeout,
+                           preexec_fn=_limit_memory(surface_memory_mb(size)))
+    except subprocess.TimeoutExpired as e:
+        return "defect", f"still running after {timeout} s", None, (e.stderr or b"").decode("utf-8", "replace"), command
+    stdout = p.stdout.decode("utf-8", "replace")
+    stderr = p.stderr.decode("utf-8", "replace")
+    cls, reason = classify_surface(p.returncode, stdout, stderr, file, expect, volume)
+    return cls, reason, p.returncode, stderr + ("\n--- stdout\n" + stdout if stdout else ""), command

@@ -3,12 +3,12 @@ wrong type or range, a second document, truncation, bytes a deck never holds.
 
 Most mutations work on the text, so that a deck keeps its comments, flow maps and line
 numbers and the validator's "(line N)" can be checked; a few rebuild the tree (a map where a
-list was, and the reverse) through PyYAML. Every choice is drawn from the `rng` given, so that
-a seed gives the same cases on every machine.
+list was, and the reverse) through mini_yaml.py (no PyYAML needed). Every choice is drawn from
+the `rng` given, so that a seed gives the same cases on every machine.
 """
 import re
 
-import yaml
+import mini_yaml
 
 # Values that a deck key may be given by mistake or by an attacker.
 ODD_VALUES = [
@@ -28,17 +28,6 @@ ODD_NUMBERS = [
 
 KEY_RE = re.compile(r"(?:(?<=^)|(?<=[\s{,]))([A-Za-z_][A-Za-z0-9_]*)\s*:(?=\s|$)")
 NUMBER_RE = re.compile(r"(?<![\w.])[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?![\w.])")
-
-
-class _NumberLoader(yaml.SafeLoader):
-    """PyYAML reads 1e9 (no dot) as a string where YAML 1.2 and yaml-cpp read a number."""
-
-
-_NumberLoader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$"),
-    list("-+0123456789."),
-)
 
 
 def code_part(line):
@@ -164,7 +153,7 @@ def _duplicate_key(lines, k):
 
 def _restructure(rng, text):
     """A map becomes a list or a scalar, a list a map, through the parsed tree."""
-    tree = yaml.load(text, Loader=_NumberLoader)
+    tree = mini_yaml.load(text)
     places = []
 
     def walk(node, parent, key):
@@ -185,7 +174,7 @@ def _restructure(rng, text):
         parent[key] = rng.choice([{str(i): v for i, v in enumerate(node)}, node * 100, [node], 3])
     else:
         parent[key] = rng.choice([{"value": node}, [node], [node] * 3, {str(node): node}])
-    return yaml.safe_dump(tree, default_flow_style=None, sort_keys=False, width=1000)
+    return mini_yaml.dump(tree)
 
 
 def mutate_deck(rng, text):
@@ -266,7 +255,7 @@ def mutate_deck(rng, text):
 
 def override_mutation(rng, text):
     """A --set key=value of the command line: a key of the deck (maybe misspelled), an odd value."""
-    tree = yaml.load(text, Loader=_NumberLoader)
+    tree = mini_yaml.load(text)
     paths = []
 
     def walk(node, path):

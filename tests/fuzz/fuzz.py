@@ -1,10 +1,16 @@
 #!/usr/bin/python3
 """Fuzzes hydrosoft's input: mutated decks of input/, mutated .msh meshes and --set overrides,
-each run with `hydrosoft --check` and a sample also for real, each outcome classified
-(classify.py). Deterministic: case i of seed s is the same on every machine and can be run
-alone (--only i).
+each run with `hydrosoft --check` and a sample also for real; and mutated surface files
+(.obj, .off, .stl, .msh) run through `fluidweight`. Each outcome is classified (classify.py).
+Deterministic: case i of seed s is the same on every machine and can be run alone (--only i;
+surface case i: --only s<i>).
 
-    tests/fuzz/fuzz.py --hydrosoft build/bin/hydrosoft --out /tmp/fuzz --seed 1 --cases 3000
+    tests/fuzz/fuzz.py --hydrosoft build/bin/hydrosoft --out /tmp/fuzz --seed 1 --cases 3000 \
+        --surfaces 2000
+
+Needs /usr/bin/python3's standard library only, and the executables: the base meshes of the
+mesh cases are read from tests/fuzz/base_meshes/ (--base-meshes; --make-base-meshes remakes
+them with the gmsh command), the surfaces are written by surface_mutations.py.
 
 Writes OUT/report.json (counts per class and per mutation, every defect), OUT/cases.csv (one
 row a case) and OUT/defects/<id>/ (the mutated deck and mesh, the command, its stderr);
@@ -24,9 +30,11 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from classify import run_case  # noqa: E402
+from classify import run_case, run_surface_case  # noqa: E402
 from deck_mutations import mutate_deck, override_mutation  # noqa: E402
+import mini_yaml  # noqa: E402
 from mesh_mutations import mutate_msh  # noqa: E402
+from surface_mutations import mutate_surface  # noqa: E402
 
 SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -56,15 +64,23 @@ BASE_MESHES = [
 ]
 
 
+BASE_MESH_FOLDER = os.path.join(SOURCE, "tests", "fuzz", "base_meshes")
+
+
 def make_base_meshes(folder):
+    """Meshes meshes/block.geo with the gmsh command into `folder` (4.8.4 made the stored ones)."""
     os.makedirs(folder, exist_ok=True)
-    meshes = {}
-    for name, args, order in BASE_MESHES:
+    for name, args, _ in BASE_MESHES:
         path = os.path.join(folder, name + ".msh")
         subprocess.run(["gmsh", "-3", "-setnumber", "h", "0.5", "-nt", "1", *args, "-o", path,
                         os.path.join(SOURCE, "meshes", "block.geo")],
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        with open(path) as f:
+
+
+def load_base_meshes(folder):
+    meshes = {}
+    for name, _, order in BASE_MESHES:
+        with open(os.path.join(folder, name + ".msh")) as f:
             meshes[name] = (f.read(), order)
     return meshes
 
@@ -77,6 +93,19 @@ def load_decks(pattern):
         # The mutated deck lives elsewhere: its mesh is named by its absolute path.
         text = re.sub(r"(file:\s*)\.\./meshes/", r"\g<1>" + os.path.join(SOURCE, "meshes") + "/", text)
         decks[os.path.splitext(os.path.basename(path))[0]] = text
+    for name, text in decks.items():
+        try:
+            mini_yaml.load(text)
+        except (ValueError, IndexError) as e:
+            sys.exit(f"fuzz: tests/fuzz/mini_yaml.py cannot read {name}.yaml ({e}): extend it")
+    try:  # where PyYAML is installed: the harness's own reader must see the same trees
+        import yaml
+    except ImportError:
+        return decks
+    for name, text in decks.items():
+        if mini_yaml.shape(mini_yaml.load(text)) != mini_yaml.shape(yaml.safe_load(text)):
+            sys.exit(f"fuzz: tests/fuzz/mini_yaml.py reads {name}.yaml otherwise than PyYAML: "
+                     "extend it to the YAML that deck uses")
     return decks
 
 
@@ -106,6 +135,28 @@ def make_case(seed, i, decks, meshes, run_share, mesh_share):
     return case
 
 
+def make_surface_case(seed, i):
+    """Surface case i of `seed`, from its own generator (apart from the deck cases')."""
+    rng = random.Random(f"{seed}/surface/{i}")
+    base, fmt, kind, detail, expect, volume, ext, data = mutate_surface(rng)
+    return {"id": f"s{i}", "source": f"{base}.{fmt}", "kind": "surface:" + kind, "detail": detail,
+            "real_run": False, "expect": expect, "volume": volume, "file": "surface." + ext,
+            "data": data}
+
+
+def run_surface_one(i, args):
+    case = make_surface_case(args.seed, i)  # made here: a case may hold megabytes
+    folder = os.path.join(args.out, "work", case["id"])
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(folder)
+    with open(os.path.join(folder, case["file"]), "wb") as f:
+        f.write(case["data"])
+    start = time.monotonic()
+    outcome = run_surface_case(args.fluidweight, case["file"], folder, args.check_timeout,
+                               case["expect"], case["volume"])
+    return finish(case, outcome, folder, start, args)
+
+
 def write_case(case, folder):
     os.makedirs(folder, exist_ok=True)
     with open(os.path.join(folder, "deck.yaml"), "w", encoding="utf-8", errors="surrogateescape") as f:
@@ -126,6 +177,11 @@ def run_one(case, args):
     if case["real_run"] and outcome[0] == "accepted":
         outcome = run_case(args.hydrosoft, "deck.yaml", case["overrides"], files, True, folder,
                            args.run_timeout, args.memory_mb)
+    return finish(case, outcome, folder, start, args)
+
+
+def finish(case, outcome, folder, start, args):
+    """The case's row of the report; a defect's (or time limit's) folder kept as its reproducer."""
     cls, reason, code, stderr, command = outcome
     result = {k: case[k] for k in ("id", "source", "kind", "detail", "real_run")}
     result.update({"class": cls, "reason": reason, "exit": code, "seconds": round(time.monotonic() - start, 2)})
@@ -147,12 +203,17 @@ def run_one(case, args):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--hydrosoft", required=True)
+    parser.add_argument("--hydrosoft", help="needed for deck cases (--cases)")
+    parser.add_argument("--fluidweight", help="for the surface cases; default: beside --hydrosoft")
     parser.add_argument("--out", required=True, help="report and reproducers (not in the source tree)")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--cases", type=int, default=300)
     parser.add_argument("--first", type=int, default=0, help="the first case's id")
-    parser.add_argument("--only", type=int, nargs="*", help="run these case ids alone")
+    parser.add_argument("--surfaces", type=int, default=0, help="surface cases, run by fluidweight")
+    parser.add_argument("--surfaces-first", type=int, default=0, help="the first surface case's id")
+    parser.add_argument("--only", nargs="*", help="run these case ids alone: 12 (a deck case), s12 (a surface case)")
+    parser.add_argument("--base-meshes", default=BASE_MESH_FOLDER, help="folder of the mesh cases' base meshes")
+    parser.add_argument("--make-base-meshes", action="store_true", help="remake them with gmsh first")
     parser.add_argument("--decks", default=os.path.join(SOURCE, "input", "*.yaml"))
     parser.add_argument("--run-share", type=float, default=0.0, help="share of fast cases also run for real")
     parser.add_argument("--mesh-share", type=float, default=0.3)
@@ -162,37 +223,70 @@ def main():
     parser.add_argument("--memory-mb", type=int, default=4096)
     parser.add_argument("--keep-time-limits", action="store_true")
     args = parser.parse_args()
-    args.hydrosoft = os.path.abspath(args.hydrosoft)
+    if args.hydrosoft:
+        args.hydrosoft = os.path.abspath(args.hydrosoft)
+    if not args.fluidweight and args.hydrosoft:
+        args.fluidweight = os.path.join(os.path.dirname(args.hydrosoft), "fluidweight")
+    if args.fluidweight:
+        args.fluidweight = os.path.abspath(args.fluidweight)
     args.out = os.path.abspath(args.out)
     if os.path.commonpath([args.out, SOURCE]) == SOURCE and "/build" not in args.out:
         sys.exit("fuzz: --out must lie outside the source tree (or in a build folder)")
     shutil.rmtree(os.path.join(args.out, "defects"), ignore_errors=True)
     os.makedirs(args.out, exist_ok=True)
 
-    decks = load_decks(args.decks)
-    meshes = make_base_meshes(os.path.join(args.out, "base"))
-    ids = args.only if args.only else range(args.first, args.first + args.cases)
-    cases = [make_case(args.seed, i, decks, meshes, args.run_share, args.mesh_share) for i in ids]
+    if args.only:
+        ids = [int(i) for i in args.only if not i.startswith("s")]
+        surface_ids = [int(i[1:]) for i in args.only if i.startswith("s")]
+    else:
+        ids = range(args.first, args.first + args.cases)
+        surface_ids = range(args.surfaces_first, args.surfaces_first + args.surfaces)
+    if ids and not args.hydrosoft:
+        sys.exit("fuzz: deck cases need --hydrosoft (or --cases 0)")
+    if surface_ids and not (args.fluidweight and os.access(args.fluidweight, os.X_OK)):
+        sys.exit(f"fuzz: surface cases need the fluidweight executable (--fluidweight; {args.fluidweight})")
+    cases = []
+    if ids:
+        if args.make_base_meshes:
+            make_base_meshes(args.base_meshes)
+        decks = load_decks(args.decks)
+        meshes = load_base_meshes(args.base_meshes)
+        cases = [make_case(args.seed, i, decks, meshes, args.run_share, args.mesh_share) for i in ids]
+    cases += [("surface", i) for i in surface_ids]
     start = time.monotonic()
     results = []
+
+    def run_any(case):
+        return run_surface_one(case[1], args) if isinstance(case, tuple) else run_one(case, args)
+
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        for r in pool.map(lambda c: run_one(c, args), cases):
+        for r in pool.map(run_any, cases):
             results.append(r)
             if len(results) % 500 == 0:  # a line now and then for the long campaign
                 print(f"fuzz: {len(results)} of {len(cases)} cases, {time.monotonic() - start:.0f} s",
                       file=sys.stderr, flush=True)
     shutil.rmtree(os.path.join(args.out, "work"), ignore_errors=True)
 
-    counts, by_kind = {}, {}
+    counts, by_kind, by_format = {}, {}, {}
     for r in results:
         counts[r["class"]] = counts.get(r["class"], 0) + 1
         kind = by_kind.setdefault(r["kind"], {})
         kind[r["class"]] = kind.get(r["class"], 0) + 1
+        if r["kind"].startswith("surface:"):
+            fmt = by_format.setdefault(r["source"].split(".")[1], {})
+            fmt[r["class"]] = fmt.get(r["class"], 0) + 1
+    surfaces = [r for r in results if r["kind"].startswith("surface:")]
+    surface_counts, deck_counts = {}, {}
+    for r in results:
+        part = surface_counts if r["kind"].startswith("surface:") else deck_counts
+        part[r["class"]] = part.get(r["class"], 0) + 1
     defects = [r for r in results if r["class"] == "defect"]
     report = {
         "seed": args.seed, "cases": len(results), "first": args.first,
         "real_runs": sum(r["real_run"] for r in results),
-        "seconds": round(time.monotonic() - start, 1), "counts": counts, "by_kind": by_kind,
+        "surface_cases": len(surfaces), "surface_first": args.surfaces_first,
+        "seconds": round(time.monotonic() - start, 1), "jobs": args.jobs, "counts": counts,
+        "deck_counts": deck_counts, "surface_counts": surface_counts, "by_kind": by_kind, "surfaces_by_format": by_format,
         "defects": defects,
         "time_limits": [r for r in results if r["class"] == "time_limit"],
     }
@@ -203,8 +297,11 @@ def main():
                            extrasaction="ignore")
         w.writeheader()
         w.writerows(results)
-    print(f"fuzz: seed {args.seed}, {len(results)} cases ({report['real_runs']} also run), "
-          f"{report['seconds']} s: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    print(f"fuzz: seed {args.seed}, {len(results)} cases ({report['real_runs']} also run, "
+          f"{len(surfaces)} surfaces), {report['seconds']} s: "
+          + ", ".join(f"{k} {v}" for k, v in sorted(counts.items()))
+          + " (decks and meshes: " + (", ".join(f"{k} {v}" for k, v in sorted(deck_counts.items())) or "none")
+          + "; surfaces: " + (", ".join(f"{k} {v}" for k, v in sorted(surface_counts.items())) or "none") + ")")
     for d in defects:
         print(f"fuzz: defect in case {d['id']} ({d['source']}, {d['kind']}: {d['detail']}): {d['reason']}"
               f"\n      reproducer: {d['reproducer']}")

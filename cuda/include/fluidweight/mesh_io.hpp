@@ -2,8 +2,12 @@
 // .msh (versions 4.1 and 2.2). Polygons are split into fans of triangles. Errors throw
 // InputError naming the file, the line and the reason. Files may be hostile: a count (of
 // nodes, elements, vertices, faces) is checked against the rest of the file's size before
-// anything is allocated for it, and coordinates must be finite (NaN, inf and numbers beyond
-// a double are refused).
+// anything is allocated for it; coordinates must be finite numbers (NaN, inf, numbers beyond
+// a double and a token with anything after its number, a NUL say, are refused) within
+// kMaxCoordinate, and the surface must span at least kMinExtent: beyond these its volume
+// (a cube of its size) and the weight on its nodes overflow or underflow a double, and a
+// weight of 0 or inf would be printed for a surface that holds liquid. Error messages quote a
+// file's tokens with their control and non-ASCII bytes written out (\x00).
 #pragma once
 
 #include <string>
@@ -11,6 +15,9 @@
 #include "fluidweight/fluidweight.hpp"
 
 namespace fluidweight {
+
+constexpr double kMaxCoordinate = 1e30;  // |x|, |y|, |z| of a vertex
+constexpr double kMinExtent = 1e-30;     // the largest side of the surface's bounding box
 
 // Reads by extension (case-insensitive). Vertices keep the file's order, except for STL,
 // whose facets repeat their corners: equal corners are merged, in order of first appearance,
