@@ -251,6 +251,9 @@ nlohmann::json Restart::summary() const {
   j["file"] = file_->path();
   j["ranks"] = file_->state().value("ranks", 0);
   j["position"] = position();
+  // A control loop's results so far and its controller's state are the run's, not where it
+  // went on from.
+  for (const char* bulky : {"loop", "controller"}) j["position"].erase(bulky);
   return j;
 }
 
