@@ -42,10 +42,22 @@ double wall_minutes(MPI_Comm comm) {
 }  // namespace
 
 std::string stepping_kind(const Config& config) {
+  if (config.control) return "control";
   const bool staged = !config.cavities.empty() || !config.cables.empty() ||
                       !config.states.empty() || config.tip || config.control;
   if (staged) return "states";
   return config.time.type == TimeType::dynamic ? "dynamic" : "static";
+}
+
+void check_checkpoint_use(const Config& config, bool restart) {
+  if (!config.control || !config.control->targets_from_stdin) return;
+  const std::string why =
+      " (an interactive session's targets come from its client, which a restart cannot take "
+      "back to the line where it stopped; start the session again from the deck)";
+  if (config.output.checkpoint)
+    throw InputError(config.deck_path + ": output.checkpoint: not supported with --targets -" +
+                     why);
+  if (restart) throw InputError("--restart: not supported with --targets -" + why);
 }
 
 Checkpointer::Checkpointer(const Config& config, const Problem& problem, const SteppingStats& stats,
@@ -65,6 +77,11 @@ bool Checkpointer::due(bool signal) {
   const CheckpointConfig& c = *config_.output.checkpoint;
   if (signal || (c.every > 0 && steps_since_ >= c.every)) return true;
   return c.minutes > 0 && wall_minutes(comm_) - last_time_ >= c.minutes;
+}
+
+void Checkpointer::start_count() {
+  steps_since_ = 0;
+  if (active_) last_time_ = wall_minutes(comm_);
 }
 
 void Checkpointer::write(nlohmann::json position, const NamedVecs& fields,
@@ -109,11 +126,10 @@ Restart::Restart(const std::string& folder, const Config& config, MPI_Comm comm)
     file_ = std::make_unique<CheckpointFile>(path);
     const nlohmann::json& s = file_->state();
     const std::string kind = s.value("kind", ""), mine = stepping_kind(config);
-    if (config.control)
-      error =
-          "--restart: a deck with a control section cannot be restarted (the inverse "
-          "controller's state is not checkpointed)";
-    else if (kind != mine)
+    // A control deck's states end with `last` set, its target sets go on from there.
+    const bool finished = s.contains("position") && s.at("position").value("last", false) &&
+                          (!config.control || s.at("position").contains("target_set"));
+    if (kind != mine)
       error = "--restart: " + path + ": written by a " + kind + " run, this deck runs " + mine;
     else if (s.value("fingerprint", "") != config_fingerprint(config))
       error = "--restart: " + path + ": written for another deck or other values (" +
@@ -122,7 +138,7 @@ Restart::Restart(const std::string& folder, const Config& config, MPI_Comm comm)
               "; only output keys may differ)";
     else if (!s.contains("position"))
       error = "--restart: " + path + ": holds no stepping position";
-    else if (s.at("position").value("last", false))
+    else if (finished)
       error = "--restart: " + path + ": written at the run's last step; nothing is left to run";
   } catch (const InputError& e) {
     error = e.what();
@@ -235,6 +251,9 @@ nlohmann::json Restart::summary() const {
   j["file"] = file_->path();
   j["ranks"] = file_->state().value("ranks", 0);
   j["position"] = position();
+  // A control loop's results so far and its controller's state are the run's, not where it
+  // went on from.
+  for (const char* bulky : {"loop", "controller"}) j["position"].erase(bulky);
   return j;
 }
 

@@ -4,8 +4,9 @@
 // when output.checkpoint says one is due. `hydrosoft DECK --restart FOLDER` makes a Restart
 // from FOLDER/checkpoint.h5 before the output folder is opened, checks that it was written
 // by this deck on this mesh, and the stepping continues from its position. Static and
-// quasi-static load stepping, dynamic runs and the states of cavity and cable decks are
-// covered; control decks are not (parse_deck and run_simulation refuse them).
+// quasi-static load stepping, dynamic runs, the states of cavity and cable decks and the
+// target sets of a batch control run are covered; the interactive mode (--targets -) is not
+// (check_checkpoint_use refuses it).
 #pragma once
 
 #include <mpi.h>
@@ -27,8 +28,14 @@ namespace hs {
 
 using NamedVecs = std::vector<std::pair<std::string, Vec>>;
 
-// What kind of stepping a deck runs: "static" (and quasi-static), "dynamic" or "states".
+// What kind of stepping a deck runs: "static" (and quasi-static), "dynamic", "states" or
+// "control" (its states, then its target sets).
 std::string stepping_kind(const Config& config);
+
+// Throws InputError (naming the key and the reason) where a checkpoint or a restart does not
+// apply: the interactive control mode, whose targets come from a client that a restart cannot
+// take back to where the run stopped.
+void check_checkpoint_use(const Config& config, bool restart);
 
 class Checkpointer {
  public:
@@ -40,6 +47,8 @@ class Checkpointer {
   // Collective, after every converged step: counts it and says whether a checkpoint is due
   // (output.checkpoint's steps or minutes since the last, or a signal that stops the run).
   bool due(bool signal);
+  // Counts the steps (and minutes) from here: the control loop counts target sets.
+  void start_count();
   // Collective: writes <folder>/checkpoint.h5 (atomically) with `position`, the run's
   // header (sizes, fingerprint, stats) and the owned rows of `fields`; series: rank 0's.
   void write(nlohmann::json position, const NamedVecs& fields, const NamedValues& series = {});

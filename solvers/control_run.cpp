@@ -121,28 +121,60 @@ void ControlLoop::add_history(Vec u, HistoryRow& row) const {
   }
 }
 
-nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_time) {
+bool ControlLoop::resumes(const Restart& restart) {
+  return restart.position().contains("target_set");
+}
+
+nlohmann::json ControlLoop::totals_state() const {
+  return {{"targets", totals_.targets},     {"step_ms", totals_.total},
+          {"parts_ms", totals_.parts},      {"kkt_residual_max", totals_.kkt_max},
+          {"unsolved", totals_.unsolved},   {"sets", totals_.sets},
+          {"staleness", totals_.staleness}, {"correction_iterations", totals_.iterations},
+          {"failures", totals_.failures},   {"newton_iterations", newton_iterations_}};
+}
+
+nlohmann::json ControlLoop::resume(const Restart& restart, Vec u) {
+  const nlohmann::json& p = restart.position();
+  restart.read("displacement", problem_, u);
+  restore_constraint_states(constraints_, p.at("constraints"));
+  controller_.resume(p.at("controller"), restart);
+  const nlohmann::json& t = p.at("loop");
+  totals_.targets = t.at("targets");
+  for (auto& entry : totals_.targets) entry["step"] = nullptr;  // in the earlier run's .h5
+  totals_.total = t.at("step_ms").get<std::vector<double>>();
+  totals_.parts = t.at("parts_ms").get<std::map<std::string, std::vector<double>>>();
+  totals_.kkt_max = t.at("kkt_residual_max");
+  totals_.unsolved = t.at("unsolved");
+  totals_.sets = t.at("sets");
+  totals_.staleness = t.at("staleness").get<std::vector<int>>();
+  totals_.iterations = t.at("correction_iterations").get<std::vector<int>>();
+  totals_.failures = t.at("failures");
+  newton_iterations_ = t.at("newton_iterations");
+  if (totals_.sets != p.at("target_set").get<int>() ||
+      totals_.sets > static_cast<int>(config_.control->targets.size()))
+    throw InputError("--restart: the checkpoint's target set " + std::to_string(totals_.sets) +
+                     " is not one of this deck's");
+  resumed_ = true;
+  nlohmann::json states = p.at("states");
+  for (auto& state : states) state["step"] = nullptr;
+  return states;
+}
+
+nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_time,
+                                Checkpointer* checkpoints, const nlohmann::json& states) {
   const Config& config = config_;
   Effectors& effectors = effectors_;
   InverseController& controller = controller_;
   const bool interactive = config.control->targets_from_stdin;
   int rank = 0;
   MPI_Comm_rank(problem_.comm(), &rank);
-  controller.set_rest(u);
+  if (!resumed_) controller.set_rest(u);
+  if (checkpoints) checkpoints->start_count();
 
   nlohmann::json out;
-  out["targets"] = nlohmann::json::array();
-  // Each step's time and its parts (ms), for the medians of summary.json.
-  std::vector<double> total;
-  std::map<std::string, std::vector<double>> parts;
-  for (const auto& part : ControlStepReport{}.parts()) parts[part.first];  // even without steps
-  double kkt_max = 0;
-  int unsolved = 0, set = 0;
-  // control.factor_threads > 0: per step, the staleness of the preconditioning factorization
-  // and the correction's iterations; the background factorizations that failed.
+  Totals& t = totals_;
+  for (const auto& part : ControlStepReport{}.parts()) t.parts[part.first];  // even without steps
   const bool background = config.control->factor_threads > 0;
-  std::vector<int> staleness, iterations;
-  nlohmann::json failures = nlohmann::json::array();
   // Steps towards one target set, its output step, and its entries in `targets` (answered at
   // once on the interactive output, with the number of its input line).
   auto reach = [&](const std::vector<ControlTarget>& targets, int line_number) {
@@ -152,14 +184,14 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       r = controller.step(u, targets);
       newton_iterations_ += r.newton_iterations;
       limit_point |= r.limit_point;
-      total.push_back(r.total_ms);
-      for (const auto& [name, ms] : r.parts()) parts[name].push_back(ms);
-      kkt_max = std::max(kkt_max, r.kkt_residual);
-      unsolved += !r.qp_solved;
-      staleness.push_back(r.staleness);
-      iterations.push_back(r.correction_iterations);
+      t.total.push_back(r.total_ms);
+      for (const auto& [name, ms] : r.parts()) t.parts[name].push_back(ms);
+      t.kkt_max = std::max(t.kkt_max, r.kkt_residual);
+      t.unsolved += !r.qp_solved;
+      t.staleness.push_back(r.staleness);
+      t.iterations.push_back(r.correction_iterations);
       if (!r.background_failure.empty()) {
-        failures.push_back({{"step", total.size() - 1}, {"error", r.background_failure}});
+        t.failures.push_back({{"step", t.total.size() - 1}, {"error", r.background_failure}});
         if (rank == 0)
           std::cerr << "hydrosoft: control: " << r.background_failure << "; factored in line"
                     << std::endl;
@@ -176,23 +208,24 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
     std::vector<double> equilibrium;
     if (config.control->free_solve == FreeSolve::one_step && config.control->check_equilibrium)
       equilibrium = controller.equilibrium_positions(u);
-    recorder.record(first_time + ++set, u, 1.0, "target_set");
-    auto error_of = [&](const std::vector<double>& x, int e, const ControlTarget& t) {
+    recorder.record(first_time + ++t.sets, u, 1.0, "target_set");
+    auto error_of = [&](const std::vector<double>& x, int e, const ControlTarget& target) {
       double err2 = 0;
       for (int d = 0; d < 3; ++d)
-        if (effectors.config(e).directions[d]) err2 += std::pow(x[3 * e + d] - t.position[d], 2);
+        if (effectors.config(e).directions[d])
+          err2 += std::pow(x[3 * e + d] - target.position[d], 2);
       return std::sqrt(err2);
     };
-    for (const auto& t : targets) {
-      const int e = effectors.index(t.effector);
+    for (const auto& target : targets) {
+      const int e = effectors.index(target.effector);
       nlohmann::json j;
-      j["effector"] = t.effector;
-      j["target"] = t.position;
+      j["effector"] = target.effector;
+      j["target"] = target.position;
       j["reached"] = {r.reached[3 * e], r.reached[3 * e + 1], r.reached[3 * e + 2]};
-      j["error_m"] = error_of(r.reached, e, t);
+      j["error_m"] = error_of(r.reached, e, target);
       if (!equilibrium.empty()) {
         j["equilibrium"] = {equilibrium[3 * e], equilibrium[3 * e + 1], equilibrium[3 * e + 2]};
-        j["equilibrium_error_m"] = error_of(equilibrium, e, t);
+        j["equilibrium_error_m"] = error_of(equilibrium, e, target);
       }
       j["step_ms"] = r.total_ms;
       if (background) {
@@ -206,22 +239,35 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       if (interactive && rank == 0)
         io_.write_line(json_line({{"answer", j}, {"line", line_number}}));
       if (interactive) j["line"] = line_number;
-      out["targets"].push_back(j);
+      t.targets.push_back(j);
     }
   };
 
   if (!interactive) {
     const auto& sets = config.control->targets;
     Progress progress(config.output.progress, problem_.comm(), static_cast<int>(sets.size()));
-    for (size_t k = 0; k < sets.size(); ++k) {
+    for (size_t k = t.sets; k < sets.size(); ++k) {
       reach(sets[k], 0);
       double worst = 0;  // over the set's effectors
-      for (size_t i = out["targets"].size() - sets[k].size(); i < out["targets"].size(); ++i)
-        worst = std::max(worst, out["targets"][i]["error_m"].get<double>());
+      for (size_t i = t.targets.size() - sets[k].size(); i < t.targets.size(); ++i)
+        worst = std::max(worst, t.targets[i]["error_m"].get<double>());
       char what[64];
       std::snprintf(what, sizeof what, "target set %zu  error %.3f mm", k + 1, 1e3 * worst);
       progress.step(static_cast<int>(k + 1), what, newton_iterations_);
-      stop_if_interrupted(problem_.comm());  // after the target set's output step
+      // A signal stops the run here, after the target set's output step (and checkpoint).
+      const int signal = interrupt_requested(problem_.comm());
+      if (checkpoints && checkpoints->due(signal)) {
+        NamedVecs fields{{"displacement", u}};
+        for (const auto& field : controller.checkpoint_fields()) fields.push_back(field);
+        checkpoints->write({{"target_set", k + 1},
+                            {"last", k + 1 == sets.size()},
+                            {"constraints", constraint_states(constraints_)},
+                            {"states", states},
+                            {"controller", controller.checkpoint_state()},
+                            {"loop", totals_state()}},
+                           fields);
+      }
+      if (signal) throw Interrupted(signal);
     }
   } else {
     // Every line gets exactly one JSON line: its answer, or why it was refused. A refused
@@ -265,17 +311,18 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
                           {"p95", percentile(v, 0.95)},
                           {"max", percentile(v, 1.0)}};
   };
-  out["step_time_ms"] = timing(total);
-  for (const auto& [name, v] : parts)
+  out["targets"] = t.targets;
+  out["step_time_ms"] = timing(t.total);
+  for (const auto& [name, v] : t.parts)
     out["step_time_ms"]["split_median"][name] = percentile(v, 0.5);
-  out["step_time_ms"]["steps"] = total.size();
-  out["qp"] = {{"kkt_residual_max", kkt_max}, {"unsolved", unsolved}};
+  out["step_time_ms"]["steps"] = t.total.size();
+  out["qp"] = {{"kkt_residual_max", t.kkt_max}, {"unsolved", t.unsolved}};
   if (background)
     out["background_factorization"] = {{"threads", config.control->factor_threads},
-                                       {"step_ms", total},
-                                       {"staleness", staleness},
-                                       {"correction_iterations", iterations},
-                                       {"failures", failures}};
+                                       {"step_ms", t.total},
+                                       {"staleness", t.staleness},
+                                       {"correction_iterations", t.iterations},
+                                       {"failures", t.failures}};
   return out;
 }
 

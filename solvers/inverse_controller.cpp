@@ -62,8 +62,7 @@ InverseController::~InverseController() {
   background_.reset();
   KSPDestroy(&ksp_);
   MatDestroy(&J_);
-  VecDestroy(&last_free_);
-  for (Vec* v : {&R_, &a_, &free_step_, &step_start_}) VecDestroy(v);
+  for (Vec* v : {&R_, &a_, &free_step_, &step_start_, &last_free_, &factored_at_}) VecDestroy(v);
   for (auto* list : {&Y_, &Z_, &response_, &lin_.g, &lin_.q})
     for (auto& v : *list) VecDestroy(&v);
 }
@@ -195,6 +194,11 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   const double t_factor0 = MPI_Wtime();
   double t_factor = t_factor0, t_compliance = t_factor0;
   if (refactor) {
+    if (keeps_factorization()) {
+      if (!factored_at_) HS_PETSC(VecDuplicate(u, &factored_at_));
+      HS_PETSC(VecCopy(u, factored_at_));
+      factored_constraints_ = constraint_states(constraints_);
+    }
     if (!constraints_.linearize(u, 1.0, J_, lin_))
       throw SolveError("control step: an element is inverted at the free configuration");
     t_factor = MPI_Wtime();

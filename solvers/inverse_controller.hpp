@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "solvers/bordered_newton.hpp"
+#include "solvers/checkpoint.hpp"
 #include "solvers/constraints/constraint_set.hpp"
 #include "solvers/control/background_factorizations.hpp"
 #include "solvers/effectors.hpp"
@@ -86,6 +87,15 @@ class InverseController {
   // prediction stands for. Throws SolveError when Newton does not converge.
   std::vector<double> equilibrium_positions(Vec u);
 
+  // Checkpoints at a target-set boundary (docs/control.md, "Checkpoints and restarts"): what
+  // the controller keeps between steps, as JSON scalars and named vectors (valid until the
+  // next step), and the same put back from a checkpoint. resume() is collective; with a
+  // factorization kept across steps (refactor_every > 1) it factors again the tangent of the
+  // state that factorization was made at.
+  nlohmann::json checkpoint_state() const;
+  NamedVecs checkpoint_fields() const;
+  void resume(const nlohmann::json& state, const Restart& restart);
+
  private:
   struct Actuator {
     ActuatorConfig config;
@@ -127,6 +137,11 @@ class InverseController {
   std::vector<double> step_start_pressures_;
   Vec last_free_ = nullptr;  // the last free equilibrium and its pressures
   std::vector<double> last_pressures_;
+  // refactor_every > 1 (in line): the configuration and the constraints' states that the
+  // kept factorization was made at, for a restart to make it again.
+  bool keeps_factorization() const;
+  Vec factored_at_ = nullptr;
+  nlohmann::json factored_constraints_;
 };
 
 }  // namespace hs

@@ -45,6 +45,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
                      "needs one to remove the rigid motions, e.g. boundary: [{group: clamped}]");
   // The checkpoint to continue from is opened and checked first: the output folder, opened
   // next, may be the very folder it lies in (its .partial is cleared then).
+  check_checkpoint_use(config, !restart_folder.empty());
   std::unique_ptr<Restart> restart;
   if (!restart_folder.empty()) restart = std::make_unique<Restart>(restart_folder, config, comm);
   // First, before any work: a second run on the same output folder stops here, at once.
@@ -165,10 +166,15 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     // A signal during the set-up stops the run here, before any step (nothing to keep).
     stop_if_interrupted(comm);
     if (staged) {
-      state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats, comm,
-                             checkpoints, restart.get());
+      // A control deck's checkpoint is of its states or of its target sets.
+      if (restart && control_loop && ControlLoop::resumes(*restart))
+        state_run.states = control_loop->resume(*restart, u);
+      else
+        state_run = run_states(config, problem, *constraints, *bordered, recorder, u, stats, comm,
+                               checkpoints, restart.get());
       if (control_loop)
-        control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()));
+        control = control_loop->run(u, recorder, static_cast<double>(state_run.states.size()),
+                                    &checkpoints, state_run.states);
     } else if (config.time.type == TimeType::dynamic) {
       const int nsteps = static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9));
       DynamicResume resume;

@@ -331,10 +331,16 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
       r.fail("output.folder", output["folder"], problem);
     r.fail("output.folder", "the default '" + c.output.folder + "': " + problem);
   }
-  if (c.output.checkpoint && c.control)
-    r.fail("output.checkpoint", root["output"]["checkpoint"],
-           "not supported in a deck with a control section (the inverse controller's state is "
-           "not saved, so such a run cannot be restarted)");
+  // The one_step controller uses the liquids' weights frozen wherever they were last frozen,
+  // which a checkpoint does not hold (a restart would freeze them elsewhere).
+  if (c.output.checkpoint && c.control && c.control->free_solve == FreeSolve::one_step)
+    for (const auto& cavity : c.cavities)
+      if (cavity.kind == CavityKind::hydraulic &&
+          cavity.fluid_weight.coupling == WeightCoupling::linearized)
+        r.fail("output.checkpoint", root["output"]["checkpoint"],
+               "not supported with control.free_solve one_step and a hydraulic cavity's "
+               "fluid_weight.coupling linearized (the frozen weights are not saved, so such a "
+               "run cannot be restarted to the same numbers)");
   parse_exact_section(r, root, c);
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
     if (c.dirichlet[i].exact && !c.exact.type)

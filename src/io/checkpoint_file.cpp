@@ -23,7 +23,8 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::js
   MPI_Comm_rank(comm, &rank);
   const std::string tmp = path + ".tmp";
   {
-    Hdf5File h5(tmp, Hdf5File::Mode::Create, comm);
+    // A control run's state holds its results so far: often more than 64 KB.
+    Hdf5File h5(tmp, Hdf5File::Mode::CreateLargeAttributes, comm);
     h5.set_attribute("/", "format", std::string(kFormat));
     h5.set_attribute("/", "version", kVersion);
     h5.set_attribute("/", "state", state.dump());

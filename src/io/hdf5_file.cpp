@@ -11,9 +11,12 @@ Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm) : path_(pa
     parallel_ = size > 1;
     if (parallel_) H5Pset_fapl_mpio(access.id, comm, MPI_INFO_NULL);
   }
-  file_ = mode == Mode::Create ? H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id)
-                               : H5Fopen(path.c_str(), H5F_ACC_RDWR, access.id);
-  if (file_ < 0) fail(mode == Mode::Create ? "cannot create the file" : "cannot open the file");
+  const bool create = mode != Mode::Append;
+  if (mode == Mode::CreateLargeAttributes)
+    H5Pset_libver_bounds(access.id, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
+  file_ = create ? H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id)
+                 : H5Fopen(path.c_str(), H5F_ACC_RDWR, access.id);
+  if (file_ < 0) fail(create ? "cannot create the file" : "cannot open the file");
 }
 
 Hdf5File::~Hdf5File() {

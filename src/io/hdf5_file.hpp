@@ -25,7 +25,9 @@ struct Hdf5Handle {
 
 class Hdf5File {
  public:
-  enum class Mode { Create, Append };  // Create truncates an existing file
+  // Create truncates an existing file; CreateLargeAttributes too, in HDF5's 1.8 format, whose
+  // attributes may exceed the 64 KB of the original one (a checkpoint's state).
+  enum class Mode { Create, Append, CreateLargeAttributes };
   Hdf5File(const std::string& path, Mode mode, MPI_Comm comm = MPI_COMM_NULL);
   ~Hdf5File();
   Hdf5File(const Hdf5File&) = delete;

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -33,6 +34,25 @@ inline bool wait_for_file(const std::string& path) {
   while (!std::filesystem::exists(path) && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   return std::filesystem::exists(path);
+}
+
+// The JSON state of a checkpoint file (its stepping position, sizes, ...); null if the file
+// does not open or holds none.
+inline nlohmann::json checkpoint_state(const std::string& path) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) return nullptr;
+  nlohmann::json state;
+  const hid_t a = H5Aopen(file, "state", H5P_DEFAULT);
+  if (a >= 0) {
+    const hid_t type = H5Aget_type(a);
+    std::string text(H5Tget_size(type), '\0');
+    if (H5Aread(a, type, text.data()) >= 0 && nlohmann::json::accept(text))
+      state = nlohmann::json::parse(text);
+    H5Tclose(type);
+    H5Aclose(a);
+  }
+  H5Fclose(file);
+  return state;
 }
 
 // The last step_<k> of an .h5: its displacements placed by /mesh/node_ids (mesh numbering),

@@ -18,21 +18,7 @@ namespace fs = std::filesystem;
 using namespace hs::testing;
 
 // Whether a checkpoint file opens and holds its JSON state.
-bool whole_checkpoint(const std::string& path) {
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (file < 0) return false;
-  bool whole = false;
-  const hid_t a = H5Aopen(file, "state", H5P_DEFAULT);
-  if (a >= 0) {
-    const hid_t type = H5Aget_type(a);
-    std::string text(H5Tget_size(type), '\0');
-    whole = H5Aread(a, type, text.data()) >= 0 && nlohmann::json::accept(text);
-    H5Tclose(type);
-    H5Aclose(a);
-  }
-  H5Fclose(file);
-  return whole;
-}
+bool whole_checkpoint(const std::string& path) { return !checkpoint_state(path).is_null(); }
 
 TEST(KillMoments, AnEarlierResultIsAlwaysIntactAndNoHalfResultIsPresented) {
   TempFolder tmp;

@@ -1,0 +1,200 @@
+// Checkpoints and --restart of a batch control run (docs/control.md, "Checkpoints and
+// restarts"): the hydraulic finger's run killed (SIGKILL) after a checkpoint of its target
+// sets and restarted on 1 rank, and stopped (SIGTERM) and restarted on 2, ends with the
+// uninterrupted run's `targets` (target, saturation; reached position and actuation to the
+// tolerances below) and final displacements: with the free configuration converged by Newton,
+// with the one_step controller keeping its factorization across steps (made again at the
+// restart), and with the factorizations in the background (a restart factors in line first;
+// the corrections then differ by GMRES's tolerance). The interactive mode refuses both.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "../deck/temp_folder.hpp"
+#include "restart_test_util.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace hs::testing;
+
+const std::string kSource = HYDROSOFT_SOURCE_DIR;
+
+struct Case {
+  std::string name, args;
+  double reached_m, actuation_pa, displacement;  // tolerances against the uninterrupted run
+};
+
+std::ostream& operator<<(std::ostream& out, const Case& c) { return out << c.name; }
+
+// Tolerances: a restart on the same ranks repeats the arithmetic; on 2 ranks the sums and
+// the factorization go in another order (round-off of the solves, ~1e-12 relative).
+const Case kNewton{"newton", "--set control.steps_per_target=4", 1e-10, 1e-4, 1e-8};
+const Case kKeptFactorization{"kept_factorization",
+                              "--set control.free_solve=one_step --set control.refactor_every=4 "
+                              "--set control.steps_per_target=6",
+                              1e-10, 1e-4, 1e-8};
+// The background mode is not repeatable even uninterrupted (which factorization a step finds
+// finished depends on the threads' timing; two runs differed by 0.55 um and 0.39 Pa), and a
+// restart's first step factors in line: its corrections differ by GMRES's tolerance (1e-5
+// relative on each right-hand side), measured 1.7 to 2.8 um and 1.0 to 1.7 Pa.
+const Case kBackground{"background",
+                       "--set control.free_solve=one_step --set control.factor_threads=1 "
+                       "--set control.steps_per_target=6",
+                       1e-5, 10.0, 1e-3};
+
+std::string command(const Case& c, const std::string& folder, const std::string& extra,
+                    const std::string& err) {
+  return std::string(HYDROSOFT_EXE) + " " + kSource + "/input/finger_hydraulic.yaml -q " + c.args +
+         " --set output.folder=" + folder + " " + extra + " > /dev/null 2>> " + err;
+}
+
+const std::string kCheckpoints = "--set 'output.checkpoint={every: 1}'";
+
+// Waits (at most 120 s) for a checkpoint of the target sets (not of the rest state before).
+bool wait_for_target_set_checkpoint(const std::string& path) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (fs::exists(path)) {
+      const nlohmann::json s = checkpoint_state(path);
+      if (s.is_object() && s["position"].contains("target_set")) return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
+struct Difference {
+  double reached_m = 0, actuation_pa = 0;
+};
+
+// Entry by entry: the same targets and saturations; the largest differences of the reached
+// positions and the actuations.
+Difference compare_targets(const nlohmann::json& expected, const nlohmann::json& got) {
+  Difference d;
+  EXPECT_EQ(got.size(), expected.size());
+  for (size_t i = 0; i < std::min(got.size(), expected.size()); ++i) {
+    const auto &e = expected[i], &g = got[i];
+    EXPECT_EQ(g["target"], e["target"]) << i;
+    EXPECT_EQ(g["saturated"], e["saturated"]) << i;
+    EXPECT_EQ(g["limit_point"], e["limit_point"]) << i;
+    for (int k = 0; k < 3; ++k)
+      d.reached_m = std::max(
+          d.reached_m, std::abs(g["reached"][k].get<double>() - e["reached"][k].get<double>()));
+    for (size_t a = 0; a < e["actuation"].size(); ++a)
+      d.actuation_pa = std::max(d.actuation_pa, std::abs(g["actuation"][a].get<double>() -
+                                                         e["actuation"][a].get<double>()));
+  }
+  return d;
+}
+
+nlohmann::json summary_of(const std::string& folder) {
+  return nlohmann::json::parse(text_of(folder + "/summary.json"));
+}
+
+class RestartControl : public ::testing::TestWithParam<Case> {};
+
+TEST_P(RestartControl, AfterSigkillOrSigtermEndsWithTheTargetsOfAnUninterruptedRun) {
+  const Case& c = GetParam();
+  TempFolder tmp;
+  const std::string err = (tmp.path() / "err").string();
+  const std::string ref = (tmp.path() / "ref").string(), killed = (tmp.path() / "killed").string(),
+                    stopped = (tmp.path() / "stopped").string(),
+                    two = (tmp.path() / "two").string();
+  const std::string h5 = "/finger_hydraulic.h5";
+  ASSERT_EQ(run(command(c, ref, "", err)), 0) << text_of(err);
+  const nlohmann::json expected = summary_of(ref);
+  const LastStep expected_u = last_step(ref + h5);
+  ASSERT_EQ(expected["targets"].size(), 6u);
+
+  // SIGKILL once a target set's checkpoint is there; restarted on 1 rank from the staging
+  // folder the kill left, into the same output folder.
+  pid_t pid = start(command(c, killed, kCheckpoints, err));
+  ASSERT_TRUE(wait_for_target_set_checkpoint(killed + ".partial/checkpoint.h5")) << text_of(err);
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  EXPECT_EQ(wait_for(pid), -1);
+  ASSERT_EQ(run(command(c, killed, "--restart " + killed + ".partial", err)), 0) << text_of(err);
+  const nlohmann::json once = summary_of(killed);
+  EXPECT_EQ(once["status"], "ok");
+  const int from = once["restarted_from"]["position"]["target_set"];
+  EXPECT_GE(from, 1);
+  EXPECT_LT(from, 6);
+  EXPECT_EQ(once["outputs"].get<int>(), 6 - from);  // the remaining target sets only
+  EXPECT_TRUE(once["targets"][0]["step"].is_null());
+  EXPECT_EQ(once["targets"][5]["step"], 5 - from);
+  EXPECT_EQ(once["step_time_ms"]["steps"], expected["step_time_ms"]["steps"]);
+  const Difference d1 = compare_targets(expected["targets"], once["targets"]);
+  EXPECT_LE(d1.reached_m, c.reached_m);
+  EXPECT_LE(d1.actuation_pa, c.actuation_pa);
+  const LastStep u1 = last_step(killed + h5);
+  EXPECT_EQ(u1.time, expected_u.time);
+  const double du1 = relative_difference(expected_u.u, u1.u);
+  EXPECT_GE(du1, 0);
+  EXPECT_LE(du1, c.displacement);
+
+  // SIGTERM after a target set's checkpoint: the run stops at the next boundary, writing one
+  // there into .failed; restarted on 2 ranks.
+  pid = start(command(c, stopped, kCheckpoints, err));
+  ASSERT_TRUE(wait_for_target_set_checkpoint(stopped + ".partial/checkpoint.h5")) << text_of(err);
+  ASSERT_EQ(kill(pid, SIGTERM), 0);
+  ASSERT_EQ(wait_for(pid), 143) << text_of(err);
+  ASSERT_TRUE(
+      checkpoint_state(stopped + ".failed/checkpoint.h5")["position"].contains("target_set"));
+  ASSERT_EQ(run(std::string(HYDROSOFT_MPIEXEC) + " -np 2 " +
+                command(c, two, "--restart " + stopped + ".failed", err)),
+            0)
+      << text_of(err);
+  const nlohmann::json twice = summary_of(two);
+  EXPECT_EQ(twice["restarted_from"]["ranks"], 1);
+  const Difference d2 = compare_targets(expected["targets"], twice["targets"]);
+  EXPECT_LE(d2.reached_m, c.reached_m);
+  EXPECT_LE(d2.actuation_pa, c.actuation_pa);
+  const LastStep u2 = last_step(two + h5);
+  EXPECT_EQ(u2.time, expected_u.time);
+  const double du2 = relative_difference(expected_u.u, u2.u);
+  EXPECT_GE(du2, 0);
+  EXPECT_LE(du2, c.displacement);
+  std::cout << "[ restart  ] " << c.name << ": 1 rank after SIGKILL at target set " << from
+            << ": reached " << d1.reached_m << " m, actuation " << d1.actuation_pa
+            << " Pa, max |du| / max |u| " << du1 << "; 2 ranks after SIGTERM at target set "
+            << twice["restarted_from"]["position"]["target_set"] << ": " << d2.reached_m << " m, "
+            << d2.actuation_pa << " Pa, " << du2 << std::endl;
+}
+
+INSTANTIATE_TEST_SUITE_P(Controllers, RestartControl,
+                         ::testing::Values(kNewton, kKeptFactorization, kBackground),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(RestartControlRefused, TheInteractiveModeAndFrozenWeightsInOneStep) {
+  TempFolder tmp;
+  const std::string err = (tmp.path() / "err").string(), out = (tmp.path() / "out").string();
+  const std::string deck = std::string(HYDROSOFT_EXE) + " " + kSource +
+                           "/input/finger_hydraulic.yaml -q --set output.folder=" + out + " ";
+  EXPECT_EQ(
+      run("echo '0.09 0 -0.01' | " + deck + kCheckpoints + " --targets - > /dev/null 2> " + err),
+      2);
+  EXPECT_NE(text_of(err).find("finger_hydraulic.yaml: output.checkpoint: not supported with "
+                              "--targets - (an interactive session's targets come from its client"),
+            std::string::npos)
+      << text_of(err);
+  EXPECT_EQ(run("echo '0.09 0 -0.01' | " + deck + "--restart " + out +
+                " --targets - > /dev/null 2> " + err),
+            2);
+  EXPECT_NE(text_of(err).find("--restart: not supported with --targets -"), std::string::npos)
+      << text_of(err);
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+  EXPECT_EQ(run(deck + kCheckpoints +
+                " --set control.free_solve=one_step "
+                "--set cavities[0].fluid_weight.coupling=linearized > /dev/null 2> " +
+                err),
+            2);
+  EXPECT_NE(text_of(err).find("output.checkpoint: not supported with control.free_solve one_step "
+                              "and a hydraulic cavity's fluid_weight.coupling linearized"),
+            std::string::npos)
+      << text_of(err);
+}
+
+}  // namespace

@@ -1,0 +1,51 @@
+// checkpoint.h5 written by every rank and read back (src/io/checkpoint_file.hpp): a state of
+// over 200 KB of JSON (a long control run's results so far: past the 64 KB that HDF5's original
+// format allows an attribute), the rows of a field by node id, and a series.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include "io/checkpoint_file.hpp"
+#include "../mpi_test_folder.hpp"
+
+namespace {
+
+TEST(CheckpointFile, AStateOfHundredsOfKilobytesAndTheRowsOfEveryRank) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  nlohmann::json state;
+  state["targets"] = nlohmann::json::array();
+  for (int k = 0; k < 6000; ++k)
+    state["targets"].push_back({{"set", k}, {"reached", {0.09, 1e-3 * k, -0.012}}});
+  ASSERT_GT(state.dump().size(), 200000u);
+  // 4 nodes per rank, numbered backwards in the file so that the ids are not the rows.
+  const int64_t nodes = 4 * size;
+  hs::CheckpointRows rows;
+  rows.nodes = nodes;
+  rows.first = 4 * rank;
+  std::vector<double> values;
+  for (int64_t i = 0; i < 4; ++i) {
+    const int64_t id = nodes - 1 - (rows.first + i);
+    rows.node_ids.push_back(id);
+    for (int c = 0; c < 3; ++c) values.push_back(10.0 * id + c);
+  }
+  const std::string path = (hs_test::test_folder() / "checkpoint.h5").string();
+  const std::vector<double> energy =
+      rank == 0 ? std::vector<double>{1.5, 2.5} : std::vector<double>{};
+  hs::write_checkpoint(path, MPI_COMM_WORLD, state, rows, {{"displacement", values}},
+                       {{"energy", energy}});
+
+  const hs::CheckpointFile file(path);
+  EXPECT_EQ(file.state(), state);
+  EXPECT_EQ(file.nodes(), nodes);
+  const auto ids = file.node_ids(0, nodes);
+  const auto u = file.field("displacement", 0, nodes);
+  ASSERT_EQ(ids.size(), static_cast<size_t>(nodes));
+  for (int64_t r = 0; r < nodes; ++r) {
+    EXPECT_EQ(ids[r], nodes - 1 - r);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(u[3 * r + c], 10.0 * ids[r] + c);
+  }
+  EXPECT_EQ(file.series("energy"), (std::vector<double>{1.5, 2.5}));
+}
+
+}  // namespace
