@@ -26,6 +26,7 @@
 #include "mesh/gmsh_io.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_statistics.hpp"
+#include "mesh/rigid_motions.hpp"
 #include "run_report.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/simulation.hpp"
@@ -134,6 +135,7 @@ void check_deck(const hs::Config& config) {
   const auto mesh = hs::load_mesh_on_rank_zero(config.mesh, PETSC_COMM_WORLD);
   hs::on_rank_zero(PETSC_COMM_WORLD, [&] {
     hs::check_groups(config, hs::groups_of(*mesh));
+    hs::check_rigid_motions_held(config, mesh->node_groups, mesh->x, MPI_COMM_SELF);
     std::vector<std::string> cavities;
     for (const auto& c : config.cavities) cavities.push_back(c.group);
     std::cout << "# hydrosoft: mesh " << config.mesh.file << "\n"

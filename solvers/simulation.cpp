@@ -15,6 +15,7 @@
 #include "deck/exact_section.hpp"
 #include "io/output.hpp"
 #include "mesh/distribution.hpp"
+#include "mesh/rigid_motions.hpp"
 #include "solvers/checkpoint.hpp"
 #include "solvers/control_run.hpp"
 #include "solvers/distributed_mesh.hpp"
@@ -37,12 +38,10 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   MPI_Comm_size(comm, &size);
 
   check_solver_types(config.solver, config.deck_path);
-  // Without any Dirichlet condition a static body is free to move rigidly: its tangent is
-  // singular and every step fails, which is better said at once.
-  if (config.dirichlet.empty() && config.time.type != TimeType::dynamic)
-    throw InputError(config.deck_path +
-                     ": boundary: nothing holds the body (no Dirichlet condition): a static run "
-                     "needs one to remove the rigid motions, e.g. boundary: [{group: clamped}]");
+  // A static body that its conditions leave free to move rigidly has a singular tangent:
+  // every step would fail, which is better said at once (again with the mesh, below).
+  if (config.dirichlet.empty())
+    check_rigid_motions_held(config, std::map<std::string, std::vector<int32_t>>{}, {}, comm);
   // The checkpoint to continue from is opened and checked first: the output folder, opened
   // next, may be the very folder it lies in (its .partial is cleared then).
   check_checkpoint_use(config, !restart_folder.empty());
@@ -53,6 +52,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   MeshLoadTimes mesh_times;
   const Distribution dist = load_distributed_mesh(config.mesh, comm, &mesh_times);
   check_groups(config, dist.groups);
+  check_rigid_motions_held(config, dist.node_groups, dist.x, comm);
   // The deck's exact solution, if any: the values of Dirichlet conditions marked exact, and
   // the reference of the errors and verification quantities reported below.
   const auto exact_solution = make_exact_solution(config);

@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
+#include "mesh/rigid_motions.hpp"
 #include "run_deck.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/multi_solve.hpp"
@@ -331,6 +332,49 @@ TEST(FreeBody, AStaticRunWithoutBoundaryConditionsIsRefusedAtOnce) {
     EXPECT_NE(std::string(e.what()).find("boundary: nothing holds the body"), std::string::npos)
         << e.what();
   }
+}
+
+// The Lame sphere octant held by its three symmetry planes, one of them deleted: the body may
+// slide along z (the fault of a fuzzed deck, which Newton met as 8 failed cutbacks).
+TEST(FreeBody, ConditionsThatLeaveARigidMotionFreeAreRefusedNamingIt) {
+  try {
+    hs_test::run_deck("lame_sphere.yaml",
+                      {"mesh.parameters.h=0.5",
+                       "boundary=[{group: symmetry_x, components: [x]}, "
+                       "{group: symmetry_y, components: [y]}]"},
+                      "sliding");
+    FAIL() << "a body free to slide was run";
+  } catch (const hs::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("boundary: the conditions leave the body free to move (translation along "
+                     "z)"),
+              std::string::npos)
+        << m;
+  }
+}
+
+// The corners of the unit cube, held in ways whose free motions are known by hand.
+TEST(FreeBody, FreeRigidMotionsOfTheUnitCube) {
+  const std::vector<double> x = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0,
+                                 0, 0, 1, 1, 0, 1, 0, 1, 1, 1, 1, 1};
+  const std::map<std::string, std::vector<int32_t>> groups = {
+      {"bottom", {0, 1, 2, 3}}, {"axis", {0, 4}}, {"corner", {0}}, {"x_edge", {0, 1}}};
+  auto free = [&](const std::string& group, std::array<bool, 3> components) {
+    hs::DirichletConfig bc;
+    bc.group = group;
+    bc.components = components;
+    auto f = hs::free_rigid_motions<int32_t>({bc}, groups, x, PETSC_COMM_WORLD);
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  using V = std::vector<std::string>;
+  EXPECT_EQ(free("bottom", {true, true, true}), V{});
+  EXPECT_EQ(free("bottom", {false, false, true}),
+            (V{"rotation about z", "translation along x", "translation along y"}));
+  EXPECT_EQ(free("axis", {true, true, true}), V{"rotation about z"});
+  EXPECT_EQ(free("x_edge", {true, true, true}), V{"rotation about x"});
+  EXPECT_EQ(free("corner", {true, true, true}).size(), 3u);  // the three rotations
+  EXPECT_EQ(free("corner", {false, false, false}).size(), 6u);
 }
 
 TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {
