@@ -18,15 +18,9 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "text_file.hpp"
 
 namespace hs::testing {
-
-inline std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // Waits (at most 120 s) until `path` exists; false if it never did.
 inline bool wait_for_file(const std::string& path) {

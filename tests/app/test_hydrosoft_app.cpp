@@ -17,6 +17,7 @@
 
 #include "../deck/temp_folder.hpp"
 #include "child_process.hpp"
+#include "text_file.hpp"
 
 namespace {
 
@@ -42,12 +43,7 @@ std::vector<std::string> lines_of(const std::string& path) {
   return lines;
 }
 
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using hs::testing::text_of;
 
 class InteractiveOutput : public ::testing::TestWithParam<int> {};
 

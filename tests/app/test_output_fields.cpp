@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "../deck/temp_folder.hpp"
+#include "text_file.hpp"
 
 namespace {
 
@@ -21,12 +22,7 @@ using hs::testing::TempFolder;
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using hs::testing::text_of;
 
 // The few reads the checks need, on an open file.
 struct H5 {

@@ -20,6 +20,7 @@
 
 #include "../deck/temp_folder.hpp"
 #include "child_process.hpp"
+#include "text_file.hpp"
 
 namespace {
 
@@ -45,12 +46,7 @@ using hs::testing::run;
 using hs::testing::start;
 using hs::testing::wait_for;
 
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using hs::testing::text_of;
 
 nlohmann::json json_of(const std::string& path) { return nlohmann::json::parse(text_of(path)); }
 
