@@ -89,6 +89,12 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   const double t_setup = MPI_Wtime() - t_start;
 
   Vec u = problem.create_vector();
+  // Destroyed on every way out: an input error found after this point (a cavity volume that
+  // cannot exist, a control target out of reach) leaves the caller's process going.
+  struct VecOwner {
+    Vec& v;
+    ~VecOwner() { VecDestroy(&v); }
+  } u_owner{u};
   {
     Vec f;
     HS_PETSC(VecDuplicate(u, &f));
@@ -244,7 +250,6 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     // Every rank is here together (a failed solve, an inverted element, a refused step and a
     // signal are all decided collectively): the converged steps go to "<folder>.failed".
     keep_converged_steps(e, recorder, run_summary(), comm);
-    HS_PETSC(VecDestroy(&u));
     throw;
   }
 
@@ -276,7 +281,6 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   summary["time_s"]["total"] = MPI_Wtime() - t_start;
   const std::string folder = recorder.finish(summary);  // adds "status": "ok"
   summary["output"]["folder"] = folder;
-  HS_PETSC(VecDestroy(&u));
   return summary;
 }
 

@@ -3,6 +3,7 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -101,8 +102,22 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
   const bool newmark = time.integrator == Integrator::newmark;
   const double dt = time.dt, beta = time.newmark_beta, gamma = time.newmark_gamma;
   InertiaTerm inertia;
+  Vec v = nullptr, a = nullptr, a_new = nullptr, R = nullptr;
+  Vec Mv = nullptr, f_ext = nullptr, scratch = nullptr;
+  // Released on every way out: a failed step (SolveError) and a signal (Interrupted, from
+  // on_step) leave by an exception, which the caller catches to keep the steps done.
+  struct Release {
+    Problem& problem;
+    InertiaTerm& inertia;
+    std::array<Vec*, 7> vecs;
+    ~Release() {
+      problem.set_inertia(nullptr);
+      for (Vec* x : vecs) VecDestroy(x);
+      VecDestroy(&inertia.u_pred);
+      MatDestroy(&inertia.M);
+    }
+  } release{problem, inertia, {&v, &a, &a_new, &R, &Mv, &f_ext, &scratch}};
   inertia.M = problem.create_mass_matrix();
-  Vec v, a, a_new, R;
   HS_PETSC(VecDuplicate(u, &v));
   HS_PETSC(VecDuplicate(u, &a));
   HS_PETSC(VecDuplicate(u, &a_new));
@@ -130,7 +145,6 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
   }
 
   // E = 1/2 v.M v + int psi - f_ext.u (f_ext at full load on the current configuration).
-  Vec Mv, f_ext, scratch;
   HS_PETSC(VecDuplicate(u, &Mv));
   HS_PETSC(VecDuplicate(u, &f_ext));
   HS_PETSC(VecDuplicate(u, &scratch));
@@ -157,10 +171,7 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
     const NewtonResult r = newton.solve(u, 1.0);
     stats.newton_iterations += r.iterations;
     stats.linear_iterations += r.linear_iterations;
-    if (!r.converged) {
-      problem.set_inertia(nullptr);
-      fail(problem, n, "time " + std::to_string(n * dt), r);
-    }
+    if (!r.converged) fail(problem, n, "time " + std::to_string(n * dt), r);
     ++stats.steps;
     // a_new = c (u - u_pred); v += dt ((1 - gamma) a + gamma a_new) or dt a_new.
     HS_PETSC(VecWAXPY(a_new, -1.0, inertia.u_pred, u));
@@ -175,16 +186,6 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
     stats.energy.push_back(total_energy());
     on_step(n, n * dt, u, v, a);
   }
-  problem.set_inertia(nullptr);
-  VecDestroy(&Mv);
-  VecDestroy(&f_ext);
-  VecDestroy(&scratch);
-  VecDestroy(&v);
-  VecDestroy(&a);
-  VecDestroy(&a_new);
-  VecDestroy(&R);
-  VecDestroy(&inertia.u_pred);
-  MatDestroy(&inertia.M);
 }
 
 }  // namespace hs

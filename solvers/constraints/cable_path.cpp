@@ -10,21 +10,28 @@ namespace hs {
 
 CablePath::CablePath(const CableConfig& config, Problem& problem, const std::string& deck_path)
     : config_(config) {
-  for (size_t i = 0; i < config.points.size(); ++i) {
-    const auto& X = config.points[i];
-    MaterialPoint p;
-    if (!locate(problem, X, p))
-      throw InputError(deck_path + ": cables '" + config.name + "' points[" + std::to_string(i) +
-                       "] (" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
-                       std::to_string(X[2]) + ") lies outside the mesh");
-    std::vector<PetscInt> dofs;
-    for (size_t a = 0; a < p.nodes.size(); ++a)
-      for (int d = 0; d < 3; ++d)
-        dofs.push_back(p.free_dofs[3 * a + d] ? static_cast<PetscInt>(3 * p.nodes[a] + d) : -1);
-    dofs_.push_back(dofs);
-    shape_.push_back(p.N);
-    for (int d = 0; d < 3; ++d) reference_.push_back(X[d]);
-    append_point_rows(problem, p.nodes, p.N, rows_);
+  try {
+    for (size_t i = 0; i < config.points.size(); ++i) {
+      const auto& X = config.points[i];
+      MaterialPoint p;
+      if (!locate(problem, X, p))
+        throw InputError(deck_path + ": cables '" + config.name + "' points[" + std::to_string(i) +
+                         "] (" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
+                         std::to_string(X[2]) + ") lies outside the mesh");
+      std::vector<PetscInt> dofs;
+      for (size_t a = 0; a < p.nodes.size(); ++a)
+        for (int d = 0; d < 3; ++d)
+          dofs.push_back(p.free_dofs[3 * a + d] ? static_cast<PetscInt>(3 * p.nodes[a] + d) : -1);
+      dofs_.push_back(dofs);
+      shape_.push_back(p.N);
+      for (int d = 0; d < 3; ++d) reference_.push_back(X[d]);
+      append_point_rows(problem, p.nodes, p.N, rows_);
+    }
+  } catch (...) {
+    // A point outside the mesh is found after the rows of the points before it were made, and
+    // no destructor runs for an object whose constructor throws.
+    for (auto& v : rows_) VecDestroy(&v);
+    throw;
   }
   // The turning stiffness couples the points of each segment (the last one ends at the
   // fixed pull point, if any): one block of the tangent each, set by rank 0.

@@ -20,9 +20,12 @@ BENIGN_PREFIXES = ("hydrosoft: warning:", "hydrosoft: step ")
 
 
 def _limit_memory(megabytes):
+    """Limits the address space (none for 0: a sanitized build reserves terabytes of it)."""
+
     def apply():
-        limit = megabytes * 1024 * 1024
-        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+        if megabytes > 0:
+            limit = megabytes * 1024 * 1024
+            resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
 
     return apply

@@ -220,7 +220,7 @@ def main():
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--check-timeout", type=float, default=60)
     parser.add_argument("--run-timeout", type=float, default=60)
-    parser.add_argument("--memory-mb", type=int, default=4096)
+    parser.add_argument("--memory-mb", type=int, default=4096, help="address-space limit, 0 for none")
     parser.add_argument("--keep-time-limits", action="store_true")
     args = parser.parse_args()
     if args.hydrosoft:

@@ -115,7 +115,8 @@ TEST(Cables, PullDirectionIsMinusTheLengthGradient) {
     if (pull) {
       const auto x = cable.positions(u);
       const std::array<double, 3> last{x[6], x[7], x[8]};
-      const auto& p = *bottom_cable(true).pull_point;
+      const hs::CableConfig pulled = bottom_cable(true);
+      const auto& p = *pulled.pull_point;
       for (int d = 0; d < 3; ++d) expected[d] = (p[d] - last[d]) / distance(p, last);
     }
     for (int d = 0; d < 3; ++d) EXPECT_NEAR(net[d], expected[d], 1e-13) << pull << " " << d;
