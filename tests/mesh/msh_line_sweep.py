@@ -5,7 +5,7 @@ block header, the first and last lines of $Entities, $Nodes and $Elements and of
 entity blocks, and a few drawn lines of each are mutated one at a time: the line deleted or doubled, its first or last field
 dropped, a field added, a field (first, middle, last) replaced by a non-number. Each case is
 classified as tests/fuzz/classify.py does; the defects (a crash, a dump, a message that does
-not name the file) are listed. Usage:
+not name the file) and the cases accepted are listed. Usage:
 
   python3 tests/mesh/msh_line_sweep.py BUILD/bin/hydrosoft OUT [--jobs 2]
 """
@@ -136,14 +136,19 @@ def main():
     args = parser.parse_args()
     cases = make_cases(args.base_meshes, args.seed)
     counts = collections.Counter()
-    defects = []
+    defects, accepted = [], []
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         for case, cls, reason, stderr in pool.map(lambda c: run_one(c, os.path.abspath(args.hydrosoft),
                                                                     os.path.abspath(args.out)), cases):
             counts[cls] += 1
+            where = f"{case['id']} {case['base']} line {case['line']} {case['kind']}"
             if cls == "defect":
-                defects.append(f"{case['id']} {case['base']} line {case['line']} {case['kind']}: {reason}")
+                defects.append(f"{where}: {reason}")
+            elif cls == "accepted":
+                accepted.append(where)
     print(f"{len(cases)} cases: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    for a in accepted:
+        print("accepted", a)
     for d in defects:
         print("defect", d)
     return 1 if defects else 0
