@@ -1,8 +1,8 @@
-// prescan_msh: the file is mapped read-only; the $Nodes and $Elements headers (and, in format
-// 4.1, each entity block's header, whose count gmsh allocates too) are read and every count is
-// compared with the bytes left after it, at the fewest bytes an item can take: 8 for a node
-// ("1\n0 0 0\n"), 4 for an element ("1 1\n"), more in binary files. The data itself is skipped,
-// not parsed: gmsh reads it afterwards.
+// prescan_msh: the file is mapped read-only. An ASCII file of format 2 or 4.1 is checked line
+// by line (msh_ascii_check.cpp). In the others, the $Nodes and $Elements headers (and, in
+// binary format 4.1, each entity block's header, whose count gmsh allocates too) are read and
+// every count is compared with the bytes left after it, at the fewest bytes an item can take:
+// 8 for a node ("1\n0 0 0\n"), 4 for an element ("1 1\n"), more in binary files.
 #include "mesh/msh_prescan.hpp"
 
 #include <fcntl.h>
@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "mesh/msh_ascii_check.hpp"
 
 namespace hs {
 namespace {
@@ -52,19 +53,6 @@ class MappedFile {
   size_t size_ = 0;
 };
 
-// Nodes of each gmsh element type (binary blocks are skipped by size).
-int nodes_of_type(int64_t type) {
-  static const std::map<int64_t, int> kNodes = {
-      {1, 2},   {2, 3},   {3, 4},   {4, 4},   {5, 8},   {6, 6},   {7, 5},   {8, 3},   {9, 6},
-      {10, 9},  {11, 10}, {12, 27}, {13, 18}, {14, 14}, {15, 1},  {16, 8},  {17, 20}, {18, 15},
-      {19, 13}, {20, 9},  {21, 10}, {22, 12}, {23, 15}, {24, 15}, {25, 21}, {26, 4},  {27, 5},
-      {28, 6},  {29, 20}, {30, 35}, {31, 56}, {92, 64}, {93, 125}};
-  const auto it = kNodes.find(type);
-  return it == kNodes.end() ? -1 : it->second;
-}
-
-bool is_tet(int64_t type) { return type == 4 || type == 11; }
-
 class Scanner {
  public:
   Scanner(const std::string& file, std::string_view text) : file_(file), d_(text) {}
@@ -72,11 +60,26 @@ class Scanner {
   MshCounts run() {
     MshCounts counts;
     size_t at = line_after("$MeshFormat", 0);
-    if (at == npos) return v1(counts);
-    const std::string version(token(at));
+    if (at == npos) {
+      // gmsh reads a file without $MeshFormat as format 1, whatever its sections.
+      if (line_after("$NOD", 0) == npos && line_after("$ELM", 0) == npos)
+        fail("$MeshFormat", "the file has no $MeshFormat section (nor $NOD, as in format 1)", 0);
+      return v1(counts);
+    }
+    const size_t format_line = at;
+    const std::string_view word = token(at);
+    double version = 0;
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), version);
+    if (word.empty() || error != std::errc() || end != word.data() + word.size())
+      fail("$MeshFormat",
+           "expected the format's version, got '" + std::string(word.substr(0, 40)) + "'",
+           format_line);
     const int64_t file_type = integer(at, "$MeshFormat", "the file type");
     integer(at, "$MeshFormat", "the data size");
-    binary_ = file_type == 1;
+    binary_ = file_type != 0;  // as gmsh reads it
+    // gmsh reads format 2 (2.1, 2.2) by one grammar and 4.1 and above by another.
+    if (!binary_ && (version >= 4.1 || (version > 2 && version < 3)))
+      return check_ascii_msh(file_, d_, version);
     if (binary_) {
       at = skip_line(at);
       if (at + 4 <= d_.size()) {
@@ -84,11 +87,10 @@ class Scanner {
         std::memcpy(&one, d_.data() + at, 4);
         swap_ = one != 1;
       }
+      if (version >= 4.1) return v41_counts(counts);
+      if (version >= 4) return counts;  // gmsh reads format 4.0 in ASCII only
     }
-    if (version.rfind("4.1", 0) == 0) return v41_counts(counts);
-    const bool v40 = version.rfind("4", 0) == 0;
-    if (binary_ && v40) return counts;  // gmsh reads format 4.0 in ASCII only
-    return totals(counts, v40);
+    return totals(counts, version >= 4 && version < 4.1);
   }
 
  private:
@@ -144,20 +146,13 @@ class Scanner {
   // `count` items of at least `bytes` each must fit in what follows `at`.
   void check_count(int64_t count, int64_t bytes, size_t at, const std::string& section,
                    const std::string& what, size_t reported_at) const {
-    if (count < 0)
-      fail(section, "claims " + std::to_string(count) + " " + what + ": a count cannot be negative",
-           reported_at);
     const int64_t left = static_cast<int64_t>(d_.size() - std::min(at, d_.size()));
-    if (count > left / bytes)
-      fail(section,
-           "claims " + std::to_string(count) + " " + what + ", more than the " +
-               std::to_string(d_.size()) + "-byte file can hold (at most " +
-               std::to_string(left / bytes) + " in the " + std::to_string(left) +
-               " bytes after it)",
-           reported_at);
+    const std::string problem =
+        msh_count_problem(count, bytes, left, static_cast<int64_t>(d_.size()), what);
+    if (!problem.empty()) fail(section, problem, reported_at);
   }
 
-  // Formats 1, 2 and 4.0: the header's count only ($NOD/$ELM in format 1).
+  // Binary format 2, ASCII formats 2.0, 3 and 4.0: the header's count only.
   MshCounts totals(MshCounts counts, bool v40) {
     for (const bool nodes : {true, false}) {
       const std::string section = nodes ? "$Nodes" : "$Elements";
@@ -201,23 +196,9 @@ class Scanner {
     return value;
   }
 
-  int64_t count_at(size_t& at, const std::string& section, const std::string& what) {
-    if (!binary_) return integer(at, section, what);
+  int64_t count_at(size_t& at, const std::string& section) {
     const uint64_t v = read_binary<uint64_t>(at, section);
     return v > static_cast<uint64_t>(INT64_MAX) ? -1 : static_cast<int64_t>(v);
-  }
-
-  int64_t int_at(size_t& at, const std::string& section, const std::string& what) {
-    return binary_ ? read_binary<int32_t>(at, section) : integer(at, section, what);
-  }
-
-  // Skips `count` whitespace-separated tokens (ASCII) or `count` 8-byte values (binary).
-  void skip_values(size_t& at, int64_t count) const {
-    if (binary_) {
-      at = std::min(d_.size(), at + static_cast<size_t>(count) * 8);
-      return;
-    }
-    for (int64_t k = 0; k < count && at < d_.size(); ++k) token(at);
   }
 
   MshCounts v41_counts(MshCounts counts) {
@@ -226,32 +207,31 @@ class Scanner {
     return counts;
   }
 
-  // One $Nodes or $Elements section of format 4.1: the header, then each block's header,
-  // each block's data skipped; returns the header's count. Counts tetrahedra into `tets`.
+  // One $Nodes or $Elements section of binary format 4.1: the header, then each block's
+  // header, each block's data skipped; returns the header's count. Counts tetrahedra into
+  // `tets`.
   int64_t v41_section(bool nodes, int64_t& tets) {
     const std::string section = nodes ? "$Nodes" : "$Elements";
     const std::string what = nodes ? "nodes" : "elements";
     size_t at = line_after(section, 0);
     if (at == npos) return 0;
     const size_t header = at;
-    const int64_t blocks = count_at(at, section, "the entity block count");
-    const int64_t total =
-        count_at(at, section, "the " + what.substr(0, what.size() - 1) + " count");
-    const int64_t smallest_tag = count_at(at, section, "the smallest tag");
-    const int64_t largest_tag = count_at(at, section, "the largest tag");
+    const int64_t blocks = count_at(at, section);
+    const int64_t total = count_at(at, section);
+    const int64_t smallest_tag = count_at(at, section);
+    const int64_t largest_tag = count_at(at, section);
     if (nodes) node_tags_ = {smallest_tag, largest_tag};
-    const int64_t block_bytes = binary_ ? 20 : 8;  // "0 1 0 0\n"
-    const int64_t item_bytes = binary_ ? (nodes ? 32 : 16) : (nodes ? kNodeBytes : kElementBytes);
-    check_count(blocks, block_bytes, at, section, "entity blocks", header);
+    const int64_t item_bytes = nodes ? 32 : 16;
+    check_count(blocks, 20, at, section, "entity blocks", header);
     check_count(total, item_bytes, at, section, what, header);
     if (!nodes) tets = 0;
     int64_t sum = 0;
     for (int64_t b = 0; b < blocks; ++b) {
       const size_t block = at;
-      const int64_t dim = int_at(at, section, "an entity dimension");
-      int_at(at, section, "an entity tag");
-      const int64_t kind = int_at(at, section, nodes ? "the parametric flag" : "the element type");
-      const int64_t count = count_at(at, section, "a block's " + what + " count");
+      const int64_t dim = read_binary<int32_t>(at, section);
+      read_binary<int32_t>(at, section);                       // the entity's tag
+      const int64_t kind = read_binary<int32_t>(at, section);  // parametric, or element type
+      const int64_t count = count_at(at, section);
       check_count(count, item_bytes, at, section,
                   what + " in entity block " + std::to_string(b + 1), block);
       sum += count;
@@ -261,10 +241,9 @@ class Scanner {
              block);
       if (nodes) {
         const int64_t per_node = 3 + (kind != 0 ? std::max<int64_t>(dim, 0) : 0);
-        skip_values(at, count);
-        skip_values(at, count * per_node);
+        at = std::min(d_.size(), at + static_cast<size_t>(count * (1 + per_node)) * 8);
       } else {
-        if (is_tet(kind)) tets += count;
+        if (kind == 4 || kind == 11) tets += count;
         skip_elements(at, section, kind, count, block);
       }
     }
@@ -288,49 +267,28 @@ class Scanner {
            at);
   }
 
-  // An element's tag, then its nodes: one line of ASCII (as gmsh reads them) or 1 + n 8-byte
-  // values; the node tags are checked against the range of $Nodes.
+  // An element's tag, then its nodes: 1 + n 8-byte values; the node tags are checked against
+  // the range of $Nodes.
   void skip_elements(size_t& at, const std::string& section, int64_t type, int64_t count,
                      size_t block) const {
-    const int n = nodes_of_type(type);
-    if (binary_) {
-      if (n < 0)
-        fail(section, "element type " + std::to_string(type) + " is not known to hydrosoft", block);
-      const int64_t left = static_cast<int64_t>(d_.size() - std::min(at, d_.size()));
-      if (count > left / (8 * (1 + n)))
-        fail(section,
-             "an entity block claims " + std::to_string(count) + " elements of " +
-                 std::to_string(n) + " nodes, more than the rest of the file can hold",
-             block);
-      for (int64_t k = 0; k < count; ++k) {
-        const size_t start = at;
-        const auto element = static_cast<int64_t>(read_binary<uint64_t>(at, section));
-        for (int j = 0; j < n; ++j) {
-          const uint64_t tag = read_binary<uint64_t>(at, section);
-          check_node_tag(tag > static_cast<uint64_t>(INT64_MAX) ? -1 : static_cast<int64_t>(tag),
-                         element, start);
-        }
+    const int n = msh_element_nodes(type);
+    if (n < 0)
+      fail(section, "element type " + std::to_string(type) + " is not known to hydrosoft", block);
+    const int64_t left = static_cast<int64_t>(d_.size() - std::min(at, d_.size()));
+    if (count > left / (8 * (1 + n)))
+      fail(section,
+           "an entity block claims " + std::to_string(count) + " elements of " + std::to_string(n) +
+               " nodes, more than the rest of the file can hold",
+           block);
+    for (int64_t k = 0; k < count; ++k) {
+      const size_t start = at;
+      const auto element = static_cast<int64_t>(read_binary<uint64_t>(at, section));
+      for (int j = 0; j < n; ++j) {
+        const uint64_t tag = read_binary<uint64_t>(at, section);
+        check_node_tag(tag > static_cast<uint64_t>(INT64_MAX) ? -1 : static_cast<int64_t>(tag),
+                       element, start);
       }
-      return;
     }
-    at = skip_line(at);
-    for (int64_t k = 0; k < count && at < d_.size(); ++k) {
-      const size_t start = at, end = skip_line(at);
-      const int64_t element = integer(at, section, "an element's tag");
-      for (int j = 0; j < n && at < end; ++j) {
-        const size_t before = at;
-        if (token_before(at, end).empty()) break;  // gmsh reports a short line itself
-        at = before;
-        check_node_tag(integer(at, section, "a node tag"), element, start);
-      }
-      at = end;
-    }
-  }
-
-  // The next token if it starts before `end` (the end of its line), else empty.
-  std::string_view token_before(size_t& at, size_t end) const {
-    const std::string_view t = token(at);
-    return at - t.size() < end ? t : std::string_view();
   }
 
   const std::string& file_;
