@@ -116,6 +116,16 @@ class Checker {
     return line;
   }
 
+  // Format 4.1: the entity blocks' counts add up to the section header's total.
+  void block_sum_matches(std::string_view section, int64_t sum, int64_t total, const char* what,
+                         int64_t header) {
+    if (sum != total)
+      fail_at(section,
+              "the entity blocks hold " + std::to_string(sum) + " " + what + ", the header says " +
+                  std::to_string(total),
+              header);
+  }
+
   // The section's last line, after as many lines as its counts said.
   void end_of(std::string_view section) {
     const bool more = lines_.next();
@@ -294,11 +304,7 @@ class Checker {
         reals(S, c, per_node, "a coordinate");
       }
     }
-    if (sum != h[1])
-      fail_at(S,
-              "the entity blocks hold " + std::to_string(sum) + " nodes, the header says " +
-                  std::to_string(h[1]),
-              header);
+    block_sum_matches(S, sum, h[1], "nodes", header);
     end_of(S);
     counts_.nodes = h[1];
     have_nodes_ = true;
@@ -376,11 +382,7 @@ class Checker {
         for (int j = 0; j < n; ++j) element_node(S, e, tag);
       }
     }
-    if (sum != h[1])
-      fail_at(S,
-              "the entity blocks hold " + std::to_string(sum) + " elements, the header says " +
-                  std::to_string(h[1]),
-              header);
+    block_sum_matches(S, sum, h[1], "elements", header);
     end_of(S);
     counts_.elements = h[1];
   }

@@ -20,20 +20,11 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "fuzz"))
 from classify import run_case  # noqa: E402
+from fuzz import BASE_MESHES, MESH_DECK  # noqa: E402
 
-BASES = {"block_v41": 1, "block_v22": 1, "block_v41_p2": 2}
-DECK = """mesh:
-  file: mesh.msh
-  order: {order}
-materials:
-  - {{group: body, model: neo_hookean, E: 1.0e6, nu: 0.3, density: 1000}}
-boundary:
-  - {{group: bottom}}
-loads:
-  gravity: [0, 0, -9.81]
-time: {{type: static, steps: 1}}
-solver: {{preset: mumps}}
-"""
+# The fuzz harness's mesh cases: the same deck and base meshes (name: the deck's order).
+BASES = {name: order for name, _, order in BASE_MESHES}
+DECK = MESH_DECK
 DATA_LINES_DRAWN = 5
 
 
