@@ -23,6 +23,7 @@
 #include "common/exchange.hpp"
 #include "common/interrupt.hpp"
 #include "deck/deck.hpp"
+#include "deck/exact_section.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_statistics.hpp"
@@ -30,6 +31,7 @@
 #include "run_report.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/simulation.hpp"
+#include "solvers/verification/reference_check.hpp"
 #include "version.hpp"
 
 namespace {
@@ -136,6 +138,8 @@ void check_deck(const hs::Config& config) {
   hs::on_rank_zero(PETSC_COMM_WORLD, [&] {
     hs::check_groups(config, hs::groups_of(*mesh));
     hs::check_rigid_motions_held(config, mesh->node_groups, mesh->x, MPI_COMM_SELF);
+    if (const auto exact = hs::make_exact_solution(config))
+      hs::check_reference_finite(config, *exact, mesh->x, MPI_COMM_SELF);
     std::vector<std::string> cavities;
     for (const auto& c : config.cavities) cavities.push_back(c.group);
     std::cout << "# hydrosoft: mesh " << config.mesh.file << "\n"

@@ -37,7 +37,7 @@ std::unique_ptr<Mesh> load_mesh_on_rank_zero(const MeshConfig& cfg, MPI_Comm com
   on_rank_zero(comm, [&] {
     mesh = std::make_unique<Mesh>(load_mesh(cfg));
     const std::string warning = units_warning(*mesh, cfg.file);
-    if (!warning.empty()) std::cerr << "warning: " << warning << std::endl;
+    if (!warning.empty()) std::cerr << "hydrosoft: warning: " << warning << std::endl;
   });
   return mesh;
 }

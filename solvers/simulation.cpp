@@ -27,6 +27,7 @@
 #include "solvers/state_stepping.hpp"
 #include "solvers/stepping.hpp"
 #include "solvers/verification/error_norms.hpp"
+#include "solvers/verification/reference_check.hpp"
 
 namespace hs {
 
@@ -57,6 +58,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   // the reference of the errors and verification quantities reported below.
   const auto exact_solution = make_exact_solution(config);
   const ExactSolution* exact = exact_solution.get();
+  if (exact) check_reference_finite(config, *exact, dist.x, comm);
   ExactDirichlet exact_dirichlet;
   if (exact)
     exact_dirichlet = [exact](const std::array<double, 3>& X, double s) {

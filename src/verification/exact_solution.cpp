@@ -1,5 +1,7 @@
 #include "verification/exact_solution.hpp"
 
+#include <cmath>
+
 #include "common/deck_reader.hpp"
 
 namespace hs {
@@ -37,6 +39,36 @@ const ExactMaterial& material_of(const ExactSetting& setting, const std::string&
     if (m.group == group) return m;
   throw ExactInputError(
       "materials", "exact solution '" + solution + "' needs a material for group '" + group + "'");
+}
+
+namespace {
+
+// The first number in `value` (a JSON tree) that is not finite, by its key; "" when none.
+std::string non_finite_key(const nlohmann::json& value, const std::string& key) {
+  if (value.is_number()) return std::isfinite(value.get<double>()) ? "" : key;
+  if (value.is_object())
+    for (const auto& [name, item] : value.items())
+      if (auto bad = non_finite_key(item, name); !bad.empty()) return bad;
+  if (value.is_array())
+    for (const auto& item : value)
+      if (auto bad = non_finite_key(item, key); !bad.empty()) return bad;
+  return "";
+}
+
+}  // namespace
+
+std::string non_finite_reference(const ExactSolution& solution, const std::vector<double>& x) {
+  for (size_t n = 0; n < x.size() / 3; ++n) {
+    const std::array<double, 3> X{x[3 * n], x[3 * n + 1], x[3 * n + 2]};
+    const auto u = solution.displacement(X, 1.0);
+    if (!(std::isfinite(u[0]) && std::isfinite(u[1]) && std::isfinite(u[2])))
+      return "its displacement at the node (" + format_number(X[0]) + ", " + format_number(X[1]) +
+             ", " + format_number(X[2]) + ") is not finite";
+  }
+  const std::vector<double> at_rest(solution.measures().size(), 0.0);
+  const std::string key = non_finite_key(solution.verification(at_rest, 1.0), "");
+  if (!key.empty()) return "its verification quantity " + key + " is not finite";
+  return "";
 }
 
 }  // namespace hs

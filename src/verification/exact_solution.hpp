@@ -89,4 +89,11 @@ const ExactMaterial& only_material(const ExactSetting& setting, const std::strin
 const ExactMaterial& material_of(const ExactSetting& setting, const std::string& group,
                                  const std::string& solution);
 
+// Why `solution` cannot be the reference of a run on the nodes x (3 numbers a node): its
+// displacement at full load at a node, or a verification quantity of a body at rest, is not a
+// finite number; "" when it can. Parameters that pass their own checks can still overflow the
+// closed form or divide by zero (a length of 1e-308 is above 0), which a run would otherwise
+// find only at its end, in a summary it cannot write.
+std::string non_finite_reference(const ExactSolution& solution, const std::vector<double>& x);
+
 }  // namespace hs

@@ -168,6 +168,42 @@ INSTANTIATE_TEST_SUITE_P(Controllers, RestartControl,
                          ::testing::Values(kNewton, kKeptFactorization, kBackground),
                          [](const auto& info) { return info.param.name; });
 
+// A checkpoint written on 2 ranks, as a cluster's job would leave it: the job is stopped by
+// SIGTERM to mpiexec (which passes it on, then kills what is left after a grace period), and
+// its checkpoint restarted on 2 ranks and on 1 ends with the uninterrupted run's targets.
+TEST(RestartControlRanks, ACheckpointWrittenOnTwoRanksRestartsOnTwoAndOnOne) {
+  const Case& c = kNewton;
+  TempFolder tmp;
+  const std::string err = (tmp.path() / "err").string();
+  const std::string ref = (tmp.path() / "ref").string(), job = (tmp.path() / "job").string();
+  const std::string mpiexec = std::string(HYDROSOFT_MPIEXEC) + " -np 2 ";
+  ASSERT_EQ(run(command(c, ref, "", err)), 0) << text_of(err);
+  const nlohmann::json expected = summary_of(ref);
+
+  const pid_t pid = start(mpiexec + command(c, job, kCheckpoints, err));
+  ASSERT_TRUE(wait_for_target_set_checkpoint(job + ".partial/checkpoint.h5")) << text_of(err);
+  ASSERT_EQ(kill(pid, SIGTERM), 0);
+  EXPECT_NE(wait_for(pid), 0);
+  // Stopped at a step boundary, its checkpoint is in .failed; killed first, in .partial.
+  const std::string from =
+      fs::exists(job + ".failed/checkpoint.h5") ? job + ".failed" : job + ".partial";
+  ASSERT_EQ(checkpoint_state(from + "/checkpoint.h5")["ranks"], 2) << from;
+  for (const int ranks : {2, 1}) {
+    const std::string out = (tmp.path() / ("on" + std::to_string(ranks))).string();
+    ASSERT_EQ(run((ranks == 2 ? mpiexec : "") + command(c, out, "--restart " + from, err)), 0)
+        << text_of(err);
+    const nlohmann::json got = summary_of(out);
+    EXPECT_EQ(got["restarted_from"]["ranks"], 2);
+    const Difference d = compare_targets(expected["targets"], got["targets"]);
+    EXPECT_LE(d.reached_m, c.reached_m) << ranks << " ranks";
+    EXPECT_LE(d.actuation_pa, c.actuation_pa) << ranks << " ranks";
+    std::cout << "[ restart  ] 2-rank checkpoint (" << fs::path(from).extension().string()
+              << ") at target set " << got["restarted_from"]["position"]["target_set"] << " on "
+              << ranks << " ranks: reached " << d.reached_m << " m, actuation " << d.actuation_pa
+              << " Pa" << std::endl;
+  }
+}
+
 TEST(RestartControlRefused, TheInteractiveModeAndFrozenWeightsInOneStep) {
   TempFolder tmp;
   const std::string err = (tmp.path() / "err").string(), out = (tmp.path() / "out").string();

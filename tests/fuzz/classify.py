@@ -2,7 +2,8 @@
 
 accepted   exit 0 (and, for a real run, every number of its results finite)
 rejected   exit 1 or 2 (3 for a real run that fails to converge) with ONE line on standard
-           error, `hydrosoft: error: FILE: KEY: reason (line N)`, FILE the deck or the mesh
+           error, `hydrosoft: error: FILE: KEY: reason (line N)`, FILE the deck or the mesh;
+           a failed run adds one indented line on what it kept, and warnings may come before
 time_limit a real run still going at its time limit (a valid deck may ask for many steps)
 defect     anything else: a signal, an abort, exit 4 (an exception that is not an input
            error), a PETSc error dump, several lines of error, a message that does not start
@@ -12,11 +13,15 @@ defect     anything else: a signal, an abort, exit 4 (an exception that is not a
 import json
 import math
 import os
+import re
 import resource
 import subprocess
 
 # Lines a clean refusal may print beside its one error line.
 BENIGN_PREFIXES = ("hydrosoft: warning:", "hydrosoft: step ")
+# The line a failed run (exit 3) adds under its error: what it kept of its steps.
+KEPT_LINE = re.compile(r"  (no step had converged: nothing was kept"
+                       r"|the \d+ converged output steps are in .+)$")
 
 
 def _limit_memory(megabytes):
@@ -82,6 +87,9 @@ def classify(returncode, stderr, files, real_run, results_folder):
     lines = [l for l in stderr.splitlines() if l.strip()]
     errors = [l for l in lines if l.startswith("hydrosoft: error:")]
     noise = [l for l in lines if not l.startswith(BENIGN_PREFIXES) and l not in errors]
+    if returncode == 3 and len(errors) == 1 and lines[-1] != errors[0]:
+        if lines[-2] == errors[0] and KEPT_LINE.match(lines[-1]):
+            noise.remove(lines[-1])
     if returncode < 0:
         return "defect", f"signal {-returncode}"
     if any("PETSC ERROR" in l for l in lines):

@@ -78,4 +78,27 @@ TEST(StiffCases, InvertedElementsStopWithStepAndCause) {
   EXPECT_FALSE(std::filesystem::exists(out + ".partial"));
 }
 
+TEST(StiffCases, ReferenceThatIsNotFiniteIsRefusedBeforeTheSolve) {
+  // L = 1e-308 passes "L > 0" but gives a reference deflection of 0 (an error of 0 / 0), and
+  // b = 1e308 overflows the Lame displacement; both are refused with the key named, before
+  // the first step, on every rank, leaving no output behind.
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"cantilever_gravity.yaml", "exact.parameters.L=1e-308"},
+      {"lame_sphere.yaml", "exact.parameters.b=1e308"}};
+  for (const auto& [deck, change] : cases) {
+    const std::string out = out_folder("not_finite");
+    try {
+      run(deck, {change}, out);
+      ADD_FAILURE() << deck << " with " << change << " was accepted";
+    } catch (const hs::InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(deck + ": exact.parameters: "), std::string::npos) << msg;
+      EXPECT_NE(msg.find("is not finite"), std::string::npos) << msg;
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    EXPECT_FALSE(std::filesystem::exists(out));
+    EXPECT_FALSE(std::filesystem::exists(out + ".partial"));
+  }
+}
+
 }  // namespace

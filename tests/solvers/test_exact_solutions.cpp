@@ -278,5 +278,33 @@ TEST(ExactRegistry, ParametersAreCheckedByNameAndValue) {
             std::string::npos);
 }
 
+TEST(ExactReference, ParametersThatPassTheirChecksButOverflowAreFound) {
+  const ExactSetting steel = {{material("body", 2e11, 0.3, 7800)}, {0, 0, -9.81}};
+  const std::vector<double> nodes = {1, 0, 0, 0, 1.5, 0, 0, 0, 2};  // in the sphere's wall
+  EXPECT_EQ(
+      non_finite_reference(*make("lame_sphere", {{"a", 1}, {"b", 2}, {"p", 1}}, steel), nodes), "");
+  // b^3 overflows: the displacement is 0 * inf at every node.
+  EXPECT_EQ(
+      non_finite_reference(*make("lame_sphere", {{"a", 1}, {"b", 1e308}, {"p", 1}}, steel), nodes),
+      "its displacement at the node (1, 0, 0) is not finite");
+  // A beam of length 1e-308 deflects by 0 under its weight: the relative error is 0 / 0.
+  const std::vector<double> beam = {0, 0, 0, 1e-308, 0, 0};
+  EXPECT_EQ(non_finite_reference(*make("cantilever_gravity", {{"L", 1}, {"h", 0.1}}, steel), beam),
+            "");
+  EXPECT_EQ(
+      non_finite_reference(*make("cantilever_gravity", {{"L", 1e-308}, {"h", 0.1}}, steel), beam),
+      "its verification quantity tip_relative_error is not finite");
+  // An inner stretch of 1 asks for no pressure: the relative error of the pressure is 0 / 0.
+  const ExactSetting rubber = {{material("body", 1e6, 0.45)}, {0, 0, 0}};
+  EXPECT_EQ(non_finite_reference(
+                *make("neo_hookean_sphere", {{"A", 1}, {"B", 2}, {"stretch", 1}}, rubber), nodes),
+            "its verification quantity pressure_relative_error is not finite");
+  // A stretch through the centre is a reference all the same (the run reports the inversion).
+  EXPECT_EQ(
+      non_finite_reference(
+          *make("neo_hookean_sphere", {{"A", 1}, {"B", 2}, {"stretch", -0.5}}, rubber), nodes),
+      "");
+}
+
 }  // namespace
 }  // namespace hs
