@@ -94,10 +94,10 @@ int fail(int code, const std::string& message) {
   return code;
 }
 
-// A run that failed after writing some steps: where they are, after the error. An
-// interrupted run says so in one line and exits with 128 + the signal, as a process killed by
+// A run that failed: its deck and why, as every error names its file, then where the steps
+// it kept are. An interrupted run says so in one line and exits with 128 + the signal, as a process killed by
 // it would (a batch system reads it so), but with its converged steps kept.
-int stopped(const hs::SolveError& e) {
+int stopped(const std::string& deck, const hs::SolveError& e) {
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   const auto* interrupted = dynamic_cast<const hs::Interrupted*>(&e);
@@ -105,7 +105,7 @@ int stopped(const hs::SolveError& e) {
                                              : "the " + std::to_string(e.kept_steps) +
                                                    " converged output steps are in " + e.kept_in +
                                                    "/ (summary.json: \"status\": \"failed\")";
-  if (!interrupted) return fail(3, std::string(e.what()) + "\n  " + kept);
+  if (!interrupted) return fail(3, deck + ": " + e.what() + "\n  " + kept);
   if (rank == 0) std::cerr << "hydrosoft: " << e.what() << "; " << kept << std::endl;
   PetscFinalize();
   return 128 + interrupted->signal;
@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
   } catch (const hs::InputError& e) {
     return fail(2, e.what());
   } catch (const hs::SolveError& e) {
-    return stopped(e);
+    return stopped(deck, e);
   } catch (const std::exception& e) {
     return fail(4, e.what());
   }

@@ -152,7 +152,11 @@ TEST(FailedRun, KeepsTheConvergedStepsBesideAnEarlierGoodResult) {
   EXPECT_EQ(summary["last_converged"]["step"], 1);
   EXPECT_DOUBLE_EQ(summary["last_converged"]["load_factor"].get<double>(), 0.02);
   EXPECT_EQ(csv_of(failed + "/history.csv").rows.size(), 2u);
-  // The message says where the steps are.
+  // The message names the deck, says why, then where the steps are.
+  EXPECT_NE(text_of(err).find("hydrosoft: error: " + kSource +
+                              "/input/cantilever_gravity.yaml: step 3 (load factor 100"),
+            std::string::npos)
+      << text_of(err);
   EXPECT_NE(text_of(err).find("the 2 converged output steps are in " + failed), std::string::npos)
       << text_of(err);
 
