@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "command_line.hpp"
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "common/exchange.hpp"
 #include "common/interrupt.hpp"
@@ -95,8 +96,8 @@ int fail(int code, const std::string& message) {
 }
 
 // A run that failed: its deck and why, as every error names its file, then where the steps
-// it kept are. An interrupted run says so in one line and exits with 128 + the signal, as a process killed by
-// it would (a batch system reads it so), but with its converged steps kept.
+// it kept are. An interrupted run says so in one line and exits with 128 + the signal, as a process
+// killed by it would (a batch system reads it so), but with its converged steps kept.
 int stopped(const std::string& deck, const hs::SolveError& e) {
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
@@ -246,7 +247,9 @@ int main(int argc, char** argv) {
     if (rank == 0) report << hs::run_report(summary) << std::flush;
     if (rank == 0) report_unused(args.petsc_names);
   } catch (const hs::InputError& e) {
-    return fail(2, e.what());
+    // One line whatever bytes of a deck or mesh the message quotes (each reader escapes its
+    // own; this is the net under them all).
+    return fail(2, hs::printable(e.what()));
   } catch (const hs::SolveError& e) {
     return stopped(deck, e);
   } catch (const std::exception& e) {

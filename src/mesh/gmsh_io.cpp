@@ -17,6 +17,7 @@
 #include <memory>
 #include <sstream>
 
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "mesh/geo_guard.hpp"
 #include "mesh/gmsh_model.hpp"
@@ -144,7 +145,7 @@ class ParameterWrapper {
     std::ostringstream geo;
     geo.precision(17);
     for (const auto& [name, value] : parameters) {
-      const std::string where = file + ": mesh parameter '" + name + "'";
+      const std::string where = file + ": mesh parameter '" + printable(name) + "'";
       if (!is_identifier(name)) throw InputError(where + " is not a .geo identifier");
       if (!std::isfinite(value)) throw InputError(where + " is not a finite number");
       if (!mentions(code, name))

@@ -205,6 +205,12 @@ TEST(MeshErrors, ParametersMustBeDefineConstants) {
         load(sphere, 1, {{"Mesh.MeshSizeMax", 0.3}});
       },
       {"not a .geo identifier"});
+  // Found by the fuzz harness: a carriage return in the name split the message in two lines.
+  expect_input_error(
+      [&] {
+        load(sphere, 1, {{"\rb", 0.3}});
+      },
+      {sphere, "'\\rb' is not a .geo identifier"});
 }
 
 TEST(MeshErrors, BadConfiguration) {
