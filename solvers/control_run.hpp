@@ -54,6 +54,9 @@ class ControlLoop {
   void add_history(Vec u, HistoryRow& row) const;
   // The control steps' Newton iterations so far.
   int newton_iterations() const { return newton_iterations_; }
+  // The summary's `targets` entries of the target sets finished so far: what a failed or
+  // stopped run keeps in its .failed summary.json.
+  const nlohmann::json& targets_so_far() const { return totals_.targets; }
 
  private:
   void check_reach(const ControlTarget& target) const;

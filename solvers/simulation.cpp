@@ -251,7 +251,9 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   } catch (SolveError& e) {
     // Every rank is here together (a failed solve, an inverted element, a refused step and a
     // signal are all decided collectively): the converged steps go to "<folder>.failed".
-    keep_converged_steps(e, recorder, run_summary(), comm);
+    nlohmann::json summary = run_summary();
+    if (control_loop) summary["targets"] = control_loop->targets_so_far();
+    keep_converged_steps(e, recorder, std::move(summary), comm);
     throw;
   }
 

@@ -7,8 +7,9 @@ Scenes: the hydraulic finger (1,961 nodes) along its tip-height sweep (from rest
 in 20 lines, then -12 -> -8 -> -12 mm in 0.2 mm lines) and the pendulum (2,063 nodes) along
 the circle of scripts/track_circle.py. Modes: `in line` (one_step, a factorization every
 step), `kept/4` (refactor_every 4) and `background` (factor_threads 1: 1 rank + 1 thread).
-Each run sends one line, waits for its answer, then sends the next; the latency is the time
-from the write of a line to the read of its answer. A second run with check_equilibrium
+Each run (a hydrosoft_control.Scene, the executable of $HYDROSOFT or build/bin) sends one
+line, waits for its answer, then sends the next; the latency is the time from the write of a
+line to the read of its answer. A second run with check_equilibrium
 gives each answer's equilibrium error (its distance from a converged Newton solve at the
 same actuation, solved outside the step times). Figures over the tracking lines (after the
 approach from rest): step time median/mean/p95/max (the step's own time, slowest rank) and
@@ -21,10 +22,11 @@ import json
 import math
 import os
 import statistics
-import subprocess
-import time
+import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from hydrosoft_control import Scene  # noqa: E402
 MODES = {"in line": ["control.refactor_every=1"], "kept/4": ["control.refactor_every=4"],
          "background": ["control.factor_threads=1"]}
 
@@ -45,24 +47,13 @@ SCENES = {"finger_hydraulic": finger_sweep, "pendulum": pendulum_circle}
 
 
 def run(deck, lines, mode, check, folder):
-    cmd = [os.path.join(ROOT, "build", "bin", "hydrosoft"), f"input/{deck}.yaml", "--targets", "-"]
-    for o in ["control.free_solve=one_step", "control.steps_per_target=1",
-              f"control.check_equilibrium={'true' if check else 'false'}",
-              f"output.folder={folder}"] + MODES[mode]:
-        cmd += ["--set", o]
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    p = subprocess.Popen(cmd, cwd=ROOT, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                         stderr=subprocess.DEVNULL, text=True, env=env, bufsize=1)
-    answers, latency = [], []
-    for line in lines:
-        t = time.perf_counter()
-        p.stdin.write(line + "\n")
-        p.stdin.flush()
-        answers.append(json.loads(p.stdout.readline())["answer"])
-        latency.append(1e3 * (time.perf_counter() - t))
-    p.stdin.close()
-    p.wait()
-    return answers, latency
+    """(answers as hydrosoft wrote them, each line's round trip in ms) of one run."""
+    overrides = ["control.free_solve=one_step", "control.steps_per_target=1",
+                 f"control.check_equilibrium={'true' if check else 'false'}"] + MODES[mode]
+    with Scene(os.path.join(ROOT, "input", deck + ".yaml"), overrides=overrides,
+               output_folder=folder) as scene:
+        answers = [scene.send_line(line) for line in lines]
+    return [a.raw for a in answers], [a.round_trip_ms for a in answers]
 
 
 def p95(v):

@@ -143,6 +143,16 @@ TEST_P(RestartControl, AfterSigkillOrSigtermEndsWithTheTargetsOfAnUninterruptedR
   ASSERT_EQ(wait_for(pid), 143) << text_of(err);
   ASSERT_TRUE(
       checkpoint_state(stopped + ".failed/checkpoint.h5")["position"].contains("target_set"));
+  // The stopped run's summary keeps the entries of the target sets it finished.
+  const nlohmann::json stopped_summary = summary_of(stopped + ".failed");
+  EXPECT_EQ(stopped_summary["status"], "failed");
+  const int finished =
+      checkpoint_state(stopped + ".failed/checkpoint.h5")["position"]["target_set"];
+  ASSERT_EQ(stopped_summary["targets"].size(), static_cast<size_t>(finished));
+  const Difference d0 = compare_targets(
+      nlohmann::json(expected["targets"].begin(), expected["targets"].begin() + finished),
+      stopped_summary["targets"]);
+  EXPECT_LE(d0.reached_m, c.reached_m);
   ASSERT_EQ(run(std::string(HYDROSOFT_MPIEXEC) + " -np 2 " +
                 command(c, two, "--restart " + stopped + ".failed", err)),
             0)
