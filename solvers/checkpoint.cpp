@@ -251,9 +251,11 @@ nlohmann::json Restart::summary() const {
   j["file"] = file_->path();
   j["ranks"] = file_->state().value("ranks", 0);
   j["position"] = position();
-  // A control loop's results so far and its controller's state are the run's, not where it
-  // went on from.
-  for (const char* bulky : {"loop", "controller"}) j["position"].erase(bulky);
+  // The results so far (a control loop's, the states', the verification history), the
+  // controller's and the constraints' states are the run's summary already or its internals,
+  // not where it went on from.
+  for (const char* bulky : {"loop", "controller", "states", "verification", "constraints"})
+    j["position"].erase(bulky);
   return j;
 }
 

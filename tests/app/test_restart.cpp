@@ -70,6 +70,10 @@ TEST_P(Restart, AfterSigkillOrSigtermEndsAsAnUninterruptedRunOn1And2Ranks) {
   const auto summary = nlohmann::json::parse(text_of(run_folder + "/summary.json"));
   EXPECT_EQ(summary["status"], "ok");
   EXPECT_EQ(summary["restarted_from"]["folder"], run_folder + ".partial");
+  // Where it went on from, without the results so far (they are the summary's own keys).
+  for (const char* bulky : {"states", "verification", "constraints"})
+    EXPECT_FALSE(summary["restarted_from"]["position"].contains(bulky)) << bulky;
+  EXPECT_TRUE(summary["restarted_from"]["position"].contains("last"));
   EXPECT_LT(summary["outputs"].get<int>(), expected.steps);  // the remaining steps only
 
   // SIGTERM after a checkpoint: the stopped run writes one at its last step into .failed;
