@@ -26,9 +26,8 @@ void check_options(const Options& o) {
   if (o.tile != 0 && o.tile != 8 && o.tile != 16) fail("tile must be 0 (auto), 8 or 16");
 }
 
-double norm3(const std::array<double, 3>& v) {
-  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-}
+// Without the overflow of the squares: a sum of forces near 1e154 N still has its length.
+double norm3(const std::array<double, 3>& v) { return std::hypot(v[0], v[1], v[2]); }
 
 }  // namespace
 

@@ -159,3 +159,15 @@ TEST(ColumnFast, NarrowerKernelsMatchReference) {
     expect_same(meshes.back(), 600, 2, {0, -9.81, 0}, 1e-11, kernels);
   }
 }
+
+// The total weight is the length of the forces' sum, taken without squaring it: near 1e161 N
+// (a density of 1e160) its square would overflow to infinity.
+TEST(ColumnFast, TotalWeightOfHugeForcesIsFinite) {
+  for (auto implementation : {fw::Implementation::cpu_reference, fw::Implementation::cpu_fast}) {
+    Options o = options(implementation, 64, {0, -9.81, 0});
+    o.rho = 1e160;
+    const Result r = fw::compute(fw::shapes::icosphere(3), o);
+    ASSERT_TRUE(std::isfinite(r.total_weight));
+    EXPECT_NEAR(r.total_weight, 1e160 * 9.81 * r.column_volume, 1e-12 * r.total_weight);
+  }
+}
