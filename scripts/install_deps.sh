@@ -12,6 +12,7 @@ packages=(
   libsuitesparse-dev        # CHOLMOD: the control loop's background factorizations
   libhdf5-openmpi-dev
   gmsh libgmsh-dev
+  libseccomp-dev            # confines the process that runs gmsh on untrusted meshes
   libyaml-cpp-dev nlohmann-json3-dev
   libgtest-dev googletest
   libopenblas0-pthread      # the reference BLAS makes MUMPS several times slower

@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
+#include "common/interrupt.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_distribute.hpp"
@@ -35,10 +36,15 @@ bool is_h5(const std::string& file) {
 std::unique_ptr<Mesh> load_mesh_on_rank_zero(const MeshConfig& cfg, MPI_Comm comm) {
   std::unique_ptr<Mesh> mesh;
   on_rank_zero(comm, [&] {
-    mesh = std::make_unique<Mesh>(load_mesh(cfg));
+    try {
+      mesh = std::make_unique<Mesh>(load_mesh(cfg));
+    } catch (const Interrupted&) {  // a signal stopped gmsh: every rank stops below, together
+      return;
+    }
     const std::string warning = units_warning(*mesh, cfg.file);
     if (!warning.empty()) std::cerr << "hydrosoft: warning: " << warning << std::endl;
   });
+  stop_if_interrupted(comm);
   return mesh;
 }
 

@@ -16,6 +16,8 @@ struct EdgeUse {
   bool forward;  // used from the smaller to the larger vertex
 };
 
+constexpr size_t kTrianglesNamed = 8;  // of an edge shared by more than two
+
 }  // namespace
 
 void check_closed_surface(const SurfaceMesh& mesh, const std::string& name) {
@@ -66,8 +68,13 @@ void check_closed_surface(const SurfaceMesh& mesh, const std::string& name) {
         why << "is used by triangle " << uses[first].position / 3
             << " only: the surface is open there";
       } else if (count > 2) {
+        // The first few triangles name the place; a surface of one edge shared a million times
+        // made this message a line of megabytes.
+        const size_t shown = std::min<size_t>(count, kTrianglesNamed);
         why << "is shared by " << count << " triangles (";
-        for (size_t u = first; u < end; ++u) why << (u > first ? ", " : "") << uses[u].position / 3;
+        for (size_t u = first; u < first + shown; ++u)
+          why << (u > first ? ", " : "") << uses[u].position / 3;
+        if (shown < count) why << ", ...";
         why << "): the surface is not manifold there";
       } else {
         why << "is used in the same direction by triangles " << uses[first].position / 3 << " and "

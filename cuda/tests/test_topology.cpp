@@ -1,6 +1,8 @@
 // Open, non-manifold and inconsistently oriented meshes are refused with the first bad edge.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "support.hpp"
 
 namespace fw = fluidweight;
@@ -60,6 +62,22 @@ TEST(Topology, NonManifoldEdgeNamesTheEdge) {
   std::string e = error_of(m);
   EXPECT_NE(e.find("edge (0, 2) is shared by 4 triangles"), std::string::npos) << e;
   EXPECT_NE(e.find("not manifold"), std::string::npos) << e;
+}
+
+// A fan of 100,000 triangles on one edge: the message named every one, a line of megabytes.
+TEST(Topology, AnEdgeSharedByManyTrianglesGivesAShortMessage) {
+  SurfaceMesh m;
+  m.vertices = {0, 0, 0, 1, 0, 0};
+  const int fan = 100000;
+  for (int k = 0; k < fan; ++k) {
+    m.vertices.insert(m.vertices.end(), {0.5, std::cos(k * 1e-4), std::sin(k * 1e-4)});
+    m.triangles.insert(m.triangles.end(), {0, 1, 2 + k});
+  }
+  const std::string e = error_of(m);
+  EXPECT_NE(e.find("edge (0, 1) is shared by 100000 triangles (0, 1, 2, 3, 4, 5, 6, 7, ...)"),
+            std::string::npos)
+      << e.substr(0, 200);
+  EXPECT_LT(e.size(), 300u);
 }
 
 TEST(Topology, BadIndicesAndDegenerateTriangles) {

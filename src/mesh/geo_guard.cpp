@@ -5,12 +5,14 @@
 #include "mesh/geo_guard.hpp"
 
 #include <cctype>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "common/error.hpp"
+#include "mesh/msh_prescan.hpp"
 
 namespace hs {
 namespace {
@@ -90,10 +92,36 @@ bool option_names_file_or_program(const std::string& category, const std::string
          name == "SaveSession";
 }
 
-bool has_extension(const std::string& file, const std::string& extension) {
-  std::string e = fs::path(file).extension().string();
-  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return e == extension;
+// How gmsh's MergeFile reads a file (the Merge, Open and MergeWithBoundingBox commands, and
+// gmsh::open): by its extension where it knows it, in exactly lower or upper case; a file of
+// any other extension by its first line: a mesh when that begins as one, a script otherwise.
+enum class GmshReads { kScript, kMesh, kCad, kUncompress, kOther };
+
+GmshReads gmsh_reads(const fs::path& path) {
+  const std::string ext = path.extension().string();
+  std::string lower = ext, upper = ext;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (ext == lower || ext == upper) {
+    if (lower == ".gz") return GmshReads::kUncompress;
+    for (const char* cad : {".step", ".stp", ".brep", ".brp", ".rle", ".iges", ".igs"})
+      if (lower == cad) return GmshReads::kCad;
+    for (const char* other :
+         {".stl",  ".sat",  ".unv",  ".vtk", ".wrl", ".vrml", ".iv",  ".mesh", ".diff",
+          ".med",  ".mmed", ".rmed", ".bdf", ".nas", ".dat",  ".p3d", ".fm",   ".pnm",
+          ".pbm",  ".pgm",  ".ppm",  ".bmp", ".jpg", ".jpeg", ".png", ".ply2", ".ply",
+          ".geom", ".cgns", ".csv",  ".py",  ".m",   ".exe",  ".pro"})
+      if (lower == other) return GmshReads::kOther;
+  }
+  std::ifstream in(path, std::ios::binary);
+  char first[256] = {};
+  in.read(first, sizeof first - 1);
+  const std::string line(first, static_cast<size_t>(in.gcount()));
+  for (const char* mesh : {"$PTS", "$NO", "$PARA", "$ELM", "$MeshFormat", "$Comments"})
+    if (line.compare(0, std::strlen(mesh), mesh) == 0) return GmshReads::kMesh;
+  if (line.compare(0, 11, "$PostFormat") == 0 || line.compare(0, 5, "$View") == 0)
+    return GmshReads::kOther;
+  return GmshReads::kScript;
 }
 
 class GeoGuard {
@@ -101,6 +129,37 @@ class GeoGuard {
   explicit GeoGuard(const std::vector<std::string>& allowed_dirs) {
     for (const auto& dir : allowed_dirs)
       if (!dir.empty()) allowed_.push_back(resolved(fs::path(dir)));
+  }
+
+  // A file gmsh merges (gmsh::open, and a .geo's Merge or Open), checked as gmsh will read it;
+  // `where`, `command` and `line` place the command that merges it in messages.
+  void merged(const std::string& file, int depth, const std::string& where,
+              const std::string& command, int line) {
+    switch (gmsh_reads(fs::path(file))) {
+      case GmshReads::kScript:
+        check(file, depth);
+        break;
+      case GmshReads::kMesh:
+        prescan_msh(file);
+        break;
+      case GmshReads::kCad:
+        break;
+      case GmshReads::kUncompress:
+        fail(where, command, "gmsh uncompresses a .gz file with a shell command", line);
+      case GmshReads::kOther:
+        fail(where, command,
+             "gmsh would read it as neither a .geo script, a .msh mesh nor a CAD file (STEP, "
+             "BREP, IGES), the only files a .geo may merge",
+             line);
+    }
+    options_of(file, depth);
+  }
+
+  // After every file it merges, gmsh merges "<file>.opt" too, unasked, when one lies beside it.
+  void options_of(const std::string& file, int depth) {
+    std::error_code error;
+    const std::string options = file + ".opt";
+    if (fs::is_regular_file(options, error)) merged(options, depth + 1, options, "", 0);
   }
 
   void check(const std::string& file, int depth) {
@@ -216,9 +275,16 @@ class GeoGuard {
     if (p.empty() || !allowed(p))
       fail(file, w + " \"" + t[k].text + "\"",
            "reads a file outside the .geo's folder and the deck's folder", t[i].line);
-    if (w == "Include" || has_extension(p.string(), ".geo")) {
-      std::error_code error;  // a name too long for the system: gmsh will not find it either
-      if (fs::is_regular_file(p, error)) check(p.string(), depth + 1);
+    std::error_code error;  // a name too long for the system: gmsh will not find it either
+    if (!fs::is_regular_file(p, error)) return;
+    if (w == "Include")  // parsed as a script, whatever its name
+      check(p.string(), depth + 1);
+    else if (w == "ShapeFromFile") {
+      if (gmsh_reads(p) != GmshReads::kCad)
+        fail(file, w + " \"" + t[k].text + "\"", "imports CAD files only (STEP, BREP, IGES)",
+             t[i].line);
+    } else if (w != "ListFromFile") {  // ListFromFile reads numbers only
+      merged(p.string(), depth + 1, file, w + " \"" + t[k].text + "\"", t[i].line);
     }
   }
 
@@ -231,7 +297,17 @@ class GeoGuard {
 void check_untrusted_geo(const std::string& file, const std::vector<std::string>& allowed_dirs) {
   std::vector<std::string> dirs = allowed_dirs;
   dirs.push_back(fs::absolute(fs::path(file)).parent_path().string());
-  GeoGuard(dirs).check(file, 0);
+  GeoGuard(dirs).merged(file, 0, file, "", 0);
+}
+
+void check_untrusted_msh(const std::string& file, const std::vector<std::string>& allowed_dirs) {
+  if (gmsh_reads(fs::path(file)) != GmshReads::kMesh)
+    throw InputError(file +
+                     ": its first line is not $MeshFormat (nor another that a .msh begins with): "
+                     "gmsh would run the file as a .geo script");
+  std::vector<std::string> dirs = allowed_dirs;
+  dirs.push_back(fs::absolute(fs::path(file)).parent_path().string());
+  GeoGuard(dirs).options_of(file, 0);
 }
 
 }  // namespace hs

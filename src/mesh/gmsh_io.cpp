@@ -21,6 +21,7 @@
 #include "common/error.hpp"
 #include "mesh/geo_guard.hpp"
 #include "mesh/gmsh_model.hpp"
+#include "mesh/gmsh_process.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_size_limit.hpp"
 #include "mesh/msh_prescan.hpp"
@@ -133,6 +134,7 @@ class ParameterWrapper {
   ParameterWrapper(const ParameterWrapper&) = delete;
   ParameterWrapper& operator=(const ParameterWrapper&) = delete;
   const std::string& path() const { return path_; }
+  int fd() const { return fd_; }
 
  private:
   static std::string wrapper_text(const std::string& file,
@@ -163,51 +165,6 @@ class ParameterWrapper {
   std::string path_;
 };
 
-// gmsh's meshers run inside OpenMP regions, which an exception cannot leave: a gmsh error
-// raised there (General.AbortOnError 2 throws it) ends the process through std::terminate,
-// before any handler of ours, with no word of what went wrong (a 10 km cantilever of 5 cm
-// section did). Letting gmsh go on after the error instead (AbortOnError 1) kept that
-// cantilever meshing in vain for more than 20 minutes. So while gmsh meshes, the terminate
-// handler reports gmsh's error as an input error would be reported and ends the run at once:
-// every rank, through MPI_Abort, when MPI runs.
-class GmshErrorReport {
- public:
-  explicit GmshErrorReport(const std::string& file) {
-    file_ = file;
-    previous_ = std::set_terminate(&report);
-  }
-  ~GmshErrorReport() { std::set_terminate(previous_); }
-  GmshErrorReport(const GmshErrorReport&) = delete;
-  GmshErrorReport& operator=(const GmshErrorReport&) = delete;
-
- private:
-  [[noreturn]] static void report() {
-    std::string what = "an unknown error";
-    if (const std::exception_ptr error = std::current_exception()) {
-      try {
-        std::rethrow_exception(error);
-      } catch (const std::string& text) {  // gmsh 4.8 throws its message as a string
-        what = text;
-      } catch (const std::exception& e) {
-        what = e.what();
-      } catch (...) {
-      }
-    }
-    std::cerr << "hydrosoft: error: " << file_ << ": gmsh: " << what
-              << " (raised inside gmsh's parallel mesher, which cannot hand it on: the run "
-                 "stops here)"
-              << std::endl;
-    int initialized = 0, finalized = 0;
-    MPI_Initialized(&initialized);
-    MPI_Finalized(&finalized);
-    if (initialized && !finalized) MPI_Abort(MPI_COMM_WORLD, 2);
-    std::_Exit(2);
-  }
-
-  static inline std::string file_;
-  std::terminate_handler previous_ = nullptr;
-};
-
 // The order of the tetrahedra of the current model: 1 or 2, 0 when it has none, -1 when
 // it mixes Tet4 and Tet10 (then setOrder makes them alike).
 int tet_order() {
@@ -225,18 +182,15 @@ void refine_and_set_order(const MeshConfig& cfg, int current_order) {
   if (current_order != cfg.order) gmsh::model::mesh::setOrder(cfg.order);
 }
 
-Mesh load_with_gmsh(const MeshConfig& cfg, bool is_geo) {
-  std::unique_ptr<ParameterWrapper> wrapper;
-  if (is_geo && !cfg.parameters.empty())
-    wrapper = std::make_unique<ParameterWrapper>(cfg.file, cfg.parameters);
+// In gmsh's own process (gmsh_process.hpp).
+Mesh mesh_with_gmsh(const MeshConfig& cfg, bool is_geo, const std::string& path) {
   GmshSession session;
   try {
-    gmsh::open(wrapper ? wrapper->path() : cfg.file);
+    gmsh::open(path);
     if (is_geo) {
       // Meshed in one call: meshing a dimension at a time (to count the triangles first)
       // makes other tetrahedra than gmsh -3 does, and the meshes must stay the same.
       check_size_estimate(cfg);
-      const GmshErrorReport report(cfg.file);
       gmsh::model::mesh::generate(3);
     }
     check_tetrahedra_only(cfg.file);
@@ -252,6 +206,20 @@ Mesh load_with_gmsh(const MeshConfig& cfg, bool is_geo) {
     gmsh::logger::getLastError(error);
     throw InputError(cfg.file + ": gmsh: " + (error.empty() ? "unknown error" : error));
   }
+}
+
+Mesh load_with_gmsh(const MeshConfig& cfg, bool is_geo) {
+  // The parameters' wrapper is written here, before the child is confined (it then cannot
+  // write any file, in-memory ones included), and handed to it open.
+  std::unique_ptr<ParameterWrapper> wrapper;
+  if (is_geo && !cfg.parameters.empty())
+    wrapper = std::make_unique<ParameterWrapper>(cfg.file, cfg.parameters);
+  const std::string path = wrapper ? wrapper->path() : cfg.file;
+  GmshProcess how;
+  how.confined = !(is_geo && cfg.trust_geo);
+  if (wrapper) how.keep.push_back(wrapper->fd());
+  return run_gmsh_process(
+      cfg.file, [&] { return mesh_with_gmsh(cfg, is_geo, path); }, how);
 }
 
 }  // namespace
@@ -281,6 +249,7 @@ Mesh load_mesh(const MeshConfig& cfg) {
   open_input(file);  // gmsh reports a missing file only as a warning
   if (is_geo && !cfg.trust_geo) check_untrusted_geo(file, {cfg.deck_dir});
   if (!is_geo) {
+    check_untrusted_msh(file, {cfg.deck_dir});
     const MshCounts counts = prescan_msh(file);
     if (counts.tets >= 0)
       check_tet_count(cfg, static_cast<double>(counts.tets),

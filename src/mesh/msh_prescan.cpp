@@ -87,15 +87,21 @@ class Scanner {
         std::memcpy(&one, d_.data() + at, 4);
         swap_ = one != 1;
       }
-      if (version >= 4.1) return v41_counts(counts);
+      if (version >= 4.1) {
+        v41_entities();
+        return v41_counts(counts);
+      }
       if (version >= 4) return counts;  // gmsh reads format 4.0 in ASCII only
     }
-    return totals(counts, version >= 4 && version < 4.1);
+    counts = totals(counts, version >= 4 && version < 4.1);
+    if (binary_ && version < 3) v2_element_blocks(counts.elements);
+    return counts;
   }
 
  private:
   static constexpr size_t npos = std::string_view::npos;
   static constexpr int64_t kNodeBytes = 8, kElementBytes = 4;
+  static constexpr const char* kEntityNames[4] = {"point", "curve", "surface", "volume"};
 
   [[noreturn]] void fail(const std::string& section, const std::string& reason, size_t at) const {
     throw InputError(file_ + ": " + section + ": " + reason + " (" + where(at) + ")");
@@ -199,6 +205,59 @@ class Scanner {
   int64_t count_at(size_t& at, const std::string& section) {
     const uint64_t v = read_binary<uint64_t>(at, section);
     return v > static_cast<uint64_t>(INT64_MAX) ? -1 : static_cast<int64_t>(v);
+  }
+
+  // Binary format 4.1's $Entities: four counts, then each entity with its counts of physical
+  // tags and bounding entities, each of which gmsh allocates before it reads the items.
+  void v41_entities() {
+    const std::string section = "$Entities";
+    size_t at = line_after(section, 0);
+    if (at == npos) return;
+    const size_t header = at;
+    int64_t count[4];
+    for (int64_t& c : count) c = count_at(at, section);
+    for (int dim = 0; dim < 4; ++dim) {
+      // A point: its tag, 3 coordinates, a tag count; the others: a tag, a box, two counts.
+      const int64_t bytes = dim == 0 ? 4 + 24 + 8 : 4 + 48 + 16;
+      check_count(count[dim], bytes, at, section, std::string(kEntityNames[dim]) + " entities",
+                  header);
+      for (int64_t e = 0; e < count[dim]; ++e) {
+        const size_t entity = at;
+        at += dim == 0 ? 4 + 24 : 4 + 48;
+        for (int list = 0; list < (dim == 0 ? 1 : 2); ++list) {
+          const int64_t n = count_at(at, section);
+          check_count(n, 4, at, section, list == 0 ? "physical tags" : "bounding entities", entity);
+          at += static_cast<size_t>(n) * 4;
+        }
+      }
+    }
+  }
+
+  // Binary format 2's $Elements after its count line: blocks of a header (type, elements that
+  // follow, tags per element), then each element's number, tags and nodes, 4 bytes each; gmsh
+  // allocates for a block's tags and nodes from its header.
+  void v2_element_blocks(int64_t total) {
+    const std::string section = "$Elements";
+    size_t at = line_after(section, 0);
+    if (at == npos) return;
+    at = skip_line(at);
+    for (int64_t seen = 0; seen < total;) {
+      const size_t block = at;
+      const int64_t type = read_binary<int32_t>(at, section);
+      const int64_t follow = read_binary<int32_t>(at, section);
+      const int64_t tags = read_binary<int32_t>(at, section);
+      const int n = msh_element_nodes(type);
+      if (n < 0)
+        fail(section, "element type " + std::to_string(type) + " is not known to hydrosoft", block);
+      if (tags < 0 || follow < 1 || follow > total - seen)
+        fail(section,
+             "a block header claims " + std::to_string(follow) + " elements of " +
+                 std::to_string(tags) + " tags (the section holds " + std::to_string(total) + ")",
+             block);
+      check_count(follow, 4 * (1 + tags + n), at, section, "elements in a block", block);
+      at += static_cast<size_t>(follow * 4 * (1 + tags + n));
+      seen += follow;
+    }
   }
 
   MshCounts v41_counts(MshCounts counts) {

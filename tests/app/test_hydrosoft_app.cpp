@@ -1,10 +1,12 @@
 // The hydrosoft executable as a client or a user runs it: in the interactive mode
 // (`--targets -`) standard output carries only the JSON lines, one per input line, whatever
 // else the run prints (its configuration, its summary, a PETSc-level monitor), on 1 and 2
-// ranks; and a second run on the output folder of a run in progress fails at once while the
-// first one finishes with consistent results.
+// ranks; a second run on the output folder of a run in progress fails at once while the
+// first one finishes with consistent results; and a mesh that hides a shell command where the
+// checks before gmsh once did not look runs no command, however the run is started.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -120,6 +122,89 @@ TEST(SharedOutputFolder, ASecondRunFailsAtOnceAndTheFirstFinishes) {
   EXPECT_EQ(grids, summary["outputs"].get<int>());
   EXPECT_FALSE(fs::exists(folder + ".partial"));
   EXPECT_FALSE(fs::exists(folder + ".lock"));
+}
+
+// A .geo whose shell command hides in a file it merges (any name: gmsh reads an unknown one as
+// a script) or in the options file beside it: the command ran under a normal run, `--check`,
+// `hydrosoft mesh` and 2 ranks, with the deck's mesh parameters.
+TEST(UntrustedMesh, AHiddenShellCommandRunsInNoWayOfStartingTheRun) {
+  const TempFolder dir;
+  const std::string marker = (dir.path() / "ran").string();
+  const std::string block = text_of(std::string(HYDROSOFT_SOURCE_DIR) + "/meshes/block.geo");
+  const std::string deck =
+      text_of(std::string(HYDROSOFT_SOURCE_DIR) + "/input/hydrostatic_patch.yaml");
+  const std::string payload = "SystemCall \"touch " + marker + "\";\n";
+  for (const bool beside : {false, true}) {
+    SCOPED_TRACE(beside ? "in block.geo.opt" : "in a merged payload.txt");
+    const TempFolder case_dir;
+    if (beside)
+      case_dir.write("block.geo.opt", payload);
+    else
+      case_dir.write("payload.txt", payload);
+    case_dir.write("block.geo", (beside ? "" : "Merge \"payload.txt\";\n") + block);
+    const std::string yaml = case_dir.write("patch.yaml", deck);
+    const std::string hidden =
+        (case_dir.path() / (beside ? "block.geo.opt" : "payload.txt")).string();
+    const std::string set =
+        " --set mesh.file=block.geo --set output.folder=" + (case_dir.path() / "out").string() +
+        " > /dev/null 2> " + (case_dir.path() / "err.txt").string();
+    std::vector<std::string> commands = {std::string(HYDROSOFT_EXE) + " " + yaml + set};
+    if (!beside)  // the other ways reach the same check
+      commands.insert(commands.end(), {std::string(HYDROSOFT_EXE) + " --check " + yaml + set,
+                                       std::string(HYDROSOFT_EXE) + " mesh " + yaml + " " +
+                                           (case_dir.path() / "m.h5").string() + set,
+                                       std::string(HYDROSOFT_MPIEXEC) + " -np 2 " + HYDROSOFT_EXE +
+                                           " " + yaml + set});
+    for (const std::string& command : commands) {
+      SCOPED_TRACE(command);
+      EXPECT_EQ(hs::testing::run(command), 2);
+      const std::string err = text_of((case_dir.path() / "err.txt").string());
+      EXPECT_NE(err.find(hidden + ": SystemCall: runs a shell command"), std::string::npos) << err;
+      EXPECT_FALSE(fs::exists(marker));
+      EXPECT_FALSE(fs::exists(case_dir.path() / "m.h5"));
+      EXPECT_FALSE(fs::exists(case_dir.path() / "out"));
+    }
+  }
+}
+
+// SIGTERM (a cluster's time limit) waited for gmsh to finish meshing, however long that took.
+TEST(UntrustedMesh, SigtermStopsTheRunWhileGmshMeshes) {
+  const TempFolder dir;
+  const std::string block = text_of(std::string(HYDROSOFT_SOURCE_DIR) + "/meshes/block.geo");
+  dir.write("block.geo", "For i In {1:2e9}\nEndFor\n" + block);  // minutes of parsing
+  const std::string yaml = dir.write(
+      "patch.yaml", text_of(std::string(HYDROSOFT_SOURCE_DIR) + "/input/hydrostatic_patch.yaml"));
+  const std::string err = (dir.path() / "err.txt").string();
+  const pid_t run = hs::testing::start(std::string(HYDROSOFT_EXE) + " " + yaml +
+                                       " --set mesh.file=block.geo --set output.folder=" +
+                                       (dir.path() / "out").string() + " > /dev/null 2> " + err);
+  pid_t gmsh = 0;  // gmsh's process
+  for (int i = 0; i < 600 && gmsh == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    for (const auto& entry : fs::directory_iterator("/proc")) {
+      const std::string name = entry.path().filename();
+      if (name.find_first_not_of("0123456789") != std::string::npos) continue;  // not a process
+      std::ifstream stat(entry.path() / "stat");
+      std::string text((std::istreambuf_iterator<char>(stat)), {});
+      const size_t close = text.rfind(')');
+      if (close == std::string::npos) continue;
+      std::istringstream fields(text.substr(close + 2));
+      std::string state;
+      pid_t parent = 0;
+      // A fork of the run (not the singleton's orted, also its child).
+      const bool fork_of_run = text.find("(hydrosoft)") != std::string::npos;
+      if (fields >> state >> parent && parent == run && fork_of_run) gmsh = std::stoi(name);
+    }
+  }
+  ASSERT_GT(gmsh, 0) << text_of(err);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto start = std::chrono::steady_clock::now();
+  kill(run, SIGTERM);
+  EXPECT_EQ(wait_for(run), 143) << text_of(err);
+  EXPECT_NE(kill(gmsh, 0), 0) << "gmsh's process outlived the run";
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5);
+  EXPECT_NE(text_of(err).find("interrupted by SIGTERM"), std::string::npos) << text_of(err);
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
 }
 
 }  // namespace

@@ -1,0 +1,186 @@
+// The child writes one answer to a pipe and ends with _exit: a kind byte ('M' a mesh,
+// 'I' an input error, 'E' another error), then the encoded mesh or the message. _exit, because
+// the child is a copy of an MPI process: it must not run MPI's or PETSc's exit handlers, nor
+// flush the parent's buffered output a second time.
+#include "mesh/gmsh_process.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <new>
+
+#include "common/confinement.hpp"
+#include "common/error.hpp"
+#include "common/interrupt.hpp"
+#include "mesh/mesh_wire.hpp"
+
+namespace hs {
+namespace {
+
+int answer_fd = -1;       // the child's end of the pipe
+std::string answer_file;  // the mesh file, for the terminate handler's message
+
+void write_all(int fd, const std::string& bytes) {
+  for (size_t done = 0; done < bytes.size();) {
+    const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;  // the parent is gone: nobody to answer
+    done += static_cast<size_t>(n);
+  }
+}
+
+[[noreturn]] void answer(char kind, const std::string& payload) {
+  write_all(answer_fd, std::string(1, kind) + payload);
+  _exit(0);
+}
+
+// What the exception in flight says: gmsh 4.8 throws its errors as strings.
+std::string what_was_thrown() {
+  if (const std::exception_ptr error = std::current_exception()) {
+    try {
+      std::rethrow_exception(error);
+    } catch (const std::string& text) {
+      return text;
+    } catch (const std::exception& e) {
+      return e.what();
+    } catch (...) {
+    }
+  }
+  return "an error of unknown kind";
+}
+
+// gmsh's meshers run inside OpenMP regions, which an exception cannot leave: a gmsh error
+// raised there (General.AbortOnError 2 throws it) reaches std::terminate. In the child that is
+// still an answer: the error, as the input error it is.
+[[noreturn]] void on_terminate() { answer('I', answer_file + ": gmsh: " + what_was_thrown()); }
+
+// The child keeps standard output and error, its pipe and `keep`; standard input (which may
+// carry the run's control targets) reads nothing, and the descriptors of the parent's MPI
+// connections, output and lock files are closed.
+void detach_descriptors(int fd, std::vector<int> keep) {
+  const int null = open("/dev/null", O_RDONLY | O_CLOEXEC);
+  if (null >= 0) dup2(null, 0);
+  keep.push_back(fd);
+  std::sort(keep.begin(), keep.end());
+  unsigned from = 3;
+  for (int k : keep) {
+    if (k < static_cast<int>(from)) continue;
+    if (k > static_cast<int>(from)) close_range(from, static_cast<unsigned>(k) - 1, 0);
+    from = static_cast<unsigned>(k) + 1;
+  }
+  close_range(from, ~0U, 0);
+}
+
+[[noreturn]] void run_child(int fd, const std::string& file, const std::function<Mesh()>& work,
+                            const GmshProcess& how) {
+  prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlive the run
+  for (int s : {SIGTERM, SIGINT, SIGPIPE}) signal(s, SIG_DFL);
+  detach_descriptors(fd, how.keep);
+  answer_fd = fd;
+  answer_file = file;
+  std::set_terminate(on_terminate);
+  if (how.confined) confine_process();
+  try {
+    answer('M', encode_mesh(work()));
+  } catch (const InputError& e) {
+    answer('I', e.what());
+  } catch (const std::bad_alloc&) {
+    answer('I', file +
+                    ": gmsh ran out of memory reading it (a file that claims more than it "
+                    "holds, or a mesh too large for this machine)");
+  } catch (const std::exception& e) {
+    answer('E', e.what());
+  } catch (...) {  // nothing may leave the child: it would unwind the parent's copied stack
+    answer('I', file + ": gmsh: " + what_was_thrown());
+  }
+}
+
+// The child's answer, read while watching for SIGTERM and SIGINT: on one, the child is killed
+// and Interrupted thrown.
+std::string read_answer(int fd, pid_t child) {
+  std::string bytes;
+  char buffer[1 << 16];
+  for (;;) {
+    if (const int signal = interrupt_signal()) {
+      kill(child, SIGKILL);
+      waitpid(child, nullptr, 0);
+      close(fd);
+      throw Interrupted(signal);
+    }
+    struct pollfd p = {fd, POLLIN, 0};
+    if (poll(&p, 1, 100) <= 0) continue;  // a timeout, or EINTR: look at the flag again
+    const ssize_t n = read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    bytes.append(buffer, static_cast<size_t>(n));
+  }
+  close(fd);
+  return bytes;
+}
+
+int wait_for(pid_t child) {
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  return status;
+}
+
+}  // namespace
+
+Mesh run_gmsh_process(const std::string& file, const std::function<Mesh()>& work,
+                      const GmshProcess& how) {
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0)
+    throw std::runtime_error(file + ": cannot start gmsh's process: " + std::strerror(errno));
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  const pid_t parent = getpid();
+  const pid_t child = fork();
+  if (child < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    throw std::runtime_error(file + ": cannot start gmsh's process: " + std::strerror(errno));
+  }
+  if (child == 0) {
+    close(fds[0]);
+    if (getppid() != parent) _exit(1);  // the run ended before the death signal was set
+    run_child(fds[1], file, work, how);
+  }
+  close(fds[1]);
+  const std::string bytes = read_answer(fds[0], child);
+  const int status = wait_for(child);
+  if (WIFSIGNALED(status)) {
+    const int signal = WTERMSIG(status);
+    throw InputError(file + ": gmsh died of signal " + std::to_string(signal) + " (" +
+                     strsignal(signal) +
+                     ") while reading it: the file is damaged or made to crash gmsh");
+  }
+  if (bytes.empty())
+    throw InputError(file + ": gmsh ended (exit status " +
+                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                     ") without reading it to the end");
+  const std::string_view payload = std::string_view(bytes).substr(1);
+  switch (bytes[0]) {
+    case 'M':
+      return decode_mesh(payload, file);
+    case 'I':
+      throw InputError(std::string(payload));
+    case 'E':
+      throw std::runtime_error(std::string(payload));
+    default:
+      throw InputError(file + ": gmsh's process gave an answer that is not one");
+  }
+}
+
+}  // namespace hs
