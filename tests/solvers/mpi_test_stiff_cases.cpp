@@ -86,7 +86,9 @@ TEST(StiffCases, ReferenceThatIsNotFiniteIsRefusedBeforeTheSolve) {
       {"cantilever_gravity.yaml", "exact.parameters.L=1e-308"},
       {"lame_sphere.yaml", "exact.parameters.b=1e308"}};
   for (const auto& [deck, change] : cases) {
-    const std::string out = out_folder("not_finite");
+    // A folder of its own per case: with one, rank 0 could open the next case's folder
+    // before rank 1 had looked at this one's.
+    const std::string out = out_folder("not_finite_" + deck);
     try {
       run(deck, {change}, out);
       ADD_FAILURE() << deck << " with " << change << " was accepted";
