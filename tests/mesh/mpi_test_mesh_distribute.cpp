@@ -196,6 +196,17 @@ TEST(MeshFile, ANodeNumberOutOfRangeIsNamedOnEveryRank) {
   }
 }
 
+TEST(DistributeSlabs, AnInvertedTetrahedronIsNamedWithItsFile) {
+  const Ranks r;
+  Mesh m = sphere(1);
+  std::swap(m.tets[4 * 7 + 1], m.tets[4 * 7 + 2]);
+  MeshSlab slab = slab_of(m, r.rank, r.size);
+  slab.file = "sphere.h5";
+  const std::vector<int> part(slab.slab_tets(), r.rank);
+  expect_input_error([&] { distribute_slabs(slab, part, MPI_COMM_WORLD); },
+                     {"sphere.h5: tetrahedron 7 is inverted or degenerate"});
+}
+
 TEST(PartitionSlab, BalancedPartsThatCutFewFaces) {
   // PTScotch's objective, checked: parts within 5 % of the mean, and far fewer faces cut than
   // a split by tetrahedron index, which cuts nearly every interior face. Repeatable.
