@@ -42,8 +42,8 @@ std::string point_text(const double* x) {
 
 // ---- 1. Tetrahedra: every node used, orientation, P2 Jacobians ---------------------------
 
-// The slab's tetrahedra as a Mesh of their own, numbered locally, with their nodes'
-// coordinates; its labels name them by their rows in the file.
+// The slab's tetrahedra as a Mesh of their own, each with its own copy of its nodes'
+// coordinates; its labels name them and their nodes by their rows in the file.
 struct LocalTets {
   Mesh mesh;
   MeshLabels labels;
@@ -52,11 +52,13 @@ struct LocalTets {
 LocalTets local_tets(const MeshSlab& slab, const std::string& file, MPI_Comm comm) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  std::vector<int64_t> nodes(slab.tets);
-  std::sort(nodes.begin(), nodes.end());
-  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  // Each corner asked for where it occurs, not once per node: sorting the nodes to ask for
+  // each once took longer than sending the copies.
+  auto block = [&](int64_t node) { return block_owner(slab.num_nodes, node, size); };
   std::vector<std::vector<int64_t>> ask(size);
-  for (int64_t n : nodes) ask[block_owner(slab.num_nodes, n, size)].push_back(n);
+  for (int64_t n : slab.tets) ask[block(n)].push_back(n);
+  std::vector<size_t> next(size, 0);  // where the replies of each rank start
+  for (int r = 1; r < size; ++r) next[r] = next[r - 1] + ask[r - 1].size();
   std::vector<int64_t> asked_by;
   const std::vector<int64_t> asked = all_to_all(ask, comm, &asked_by);
   ask = {};
@@ -75,17 +77,18 @@ LocalTets local_tets(const MeshSlab& slab, const std::string& file, MPI_Comm com
       error = file + ": node " + std::to_string(slab.node_begin + b) + " at " +
               point_text(&slab.x[3 * b]) + " belongs to no element";
   throw_together<InputError>(error, comm);
-  const std::vector<Point> x = all_to_all(reply, comm);  // in the order of `nodes`
+  const std::vector<Point> x = all_to_all(reply, comm);  // by rank, each in the order asked
   reply = {};
 
   LocalTets t;
   t.mesh.order = slab.order;
-  t.mesh.x.reserve(3 * x.size());
-  for (const Point& p : x) t.mesh.x.insert(t.mesh.x.end(), p.x, p.x + 3);
-  t.mesh.tets.reserve(slab.tets.size());
-  for (int64_t n : slab.tets)
-    t.mesh.tets.push_back(std::lower_bound(nodes.begin(), nodes.end(), n) - nodes.begin());
-  t.labels.node_tags.assign(nodes.begin(), nodes.end());
+  t.mesh.x.resize(3 * slab.tets.size());
+  t.mesh.tets.resize(slab.tets.size());
+  for (size_t i = 0; i < slab.tets.size(); ++i) {
+    std::copy_n(x[next[block(slab.tets[i])]++].x, 3, &t.mesh.x[3 * i]);
+    t.mesh.tets[i] = static_cast<int64_t>(i);
+  }
+  t.labels.node_tags.assign(slab.tets.begin(), slab.tets.end());
   t.labels.tet_tags.resize(slab.slab_tets());
   for (int64_t i = 0; i < slab.slab_tets(); ++i) t.labels.tet_tags[i] = slab.tet_begin + i;
   return t;
@@ -269,12 +272,18 @@ void check_faces(const MeshSlab& slab, const std::string& file, MPI_Comm comm) {
   std::vector<FaceSide> mine = all_to_all(out, comm);
   out = {};
   std::sort(mine.begin(), mine.end(), [](const FaceSide& a, const FaceSide& b) {
-    return a.v != b.v ? a.v < b.v : a.tet < b.tet;
+    if (a.v[0] != b.v[0]) return a.v[0] < b.v[0];
+    if (a.v[1] != b.v[1]) return a.v[1] < b.v[1];
+    if (a.v[2] != b.v[2]) return a.v[2] < b.v[2];
+    return a.tet < b.tet;
   });
+  auto same_face = [](const FaceSide& a, const FaceSide& b) {
+    return a.v[0] == b.v[0] && a.v[1] == b.v[1] && a.v[2] == b.v[2];
+  };
   std::string error;
   for (size_t i = 0; i < mine.size() && error.empty();) {
     size_t end = i + 1;
-    while (end < mine.size() && mine[end].v == mine[i].v) ++end;
+    while (end < mine.size() && same_face(mine[end], mine[i])) ++end;
     for (size_t a = i; a < std::min(end, i + 3) && error.empty(); ++a)
       for (size_t b = a + 1; b < std::min(end, i + 3); ++b)
         if (mine[a].odd == mine[b].odd) {
