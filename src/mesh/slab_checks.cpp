@@ -42,7 +42,7 @@ std::string point_text(const double* x) {
 
 // ---- 1. Tetrahedra: every node used, orientation, P2 Jacobians ---------------------------
 
-// The slab's tetrahedra as a Mesh of their own, each with its own copy of its nodes'
+// The slab's tetrahedra as a Mesh of their own, numbered locally, with their nodes'
 // coordinates; its labels name them and their nodes by their rows in the file.
 struct LocalTets {
   Mesh mesh;
@@ -52,43 +52,49 @@ struct LocalTets {
 LocalTets local_tets(const MeshSlab& slab, const std::string& file, MPI_Comm comm) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  // Each corner asked for where it occurs, not once per node: sorting the nodes to ask for
-  // each once took longer than sending the copies.
-  auto block = [&](int64_t node) { return block_owner(slab.num_nodes, node, size); };
+  // The tetrahedra's nodes sorted with where they occur: the distinct nodes and the local
+  // numbering in one pass.
+  std::vector<std::pair<int64_t, int64_t>> occurrences(slab.tets.size());
+  for (size_t i = 0; i < slab.tets.size(); ++i) occurrences[i] = {slab.tets[i], i};
+  std::sort(occurrences.begin(), occurrences.end());
+  LocalTets t;
+  t.mesh.order = slab.order;
+  t.mesh.tets.resize(slab.tets.size());
+  std::vector<int64_t> nodes;
+  for (const auto& [node, at] : occurrences) {
+    if (nodes.empty() || nodes.back() != node) nodes.push_back(node);
+    t.mesh.tets[at] = static_cast<int64_t>(nodes.size()) - 1;
+  }
+  occurrences = {};
   std::vector<std::vector<int64_t>> ask(size);
-  for (int64_t n : slab.tets) ask[block(n)].push_back(n);
-  std::vector<size_t> next(size, 0);  // where the replies of each rank start
-  for (int r = 1; r < size; ++r) next[r] = next[r - 1] + ask[r - 1].size();
+  for (int64_t n : nodes) ask[block_owner(slab.num_nodes, n, size)].push_back(n);
   std::vector<int64_t> asked_by;
-  const std::vector<int64_t> asked = all_to_all(ask, comm, &asked_by);
+  std::vector<int64_t> asked = all_to_all(ask, comm, &asked_by);
   ask = {};
   std::vector<char> used(slab.slab_nodes(), 0);
   std::vector<std::vector<Point>> reply(size);
   size_t k = 0;
-  for (int r = 0; r < size; ++r)
+  for (int r = 0; r < size; ++r) {
+    reply[r].reserve(asked_by[r]);
     for (int64_t i = 0; i < asked_by[r]; ++i, ++k) {
       const int64_t b = asked[k] - slab.node_begin;
       used[b] = 1;
       reply[r].push_back({{slab.x[3 * b], slab.x[3 * b + 1], slab.x[3 * b + 2]}});
     }
+  }
+  asked = {};
   std::string error;
   for (int64_t b = 0; b < slab.slab_nodes() && error.empty(); ++b)
     if (!used[b])
       error = file + ": node " + std::to_string(slab.node_begin + b) + " at " +
               point_text(&slab.x[3 * b]) + " belongs to no element";
   throw_together<InputError>(error, comm);
-  const std::vector<Point> x = all_to_all(reply, comm);  // by rank, each in the order asked
+  // In the order of `nodes`: each rank's block follows the lower ranks'.
+  const std::vector<Point> x = all_to_all(reply, comm);
   reply = {};
-
-  LocalTets t;
-  t.mesh.order = slab.order;
-  t.mesh.x.resize(3 * slab.tets.size());
-  t.mesh.tets.resize(slab.tets.size());
-  for (size_t i = 0; i < slab.tets.size(); ++i) {
-    std::copy_n(x[next[block(slab.tets[i])]++].x, 3, &t.mesh.x[3 * i]);
-    t.mesh.tets[i] = static_cast<int64_t>(i);
-  }
-  t.labels.node_tags.assign(slab.tets.begin(), slab.tets.end());
+  t.mesh.x.reserve(3 * x.size());
+  for (const Point& p : x) t.mesh.x.insert(t.mesh.x.end(), p.x, p.x + 3);
+  t.labels.node_tags.assign(nodes.begin(), nodes.end());
   t.labels.tet_tags.resize(slab.slab_tets());
   for (int64_t i = 0; i < slab.slab_tets(); ++i) t.labels.tet_tags[i] = slab.tet_begin + i;
   return t;
@@ -247,8 +253,11 @@ void check_same_place(const MeshSlab& slab, const std::string& file, MPI_Comm co
 
 struct FaceSide {
   std::array<int64_t, 3> v;  // sorted vertices
-  int64_t tet;
-  int32_t odd;  // the outward order of tet's vertices is an odd permutation of v
+  // 2 x the tetrahedron, + 1 when its outward order of the vertices is an odd permutation of
+  // v (one word: the faces are the largest records of the checks)
+  int64_t side;
+  int64_t tet() const { return side >> 1; }
+  bool odd() const { return side & 1; }
 };
 
 bool odd_order(int64_t p, int64_t q, int64_t r) { return ((p > q) + (p > r) + (q > r)) % 2 == 1; }
@@ -261,11 +270,12 @@ void check_faces(const MeshSlab& slab, const std::string& file, MPI_Comm comm) {
   MPI_Comm_size(comm, &size);
   const int npe = slab.nodes_per_tet();
   std::vector<std::vector<FaceSide>> out(size);
+  for (auto& list : out) list.reserve(4 * slab.slab_tets() / size * 11 / 10);  // hashing spreads
   for (int64_t i = 0; i < slab.slab_tets(); ++i)
     for (const auto& f : kOutwardFace) {
       const int64_t* t = &slab.tets[npe * i];
-      FaceSide s{{t[f[0]], t[f[1]], t[f[2]]}, slab.tet_begin + i, 0};
-      s.odd = odd_order(s.v[0], s.v[1], s.v[2]);
+      FaceSide s{{t[f[0]], t[f[1]], t[f[2]]}, 2 * (slab.tet_begin + i)};
+      s.side += odd_order(s.v[0], s.v[1], s.v[2]);
       std::sort(s.v.begin(), s.v.end());
       out[face_rank(s.v, size)].push_back(s);
     }
@@ -275,7 +285,7 @@ void check_faces(const MeshSlab& slab, const std::string& file, MPI_Comm comm) {
     if (a.v[0] != b.v[0]) return a.v[0] < b.v[0];
     if (a.v[1] != b.v[1]) return a.v[1] < b.v[1];
     if (a.v[2] != b.v[2]) return a.v[2] < b.v[2];
-    return a.tet < b.tet;
+    return a.side < b.side;
   });
   auto same_face = [](const FaceSide& a, const FaceSide& b) {
     return a.v[0] == b.v[0] && a.v[1] == b.v[1] && a.v[2] == b.v[2];
@@ -286,9 +296,9 @@ void check_faces(const MeshSlab& slab, const std::string& file, MPI_Comm comm) {
     while (end < mine.size() && same_face(mine[end], mine[i])) ++end;
     for (size_t a = i; a < std::min(end, i + 3) && error.empty(); ++a)
       for (size_t b = a + 1; b < std::min(end, i + 3); ++b)
-        if (mine[a].odd == mine[b].odd) {
-          error = file + ": elements " + std::to_string(mine[a].tet) + " and " +
-                  std::to_string(mine[b].tet) +
+        if (mine[a].odd() == mine[b].odd()) {
+          error = file + ": elements " + std::to_string(mine[a].tet()) + " and " +
+                  std::to_string(mine[b].tet()) +
                   " (rows of /tets) overlap: they share a face and lie on the same side of it "
                   "(an element listed twice, or folded over its neighbour)";
           break;
