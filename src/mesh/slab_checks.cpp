@@ -29,6 +29,22 @@ constexpr int kEdgeNode[4][4] = {{-1, 4, 6, 7}, {4, -1, 5, 9}, {6, 5, -1, 8}, {7
 // The tolerance of check_duplicate_nodes, as a fraction of the mesh's extent.
 constexpr double kSamePlace = 1e-12;
 
+// all_to_all, the lists sent given up: on one process (load_mesh reads an .h5 whole) without
+// the two copies that all_to_all makes, which cost more here than the checks themselves.
+template <class T>
+std::vector<T> exchange(std::vector<std::vector<T>>& send, MPI_Comm comm,
+                        std::vector<int64_t>* from = nullptr) {
+  if (send.size() == 1) {
+    if (from) *from = {static_cast<int64_t>(send[0].size())};
+    std::vector<T> mine = std::move(send[0]);
+    send = {};
+    return mine;
+  }
+  std::vector<T> received = all_to_all(send, comm, from);
+  send = {};
+  return received;
+}
+
 struct Point {
   double x[3];
 };
@@ -69,8 +85,7 @@ LocalTets local_tets(const MeshSlab& slab, const std::string& file, MPI_Comm com
   std::vector<std::vector<int64_t>> ask(size);
   for (int64_t n : nodes) ask[block_owner(slab.num_nodes, n, size)].push_back(n);
   std::vector<int64_t> asked_by;
-  std::vector<int64_t> asked = all_to_all(ask, comm, &asked_by);
-  ask = {};
+  std::vector<int64_t> asked = exchange(ask, comm, &asked_by);
   std::vector<char> used(slab.slab_nodes(), 0);
   std::vector<std::vector<Point>> reply(size);
   size_t k = 0;
@@ -90,8 +105,7 @@ LocalTets local_tets(const MeshSlab& slab, const std::string& file, MPI_Comm com
               point_text(&slab.x[3 * b]) + " belongs to no element";
   throw_together<InputError>(error, comm);
   // In the order of `nodes`: each rank's block follows the lower ranks'.
-  const std::vector<Point> x = all_to_all(reply, comm);
-  reply = {};
+  const std::vector<Point> x = exchange(reply, comm);
   t.mesh.x.reserve(3 * x.size());
   for (const Point& p : x) t.mesh.x.insert(t.mesh.x.end(), p.x, p.x + 3);
   t.labels.node_tags.assign(nodes.begin(), nodes.end());
@@ -206,8 +220,7 @@ void check_same_place(const MeshSlab& slab, const std::string& file, MPI_Comm co
           out[r].back().guest = 1;
         }
   }
-  std::vector<NodeAt> mine = all_to_all(out, comm);
-  out = {};
+  std::vector<NodeAt> mine = exchange(out, comm);
 
   std::vector<std::pair<Key, int64_t>> order(mine.size());  // grid key, index in mine
   for (size_t i = 0; i < mine.size(); ++i) {
@@ -279,8 +292,7 @@ void check_faces(const MeshSlab& slab, const std::string& file, MPI_Comm comm) {
       std::sort(s.v.begin(), s.v.end());
       out[face_rank(s.v, size)].push_back(s);
     }
-  std::vector<FaceSide> mine = all_to_all(out, comm);
-  out = {};
+  std::vector<FaceSide> mine = exchange(out, comm);
   std::sort(mine.begin(), mine.end(), [](const FaceSide& a, const FaceSide& b) {
     if (a.v[0] != b.v[0]) return a.v[0] < b.v[0];
     if (a.v[1] != b.v[1]) return a.v[1] < b.v[1];
@@ -370,8 +382,7 @@ void check_surfaces(const MeshSlab& slab, const std::string& file, MPI_Comm comm
     }
     names.push_back(name);
   }
-  std::vector<SurfaceFace> mine = all_to_all(out, comm);
-  out = {};
+  std::vector<SurfaceFace> mine = exchange(out, comm);
   std::sort(mine.begin(), mine.end(), [](const SurfaceFace& a, const SurfaceFace& b) {
     return a.group != b.group ? a.group < b.group : a.row < b.row;
   });
