@@ -90,10 +90,11 @@ std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm) {
 
 Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm, MeshLoadTimes* times) {
   const double t0 = MPI_Wtime();
-  // From a .msh or .geo, rank 0 keeps the whole mesh only until the blocks are sent.
-  const MeshSlab slab = is_h5(cfg.file)
-                            ? read_mesh_h5(cfg.file, comm)
-                            : scatter_mesh(load_mesh_on_rank_zero(cfg, comm).get(), 0, comm);
+  // From a .msh or .geo, rank 0 keeps the whole mesh only until the blocks are sent. An .h5
+  // is checked in blocks as it is read (read_mesh_h5), the element limit before reading.
+  MeshSlab slab = is_h5(cfg.file) ? read_mesh_h5(cfg.file, cfg.max_elements, comm)
+                                  : scatter_mesh(load_mesh_on_rank_zero(cfg, comm).get(), 0, comm);
+  slab.file = cfg.file;
   if (slab.num_tets > cfg.max_elements)
     throw InputError(
         cfg.file + ": " + std::to_string(slab.num_tets) +

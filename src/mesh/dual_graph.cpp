@@ -19,14 +19,6 @@ struct Edge {
   int64_t from, to;
 };
 
-uint64_t mix(uint64_t x) {  // splitmix64's finaliser: spreads nearby triples over the ranks
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
 }  // namespace
 
 DualGraph dual_graph(const MeshSlab& slab, MPI_Comm comm) {
@@ -41,8 +33,7 @@ DualGraph dual_graph(const MeshSlab& slab, MPI_Comm comm) {
       for (int a = 0; a < 3; ++a) k.v[a] = slab.tets[npe * i + face[a]];
       std::sort(k.v.begin(), k.v.end());
       k.tet = slab.tet_begin + i;
-      const uint64_t h = mix(mix(mix(k.v[0]) ^ k.v[1]) ^ k.v[2]);
-      keys[h % size].push_back(k);
+      keys[face_rank(k.v, size)].push_back(k);
     }
   std::vector<FaceKey> mine = all_to_all(keys, comm);
   keys = {};

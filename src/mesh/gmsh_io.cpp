@@ -236,12 +236,8 @@ Mesh load_mesh(const MeshConfig& cfg) {
   std::string extension = fs::path(file).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const bool is_geo = extension == ".geo";
-  if (extension == ".h5") {  // a hydrosoft mesh, whole, on this process
-    Mesh mesh = whole_mesh(read_mesh_h5(file, MPI_COMM_SELF));
-    check_tet_count(cfg, static_cast<double>(mesh.num_tets()),
-                    "it holds " + std::to_string(mesh.num_tets()) + " tetrahedra");
-    return mesh;
-  }
+  if (extension == ".h5")  // a hydrosoft mesh, whole, on this process, checked as a run reads it
+    return whole_mesh(read_mesh_h5(file, cfg.max_elements, MPI_COMM_SELF));
   if (!is_geo && extension != ".msh")
     throw InputError(file + ": unknown mesh file type '" + extension + "' (.msh, .geo or .h5)");
   if (!is_geo && !cfg.parameters.empty())

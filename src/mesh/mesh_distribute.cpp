@@ -105,6 +105,7 @@ Distribution distribute_slabs(const MeshSlab& slab, const std::vector<int>& part
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const int npe = slab.nodes_per_tet(), npf = slab.nodes_per_face();
+  const std::string where = slab.file.empty() ? "mesh" : slab.file;
   Distribution d;
   d.rank = rank;
   d.size = size;
@@ -138,7 +139,8 @@ Distribution distribute_slabs(const MeshSlab& slab, const std::vector<int>& part
   std::string error;
   for (int64_t i = 0; i < slab.slab_nodes() && error.empty(); ++i)
     if (owner[i] == size)
-      error = "mesh: node " + std::to_string(slab.node_begin + i) + " belongs to no tetrahedron";
+      error =
+          where + ": node " + std::to_string(slab.node_begin + i) + " belongs to no tetrahedron";
   throw_together<InputError>(error, comm);
 
   // Group members to their node's block; then replies: owner, coordinates, groups.
@@ -224,7 +226,7 @@ Distribution distribute_slabs(const MeshSlab& slab, const std::vector<int>& part
   for (size_t e = 0; e < tets.size() && error.empty(); ++e) {
     const int32_t* c = &d.tet_nodes[npe * e];
     if (!(orientation(&d.x[3 * c[0]], &d.x[3 * c[1]], &d.x[3 * c[2]], &d.x[3 * c[3]]) > 0))
-      error = "mesh: tetrahedron " + std::to_string(tets[e].id) +
+      error = where + ": tetrahedron " + std::to_string(tets[e].id) +
               " is inverted or degenerate (its corners' orientation is not positive)";
   }
   throw_together<InputError>(error, comm);

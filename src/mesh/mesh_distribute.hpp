@@ -11,6 +11,7 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -18,6 +19,21 @@
 #include "mesh/mesh_slab.hpp"
 
 namespace hs {
+
+// splitmix64's finaliser: spreads nearby keys (node numbers, cells) evenly over the ranks
+// when taken modulo their number.
+inline uint64_t spread(uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ULL;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// The rank of `size` that matches the faces with these sorted vertices.
+inline int face_rank(const std::array<int64_t, 3>& v, int size) {
+  return static_cast<int>(spread(spread(spread(v[0]) ^ v[1]) ^ v[2]) % size);
+}
 
 // CSR rows for the slab's tetrahedra: the mesh numbers of their face neighbours, ascending.
 struct DualGraph {
@@ -30,7 +46,8 @@ DualGraph dual_graph(const MeshSlab& slab, MPI_Comm comm);
 
 // Collective: this rank's piece of the mesh when the slab's tetrahedron i goes to part
 // part[i]. Throws InputError (on every rank) for a node in no tetrahedron or a tetrahedron
-// that is inverted or degenerate, naming it by its number in the mesh file.
+// that is inverted or degenerate, naming slab.file and the node or tetrahedron by its number
+// in it.
 Distribution distribute_slabs(const MeshSlab& slab, const std::vector<int>& part, MPI_Comm comm);
 
 }  // namespace hs

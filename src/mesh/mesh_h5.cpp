@@ -5,12 +5,15 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
 #include "io/hdf5_file.hpp"
+#include "mesh/slab_checks.hpp"
 
 namespace hs {
 namespace {
@@ -27,6 +30,13 @@ struct QuietHdf5 {
   }
   ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func, data); }
 };
+
+// A byte count as people read it: 68719476736 -> "68719476736" (exact below 2^53).
+std::string count_text(double bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.0f", bytes);
+  return text;
+}
 
 void check_name(const std::string& path, const std::string& name) {
   if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
@@ -63,17 +73,37 @@ class Reader {
     if (a.id < 0 || H5Aread(a.id, H5T_NATIVE_INT, &value) < 0) return fallback;
     return value;
   }
-  // Rows and columns (0 for a 1D dataset); rows = -1 if it is missing or not 1D/2D.
-  std::pair<int64_t, int> shape(const std::string& name) const {
-    if (H5Lexists(file_, name.c_str(), H5P_DEFAULT) <= 0) return {-1, 0};
+  // What a dataset claims to hold and what the file stores of it.
+  struct Shape {
+    int64_t rows = -1;  // -1: missing, or not 1D/2D
+    int cols = 0;       // 0 for a 1D dataset
+    H5T_class_t type = H5T_NO_CLASS;
+    double claimed_bytes = 0;  // rows x cols x the size of an entry in the file
+    double stored_bytes = 0;   // H5Dget_storage_size
+  };
+  Shape shape(const std::string& name) const {
+    Shape s;
+    if (H5Lexists(file_, name.c_str(), H5P_DEFAULT) <= 0) return s;
     Hdf5Handle set{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
-    if (set.id < 0) return {-1, 0};
+    if (set.id < 0) return s;
     Hdf5Handle space{H5Dget_space(set.id), H5Sclose};
+    Hdf5Handle type{H5Dget_type(set.id), H5Tclose};
     const int rank = H5Sget_simple_extent_ndims(space.id);
     hsize_t dims[2] = {0, 0};
-    if (rank < 1 || rank > 2) return {-1, 0};
+    if (rank < 1 || rank > 2 || type.id < 0) return s;
     H5Sget_simple_extent_dims(space.id, dims, nullptr);
-    return {static_cast<int64_t>(dims[0]), rank == 2 ? static_cast<int>(dims[1]) : 0};
+    // Counts beyond 2^62 cannot be stored anywhere; keep them from overflowing int64_t.
+    s.rows = static_cast<int64_t>(std::min<hsize_t>(dims[0], hsize_t{1} << 62));
+    s.cols = rank == 2 ? static_cast<int>(std::min<hsize_t>(dims[1], 1 << 30)) : 0;
+    s.type = H5Tget_class(type.id);
+    s.claimed_bytes = static_cast<double>(dims[0]) * static_cast<double>(rank == 2 ? dims[1] : 1) *
+                      static_cast<double>(H5Tget_size(type.id));
+    s.stored_bytes = static_cast<double>(H5Dget_storage_size(set.id));
+    return s;
+  }
+  double file_bytes() const {
+    hsize_t size = 0;
+    return H5Fget_filesize(file_, &size) < 0 ? 0 : static_cast<double>(size);
   }
   // Rows [begin, end) of a dataset with `cols` columns (0: 1D).
   template <class T>
@@ -141,13 +171,14 @@ void write_mesh_h5(const Mesh& mesh, const std::string& path) {
   h5.close();
 }
 
-MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
+MeshSlab read_mesh_h5(const std::string& path, int64_t max_elements, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const QuietHdf5 quiet;
   Reader h5(path, comm);
   MeshSlab s;
+  s.file = path;
   std::string error;
   auto fail = [&](const std::string& what) {
     if (error.empty()) error = path + ": " + what;
@@ -161,12 +192,53 @@ MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
 
   s.order = h5.attribute("/", "order", 0);
   if (s.order != 1 && s.order != 2) fail("attribute order must be 1 or 2");
-  const auto nodes = h5.shape("/nodes"), tets = h5.shape("/tets"), vol = h5.shape("/tet_volume");
-  if (nodes.first < 0 || nodes.second != 3) fail("/nodes must be an N x 3 dataset");
-  if (tets.first < 1 || tets.second != s.nodes_per_tet())
-    fail("/tets must be a T x " + std::to_string(s.nodes_per_tet()) + " dataset with T >= 1");
-  if (vol.first != tets.first || vol.second != 0)
+  throw_together<InputError>(error, comm);
+  const int npe = s.nodes_per_tet(), npf = s.nodes_per_face();
+
+  // Every count is checked before anything is allocated for it: against the element limit
+  // and the counts it bounds, and against what the file stores. hydrosoft writes its datasets
+  // whole, contiguous and uncompressed, so a dataset stored in fewer bytes than it claims
+  // (compressed, or never written) did not come from it, and all of them fit in the file.
+  const double file_bytes = h5.file_bytes();
+  double stored_total = 0;
+  auto check_stored = [&](const std::string& name, const Reader::Shape& shape, H5T_class_t type) {
+    if (shape.type != type)
+      fail(name + " must hold " + (type == H5T_FLOAT ? "floating-point numbers" : "integers"));
+    else if (shape.stored_bytes < shape.claimed_bytes)
+      fail(name + ": claims " + std::to_string(shape.rows) +
+           (shape.cols ? " x " + std::to_string(shape.cols) : std::string()) + " entries (" +
+           count_text(shape.claimed_bytes) + " bytes) but stores " +
+           count_text(shape.stored_bytes) +
+           " bytes: hydrosoft writes its datasets whole and uncompressed");
+    stored_total += shape.stored_bytes;
+  };
+  auto within = [&](const std::string& name, int64_t rows, int64_t most, const std::string& why) {
+    if (rows <= most) return true;
+    fail(name + ": claims " + std::to_string(rows) + " rows, more than " + why);
+    return false;
+  };
+  const Reader::Shape tets = h5.shape("/tets");
+  if (tets.rows < 1 || tets.cols != npe)
+    fail("/tets must be a T x " + std::to_string(npe) + " dataset with T >= 1");
+  else if (tets.rows > max_elements)
+    fail("mesh.max_elements: /tets holds " + std::to_string(tets.rows) +
+         " tetrahedra, above the limit of " + std::to_string(max_elements) +
+         " tetrahedra (raise mesh.max_elements)");
+  else
+    check_stored("/tets", tets, H5T_INTEGER);
+  throw_together<InputError>(error, comm);
+  s.num_tets = tets.rows;
+  const Reader::Shape nodes = h5.shape("/nodes"), vol = h5.shape("/tet_volume");
+  if (nodes.rows < 0 || nodes.cols != 3)
+    fail("/nodes must be an N x 3 dataset");
+  else if (within("/nodes", nodes.rows, npe * s.num_tets,
+                  "the " + std::to_string(npe) + " nodes of each of the " +
+                      std::to_string(s.num_tets) + " tetrahedra"))
+    check_stored("/nodes", nodes, H5T_FLOAT);
+  if (vol.rows != tets.rows || vol.cols != 0)
     fail("/tet_volume must hold one entry per tetrahedron");
+  else
+    check_stored("/tet_volume", vol, H5T_INTEGER);
   const std::vector<std::string> volumes = h5.children("/volumes");
   s.groups.volumes.assign(volumes.size(), "");
   for (const auto& v : volumes) {
@@ -176,10 +248,34 @@ MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
     else
       s.groups.volumes[index] = v;
   }
+  const std::vector<std::string> surfaces = h5.children("/surfaces");
+  for (const auto& name : surfaces) {
+    const std::string at = "/surfaces/" + name;
+    const Reader::Shape faces = h5.shape(at + "/faces"), bounds = h5.shape(at + "/tets");
+    if (faces.rows < 0 || faces.cols != npf || bounds.rows != faces.rows || bounds.cols != 0) {
+      fail(at + ": faces must be F x " + std::to_string(npf) + " and tets F entries");
+    } else if (within(at + "/faces", faces.rows, 4 * s.num_tets,
+                      "the 4 faces of each of the " + std::to_string(s.num_tets) + " tetrahedra")) {
+      check_stored(at + "/faces", faces, H5T_INTEGER);
+      check_stored(at + "/tets", bounds, H5T_INTEGER);
+    }
+    s.groups.surface_faces[name] = faces.rows;
+  }
+  const std::vector<std::string> node_groups = h5.children("/node_groups");
+  for (const auto& name : node_groups) {
+    const std::string at = "/node_groups/" + name;
+    const Reader::Shape n = h5.shape(at);
+    if (n.rows < 0 || n.cols != 0)
+      fail(at + " must be a 1D dataset");
+    else if (within(at, n.rows, nodes.rows, "the mesh's " + std::to_string(nodes.rows) + " nodes"))
+      check_stored(at, n, H5T_INTEGER);
+    s.groups.group_nodes[name] = n.rows;
+  }
+  if (error.empty() && stored_total > file_bytes)
+    fail("its datasets claim " + count_text(stored_total) + " bytes of storage, more than the " +
+         count_text(file_bytes) + "-byte file holds");
   throw_together<InputError>(error, comm);
-  s.num_nodes = nodes.first;
-  s.num_tets = tets.first;
-  const int npe = s.nodes_per_tet(), npf = s.nodes_per_face();
+  s.num_nodes = nodes.rows;
 
   s.node_begin = block_begin(s.num_nodes, rank, size);
   s.tet_begin = block_begin(s.num_tets, rank, size);
@@ -216,18 +312,12 @@ MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
       break;
     }
 
-  for (const auto& name : h5.children("/surfaces")) {
+  for (const auto& name : surfaces) {
     const std::string at = "/surfaces/" + name;
-    const auto faces = h5.shape(at + "/faces"), bounds = h5.shape(at + "/tets");
-    if (faces.first < 0 || faces.second != npf || bounds.first != faces.first ||
-        bounds.second != 0) {
-      fail(at + ": faces must be F x " + std::to_string(npf) + " and tets F entries");
-      continue;
-    }
-    s.groups.surface_faces[name] = faces.first;
+    const int64_t count = s.groups.surface_faces.at(name);
     MeshSlab::Faces& f = s.surfaces[name];
-    f.begin = block_begin(faces.first, rank, size);
-    const int64_t end = block_begin(faces.first, rank + 1, size);
+    f.begin = block_begin(count, rank, size);
+    const int64_t end = block_begin(count, rank + 1, size);
     if (!h5.rows(at + "/faces", H5T_NATIVE_INT64, f.begin, end, npf, f.nodes) ||
         !h5.rows(at + "/tets", H5T_NATIVE_INT64, f.begin, end, 0, f.tets))
       fail("cannot read " + at);
@@ -238,21 +328,17 @@ MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm) {
         break;
       }
   }
-  for (const auto& name : h5.children("/node_groups")) {
+  for (const auto& name : node_groups) {
     const std::string at = "/node_groups/" + name;
-    const auto n = h5.shape(at);
-    if (n.first < 0 || n.second != 0) {
-      fail(at + " must be a 1D dataset");
-      continue;
-    }
-    s.groups.group_nodes[name] = n.first;
+    const int64_t count = s.groups.group_nodes.at(name);
     std::vector<int64_t>& list = s.node_groups[name];
-    if (!h5.rows(at, H5T_NATIVE_INT64, block_begin(n.first, rank, size),
-                 block_begin(n.first, rank + 1, size), 0, list))
+    if (!h5.rows(at, H5T_NATIVE_INT64, block_begin(count, rank, size),
+                 block_begin(count, rank + 1, size), 0, list))
       fail("cannot read " + at);
-    node_in_range(at, list, block_begin(n.first, rank, size), 1);
+    node_in_range(at, list, block_begin(count, rank, size), 1);
   }
   throw_together<InputError>(error, comm);
+  check_mesh_slab(s, comm);
   return s;
 }
 

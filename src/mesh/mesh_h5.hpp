@@ -8,12 +8,15 @@
 //   /surfaces/<name>/faces     F x 3 or F x 6 int64, oriented out of the body
 //   /surfaces/<name>/tets      F int64 (the tetrahedron each face bounds)
 //   /node_groups/<name>        M int64, ascending
-// It holds what load_mesh guarantees (mesh.hpp), and the reader checks every number against
-// the sizes before it is used.
+// It holds what load_mesh guarantees (mesh.hpp). The reader trusts none of it: every count is
+// checked against the element limit and against what the file stores before anything is
+// allocated, every number against the sizes before it is used, and the mesh as load_mesh
+// checks a .msh (check_mesh_slab) before it is returned.
 #pragma once
 
 #include <mpi.h>
 
+#include <cstdint>
 #include <string>
 
 #include "mesh/mesh.hpp"
@@ -26,7 +29,9 @@ namespace hs {
 void write_mesh_h5(const Mesh& mesh, const std::string& path);
 
 // Collective. Throws InputError (on every rank) naming the file and the dataset when the file
-// is not a hydrosoft mesh or a number is out of range.
-MeshSlab read_mesh_h5(const std::string& path, MPI_Comm comm);
+// is not a hydrosoft mesh, holds more than `max_elements` tetrahedra (mesh.max_elements), a
+// dataset claims more than the file stores or a number is out of range, and naming the file
+// and the element, node or face when the mesh fails check_mesh_slab (slab_checks.hpp).
+MeshSlab read_mesh_h5(const std::string& path, int64_t max_elements, MPI_Comm comm);
 
 }  // namespace hs

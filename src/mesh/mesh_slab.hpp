@@ -16,6 +16,7 @@
 namespace hs {
 
 struct MeshSlab {
+  std::string file;  // the mesh file it came from, named by messages
   int order = 1;
   int64_t num_nodes = 0, num_tets = 0;    // of the whole mesh
   int64_t node_begin = 0, tet_begin = 0;  // the first node and tetrahedron of this block

@@ -155,7 +155,7 @@ TEST(MeshFile, ReadInBlocksEqualsTheMeshItWasWrittenFrom) {
   const std::string path = (hs_test::test_folder() / "sphere.h5").string();
   if (r.rank == 0) write_mesh_h5(m, path);
   MPI_Barrier(MPI_COMM_WORLD);
-  const MeshSlab read = read_mesh_h5(path, MPI_COMM_WORLD);
+  const MeshSlab read = read_mesh_h5(path, 20000000, MPI_COMM_WORLD);
   const MeshSlab cut = slab_of(m, r.rank, r.size);
   EXPECT_EQ(read.order, 2);
   EXPECT_EQ(read.num_nodes, m.num_nodes());
@@ -170,7 +170,7 @@ TEST(MeshFile, ReadInBlocksEqualsTheMeshItWasWrittenFrom) {
     EXPECT_EQ(read.surfaces.at(name).tets, f.tets) << name;
   }
   if (r.rank == 0) {  // the whole file on one process is the mesh again
-    const Mesh whole = whole_mesh(read_mesh_h5(path, MPI_COMM_SELF));
+    const Mesh whole = whole_mesh(read_mesh_h5(path, 20000000, MPI_COMM_SELF));
     EXPECT_EQ(whole.x, m.x);
     EXPECT_EQ(whole.surfaces, m.surfaces);
     EXPECT_EQ(whole.surface_tets, m.surface_tets);
@@ -185,7 +185,7 @@ TEST(MeshFile, ANodeNumberOutOfRangeIsNamedOnEveryRank) {
   if (r.rank == 0) write_mesh_h5(m, path);
   MPI_Barrier(MPI_COMM_WORLD);
   try {
-    read_mesh_h5(path, MPI_COMM_WORLD);
+    read_mesh_h5(path, 20000000, MPI_COMM_WORLD);
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& e) {
     const std::string what = e.what();
@@ -194,6 +194,17 @@ TEST(MeshFile, ANodeNumberOutOfRangeIsNamedOnEveryRank) {
               std::string::npos)
         << what;
   }
+}
+
+TEST(DistributeSlabs, AnInvertedTetrahedronIsNamedWithItsFile) {
+  const Ranks r;
+  Mesh m = sphere(1);
+  std::swap(m.tets[4 * 7 + 1], m.tets[4 * 7 + 2]);
+  MeshSlab slab = slab_of(m, r.rank, r.size);
+  slab.file = "sphere.h5";
+  const std::vector<int> part(slab.slab_tets(), r.rank);
+  expect_input_error([&] { distribute_slabs(slab, part, MPI_COMM_WORLD); },
+                     {"sphere.h5: tetrahedron 7 is inverted or degenerate"});
 }
 
 TEST(PartitionSlab, BalancedPartsThatCutFewFaces) {
