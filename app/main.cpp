@@ -23,6 +23,7 @@
 #include "common/error.hpp"
 #include "common/exchange.hpp"
 #include "common/interrupt.hpp"
+#include "deck/boundary_conflicts.hpp"
 #include "deck/deck.hpp"
 #include "deck/exact_section.hpp"
 #include "mesh/gmsh_io.hpp"
@@ -139,8 +140,17 @@ void check_deck(const hs::Config& config) {
   hs::on_rank_zero(PETSC_COMM_WORLD, [&] {
     hs::check_groups(config, hs::groups_of(*mesh));
     hs::check_rigid_motions_held(config, mesh->node_groups, mesh->x, MPI_COMM_SELF);
-    if (const auto exact = hs::make_exact_solution(config))
+    const auto exact = hs::make_exact_solution(config);
+    hs::ExactValue exact_value;
+    if (exact) {
       hs::check_reference_finite(config, *exact, mesh->x, MPI_COMM_SELF);
+      exact_value = [&exact](const std::array<double, 3>& X, double s) {
+        return exact->displacement(X, s);
+      };
+    }
+    hs::check_boundary_conflicts(config, mesh->node_groups, mesh->x,
+                                 static_cast<int64_t>(mesh->x.size() / 3), exact_value,
+                                 MPI_COMM_SELF);
     std::vector<std::string> cavities;
     for (const auto& c : config.cavities) cavities.push_back(c.group);
     std::cout << "# hydrosoft: mesh " << config.mesh.file << "\n"
