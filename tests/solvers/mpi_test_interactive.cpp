@@ -162,6 +162,21 @@ TEST(Interactive, AClosedStandardOutputEndsTheSessionAndKeepsItsSteps) {
   EXPECT_EQ(nlohmann::json::parse(file)["targets"][1]["line"], 3);
 }
 
+// A NUL in a line: the error quotes the whole line with the NUL written out (before, the
+// message ended at the NUL). A subnormal coordinate is a number: the same answer as 0.
+TEST(Interactive, ANulIsWrittenOutAndASubnormalIsANumber) {
+  std::vector<nlohmann::json> written, plain;
+  run_interactive(std::string("0.09 0\0 -0.012\n0.09 1e-320 -0.012\n", 34), written, "nul");
+  run_interactive("0.09 0 -0.012\n", plain, "plain");
+  if (world_rank() != 0) return;
+  ASSERT_EQ(written.size(), 2u);
+  EXPECT_EQ(error_of(written[0]),
+            "coordinate y '0\\x00' is not a finite number: '0.09 0\\x00 -0.012'");
+  ASSERT_TRUE(written[1].contains("answer")) << written[1];
+  EXPECT_EQ(written[1]["answer"]["target"][1].get<double>(), 1e-320);
+  EXPECT_EQ(written[1]["answer"]["reached"], plain[0]["answer"]["reached"]);
+}
+
 TEST(Interactive, ADeckTargetTooFarStopsTheRunBeforeAnyStep) {
   hs::Config config = finger("deck_target");
   config.control->targets_from_stdin = false;
