@@ -79,8 +79,10 @@ void advance_with_cutback(
   int64_t halvings = 0, failures = 0;  // in a row; in this step
   const int64_t max_failures = int64_t{kCutbacksPerStepPerMaxCutbacks} * max_cutbacks;
   auto parameter = [&](double fraction) { return from + fraction * (to - from); };
-  while (done < 1) {
-    stop_if_interrupted(comm);
+  for (bool first = true; done < 1; first = false) {
+    // A step that goes on past its first solve asks before each further one whether a
+    // signal came (a step done in one solve is asked at its end, as every step).
+    if (!first) stop_if_interrupted(comm);
     const double next = std::min(1.0, done + increment);
     const double t = parameter(next);
     const NewtonResult r = attempt(t);

@@ -49,8 +49,9 @@ int64_t max_substeps(int64_t planned);
 // until one of the bounds above ends it: give_up(t, result, why) then throws, t the parameter
 // of the last solve and why the Newton failure and the bound in words. attempt(t) solves at t
 // from the last converged state and, when it fails, puts that state back. Before every solve
-// the ranks of comm ask whether a signal came (stop_if_interrupted): a step that cuts back
-// for long still stops within one solve. Counts steps, cutbacks and iterations into stats.
+// but the first the ranks of comm ask whether a signal came (stop_if_interrupted, which
+// throws Interrupted with that state in place): a step that cuts back for long still stops
+// within one solve. Counts steps, cutbacks and iterations into stats.
 void advance_with_cutback(
     double from, double to, int max_cutbacks, SteppingStats& stats, MPI_Comm comm,
     const std::function<NewtonResult(double)>& attempt,
