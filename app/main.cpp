@@ -7,9 +7,11 @@
 // over the deck's solver.petsc_options.
 #include <fcntl.h>
 #include <petscsys.h>
+#include <poll.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +25,7 @@
 #include "common/error.hpp"
 #include "common/exchange.hpp"
 #include "common/interrupt.hpp"
+#include "deck/boundary_conflicts.hpp"
 #include "deck/deck.hpp"
 #include "deck/exact_section.hpp"
 #include "mesh/gmsh_io.hpp"
@@ -75,14 +78,22 @@ int keep_stdout_for_answers() {
 }
 
 // One answer line, written whole at once: the client waits for it before its next target.
-void write_answer_line(int fd, const std::string& line) {
+// False when it cannot be written: the client closed its end (EPIPE; SIGPIPE is ignored) or
+// the descriptor failed otherwise. The session then ends and keeps its results.
+bool write_answer_line(int fd, const std::string& line) {
   const std::string text = line + "\n";
   for (size_t done = 0; done < text.size();) {
     const ssize_t n = write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw std::runtime_error(std::string("standard output: ") + std::strerror(errno));
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {  // a client's non-blocking pipe
+      pollfd ready{fd, POLLOUT, 0};
+      poll(&ready, 1, -1);
+      continue;
+    }
+    if (n < 0) return false;
     done += static_cast<size_t>(n);
   }
+  return true;
 }
 
 int fail(int code, const std::string& message) {
@@ -139,8 +150,17 @@ void check_deck(const hs::Config& config) {
   hs::on_rank_zero(PETSC_COMM_WORLD, [&] {
     hs::check_groups(config, hs::groups_of(*mesh));
     hs::check_rigid_motions_held(config, mesh->node_groups, mesh->x, MPI_COMM_SELF);
-    if (const auto exact = hs::make_exact_solution(config))
+    const auto exact = hs::make_exact_solution(config);
+    hs::ExactValue exact_value;
+    if (exact) {
       hs::check_reference_finite(config, *exact, mesh->x, MPI_COMM_SELF);
+      exact_value = [&exact](const std::array<double, 3>& X, double s) {
+        return exact->displacement(X, s);
+      };
+    }
+    hs::check_boundary_conflicts(config, mesh->node_groups, mesh->x,
+                                 static_cast<int64_t>(mesh->x.size() / 3), exact_value,
+                                 MPI_COMM_SELF);
     std::vector<std::string> cavities;
     for (const auto& c : config.cavities) cavities.push_back(c.group);
     std::cout << "# hydrosoft: mesh " << config.mesh.file << "\n"
@@ -202,13 +222,17 @@ int main(int argc, char** argv) {
                 << std::strerror(errno) << std::endl;
       return 4;
     }
-    io.write_line = [answers](const std::string& line) { write_answer_line(answers, line); };
+    io.write_line = [answers](const std::string& line) { return write_answer_line(answers, line); };
   }
   hs::use_one_scotch_thread();
   int pargc = static_cast<int>(petsc_args.size());
   petsc_args.push_back(nullptr);
   char** pargv = petsc_args.data();
   if (PetscInitialize(&pargc, &pargv, nullptr, usage)) return 1;
+  // A reader that goes away (a client that closes its pipes, `| head`) makes a write fail
+  // with EPIPE, which the writer handles, instead of SIGPIPE, which PETSc's handler turned
+  // into a dump and exit 59 (set after PetscInitialize, which installs that handler).
+  std::signal(SIGPIPE, SIG_IGN);
   if (deck.empty()) return fail(2, std::string("no deck given\n") + usage);
   if (args.verbose)
     for (const char* option : {"-snes_monitor", "-ksp_converged_reason", "-hs_newton_monitor"})

@@ -30,20 +30,25 @@ struct InputLine {
   std::size_t length = 0;
 };
 
+// Why the interactive session ended.
+enum class InputEnd { none, end_of_input, output_closed };
+
 // Reads the next line on rank 0 and shares it with every rank; false on every rank at the
-// end of the input.
-bool next_line(std::istream& in, MPI_Comm comm, InputLine& line) {
+// end of the input, or when rank 0 could no longer write its answers (`closed`), with the
+// reason in `end`.
+bool next_line(std::istream& in, MPI_Comm comm, bool closed, InputLine& line, InputEnd& end) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  int more = 0;
+  int more = static_cast<int>(closed ? InputEnd::output_closed : InputEnd::end_of_input);
   unsigned long length = 0;
-  if (rank == 0 && read_target_line(in, kTargetLineKept, line.kept, line.length)) {
-    more = 1;
+  if (rank == 0 && !closed && read_target_line(in, kTargetLineKept, line.kept, line.length)) {
+    more = static_cast<int>(InputEnd::none);
     ++line.number;
     length = line.length;
   }
   MPI_Bcast(&more, 1, MPI_INT, 0, comm);
-  if (!more) return false;
+  end = static_cast<InputEnd>(more);
+  if (end != InputEnd::none) return false;
   MPI_Bcast(&line.number, 1, MPI_INT, 0, comm);
   MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG, 0, comm);
   line.length = length;
@@ -72,7 +77,10 @@ ControlLoop::ControlLoop(const Config& config, Problem& problem, ConstraintSet& 
       io_(std::move(io)) {
   if (!io_.input) io_.input = &std::cin;
   if (!io_.write_line)
-    io_.write_line = [](const std::string& line) { std::cout << line << std::endl; };
+    io_.write_line = [](const std::string& line) {
+      std::cout << line << std::endl;
+      return static_cast<bool>(std::cout);
+    };
   const std::vector<double>& x = problem.distribution().x;
   body_low_.fill(HUGE_VAL);
   body_high_.fill(-HUGE_VAL);
@@ -175,6 +183,15 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
   Totals& t = totals_;
   for (const auto& part : ControlStepReport{}.parts()) t.parts[part.first];  // even without steps
   const bool background = config.control->factor_threads > 0;
+  // Rank 0's JSON lines that could not be written: the first ends the session.
+  int undelivered = 0;
+  auto write_line = [&](const std::string& text) {
+    if (undelivered == 0 && io_.write_line(text)) return;
+    if (undelivered++ == 0)
+      std::cerr << "hydrosoft: standard output is closed (the client is gone): the session "
+                   "ends; the answer to its last line was not delivered"
+                << std::endl;
+  };
   // Steps towards one target set, its output step, and its entries in `targets` (answered at
   // once on the interactive output, with the number of its input line).
   auto reach = [&](const std::vector<ControlTarget>& targets, int line_number) {
@@ -236,8 +253,7 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       j["saturated"] = r.saturated;
       j["limit_point"] = limit_point;
       j["step"] = recorder.written() - 1;
-      if (interactive && rank == 0)
-        io_.write_line(json_line({{"answer", j}, {"line", line_number}}));
+      if (interactive && rank == 0) write_line(json_line({{"answer", j}, {"line", line_number}}));
       if (interactive) j["line"] = line_number;
       t.targets.push_back(j);
     }
@@ -273,11 +289,15 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
     // Every line gets exactly one JSON line: its answer, or why it was refused. A refused
     // line changes nothing (no step, no output step), and the next line is read.
     InputLine line;
+    InputEnd end = InputEnd::none;
     int rejected = 0;
     // A signal stops the reading between lines. One that comes while rank 0 waits for a line
     // interrupts the read (the handler does not restart it), which ends the input: the check
-    // after the loop then stops the run.
-    while (!interrupt_requested(problem_.comm()) && next_line(*io_.input, problem_.comm(), line)) {
+    // after the loop then stops the run. A closed standard output ends the session as the
+    // end of the input does: every step so far converged, and the results are kept as any
+    // run's (docs/control.md, "Interactive use").
+    while (!interrupt_requested(problem_.comm()) &&
+           next_line(*io_.input, problem_.comm(), undelivered > 0, line, end)) {
       std::vector<ControlTarget> targets;
       std::string error;
       try {
@@ -294,14 +314,19 @@ nlohmann::json ControlLoop::run(Vec u, ResultRecorder& recorder, double first_ti
       }
       ++rejected;
       if (rank == 0) {
-        io_.write_line(json_line({{"error", error}, {"line", line.number}}));
+        write_line(json_line({{"error", error}, {"line", line.number}}));
         std::cerr << "hydrosoft: standard input, line " << line.number << " refused: " << error
                   << std::endl;
       }
     }
     stop_if_interrupted(problem_.comm());
+    MPI_Bcast(&undelivered, 1, MPI_INT, 0, problem_.comm());
     out["input"] = {
-        {"lines", line.number}, {"answered", line.number - rejected}, {"rejected", rejected}};
+        {"lines", line.number},
+        {"answered", line.number - rejected},
+        {"rejected", rejected},
+        {"end", end == InputEnd::output_closed ? "standard output closed" : "end of input"},
+        {"undelivered", undelivered}};
   }
   auto timing = [](const std::vector<double>& v) {
     double sum = 0;

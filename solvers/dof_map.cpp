@@ -15,7 +15,8 @@ DofMap::DofMap(const Config& config, const Distribution& dist, ExactDirichlet ex
   for (int64_t i = dist.num_owned(); i < nlocal; ++i)
     ghost_blocks_.push_back(static_cast<PetscInt>(dist.local_nodes[i]));
 
-  // Dirichlet data per local dof (a later condition on the same dof wins).
+  // Dirichlet data per local dof. Entries that share a dof agree on it (the run refused
+  // those that do not: check_boundary_conflicts), so which of them is kept does not matter.
   constrained_.assign(3 * nlocal, 0);
   prescribed_.assign(3 * nlocal, 0.0);
   scaled_.assign(3 * nlocal, 1);

@@ -68,8 +68,8 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
     return r;
   };
   try {
-    advance_with_cutback(0.0, 1.0, config_.time.max_cutbacks, stats, attempt,
-                         [](double, const NewtonResult&) { throw Stop{}; });
+    advance_with_cutback(0.0, 1.0, config_.time.max_cutbacks, stats, problem_.comm(), attempt,
+                         [](double, const NewtonResult&, const std::string&) { throw Stop{}; });
   } catch (const Stop&) {
     // Held at the last equilibrium reached on the way: a bound of physics, not of the deck.
     HS_PETSC(VecCopy(last_free_, u));

@@ -11,6 +11,7 @@
 #include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
+#include "deck/boundary_conflicts.hpp"
 #include "deck/deck.hpp"
 #include "deck/exact_section.hpp"
 #include "io/output.hpp"
@@ -64,6 +65,10 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     exact_dirichlet = [exact](const std::array<double, 3>& X, double s) {
       return exact->displacement(X, s);
     };
+  // Two entries that prescribe one node's component differently: refused before any solve.
+  // Every rank knows all the groups of its nodes, ghosts included, so each conflict is seen.
+  check_boundary_conflicts(config, dist.node_groups, dist.x, dist.num_owned(), exact_dirichlet,
+                           comm);
   Problem problem(config, dist, comm, exact_dirichlet);
   if (restart) restart->check_mesh(problem);
   // A scene with cavities or states runs the bordered Newton (displacements and cavity
@@ -224,6 +229,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
         stepper.resume(p.at("load_factor"), p.at("previous_load_factor"), p.at("has_previous"));
         history = p.at("verification");
       }
+      stats.max_steps = max_substeps(static_cast<int64_t>(schedule.size()));
       Progress progress(config.output.progress, comm, static_cast<int>(schedule.size()));
       for (size_t k = first; k < schedule.size(); ++k) {
         stepper.advance(u, schedule[k], static_cast<int>(k + 1), stats);

@@ -182,14 +182,13 @@ class StateStepper {
       }
       return r;
     };
-    auto give_up = [&](double tau, const NewtonResult& r) {
+    auto give_up = [&](double tau, const NewtonResult& r, const std::string& why) {
       std::ostringstream msg;
-      msg << "state '" << plan_->name << "' at " << tau << " of the way: Newton did not converge ("
-          << r.reason << ", residual " << r.residual_norm << " after " << r.iterations
-          << " iterations, " << config_.time.max_cutbacks << " halvings of the increment)";
+      msg << "state '" << plan_->name << "' at " << tau << " of the way: " << why;
       // The element is named when inversion is the reason (a trial step that inverted one
       // and was halved does not make it the cause of a failure by iteration count).
-      if (problem_.inverted_element() >= 0 && r.reason.find("invert") != std::string::npos)
+      if (!r.converged && problem_.inverted_element() >= 0 &&
+          r.reason.find("invert") != std::string::npos)
         msg << "; element " << problem_.inverted_element() << " is inverted (det F <= 0)";
       // A pressure ramped past the cavity's pressure extremum (the peak of an inflation, the
       // buckling of walls under suction) has no equilibrium nearby.
@@ -205,7 +204,8 @@ class StateStepper {
       }
       throw SolveError(msg.str());
     };
-    advance_with_cutback(tau_, tau_to, config_.time.max_cutbacks, stats_, attempt, give_up);
+    advance_with_cutback(tau_, tau_to, config_.time.max_cutbacks, stats_, problem_.comm(), attempt,
+                         give_up);
   }
 
  private:
@@ -286,6 +286,7 @@ StateRun run_states(const Config& config, Problem& problem, ConstraintSet& const
     for (size_t k = 0; k < k0; ++k) done += static_cast<int>(plans[k].taus.size());
     done += static_cast<int>(i0);
   }
+  stats.max_steps = max_substeps(total);
   Progress progress(config.output.progress, comm, total);
   for (size_t k = k0; k < plans.size(); ++k) {
     StatePlan& plan = plans[k];

@@ -18,6 +18,7 @@ input ends the run, which then writes its output folder as any run does. Numbers
 import json
 import os
 import shutil
+import signal
 import subprocess
 import tempfile
 import time
@@ -110,12 +111,16 @@ class Scene:
             cmd = [shutil.which("mpirun") or "mpirun", "--oversubscribe", "-np", str(ranks)]
             if os.geteuid() == 0:
                 cmd.append("--allow-run-as-root")
-        cmd += [exe, self.deck, "--targets", "-", "--set", "output.folder=" + self.folder]
+        # The folder's path goes in as a YAML string in double quotes (JSON's are YAML's):
+        # bare, a ' #' in it would start a comment and cut the path there.
+        cmd += [exe, self.deck, "--targets", "-",
+                "--set", "output.folder=" + json.dumps(self.folder, ensure_ascii=False)]
         for kv in overrides:
             cmd += ["--set", kv]
         env = dict(os.environ)
         env.setdefault("OPENBLAS_NUM_THREADS", "1")
         self._log = open(self.log_path, "w")
+        self._mpirun = ranks > 1
         self._proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                       stderr=self._log, text=True, bufsize=1, env=env)
 
@@ -192,15 +197,36 @@ class Scene:
         return self.summary
 
     def kill(self):
-        """Stops the run at once (SIGTERM: it keeps its answered steps in FOLDER.failed)."""
+        """Stops the run at once: SIGTERM, on which hydrosoft keeps its answered steps in
+        FOLDER.failed (summary.json "status": "failed"); SIGKILL after 30 s.
+
+        Under mpirun the signal goes to the ranks themselves: mpirun, signalled, first closes
+        their standard input, which ends the session as its client's end would, and the run
+        was kept as a good result before mpirun passed the signal on (a second later)."""
         if self._proc.poll() is None:
-            self._proc.terminate()
+            for pid in (self._ranks() if self._mpirun else []) or [self._proc.pid]:
+                try:
+                    os.kill(pid, signal.SIGTERM)
+                except ProcessLookupError:
+                    pass
             try:
                 self._proc.wait(timeout=30)
             except subprocess.TimeoutExpired:
                 self._proc.kill()
                 self._proc.wait()
         self._release()
+
+    def _ranks(self):
+        """The processes mpirun started on this machine (its children, from /proc), or []."""
+        children = []
+        try:
+            tasks = os.listdir("/proc/%d/task" % self._proc.pid)
+            for task in tasks:
+                with open("/proc/%d/task/%s/children" % (self._proc.pid, task)) as f:
+                    children += [int(pid) for pid in f.read().split()]
+        except (OSError, ValueError):
+            return []
+        return children
 
     def _release(self):
         for stream in (self._proc.stdin, self._proc.stdout, self._log):

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <vector>
 
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 
 namespace hs {
@@ -20,15 +22,15 @@ std::string g(double x) {
   return text;
 }
 
-// Whether a word is a finite number (then in x), the whole word read.
+// Whether a word is a finite number (then in x), the whole word read. strtod, not std::stod:
+// stod throws on any ERANGE, which strtod also sets for an underflow (1e-320, a subnormal,
+// or 1e-400, which rounds to 0), a finite number; an overflow gives +-HUGE_VAL, not finite.
 bool finite_number(const std::string& word, double& x) {
-  std::size_t used = 0;
-  try {
-    x = std::stod(word, &used);
-  } catch (const std::exception&) {  // not a number, or beyond the range of a double
-    return false;
-  }
-  return used == word.size() && std::isfinite(x);
+  if (word.empty()) return false;
+  char* end = nullptr;
+  x = std::strtod(word.c_str(), &end);
+  // A NUL ends strtod's reading: the word read whole is all of its bytes, NUL included.
+  return end == word.c_str() + word.size() && std::isfinite(x);
 }
 
 }  // namespace
@@ -60,8 +62,11 @@ bool read_target_line(std::istream& in, std::size_t keep, std::string& kept, std
 }
 
 std::string quote_target_line(const std::string& kept, std::size_t length) {
-  if (length <= kQuotedWhole && kept.size() == length) return "'" + kept + "'";
-  return "'" + kept.substr(0, kQuotedStart) + "...' (" + std::to_string(length) + " characters)";
+  // Control bytes written out (a NUL as \x00): a message is a C string on its way to the
+  // user (an exception's what()), which a NUL would cut, and one line on a terminal.
+  if (length <= kQuotedWhole && kept.size() == length) return "'" + printable(kept) + "'";
+  return "'" + printable(kept.substr(0, kQuotedStart)) + "...' (" + std::to_string(length) +
+         " characters)";
 }
 
 TargetWords parse_target_words(const std::string& line) {

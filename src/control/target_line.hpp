@@ -21,7 +21,7 @@ inline constexpr std::size_t kTargetLineKept = 4096;
 bool read_target_line(std::istream& in, std::size_t keep, std::string& kept, std::size_t& length);
 
 // The line as a message quotes it: whole when short, else its start, "...", and its length,
-// so that a 1 MB line gives a message of one short line.
+// so that a 1 MB line gives a message of one short line; control bytes written out (\x00).
 std::string quote_target_line(const std::string& kept, std::size_t length);
 
 struct TargetWords {
@@ -29,9 +29,9 @@ struct TargetWords {
   std::array<double, 3> position{};
 };
 
-// "x y z" or "effector x y z", each coordinate a finite number (m). Throws InputError with the
-// reason alone (the caller names the line): an empty line, a wrong count of words, a word that
-// is not a finite number.
+// "x y z" or "effector x y z", each coordinate a finite number (m; a subnormal such as 1e-320
+// is one). Throws InputError with the reason alone (the caller names the line): an empty line,
+// a wrong count of words, a word that is not a finite number.
 TargetWords parse_target_words(const std::string& line);
 
 // How far the controller answers: a target farther from the body than this many body sizes

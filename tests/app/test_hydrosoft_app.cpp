@@ -1,9 +1,10 @@
 // The hydrosoft executable as a client or a user runs it: in the interactive mode
 // (`--targets -`) standard output carries only the JSON lines, one per input line, whatever
 // else the run prints (its configuration, its summary, a PETSc-level monitor), on 1 and 2
-// ranks; a second run on the output folder of a run in progress fails at once while the
-// first one finishes with consistent results; and a mesh that hides a shell command where the
-// checks before gmsh once did not look runs no command, however the run is started.
+// ranks; a client that closes its pipes mid-step ends the session with its steps kept; a
+// second run on the output folder of a run in progress fails at once while the first one
+// finishes with consistent results; and a mesh that hides a shell command where the checks
+// before gmsh once did not look runs no command, however the run is started.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -77,6 +78,59 @@ TEST_P(InteractiveOutput, StandardOutputHoldsOnlyTheJsonLines) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Ranks, InteractiveOutput, ::testing::Values(1, 2));
+
+// A client that reads one answer, sends a second line and closes both its pipes while that
+// line is being stepped. Before, the answer's write raised SIGPIPE: a PETSc dump, exit 59,
+// only `.partial` left. Now the write's EPIPE ends the session: exit 0 and the folder holds
+// both answered steps. Under mpiexec the ranks write to mpiexec, which holds the pipe and
+// drops what it cannot pass on: the session ends at the end of its input, the same results.
+class ClientGoesAway : public ::testing::TestWithParam<int> {};
+
+TEST_P(ClientGoesAway, ClosingBothPipesMidStepKeepsTheAnsweredSteps) {
+  const int ranks = GetParam();
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "run").string();
+  const std::string in_fifo = (tmp.path() / "in").string(),
+                    out_fifo = (tmp.path() / "out").string(), err = (tmp.path() / "err").string();
+  ASSERT_EQ(mkfifo(in_fifo.c_str(), 0600), 0);
+  ASSERT_EQ(mkfifo(out_fifo.c_str(), 0600), 0);
+  // 4 control steps a target: the second line's step outlasts the client's closing.
+  std::string command = finger_command(folder) + " -q --set control.steps_per_target=4 " +
+                        "--targets - < " + in_fifo + " > " + out_fifo + " 2> " + err;
+  if (ranks > 1) command = std::string(HYDROSOFT_MPIEXEC) + " -np 2 " + command;
+  const pid_t pid = start(command);
+  const int to_run = open(in_fifo.c_str(), O_WRONLY);
+  const int from_run = open(out_fifo.c_str(), O_RDONLY);
+  ASSERT_GE(to_run, 0);
+  ASSERT_GE(from_run, 0);
+  const std::string first = "0.09 0 -0.012\n", second = "0.09 0 -0.008\n";
+  ASSERT_EQ(write(to_run, first.data(), first.size()), static_cast<ssize_t>(first.size()));
+  std::string answer;
+  for (char c = 0; c != '\n' && read(from_run, &c, 1) == 1;) answer += c;
+  ASSERT_NE(answer.find("\"answer\""), std::string::npos) << answer << text_of(err);
+  ASSERT_EQ(write(to_run, second.data(), second.size()), static_cast<ssize_t>(second.size()));
+  close(from_run);
+  close(to_run);
+  EXPECT_EQ(wait_for(pid), 0) << text_of(err);
+
+  const auto summary = nlohmann::json::parse(text_of(folder + "/summary.json"));
+  EXPECT_EQ(summary["status"], "ok");
+  EXPECT_EQ(summary["targets"].size(), 2u);
+  EXPECT_EQ(summary["outputs"], 4 + 2);
+  EXPECT_EQ(summary["input"]["lines"], 2);
+  if (ranks == 1) {
+    EXPECT_EQ(summary["input"]["end"], "standard output closed");
+    EXPECT_EQ(summary["input"]["undelivered"], 1);
+    EXPECT_NE(text_of(err).find("hydrosoft: standard output is closed (the client is gone)"),
+              std::string::npos)
+        << text_of(err);
+  }
+  EXPECT_EQ(text_of(err).find("PETSC ERROR"), std::string::npos) << text_of(err);
+  EXPECT_FALSE(fs::exists(folder + ".partial"));
+  EXPECT_FALSE(fs::exists(folder + ".failed"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Ranks, ClientGoesAway, ::testing::Values(1, 2));
 
 TEST(SharedOutputFolder, ASecondRunFailsAtOnceAndTheFirstFinishes) {
   TempFolder tmp;

@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -238,6 +239,72 @@ TEST_P(Interrupted, BySigtermKeepsTheStepsSoFarAndExits143) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Ranks, Interrupted, ::testing::Values(1, 2));
+
+// The exit status of `pid` if it ends within `seconds`; else it is killed (SIGKILL) and -2.
+int wait_at_most(pid_t pid, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const pid_t done = waitpid(pid, &status, WNOHANG);
+    if (done == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  return -2;
+}
+
+// The Gent sphere with nu = 0 converges 7 load steps, then cuts step 8 back for minutes (its
+// sub-steps converge and the doubled increment after each fails). SIGTERM during those
+// cutbacks: before, the signal was looked at only when a step ended, so the run went on (400 s
+// and more, until SIGKILL, leaving only .partial); now the cutback loop asks before every
+// solve, and the run stops within one, keeping its 7 steps.
+class InterruptedCutback : public ::testing::TestWithParam<int> {};
+
+TEST_P(InterruptedCutback, SigtermStopsAStepThatCutsBackWithinOneSolve) {
+  const int ranks = GetParam();
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "sphere").string();
+  const std::string err = (tmp.path() / "err").string();
+  std::string command = std::string(HYDROSOFT_EXE) + " " + kSource +
+                        "/input/gent_sphere.yaml -q --set materials[0].nu=0 "
+                        "--set mesh.parameters.h=0.5 --set output.folder=" +
+                        folder + " 2> " + err;
+  if (ranks > 1) command = std::string(HYDROSOFT_MPIEXEC) + " -np 2 " + command;
+  const pid_t pid = start(command);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  auto rows = [&] {
+    std::ifstream in(folder + ".partial/history.csv");
+    int n = 0;
+    for (std::string line; std::getline(in, line);) ++n;
+    return n - 1;
+  };
+  while (rows() < 7 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_EQ(rows(), 7) << text_of(err);
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // into step 8's cutbacks
+  pid_t target = pid;
+  if (ranks > 1) {
+    std::stringstream children(
+        text_of("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children"));
+    for (pid_t child; children >> child;) target = child;
+    ASSERT_NE(target, pid) << "no rank process found under mpiexec";
+  }
+  const auto signalled = std::chrono::steady_clock::now();
+  ASSERT_EQ(kill(target, SIGTERM), 0);
+  EXPECT_EQ(wait_at_most(pid, 60), 143) << text_of(err);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+  std::cout << "stopped " << seconds << " s after SIGTERM" << std::endl;
+  const auto summary = json_of(folder + ".failed/summary.json");
+  EXPECT_EQ(summary["reason"], "interrupted by SIGTERM");
+  EXPECT_EQ(summary["outputs"], 7);
+  EXPECT_GT(summary["cutbacks"].get<int>(), 0);
+  EXPECT_DOUBLE_EQ(summary["last_converged"]["load_factor"].get<double>(), 0.7);
+  EXPECT_EQ(h5_steps(folder + ".failed/gent_sphere.h5"), 7);
+}
+
+INSTANTIATE_TEST_SUITE_P(Ranks, InterruptedCutback, ::testing::Values(1, 2));
 
 TEST(InterruptedInteractive, ASignalWhileWaitingForATargetStopsTheReading) {
   TempFolder tmp;

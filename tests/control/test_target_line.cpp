@@ -83,6 +83,29 @@ TEST(TargetLine, BadWordsSayWhy) {
   EXPECT_LT(reason_of("0 0 " + std::string(10000, '9') + "x").size(), 200u);
 }
 
+// Before, a NUL cut the message where it stood (an exception's what() is a C string): the
+// line "0.09 0<NUL> -0.012" was refused with "coordinate y '0" and nothing after it.
+TEST(TargetLine, ANulIsWrittenOutAndTheMessageKeepsItsEnd) {
+  const std::string line("0.09 0\0 -0.012", 14);
+  EXPECT_EQ(reason_of(line), "coordinate y '0\\x00' is not a finite number");
+  EXPECT_EQ(quote_target_line(line, line.size()), "'0.09 0\\x00 -0.012'");
+  std::string long_line = line + std::string(100, ' ') + "\x1b[2J";
+  EXPECT_EQ(quote_target_line(long_line, long_line.size()),
+            "'0.09 0\\x00 -0.012                          ...' (118 characters)");
+  EXPECT_EQ(quote_target_line("a\tb\r", 4), "'a\\tb\\r'");
+}
+
+// Before, 1e-320 was refused as "not a finite number": std::stod throws on the ERANGE that
+// strtod sets for an underflow. A subnormal is finite, and is read as the number it is.
+TEST(TargetLine, SubnormalsAndUnderflowsAreFiniteNumbers) {
+  const TargetWords t = parse_target_words("1e-320 -5e-324 1e-400");
+  EXPECT_EQ(t.position[0], 1e-320);
+  EXPECT_GT(t.position[0], 0);
+  EXPECT_EQ(t.position[1], -5e-324);
+  EXPECT_EQ(t.position[2], 0);  // below the least subnormal: rounds to 0
+  EXPECT_EQ(parse_target_words("0x1p3 0 0").position[0], 8);
+}
+
 TEST(TargetLine, ReachIsAThousandBodySizes) {
   const std::array<double, 3> low = {0, 0, 0}, high = {3, 4, 0};     // size 5
   EXPECT_EQ(target_reach_problem({1, 1, 0}, low, high), "");         // inside

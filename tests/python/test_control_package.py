@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """The Python control package (python/hydrosoft_control) against real runs of the coarse
 hydraulic finger: answers reach the target, a refused line raises and the scene goes on, the
-answers are those summary.json records, 2 ranks answer as 1, and a scene that cannot start
-says why.
+answers are those summary.json records, 2 ranks answer as 1, a scene that cannot start
+says why, a killed scene is kept as failed on 1 and 2 ranks, and an output folder whose path
+holds ' #' is written there.
 
     HYDROSOFT=build/bin/hydrosoft /usr/bin/python3 tests/python/test_control_package.py
 """
+import json
 import os
 import shutil
 import sys
@@ -51,7 +53,8 @@ class ControlPackage(unittest.TestCase):
         self.assertLess(low.actuation[0], high.actuation[0])  # higher takes more pressure
         self.assertEqual((low.line, high.line), (1, 3))
         summary = scene.summary
-        self.assertEqual(summary["input"], {"lines": 3, "answered": 2, "rejected": 1})
+        self.assertEqual(summary["input"], {"lines": 3, "answered": 2, "rejected": 1,
+                                            "end": "end of input", "undelivered": 0})
         for answer, entry in zip((low, high), summary["targets"]):
             np.testing.assert_array_equal(answer.reached, entry["reached"])
             np.testing.assert_array_equal(answer.actuation, entry["actuation"])
@@ -74,6 +77,32 @@ class ControlPackage(unittest.TestCase):
             scene.reach(LOW)
         self.assertIn("control.steps_per_target", str(bad.exception))
         scene.kill()
+
+
+    def test_a_killed_scene_is_kept_as_failed(self):
+        # Before, on 2 ranks the SIGTERM went to mpirun, which first closed the ranks' input:
+        # the session ended as if its client had ended it and was kept as a good result.
+        for ranks in (1, 2):
+            scene = self.scene("killed%d" % ranks, ranks=ranks)
+            scene.reach(LOW)
+            scene.kill()
+            self.assertEqual(scene._proc.returncode, 143, scene._messages())
+            self.assertFalse(os.path.exists(scene.folder), ranks)
+            with open(os.path.join(scene.folder + ".failed", "summary.json")) as f:
+                summary = json.load(f)
+            self.assertEqual(summary["status"], "failed")
+            self.assertEqual(summary["reason"], "interrupted by SIGTERM")
+            self.assertEqual(len(summary["targets"]), 1)
+
+    def test_an_output_folder_with_a_yaml_comment_in_its_path(self):
+        # Before, the path was cut at " #" (a YAML comment): the results replaced "<tmp>/a".
+        parent = os.path.join(self.tmp, "a #b")
+        os.mkdir(parent)
+        with Scene(DECK, overrides=COARSE, output_folder=os.path.join(parent, "run")) as scene:
+            scene.reach(LOW)
+        self.assertEqual(scene.summary["status"], "ok")
+        self.assertEqual(sorted(os.listdir(self.tmp)), ["a #b"])
+        self.assertTrue(os.path.isfile(os.path.join(parent, "run", "finger_hydraulic.h5")))
 
 
 if __name__ == "__main__":

@@ -2,7 +2,8 @@
 // 1 and 2 ranks: every line gets exactly one JSON line; a bad one (wrong count of words, not
 // a number, NaN or inf, a target too far to be answered, an empty line, an unknown effector,
 // a megabyte of garbage) gets an error naming its line and changes nothing, and the loop goes
-// on to the end of the input; the run's results are kept.
+// on to the end of the input, or until its answers can no longer be written; the run's
+// results are kept.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -35,12 +36,18 @@ hs::Config finger(const std::string& tag) {
 
 // Runs the small hydraulic finger with `input` as its standard input; the JSON lines it
 // writes (rank 0) go to `written`. Returns the summary (complete on rank 0).
+// With `writable` >= 0, only that many lines can be written, as to a client that then closes
+// its end of standard output.
 nlohmann::json run_interactive(const std::string& input, std::vector<nlohmann::json>& written,
-                               const std::string& tag) {
+                               const std::string& tag, int writable = -1) {
   std::istringstream in(input);
   hs::InteractiveIo io;
   io.input = &in;
-  io.write_line = [&](const std::string& line) { written.push_back(nlohmann::json::parse(line)); };
+  io.write_line = [&, writable](const std::string& line) {
+    if (writable >= 0 && static_cast<int>(written.size()) >= writable) return false;
+    written.push_back(nlohmann::json::parse(line));
+    return true;
+  };
   return hs::run_simulation(finger(tag), MPI_COMM_WORLD, io);
 }
 
@@ -93,7 +100,11 @@ TEST(Interactive, BadLinesAreAnsweredWithAnErrorAndTheLoopGoesOn) {
   EXPECT_NE(error_of(written[8]).find("(1048576 characters)"), std::string::npos);
 
   // The results are kept: two target sets, one output step each, in summary.json too.
-  EXPECT_EQ(summary["input"], nlohmann::json({{"lines", 10}, {"answered", 2}, {"rejected", 8}}));
+  EXPECT_EQ(summary["input"], nlohmann::json({{"lines", 10},
+                                              {"answered", 2},
+                                              {"rejected", 8},
+                                              {"end", "end of input"},
+                                              {"undelivered", 0}}));
   ASSERT_EQ(summary["targets"].size(), 2u);
   EXPECT_EQ(summary["targets"][1]["line"], 10);
   EXPECT_EQ(written[9]["answer"]["step"].get<int>(), written[0]["answer"]["step"].get<int>() + 1);
@@ -125,6 +136,45 @@ TEST(Interactive, EndOfInputAtOnceEndsTheRunWithItsStates) {
   EXPECT_TRUE(written.empty());
   EXPECT_EQ(summary["input"]["lines"], 0);
   EXPECT_TRUE(summary["targets"].empty());
+}
+
+// The client reads two answers and closes its end of standard output: the third line is
+// stepped, its answer cannot be written, and the session ends there as at the end of its
+// input (the lines after it are not read), its results kept as a run's, on every rank.
+TEST(Interactive, AClosedStandardOutputEndsTheSessionAndKeepsItsSteps) {
+  std::vector<nlohmann::json> written;
+  const nlohmann::json summary =
+      run_interactive("0.09 0 -0.012\nx\n0.09 0 -0.008\n0.09 0 -0.010\n", written, "closed", 2);
+  EXPECT_EQ(summary["input"]["end"], "standard output closed");
+  EXPECT_EQ(summary["input"]["lines"], 3);
+  EXPECT_EQ(summary["targets"].size(), 2u);
+  if (world_rank() != 0) return;
+  ASSERT_EQ(written.size(), 2u);
+  EXPECT_EQ(summary["input"], nlohmann::json({{"lines", 3},
+                                              {"answered", 2},
+                                              {"rejected", 1},
+                                              {"end", "standard output closed"},
+                                              {"undelivered", 1}}));
+  EXPECT_EQ(summary["status"], "ok");
+  EXPECT_EQ(summary["outputs"], 4 + 2);  // the state's 4 steps, the two target sets
+  std::ifstream file(summary["output"]["folder"].get<std::string>() + "/summary.json");
+  ASSERT_TRUE(file.good());
+  EXPECT_EQ(nlohmann::json::parse(file)["targets"][1]["line"], 3);
+}
+
+// A NUL in a line: the error quotes the whole line with the NUL written out (before, the
+// message ended at the NUL). A subnormal coordinate is a number: the same answer as 0.
+TEST(Interactive, ANulIsWrittenOutAndASubnormalIsANumber) {
+  std::vector<nlohmann::json> written, plain;
+  run_interactive(std::string("0.09 0\0 -0.012\n0.09 1e-320 -0.012\n", 34), written, "nul");
+  run_interactive("0.09 0 -0.012\n", plain, "plain");
+  if (world_rank() != 0) return;
+  ASSERT_EQ(written.size(), 2u);
+  EXPECT_EQ(error_of(written[0]),
+            "coordinate y '0\\x00' is not a finite number: '0.09 0\\x00 -0.012'");
+  ASSERT_TRUE(written[1].contains("answer")) << written[1];
+  EXPECT_EQ(written[1]["answer"]["target"][1].get<double>(), 1e-320);
+  EXPECT_EQ(written[1]["answer"]["reached"], plain[0]["answer"]["reached"]);
 }
 
 TEST(Interactive, ADeckTargetTooFarStopsTheRunBeforeAnyStep) {

@@ -1,16 +1,20 @@
 // The distributed problem as a whole, on 1 and 2 ranks: the assembled tangent is the
 // derivative of the assembled residual (finite differences through ghosts, Dirichlet rows,
 // follower pressure and gravity together), the matrix is preallocated exactly (insertion
-// outside the pattern is an error) and carries the six rigid-body modes, and the solver
-// options take the command line over the deck over the preset.
+// outside the pattern is an error) and carries the six rigid-body modes, the solver
+// options take the command line over the deck over the preset, and boundary entries that
+// prescribe one node differently are refused before any solve.
 #include <gtest/gtest.h>
 #include <petscsnes.h>
 
+#include <filesystem>
 #include <random>
 
 #include "common/error.hpp"
+#include "deck/boundary_conflicts.hpp"
 #include "deck/deck.hpp"
 #include "mesh/distribution.hpp"
+#include "mesh/mesh_h5.hpp"
 #include "mesh/rigid_motions.hpp"
 #include "run_deck.hpp"
 #include "solvers/distributed_mesh.hpp"
@@ -375,6 +379,114 @@ TEST(FreeBody, FreeRigidMotionsOfTheUnitCube) {
   EXPECT_EQ(free("x_edge", {true, true, true}), V{"rotation about x"});
   EXPECT_EQ(free("corner", {true, true, true}).size(), 3u);  // the three rotations
   EXPECT_EQ(free("corner", {false, false, false}).size(), 6u);
+}
+
+// The unit block (meshes/block.geo, h = 0.5) clamped at its bottom, its face x = 0 moved by
+// 0.03 m along x: the 3 nodes of the edge they share take two values of x. Before, the later
+// entry won there and step 2 of a neo-Hookean block halved its increment without end. Read
+// from the .geo (on rank 0, then distributed) and from an .h5 (read in parts by every rank,
+// so that a node's groups come from other ranks): the same message on 1 and 2 ranks.
+TEST(BoundaryConflicts, TwoValuesOfOneNodeAreRefusedNamingBothEntries) {
+  const std::string conditions = "boundary=[{group: bottom}, {group: x0, value: [0.03, 0, 0]}]";
+  const std::string message =
+      "hydrostatic_patch.yaml: boundary[1]: group 'x0' prescribes x = 0.03 m on 3 nodes that "
+      "boundary[0] (group 'bottom') prescribes x = 0 m (one at (0, 0, 0)); a component of a "
+      "node takes one condition: give both the same value, or leave the shared nodes out of one "
+      "of the groups";
+  const std::vector<std::string> block = {"mesh.order=1", "exact={type: none}", "time.steps=2",
+                                          "materials[0].model=neo_hookean", conditions};
+  auto refused = [&](const std::vector<std::string>& overrides, const std::string& tag) {
+    try {
+      hs_test::run_deck("hydrostatic_patch.yaml", overrides, tag);
+      return std::string("run");
+    } catch (const hs::InputError& e) {
+      EXPECT_FALSE(std::filesystem::exists(hs_test::out_folder(tag))) << tag;
+      return std::string(e.what());
+    }
+  };
+  std::string m = refused(block, "geo");
+  EXPECT_NE(m.find(message), std::string::npos) << m;
+
+  const std::string h5 = hs_test::out_folder("block.h5");
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  const hs::Config config =
+      hs::parse_deck(kSource + "/input/hydrostatic_patch.yaml", {"mesh.order=1"});
+  const auto mesh = hs::load_mesh_on_rank_zero(config.mesh, PETSC_COMM_WORLD);
+  if (rank == 0) hs::write_mesh_h5(*mesh, h5);
+  MPI_Barrier(PETSC_COMM_WORLD);
+  std::vector<std::string> from_h5 = block;
+  from_h5[0] = "mesh={file: " + h5 + "}";
+  m = refused(from_h5, "h5");
+  EXPECT_NE(m.find(message), std::string::npos) << m;
+
+  // A symmetry plane (x only) meeting a face moved along x; the y and z of the shared nodes
+  // are the moved face's alone, and agreeing entries (the same value, 0 ramped or not, an
+  // exact solution on every face) pass.
+  std::vector<std::string> plane = block;
+  plane.back() = "boundary=[{group: x0, components: [x]}, {group: bottom, value: [0.01, 0, 0]}]";
+  m = refused(plane, "plane");
+  EXPECT_NE(m.find("boundary[1]: group 'bottom' prescribes x = 0.01 m on 3 nodes that "
+                   "boundary[0] (group 'x0') prescribes x = 0 m (one at (0, 0, 0))"),
+            std::string::npos)
+      << m;
+}
+
+// The corners of the unit cube, by hand: which pairs of entries conflict, and the message's
+// count, components and first node (the smallest coordinates).
+TEST(BoundaryConflicts, WhatConflictsAndWhatAgrees) {
+  const std::vector<double> x = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0,
+                                 0, 0, 1, 1, 0, 1, 0, 1, 1, 1, 1, 1};
+  const std::map<std::string, std::vector<int32_t>> groups = {
+      {"bottom", {0, 1, 2, 3}}, {"x0", {0, 2, 4, 6}}, {"x1", {1, 3, 5, 7}}};
+  auto bc = [](const std::string& group, std::array<double, 3> value, bool scaled = true,
+               std::array<bool, 3> components = {true, true, true}) {
+    hs::DirichletConfig c;
+    c.group = group;
+    c.value = value;
+    c.scaled = scaled;
+    c.components = components;
+    return c;
+  };
+  // Radial from the origin: 0 along x on the plane x = 0, as a symmetry plane there.
+  const hs::ExactValue radial = [](const std::array<double, 3>& X, double s) {
+    return std::array<double, 3>{0.1 * s * X[0], 0.1 * s * X[1], 0.1 * s * X[2]};
+  };
+  auto check = [&](std::vector<hs::DirichletConfig> conditions) {
+    hs::Config config;
+    config.deck_path = "deck.yaml";
+    config.dirichlet = std::move(conditions);
+    try {
+      hs::check_boundary_conflicts(config, groups, x, 8, radial, MPI_COMM_SELF);
+      return std::string();
+    } catch (const hs::InputError& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_EQ(check({bc("bottom", {0, 0, 0}), bc("x0", {0, 0, 0})}), "");
+  EXPECT_EQ(check({bc("bottom", {0, 0, 0}, false), bc("x0", {0, 0, 0})}), "");
+  EXPECT_EQ(check({bc("bottom", {0, 0, 0}), bc("x0", {0, 0, 0.2}, true, {true, true, false})}), "");
+  EXPECT_EQ(check({bc("x0", {0, 0, 0}, true, {true, false, false}), bc("x1", {0.5, 0, 0})}), "");
+  hs::DirichletConfig exact = bc("bottom", {0, 0, 0}, true, {true, true, false});
+  exact.exact = true;
+  EXPECT_EQ(check({bc("x0", {0, 0, 0}, true, {true, false, false}), exact}), "");
+  EXPECT_EQ(check({bc("bottom", {0, 0, 0}), bc("x0", {0, 0.2, 0.1}), bc("x1", {0, 0, 0.1})}),
+            "deck.yaml: boundary[1]: group 'x0' prescribes y = 0.2 m, z = 0.1 m on 2 nodes that "
+            "boundary[0] (group 'bottom') prescribes y = 0 m, z = 0 m (one at (0, 0, 0)); a "
+            "component of a node takes one condition: give both the same value, or leave the "
+            "shared nodes out of one of the groups");
+  EXPECT_NE(check({bc("bottom", {0.1, 0, 0}, false), bc("x1", {0.1, 0, 0})})
+                .find("group 'x1' prescribes x = 0.1 m on 2 nodes that boundary[0] (group "
+                      "'bottom') prescribes x = 0.1 m at once (scaled: false) (one at (1, 0, 0))"),
+            std::string::npos);
+  EXPECT_NE(check({exact, bc("x1", {0, 0, 0}, true, {true, false, false})})
+                .find("group 'x1' prescribes x = 0 m on 2 nodes that boundary[0] (group "
+                      "'bottom') prescribes x from the exact solution (one at (1, 0, 0))"),
+            std::string::npos);
+  // The later of three: x1 agrees with bottom, x0 does not.
+  EXPECT_NE(check({bc("bottom", {0, 0, 0}), bc("x1", {0, 0, 0}), bc("x0", {0, 0, 1})})
+                .find("boundary[2]: group 'x0' prescribes z = 1 m on 2 nodes that boundary[0]"),
+            std::string::npos);
 }
 
 TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {

@@ -1,16 +1,20 @@
 // Time and load stepping: Newmark conserves the total energy of a linear elastic body under
 // a dead load (a conservation law the scheme must satisfy to round-off); backward Euler
 // dissipates it; a quasi-static schedule that unloads ends on the exact solution of its
-// last load factor.
+// last load factor. The cutback of a load step always ends, whatever its solves do.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
+#include "common/error.hpp"
 #include "deck/deck.hpp"
 #include "run_deck.hpp"
 #include "solvers/simulation.hpp"
+#include "solvers/stepping.hpp"
 
 namespace {
 
@@ -42,6 +46,97 @@ TEST(Stepping, QuasiStaticScheduleUnloads) {
           {"time.type=quasi_static", "time.steps=2", "time.schedule=[1.0, 0.25]"}, "schedule");
   EXPECT_EQ(s["steps"].get<int>(), 2);
   EXPECT_LT(s["error"]["l2_relative"].get<double>(), 1e-8);
+}
+
+// A step whose solve converges within `radius` of the last converged parameter, the radius
+// multiplied by `shrink` after each success: advance_with_cutback from 0 to 1 with it. The
+// solves are counted, and more than 100,000 of them is a failure (a cutback without end).
+struct CutbackRun {
+  int solves = 0, successes = 0;
+  std::string why;  // what give_up was told; empty if the step reached its end
+  double last = 0;  // the last converged parameter
+};
+
+CutbackRun cut_back(double from, double to, int max_cutbacks, double radius, double shrink,
+                    int64_t max_steps = 0) {
+  CutbackRun run;
+  run.last = from;
+  hs::SteppingStats stats;
+  stats.max_steps = max_steps;
+  auto attempt = [&](double t) {
+    if (++run.solves > 100000) throw std::runtime_error("100000 solves: the cutback does not end");
+    hs::NewtonResult r;
+    r.iterations = 1;
+    r.converged = std::abs(t - run.last) <= radius;
+    r.reason = r.converged ? "CONVERGED_FNORM_ABS" : "DIVERGED_MAX_IT";
+    if (r.converged) {
+      run.last = t;
+      ++run.successes;
+      radius *= shrink;
+    }
+    return r;
+  };
+  try {
+    hs::advance_with_cutback(
+        from, to, max_cutbacks, stats, MPI_COMM_WORLD, attempt,
+        [](double, const hs::NewtonResult&, const std::string& why) { throw hs::SolveError(why); });
+  } catch (const hs::SolveError& e) {
+    run.why = e.what();
+  }
+  EXPECT_EQ(stats.steps, run.successes);
+  EXPECT_EQ(stats.cutbacks, run.solves - run.successes);
+  return run;
+}
+
+// The sub-steps converge ever closer to where the step sticks (the reachable distance a
+// quarter of the last each time): the increment halves without end. Before, the count of
+// halvings started again after each converged sub-step, the parameter stopped changing, and
+// the solve at that same value converged again and again.
+TEST(Cutback, AnIncrementBelowTheLeastAStepTakesEndsTheStep) {
+  const CutbackRun run = cut_back(0, 1, 1000, 0.01, 0.25);
+  EXPECT_NE(run.why.find("Newton did not converge (DIVERGED_MAX_IT"), std::string::npos) << run.why;
+  EXPECT_NE(run.why.find("a smaller one is below the least a step takes (2^-40 of it)"),
+            std::string::npos)
+      << run.why;
+  EXPECT_LT(run.solves, 200);
+  EXPECT_LT(run.last, 0.02);
+}
+
+// A step of a few units in the last place of its parameter: the increment stops changing it
+// after a few halvings, long before 2^-40 or the deck's 1000 halvings in a row.
+TEST(Cutback, AnIncrementThatNoLongerChangesTheParameterEndsTheStep) {
+  const CutbackRun run = cut_back(1, 1 + 1e-14, 1000, 0, 1);
+  EXPECT_NE(run.why.find("halving the increment again would leave 1 unchanged in floating point"),
+            std::string::npos)
+      << run.why;
+  EXPECT_LE(run.solves, 8);  // 1e-14 is 45 units in the last place of 1
+  EXPECT_EQ(run.successes, 0);
+}
+
+// Each sub-step converges at 1/1000 of the step and the doubled increment after it fails:
+// two solves per sub-step, one of them a cutback, never 10 in a row. 80 cutbacks end it.
+TEST(Cutback, TheCutbacksOfOneStepAreBounded) {
+  const CutbackRun run = cut_back(0, 1, 10, 1e-3, 1);
+  EXPECT_NE(run.why.find("the step was cut back 80 times, the most a step may (8 x "
+                         "time.max_cutbacks)"),
+            std::string::npos)
+      << run.why;
+  EXPECT_EQ(run.solves - run.successes, 81);
+  // The same step with no bound hit ends at 1.
+  const CutbackRun easy = cut_back(0, 1, 10, 0.3, 1);
+  EXPECT_EQ(easy.why, "");
+  EXPECT_EQ(easy.last, 1);
+}
+
+TEST(Cutback, TheSubStepsOfARunAreBounded) {
+  const CutbackRun run = cut_back(0, 1, 8, 1.0 / 64, 1, 10);
+  EXPECT_NE(run.why.find("the run has taken 10 converged sub-steps, the most it may (16 per "
+                         "planned step, at least 256)"),
+            std::string::npos)
+      << run.why;
+  EXPECT_EQ(run.successes, 10);
+  EXPECT_EQ(hs::max_substeps(1), 256);
+  EXPECT_EQ(hs::max_substeps(100), 1600);
 }
 
 }  // namespace
