@@ -63,7 +63,9 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::js
 }
 
 CheckpointFile::CheckpointFile(const std::string& path) : path_(path) {
-  if (!std::filesystem::is_regular_file(path)) fail("no such file");
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    fail(error ? "cannot be examined: " + error.message() : "no such file");
   // Quiet: a file that is not HDF5 is said in one line, not in HDF5's error stack.
   H5E_auto2_t handler;
   void* data;
