@@ -12,9 +12,9 @@ namespace hs {
 
 std::string system_reason() { return std::strerror(errno); }
 
-std::string reserve_space(const std::string& path, int64_t bytes) {
-  const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
-  if (fd < 0) return system_reason();
+std::string reserve_space(const std::string& path, int64_t bytes, bool create) {
+  const int fd = open(path.c_str(), O_WRONLY | O_CLOEXEC | (create ? O_CREAT : 0), 0644);
+  if (fd < 0) return "cannot open the file: " + system_reason();
   struct stat st;
   int status = fstat(fd, &st);
   // Blocks allocated past the end escape the process's file size limit (RLIMIT_FSIZE), which
@@ -30,8 +30,9 @@ std::string reserve_space(const std::string& path, int64_t bytes) {
   close(fd);
   // A file system that cannot allocate ahead (some network and FUSE file systems).
   if (status != 0 && (error == EOPNOTSUPP || error == ENOSYS)) return {};
+  if (status == 0) return {};
   errno = error;
-  return status == 0 ? std::string() : system_reason();
+  return "no room for " + std::to_string((bytes + 1023) / 1024) + " KB more: " + system_reason();
 }
 
 void release_unused_space(const std::string& path) {

@@ -13,11 +13,12 @@
 
 namespace hs {
 
-// Allocates `bytes` past the end of the file at `path` (created if missing), keeping its
-// size. Returns "" when done, or when the file system cannot allocate ahead (then nothing is
-// reserved and a full disk is found by the write itself); otherwise the system's reason
-// ("No space left on device", "Disk quota exceeded").
-std::string reserve_space(const std::string& path, int64_t bytes);
+// Allocates `bytes` past the end of the file at `path` (created if missing and `create`),
+// keeping its size. Returns "" when done, or when the file system cannot allocate ahead (then
+// nothing is reserved and a full disk is found by the write itself); otherwise what failed
+// and the system's reason: "no room for 62 KB more: No space left on device" (or "Disk quota
+// exceeded", "File too large"), "cannot open the file: Permission denied".
+std::string reserve_space(const std::string& path, int64_t bytes, bool create);
 
 // Gives back the blocks allocated past the end of the file (best effort).
 void release_unused_space(const std::string& path);

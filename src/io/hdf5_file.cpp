@@ -47,12 +47,6 @@ std::string hdf5_reason() {
   return reason;
 }
 
-namespace {
-
-std::string kilobytes(int64_t bytes) { return std::to_string((bytes + 1023) / 1024) + " KB"; }
-
-}  // namespace
-
 int64_t Hdf5File::metadata_allowance(int64_t objects, int64_t siblings) {
   // Measured: an output step (a group, 5 datasets, 9 attributes) adds 4.3 KB of metadata; a
   // name in the root group's local heap, which doubles when full, about 16 bytes.
@@ -69,10 +63,9 @@ Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm, int64_t re
     parallel_ = size > 1;
   }
   created_ = mode != Mode::Append;
-  const std::string room = "no room for " + kilobytes(reserve) + " more";
   try {
     // The space first: a full disk stops the session before HDF5 has anything to write.
-    if (reserve > 0) check_reason(rank_ == 0 ? reserve_space(path, reserve) : "", room);
+    if (reserve > 0) agree(rank_ == 0 ? reserve_space(path, reserve, created_) : "");
     Hdf5Handle access{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
     if (parallel_) H5Pset_fapl_mpio(access.id, comm, MPI_INFO_NULL);
     if (mode == Mode::CreateLargeAttributes)
@@ -82,7 +75,7 @@ Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm, int64_t re
     check(file_ >= 0, created_ ? "cannot create the file" : "cannot open the file");
     // Creating truncated the file, which frees what was reserved: again (HDF5 has written
     // nothing yet).
-    if (reserve > 0 && created_) check_reason(rank_ == 0 ? reserve_space(path, reserve) : "", room);
+    if (reserve > 0 && created_) agree(rank_ == 0 ? reserve_space(path, reserve, true) : "");
   } catch (...) {
     discard();
     throw;
@@ -126,20 +119,20 @@ void Hdf5File::close() {
     else
       release_unused_space(path_);
   }
-  check_reason(status < 0 ? (reason.empty() ? "failed" : reason) : "", "cannot close the file");
+  agree(status < 0 ? "cannot close the file: " + (reason.empty() ? "failed" : reason) : "");
 }
 
 void Hdf5File::check(bool ok, const std::string& what) {
   if (ok) {
-    check_reason("", what);
+    agree("");
     return;
   }
   const std::string reason = hdf5_reason();
-  check_reason(reason.empty() ? "failed" : reason, what);
+  agree(what + ": " + (reason.empty() ? "failed" : reason));
 }
 
-void Hdf5File::check_reason(const std::string& reason, const std::string& what) {
-  const std::string error = reason.empty() ? std::string() : path_ + ": " + what + ": " + reason;
+void Hdf5File::agree(const std::string& problem) {
+  const std::string error = problem.empty() ? std::string() : path_ + ": " + problem;
   try {
     if (parallel_)
       throw_together<SolveError>(error, comm_);

@@ -85,9 +85,11 @@ class Hdf5File {
                  size_t count, size_t rows, size_t cols, size_t first);
   void write_attribute(const std::string& object, const std::string& name, hid_t type,
                        const void* value);
-  // Agreed by every rank: throws SolveError on all of them when `ok` is false on any.
+  // Agreed by every rank: throws SolveError on all of them when `ok` is false on any, with
+  // the path, `what` and HDF5's reason.
   void check(bool ok, const std::string& what);
-  void check_reason(const std::string& reason, const std::string& what);
+  // The same with this rank's problem ("" if none): "<path>: <problem>" on every rank.
+  void agree(const std::string& problem);
   // After a failure: closes the file; a created one is emptied first and removed.
   void discard();
 
