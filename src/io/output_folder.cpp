@@ -115,7 +115,7 @@ OutputFolder::OutputFolder(std::string folder) {
     throw InputError("output folder '" + final_ + "': cannot create the folder '" +
                      path.parent_path().string() + "': " + error.message());
   lock_ = std::make_unique<FolderLock>(final_);  // before anything is deleted
-  require_usable(final_);           // again, locked: nothing can change it under this run now
+  require_usable(final_);           // again under the lock: another run may have changed it
   fs::remove_all(staging_, error);  // a crashed run's leftovers (no other run holds the lock)
   if (!error) fs::create_directories(staging_, error);
   if (error)
