@@ -1,5 +1,6 @@
 #include "solvers/checkpoint.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <unordered_map>
@@ -119,27 +120,23 @@ void Checkpointer::write(nlohmann::json position, const NamedVecs& fields,
 
 Restart::Restart(const std::string& folder, const Config& config, MPI_Comm comm)
     : folder_(folder), comm_(comm) {
+  std::error_code ignored;  // a path that cannot be examined is refused as missing, below
   const std::string path =
-      std::filesystem::is_directory(folder) ? folder + "/checkpoint.h5" : folder;
+      std::filesystem::is_directory(folder, ignored) ? folder + "/checkpoint.h5" : folder;
   std::string error;
   try {
     file_ = std::make_unique<CheckpointFile>(path);
-    const nlohmann::json& s = file_->state();
-    const std::string kind = s.value("kind", ""), mine = stepping_kind(config);
-    // A control deck's states end with `last` set, its target sets go on from there.
-    const bool finished = s.contains("position") && s.at("position").value("last", false) &&
-                          (!config.control || s.at("position").contains("target_set"));
-    if (kind != mine)
-      error = "--restart: " + path + ": written by a " + kind + " run, this deck runs " + mine;
-    else if (s.value("fingerprint", "") != config_fingerprint(config))
-      error = "--restart: " + path + ": written for another deck or other values (" +
-              s.value("deck", std::string("?")) + "; configuration fingerprint " +
-              s.value("fingerprint", "") + ", this deck's " + config_fingerprint(config) +
-              "; only output keys may differ)";
-    else if (!s.contains("position"))
-      error = "--restart: " + path + ": holds no stepping position";
-    else if (finished)
-      error = "--restart: " + path + ": written at the run's last step; nothing is left to run";
+    check_checkpoint_state(file_->state(), config, path);
+    if (stepping_kind(config) == "dynamic") {
+      // The total energy after every step so far, and the initial one.
+      const size_t step = file_->state().at("position").at("step").get<size_t>();
+      const std::vector<double> energy = file_->series("energy");
+      if (energy.size() != step + 1 ||
+          !std::all_of(energy.begin(), energy.end(), [](double e) { return std::isfinite(e); }))
+        error = "--restart: " + path + ": /series/energy: must hold " + std::to_string(step + 1) +
+                " finite values (the initial energy and one per step done), has " +
+                std::to_string(energy.size()) + " values";
+    }
   } catch (const InputError& e) {
     error = e.what();
   } catch (const std::exception& e) {

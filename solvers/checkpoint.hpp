@@ -69,7 +69,8 @@ class Restart {
  public:
   // Collective, before the output folder is opened (which may clear FOLDER when it is that
   // folder's .partial: the file stays open and readable). Throws InputError on every rank,
-  // naming the file and the reason, when it is missing, not a checkpoint, or of another deck.
+  // naming the file and the reason, when it is missing, not a checkpoint, of another deck, or
+  // holds a field out of its kind or range (check_checkpoint_state).
   Restart(const std::string& folder, const Config& config, MPI_Comm comm);
   // Collective, once the problem exists: refuses a checkpoint of another mesh (node count,
   // element count, order, node coordinates).
@@ -89,6 +90,16 @@ class Restart {
   std::string folder_;
   MPI_Comm comm_;
 };
+
+// Throws InputError "--restart: FILE: KEY: reason" unless `state` (a checkpoint's, read from
+// FILE) was written by this deck (its kind of stepping and its fingerprint) and every field
+// that a restart reads back has its kind and lies in its range for this deck: the step, state,
+// increment or target set within the deck's, `last` true exactly at the last one, the load
+// factor or time of that step, as many constraints, ramps and actuators as the deck has (the
+// constraints by name), counts from 0, finite numbers. A checkpoint of the run's last step is
+// refused too (nothing is left to run).
+void check_checkpoint_state(const nlohmann::json& state, const Config& config,
+                            const std::string& file);
 
 // Each constraint's state (multiplier, target, control, measures), and the same put back.
 nlohmann::json constraint_states(const ConstraintSet& constraints);

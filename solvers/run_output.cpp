@@ -3,7 +3,6 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <iostream>
 
 namespace hs {
 
@@ -59,17 +58,9 @@ void add_timings(nlohmann::json& summary, const Problem& problem, const Distribu
 }
 
 void keep_converged_steps(SolveError& error, ResultRecorder& recorder, nlohmann::json summary,
-                          MPI_Comm comm) {
-  try {
-    error.kept_in = recorder.keep_failed(std::move(summary), error.what());
-    error.kept_steps = error.kept_in.empty() ? 0 : recorder.written();
-  } catch (const std::exception& e) {
-    int rank = 0;
-    MPI_Comm_rank(comm, &rank);
-    if (rank == 0)
-      std::cerr << "hydrosoft: warning: the converged steps could not be kept: " << e.what()
-                << std::endl;
-  }
+                          MPI_Comm) {
+  error.kept_in = recorder.keep_failed(std::move(summary), error.what());
+  error.kept_steps = error.kept_in.empty() ? 0 : recorder.written();
 }
 
 }  // namespace hs

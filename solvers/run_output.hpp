@@ -33,7 +33,7 @@ void add_timings(nlohmann::json& summary, const Problem& problem, const Distribu
 // Collective, every rank with the same error: keeps the steps written so far in
 // "<folder>.failed" with summary.json saying why (ResultRecorder::keep_failed) and notes
 // where in the error (kept_in, kept_steps). A failure to keep them is printed, not thrown:
-// the run's own error is the one the user must see.
+// the run's own error is the one the user must see (ResultRecorder::keep_failed).
 void keep_converged_steps(SolveError& error, ResultRecorder& recorder, nlohmann::json summary,
                           MPI_Comm comm);
 

@@ -1,10 +1,13 @@
 #include "solvers/output/result_recorder.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <iostream>
 #include <stdexcept>
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
+#include "io/write_together.hpp"
 
 namespace hs {
 
@@ -99,11 +102,15 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
   const int newton = sources_.newton_iterations ? sources_.newton_iterations() : 0;
   if (sources_.newton_iterations) row.add_count("newton_iterations", newton - newton_at_last_row_);
   for (const auto& columns : sources_.columns) columns(u, row);
-  writer_->write_step(f);  // refuses a non-finite value on every rank, before writing
+  // Refuses a non-finite value on every rank, before writing; a file that cannot be written
+  // stops every rank with SolveError.
+  writer_->write_step(f);
   ++written_;
   newton_at_last_row_ = newton;
   // Only rank 0 writes the file; every rank keeps the rows for the .h5's collective write.
-  history_.append(row, rank_ == 0 ? staging_ + "/history.csv" : std::string());
+  write_together(comm_, true, [&] {
+    history_.append(row, rank_ == 0 ? staging_ + "/history.csv" : std::string());
+  });
   seconds_ += MPI_Wtime() - t0;
 }
 
@@ -115,27 +122,59 @@ void ResultRecorder::close_files() {
 }
 
 std::string ResultRecorder::finish(nlohmann::json& summary) {
-  close_files();
-  summary["status"] = "ok";
-  if (rank_ != 0) return {};
-  write_json(folder_->staging() + "/summary.json", summary);
-  folder_->commit();
-  return folder_->final();
+  std::string folder;
+  try {
+    close_files();
+    summary["status"] = "ok";
+    write_together(comm_, rank_ == 0, [&] {
+      write_json(folder_->staging() + "/summary.json", summary);
+      folder_->commit();
+      folder = folder_->final();
+    });
+  } catch (SolveError& e) {
+    // Every step converged, but the results could not be completed (a full disk): they are
+    // kept as a failed run's, and the run fails.
+    summary.erase("status");
+    e.kept_in = keep_failed(summary, e.what());
+    e.kept_steps = e.kept_in.empty() ? 0 : written_;
+    throw;
+  }
+  return folder;
 }
 
 std::string ResultRecorder::keep_failed(nlohmann::json summary, const std::string& reason) {
-  if (written_ == 0) return {};
-  close_files();
+  // Nothing to keep without an output step or a checkpoint to restart from.
+  int checkpoint = rank_ == 0 && std::filesystem::exists(staging_ + "/checkpoint.h5");
+  MPI_Bcast(&checkpoint, 1, MPI_INT, 0, comm_);
+  if (written_ == 0 && !checkpoint) return {};
+  writer_->close();
+  // Best effort, each part on its own: on a full disk what needs no room (the rename) must
+  // still happen. The .xmf already names every step written.
+  try {
+    if (written_ > 0) history_.write_h5(staging_ + "/" + writer_->h5_file(), comm_);
+  } catch (const SolveError&) {
+    // The .h5 goes without /history: history.csv has the rows.
+  }
   std::string kept;
-  on_rank_zero(comm_, [&] {
+  if (rank_ == 0) {
     summary["status"] = "failed";
     summary["reason"] = reason;
     summary["last_converged"] = history_.last_row();
     summary["output"]["folder"] = folder_->final() + ".failed";
     summary["output"]["xdmf"] = folder_->final() + ".failed/" + writer_->xdmf_file();
-    write_json(folder_->staging() + "/summary.json", summary);
-    kept = folder_->keep_failed();
-  });
+    try {
+      write_json(folder_->staging() + "/summary.json", summary);
+    } catch (const std::exception& e) {
+      std::cerr << "hydrosoft: warning: the kept steps have no summary.json: " << e.what()
+                << std::endl;
+    }
+    try {
+      kept = folder_->keep_failed();
+    } catch (const std::exception& e) {
+      std::cerr << "hydrosoft: warning: the converged steps could not be kept: " << e.what()
+                << std::endl;
+    }
+  }
   broadcast_string(kept, 0, comm_);
   return kept;
 }

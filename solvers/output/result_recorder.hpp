@@ -49,7 +49,8 @@ class ResultRecorder {
   void set_history(HistorySources sources) { sources_ = std::move(sources); }
   // Writes the fields of u at `time` (the step's attribute), loads at load factor s, and the
   // step's history row. Collective; refuses (SolveError, nothing written) a step with a
-  // non-finite value.
+  // non-finite value, and throws SolveError on every rank, naming the file and the reason,
+  // when a file cannot be written.
   // time_kind: what `time` is in the .h5 and .xmf (docs/output.md); empty: the history's
   // time column (load_factor, time_s or state).
   void record(double time, Vec u, double s, const std::string& time_kind = "");
@@ -57,11 +58,17 @@ class ResultRecorder {
   void set_constraints(const ConstraintSet* constraints) { constraints_ = constraints; }
   // Collective. Closes the files, writes the history into the .h5 and summary.json with
   // "status": "ok", and moves them to the output folder (rank 0); returns its path there.
+  // When a file cannot be written (a full disk), throws SolveError on every rank with the
+  // steps kept as by keep_failed (kept_in, kept_steps).
   std::string finish(nlohmann::json& summary);
-  // Collective, after a failure (every rank): with at least one step written, closes the
-  // files, writes the history and summary.json (status "failed", the reason, the last
-  // converged row) and renames the staging folder "<folder>.failed"; returns that path
-  // (on every rank). Without a step, returns "" and the staging folder goes with the object.
+  // Collective, after a failure (every rank): with at least one step written (or a
+  // checkpoint), writes the history into the .h5 and summary.json (status "failed", the
+  // reason, the last converged row) and renames the staging folder "<folder>.failed"; returns
+  // that path (on every rank). Without either, returns "" and the staging folder goes with
+  // the object. Never throws:
+  // each part is tried on its own (on a full disk the rename still happens); rank 0 prints a
+  // warning for summary.json or the rename when they fail, and "" is returned without the
+  // rename.
   std::string keep_failed(nlohmann::json summary, const std::string& reason);
   std::string xdmf_path() const;
   // The staging folder the run writes into (every rank).

@@ -7,7 +7,8 @@
 
 namespace hs {
 
-// Throws std::runtime_error naming the file if it cannot be written.
+// Throws std::runtime_error naming the file and the system's reason ("No space left on
+// device") if it cannot be written; the .tmp is then removed and <path> left as it was.
 void write_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace hs

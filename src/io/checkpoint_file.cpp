@@ -6,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
+#include "io/file_space.hpp"
 #include "io/hdf5_file.hpp"
 
 namespace hs {
@@ -22,34 +23,49 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::js
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const std::string tmp = path + ".tmp";
-  {
-    // A control run's state holds its results so far: often more than 64 KB.
-    Hdf5File h5(tmp, Hdf5File::Mode::CreateLargeAttributes, comm);
-    h5.set_attribute("/", "format", std::string(kFormat));
-    h5.set_attribute("/", "version", kVersion);
-    h5.set_attribute("/", "state", state.dump());
-    h5.write_rows("/node_ids", rows.node_ids, rows.nodes, 0, rows.first);
-    h5.create_group("/fields");
-    for (const auto& [name, values] : fields)
-      h5.write_rows("/fields/" + name, values, rows.nodes, 3, rows.first);
-    h5.create_group("/series");
-    for (const auto& [name, values] : series) {
-      int64_t count = static_cast<int64_t>(values.size());
-      MPI_Bcast(&count, 1, MPI_INT64_T, 0, comm);
-      h5.write_rows("/series/" + name, values, count, 0, 0);
+  // What the file takes at most, reserved before HDF5 writes (rank 0's count decides).
+  int64_t bytes = 8 * rows.nodes * (1 + 3 * static_cast<int64_t>(fields.size())) +
+                  static_cast<int64_t>(state.dump().size()) +
+                  Hdf5File::metadata_allowance(8 + 2 * static_cast<int64_t>(fields.size()) +
+                                               2 * static_cast<int64_t>(series.size()));
+  for (const auto& named : series) bytes += 8 * static_cast<int64_t>(named.second.size());
+  try {
+    {
+      // A control run's state holds its results so far: often more than 64 KB.
+      Hdf5File h5(tmp, Hdf5File::Mode::CreateLargeAttributes, comm, bytes);
+      h5.set_attribute("/", "format", std::string(kFormat));
+      h5.set_attribute("/", "version", kVersion);
+      h5.set_attribute("/", "state", state.dump());
+      h5.write_rows("/node_ids", rows.node_ids, rows.nodes, 0, rows.first);
+      h5.create_group("/fields");
+      for (const auto& [name, values] : fields)
+        h5.write_rows("/fields/" + name, values, rows.nodes, 3, rows.first);
+      h5.create_group("/series");
+      for (const auto& [name, values] : series) {
+        int64_t count = static_cast<int64_t>(values.size());
+        MPI_Bcast(&count, 1, MPI_INT64_T, 0, comm);
+        h5.write_rows("/series/" + name, values, count, 0, 0);
+      }
+      h5.close();
     }
-    h5.close();
+    // Every rank has closed its part before the name changes.
+    MPI_Barrier(comm);
+    std::string error;
+    if (rank == 0 && std::rename(tmp.c_str(), path.c_str()) != 0) {
+      error = path + ": cannot replace the checkpoint with " + tmp + ": " + system_reason();
+      std::remove(tmp.c_str());
+    }
+    throw_together<SolveError>(error, comm);
+  } catch (const SolveError& e) {
+    // The previous checkpoint.h5, if any, is whole: a restart can still start from it.
+    throw SolveError("checkpoint not written: " + std::string(e.what()));
   }
-  // Every rank has closed its part before the name changes.
-  MPI_Barrier(comm);
-  std::string error;
-  if (rank == 0 && std::rename(tmp.c_str(), path.c_str()) != 0)
-    error = path + ": cannot replace the checkpoint with " + tmp;
-  throw_together<std::runtime_error>(error, comm);
 }
 
 CheckpointFile::CheckpointFile(const std::string& path) : path_(path) {
-  if (!std::filesystem::is_regular_file(path)) fail("no such file");
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    fail(error ? "cannot be examined: " + error.message() : "no such file");
   // Quiet: a file that is not HDF5 is said in one line, not in HDF5's error stack.
   H5E_auto2_t handler;
   void* data;

@@ -30,7 +30,8 @@ struct CheckpointRows {
 using NamedValues = std::vector<std::pair<std::string, std::vector<double>>>;
 
 // Collective. fields: 3 values per row of this rank; series: rank 0's values (others empty).
-// Throws std::runtime_error naming the file when it cannot be written.
+// When it cannot be written (a full disk), throws SolveError on every rank naming the file and
+// the reason, with the unfinished .tmp removed and the previous checkpoint left whole.
 void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::json& state,
                       const CheckpointRows& rows, const NamedValues& fields,
                       const NamedValues& series);

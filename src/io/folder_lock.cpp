@@ -6,14 +6,12 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
 
 #include "common/error.hpp"
+#include "io/file_space.hpp"
 
 namespace hs {
 namespace {
-
-std::string system_reason() { return std::strerror(errno); }
 
 // Whether the open file fd is still the file at `path`: a run that releases its lock
 // removes the file, so a lock taken on a file that was removed meanwhile locks nothing.
@@ -47,9 +45,28 @@ void write_holder(int fd) {
 FolderLock::FolderLock(const std::string& folder) : path_(folder + ".lock") {
   const std::string where = "output folder '" + folder + "': ";
   for (;;) {
-    fd_ = open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // The run writes its process and host into the lock file: never through a link, into a
+    // file that the link's maker chose (O_NOFOLLOW), nor into a file with other names.
+    fd_ = open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
+    if (fd_ < 0 && errno == ELOOP)
+      throw InputError(where + "its lock file '" + path_ +
+                       "' is a symbolic link; a run writes into its lock file and does not " +
+                       "follow links: remove the link");
     if (fd_ < 0)
       throw InputError(where + "cannot create its lock file '" + path_ + "': " + system_reason());
+    struct stat st;
+    const bool plain = fstat(fd_, &st) == 0 && S_ISREG(st.st_mode);
+    if (plain && st.st_nlink == 0) {
+      close(fd_);  // removed just now by the run that held it: take the new one
+      continue;
+    }
+    if (!plain || st.st_nlink != 1) {
+      close(fd_);
+      fd_ = -1;
+      throw InputError(where + "its lock file '" + path_ +
+                       "' is not a plain file of its own (a folder, a device or a hard link " +
+                       "to another file); a run writes into its lock file: remove it");
+    }
     if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       const int error = errno;
       const std::string holder = holder_of(fd_);

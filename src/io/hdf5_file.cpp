@@ -1,43 +1,154 @@
 #include "io/hdf5_file.hpp"
 
+#include <unistd.h>
+
 #include <stdexcept>
 
+#include "common/error.hpp"
+#include "common/exchange.hpp"
+#include "io/file_space.hpp"
+
 namespace hs {
-Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm) : path_(path) {
-  Hdf5Handle access{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+
+Hdf5Quiet::Hdf5Quiet() {
+  H5Eget_auto2(H5E_DEFAULT, &handler_, &data_);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+Hdf5Quiet::~Hdf5Quiet() { H5Eset_auto2(H5E_DEFAULT, handler_, data_); }
+
+std::string hdf5_reason() {
+  struct Found {
+    std::string system, mpi, innermost;
+  } found;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_DOWNWARD,
+      [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+        auto& f = *static_cast<Found*>(data);
+        const std::string desc = e->desc ? e->desc : "";
+        // The file drivers write "..., errno = 28, error message = 'No space left on device'".
+        const std::string key = "error message = '";
+        const size_t at = desc.find(key);
+        if (at != std::string::npos) {
+          const size_t end = desc.find('\'', at + key.size());
+          f.system = desc.substr(at + key.size(), end - at - key.size());
+        }
+        if (e->min_num == H5E_MPIERRSTR) f.mpi = desc;
+        if (!desc.empty()) f.innermost = desc;
+        return 0;
+      },
+      &found);
+  H5Eclear2(H5E_DEFAULT);
+  std::string reason = !found.system.empty() ? found.system
+                       : !found.mpi.empty()  ? found.mpi
+                                             : found.innermost;
+  for (char& c : reason)
+    if (c == '\n' || c == '\r') c = ' ';
+  return reason;
+}
+
+int64_t Hdf5File::metadata_allowance(int64_t objects, int64_t siblings) {
+  // Measured: an output step (a group, 5 datasets, 9 attributes) adds 4.3 KB of metadata; a
+  // name in the root group's local heap, which doubles when full, about 16 bytes.
+  return 16 * 1024 + 1024 * objects + 64 * siblings;
+}
+
+Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm, int64_t reserve)
+    : path_(path), comm_(comm) {
+  Hdf5Quiet quiet;
   if (comm != MPI_COMM_NULL) {
     int size = 1;
     MPI_Comm_size(comm, &size);
+    MPI_Comm_rank(comm, &rank_);
     parallel_ = size > 1;
-    if (parallel_) H5Pset_fapl_mpio(access.id, comm, MPI_INFO_NULL);
   }
-  const bool create = mode != Mode::Append;
-  if (mode == Mode::CreateLargeAttributes)
-    H5Pset_libver_bounds(access.id, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
-  file_ = create ? H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id)
-                 : H5Fopen(path.c_str(), H5F_ACC_RDWR, access.id);
-  if (file_ < 0) fail(create ? "cannot create the file" : "cannot open the file");
+  created_ = mode != Mode::Append;
+  try {
+    // The space first: a full disk stops the session before HDF5 has anything to write.
+    if (reserve > 0) agree(rank_ == 0 ? reserve_space(path, reserve, created_) : "");
+    Hdf5Handle access{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+    if (parallel_) H5Pset_fapl_mpio(access.id, comm, MPI_INFO_NULL);
+    if (mode == Mode::CreateLargeAttributes)
+      H5Pset_libver_bounds(access.id, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
+    file_ = created_ ? H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id)
+                     : H5Fopen(path.c_str(), H5F_ACC_RDWR, access.id);
+    check(file_ >= 0, created_ ? "cannot create the file" : "cannot open the file");
+    // Creating truncated the file, which frees what was reserved: again (HDF5 has written
+    // nothing yet).
+    if (reserve > 0 && created_) agree(rank_ == 0 ? reserve_space(path, reserve, true) : "");
+  } catch (...) {
+    discard();
+    throw;
+  }
 }
 
 Hdf5File::~Hdf5File() {
-  if (file_ >= 0) H5Fclose(file_);
+  if (file_ < 0) return;
+  Hdf5Quiet quiet;
+  if (failed_) {
+    discard();
+    return;
+  }
+  H5Fclose(file_);
+  if (rank_ == 0) release_unused_space(path_);
+}
+
+void Hdf5File::discard() {
+  // A created file is of no use unfinished: emptied first, so that closing it (HDF5 writes
+  // what it holds) finds room, then removed. An appended file keeps what it had.
+  if (file_ >= 0) {
+    if (created_ && rank_ == 0 && truncate(path_.c_str(), 0) != 0) {
+      // Closed as it is.
+    }
+    H5Fclose(file_);
+    file_ = -1;
+  }
+  if (created_ && rank_ == 0) unlink(path_.c_str());
+  if (!created_ && rank_ == 0) release_unused_space(path_);
 }
 
 void Hdf5File::close() {
   if (file_ < 0) return;
+  Hdf5Quiet quiet;
   const herr_t status = H5Fclose(file_);
   file_ = -1;
-  if (status < 0) fail("cannot close the file");
+  const std::string reason = status < 0 ? hdf5_reason() : std::string();
+  if (rank_ == 0) {
+    if (status < 0 && created_)
+      unlink(path_.c_str());
+    else
+      release_unused_space(path_);
+  }
+  agree(status < 0 ? "cannot close the file: " + (reason.empty() ? "failed" : reason) : "");
 }
 
-void Hdf5File::fail(const std::string& what) const {
-  throw std::runtime_error(path_ + ": HDF5: " + what);
+void Hdf5File::check(bool ok, const std::string& what) {
+  if (ok) {
+    agree("");
+    return;
+  }
+  const std::string reason = hdf5_reason();
+  agree(what + ": " + (reason.empty() ? "failed" : reason));
+}
+
+void Hdf5File::agree(const std::string& problem) {
+  const std::string error = problem.empty() ? std::string() : path_ + ": " + problem;
+  try {
+    if (parallel_)
+      throw_together<SolveError>(error, comm_);
+    else if (!error.empty())
+      throw SolveError(error);
+  } catch (...) {
+    failed_ = true;
+    throw;
+  }
 }
 
 void Hdf5File::create_group(const std::string& name) {
+  Hdf5Quiet quiet;
   Hdf5Handle group{H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                    H5Gclose};
-  if (group.id < 0) fail("cannot create group " + name);
+  check(group.id >= 0, "cannot create group " + name);
 }
 
 void Hdf5File::write_raw(const std::string& name, hid_t file_type, hid_t memory_type,
@@ -48,13 +159,14 @@ void Hdf5File::write_raw(const std::string& name, hid_t file_type, hid_t memory_
     throw std::invalid_argument(path_ + ": " + name + ": " + std::to_string(count) +
                                 " values from row " + std::to_string(first) + " for a " +
                                 std::to_string(rows) + " x " + std::to_string(cols) + " dataset");
+  Hdf5Quiet quiet;
   const hsize_t dims[2] = {rows, cols};
   Hdf5Handle space{H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose};
-  if (space.id < 0) fail("cannot create the dataspace of " + name);
-  Hdf5Handle set{
-      H5Dcreate2(file_, name.c_str(), file_type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      H5Dclose};
-  if (set.id < 0) fail("cannot create dataset " + name);
+  Hdf5Handle set{space.id < 0 ? -1
+                              : H5Dcreate2(file_, name.c_str(), file_type, space.id, H5P_DEFAULT,
+                                           H5P_DEFAULT, H5P_DEFAULT),
+                 H5Dclose};
+  check(set.id >= 0, "cannot create dataset " + name);
   if (rows == 0) return;
   // Every rank takes part in a collective write, those without rows by selecting nothing.
   const hsize_t start[2] = {first, 0}, block[2] = {mine, width};
@@ -67,8 +179,8 @@ void Hdf5File::write_raw(const std::string& name, hid_t file_type, hid_t memory_
   }
   Hdf5Handle transfer{H5Pcreate(H5P_DATASET_XFER), H5Pclose};
   if (parallel_) H5Pset_dxpl_mpio(transfer.id, H5FD_MPIO_COLLECTIVE);
-  if (H5Dwrite(set.id, memory_type, memory.id, space.id, transfer.id, data) < 0)
-    fail("cannot write dataset " + name);
+  check(H5Dwrite(set.id, memory_type, memory.id, space.id, transfer.id, data) >= 0,
+        "cannot write dataset " + name);
 }
 
 void Hdf5File::write(const std::string& name, const std::vector<double>& data, size_t rows,
@@ -103,13 +215,13 @@ void Hdf5File::write_rows(const std::string& name, const std::vector<int>& data,
 
 void Hdf5File::write_attribute(const std::string& object, const std::string& name, hid_t type,
                                const void* value) {
+  Hdf5Quiet quiet;
   Hdf5Handle space{H5Screate(H5S_SCALAR), H5Sclose};
   Hdf5Handle attribute{H5Acreate_by_name(file_, object.c_str(), name.c_str(), type, space.id,
                                          H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                        H5Aclose};
-  if (attribute.id < 0) fail("cannot create attribute " + object + "/" + name);
-  if (H5Awrite(attribute.id, type, value) < 0)
-    fail("cannot write attribute " + object + "/" + name);
+  check(attribute.id >= 0, "cannot create attribute " + object + "/" + name);
+  check(H5Awrite(attribute.id, type, value) >= 0, "cannot write attribute " + object + "/" + name);
 }
 
 void Hdf5File::set_attribute(const std::string& object, const std::string& name, double value) {

@@ -18,9 +18,11 @@
 
 namespace hs {
 
-// Why `folder` cannot serve as an output folder (it, or its .partial, .old or .failed sibling,
-// exists and is not ours to delete; or it is . or ..), or "" if it can. parse_deck checks
-// output.folder with it on every rank, before any work.
+// Why `folder` cannot serve as an output folder, or "" if it can: it, or its .partial, .old
+// or .failed sibling, exists and is not ours to delete; it, a sibling or its .lock is a
+// symbolic link; its name ends in .partial, .failed, .old or .lock (the names of another
+// folder's run); its name or path is too long for the names a run makes; it is . or ..
+// parse_deck checks output.folder with it on every rank, before any work.
 std::string output_folder_problem(const std::string& folder);
 
 // A staging folder "<folder>.partial" that becomes <folder> on commit(); removed if the
@@ -93,8 +95,10 @@ struct StepFields {
 // <folder>/<name>.h5 and <folder>/<name>.xmf (layout: docs/output.md). P2 meshes are
 // written as Tetrahedron_10 in VTK's node order. write_step() refuses non-finite values
 // (throws SolveError on every rank, naming the field and the mesh's node or tetrahedron): a
-// NaN is never written as a result. The .xmf is rewritten (atomically) after every step.
-// HDF5 or file-system failures throw std::runtime_error naming the file. With a
+// NaN is never written as a result. The .xmf is rewritten (atomically) after every step: a
+// step exists once the .xmf names it. A file that cannot be written (a full disk) throws
+// SolveError on every rank, naming the file and the reason; a step refused so leaves the
+// files as they were after the previous one (the .h5 may hold an unnamed group of it). With a
 // communicator every call is collective; `folder` must be the same path on every rank.
 class XdmfWriter {
  public:
@@ -103,7 +107,7 @@ class XdmfWriter {
              OutputLayout layout);
   ~XdmfWriter();
   void write_step(const StepFields& fields);
-  void close();                   // writes the .xmf; called by the destructor too
+  void close();                   // no more steps (the .xmf names every step written)
   std::string xdmf_file() const;  // file name (no folder) of the .xmf
   std::string h5_file() const;    // file name (no folder) of the .h5
 

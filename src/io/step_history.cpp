@@ -1,10 +1,14 @@
 #include "io/step_history.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 
+#include "io/file_space.hpp"
 #include "io/hdf5_file.hpp"
 
 namespace hs {
@@ -19,6 +23,28 @@ std::string column_name(const std::string& name) {
     if (!plain) c = '_';
   }
   return column;
+}
+
+// Appends `text` to the file (replacing it when `fresh`). A write that fails (a full disk)
+// takes the file back to its length before, so that it never ends in half a row.
+void append_text(const std::string& path, const std::string& text, bool fresh) {
+  const int fd =
+      open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (fresh ? O_TRUNC : O_APPEND), 0644);
+  if (fd < 0) throw std::runtime_error(path + ": cannot write: " + system_reason());
+  struct stat st;
+  const off_t before = fstat(fd, &st) == 0 ? st.st_size : -1;
+  std::string error;
+  for (size_t done = 0; done < text.size() && error.empty();) {
+    const ssize_t n = write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) error = system_reason();
+    if (n > 0) done += static_cast<size_t>(n);
+  }
+  if (!error.empty() && before >= 0 && ftruncate(fd, before) != 0) {
+    // The reason of the write is the one to report.
+  }
+  if (close(fd) != 0 && error.empty()) error = system_reason();
+  if (!error.empty()) throw std::runtime_error(path + ": cannot write: " + error);
 }
 
 }  // namespace
@@ -47,8 +73,6 @@ void StepHistory::append(const HistoryRow& row, const std::string& csv_path) {
   for (const auto& cell : row.cells) values.push_back(cell.value);
   values_.push_back(values);
   if (csv_path.empty()) return;
-  std::FILE* file = std::fopen(csv_path.c_str(), first ? "w" : "a");
-  if (!file) throw std::runtime_error(csv_path + ": cannot write: " + std::strerror(errno));
   std::string text;
   if (first) {
     for (size_t c = 0; c < columns_.size(); ++c) text += (c ? "," : "") + columns_[c];
@@ -61,9 +85,7 @@ void StepHistory::append(const HistoryRow& row, const std::string& csv_path) {
     text += (c ? "," : "") + std::string(number);
   }
   text += "\n";
-  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
-  if (std::fclose(file) != 0 || !written)
-    throw std::runtime_error(csv_path + ": cannot write: " + std::strerror(errno));
+  append_text(csv_path, text, first);
 }
 
 std::vector<double> StepHistory::column(size_t c) const {
@@ -100,7 +122,10 @@ void StepHistory::write_h5(const std::string& h5_path, MPI_Comm comm) const {
   if (columns_.empty()) return;
   int rank = 0;
   if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
-  Hdf5File h5(h5_path, Hdf5File::Mode::Append, comm);
+  const int64_t objects = 1 + 2 * static_cast<int64_t>(columns_.size());  // datasets, units
+  const int64_t bytes = 8 * static_cast<int64_t>(rows() * columns_.size()) +
+                        Hdf5File::metadata_allowance(objects, static_cast<int64_t>(rows()));
+  Hdf5File h5(h5_path, Hdf5File::Mode::Append, comm, bytes);
   h5.create_group("/history");
   for (size_t c = 0; c < columns_.size(); ++c) {
     const std::string name = "/history/" + columns_[c];

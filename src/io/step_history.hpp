@@ -31,7 +31,9 @@ struct HistoryRow {
 class StepHistory {
  public:
   // Every row has the columns of the first (std::logic_error otherwise). With a path, the
-  // row is appended to that CSV file (the header first), flushed, and the file closed.
+  // row is appended to that CSV file (the header first) and the file closed; a write that
+  // fails throws std::runtime_error naming the file and the reason, and leaves the file as
+  // it was (never half a row). The row is kept here either way.
   void append(const HistoryRow& row, const std::string& csv_path = "");
   const std::vector<std::string>& columns() const { return columns_; }
   size_t rows() const { return values_.size(); }

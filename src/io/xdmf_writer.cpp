@@ -24,6 +24,7 @@
 #include "io/atomic_file.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/output.hpp"
+#include "io/write_together.hpp"
 
 namespace hs {
 
@@ -249,7 +250,10 @@ XdmfWriter::XdmfWriter(MPI_Comm comm, const std::string& folder, const std::stri
   w.my_nodes = layout.my_nodes();
   w.my_tets = layout.my_tets();
   require_size("volume_group", layout.volume_group.size(), w.my_tets);
-  Hdf5File h5(w.h5_path(), Hdf5File::Mode::Create, comm);
+  const int64_t masks = static_cast<int64_t>(layout.node_groups.size());
+  const int64_t bytes = w.nodes * (3 * 8 + 8 + 4 * masks) + w.tets * (w.nodes_per_tet * 8 + 8 + 4) +
+                        Hdf5File::metadata_allowance(16 + 3 * masks);
+  Hdf5File h5(w.h5_path(), Hdf5File::Mode::Create, comm, bytes);
   h5.create_group("/mesh");
   h5.write_rows("/mesh/coordinates", layout.x, w.nodes, 3, w.first_node);
   h5.set_attribute("/mesh/coordinates", "units", std::string("m"));
@@ -278,16 +282,11 @@ XdmfWriter::XdmfWriter(MPI_Comm comm, const std::string& folder, const std::stri
   h5.close();
   w.node_ids = std::move(layout.node_ids);
   w.tet_ids = std::move(layout.tet_ids);
-  if (w.rank == 0) w.write_xdmf();  // the mesh alone until the first step
+  // The mesh alone until the first step.
+  write_together(comm, w.rank == 0, [&] { w.write_xdmf(); });
 }
 
-XdmfWriter::~XdmfWriter() {
-  try {
-    close();
-  } catch (...) {
-    // Destructors must not throw; the file of the last step stays as it was.
-  }
-}
+XdmfWriter::~XdmfWriter() = default;
 
 void XdmfWriter::write_step(const StepFields& f) {
   Impl& w = *impl_;
@@ -320,35 +319,54 @@ void XdmfWriter::write_step(const StepFields& f) {
     throw SolveError(error);
 
   const std::string step = "/step_" + std::to_string(k);
-  Hdf5File h5(w.h5_path(), Hdf5File::Mode::Append, w.comm);
-  h5.create_group(step);
-  h5.set_attribute(step, "time", f.time);
-  h5.set_attribute(step, "time_kind", f.time_kind);
-  auto nodal = [&](const char* field, const std::vector<double>& values, const char* units) {
-    h5.write_rows(step + "/" + field, values, w.nodes, 3, w.first_node);
-    h5.set_attribute(step + "/" + field, "units", std::string(units));
-  };
-  nodal("displacement", f.displacement, "m");
-  nodal("nodal_load", f.nodal_load, "N");
-  if (pressure) nodal("cavity_pressure_load", f.cavity_pressure_load, "N");
-  if (weight) nodal("fluid_weight_load", f.fluid_weight_load, "N");
-  h5.write_rows(step + "/von_mises", f.von_mises, w.tets, 0, w.first_tet);
-  h5.set_attribute(step + "/von_mises", "units", std::string("Pa"));
-  h5.write_rows(step + "/J", f.J, w.tets, 0, w.first_tet);
-  h5.set_attribute(step + "/J", "units", std::string("1"));
-  h5.write_rows(step + "/rank", f.rank, w.tets, 0, w.first_tet);
-  h5.set_attribute(step + "/rank", "units", std::string("1"));
-  h5.close();
-  w.times.push_back(f.time);
-  w.time_kinds.push_back(f.time_kind);
-  w.has_pressure.push_back(pressure);
-  w.has_weight.push_back(weight);
-  if (w.rank == 0) w.write_xdmf();
+  const int64_t nodal_fields = 2 + pressure + weight;
+  const int64_t bytes =
+      nodal_fields * w.nodes * 3 * 8 + w.tets * (8 + 8 + 4) +
+      Hdf5File::metadata_allowance(3 + 2 * (nodal_fields + 3), static_cast<int64_t>(k) + 1);
+  try {
+    Hdf5File h5(w.h5_path(), Hdf5File::Mode::Append, w.comm, bytes);
+    h5.create_group(step);
+    h5.set_attribute(step, "time", f.time);
+    h5.set_attribute(step, "time_kind", f.time_kind);
+    auto nodal = [&](const char* field, const std::vector<double>& values, const char* units) {
+      h5.write_rows(step + "/" + field, values, w.nodes, 3, w.first_node);
+      h5.set_attribute(step + "/" + field, "units", std::string(units));
+    };
+    nodal("displacement", f.displacement, "m");
+    nodal("nodal_load", f.nodal_load, "N");
+    if (pressure) nodal("cavity_pressure_load", f.cavity_pressure_load, "N");
+    if (weight) nodal("fluid_weight_load", f.fluid_weight_load, "N");
+    h5.write_rows(step + "/von_mises", f.von_mises, w.tets, 0, w.first_tet);
+    h5.set_attribute(step + "/von_mises", "units", std::string("Pa"));
+    h5.write_rows(step + "/J", f.J, w.tets, 0, w.first_tet);
+    h5.set_attribute(step + "/J", "units", std::string("1"));
+    h5.write_rows(step + "/rank", f.rank, w.tets, 0, w.first_tet);
+    h5.set_attribute(step + "/rank", "units", std::string("1"));
+    h5.close();
+    // The step exists for readers once the .xmf names it: until then it is not counted, and
+    // an .xmf that cannot be written leaves the previous one, of the steps before.
+    w.times.push_back(f.time);
+    w.time_kinds.push_back(f.time_kind);
+    w.has_pressure.push_back(pressure);
+    w.has_weight.push_back(weight);
+    try {
+      write_together(w.comm, w.rank == 0, [&] { w.write_xdmf(); });
+    } catch (const SolveError&) {
+      w.times.pop_back();
+      w.time_kinds.pop_back();
+      w.has_pressure.pop_back();
+      w.has_weight.pop_back();
+      throw;
+    }
+  } catch (const SolveError& e) {
+    throw SolveError("output step " + std::to_string(k) + " (time " + number_text(f.time) +
+                     ") not written: " + e.what());
+  }
 }
 
 void XdmfWriter::close() {
-  if (impl_->closed) return;
-  if (impl_->rank == 0) impl_->write_xdmf();
+  // The .xmf already names every step written (each step rewrites it): nothing is left to
+  // write, and nothing can fail here on a full disk.
   impl_->closed = true;
 }
 

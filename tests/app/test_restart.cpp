@@ -2,10 +2,13 @@
 // (SIGKILL) or stopped (SIGTERM) after a checkpoint and restarted from it, on 1 rank and on
 // 2, ends with the displacements of an uninterrupted run to 1e-8 relative: static load
 // stepping, dynamics, and the states of a hydraulic cavity deck. A checkpoint of another deck
-// or other deck values is refused before the output folder is touched.
+// or other deck values, or one whose state was edited (a step past the deck's, a missing or
+// mistyped field), is refused before the output folder is touched.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <signal.h>
 
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "../deck/temp_folder.hpp"
@@ -138,6 +141,113 @@ TEST(RestartRefused, ACheckpointOfAnotherDeckOrOtherValues) {
   fs::remove(err);
   EXPECT_EQ(run(command(few, other, "--restart " + folder + "/summary.json", err)), 2);
   EXPECT_NE(text_of(err).find("not an HDF5 file"), std::string::npos) << text_of(err);
+}
+
+// Replaces the JSON state of a checkpoint file by what `edit` makes of it, as anyone can (the
+// state is text in an attribute).
+void tamper(const std::string& path, const std::function<void(nlohmann::json&)>& edit) {
+  nlohmann::json state = checkpoint_state(path);
+  ASSERT_FALSE(state.is_null()) << path;
+  edit(state);
+  const std::string text = state.dump();
+  const hid_t access = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_libver_bounds(access, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, access);
+  ASSERT_GE(file, 0) << path;
+  H5Adelete(file, "state");
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, text.size());
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(file, "state", type, space, H5P_DEFAULT, H5P_DEFAULT);
+  EXPECT_GE(H5Awrite(a, type, text.data()), 0);
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Fclose(file);
+  H5Pclose(access);
+}
+
+struct Tampering {
+  std::string what;                           // shown when the case fails
+  std::function<void(nlohmann::json&)> edit;  // of the state
+  std::string message;                        // after "--restart: FILE: "
+};
+
+// Each tampered copy of `original` given to `c` with `args` is refused with exit status 2 and
+// one line naming the file, the field and the reason, before the output folder is touched.
+void expect_refused(const Case& c, const std::string& args, const std::string& original,
+                    const std::vector<Tampering>& cases) {
+  TempFolder tmp;
+  const std::string copy = (tmp.path() / "checkpoint.h5").string();
+  const std::string err = (tmp.path() / "err").string(), out = (tmp.path() / "out").string();
+  for (const Tampering& t : cases) {
+    fs::copy_file(original, copy, fs::copy_options::overwrite_existing);
+    tamper(copy, t.edit);
+    fs::remove(err);
+    Case tampered = c;
+    tampered.args += " " + args;
+    EXPECT_EQ(run(command(tampered, out, "--restart " + copy, err)), 2) << t.what << text_of(err);
+    EXPECT_EQ(text_of(err), "hydrosoft: error: --restart: " + copy + ": " + t.message + "\n")
+        << t.what;
+    for (const char* suffix : {"", ".partial", ".lock"})
+      EXPECT_FALSE(fs::exists(out + suffix)) << t.what;
+  }
+}
+
+// Before: a step of 25, -5 or 2^62 of 20 ran nothing and ended "ok" (exit status 0, no
+// output step, the displacement of the checkpoint's step as the result); a key missing or of
+// another type ended in a raw "[json.exception...]" without the file.
+TEST(RestartRefused, ATamperedCheckpointNamesTheFieldBeforeAnyWork) {
+  TempFolder tmp;
+  const std::string err = (tmp.path() / "err").string();
+  Case few = kStatic;
+  few.args += " --set time.steps=4";
+  const std::string folder = (tmp.path() / "static").string();
+  ASSERT_EQ(run(command(few, folder, kCheckpoints, err)), 0) << text_of(err);  // at step 3
+  const std::string steps =
+      "position.step: must be an integer from 1 to 4 (this deck's load "
+      "steps), got ";
+  expect_refused(kStatic, "--set time.steps=4", folder + "/checkpoint.h5",
+                 {{"step 25", [](auto& s) { s["position"]["step"] = 25; }, steps + "25"},
+                  {"step -5", [](auto& s) { s["position"]["step"] = -5; }, steps + "-5"},
+                  {"step 2^62", [](auto& s) { s["position"]["step"] = int64_t{1} << 62; },
+                   steps + "4611686018427387904"},
+                  {"step text", [](auto& s) { s["position"]["step"] = "3"; }, steps + "\"3\""},
+                  {"no load factor", [](auto& s) { s["position"].erase("load_factor"); },
+                   "position.load_factor: missing"},
+                  {"load factor", [](auto& s) { s["position"]["load_factor"] = 0.9; },
+                   "position.load_factor: must be step 3's, 0.75, got 0.9"},
+                  {"last", [](auto& s) { s["position"]["last"] = true; },
+                   "position.last: must be false at this step of this deck"},
+                  {"stats", [](auto& s) { s["stats"]["newton_iterations"] = -1; },
+                   "stats.newton_iterations: must be an integer from 0 to 2147483647, got -1"},
+                  {"nodes", [](auto& s) { s["nodes"] = "many"; },
+                   "nodes: must be an integer from 1 to 1099511627776, got \"many\""}});
+
+  // A state deck's and a dynamic deck's own fields.
+  const std::string states = (tmp.path() / "states").string();
+  ASSERT_EQ(run(command(kStates, states, "--set states[1].steps=4 " + kCheckpoints, err)), 0)
+      << text_of(err);  // at state 1, increment 2 (the 6th of 8)
+  expect_refused(
+      kStates, "--set states[1].steps=4", states + "/checkpoint.h5",
+      {{"state", [](auto& s) { s["position"]["state"] = 7; },
+        "position.state: must be an integer from 0 to 1 (this deck's states), got 7"},
+       {"increment", [](auto& s) { s["position"]["increment"] = 0; },
+        "position.increment: must be an integer from 1 to 4 (the increments of its state), got 0"},
+       {"constraint", [](auto& s) { s["position"]["constraints"][0]["name"] = "other"; },
+        "position.constraints[0].name: is 'other', this deck's is 'cavity'"},
+       {"ramps", [](auto& s) { s["position"]["stepper"].erase("ramps"); },
+        "position.stepper.ramps: missing"}});
+  const std::string dynamic = (tmp.path() / "dynamic").string();
+  Case shorter = kDynamic;
+  shorter.args += " --set time.end_time=1.0";
+  ASSERT_EQ(run(command(shorter, dynamic, kCheckpoints, err)), 0) << text_of(err);  // at step 9
+  expect_refused(
+      kDynamic, "--set time.end_time=1.0", dynamic + "/checkpoint.h5",
+      {{"step", [](auto& s) { s["position"]["step"] = 11; },
+        "position.step: must be an integer from 1 to 10 (this deck's time steps), got 11"},
+       {"time", [](auto& s) { s["position"]["time"] = 5; },
+        "position.time: must be step 9 times time.dt, 0.9, got 5"}});
 }
 
 }  // namespace

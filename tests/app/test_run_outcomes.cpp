@@ -3,11 +3,13 @@
 // and leaves an earlier good <folder> alone; SIGTERM stops a run at a step boundary with exit
 // status 143, on 1 rank and on 2 under mpiexec, and in the interactive mode while it waits for
 // a target line; history.csv and /history of the .h5 hold one
-// row per output step, equal to summary.json's values.
+// row per output step, equal to summary.json's values; a run whose disk fills ends on every
+// rank with one line naming the file, its converged steps (or its checkpoint) kept.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -16,6 +18,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -417,5 +420,160 @@ TEST(History, AStaticRunNamesItsLoadFactor) {
   EXPECT_EQ(h5_column(folder + "/cantilever_gravity.h5", "/history/load_factor"),
             (std::vector<double>{0.5, 1.0}));
 }
+
+// ---- A disk that fills ----
+
+// A small disk for one test: a tmpfs of `kb` KB when this process may mount one (root with
+// CAP_SYS_ADMIN); otherwise a file size limit of `limit_kb` KB on every rank (ulimit -f,
+// SIGXFSZ ignored), which hydrosoft meets the same way: its room for a write is refused
+// ("File too large" instead of "No space left on device").
+class SmallDisk {
+ public:
+  SmallDisk(int kb, int limit_kb) : kb_(limit_kb) {
+    fs::create_directories(path());
+    const std::string size = "size=" + std::to_string(kb) + "k";
+    mounted_ = mount("tmpfs", path().c_str(), "tmpfs", 0, size.c_str()) == 0;
+  }
+  ~SmallDisk() {
+    if (mounted_) umount2(path().c_str(), MNT_DETACH);
+  }
+  SmallDisk(const SmallDisk&) = delete;
+  SmallDisk& operator=(const SmallDisk&) = delete;
+
+  std::string path() const { return (tmp_.path() / "disk").string(); }
+  bool mounted() const { return mounted_; }
+  const char* reason() const { return mounted_ ? "No space left on device" : "File too large"; }
+  // `command` (a hydrosoft command line) on `ranks` ranks, with this disk's limit.
+  std::string run_on(int ranks, const std::string& command) const {
+    if (mounted_)
+      return ranks == 1
+                 ? command
+                 : std::string(HYDROSOFT_MPIEXEC) + " -np " + std::to_string(ranks) + " " + command;
+    // Each rank under the limit, not mpiexec (whose own files are larger); TCP between the
+    // ranks, whose shared-memory transport would meet the limit too. POSIX sh counts the
+    // limit in blocks of 512 bytes.
+    return std::string(HYDROSOFT_MPIEXEC) + " --mca btl self,tcp -np " + std::to_string(ranks) +
+           " sh -c \"ulimit -f " + std::to_string(2 * kb_) + "; trap '' XFSZ; exec " + command +
+           "\"";
+  }
+
+ private:
+  TempFolder tmp_;
+  int kb_ = 0;
+  bool mounted_ = false;
+};
+
+// Runs `command` in its own process group; its exit status, or -2 when it is still going
+// after `seconds` (then the whole group is killed: a run that hangs fails the test).
+int run_with_time_limit(const std::string& command, int seconds) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    setpgid(0, 0);
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(-pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return -2;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// The lines of a text that start with `prefix`.
+std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> lines;
+  std::stringstream s(text);
+  for (std::string line; std::getline(s, line);)
+    if (line.rfind(prefix, 0) == 0) lines.push_back(line);
+  return lines;
+}
+
+class DiskFull : public ::testing::TestWithParam<int> {};
+
+// The cantilever's 100 output steps of 33 KB each do not fit in 1 MB (or a file of 300 KB):
+// the step that finds no room is refused before HDF5 writes it. Before: on 2 ranks the run
+// hung with nothing printed; on 1 rank it ended with exit status 4 and every step lost.
+TEST_P(DiskFull, AtAStepEveryRankEndsWithOneLineAndTheStepsBeforeAreKept) {
+  const int ranks = GetParam();
+  const SmallDisk disk(1024, 300);
+  const std::string folder = disk.path() + "/beam", err = disk.path() + "/../err";
+  const int status = run_with_time_limit(
+      disk.run_on(ranks, cantilever(folder, "--set time.steps=100")) + " > /dev/null 2> " + err,
+      120);
+  ASSERT_NE(status, -2) << "the run hung\n" << text_of(err);
+  EXPECT_EQ(status, 3) << text_of(err);
+  const std::string log = text_of(err);
+  const auto errors = lines_starting(log, "hydrosoft: error:");
+  ASSERT_EQ(errors.size(), 1u) << log;
+  // The step's .h5 part finds no room, or (on the tmpfs, where the .xmf is rewritten beside
+  // the old one) its .xmf.
+  const std::regex expected(".*: output step [0-9]+ \\(time [0-9.e-]+\\) not written: " + folder +
+                            "\\.partial/cantilever_gravity\\.(h5: no room for [0-9]+ KB more|xmf: "
+                            "cannot write the file): " +
+                            disk.reason());
+  EXPECT_TRUE(std::regex_match(errors[0], expected)) << errors[0];
+  EXPECT_EQ(log.find("HDF5-DIAG"), std::string::npos) << log;
+  const std::string failed = folder + ".failed";
+  ASSERT_TRUE(fs::is_directory(failed)) << log;
+  EXPECT_FALSE(fs::exists(folder + ".partial"));
+  EXPECT_FALSE(fs::exists(folder + ".lock"));
+  const auto summary = json_of(failed + "/summary.json");
+  EXPECT_EQ(summary["status"], "failed");
+  const int steps = summary["outputs"].get<int>();
+  EXPECT_GE(steps, 2);
+  EXPECT_LT(steps, 100);
+  EXPECT_EQ(summary["reason"], errors[0].substr(errors[0].find(": output step ") + 2));
+  EXPECT_NE(log.find("\n  the " + std::to_string(steps) + " converged output steps are in " +
+                     failed + "/"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(xmf_grids(failed + "/cantilever_gravity.xmf"), steps);
+  EXPECT_EQ(csv_of(failed + "/history.csv").rows.size(), static_cast<size_t>(steps));
+  // The .h5 opens; a step refused at its .xmf left its group there, named by nothing.
+  const int groups = h5_steps(failed + "/cantilever_gravity.h5");
+  EXPECT_EQ(groups, errors[0].find(".xmf: ") == std::string::npos ? steps : steps + 1);
+}
+
+// A checkpoint that finds no room, with no output step before it: the run ends with exit
+// status 3 and the previous checkpoint kept, and a restart from it (on a disk with room)
+// finishes the run. Before: 1,800 lines of HDF5's error stack, then SIGSEGV in MPI_Finalize.
+TEST_P(DiskFull, AtACheckpointTheRunEndsAndThePreviousCheckpointIsKept) {
+  const int ranks = GetParam();
+  const SmallDisk disk(160, 0);
+  if (!disk.mounted()) GTEST_SKIP() << "no tmpfs can be mounted here (needs CAP_SYS_ADMIN)";
+  const std::string folder = disk.path() + "/beam", err = disk.path() + "/../err";
+  const std::string every = "--set time.steps=100 --set output.every=1000 ";
+  const int status = run_with_time_limit(
+      disk.run_on(ranks, cantilever(folder, every + "--set 'output.checkpoint={every: 1}'")) +
+          " > /dev/null 2> " + err,
+      120);
+  ASSERT_NE(status, -2) << "the run hung\n" << text_of(err);
+  EXPECT_EQ(status, 3) << text_of(err);
+  const auto errors = lines_starting(text_of(err), "hydrosoft: error:");
+  ASSERT_EQ(errors.size(), 1u) << text_of(err);
+  EXPECT_NE(errors[0].find(": checkpoint not written: " + folder +
+                           ".partial/checkpoint.h5.tmp: no room for "),
+            std::string::npos)
+      << errors[0];
+  EXPECT_NE(errors[0].find("No space left on device"), std::string::npos) << errors[0];
+  const std::string failed = folder + ".failed";
+  ASSERT_TRUE(fs::exists(failed + "/checkpoint.h5")) << text_of(err);
+  EXPECT_FALSE(fs::exists(failed + "/checkpoint.h5.tmp"));
+  EXPECT_EQ(json_of(failed + "/summary.json")["status"], "failed");
+  // Continued elsewhere from the kept checkpoint, to the end.
+  TempFolder roomy;
+  const std::string rest = (roomy.path() / "rest").string();
+  EXPECT_EQ(run(cantilever(rest, every + "--restart " + failed) + " > /dev/null 2>> " + err), 0)
+      << text_of(err);
+  EXPECT_EQ(json_of(rest + "/summary.json")["status"], "ok");
+}
+
+INSTANTIATE_TEST_SUITE_P(Ranks, DiskFull, ::testing::Values(1, 2));
 
 }  // namespace

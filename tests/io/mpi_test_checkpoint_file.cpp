@@ -1,11 +1,16 @@
 // checkpoint.h5 written by every rank and read back (src/io/checkpoint_file.hpp): a state of
 // over 200 KB of JSON (a long control run's results so far: past the 64 KB that HDF5's original
-// format allows an attribute), the rows of a field by node id, and a series.
+// format allows an attribute), the rows of a field by node id, and a series; and a checkpoint
+// that finds no room.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
-#include "io/checkpoint_file.hpp"
+#include <filesystem>
+
 #include "../mpi_test_folder.hpp"
+#include "common/error.hpp"
+#include "file_size_limit.hpp"
+#include "io/checkpoint_file.hpp"
 
 namespace {
 
@@ -46,6 +51,44 @@ TEST(CheckpointFile, AStateOfHundredsOfKilobytesAndTheRowsOfEveryRank) {
     for (int c = 0; c < 3; ++c) EXPECT_EQ(u[3 * r + c], 10.0 * ids[r] + c);
   }
   EXPECT_EQ(file.series("energy"), (std::vector<double>{1.5, 2.5}));
+}
+
+// A checkpoint that finds no room (a file size limit here, a full disk in a run) stops every
+// rank together with the file and the reason, leaves no .tmp behind and the previous
+// checkpoint whole. Before: HDF5's error stack printed, std::runtime_error, the .tmp left.
+TEST(CheckpointFile, OneThatFindsNoRoomStopsEveryRankAndLeavesThePreviousOne) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  hs::CheckpointRows rows;
+  rows.nodes = 1000 * size;
+  rows.first = 1000 * rank;
+  std::vector<double> values;
+  for (int64_t i = 0; i < 1000; ++i) {
+    rows.node_ids.push_back(rows.first + i);
+    for (int c = 0; c < 3; ++c) values.push_back(1.0 * i + c);
+  }
+  const std::string path = (hs_test::test_folder() / "checkpoint.h5").string();
+  hs::write_checkpoint(path, MPI_COMM_WORLD, {{"step", 1}}, rows, {{"displacement", values}}, {});
+  const auto before = std::filesystem::file_size(path);
+  std::string message;
+  {
+    const hs::testing::FileSizeLimit limit(before / 2);
+    try {
+      hs::write_checkpoint(path, MPI_COMM_WORLD, {{"step", 2}}, rows,
+                           {{"displacement", values}, {"velocity", values}}, {});
+    } catch (const hs::SolveError& e) {
+      message = e.what();
+    }
+  }
+  // On every rank: "checkpoint not written: <path>.tmp: no room for N KB more: File too large".
+  EXPECT_EQ(message.find("checkpoint not written: " + path + ".tmp: no room for "), 0u) << message;
+  EXPECT_NE(message.find(" KB more: File too large"), std::string::npos) << message;
+  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  const hs::CheckpointFile file(path);
+  EXPECT_EQ(file.state()["step"], 1);
+  EXPECT_EQ(file.field("displacement", 0, rows.nodes)[3 * 999 + 2], 999.0 + 2);
 }
 
 }  // namespace

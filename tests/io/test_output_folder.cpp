@@ -1,5 +1,6 @@
-// OutputFolder (staging, commit, clean-up, never deleting foreign folders, one run at a time
-// per folder), FolderLock, and write_json.
+// OutputFolder (staging, commit, clean-up, never deleting foreign folders or following links,
+// one run at a time per folder), FolderLock, and the files written beside the .h5 (write_json,
+// write_file_atomically, history.csv) when they find no room.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/inotify.h>
@@ -14,7 +15,10 @@
 
 #include "../deck/temp_folder.hpp"
 #include "common/error.hpp"
+#include "file_size_limit.hpp"
+#include "io/atomic_file.hpp"
 #include "io/output.hpp"
+#include "io/step_history.hpp"
 
 namespace hs {
 namespace {
@@ -255,6 +259,152 @@ TEST(FolderLock, AFolderThatCannotHoldALockSaysWhy) {
     EXPECT_NE(std::string(e.what()).find("cannot create its lock file"), std::string::npos)
         << e.what();
   }
+}
+
+// A link named <folder>.lock would have the run truncate the file it names and write its
+// process into it: refused, naming the lock, the file it names untouched (with O_NOFOLLOW).
+TEST(FolderLock, ALinkedOrHardLinkedLockFileIsRefusedAndWhatItNamesUntouched) {
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "run").string();
+  const fs::path victim = tmp.path() / "notes.txt";
+  write_text(victim, "precious");
+  fs::create_symlink(victim, folder + ".lock");
+  try {
+    FolderLock lock(folder);
+    ADD_FAILURE() << "locked through a link";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("its lock file '" + folder + ".lock' is a symbolic link"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(read_text(victim), "precious");
+  EXPECT_TRUE(fs::is_symlink(folder + ".lock"));  // not removed either
+  EXPECT_NE(output_folder_problem(folder).find("'" + folder + ".lock' is a symbolic link"),
+            std::string::npos)
+      << output_folder_problem(folder);
+  fs::remove(folder + ".lock");
+  fs::create_hard_link(victim, folder + ".lock");
+  EXPECT_THROW(FolderLock{folder}, InputError);
+  EXPECT_EQ(read_text(victim), "precious");
+}
+
+// Each refusal below is said by output_folder_problem (so by the deck's check, before any
+// work) and enforced by the OutputFolder itself; nothing it names is touched.
+void expect_refused(const std::string& folder, const std::string& reason) {
+  EXPECT_NE(output_folder_problem(folder).find(reason), std::string::npos)
+      << folder << ": " << output_folder_problem(folder);
+  try {
+    OutputFolder out(folder);
+    ADD_FAILURE() << folder << " accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+  }
+}
+
+// The commit renames the staging folder over <folder>: a link there would be replaced by a
+// real folder and the folder it names left with the old results. The staging folders are
+// deleted and renamed: never through a link.
+TEST(OutputFolder, LinkedFoldersAreRefused) {
+  TempFolder tmp;
+  const fs::path target = tmp.path() / "elsewhere";
+  fs::create_directories(target);
+  write_text(target / "result.txt", "theirs");
+  const std::string final = (tmp.path() / "run").string();
+  fs::create_symlink(target, final);
+  expect_refused(final, "'" + final + "' is a symbolic link (to '" + target.string() + "')");
+  fs::remove(final);
+  for (const std::string suffix : {".partial", ".failed", ".old"}) {
+    fs::create_symlink(target, final + suffix);
+    expect_refused(final, "'" + final + suffix + "' is a symbolic link");
+    fs::remove(final + suffix);
+  }
+  EXPECT_EQ(read_text(target / "result.txt"), "theirs");
+  EXPECT_EQ(fs::directory_iterator(target)->path().filename(), "result.txt");
+  EXPECT_EQ(output_folder_problem(final), "");
+  // A link above the folder is followed as any path is.
+  fs::create_symlink(target, tmp.path() / "link");
+  previous_run((tmp.path() / "link" / "run").string(), "through the link");
+  EXPECT_EQ(read_text(target / "run" / "result.txt"), "through the link");
+}
+
+// A run on "<folder>.partial" would replace the staging folder of a run on <folder> (which
+// then fails) and the run on <folder> would later delete it as a crashed run's leftover: the
+// names of a folder's family are not output folders.
+TEST(OutputFolder, TheNamesOfAnotherFoldersRunAreRefused) {
+  TempFolder tmp;
+  const std::string head = (tmp.path() / "fa").string();
+  OutputFolder running(head);
+  write_text(running.staging() + "/step.txt", "the running one's");
+  expect_refused(head + ".partial",
+                 "a name ending in '.partial' is that of the staging folder of '" + head + "'");
+  expect_refused(head + ".failed/", "a name ending in '.failed'");
+  expect_refused(head + ".old", "a name ending in '.old'");
+  expect_refused(head + ".lock", "a name ending in '.lock'");
+  EXPECT_EQ(read_text(running.staging() + "/step.txt"), "the running one's");
+  running.commit();
+  EXPECT_EQ(read_text(head + "/step.txt"), "the running one's");
+  EXPECT_EQ(output_folder_problem(head + ".partial.results"), "");  // only at the end
+}
+
+// Before: std::filesystem's "File name too long" escaped as a raw exception.
+TEST(OutputFolder, NamesAndPathsTooLongForARunAreRefusedWithTheReason) {
+  TempFolder tmp;
+  const std::string name_300 = (tmp.path() / std::string(300, 'a')).string();
+  EXPECT_NE(output_folder_problem(name_300).find("the folder's name is 300 characters long"),
+            std::string::npos)
+      << output_folder_problem(name_300);
+  // Fine alone, but not with ".partial" (255 characters at most).
+  const std::string name_250 = (tmp.path() / std::string(250, 'c')).string();
+  EXPECT_NE(output_folder_problem(name_250).find("with '.partial' added it would exceed the 255"),
+            std::string::npos);
+  std::string deep = tmp.path().string();
+  while (deep.size() < 5000) deep += "/" + std::string(200, 'b');
+  EXPECT_NE(output_folder_problem(deep).find("characters long: with the files a run writes in it"),
+            std::string::npos)
+      << output_folder_problem(deep).substr(0, 200);
+  EXPECT_THROW(OutputFolder{deep}, InputError);
+  EXPECT_EQ(output_folder_problem((tmp.path() / std::string(200, 'd')).string()), "");
+}
+
+// On a full device (/dev/full): the reason is said, the earlier file stays whole and no
+// .tmp is left.
+TEST(WriteFileAtomically, AFullDeviceLeavesTheEarlierFileAndSaysWhy) {
+  TempFolder tmp;
+  const std::string path = (tmp.path() / "case.xmf").string();
+  write_file_atomically(path, "earlier");
+  fs::create_symlink("/dev/full", path + ".tmp");
+  try {
+    write_file_atomically(path, "later");
+    ADD_FAILURE() << "written to /dev/full";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": cannot write the file: No space left on device");
+  }
+  EXPECT_EQ(read_text(path), "earlier");
+  EXPECT_FALSE(fs::exists(fs::symlink_status(path + ".tmp")));
+}
+
+// A row that does not fit is taken back: history.csv never ends in half a row.
+TEST(StepHistory, ARowThatFindsNoRoomLeavesTheRowsBefore) {
+  TempFolder tmp;
+  const std::string csv = (tmp.path() / "history.csv").string();
+  StepHistory history;
+  HistoryRow row;
+  row.add_count("step", 0);
+  row.add("load_factor", 0.5);
+  history.append(row, csv);
+  const std::string before = read_text(csv);
+  EXPECT_EQ(before, "step,load_factor\n0,0.5\n");
+  try {
+    const testing::FileSizeLimit limit(before.size() + 4);  // "1,0." fits, the rest not
+    row.cells[0].value = 1;
+    row.cells[1].value = 0.123456789;
+    history.append(row, csv);
+    ADD_FAILURE() << "appended past the limit";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), csv + ": cannot write: File too large");
+  }
+  EXPECT_EQ(read_text(csv), before);
+  EXPECT_EQ(history.rows(), 2u);  // kept in memory: the .h5's /history has it
 }
 
 TEST(WriteJson, WritesPrettyJsonThatReadsBack) {

@@ -13,6 +13,7 @@
 
 #include "../deck/temp_folder.hpp"
 #include "common/error.hpp"
+#include "file_size_limit.hpp"
 #include "io/output.hpp"
 
 namespace hs {
@@ -443,6 +444,40 @@ TEST(XdmfWriter, MeshAloneBeforeTheFirstStep) {
   for (const auto& e : elements) grids += e.name == "Grid", items += e.name == "DataItem";
   EXPECT_EQ(grids, 1);
   EXPECT_EQ(items, 4);  // topology, geometry, volume_group, group_tip_face
+}
+
+// A step that finds no room (a file size limit here, a full disk in a run) is refused before
+// HDF5 writes anything: SolveError naming the step, the file and the reason, and the files as
+// they were after the step before (the .h5 readable, the .xmf naming the steps written). Before:
+// HDF5's error stack printed, std::runtime_error, and a file HDF5 could not close.
+TEST(XdmfWriter, AStepThatFindsNoRoomLeavesTheStepsBefore) {
+  TempFolder tmp;
+  const Mesh mesh = two_tets(1);
+  const std::string h5 = tmp.path().string() + "/full.h5";
+  XdmfWriter writer(tmp.path().string(), "full", mesh);
+  writer.write_step(fields(mesh, 0, 0.5));
+  writer.write_step(fields(mesh, 1, 1.0));
+  std::string message;
+  {
+    const testing::FileSizeLimit limit(std::filesystem::file_size(h5) + 100);
+    try {
+      writer.write_step(fields(mesh, 2, 1.5));
+    } catch (const SolveError& e) {
+      message = e.what();
+    }
+  }
+  EXPECT_EQ(message.find("output step 2 (time 1.5) not written: " + h5 + ": no room for "), 0u)
+      << message;
+  EXPECT_NE(message.find(" KB more: File too large"), std::string::npos) << message;
+  check_xmf(tmp.path().string(), "full", mesh, {0.5, 1.0});
+  EXPECT_EQ(read_time(h5, "/step_1"), 1.0);
+  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  EXPECT_EQ(H5Lexists(file, "/step_2", H5P_DEFAULT), 0);
+  H5Fclose(file);
+  // With room again, the same step goes in as step 2.
+  writer.write_step(fields(mesh, 2, 1.5));
+  check_xmf(tmp.path().string(), "full", mesh, {0.5, 1.0, 1.5});
 }
 
 }  // namespace

@@ -57,6 +57,38 @@ TEST(OutputFolders, ARunOnAFolderThatAnotherRunIsWritingStopsAtOnce) {
   EXPECT_EQ(summary["output"]["folder"], folder);
 }
 
+// A run on "<folder>.partial" used to replace the staging folder of the run on <folder>,
+// which then failed while the other ended with status 0. Its name is refused, on every rank,
+// before any work; the running one's staging folder is left alone.
+TEST(OutputFolders, ARunOnAnotherRunsStagingFolderIsRefused) {
+  const std::string folder = hs_test::out_folder("fa");
+  std::unique_ptr<hs::OutputFolder> other;
+  if (world_rank() == 0) {
+    other = std::make_unique<hs::OutputFolder>(folder);
+    std::ofstream(other->staging() + "/step.txt") << "the other run's";
+  }
+  std::string message;
+  try {
+    hs_test::run_deck(kDeck, {}, "fa.partial");
+  } catch (const hs::InputError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("output.folder: a name ending in '.partial' is that of the staging "
+                         "folder of '" +
+                         folder + "'"),
+            std::string::npos)
+      << message;
+  if (world_rank() == 0) {
+    std::ifstream staged(other->staging() + "/step.txt");
+    std::string text;
+    std::getline(staged, text);
+    EXPECT_EQ(text, "the other run's");
+    EXPECT_FALSE(fs::exists(folder + ".partial.partial"));
+    other->commit();
+    EXPECT_TRUE(fs::exists(folder + "/step.txt"));
+  }
+}
+
 // What the first test of the pair below wrote, for the second to look at.
 fs::path written_by_the_previous_test;
 
