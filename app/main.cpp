@@ -113,10 +113,17 @@ int stopped(const std::string& deck, const hs::SolveError& e) {
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   const auto* interrupted = dynamic_cast<const hs::Interrupted*>(&e);
-  const std::string kept = e.kept_in.empty() ? "no step had converged: nothing was kept"
-                                             : "the " + std::to_string(e.kept_steps) +
-                                                   " converged output steps are in " + e.kept_in +
-                                                   "/ (summary.json: \"status\": \"failed\")";
+  std::string kept = "no step had converged: nothing was kept";
+  if (!e.kept_in.empty()) {
+    // A full disk may have left the kept folder without its summary, and a run stopped before
+    // its first output step keeps only its checkpoint.
+    const bool summary = std::filesystem::exists(e.kept_in + "/summary.json");
+    kept = (e.kept_steps > 0
+                ? "the " + std::to_string(e.kept_steps) + " converged output steps are in "
+                : std::string("a checkpoint to restart from is in ")) +
+           e.kept_in + "/" +
+           (summary ? " (summary.json: \"status\": \"failed\")" : " (without a summary.json)");
+  }
   if (!interrupted) return fail(3, deck + ": " + e.what() + "\n  " + kept);
   if (rank == 0) std::cerr << "hydrosoft: " << e.what() << "; " << kept << std::endl;
   PetscFinalize();

@@ -173,6 +173,23 @@ TEST(FailedRun, KeepsTheConvergedStepsBesideAnEarlierGoodResult) {
   EXPECT_EQ(text_of(folder + "/summary.json"), good_summary);
 }
 
+// With output every 10 steps and a checkpoint every step, the failure at step 3 leaves no
+// output step, only the checkpoint: the message said "the 0 converged output steps".
+TEST(FailedRun, ACheckpointAloneIsSaidToBeOne) {
+  TempFolder tmp;
+  const std::string folder = (tmp.path() / "beam").string();
+  const std::string err = (tmp.path() / "err").string();
+  EXPECT_EQ(run(cantilever(folder, kFailsAtStep3 +
+                                       " --set output.every=10 --set output.checkpoint.every=1") +
+                " 2> " + err),
+            3);
+  EXPECT_NE(text_of(err).find("\n  a checkpoint to restart from is in " + folder +
+                              ".failed/ (summary.json: \"status\": \"failed\")"),
+            std::string::npos)
+      << text_of(err);
+  EXPECT_TRUE(fs::exists(folder + ".failed/checkpoint.h5"));
+}
+
 TEST(FailedRun, AFailureBeforeAnyStepLeavesNothing) {
   TempFolder tmp;
   const std::string folder = (tmp.path() / "beam").string();

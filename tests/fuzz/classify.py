@@ -21,7 +21,8 @@ import subprocess
 BENIGN_PREFIXES = ("hydrosoft: warning:", "hydrosoft: step ")
 # The line a failed run (exit 3) adds under its error: what it kept of its steps.
 KEPT_LINE = re.compile(r"  (no step had converged: nothing was kept"
-                       r"|the \d+ converged output steps are in .+)$")
+                       r"|the \d+ converged output steps are in .+"
+                       r"|a checkpoint to restart from is in .+)$")
 
 
 def _limit_memory(megabytes):

@@ -10,6 +10,7 @@ from classify import classify  # noqa: E402
 ERROR = "hydrosoft: error: deck.yaml: step 1: did not converge (line 3)"
 NOTHING_KEPT = "  no step had converged: nothing was kept"
 KEPT = '  the 2 converged output steps are in out/ (summary.json: "status": "failed")'
+CHECKPOINT_KEPT = '  a checkpoint to restart from is in out/ (without a summary.json)'
 
 
 def judge(returncode, *lines, real_run=True):
@@ -24,6 +25,7 @@ class Classify(unittest.TestCase):
     def test_a_failed_run_may_say_what_it_kept(self):
         self.assertEqual(judge(3, ERROR, NOTHING_KEPT), "rejected")
         self.assertEqual(judge(3, "hydrosoft: warning: mesh in mm", ERROR, KEPT), "rejected")
+        self.assertEqual(judge(3, ERROR, CHECKPOINT_KEPT), "rejected")
 
     def test_any_other_second_line_is_a_defect(self):
         self.assertEqual(judge(3, ERROR, "  something else"), "defect")
