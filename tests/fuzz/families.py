@@ -81,7 +81,21 @@ class Context:
 
 # ---- the bases, made once at the start of a campaign ----
 
+def unmount_leftovers(out):
+    """A campaign killed in a full-disk case leaves its tmpfs mounted under OUT/work."""
+    try:
+        with open("/proc/mounts") as f:
+            points = [line.split()[1] for line in f]
+    except OSError:
+        return
+    work = os.path.join(out, "work") + "/"
+    for point in sorted(points, reverse=True):
+        if point.startswith(work):
+            subprocess.run(["umount", "-l", point], stderr=subprocess.DEVNULL)
+
+
 def prepare(names, ctx, base_meshes, binary_names):
+    unmount_leftovers(ctx.out)
     folder = os.path.join(ctx.out, "bases")
     shutil.rmtree(folder, ignore_errors=True)
     os.makedirs(folder)
@@ -231,7 +245,7 @@ def _make_checkpoint(rng, case, bases):
 def _make_disk(rng, case, bases):
     deck = rng.choice(["one", "steps", "checkpoint"])
     tmpfs_kb = rng.choice([8, 16, 32, 64, 128, 256, 512, 1024, 2048])
-    fsize = rng.choice([512, 4096, 16384, 65536, 262144, 1048576])
+    fsize = rng.choice([1024, 4096, 16384, 65536, 262144, 1048576])
     filler = rng.choice([0, 0, 4096, 32768, 200000])
     case.update(source=deck, kind="disk:" + deck, deck_kind=deck, tmpfs_kb=tmpfs_kb, fsize=fsize, filler=filler,
                 use_tmpfs=rng.random() < 0.7, earlier=rng.randrange(10**9), mode="run")
@@ -452,8 +466,9 @@ def _run_disk(case, ctx, root, run, outside):
         judged = classify.judge_full_disk(code, err, case["ranks"], disk, "results", earlier, code is None)
         if judged[0] == "defect":  # the tmpfs goes with its mount: keep a copy as the reproducer's
             shutil.copytree(disk, os.path.join(root, "disk_after"), symlinks=True)
-        how = f"tmpfs of {case['tmpfs_kb']} KB" if tmpfs else f"file size limit {case['fsize']} B"
-        return judged[0], judged[1], code, err, command + [f"# output folder on a {how}"]
+        how = (f"# first: mount -t tmpfs -o size={case['tmpfs_kb']}k tmpfs disk (and an earlier result in disk/results)"
+               if tmpfs else f"# first: trap '' XFSZ; ulimit -f {case['fsize'] // 1024} (and an earlier result in disk/results)")
+        return judged[0], judged[1], code, err, command + [how]
     finally:
         if tmpfs:
             if subprocess.run(["umount", disk], stderr=subprocess.DEVNULL).returncode != 0:
@@ -496,15 +511,18 @@ def _run_interactive(case, ctx, root, run, outside):
     answers = pipes.answers + ([pipes.buffer.decode("utf-8", "replace")] if pipes.buffer else [])
     judged = classify.judge_interactive(process.returncode, err, answers, sent, closed_stdout, run, "results",
                                         case["ranks"], timed_out)
-    return judged[0], judged[1], process.returncode, err, process.command + ["# client: " + case["detail"]]
+    return judged[0], judged[1], process.returncode, err, process.command + ["# the client: " + case["detail"]]
 
 
 def _run_lock(case, ctx, root, run, outside):
     kind = case["lock_kind"]
+    # Two runs at once both take a few seconds: the first commits while the second still writes.
+    long = block_deck(ctx.geo, h=0.15, E="2.0e5", time="{type: static, steps: 300}", output="output:\n  every: 10\n")
     with open(os.path.join(run, "deck.yaml"), "w") as f:
-        f.write(block_deck(ctx.geo, time=FAIL_TIME) if case["fails"] else block_deck(ctx.geo))
-    with open(os.path.join(run, "other.yaml"), "w") as f:  # a few seconds long, for two runs at once
-        f.write(block_deck(ctx.geo, h=0.15, E="2.0e5", time="{type: static, steps: 300}", output="output:\n  every: 10\n"))
+        f.write(long if kind.startswith("concurrent") else block_deck(ctx.geo, time=FAIL_TIME) if case["fails"]
+                else block_deck(ctx.geo))
+    with open(os.path.join(run, "other.yaml"), "w") as f:
+        f.write(long)
     victim_file = os.path.join(run, "victim.txt")
     with open(victim_file, "w") as f:
         f.write(f"a file that is not the run's: {case['victim']}\n")

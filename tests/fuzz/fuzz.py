@@ -227,8 +227,10 @@ def finish(case, outcome, folder, start, args):
             shutil.rmtree(os.path.join(folder, "results"), ignore_errors=True)
         shutil.move(folder, kept)
         where = os.path.join(kept, "run") if "family" in case else kept
+        notes = [c for c in command if c.startswith("# ")]  # what the command alone does not say
         with open(os.path.join(kept, "command.txt"), "w") as f:
-            f.write("cd " + where + " && " + " ".join(repr(c) if " " in c else c for c in command) + "\n")
+            f.write("cd " + where + " && " + " ".join(repr(c) if " " in c else c for c in command if c not in notes)
+                    + "\n" + "".join(n + "\n" for n in notes))
         with open(os.path.join(kept, "stderr.txt"), "w") as f:
             f.write(stderr)
         result["reproducer"] = kept
