@@ -109,10 +109,11 @@ def mutate_h5_mesh(rng, data):
             for c in range(3):
                 _put(out, faces, row * npf + c, "q", value[c])
             return kind, f"{name}/faces[{row}]: {face[:3]} -> {value}", bytes(out), "reject"
-        owner = read_rows(data, owners)[row]  # face_tet: a face said to belong to another tetrahedron
+        # face_tet: a face said to belong to another tetrahedron: refused, or the same result
+        owner = read_rows(data, owners)[row]
         value = rng.choice([t for t in range(num_tets) if t != owner])
         _put(out, owners, row, "q", value)
-        return kind, f"{name}/tets[{row}]: {owner} -> {value}", bytes(out), "reject"
+        return kind, f"{name}/tets[{row}]: {owner} -> {value}", bytes(out), "same"
     if kind == "volume_index":
         volumes = sets["/tet_volume"]
         row = rng.randrange(volumes.shape[0])
