@@ -1,7 +1,7 @@
 """Mutations of a binary gmsh .msh (formats 4.1 and 2.2, P1 and P2): the counts of the
 headers ($Entities, $Nodes, $Elements, each entity block's), the tags and counts inside the
-entities and blocks (numPhysicalTags, numBounding..., 2.2's numTags), element types, the
-nodes an element names, coordinates, bytes flipped, spliced or cut.
+entities and blocks (numPhysicalTags, numBounding..., 2.2's numTags), element types, element
+and node tags, the nodes an element names, coordinates, bytes flipped, spliced or cut.
 
 The file is parsed once into its fields (offset, width, what it is); a mutation writes an
 odd value into one of them or edits the bytes. Choices come from `rng`.
@@ -170,7 +170,8 @@ def mutate_binary_msh(rng, data):
     tetrahedron), else 'any'."""
     m = BinaryMsh(data)
     kind = rng.choice(["count", "count", "inner_count", "entity", "element_type", "node_ref", "node_ref",
-                       "coordinate", "repeat_tet", "flip", "flip", "truncate", "splice", "header"])
+                       "element_tag", "node_tag", "coordinate", "repeat_tet", "flip", "flip", "truncate", "splice",
+                       "header"])
     if kind in ("count", "inner_count"):
         field = rng.choice(m.of(kind, "ascii_count") if kind == "count" else m.of(kind))
         value = rng.choice(ODD_COUNTS + [field.value * 1000 + 1, field.value + 1, field.value - 1])
@@ -190,6 +191,11 @@ def mutate_binary_msh(rng, data):
         value = rng.choice(ODD_NODE_TAGS + [m.max_node + 7]) if odd else rng.choice([f.value for f in tet[:4] if f is not field])
         detail = f"tetrahedron node at {field.offset}: {field.value} -> {value}"
         return kind, detail, _write(data, field, value), "reject"
+    if kind in ("element_tag", "node_tag"):  # a tag odd, or another's (two elements or nodes of one tag)
+        fields = m.of(kind)
+        field = rng.choice(fields)
+        value = rng.choice(ODD_NODE_TAGS + [rng.choice(fields).value])
+        return kind, f"{field.label} at {field.offset}: {field.value} -> {value}", _write(data, field, value), "any"
     if kind == "coordinate":
         field = rng.choice(m.of("coordinate"))
         value = rng.choice(ODD_COORDINATES)

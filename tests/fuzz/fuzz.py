@@ -30,6 +30,7 @@ import shutil
 import subprocess
 import sys
 import time
+import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from classify import run_case, run_surface_case  # noqa: E402
@@ -170,7 +171,10 @@ def run_surface_one(i, args):
 
 def run_family_one(case, ctx, args):
     start = time.monotonic()
-    outcome = families.run_case(case, ctx)
+    try:
+        outcome = families.run_case(case, ctx)
+    except Exception:  # the harness's own fault: kept and counted, the campaign goes on
+        outcome = ("harness_error", "the harness failed: see stderr.txt", None, traceback.format_exc(), ["#"])
     return finish(case, outcome, os.path.join(args.out, "work", case["id"]), start, args)
 
 
@@ -220,8 +224,9 @@ def finish(case, outcome, folder, start, args):
     result["family"] = case.get("family", "surface" if case["kind"].startswith("surface:") else "deck")
     result["ranks"] = case.get("ranks", 1)
     result.update({"class": cls, "reason": reason, "exit": code, "seconds": round(time.monotonic() - start, 2)})
-    if cls == "defect" or (cls == "time_limit" and args.keep_time_limits):
-        kept = os.path.join(args.out, "defects" if cls == "defect" else "time_limits", str(case["id"]))
+    if cls in ("defect", "harness_error") or (cls == "time_limit" and args.keep_time_limits):
+        kept = os.path.join(args.out, {"defect": "defects", "harness_error": "harness_errors"}.get(cls, "time_limits"),
+                            str(case["id"]))
         shutil.rmtree(kept, ignore_errors=True)
         if "family" not in case:  # a family case keeps its results: they are the evidence
             shutil.rmtree(os.path.join(folder, "results"), ignore_errors=True)
@@ -288,7 +293,8 @@ def main():
     args.out = os.path.abspath(args.out)
     if os.path.commonpath([args.out, SOURCE]) == SOURCE and "/build" not in args.out:
         sys.exit("fuzz: --out must lie outside the source tree (or in a build folder)")
-    shutil.rmtree(os.path.join(args.out, "defects"), ignore_errors=True)
+    for old in ("defects", "harness_errors"):
+        shutil.rmtree(os.path.join(args.out, old), ignore_errors=True)
     os.makedirs(args.out, exist_ok=True)
 
     chosen = parse_families(args.family, args.only)
@@ -382,7 +388,11 @@ def main():
     for d in defects:
         print(f"fuzz: defect in case {d['id']} ({d['source']}, {d['kind']}: {d['detail']}): {d['reason']}"
               f"\n      reproducer: {d['reproducer']}")
-    return 1 if defects else 0
+    for r in results:
+        if r["class"] == "harness_error":
+            print(f"fuzz: the harness failed on case {r['id']}: {r['stderr_tail'].strip().splitlines()[-1]}"
+                  f"\n      kept: {r['reproducer']}")
+    return 1 if defects or counts.get("harness_error") else 0
 
 
 if __name__ == "__main__":
