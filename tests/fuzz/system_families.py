@@ -105,9 +105,10 @@ def run_disk(case, ctx, root, run, outside):
         with open(os.path.join(run, "deck.yaml"), "w") as f:
             f.write(deck)
         argv = ["deck.yaml", "-q", "--set", "output.folder=disk/results"]
-        code, out, err, command = ctx.launcher.run(argv, run, root, case["ranks"], ctx.run_timeout,
+        ranks = case["ranks"] if tmpfs else 1  # Open MPI's launcher fails under a file size limit
+        code, out, err, command = ctx.launcher.run(argv, run, root, ranks, ctx.run_timeout,
                                                    file_size=None if tmpfs else case["fsize"])
-        judged = classify.judge_full_disk(code, err, case["ranks"], disk, "results", earlier, code is None)
+        judged = classify.judge_full_disk(code, err, ranks, disk, "results", earlier, code is None)
         if judged[0] == "defect":  # the tmpfs goes with its mount: keep a copy as the reproducer's
             shutil.copytree(disk, os.path.join(root, "disk_after"), symlinks=True)
         how = (f"# first: mount -t tmpfs -o size={case['tmpfs_kb']}k tmpfs disk (and an earlier result in disk/results)"
