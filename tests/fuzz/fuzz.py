@@ -1,12 +1,14 @@
 #!/usr/bin/python3
 """Fuzzes hydrosoft's input: mutated decks of input/, mutated .msh meshes and --set overrides,
-each run with `hydrosoft --check` and a sample also for real; and mutated surface files
-(.obj, .off, .stl, .msh) run through `fluidweight`. Each outcome is classified (classify.py).
-Deterministic: case i of seed s is the same on every machine and can be run alone (--only i;
-surface case i: --only s<i>).
+each run with `hydrosoft --check` and a sample also for real; mutated surface files
+(.obj, .off, .stl, .msh) run through `fluidweight`; and the families of families.py (.geo
+files that merge others, binary .msh, .h5 meshes, checkpoints, full disks, interactive clients
+that close their pipes, linked lock and staging folders), on 1 or 2 ranks. Each outcome is
+classified (classify.py). Deterministic: case i of seed s is the same on every machine and can
+be run alone (--only i; surface case i: --only s<i>; family case i: --only <family><i>).
 
     tests/fuzz/fuzz.py --hydrosoft build/bin/hydrosoft --out /tmp/fuzz --seed 1 --cases 3000 \
-        --surfaces 2000
+        --surfaces 2000 --family geo:500 --family checkpoint:300 --ranks-share 0.1
 
 Needs /usr/bin/python3's standard library only, and the executables: the base meshes of the
 mesh cases are read from tests/fuzz/base_meshes/ (--base-meshes; --make-base-meshes remakes
@@ -28,10 +30,13 @@ import shutil
 import subprocess
 import sys
 import time
+import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from classify import run_case, run_surface_case  # noqa: E402
 from deck_mutations import mutate_deck, override_mutation  # noqa: E402
+import families  # noqa: E402
+from launch import Launcher  # noqa: E402
 import mini_yaml  # noqa: E402
 from mesh_mutations import mutate_msh  # noqa: E402
 from surface_mutations import mutate_surface  # noqa: E402
@@ -56,11 +61,18 @@ time: {{type: static, steps: 1}}
 solver: {{preset: mumps}}
 """
 
-# The base meshes: (name, gmsh arguments, order of the deck).
+# The base meshes: (name, gmsh arguments, order of the deck). The ASCII ones are the mesh
+# cases' bases, the binary ones (`_bin`) the binary .msh family's (families.py).
 BASE_MESHES = [
     ("block_v41", ["-format", "msh41"], 1),
     ("block_v22", ["-format", "msh22"], 1),
     ("block_v41_p2", ["-format", "msh41", "-order", "2"], 2),
+]
+BINARY_BASE_MESHES = [
+    ("block_v41_bin", ["-format", "msh41", "-bin"], 1),
+    ("block_v22_bin", ["-format", "msh22", "-bin"], 1),
+    ("block_v41_p2_bin", ["-format", "msh41", "-bin", "-order", "2"], 2),
+    ("block_v22_p2_bin", ["-format", "msh22", "-bin", "-order", "2"], 2),
 ]
 
 
@@ -70,7 +82,7 @@ BASE_MESH_FOLDER = os.path.join(SOURCE, "tests", "fuzz", "base_meshes")
 def make_base_meshes(folder):
     """Meshes meshes/block.geo with the gmsh command into `folder` (4.8.4 made the stored ones)."""
     os.makedirs(folder, exist_ok=True)
-    for name, args, _ in BASE_MESHES:
+    for name, args, _ in BASE_MESHES + BINARY_BASE_MESHES:
         path = os.path.join(folder, name + ".msh")
         subprocess.run(["gmsh", "-3", "-setnumber", "h", "0.5", "-nt", "1", *args, "-o", path,
                         os.path.join(SOURCE, "meshes", "block.geo")],
@@ -157,6 +169,31 @@ def run_surface_one(i, args):
     return finish(case, outcome, folder, start, args)
 
 
+def run_family_one(case, ctx, args):
+    start = time.monotonic()
+    try:
+        outcome = families.run_case(case, ctx)
+    except Exception:  # the harness's own fault: kept and counted, the campaign goes on
+        outcome = ("harness_error", "the harness failed: see stderr.txt", None, traceback.format_exc(), ["#"])
+    return finish(case, outcome, os.path.join(args.out, "work", case["id"]), start, args)
+
+
+def parse_families(specs, only):
+    """{family: [case numbers]} from --family NAME:COUNT[:FIRST] and --only NAME<i>."""
+    chosen = {}
+    for spec in specs or []:
+        name, _, rest = spec.partition(":")
+        count, _, first = rest.partition(":")
+        if name not in families.NAMES or not count.isdigit() or (first and not first.isdigit()):
+            sys.exit(f"fuzz: --family {spec}: expected NAME:COUNT[:FIRST], NAME one of {', '.join(families.NAMES)}")
+        chosen.setdefault(name, []).extend(range(int(first or 0), int(first or 0) + int(count)))
+    for item in only or []:
+        m = re.fullmatch(r"([a-z0-9]+?)(\d+)", item)
+        if m and m.group(1) in families.NAMES:
+            chosen.setdefault(m.group(1), []).append(int(m.group(2)))
+    return chosen
+
+
 def write_case(case, folder):
     os.makedirs(folder, exist_ok=True)
     with open(os.path.join(folder, "deck.yaml"), "w", encoding="utf-8", errors="surrogateescape") as f:
@@ -184,14 +221,21 @@ def finish(case, outcome, folder, start, args):
     """The case's row of the report; a defect's (or time limit's) folder kept as its reproducer."""
     cls, reason, code, stderr, command = outcome
     result = {k: case[k] for k in ("id", "source", "kind", "detail", "real_run")}
+    result["family"] = case.get("family", "surface" if case["kind"].startswith("surface:") else "deck")
+    result["ranks"] = case.get("ranks", 1)
     result.update({"class": cls, "reason": reason, "exit": code, "seconds": round(time.monotonic() - start, 2)})
-    if cls == "defect" or (cls == "time_limit" and args.keep_time_limits):
-        kept = os.path.join(args.out, "defects" if cls == "defect" else "time_limits", str(case["id"]))
+    if cls in ("defect", "harness_error") or (cls == "time_limit" and args.keep_time_limits):
+        kept = os.path.join(args.out, {"defect": "defects", "harness_error": "harness_errors"}.get(cls, "time_limits"),
+                            str(case["id"]))
         shutil.rmtree(kept, ignore_errors=True)
-        shutil.rmtree(os.path.join(folder, "results"), ignore_errors=True)
+        if "family" not in case:  # a family case keeps its results: they are the evidence
+            shutil.rmtree(os.path.join(folder, "results"), ignore_errors=True)
         shutil.move(folder, kept)
+        where = os.path.join(kept, "run") if "family" in case else kept
+        notes = [c for c in command if c.startswith("# ")]  # what the command alone does not say
         with open(os.path.join(kept, "command.txt"), "w") as f:
-            f.write("cd " + kept + " && " + " ".join(repr(c) if " " in c else c for c in command) + "\n")
+            f.write("cd " + where + " && " + " ".join(repr(c) if " " in c else c for c in command if c not in notes)
+                    + "\n" + "".join(n + "\n" for n in notes))
         with open(os.path.join(kept, "stderr.txt"), "w") as f:
             f.write(stderr)
         result["reproducer"] = kept
@@ -199,6 +243,17 @@ def finish(case, outcome, folder, start, args):
     else:
         shutil.rmtree(folder, ignore_errors=True)
     return result
+
+
+def base_checkpoint(ctx):
+    """Where the checkpoint family's base stopped (the SIGTERM's moment depends on the machine)."""
+    if ctx is None or "checkpoint" not in ctx.bases:
+        return None
+    import checkpoint_mutations
+    from h5_layout import H5Layout
+
+    data = ctx.bases["checkpoint"][0]
+    return checkpoint_mutations.StateText(data, H5Layout(data)).state.get("position")
 
 
 def main():
@@ -222,6 +277,12 @@ def main():
     parser.add_argument("--run-timeout", type=float, default=60)
     parser.add_argument("--memory-mb", type=int, default=4096, help="address-space limit, 0 for none")
     parser.add_argument("--keep-time-limits", action="store_true")
+    parser.add_argument("--family", action="append", metavar="NAME:COUNT[:FIRST]",
+                        help="COUNT cases of a family of families.py from case FIRST (default 0): "
+                             + ", ".join(families.NAMES))
+    parser.add_argument("--ranks-share", type=float, default=0.0, help="share of family cases run on 2 ranks")
+    parser.add_argument("--mpiexec", default=shutil.which("mpiexec") or shutil.which("mpirun") or "mpiexec",
+                        help="the MPI launcher of the 2-rank cases")
     args = parser.parse_args()
     if args.hydrosoft:
         args.hydrosoft = os.path.abspath(args.hydrosoft)
@@ -232,17 +293,19 @@ def main():
     args.out = os.path.abspath(args.out)
     if os.path.commonpath([args.out, SOURCE]) == SOURCE and "/build" not in args.out:
         sys.exit("fuzz: --out must lie outside the source tree (or in a build folder)")
-    shutil.rmtree(os.path.join(args.out, "defects"), ignore_errors=True)
+    for old in ("defects", "harness_errors"):
+        shutil.rmtree(os.path.join(args.out, old), ignore_errors=True)
     os.makedirs(args.out, exist_ok=True)
 
+    chosen = parse_families(args.family, args.only)
     if args.only:
-        ids = [int(i) for i in args.only if not i.startswith("s")]
-        surface_ids = [int(i[1:]) for i in args.only if i.startswith("s")]
+        ids = [int(i) for i in args.only if i.isdigit()]
+        surface_ids = [int(i[1:]) for i in args.only if re.fullmatch(r"s\d+", i)]
     else:
         ids = range(args.first, args.first + args.cases)
         surface_ids = range(args.surfaces_first, args.surfaces_first + args.surfaces)
-    if ids and not args.hydrosoft:
-        sys.exit("fuzz: deck cases need --hydrosoft (or --cases 0)")
+    if (ids or chosen) and not args.hydrosoft:
+        sys.exit("fuzz: deck and family cases need --hydrosoft (or --cases 0)")
     if surface_ids and not (args.fluidweight and os.access(args.fluidweight, os.X_OK)):
         sys.exit(f"fuzz: surface cases need the fluidweight executable (--fluidweight; {args.fluidweight})")
     cases = []
@@ -254,10 +317,20 @@ def main():
         cases = [make_case(args.seed, i, decks, meshes, args.run_share, args.mesh_share) for i in ids]
     cases += [("surface", i) for i in surface_ids]
     start = time.monotonic()
+    ctx = None
+    if chosen:
+        ctx = families.Context(Launcher(args.hydrosoft, args.mpiexec, args.memory_mb), args.out, SOURCE,
+                               args.check_timeout, args.run_timeout, args.ranks_share)
+        binary = [(name, order) for name, _, order in BINARY_BASE_MESHES]
+        families.prepare(chosen, ctx, args.base_meshes, binary)
+        for name in families.NAMES:
+            cases += [families.make_case(name, args.seed, i, ctx) for i in chosen.get(name, [])]
     results = []
 
     def run_any(case):
-        return run_surface_one(case[1], args) if isinstance(case, tuple) else run_one(case, args)
+        if isinstance(case, tuple):
+            return run_surface_one(case[1], args)
+        return run_family_one(case, ctx, args) if "family" in case else run_one(case, args)
 
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         for r in pool.map(run_any, cases):
@@ -267,8 +340,10 @@ def main():
                       file=sys.stderr, flush=True)
     shutil.rmtree(os.path.join(args.out, "work"), ignore_errors=True)
 
-    counts, by_kind, by_format = {}, {}, {}
+    counts, by_kind, by_format, by_family = {}, {}, {}, {}
     for r in results:
+        family = by_family.setdefault(r["family"], {})
+        family[r["class"]] = family.get(r["class"], 0) + 1
         counts[r["class"]] = counts.get(r["class"], 0) + 1
         kind = by_kind.setdefault(r["kind"], {})
         kind[r["class"]] = kind.get(r["class"], 0) + 1
@@ -278,22 +353,27 @@ def main():
     surfaces = [r for r in results if r["kind"].startswith("surface:")]
     surface_counts, deck_counts = {}, {}
     for r in results:
-        part = surface_counts if r["kind"].startswith("surface:") else deck_counts
-        part[r["class"]] = part.get(r["class"], 0) + 1
+        if r["family"] in ("deck", "surface"):
+            part = surface_counts if r["family"] == "surface" else deck_counts
+            part[r["class"]] = part.get(r["class"], 0) + 1
     defects = [r for r in results if r["class"] == "defect"]
     report = {
         "seed": args.seed, "cases": len(results), "first": args.first,
         "real_runs": sum(r["real_run"] for r in results),
         "surface_cases": len(surfaces), "surface_first": args.surfaces_first,
         "seconds": round(time.monotonic() - start, 1), "jobs": args.jobs, "counts": counts,
-        "deck_counts": deck_counts, "surface_counts": surface_counts, "by_kind": by_kind, "surfaces_by_format": by_format,
+        "deck_counts": deck_counts, "surface_counts": surface_counts, "by_family": by_family,
+        "family_cases": sum(r["family"] not in ("deck", "surface") for r in results),
+        "two_rank_cases": sum(r["ranks"] > 1 for r in results), "base_checkpoint": base_checkpoint(ctx),
+        "by_kind": by_kind, "surfaces_by_format": by_format,
         "defects": defects,
         "time_limits": [r for r in results if r["class"] == "time_limit"],
     }
     with open(os.path.join(args.out, "report.json"), "w") as f:
         json.dump(report, f, indent=1)
     with open(os.path.join(args.out, "cases.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, ["id", "source", "kind", "detail", "real_run", "class", "exit", "seconds", "reason"],
+        w = csv.DictWriter(f, ["id", "family", "source", "kind", "detail", "real_run", "ranks", "class", "exit",
+                               "seconds", "reason"],
                            extrasaction="ignore")
         w.writeheader()
         w.writerows(results)
@@ -302,10 +382,17 @@ def main():
           + ", ".join(f"{k} {v}" for k, v in sorted(counts.items()))
           + " (decks and meshes: " + (", ".join(f"{k} {v}" for k, v in sorted(deck_counts.items())) or "none")
           + "; surfaces: " + (", ".join(f"{k} {v}" for k, v in sorted(surface_counts.items())) or "none") + ")")
+    for name in families.NAMES:
+        if name in by_family:
+            print(f"fuzz:   {name}: " + ", ".join(f"{k} {v}" for k, v in sorted(by_family[name].items())))
     for d in defects:
         print(f"fuzz: defect in case {d['id']} ({d['source']}, {d['kind']}: {d['detail']}): {d['reason']}"
               f"\n      reproducer: {d['reproducer']}")
-    return 1 if defects else 0
+    for r in results:
+        if r["class"] == "harness_error":
+            print(f"fuzz: the harness failed on case {r['id']}: {r['stderr_tail'].strip().splitlines()[-1]}"
+                  f"\n      kept: {r['reproducer']}")
+    return 1 if defects or counts.get("harness_error") else 0
 
 
 if __name__ == "__main__":
