@@ -331,6 +331,12 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
       r.fail("output.folder", output["folder"], problem);
     r.fail("output.folder", "the default '" + c.output.folder + "': " + problem);
   }
+  // The results go to <deck name>.h5 beside checkpoint.h5: a deck named checkpoint would write
+  // both into one file.
+  if (c.output.checkpoint && c.deck_name == "checkpoint")
+    r.fail("output.checkpoint", root["output"]["checkpoint"],
+           "a deck named checkpoint.yaml writes its results to checkpoint.h5, the checkpoint's own "
+           "file: rename the deck");
   // The one_step controller uses the liquids' weights frozen wherever they were last frozen,
   // which a checkpoint does not hold (a restart would freeze them elsewhere).
   if (c.output.checkpoint && c.control && c.control->free_solve == FreeSolve::one_step)

@@ -64,12 +64,18 @@ std::string what_was_thrown() {
 // still an answer: the error, as the input error it is.
 [[noreturn]] void on_terminate() { answer('I', answer_file + ": gmsh: " + what_was_thrown()); }
 
-// The child keeps standard output and error, its pipe and `keep`; standard input (which may
-// carry the run's control targets) reads nothing, and the descriptors of the parent's MPI
-// connections, output and lock files are closed.
+// The child keeps its pipe and `keep`. Standard input (which may carry the run's control
+// targets) reads nothing; standard output and error go nowhere, since the run's error is one
+// line and what gmsh or the C library print on a failure (a heap corruption's abort) would add
+// lines to it; the descriptors of the parent's MPI connections, output and lock files close.
 void detach_descriptors(int fd, std::vector<int> keep) {
-  const int null = open("/dev/null", O_RDONLY | O_CLOEXEC);
-  if (null >= 0) dup2(null, 0);
+  const int in = open("/dev/null", O_RDONLY | O_CLOEXEC),
+            out = open("/dev/null", O_WRONLY | O_CLOEXEC);
+  if (in >= 0) dup2(in, 0);
+  if (out >= 0) {
+    dup2(out, 1);
+    dup2(out, 2);
+  }
   keep.push_back(fd);
   std::sort(keep.begin(), keep.end());
   unsigned from = 3;

@@ -21,8 +21,8 @@ namespace hs {
 // regions (std::terminate) is an InputError "FILE: gmsh: ...". A child that dies on a signal
 // is an InputError naming `file` and the signal. When this process gets SIGTERM or SIGINT
 // (common/interrupt.hpp) while the child works, the child is killed and Interrupted is thrown.
-// The child reads nothing from standard input and holds no descriptor of this process but
-// standard output and error and those in `keep`.
+// The child reads nothing from standard input, prints nothing (its standard output and error
+// go to /dev/null) and holds no descriptor of this process but those in `keep`.
 struct GmshProcess {
   bool confined = true;
   std::vector<int> keep;

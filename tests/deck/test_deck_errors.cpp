@@ -169,6 +169,25 @@ TEST_F(DeckErrors, NonPhysicalValues) {
   });
 }
 
+// Its results would go to checkpoint.h5, over its checkpoint: the run ended with "status ok"
+// and an .xmf naming steps the file did not hold.
+TEST_F(DeckErrors, ADeckNamedCheckpointKeepsNoCheckpoints) {
+  const std::string path =
+      tmp.write("checkpoint.yaml", kMesh + kMaterials + "output: {checkpoint: {every: 1}}\n");
+  try {
+    parse_deck(path);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find(path + ": output.checkpoint: a deck named "
+                                          "checkpoint.yaml writes its results to checkpoint.h5"),
+        std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(parse_deck(
+      tmp.write("checkpoint2.yaml", kMesh + kMaterials + "output: {checkpoint: {every: 1}}\n")));
+}
+
 TEST_F(DeckErrors, UnknownNamesListTheValidOnes) {
   expect_errors({
       {kMesh + "materials:\n  - {group: body, model: hookean, E: 1, nu: 0.3}\n",
