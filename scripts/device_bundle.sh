@@ -3,10 +3,12 @@
 # libraries it needs and Open MPI's launcher and plugins, so that it runs on a machine that has
 # none of them (the project's GPU machine: a GPU, 16 cores, no PETSc, MPI or gmsh).
 #
-#   bash scripts/device_bundle.sh BUILD_DIR OUT_DIR [TEST ...]
+#   bash scripts/device_bundle.sh BUILD_DIR OUT_DIR [NAME ...]
 #
-# BUILD_DIR/bin/* always go in; each TEST names a test binary of BUILD_DIR/tests to add (e.g.
-# mpi_test_cavities). input/ and meshes/ go in too. Writes OUT_DIR/part_aa, part_ab, ...: the
+# hydrosoft and fluidweight always go in; each NAME adds a program of BUILD_DIR/bin (box_mesh,
+# bench_fluidweight, ...) or a test of BUILD_DIR/tests (mpi_test_cavities, ...), with the
+# libraries it needs (the GPU benchmarks' bring cuSOLVER and cuBLAS: name them only when they
+# are to run). input/ and meshes/ go in too. Writes OUT_DIR/part_aa, part_ab, ...: the
 # bundle (xz) in parts of 40 MB, since the device tool carries at most 64 MiB a call. Send
 # part_aa in one call (`cat .device-carry/part_aa > /tmp/p`) and the rest in the next one at
 # once (the machine stays warm ~30 s), there:
@@ -16,7 +18,7 @@
 # slower with them, so time GAMG, the assembly and the GPU with a bundle, not MUMPS.
 set -euo pipefail
 if [[ $# -lt 2 ]]; then
-  echo "usage: $0 BUILD_DIR OUT_DIR [TEST ...]" >&2
+  echo "usage: $0 BUILD_DIR OUT_DIR [NAME ...]" >&2
   exit 2
 fi
 build=$(readlink -f "$1")
@@ -44,8 +46,16 @@ add_binary() {
   copy_libraries "$1"
 }
 
-for binary in "$build"/bin/*; do [[ -f $binary && -x $binary ]] && add_binary "$binary"; done
-for test in "$@"; do add_binary "$build/tests/$test"; done
+for name in hydrosoft fluidweight "$@"; do
+  if [[ -x $build/bin/$name ]]; then
+    add_binary "$build/bin/$name"
+  elif [[ -x $build/tests/$name ]]; then
+    add_binary "$build/tests/$name"
+  else
+    echo "$0: no program $name in $build/bin or $build/tests" >&2
+    exit 2
+  fi
+done
 add_binary "$(readlink -f /usr/bin/mpirun)"
 add_binary "$(command -v orted)"
 mv "$stage/bin/orterun" "$stage/bin/mpirun" 2>/dev/null || true

@@ -152,6 +152,24 @@ TEST(GmshProcess, ACrashIsAnInputErrorNamingTheFile) {
                      {"exit.geo: gmsh ended (exit status 0) without reading it to the end"});
 }
 
+// A heap corruption's abort, or gmsh's own error line, printed beside the run's one-line error.
+TEST(GmshProcess, ItPrintsNothing) {
+  ::testing::internal::CaptureStderr();
+  ::testing::internal::CaptureStdout();
+  expect_input_error(
+      [&] {
+        run_gmsh_process("noisy.geo", []() -> Mesh {
+          std::fprintf(stderr, "free(): invalid pointer\n");
+          std::printf("Error   : boom\n");
+          std::fflush(nullptr);
+          std::abort();
+        });
+      },
+      {"noisy.geo: gmsh died of signal 6"});
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), "");
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+}
+
 TEST(GmshProcess, ItReadsNothingFromStandardInput) {
   int fds[2];
   ASSERT_EQ(pipe(fds), 0);
