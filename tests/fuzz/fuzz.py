@@ -228,6 +228,7 @@ def finish(case, outcome, folder, start, args):
         kept = os.path.join(args.out, {"defect": "defects", "harness_error": "harness_errors"}.get(cls, "time_limits"),
                             str(case["id"]))
         shutil.rmtree(kept, ignore_errors=True)
+        os.makedirs(os.path.dirname(kept), exist_ok=True)  # a rename, not a copy: Open MPI leaves fifos
         if "family" not in case:  # a family case keeps its results: they are the evidence
             shutil.rmtree(os.path.join(folder, "results"), ignore_errors=True)
         shutil.move(folder, kept)
