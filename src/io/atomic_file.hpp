@@ -7,8 +7,26 @@
 
 namespace hs {
 
-// Throws std::runtime_error naming the file and the system's reason ("No space left on
-// device") if it cannot be written; the .tmp is then removed and <path> left as it was.
+// A file's new content written beside it ("<path>.tmp") and put in its place by commit(): a
+// caller that writes other files too stages this one first, so that a full disk stops it
+// before anything is written, and commits it last. The .tmp is removed unless committed.
+class StagedFile {
+ public:
+  // Throws std::runtime_error naming the file and the system's reason ("No space left on
+  // device") if it cannot be written; the .tmp is then removed and <path> left as it was.
+  StagedFile(std::string path, const std::string& text);
+  ~StagedFile();
+  StagedFile(const StagedFile&) = delete;
+  StagedFile& operator=(const StagedFile&) = delete;
+  // Throws std::runtime_error naming the file if the rename fails (<path> is then unchanged).
+  void commit();
+
+ private:
+  std::string path_, tmp_;
+  bool committed_ = false;
+};
+
+// A StagedFile committed at once.
 void write_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace hs

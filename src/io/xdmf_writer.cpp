@@ -16,6 +16,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -48,6 +49,7 @@ struct XdmfWriter::Impl {
   std::string grid(const std::string& indent, int step) const;
   double time_value(int step) const;  // the <Time Value> of step k
   void write_xdmf() const;
+  std::string xdmf_text() const;
 };
 
 namespace {
@@ -193,7 +195,9 @@ double XdmfWriter::Impl::time_value(int step) const {
   return times[step];
 }
 
-void XdmfWriter::Impl::write_xdmf() const {
+void XdmfWriter::Impl::write_xdmf() const { write_file_atomically(xmf_path(), xdmf_text()); }
+
+std::string XdmfWriter::Impl::xdmf_text() const {
   std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
   if (times.empty()) {
@@ -205,7 +209,7 @@ void XdmfWriter::Impl::write_xdmf() const {
     x << "    </Grid>\n";
   }
   x << "  </Domain>\n</Xdmf>\n";
-  write_file_atomically(xmf_path(), x.str());
+  return x.str();
 }
 
 OutputLayout whole_layout(const Mesh& mesh) {
@@ -323,7 +327,17 @@ void XdmfWriter::write_step(const StepFields& f) {
   const int64_t bytes =
       nodal_fields * w.nodes * 3 * 8 + w.tets * (8 + 8 + 4) +
       Hdf5File::metadata_allowance(3 + 2 * (nodal_fields + 3), static_cast<int64_t>(k) + 1);
+  // The step exists for readers once the .xmf names it. The new .xmf is written first (a full
+  // disk then stops the step before the .h5 holds any of it) and put in place last: the .h5
+  // never holds a step that the .xmf does not name, nor the .xmf one that the .h5 lacks.
+  w.times.push_back(f.time);
+  w.time_kinds.push_back(f.time_kind);
+  w.has_pressure.push_back(pressure);
+  w.has_weight.push_back(weight);
+  std::unique_ptr<StagedFile> xmf;  // rank 0's
   try {
+    write_together(w.comm, w.rank == 0,
+                   [&] { xmf = std::make_unique<StagedFile>(w.xmf_path(), w.xdmf_text()); });
     Hdf5File h5(w.h5_path(), Hdf5File::Mode::Append, w.comm, bytes);
     h5.create_group(step);
     h5.set_attribute(step, "time", f.time);
@@ -343,22 +357,12 @@ void XdmfWriter::write_step(const StepFields& f) {
     h5.write_rows(step + "/rank", f.rank, w.tets, 0, w.first_tet);
     h5.set_attribute(step + "/rank", "units", std::string("1"));
     h5.close();
-    // The step exists for readers once the .xmf names it: until then it is not counted, and
-    // an .xmf that cannot be written leaves the previous one, of the steps before.
-    w.times.push_back(f.time);
-    w.time_kinds.push_back(f.time_kind);
-    w.has_pressure.push_back(pressure);
-    w.has_weight.push_back(weight);
-    try {
-      write_together(w.comm, w.rank == 0, [&] { w.write_xdmf(); });
-    } catch (const SolveError&) {
-      w.times.pop_back();
-      w.time_kinds.pop_back();
-      w.has_pressure.pop_back();
-      w.has_weight.pop_back();
-      throw;
-    }
+    write_together(w.comm, w.rank == 0, [&] { xmf->commit(); });
   } catch (const SolveError& e) {
+    w.times.pop_back();
+    w.time_kinds.pop_back();
+    w.has_pressure.pop_back();
+    w.has_weight.pop_back();
     throw SolveError("output step " + std::to_string(k) + " (time " + number_text(f.time) +
                      ") not written: " + e.what());
   }

@@ -480,5 +480,26 @@ TEST(XdmfWriter, AStepThatFindsNoRoomLeavesTheStepsBefore) {
   check_xmf(tmp.path().string(), "full", mesh, {0.5, 1.0, 1.5});
 }
 
+// The .xmf of a step that cannot be written (here its .tmp's name is taken by a folder; a full
+// disk in a run) used to leave the step in the .h5 that no .xmf named: the .xmf is now written
+// first, and the .h5 keeps only the steps the .xmf names.
+TEST(XdmfWriter, AStepWhoseXmfCannotBeWrittenLeavesTheH5AsItWas) {
+  TempFolder tmp;
+  const Mesh mesh = two_tets(1);
+  const std::string h5 = tmp.path().string() + "/full.h5";
+  XdmfWriter writer(tmp.path().string(), "full", mesh);
+  writer.write_step(fields(mesh, 0, 0.5));
+  std::filesystem::create_directory(tmp.path() / "full.xmf.tmp");
+  EXPECT_THROW(writer.write_step(fields(mesh, 1, 1.0)), SolveError);
+  check_xmf(tmp.path().string(), "full", mesh, {0.5});
+  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  EXPECT_EQ(H5Lexists(file, "/step_1", H5P_DEFAULT), 0);
+  H5Fclose(file);
+  std::filesystem::remove(tmp.path() / "full.xmf.tmp");
+  writer.write_step(fields(mesh, 1, 1.0));
+  check_xmf(tmp.path().string(), "full", mesh, {0.5, 1.0});
+}
+
 }  // namespace
 }  // namespace hs
