@@ -28,6 +28,7 @@
 #include "deck/boundary_conflicts.hpp"
 #include "deck/deck.hpp"
 #include "deck/exact_section.hpp"
+#include "io/hdf5_file.hpp"
 #include "mesh/gmsh_io.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_statistics.hpp"
@@ -236,6 +237,7 @@ int main(int argc, char** argv) {
   petsc_args.push_back(nullptr);
   char** pargv = petsc_args.data();
   if (PetscInitialize(&pargc, &pargv, nullptr, usage)) return 1;
+  hs::quiet_hdf5();  // every HDF5 failure is said in hydrosoft's one line
   // A reader that goes away (a client that closes its pipes, `| head`) makes a write fail
   // with EPIPE, which the writer handles, instead of SIGPIPE, which PETSc's handler turned
   // into a dump and exit 59 (set after PetscInitialize, which installs that handler).

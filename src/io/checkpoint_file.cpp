@@ -66,15 +66,11 @@ CheckpointFile::CheckpointFile(const std::string& path) : path_(path) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
     fail(error ? "cannot be examined: " + error.message() : "no such file");
-  // Quiet: a file that is not HDF5 is said in one line, not in HDF5's error stack.
-  H5E_auto2_t handler;
-  void* data;
-  H5Eget_auto2(H5E_DEFAULT, &handler, &data);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  quiet_hdf5();  // a damaged file is said in one line, not in HDF5's error stack
+  file_.id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   auto text_attribute = [&](const char* name) {
-    if (file_ < 0 || H5Aexists(file_, name) <= 0) return std::string();
-    Hdf5Handle a{H5Aopen(file_, name, H5P_DEFAULT), H5Aclose};
+    if (file_.id < 0 || H5Aexists(file_.id, name) <= 0) return std::string();
+    Hdf5Handle a{H5Aopen(file_.id, name, H5P_DEFAULT), H5Aclose};
     Hdf5Handle type{H5Aget_type(a.id), H5Tclose};
     std::string s(H5Tget_size(type.id), '\0');
     if (H5Tget_class(type.id) != H5T_STRING || H5Aread(a.id, type.id, s.data()) < 0)
@@ -82,15 +78,14 @@ CheckpointFile::CheckpointFile(const std::string& path) : path_(path) {
     return s;
   };
   const std::string format = text_attribute("format"), text = text_attribute("state");
-  H5Eset_auto2(H5E_DEFAULT, handler, data);
-  if (file_ < 0) fail("not an HDF5 file");
+  if (file_.id < 0) fail("not an HDF5 file");
   if (format != kFormat || text.empty()) fail("not a hydrosoft checkpoint");
   try {
     state_ = nlohmann::json::parse(text);
   } catch (const std::exception&) {
     fail("its state attribute is not JSON");
   }
-  Hdf5Handle set{H5Dopen2(file_, "/node_ids", H5P_DEFAULT), H5Dclose};
+  Hdf5Handle set{H5Dopen2(file_.id, "/node_ids", H5P_DEFAULT), H5Dclose};
   if (set.id < 0) fail("no /node_ids");
   Hdf5Handle space{H5Dget_space(set.id), H5Sclose};
   hsize_t dims[1] = {0};
@@ -99,16 +94,12 @@ CheckpointFile::CheckpointFile(const std::string& path) : path_(path) {
   nodes_ = static_cast<int64_t>(dims[0]);
 }
 
-CheckpointFile::~CheckpointFile() {
-  if (file_ >= 0) H5Fclose(file_);
-}
-
 void CheckpointFile::fail(const std::string& reason) const {
   throw InputError("--restart: " + path_ + ": " + reason);
 }
 
 bool CheckpointFile::has_field(const std::string& name) const {
-  return H5Lexists(file_, ("/fields/" + name).c_str(), H5P_DEFAULT) > 0;
+  return H5Lexists(file_.id, ("/fields/" + name).c_str(), H5P_DEFAULT) > 0;
 }
 
 template <class T>
@@ -116,8 +107,8 @@ std::vector<T> CheckpointFile::rows(const std::string& name, hid_t type, int64_t
                                     int cols) const {
   const hsize_t width = cols ? cols : 1;
   std::vector<T> out((end - begin) * width);
-  if (H5Lexists(file_, name.c_str(), H5P_DEFAULT) <= 0) fail("no " + name);
-  Hdf5Handle set{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
+  if (H5Lexists(file_.id, name.c_str(), H5P_DEFAULT) <= 0) fail("no " + name);
+  Hdf5Handle set{H5Dopen2(file_.id, name.c_str(), H5P_DEFAULT), H5Dclose};
   Hdf5Handle space{H5Dget_space(set.id), H5Sclose};
   hsize_t dims[2] = {0, 0};
   const int ndims = H5Sget_simple_extent_ndims(space.id);
@@ -145,8 +136,8 @@ std::vector<double> CheckpointFile::field(const std::string& name, int64_t begin
 
 std::vector<double> CheckpointFile::series(const std::string& name) const {
   const std::string path = "/series/" + name;
-  if (H5Lexists(file_, path.c_str(), H5P_DEFAULT) <= 0) return {};
-  Hdf5Handle set{H5Dopen2(file_, path.c_str(), H5P_DEFAULT), H5Dclose};
+  if (H5Lexists(file_.id, path.c_str(), H5P_DEFAULT) <= 0) return {};
+  Hdf5Handle set{H5Dopen2(file_.id, path.c_str(), H5P_DEFAULT), H5Dclose};
   Hdf5Handle space{H5Dget_space(set.id), H5Sclose};
   hsize_t dims[1] = {0};
   H5Sget_simple_extent_dims(space.id, dims, nullptr);

@@ -19,6 +19,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/hdf5_file.hpp"
+
 namespace hs {
 
 // One rank's rows: [first, first + node_ids.size()) of `nodes`.
@@ -42,7 +44,6 @@ class CheckpointFile {
  public:
   // Throws InputError naming the file when it is missing or not a hydrosoft checkpoint.
   explicit CheckpointFile(const std::string& path);
-  ~CheckpointFile();
   CheckpointFile(const CheckpointFile&) = delete;
   CheckpointFile& operator=(const CheckpointFile&) = delete;
 
@@ -61,7 +62,9 @@ class CheckpointFile {
   std::vector<T> rows(const std::string& name, hid_t type, int64_t begin, int64_t end,
                       int cols) const;
   std::string path_;
-  hid_t file_ = -1;
+  // A member handle, closed even when the constructor throws (an open file left behind made
+  // HDF5 print "infinite loop closing library" at the process's end).
+  Hdf5Handle file_{-1, H5Fclose};
   nlohmann::json state_;
   int64_t nodes_ = 0;
 };

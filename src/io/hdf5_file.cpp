@@ -10,12 +10,7 @@
 
 namespace hs {
 
-Hdf5Quiet::Hdf5Quiet() {
-  H5Eget_auto2(H5E_DEFAULT, &handler_, &data_);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-}
-
-Hdf5Quiet::~Hdf5Quiet() { H5Eset_auto2(H5E_DEFAULT, handler_, data_); }
+void quiet_hdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
 std::string hdf5_reason() {
   struct Found {
@@ -55,7 +50,7 @@ int64_t Hdf5File::metadata_allowance(int64_t objects, int64_t siblings) {
 
 Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm, int64_t reserve)
     : path_(path), comm_(comm) {
-  Hdf5Quiet quiet;
+  quiet_hdf5();  // a failure is said in one message of ours
   if (comm != MPI_COMM_NULL) {
     int size = 1;
     MPI_Comm_size(comm, &size);
@@ -84,7 +79,6 @@ Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm, int64_t re
 
 Hdf5File::~Hdf5File() {
   if (file_ < 0) return;
-  Hdf5Quiet quiet;
   if (failed_) {
     discard();
     return;
@@ -109,7 +103,6 @@ void Hdf5File::discard() {
 
 void Hdf5File::close() {
   if (file_ < 0) return;
-  Hdf5Quiet quiet;
   const herr_t status = H5Fclose(file_);
   file_ = -1;
   const std::string reason = status < 0 ? hdf5_reason() : std::string();
@@ -145,7 +138,6 @@ void Hdf5File::agree(const std::string& problem) {
 }
 
 void Hdf5File::create_group(const std::string& name) {
-  Hdf5Quiet quiet;
   Hdf5Handle group{H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                    H5Gclose};
   check(group.id >= 0, "cannot create group " + name);
@@ -159,7 +151,6 @@ void Hdf5File::write_raw(const std::string& name, hid_t file_type, hid_t memory_
     throw std::invalid_argument(path_ + ": " + name + ": " + std::to_string(count) +
                                 " values from row " + std::to_string(first) + " for a " +
                                 std::to_string(rows) + " x " + std::to_string(cols) + " dataset");
-  Hdf5Quiet quiet;
   const hsize_t dims[2] = {rows, cols};
   Hdf5Handle space{H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose};
   Hdf5Handle set{space.id < 0 ? -1
@@ -215,7 +206,6 @@ void Hdf5File::write_rows(const std::string& name, const std::vector<int>& data,
 
 void Hdf5File::write_attribute(const std::string& object, const std::string& name, hid_t type,
                                const void* value) {
-  Hdf5Quiet quiet;
   Hdf5Handle space{H5Screate(H5S_SCALAR), H5Sclose};
   Hdf5Handle attribute{H5Acreate_by_name(file_, object.c_str(), name.c_str(), type, space.id,
                                          H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),

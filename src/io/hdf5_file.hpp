@@ -30,18 +30,10 @@ struct Hdf5Handle {
   }
 };
 
-// HDF5's automatic printing of its error stack, off for the object's life.
-class Hdf5Quiet {
- public:
-  Hdf5Quiet();
-  ~Hdf5Quiet();
-  Hdf5Quiet(const Hdf5Quiet&) = delete;
-  Hdf5Quiet& operator=(const Hdf5Quiet&) = delete;
-
- private:
-  H5E_auto2_t handler_ = nullptr;
-  void* data_ = nullptr;
-};
+// Turns HDF5's automatic printing of its error stack off, for good: hydrosoft says what failed
+// in one line of its own. For good, because turning it back on after HDF5 had met a damaged
+// file made HDF5 print "infinite loop closing library" when the process ended.
+void quiet_hdf5();
 
 // Why the last HDF5 call failed, in a few words: the system's reason when the stack holds one
 // ("No space left on device"), else MPI's, else HDF5's innermost message. Clears the stack.

@@ -20,17 +20,6 @@ namespace {
 
 const char* kFormat = "hydrosoft mesh";
 
-// HDF5's own error stack printing off while an object lives: failures become our messages.
-struct QuietHdf5 {
-  H5E_auto2_t func = nullptr;
-  void* data = nullptr;
-  QuietHdf5() {
-    H5Eget_auto2(H5E_DEFAULT, &func, &data);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func, data); }
-};
-
 // A byte count as people read it: 68719476736 -> "68719476736" (exact below 2^53).
 std::string count_text(double bytes) {
   char text[32];
@@ -52,6 +41,9 @@ class Reader {
     MPI_Comm_size(comm, &size);
     Hdf5Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
     if (size > 1) H5Pset_fapl_mpio(fapl.id, comm, MPI_INFO_NULL);
+    // Closing the file closes whatever of it is still open: an object that a damaged file left
+    // open made HDF5 print "infinite loop closing library" at the process's end.
+    H5Pset_fclose_degree(fapl.id, H5F_CLOSE_STRONG);
     file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.id);
   }
   ~Reader() {
@@ -175,7 +167,7 @@ MeshSlab read_mesh_h5(const std::string& path, int64_t max_elements, MPI_Comm co
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  const QuietHdf5 quiet;
+  quiet_hdf5();  // failures become our messages
   Reader h5(path, comm);
   MeshSlab s;
   s.file = path;

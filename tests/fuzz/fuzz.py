@@ -282,11 +282,15 @@ def main():
                         help="COUNT cases of a family of families.py from case FIRST (default 0): "
                              + ", ".join(families.NAMES))
     parser.add_argument("--ranks-share", type=float, default=0.0, help="share of family cases run on 2 ranks")
-    parser.add_argument("--mpiexec", default=shutil.which("mpiexec") or shutil.which("mpirun") or "mpiexec",
-                        help="the MPI launcher of the 2-rank cases")
+    parser.add_argument("--mpiexec", help="the MPI launcher of the 2-rank cases (default: the mpiexec or mpirun "
+                                          "beside --hydrosoft, as a bundle carries it, else on PATH)")
     args = parser.parse_args()
     if args.hydrosoft:
         args.hydrosoft = os.path.abspath(args.hydrosoft)
+    if not args.mpiexec:
+        beside = [os.path.join(os.path.dirname(args.hydrosoft or ""), name) for name in ("mpiexec", "mpirun")]
+        args.mpiexec = next((p for p in beside if os.access(p, os.X_OK)), None) or shutil.which("mpiexec") \
+            or shutil.which("mpirun") or "mpiexec"
     if not args.fluidweight and args.hydrosoft:
         args.fluidweight = os.path.join(os.path.dirname(args.hydrosoft), "fluidweight")
     if args.fluidweight:
