@@ -59,6 +59,7 @@ done
 add_binary "$(readlink -f /usr/bin/mpirun)"
 add_binary "$(command -v orted)"
 mv "$stage/bin/orterun" "$stage/bin/mpirun" 2>/dev/null || true
+ln -sf mpirun "$stage/bin/mpiexec"  # the machine may have an mpiexec of its own, of another Open MPI
 cp -L /usr/lib/x86_64-linux-gnu/blas/libblas.so.3 /usr/lib/x86_64-linux-gnu/lapack/liblapack.so.3 \
   "$stage/lib/"
 
