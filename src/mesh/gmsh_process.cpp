@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -64,6 +65,10 @@ std::string what_was_thrown() {
 // still an answer: the error, as the input error it is.
 [[noreturn]] void on_terminate() { answer('I', answer_file + ": gmsh: " + what_was_thrown()); }
 
+// gmsh's Exit command calls exit(): the child answers before the exit handlers it inherited
+// (MPI's, HDF5's, a leak checker's) run in a copy of the run.
+void on_exit() { answer('I', answer_file + ": gmsh was told to exit before reading it to the end"); }
+
 // The child keeps its pipe and `keep`. Standard input (which may carry the run's control
 // targets) reads nothing; standard output and error go nowhere, since the run's error is one
 // line and what gmsh or the C library print on a failure (a heap corruption's abort) would add
@@ -91,10 +96,14 @@ void detach_descriptors(int fd, std::vector<int> keep) {
                             const GmshProcess& how) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlive the run
   for (int s : {SIGTERM, SIGINT, SIGPIPE}) signal(s, SIG_DFL);
+  // A fault kills the child, and the parent names the signal: the handlers the run installed
+  // (PETSc's prints a stack and calls MPI_Abort, a sanitizer's reports) have no place in it.
+  for (int s : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) signal(s, SIG_DFL);
   detach_descriptors(fd, how.keep);
   answer_fd = fd;
   answer_file = file;
   std::set_terminate(on_terminate);
+  std::atexit(on_exit);
   if (how.confined) confine_process();
   try {
     answer('M', encode_mesh(work()));

@@ -149,7 +149,7 @@ TEST(GmshProcess, ACrashIsAnInputErrorNamingTheFile) {
       },
       {"crash.msh: gmsh died of signal 11 (Segmentation fault) while reading it"});
   expect_input_error([&] { run_gmsh_process("exit.geo", []() -> Mesh { std::exit(0); }); },
-                     {"exit.geo: gmsh ended (exit status 0) without reading it to the end"});
+                     {"exit.geo: gmsh was told to exit before reading it to the end"});
 }
 
 // A heap corruption's abort, or gmsh's own error line, printed beside the run's one-line error.
