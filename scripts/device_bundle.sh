@@ -82,6 +82,7 @@ B=${B:-/tmp/b}
 export LD_LIBRARY_PATH=$B/lib OPAL_PREFIX=$B/ompi OPAL_LIBDIR=$B/ompi/lib \
   OPAL_PKGLIBDIR=$B/ompi/lib/openmpi3 OPAL_PKGDATADIR=$B/ompi/share \
   PMIX_MCA_mca_base_component_path=$B/ompi/pmix PATH=$B/bin:$PATH \
+  PMIX_MCA_mca_base_component_show_load_errors=0 \
   OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 \
   OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 # Test binaries read input/ and meshes/ below the source folder compiled into them.

@@ -1,16 +1,24 @@
 #!/usr/bin/env bash
 # The tests built with AddressSanitizer and UndefinedBehaviorSanitizer in build-sanitize/ (or
-# $SANITIZE_BUILD_DIR) and run: the serial ones, the fluid-weight module's, the MPI ones on 1 and
-# 2 ranks (and the distribution's on 3 and 4), those that run the executable, and a slice of the
-# fuzz sample on the sanitized executable. Any sanitizer report fails (docs/reliability.md,
-# "Sanitizers").
+# $SANITIZE_BUILD_DIR) and run. `scripts/test_sanitized.sh` (CI) runs the slice: the serial
+# tests, the fluid-weight module's, those labelled `slice` (the paths that read untrusted input,
+# tests/CMakeLists.txt) and a slice of the fuzz sample on the sanitized executable.
+# `scripts/test_sanitized.sh full` (before a release) runs every test: the MPI ones on 1 and 2
+# ranks (the distribution's on 3 and 4 too) and all that run the executable. Any sanitizer
+# report fails (docs/reliability.md, "Sanitizers").
 set -euo pipefail
+SCOPE=${1:-slice}
+case $SCOPE in
+  slice) TARGET=slice_tests MPI_TESTS=(-L slice) ;;
+  full) TARGET=all_tests MPI_TESTS=(-L 'mpi|app' -E 'mpi_test_mesh_distribute_np[34]') ;;
+  *) echo "usage: $0 [slice|full]" >&2 && exit 2 ;;
+esac
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 BUILD_DIR=${SANITIZE_BUILD_DIR:-build-sanitize}
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DHYDROSOFT_SANITIZE=address,undefined \
   -DFLUIDWEIGHT_CUDA=OFF
-cmake --build "$BUILD_DIR" -j "$(nproc)" --target all_tests
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target "$TARGET"
 BUILD_DIR=$(cd "$BUILD_DIR" && pwd)
 SOURCE_DIR=$PWD
 
@@ -42,7 +50,7 @@ run_ctest -R '^fluidweight_test_' -E '^fluidweight_test_cuda$'
 # made under (ompi_mpi_init, ...; scripts/sanitizer_leaks.supp), further up. The system's
 # libraries have no frame pointers, so only the slow unwinder reaches it (3 times the CPU time).
 export ASAN_OPTIONS=$ASAN_COMMON:fast_unwind_on_malloc=0
-run_ctest -L 'mpi|app' -E 'mpi_test_mesh_distribute_np[34]'
+run_ctest "${MPI_TESTS[@]}"
 
 # A slice of the fuzz sample (tests/fuzz/): its first 60 cases through --check, as many run for
 # real as in the sample (5 % of the fast ones). Its address-space limit would stop AddressSanitizer (which reserves terabytes

@@ -352,10 +352,11 @@ std::string surface_face_error(const SurfaceFace& f, const int64_t* tet, int ord
              ", which it bounds (a pressure on it would push the wrong way); hydrosoft writes "
              "every surface face outwards, so the file was altered";
     if (!outward) continue;
+    if (order == 1) return {};
     const int v[3] = {face[at], next, last};
-    int64_t edges[3];
+    int64_t edges[3];  // a P2 tetrahedron's edge nodes follow its 4 vertices
     for (int k = 0; k < 3; ++k) edges[k] = tet[kEdgeNode[v[k]][v[(k + 1) % 3]]];
-    if (order == 2 && !std::equal(edges, edges + 3, f.nodes + 3))
+    if (!std::equal(edges, edges + 3, f.nodes + 3))
       return "has edge nodes " + node_list(f.nodes + 3, 3) + " where the face of " + bounds +
              " has " + node_list(edges, 3);
     return {};
