@@ -3,7 +3,7 @@
 #   bash scripts/run.sh [DECK] [more hydrosoft arguments]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh
+bash scripts/build.sh hydrosoft  # the executable alone, not the tests and benchmarks
 deck=${1:-input/cylinder_water.yaml}
 shift || true
 mpirun_flags=(--oversubscribe)
