@@ -293,15 +293,4 @@ bool Problem::orientation_preserved(Vec u) {
   return record_inverted(bad);
 }
 
-double Problem::total_mass() const {
-  double local = 0, X[30];
-  for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-    element_coordinates(e, X);
-    local += materials_[dist_.tet_volume[e]].density * tet_volume(dist_.order, X);
-  }
-  double total = 0;
-  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);
-  return total;
-}
-
 }  // namespace hs

@@ -147,7 +147,6 @@ class Problem {
   void zero_constrained(Vec v) const { dofs_.zero(v); }
   // Whether a local dof (3 per local node) is held by a Dirichlet condition.
   bool constrained(int64_t local_dof) const { return dofs_.constrained(local_dof); }
-  double total_mass() const;
 
  private:
   struct PressureSurface {

@@ -48,9 +48,4 @@ std::vector<double> gather_nodal(const Problem& problem, Vec v) {
   return out;
 }
 
-std::vector<double> gather_elemental(const Problem& problem, const std::vector<double>& local) {
-  const Distribution& dist = problem.distribution();
-  return gather_rows(problem, dist.local_tets, local.data(), 1, dist.num_global_tets);
-}
-
 }  // namespace hs

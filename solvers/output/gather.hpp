@@ -12,7 +12,5 @@ namespace hs {
 
 // Owned-node values of a block-3 vector in mesh (old) numbering, gathered on rank 0.
 std::vector<double> gather_nodal(const Problem& problem, Vec v);
-// Per-local-tet values gathered on rank 0 in mesh tet order.
-std::vector<double> gather_elemental(const Problem& problem, const std::vector<double>& local);
 
 }  // namespace hs

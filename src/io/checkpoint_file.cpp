@@ -98,10 +98,6 @@ void CheckpointFile::fail(const std::string& reason) const {
   throw InputError("--restart: " + path_ + ": " + reason);
 }
 
-bool CheckpointFile::has_field(const std::string& name) const {
-  return H5Lexists(file_.id, ("/fields/" + name).c_str(), H5P_DEFAULT) > 0;
-}
-
 template <class T>
 std::vector<T> CheckpointFile::rows(const std::string& name, hid_t type, int64_t begin, int64_t end,
                                     int cols) const {

@@ -50,7 +50,6 @@ class CheckpointFile {
   const std::string& path() const { return path_; }
   const nlohmann::json& state() const { return state_; }
   int64_t nodes() const { return nodes_; }
-  bool has_field(const std::string& name) const;
   // Rows [begin, end): node ids, and 3 values per row of a field. InputError if unreadable.
   std::vector<int64_t> node_ids(int64_t begin, int64_t end) const;
   std::vector<double> field(const std::string& name, int64_t begin, int64_t end) const;
