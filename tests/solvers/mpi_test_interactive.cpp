@@ -163,7 +163,8 @@ TEST(Interactive, AClosedStandardOutputEndsTheSessionAndKeepsItsSteps) {
 }
 
 // A NUL in a line: the error quotes the whole line with the NUL written out (before, the
-// message ended at the NUL). A subnormal coordinate is a number: the same answer as 0.
+// message ended at the NUL). A subnormal coordinate is a number: the same answer as 0 (to
+// round-off; the finger's size is 0.09 m).
 TEST(Interactive, ANulIsWrittenOutAndASubnormalIsANumber) {
   std::vector<nlohmann::json> written, plain;
   run_interactive(std::string("0.09 0\0 -0.012\n0.09 1e-320 -0.012\n", 34), written, "nul");
@@ -174,7 +175,11 @@ TEST(Interactive, ANulIsWrittenOutAndASubnormalIsANumber) {
             "coordinate y '0\\x00' is not a finite number: '0.09 0\\x00 -0.012'");
   ASSERT_TRUE(written[1].contains("answer")) << written[1];
   EXPECT_EQ(written[1]["answer"]["target"][1].get<double>(), 1e-320);
-  EXPECT_EQ(written[1]["answer"]["reached"], plain[0]["answer"]["reached"]);
+  // Not bit for bit: on 2 ranks the sums of two runs may round in another order.
+  const auto reached = written[1]["answer"]["reached"], expected = plain[0]["answer"]["reached"];
+  ASSERT_EQ(reached.size(), 3u);
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(reached[d].get<double>(), expected[d].get<double>(), 1e-12) << "component " << d;
 }
 
 TEST(Interactive, ADeckTargetTooFarStopsTheRunBeforeAnyStep) {
