@@ -11,6 +11,15 @@ ElasticConstants elastic_constants_from_E_nu(double E, double nu) {
   return c;
 }
 
+ElasticConstants elastic_constants_from_mu_nu(double mu, double nu) {
+  ElasticConstants c;
+  c.mu = mu;
+  c.nu = nu;
+  c.E = 2 * c.mu * (1 + c.nu);
+  c.lambda = 2 * c.mu * c.nu / (1 - 2 * c.nu);
+  return c;
+}
+
 ElasticConstants elastic_constants_from_lame(double mu, double lambda) {
   ElasticConstants c;
   c.mu = mu;
@@ -20,6 +29,15 @@ ElasticConstants elastic_constants_from_lame(double mu, double lambda) {
   return c;
 }
 
+double parse_poisson_ratio(const DeckReader& r, const YAML::Node& node, const std::string& key) {
+  const auto nu = required(r, node, key, "nu");
+  const double value = r.number(nu, child_key(key, "nu"));
+  require(value > -1 && value < 0.5, r, nu, child_key(key, "nu"),
+          "must lie in (-1, 0.5), got " + format_number(value) +
+              " (0.5 is incompressible, beyond a displacement formulation)");
+  return value;
+}
+
 ElasticConstants parse_elastic_constants(const DeckReader& r, const YAML::Node& node,
                                          const std::string& key) {
   const bool engineering = node["E"] || node["nu"], lame = node["mu"] || node["lambda"];
@@ -27,14 +45,10 @@ ElasticConstants parse_elastic_constants(const DeckReader& r, const YAML::Node& 
   if (!engineering && !lame)
     r.fail(key, node, "elastic constants missing: give E and nu, or mu and lambda");
   if (engineering) {
-    const auto E = required(r, node, key, "E"), nu = required(r, node, key, "nu");
+    const auto E = required(r, node, key, "E");
     const double E_value = r.number(E, child_key(key, "E"));
-    const double nu_value = r.number(nu, child_key(key, "nu"));
     require(E_value > 0, r, E, child_key(key, "E"), "must be > 0, got " + format_number(E_value));
-    require(nu_value > -1 && nu_value < 0.5, r, nu, child_key(key, "nu"),
-            "must lie in (-1, 0.5), got " + format_number(nu_value) +
-                " (0.5 is incompressible, beyond a displacement formulation)");
-    return elastic_constants_from_E_nu(E_value, nu_value);
+    return elastic_constants_from_E_nu(E_value, parse_poisson_ratio(r, node, key));
   }
   const auto mu = required(r, node, key, "mu"), lambda = required(r, node, key, "lambda");
   const double mu_value = r.number(mu, child_key(key, "mu"));

@@ -23,9 +23,16 @@ inline const std::vector<std::string> kElasticConstantKeys = {"E", "nu", "mu", "
 ElasticConstants parse_elastic_constants(const DeckReader& r, const YAML::Node& node,
                                          const std::string& key);
 
+// The Poisson ratio `nu` of the map `node` at `key`, required, in (-1, 0.5): the one check of nu,
+// for the pair (E, nu) and for a law whose shear modulus comes from keys of its own (yeoh).
+double parse_poisson_ratio(const DeckReader& r, const YAML::Node& node, const std::string& key);
+
 // The pair (E, nu) given, (mu, lambda) derived:
 //   mu = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu)).
 ElasticConstants elastic_constants_from_E_nu(double E, double nu);
+// mu and nu given (a law whose shear modulus is its own parameter), E and lambda derived:
+//   E = 2 mu (1 + nu),  lambda = 2 mu nu / (1 - 2 nu).
+ElasticConstants elastic_constants_from_mu_nu(double mu, double nu);
 // The pair (mu, lambda) given, (E, nu) derived:
 //   E = mu (3 lambda + 2 mu) / (lambda + mu),  nu = lambda / (2 (lambda + mu)).
 ElasticConstants elastic_constants_from_lame(double mu, double lambda);

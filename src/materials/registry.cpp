@@ -6,6 +6,7 @@
 #include "materials/mooney_rivlin.hpp"
 #include "materials/neo_hookean.hpp"
 #include "materials/saint_venant_kirchhoff.hpp"
+#include "materials/yeoh.hpp"
 
 namespace hs {
 namespace {
@@ -13,9 +14,13 @@ namespace {
 // The one list of the laws (their order is that of error messages and printed lists).
 const std::vector<MaterialLawEntry>& registered_laws() {
   static const std::vector<MaterialLawEntry> laws = {
-      registry_entry<LinearElasticLaw>(),        registry_entry<CorotationalLaw>(),
-      registry_entry<SaintVenantKirchhoffLaw>(), registry_entry<NeoHookeanLaw>(),
-      registry_entry<MooneyRivlinLaw>(),         registry_entry<GentLaw>(),
+      registry_entry<LinearElasticLaw>(),
+      registry_entry<CorotationalLaw>(),
+      registry_entry<SaintVenantKirchhoffLaw>(),
+      registry_entry<NeoHookeanLaw>(),
+      registry_entry<MooneyRivlinLaw>(),
+      registry_entry<GentLaw>(),
+      registry_entry<YeohLaw>(),
   };
   return laws;
 }

@@ -193,7 +193,7 @@ TEST_F(DeckErrors, UnknownNamesListTheValidOnes) {
       {kMesh + "materials:\n  - {group: body, model: hookean, E: 1, nu: 0.3}\n",
        "materials[0].model",
        "unknown name 'hookean' (valid: linear_elastic, corotational, saint_venant_kirchhoff, "
-       "neo_hookean, mooney_rivlin, gent)"},
+       "neo_hookean, mooney_rivlin, gent, yeoh)"},
       {kMesh + kMaterials + "time: {type: transient}\n", "time.type",
        "unknown name 'transient' (valid: static, quasi_static, dynamic)"},
       {kMesh + kMaterials + "time: {type: dynamic, dt: 1, end_time: 2, integrator: euler}\n",

@@ -149,6 +149,13 @@ const MooneyRivlinLaw& mooney_rivlin(const MaterialConfig& m) {
   return dynamic_cast<const MooneyRivlinLaw&>(*m.law);
 }
 const GentLaw& gent(const MaterialConfig& m) { return dynamic_cast<const GentLaw&>(*m.law); }
+// A law's response at a moderate strain (inside every law's domain): the same parameters give
+// the same bits, whatever the law, so a key of its own that did not print back shows here.
+StressResult response(const MaterialConfig& m) {
+  Mat3 F;
+  F << 1.1, 0.05, 0.0, -0.03, 0.95, 0.02, 0.01, 0.0, 1.05;
+  return stress(*m.law, F);
+}
 
 void expect_same(const Config& a, const Config& b) {
   ASSERT_EQ(a.cables.size(), b.cables.size());
@@ -173,11 +180,8 @@ void expect_same(const Config& a, const Config& b) {
     EXPECT_EQ(elastic(m).nu, elastic(n).nu);
     EXPECT_EQ(elastic(m).mu, elastic(n).mu);
     EXPECT_EQ(elastic(m).lambda, elastic(n).lambda);
-    if (m.law->name() == "mooney_rivlin") {
-      EXPECT_EQ(mooney_rivlin(m).c1(), mooney_rivlin(n).c1());
-      EXPECT_EQ(mooney_rivlin(m).c2(), mooney_rivlin(n).c2());
-    }
-    if (m.law->name() == "gent") EXPECT_EQ(gent(m).Jm(), gent(n).Jm());
+    EXPECT_EQ(response(m).P, response(n).P);  // the keys of its own: c1, c2, Jm, C2, C3
+    EXPECT_EQ(response(m).psi, response(n).psi);
     EXPECT_EQ(m.density, n.density);
   }
   ASSERT_EQ(a.dirichlet.size(), b.dirichlet.size());

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../materials/material_fixtures.hpp"
 #include "common/error.hpp"
 #include "element_fixtures.hpp"
 #include "fem/element.hpp"
@@ -19,20 +20,8 @@ namespace {
 
 using namespace testing_fixtures;
 
-const std::string kAllModels[] = {"linear_elastic", "corotational",  "saint_venant_kirchhoff",
-                                  "neo_hookean",    "mooney_rivlin", "gent"};
-
-// The law of each model with mu = 3, lambda = 7 (Mooney-Rivlin: c1 + c2 = mu / 2).
-const MaterialLaw& parameters(const std::string& model) {
-  static std::map<std::string, std::shared_ptr<const MaterialLaw>> laws;
-  if (!laws.count(model)) {
-    std::map<std::string, double> p = {{"mu", 3.0}, {"lambda", 7.0}};
-    if (model == "mooney_rivlin") p.insert({{"c1", 0.9}, {"c2", 0.6}});
-    if (model == "gent") p["Jm"] = 10.0;
-    laws[model] = make_material_law(model, p);
-  }
-  return *laws[model];
-}
+// Every law of the registry, with mu = 3, lambda = 7 (tests/materials/material_fixtures.hpp).
+const MaterialLaw& parameters(const std::string& model) { return material_fixtures::law(model); }
 
 struct Case {
   std::string model;
@@ -42,7 +31,8 @@ struct Case {
 std::vector<Case> all_cases() {
   std::vector<Case> cases;
   for (int order : {1, 2})
-    for (const std::string& model : kAllModels) cases.push_back({model, order});
+    for (const std::string& model : material_fixtures::all_law_names())
+      cases.push_back({model, order});
   return cases;
 }
 
@@ -177,7 +167,7 @@ TEST(P1Geometry, KeptGeometryGivesTheSameForceAndTangent) {
   std::vector<double> u(12);
   for (int k = 0; k < 12; ++k) u[k] = 0.05 * std::sin(1.7 * k + 0.3);
   const P1Geometry g = tet_p1_geometry(X.data());
-  for (const std::string& model : kAllModels) {
+  for (const std::string& model : material_fixtures::all_law_names()) {
     const MaterialLaw& m = parameters(model);
     std::vector<double> r(12), K(144), r1(12), K1(144);
     const ElementOutput a = tet_internal_force(1, X.data(), u.data(), m, r.data(), K.data());

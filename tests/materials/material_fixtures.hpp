@@ -15,14 +15,19 @@
 #include "materials/mooney_rivlin.hpp"
 #include "materials/neo_hookean.hpp"
 #include "materials/saint_venant_kirchhoff.hpp"
+#include "materials/yeoh.hpp"
 
 namespace hs::material_fixtures {
 
 const double kMu = 3.0, kLambda = 7.0;  // E = 7.8, nu = 0.35
 // Gent's limit of I1b - 3: the random gradients below reach I1b - 3 ~ 3, well into stiffening.
 const double kJm = 10.0;
+// Yeoh's C2, C3 (C1 = mu / 2): C2 < 0 as in published fits, both terms of the order of the first
+// at I1b - 3 ~ 3; dpsi/dI1b stays positive (C2^2 < 3 C1 C3).
+const double kC2 = -0.05 * kMu, kC3 = 0.02 * kMu;
 
-// Mooney-Rivlin: c1 + c2 = mu / 2, so every law has the small-strain constants mu, lambda.
+// Mooney-Rivlin: c1 + c2 = mu / 2, Yeoh: C1 = mu / 2, so every law has the small-strain constants
+// mu, lambda.
 inline const std::map<std::string, std::shared_ptr<const MaterialLaw>>& all_laws() {
   static const ElasticConstants c = elastic_constants_from_lame(kMu, kLambda);
   static const std::map<std::string, std::shared_ptr<const MaterialLaw>> laws = {
@@ -32,6 +37,7 @@ inline const std::map<std::string, std::shared_ptr<const MaterialLaw>>& all_laws
       {"neo_hookean", std::make_shared<NeoHookeanLaw>(c)},
       {"mooney_rivlin", std::make_shared<MooneyRivlinLaw>(c, 0.3 * kMu, 0.2 * kMu)},
       {"gent", std::make_shared<GentLaw>(c, kJm)},
+      {"yeoh", std::make_shared<YeohLaw>(c, kC2, kC3)},
   };
   return laws;
 }
@@ -40,8 +46,9 @@ inline const MaterialLaw& law(const std::string& name) { return *all_laws().at(n
 
 // In the registry's order.
 inline std::vector<std::string> all_law_names() {
-  return {"linear_elastic", "corotational",  "saint_venant_kirchhoff",
-          "neo_hookean",    "mooney_rivlin", "gent"};
+  return {
+      "linear_elastic", "corotational", "saint_venant_kirchhoff", "neo_hookean", "mooney_rivlin",
+      "gent",           "yeoh"};
 }
 inline std::vector<std::string> finite_strain_law_names() {
   std::vector<std::string> names = all_law_names();

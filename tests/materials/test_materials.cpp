@@ -136,6 +136,10 @@ double principal_energy(const std::string& model, const Eigen::Vector3d& l) {
   }
   if (model == "gent")
     return -0.5 * kMu * kJm * std::log(1 - (I1b - 3) / kJm) + 0.5 * kappa * lnJ * lnJ;
+  if (model == "yeoh") {
+    const double x = I1b - 3;
+    return kMu / 2 * x + kC2 * x * x + kC3 * x * x * x + 0.5 * kappa * lnJ * lnJ;
+  }
   throw std::logic_error("no principal-stretch form for " + model);
 }
 
