@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 BUILD_DIR=${BUILD_DIR:-build}
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DHYDROSOFT_WERROR="${HYDROSOFT_WERROR:-OFF}"
 targets=()
 for target in "$@"; do targets+=(--target "$target"); done
 cmake --build "$BUILD_DIR" -j "$(nproc)" "${targets[@]}"

@@ -5,8 +5,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "deck/config.hpp"
 #include "common/deck_reader.hpp"
+#include "deck/config.hpp"
 
 namespace hs {
 

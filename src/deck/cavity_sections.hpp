@@ -6,8 +6,8 @@
 
 #include <string>
 
-#include "deck/config.hpp"
 #include "common/deck_reader.hpp"
+#include "deck/config.hpp"
 
 namespace hs {
 

@@ -94,8 +94,8 @@ void add_internal_force_point(const NodeMatrix<NPE>& G, double wdV, const NodeMa
 // The internal force of an element whose quadrature points are given by `points`, called
 // with a function add(G, wdV) that it calls once per point.
 template <int NPE, class Points>
-ElementOutput integrate_internal_force(const double* u, const MaterialLaw& m, double* r,
-                                       double* K, Points points) {
+ElementOutput integrate_internal_force(const double* u, const MaterialLaw& m, double* r, double* K,
+                                       Points points) {
   constexpr int n = 3 * NPE;
   const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
   NodeMatrix<NPE> R = NodeMatrix<NPE>::Zero();
@@ -111,8 +111,8 @@ ElementOutput integrate_internal_force(const double* u, const MaterialLaw& m, do
 }
 
 template <int NPE>
-ElementOutput internal_force(const double* X, const double* u, const MaterialLaw& m,
-                             double* r, double* K) {
+ElementOutput internal_force(const double* X, const double* u, const MaterialLaw& m, double* r,
+                             double* K) {
   const auto& t = tet_tables<NPE>(degrees<NPE>().stiffness);
   const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
   return integrate_internal_force<NPE>(u, m, r, K, [&](auto add) {
@@ -204,14 +204,14 @@ P1Geometry tet_p1_geometry(const double* X) {
   return g;
 }
 
-ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u,
-                                    const MaterialLaw& m, double* r, double* K) {
+ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u, const MaterialLaw& m,
+                                    double* r, double* K) {
   return integrate_internal_force<4>(
       u, m, r, K, [&](auto add) { add(Eigen::Map<const NodeMatrix<4>>(g.grad), g.volume); });
 }
 
-ElementOutput tet_internal_force(int order, const double* X, const double* u,
-                                 const MaterialLaw& m, double* r, double* K) {
+ElementOutput tet_internal_force(int order, const double* X, const double* u, const MaterialLaw& m,
+                                 double* r, double* K) {
   return tet_num_nodes(order) == 4 ? internal_force<4>(X, u, m, r, K)
                                    : internal_force<10>(X, u, m, r, K);
 }

@@ -19,8 +19,8 @@ struct ElementOutput {
 };
 
 // Internal force r = int P : grad N dV and its tangent K = dr/du (K may be nullptr).
-ElementOutput tet_internal_force(int order, const double* X, const double* u,
-                                 const MaterialLaw& m, double* r, double* K);
+ElementOutput tet_internal_force(int order, const double* X, const double* u, const MaterialLaw& m,
+                                 double* r, double* K);
 
 // A P1 element's reference geometry, which no configuration changes: grad N_a (column a of
 // a 3 x 4 column-major array) and the volume. Kept per element by the assembly, it spares
@@ -32,8 +32,8 @@ struct P1Geometry {
 P1Geometry tet_p1_geometry(const double* X);  // throws InputError as tet_internal_force
 
 // tet_internal_force(1, X, ...) from the element's P1Geometry (the same numbers).
-ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u,
-                                    const MaterialLaw& m, double* r, double* K);
+ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u, const MaterialLaw& m,
+                                    double* r, double* K);
 
 // Consistent nodal body force f_a = int rho g N_a dV (reference configuration).
 void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,

@@ -67,7 +67,9 @@ std::string what_was_thrown() {
 
 // gmsh's Exit command calls exit(): the child answers before the exit handlers it inherited
 // (MPI's, HDF5's, a leak checker's) run in a copy of the run.
-void on_exit() { answer('I', answer_file + ": gmsh was told to exit before reading it to the end"); }
+void on_exit() {
+  answer('I', answer_file + ": gmsh was told to exit before reading it to the end");
+}
 
 // The child keeps its pipe and `keep`. Standard input (which may carry the run's control
 // targets) reads nothing; standard output and error go nowhere, since the run's error is one

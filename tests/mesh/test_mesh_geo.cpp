@@ -375,7 +375,7 @@ TEST(Finger, ParametersMoveTheCavityAndRefineTheMesh) {
 TEST(FingerCad, StepFileMeshedWithItsGroups) {
   const double kMm3 = 1e-9;
   const double fillets = 4 * (1 - kPi / 4) * 70 * 1.5 * 1.5 * kMm3;  // the cavity's 4 edges
-  const double cavity = 70 * 10 * 5 * kMm3 - fillets;               // 3.365 ml
+  const double cavity = 70 * 10 * 5 * kMm3 - fillets;                // 3.365 ml
   const double body = (90 * 18 * 16 - 4 * (1 - kPi / 4) * 90 * 3 * 3) * kMm3 - cavity;
   const Mesh m = load_geo("finger_cad.geo", {});
   EXPECT_EQ(m.volume_names, std::vector<std::string>{"body"});
