@@ -11,20 +11,19 @@ namespace hs {
 
 BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints)
     : problem_(problem), constraints_(constraints) {
-  J_ = problem.create_matrix();
-  R_ = problem.create_vector();
-  HS_PETSC(VecDuplicate(R_, &a_));
-  HS_PETSC(VecDuplicate(R_, &du_));
-  HS_PETSC(VecDuplicate(R_, &u_trial_));
+  J_ = MatHandle(problem.create_matrix());
+  R_ = VecHandle(problem.create_vector());
+  HS_PETSC(VecDuplicate(R_, a_.out()));
+  HS_PETSC(VecDuplicate(R_, du_.out()));
+  HS_PETSC(VecDuplicate(R_, u_trial_.out()));
   for (int c = 0; c < constraints.size(); ++c) {
-    Vec y;
-    HS_PETSC(VecDuplicate(R_, &y));
-    Y_.push_back(y);
-    Vec z = nullptr;
-    if (constraints[c].measure_load()) HS_PETSC(VecDuplicate(R_, &z));
-    Z_.push_back(z);
+    VecHandle y, z;
+    HS_PETSC(VecDuplicate(R_, y.out()));
+    if (constraints[c].measure_load()) HS_PETSC(VecDuplicate(R_, z.out()));
+    Y_.push_back(y.release());
+    Z_.push_back(z.release());
   }
-  HS_PETSC(KSPCreate(problem.comm(), &ksp_));
+  HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
   HS_PETSC(KSPSetFromOptions(ksp_));  // -ksp_type, -pc_type, ...: the deck's and the preset's
   PetscInt max_it = max_it_;
   HS_PETSC(PetscOptionsGetInt(nullptr, nullptr, "-snes_max_it", &max_it, nullptr));
@@ -32,16 +31,6 @@ BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints)
   PetscBool monitor = PETSC_FALSE;
   HS_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-hs_newton_monitor", &monitor, nullptr));
   monitor_ = monitor;
-}
-
-BorderedNewton::~BorderedNewton() {
-  KSPDestroy(&ksp_);
-  MatDestroy(&J_);
-  for (Vec* v : {&R_, &a_, &du_, &u_trial_}) VecDestroy(v);
-  for (auto& v : Y_) VecDestroy(&v);
-  for (auto& v : Z_) VecDestroy(&v);
-  for (auto& v : lin_.g) VecDestroy(&v);
-  for (auto& v : lin_.q) VecDestroy(&v);
 }
 
 NewtonResult BorderedNewton::solve(Vec u, double s) {

@@ -22,7 +22,6 @@ namespace hs {
 class BorderedNewton {
  public:
   BorderedNewton(Problem& problem, ConstraintSet& constraints);
-  ~BorderedNewton();
   BorderedNewton(const BorderedNewton&) = delete;
   BorderedNewton& operator=(const BorderedNewton&) = delete;
 
@@ -38,10 +37,10 @@ class BorderedNewton {
  private:
   Problem& problem_;
   ConstraintSet& constraints_;
-  KSP ksp_ = nullptr;
-  Mat J_ = nullptr;
-  Vec R_ = nullptr, a_ = nullptr, du_ = nullptr, u_trial_ = nullptr;
-  std::vector<Vec> Y_, Z_;
+  KspHandle ksp_;
+  MatHandle J_;
+  VecHandle R_, a_, du_, u_trial_;
+  VecArray Y_, Z_;
   ConstraintLinearization lin_;
   double load_norm_ = 0, solve_s_ = 0, constraint_s_ = 0;
   int max_it_ = 30;

@@ -16,6 +16,7 @@
 #include "mesh/mesh_distribute.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "solvers/petsc_check.hpp"
+#include "solvers/petsc_handle.hpp"
 
 // Scotch's generator advances with every partition in a process: reset before each one, a
 // graph splits the same way each time. (Declared here: scotch.h is not needed for one call.)
@@ -67,24 +68,21 @@ std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm) {
   for (int64_t i = 0; i <= n; ++i) ia[i] = static_cast<PetscInt>(graph.offsets[i]);
   for (size_t k = 0; k < graph.neighbours.size(); ++k)
     ja[k] = static_cast<PetscInt>(graph.neighbours[k]);
-  Mat adjacency;
+  MatHandle adjacency;
   HS_PETSC(MatCreateMPIAdj(comm, static_cast<PetscInt>(n), static_cast<PetscInt>(slab.num_tets), ia,
-                           ja, nullptr, &adjacency));
-  MatPartitioning partitioning;
-  HS_PETSC(MatPartitioningCreate(comm, &partitioning));
+                           ja, nullptr, adjacency.out()));
+  MatPartitioningHandle partitioning;
+  HS_PETSC(MatPartitioningCreate(comm, partitioning.out()));
   HS_PETSC(MatPartitioningSetAdjacency(partitioning, adjacency));
   HS_PETSC(MatPartitioningSetType(partitioning, MATPARTITIONINGPTSCOTCH));
   HS_PETSC(MatPartitioningSetFromOptions(partitioning));
-  IS parts;
+  IsHandle parts;
   SCOTCH_randomReset();
-  HS_PETSC(MatPartitioningApply(partitioning, &parts));
+  HS_PETSC(MatPartitioningApply(partitioning, parts.out()));
   const PetscInt* p;
   HS_PETSC(ISGetIndices(parts, &p));
   std::vector<int> part(p, p + n);
   HS_PETSC(ISRestoreIndices(parts, &p));
-  HS_PETSC(ISDestroy(&parts));
-  HS_PETSC(MatPartitioningDestroy(&partitioning));
-  HS_PETSC(MatDestroy(&adjacency));
   return part;
 }
 

@@ -121,21 +121,17 @@ Effectors::Effectors(const Config& config, Problem& problem) {
 }
 
 void append_point_rows(Problem& problem, const std::vector<int64_t>& nodes,
-                       const std::vector<double>& N, std::vector<Vec>& rows) {
+                       const std::vector<double>& N, VecArray& rows) {
   const Distribution& dist = problem.distribution();
   for (int d = 0; d < 3; ++d) {
-    Vec row = problem.create_vector();
+    VecHandle row(problem.create_vector());
     if (dist.rank == 0)
       for (size_t a = 0; a < nodes.size(); ++a)
         HS_PETSC(VecSetValue(row, static_cast<PetscInt>(3 * nodes[a] + d), N[a], ADD_VALUES));
     HS_PETSC(VecAssemblyBegin(row));
     HS_PETSC(VecAssemblyEnd(row));
-    rows.push_back(row);
+    rows.push_back(row.release());
   }
-}
-
-Effectors::~Effectors() {
-  for (auto& v : rows_) VecDestroy(&v);
 }
 
 int Effectors::index(const std::string& name) const {

@@ -39,14 +39,13 @@ MaterialPoint group_point(const Problem& problem, const std::string& group);
 // distributed vectors with N_a at the dofs (a, d), appended to `rows` (collective; `nodes` are
 // PETSc node numbers).
 void append_point_rows(Problem& problem, const std::vector<int64_t>& nodes,
-                       const std::vector<double>& N, std::vector<Vec>& rows);
+                       const std::vector<double>& N, VecArray& rows);
 
 class Effectors {
  public:
   // Collective. Throws InputError naming the effector when its point group does not hold
   // exactly one node or its position lies outside the mesh.
   Effectors(const Config& config, Problem& problem);
-  ~Effectors();
   Effectors(const Effectors&) = delete;
   Effectors& operator=(const Effectors&) = delete;
 
@@ -63,7 +62,7 @@ class Effectors {
   std::vector<std::string> names_;
   std::vector<EffectorConfig> configs_;
   std::vector<double> reference_;  // 3 per effector
-  std::vector<Vec> rows_;          // 3 per effector
+  VecArray rows_;                  // 3 per effector
 };
 
 }  // namespace hs

@@ -42,8 +42,8 @@ InverseController::InverseController(const Config& config, Problem& problem,
                        " chamber is not actuated (it enters fixed)");
     actuators_.push_back(act);
   }
-  J_ = problem.create_matrix();
-  HS_PETSC(KSPCreate(problem.comm(), &ksp_));
+  J_ = MatHandle(problem.create_matrix());
+  HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
   HS_PETSC(KSPSetFromOptions(ksp_));
   if (config.control->factor_threads > 0 && config.control->free_solve == FreeSolve::one_step)
     background_ = std::make_unique<BackgroundFactorizations>(
@@ -53,18 +53,13 @@ InverseController::InverseController(const Config& config, Problem& problem,
     if (constraints[c].measure_load()) Z_.push_back(problem.create_vector());
   }
   for (size_t a = 0; a < actuators_.size(); ++a) response_.push_back(problem.create_vector());
-  R_ = problem.create_vector();
-  a_ = problem.create_vector();
-  free_step_ = problem.create_vector();
+  R_ = VecHandle(problem.create_vector());
+  a_ = VecHandle(problem.create_vector());
+  free_step_ = VecHandle(problem.create_vector());
 }
 
 InverseController::~InverseController() {
-  background_.reset();
-  KSPDestroy(&ksp_);
-  MatDestroy(&J_);
-  for (Vec* v : {&R_, &a_, &free_step_, &step_start_, &last_free_, &factored_at_}) VecDestroy(v);
-  for (auto* list : {&Y_, &Z_, &response_, &lin_.g, &lin_.q})
-    for (auto& v : *list) VecDestroy(&v);
+  background_.reset();  // it holds ksp_ (not owning it): it goes first
 }
 
 // Y_c = K^-1 g_c, Z_h = K^-1 q_h with the current factorization; the dense system S of the
@@ -179,7 +174,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   }
   if (!ok) throw SolveError("control step: an element is inverted at the free configuration");
   if (one_step) {
-    if (!step_start_) HS_PETSC(VecDuplicate(u, &step_start_));
+    if (!step_start_) HS_PETSC(VecDuplicate(u, step_start_.out()));
     HS_PETSC(VecCopy(u, step_start_));
     step_start_pressures_ = constraints_.multipliers();
   }
@@ -195,7 +190,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   double t_factor = t_factor0, t_compliance = t_factor0;
   if (refactor) {
     if (keeps_factorization()) {
-      if (!factored_at_) HS_PETSC(VecDuplicate(u, &factored_at_));
+      if (!factored_at_) HS_PETSC(VecDuplicate(u, factored_at_.out()));
       HS_PETSC(VecCopy(u, factored_at_));
       factored_constraints_ = constraint_states(constraints_);
     }

@@ -114,13 +114,13 @@ class InverseController {
   BorderedNewton& newton_;
   Effectors& effectors_;
   std::vector<Actuator> actuators_;
-  KSP ksp_ = nullptr;
+  KspHandle ksp_;
   std::unique_ptr<BackgroundFactorizations> background_;  // control.factor_threads > 0
   int step_count_ = 0;                                    // steps begun, retakes included
-  Mat J_ = nullptr;
-  std::vector<Vec> Y_, Z_, response_;  // per cavity; per weighted cavity; per actuator
+  MatHandle J_;
+  VecArray Y_, Z_, response_;  // per cavity; per weighted cavity; per actuator
   ConstraintLinearization lin_;
-  Vec R_ = nullptr, a_ = nullptr, free_step_ = nullptr;  // residual, K^-1 R, the free step
+  VecHandle R_, a_, free_step_;  // residual, K^-1 R, the free step
   // The responses of the last factorization (kept for control.refactor_every steps).
   std::vector<Vec> columns_;
   std::vector<int> weighted_;
@@ -133,14 +133,14 @@ class InverseController {
   bool force_refactor_ = false, retake_converged_ = false;
   int steps_since_factorization_ = 0;
   double residual_at_factorization_ = 0;  // |R| at the start of that step
-  Vec step_start_ = nullptr;              // one_step: u and pressures at the last step's start
+  VecHandle step_start_;                  // one_step: u and pressures at the last step's start
   std::vector<double> step_start_pressures_;
-  Vec last_free_ = nullptr;  // the last free equilibrium and its pressures
+  VecHandle last_free_;  // the last free equilibrium and its pressures
   std::vector<double> last_pressures_;
   // refactor_every > 1 (in line): the configuration and the constraints' states that the
   // kept factorization was made at, for a restart to make it again.
   bool keeps_factorization() const;
-  Vec factored_at_ = nullptr;
+  VecHandle factored_at_;
   nlohmann::json factored_constraints_;
 };
 

@@ -41,7 +41,7 @@ void InverseController::resume(const nlohmann::json& s, const Restart& restart) 
                      " actuators, this deck's " + std::to_string(actuators_.size()));
   for (size_t a = 0; a < actuators_.size(); ++a) actuators_[a].rest_measure = rest[a];
   last_pressures_ = s.at("last_pressures").get<std::vector<double>>();
-  if (!last_free_) last_free_ = problem_.create_vector();
+  if (!last_free_) last_free_ = VecHandle(problem_.create_vector());
   restart.read("control_last_free", problem_, last_free_);
   step_count_ = s.at("step_count");
   factored_ = s.at("factored");
@@ -50,14 +50,14 @@ void InverseController::resume(const nlohmann::json& s, const Restart& restart) 
   force_refactor_ = retake_converged_ = false;
   if (s.contains("step_start_pressures")) {
     step_start_pressures_ = s.at("step_start_pressures").get<std::vector<double>>();
-    if (!step_start_) step_start_ = problem_.create_vector();
+    if (!step_start_) step_start_ = VecHandle(problem_.create_vector());
     restart.read("control_step_start", problem_, step_start_);
   }
   if (!s.contains("factored_constraints")) return;
   // The kept factorization, made again as the step that made it did: the residual, then the
   // tangent, at that step's configuration and constraint states; the states of now after.
   factored_constraints_ = s.at("factored_constraints");
-  if (!factored_at_) factored_at_ = problem_.create_vector();
+  if (!factored_at_) factored_at_ = VecHandle(problem_.create_vector());
   restart.read("control_factored_at", problem_, factored_at_);
   const nlohmann::json now = constraint_states(constraints_);
   restore_constraint_states(constraints_, factored_constraints_);

@@ -11,7 +11,7 @@ namespace hs {
 
 void InverseController::set_rest(Vec u) {
   for (auto& a : actuators_) a.rest_measure = constraints_.measure(a.constraint, u);
-  if (!last_free_) HS_PETSC(VecDuplicate(u, &last_free_));
+  if (!last_free_) HS_PETSC(VecDuplicate(u, last_free_.out()));
   HS_PETSC(VecCopy(u, last_free_));
   last_pressures_ = constraints_.multipliers();
 }
@@ -103,8 +103,8 @@ std::vector<double> InverseController::equilibrium_positions(Vec u) {
   const std::vector<double> pressures = constraints_.multipliers();
   std::vector<double> targets;
   for (int c = 0; c < constraints_.size(); ++c) targets.push_back(constraints_[c].target);
-  Vec x = nullptr;
-  HS_PETSC(VecDuplicate(u, &x));
+  VecHandle x;
+  HS_PETSC(VecDuplicate(u, x.out()));
   HS_PETSC(VecCopy(u, x));
   for (const auto& a : actuators_) {
     constraints_[a.constraint].control = Constraint::Control::multiplier;
@@ -113,7 +113,7 @@ std::vector<double> InverseController::equilibrium_positions(Vec u) {
   ControlStepReport report;
   const NewtonResult r = solve_free(x, report);
   const std::vector<double> positions = effectors_.positions(x);
-  HS_PETSC(VecDestroy(&x));
+  x.reset();
   constraints_.set_multipliers(pressures);
   for (int c = 0; c < constraints_.size(); ++c) constraints_[c].target = targets[c];
   if (!r.converged || report.limit_point)

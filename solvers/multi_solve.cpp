@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "solvers/petsc_check.hpp"
+#include "solvers/petsc_handle.hpp"
 
 namespace hs {
 
@@ -45,9 +46,9 @@ bool solve_columns(KSP ksp, const std::vector<Vec>& b, const std::vector<Vec>& x
   HS_PETSC(VecGetLocalSize(b[0], &n_local));
   HS_PETSC(VecGetSize(b[0], &n));
   const PetscInt k = static_cast<PetscInt>(b.size());
-  Mat B, X;
-  HS_PETSC(MatCreateDense(comm, n_local, PETSC_DECIDE, n, k, nullptr, &B));
-  HS_PETSC(MatCreateDense(comm, n_local, PETSC_DECIDE, n, k, nullptr, &X));
+  MatHandle B, X;
+  HS_PETSC(MatCreateDense(comm, n_local, PETSC_DECIDE, n, k, nullptr, B.out()));
+  HS_PETSC(MatCreateDense(comm, n_local, PETSC_DECIDE, n, k, nullptr, X.out()));
   for (PetscInt j = 0; j < k; ++j) {
     Vec column;
     HS_PETSC(MatDenseGetColumnVecWrite(B, j, &column));
@@ -61,8 +62,6 @@ bool solve_columns(KSP ksp, const std::vector<Vec>& b, const std::vector<Vec>& x
     HS_PETSC(VecCopy(column, x[j]));
     HS_PETSC(MatDenseRestoreColumnVecRead(X, j, &column));
   }
-  HS_PETSC(MatDestroy(&B));
-  HS_PETSC(MatDestroy(&X));
   return true;
 }
 

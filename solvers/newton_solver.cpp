@@ -24,26 +24,22 @@ bool known_type(const std::string& name, const std::string& type) {
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
   PetscErrorCode error = 0;
   if (ends_with("linesearch_type")) {
-    SNESLineSearch ls;
-    SNESLineSearchCreate(PETSC_COMM_SELF, &ls);
+    LineSearchHandle ls;
+    SNESLineSearchCreate(PETSC_COMM_SELF, ls.out());
     error = SNESLineSearchSetType(ls, type.c_str());
-    SNESLineSearchDestroy(&ls);
   } else if (ends_with("snes_type")) {
-    SNES snes;
-    SNESCreate(PETSC_COMM_SELF, &snes);
+    SnesHandle snes;
+    SNESCreate(PETSC_COMM_SELF, snes.out());
     error = SNESSetType(snes, type.c_str());
-    SNESDestroy(&snes);
   } else if (ends_with("ksp_type")) {
-    KSP ksp;
-    KSPCreate(PETSC_COMM_SELF, &ksp);
+    KspHandle ksp;
+    KSPCreate(PETSC_COMM_SELF, ksp.out());
     error = KSPSetType(ksp, type.c_str());
-    KSPDestroy(&ksp);
   } else if (ends_with("pc_type")) {
-    PC pc;
-    PCCreate(PETSC_COMM_SELF, &pc);
+    PcHandle pc;
+    PCCreate(PETSC_COMM_SELF, pc.out());
     error = PCSetType(pc, type.c_str());
-    PCDestroy(&pc);
-  }
+  }  // each object is released in its branch, still under the return handler
   PetscPopErrorHandler();
   return error == 0;
 }
@@ -107,12 +103,12 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent, bool
 }
 
 NewtonSolver::NewtonSolver(Problem& problem) : problem_(problem) {
-  J_ = problem.create_matrix();
-  R_ = problem.create_vector();
+  J_ = MatHandle(problem.create_matrix());
+  R_ = VecHandle(problem.create_vector());
   PetscBool near_null = PETSC_TRUE;
   HS_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-hs_near_null_space", &near_null, nullptr));
   if (!near_null) HS_PETSC(MatSetNearNullSpace(J_, nullptr));
-  HS_PETSC(SNESCreate(problem.comm(), &snes_));
+  HS_PETSC(SNESCreate(problem.comm(), snes_.out()));
   HS_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
   HS_PETSC(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
   if (problem.has_potential()) HS_PETSC(SNESSetObjective(snes_, form_objective, this));
@@ -120,12 +116,6 @@ NewtonSolver::NewtonSolver(Problem& problem) : problem_(problem) {
   PetscBool roundoff = PETSC_TRUE;  // -hs_newton_roundoff false: PETSc's test alone
   HS_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-hs_newton_roundoff", &roundoff, nullptr));
   if (roundoff) HS_PETSC(SNESSetConvergenceTest(snes_, converged, this, nullptr));
-}
-
-NewtonSolver::~NewtonSolver() {
-  SNESDestroy(&snes_);
-  MatDestroy(&J_);
-  VecDestroy(&R_);
 }
 
 PetscErrorCode NewtonSolver::form_residual(SNES snes, Vec u, Vec R, void* ctx) {

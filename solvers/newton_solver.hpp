@@ -34,7 +34,6 @@ struct NewtonResult {
 class NewtonSolver {
  public:
   explicit NewtonSolver(Problem& problem);
-  ~NewtonSolver();
   NewtonSolver(const NewtonSolver&) = delete;
   NewtonSolver& operator=(const NewtonSolver&) = delete;
 
@@ -58,9 +57,9 @@ class NewtonSolver {
                                   PetscReal fnorm, SNESConvergedReason* reason, void* ctx);
 
   Problem& problem_;
-  SNES snes_ = nullptr;
-  Mat J_ = nullptr;
-  Vec R_ = nullptr;
+  SnesHandle snes_;
+  MatHandle J_;
+  VecHandle R_;
   double load_ = 0;
   double solve_s_ = 0;
   double first_norm_ = 0;  // of this solve's first residual

@@ -57,14 +57,11 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
   MPI_Allreduce(&local_any, &global_any, 1, MPI_INT, MPI_MAX, comm_);
   if (!global_any) pressure_faces_.clear();
 
-  u_work_ = create_vector();
-  HS_PETSC(VecDuplicate(u_work_, &r_work_));
+  u_work_ = VecHandle(create_vector());
+  HS_PETSC(VecDuplicate(u_work_, r_work_.out()));
 }
 
-Problem::~Problem() {
-  VecDestroy(&u_work_);
-  VecDestroy(&r_work_);
-}
+Problem::~Problem() = default;
 
 void Problem::element_coordinates(int64_t e, double* X) const {
   const int32_t* nodes = &dist_.tet_nodes[e * npe_];
@@ -136,12 +133,11 @@ bool Problem::residual(Vec u, double s, Vec R) {
   const double t0 = MPI_Wtime();
   const bool ok = assemble_forces(u, s, 1.0, -1.0, R, nullptr);
   if (inertia_) {  // + c M (u - u_pred)
-    Vec du;
-    HS_PETSC(VecDuplicate(u, &du));
+    VecHandle du;
+    HS_PETSC(VecDuplicate(u, du.out()));
     HS_PETSC(VecWAXPY(du, -1.0, inertia_->u_pred, u));
     HS_PETSC(VecScale(du, inertia_->c));
     HS_PETSC(MatMultAdd(inertia_->M, du, R, R));
-    HS_PETSC(VecDestroy(&du));
   }
   dofs_.set_rows(u, s, R);  // Dirichlet rows: R_D = u_D - g_D(s)
   timers_.residual_s += MPI_Wtime() - t0;
@@ -197,8 +193,8 @@ void Problem::internal_force(Vec u, Vec f, double* energy) {
 bool Problem::potential_energy(Vec u, double s, double* energy) {
   if (!has_potential()) throw std::logic_error("potential_energy: the loads have no potential");
   const double t0 = MPI_Wtime();
-  Vec f;
-  HS_PETSC(VecDuplicate(u, &f));
+  VecHandle f;
+  HS_PETSC(VecDuplicate(u, f.out()));
   double stored = 0;
   const bool ok = assemble_forces(u, 0.0, 1.0, 0.0, f, &stored);  // the forces are not used
   PetscScalar work = 0;
@@ -208,24 +204,22 @@ bool Problem::potential_energy(Vec u, double s, double* energy) {
   }
   double kinetic = 0;
   if (ok && inertia_) {
-    Vec du;
+    VecHandle du;
     HS_PETSC(VecWAXPY(f, -1.0, inertia_->u_pred, u));
-    HS_PETSC(VecDuplicate(u, &du));
+    HS_PETSC(VecDuplicate(u, du.out()));
     HS_PETSC(MatMult(inertia_->M, f, du));
     PetscScalar dMd = 0;
     HS_PETSC(VecDot(f, du, &dMd));
     kinetic = 0.5 * inertia_->c * dMd;
-    HS_PETSC(VecDestroy(&du));
   }
-  HS_PETSC(VecDestroy(&f));
   timers_.residual_s += MPI_Wtime() - t0;
   if (ok) *energy = stored - work + kinetic;
   return ok;
 }
 
 double Problem::residual_roundoff(Vec u) {
-  Vec bound;
-  HS_PETSC(VecDuplicate(u, &bound));
+  VecHandle bound;
+  HS_PETSC(VecDuplicate(u, bound.out()));
   assemble_local(u, bound, [&](const PetscScalar* ua, PetscScalar* ra) {
     const int n = 3 * npe_;
     double X[30], ue[30], re[30], K[900], size[30];
@@ -247,15 +241,14 @@ double Problem::residual_roundoff(Vec u) {
   dofs_.zero(bound);
   PetscReal norm = 0;
   HS_PETSC(VecNorm(bound, NORM_2, &norm));
-  HS_PETSC(VecDestroy(&bound));
   return std::numeric_limits<double>::epsilon() * norm;
 }
 
 void Problem::external_load(Vec u, double s, Vec f) { assemble_forces(u, s, 0.0, 1.0, f, nullptr); }
 
 void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const {
-  Vec uw;
-  HS_PETSC(VecDuplicate(u_work_, &uw));
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
   {
     LocalView view(u, uw);
     const PetscScalar* ua = view.values();
@@ -272,12 +265,11 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
       J[e] = f.J;
     }
   }
-  HS_PETSC(VecDestroy(&uw));
 }
 
 bool Problem::orientation_preserved(Vec u) {
-  Vec uw;
-  HS_PETSC(VecDuplicate(u_work_, &uw));
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
   int64_t bad = -1;
   {
     LocalView view(u, uw);
@@ -289,7 +281,6 @@ bool Problem::orientation_preserved(Vec u) {
       if (!tet_orientation_preserved(dist_.order, X, ue)) bad = dist_.local_tets[e];
     }
   }
-  HS_PETSC(VecDestroy(&uw));
   return record_inverted(bad);
 }
 

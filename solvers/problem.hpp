@@ -24,13 +24,14 @@
 #include "solvers/dof_map.hpp"
 #include "solvers/node_pair_blocks.hpp"
 #include "solvers/petsc_check.hpp"
+#include "solvers/petsc_handle.hpp"
 
 namespace hs {
 
 // Inertia of an implicit time step: the term c M (u - u_pred) (Newmark or backward Euler).
 struct InertiaTerm {
-  Mat M = nullptr;  // consistent mass matrix (unit diagonal on Dirichlet rows)
-  Vec u_pred = nullptr;
+  MatHandle M;  // consistent mass matrix (unit diagonal on Dirichlet rows)
+  VecHandle u_pred;
   double c = 0;
 };
 
@@ -193,7 +194,7 @@ class Problem {
   std::unique_ptr<NodePairBlocks> pairs_;    // made with the first matrix
   std::vector<PetscScalar> tangent_values_;  // one per entry of tangent_entries
   bool pattern_fixed_ = false;               // a matrix exists: no new surfaces or couplings
-  Vec u_work_ = nullptr, r_work_ = nullptr;
+  VecHandle u_work_, r_work_;
   int64_t inverted_element_ = -1;  // of the last residual or tangent, over all ranks
   AssemblyTimers timers_;
 };

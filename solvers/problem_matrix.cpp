@@ -72,8 +72,8 @@ Mat Problem::create_matrix() {
   std::vector<PetscInt> rows, cols;
   tangent_entries(rows, cols);
   tangent_values_.assign(rows.size(), 0.0);
-  Mat A;
-  HS_PETSC(MatCreate(comm_, &A));
+  MatHandle A;  // the caller's once returned
+  HS_PETSC(MatCreate(comm_, A.out()));
   HS_PETSC(MatSetSizes(A, 3 * nowned, 3 * nowned, PETSC_DETERMINE, PETSC_DETERMINE));
   HS_PETSC(MatSetBlockSize(A, 3));
   HS_PETSC(MatSetType(A, MATAIJ));
@@ -82,25 +82,23 @@ Mat Problem::create_matrix() {
       MatSetPreallocationCOO(A, static_cast<PetscCount>(rows.size()), rows.data(), cols.data()));
 
   // Rigid-body modes from the reference coordinates of the owned nodes.
-  Vec coords;
-  HS_PETSC(VecCreateMPI(comm_, 3 * nowned, PETSC_DETERMINE, &coords));
+  VecHandle coords;
+  HS_PETSC(VecCreateMPI(comm_, 3 * nowned, PETSC_DETERMINE, coords.out()));
   HS_PETSC(VecSetBlockSize(coords, 3));
   PetscScalar* c;
   HS_PETSC(VecGetArray(coords, &c));
   for (int64_t i = 0; i < 3 * nowned; ++i) c[i] = X_[i];
   HS_PETSC(VecRestoreArray(coords, &c));
-  MatNullSpace nullspace;
-  HS_PETSC(MatNullSpaceCreateRigidBody(coords, &nullspace));
+  NullSpaceHandle nullspace;
+  HS_PETSC(MatNullSpaceCreateRigidBody(coords, nullspace.out()));
   HS_PETSC(MatSetNearNullSpace(A, nullspace));
-  HS_PETSC(MatNullSpaceDestroy(&nullspace));
-  HS_PETSC(VecDestroy(&coords));
-  return A;
+  return A.release();
 }
 
 // The consistent mass matrix in the tangent's pattern (element blocks, unit diagonal on
 // Dirichlet rows, zero elsewhere), by coordinates like the tangent.
 Mat Problem::create_mass_matrix() {
-  Mat M = create_matrix();
+  MatHandle M(create_matrix());  // the caller's once returned
   std::vector<PetscScalar> values(tangent_values_.size(), 0.0);
   double X[30], Me[900];
   for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
@@ -113,7 +111,7 @@ Mat Problem::create_mass_matrix() {
   for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)
     if (dofs_.constrained(l)) *value++ = 1.0;
   HS_PETSC(MatSetValuesCOO(M, values.data(), INSERT_VALUES));
-  return M;
+  return M.release();
 }
 
 }  // namespace hs

@@ -95,20 +95,15 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   ResultRecorder recorder(problem, config, std::move(output_folder), comm);
   const double t_setup = MPI_Wtime() - t_start;
 
-  Vec u = problem.create_vector();
-  // Destroyed on every way out: an input error found after this point (a cavity volume that
-  // cannot exist, a control target out of reach) leaves the caller's process going.
-  struct VecOwner {
-    Vec& v;
-    ~VecOwner() { VecDestroy(&v); }
-  } u_owner{u};
+  // Owned: an input error found after this point (a cavity volume that cannot exist, a control
+  // target out of reach) leaves the caller's process going.
+  const VecHandle u(problem.create_vector());
   {
-    Vec f;
-    HS_PETSC(VecDuplicate(u, &f));
+    VecHandle f;
+    HS_PETSC(VecDuplicate(u, f.out()));
     problem.external_load(u, 1.0, f);
     PetscReal norm = 0;
     HS_PETSC(VecNorm(f, NORM_2, &norm));
-    HS_PETSC(VecDestroy(&f));
     if (newton) newton->scale_absolute_tolerance(norm);
     if (bordered) bordered->set_load_norm(norm);
   }

@@ -72,12 +72,8 @@ class StateStepper {
         constraints_(constraints),
         newton_(newton),
         stats_(stats) {
-    u_last_ = problem.create_vector();
-    saved_ = problem.create_vector();
-  }
-  ~StateStepper() {
-    VecDestroy(&u_last_);
-    VecDestroy(&saved_);
+    u_last_ = VecHandle(problem.create_vector());
+    saved_ = VecHandle(problem.create_vector());
   }
 
   // Starts a state: fixes its ramps' start values from the current state of the cavities.
@@ -229,7 +225,7 @@ class StateStepper {
   double tau_ = 0, tau_last_ = 0;
   bool has_last_ = false;
   std::vector<double> lambda_last_;
-  Vec u_last_ = nullptr, saved_ = nullptr;
+  VecHandle u_last_, saved_;
 };
 
 }  // namespace
@@ -248,11 +244,10 @@ TipOrientation tip_orientation(Problem& problem, const std::string& group,
                                const std::array<double, 3>& gravity, Vec u) {
   TipOrientation t;
   const auto n = problem.area_vector(group, u);
-  Vec zero;
-  HS_PETSC(VecDuplicate(u, &zero));
+  VecHandle zero;
+  HS_PETSC(VecDuplicate(u, zero.out()));
   HS_PETSC(VecZeroEntries(zero));
   const auto n0 = problem.area_vector(group, zero);
-  HS_PETSC(VecDestroy(&zero));
   t.rotation_deg = angle_deg(n0, n);
   // The angle to gravity is 90 deg minus the inclination below the plane normal to it.
   if (std::hypot(gravity[0], gravity[1], gravity[2]) > 0 && std::hypot(n[0], n[1], n[2]) > 0)

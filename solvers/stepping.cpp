@@ -52,13 +52,8 @@ int64_t max_substeps(int64_t planned) {
 
 LoadStepper::LoadStepper(Problem& problem, NewtonSolver& newton, int max_cutbacks)
     : problem_(problem), newton_(newton), max_cutbacks_(max_cutbacks) {
-  u_last_ = problem.create_vector();
-  saved_ = problem.create_vector();
-}
-
-LoadStepper::~LoadStepper() {
-  VecDestroy(&u_last_);
-  VecDestroy(&saved_);
+  u_last_ = VecHandle(problem.create_vector());
+  saved_ = VecHandle(problem.create_vector());
 }
 
 void LoadStepper::predict(Vec u, double s_next) {
@@ -152,27 +147,20 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
   const bool newmark = time.integrator == Integrator::newmark;
   const double dt = time.dt, beta = time.newmark_beta, gamma = time.newmark_gamma;
   InertiaTerm inertia;
-  Vec v = nullptr, a = nullptr, a_new = nullptr, R = nullptr;
-  Vec Mv = nullptr, f_ext = nullptr, scratch = nullptr;
-  // Released on every way out: a failed step (SolveError) and a signal (Interrupted, from
-  // on_step) leave by an exception, which the caller catches to keep the steps done.
-  struct Release {
+  VecHandle v, a, a_new, R, Mv, f_ext, scratch;
+  // The problem lets go of the inertia before it is released, on every way out: a failed step
+  // (SolveError) and a signal (Interrupted, from on_step) leave by an exception, which the
+  // caller catches to keep the steps done.
+  struct Unset {
     Problem& problem;
-    InertiaTerm& inertia;
-    std::array<Vec*, 7> vecs;
-    ~Release() {
-      problem.set_inertia(nullptr);
-      for (Vec* x : vecs) VecDestroy(x);
-      VecDestroy(&inertia.u_pred);
-      MatDestroy(&inertia.M);
-    }
-  } release{problem, inertia, {&v, &a, &a_new, &R, &Mv, &f_ext, &scratch}};
-  inertia.M = problem.create_mass_matrix();
-  HS_PETSC(VecDuplicate(u, &v));
-  HS_PETSC(VecDuplicate(u, &a));
-  HS_PETSC(VecDuplicate(u, &a_new));
-  HS_PETSC(VecDuplicate(u, &R));
-  HS_PETSC(VecDuplicate(u, &inertia.u_pred));
+    ~Unset() { problem.set_inertia(nullptr); }
+  } unset{problem};
+  inertia.M = MatHandle(problem.create_mass_matrix());
+  HS_PETSC(VecDuplicate(u, v.out()));
+  HS_PETSC(VecDuplicate(u, a.out()));
+  HS_PETSC(VecDuplicate(u, a_new.out()));
+  HS_PETSC(VecDuplicate(u, R.out()));
+  HS_PETSC(VecDuplicate(u, inertia.u_pred.out()));
   HS_PETSC(VecSet(v, 0.0));
 
   if (resume) {
@@ -181,8 +169,8 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
     // Initial acceleration from M a0 = -(f_int(u0) - f_ext): CG on the mass matrix.
     problem.apply_dirichlet(u, 1.0);
     problem.residual(u, 1.0, R);
-    KSP mass_solver;
-    HS_PETSC(KSPCreate(problem.comm(), &mass_solver));
+    KspHandle mass_solver;
+    HS_PETSC(KSPCreate(problem.comm(), mass_solver.out()));
     HS_PETSC(KSPSetOperators(mass_solver, inertia.M, inertia.M));
     HS_PETSC(KSPSetType(mass_solver, KSPCG));
     PC pc;
@@ -191,13 +179,12 @@ void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time,
     HS_PETSC(KSPSetTolerances(mass_solver, 1e-12, 1e-30, PETSC_DEFAULT, 1000));
     HS_PETSC(KSPSolve(mass_solver, R, a));
     HS_PETSC(VecScale(a, -1.0));
-    HS_PETSC(KSPDestroy(&mass_solver));
   }
 
   // E = 1/2 v.M v + int psi - f_ext.u (f_ext at full load on the current configuration).
-  HS_PETSC(VecDuplicate(u, &Mv));
-  HS_PETSC(VecDuplicate(u, &f_ext));
-  HS_PETSC(VecDuplicate(u, &scratch));
+  HS_PETSC(VecDuplicate(u, Mv.out()));
+  HS_PETSC(VecDuplicate(u, f_ext.out()));
+  HS_PETSC(VecDuplicate(u, scratch.out()));
   auto total_energy = [&]() {
     double stored = 0, kinetic = 0, work = 0;
     problem.internal_force(u, scratch, &stored);

@@ -66,7 +66,6 @@ void advance_with_cutback(
 class LoadStepper {
  public:
   LoadStepper(Problem& problem, NewtonSolver& newton, int max_cutbacks);
-  ~LoadStepper();
   LoadStepper(const LoadStepper&) = delete;
   LoadStepper& operator=(const LoadStepper&) = delete;
 
@@ -94,7 +93,7 @@ class LoadStepper {
   double s_ = 0;           // load factor of u
   double s_last_ = 0;      // load factor of u_last_
   bool has_last_ = false;  // u_last_ holds an earlier converged state
-  Vec u_last_ = nullptr, saved_ = nullptr;
+  VecHandle u_last_, saved_;
 };
 
 // Called after every converged time step with (step index, time, u, v, a).

@@ -4,15 +4,12 @@ namespace hs {
 
 Cable::Cable(const CableConfig& config, Problem& problem, const std::string& deck_path)
     : Constraint(config.name), problem_(problem), path_(config, problem, deck_path) {
-  pull_ = problem.create_vector();
-  Vec zero = problem.create_vector();
+  pull_ = VecHandle(problem.create_vector());
+  const VecHandle zero(problem.create_vector());
   reference_measure = measure = rest_measure = -path_.length(zero);
-  HS_PETSC(VecDestroy(&zero));
   control = Control::multiplier;
   first_state_multiplier = config.force;  // the first state ramps it like a cavity pressure
 }
-
-Cable::~Cable() { VecDestroy(&pull_); }
 
 double Cable::measure_at(Vec u) const { return -path_.length(u); }
 

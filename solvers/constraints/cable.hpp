@@ -16,7 +16,6 @@ class Cable : public Constraint {
  public:
   // Collective; throws InputError naming the deck, the cable and a point outside the mesh.
   Cable(const CableConfig& config, Problem& problem, const std::string& deck_path);
-  ~Cable() override;
 
   std::string kind() const override { return "cable"; }
   bool actuated() const override { return true; }
@@ -32,7 +31,7 @@ class Cable : public Constraint {
  protected:
   Problem& problem_;
   CablePath path_;
-  Vec pull_ = nullptr;  // g at the last load
+  VecHandle pull_;  // g at the last load
 };
 
 }  // namespace hs

@@ -10,28 +10,21 @@ namespace hs {
 
 CablePath::CablePath(const CableConfig& config, Problem& problem, const std::string& deck_path)
     : config_(config) {
-  try {
-    for (size_t i = 0; i < config.points.size(); ++i) {
-      const auto& X = config.points[i];
-      MaterialPoint p;
-      if (!locate(problem, X, p))
-        throw InputError(deck_path + ": cables '" + config.name + "' points[" + std::to_string(i) +
-                         "] (" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
-                         std::to_string(X[2]) + ") lies outside the mesh");
-      std::vector<PetscInt> dofs;
-      for (size_t a = 0; a < p.nodes.size(); ++a)
-        for (int d = 0; d < 3; ++d)
-          dofs.push_back(p.free_dofs[3 * a + d] ? static_cast<PetscInt>(3 * p.nodes[a] + d) : -1);
-      dofs_.push_back(dofs);
-      shape_.push_back(p.N);
-      for (int d = 0; d < 3; ++d) reference_.push_back(X[d]);
-      append_point_rows(problem, p.nodes, p.N, rows_);
-    }
-  } catch (...) {
-    // A point outside the mesh is found after the rows of the points before it were made, and
-    // no destructor runs for an object whose constructor throws.
-    for (auto& v : rows_) VecDestroy(&v);
-    throw;
+  for (size_t i = 0; i < config.points.size(); ++i) {
+    const auto& X = config.points[i];
+    MaterialPoint p;
+    if (!locate(problem, X, p))
+      throw InputError(deck_path + ": cables '" + config.name + "' points[" + std::to_string(i) +
+                       "] (" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
+                       std::to_string(X[2]) + ") lies outside the mesh");
+    std::vector<PetscInt> dofs;
+    for (size_t a = 0; a < p.nodes.size(); ++a)
+      for (int d = 0; d < 3; ++d)
+        dofs.push_back(p.free_dofs[3 * a + d] ? static_cast<PetscInt>(3 * p.nodes[a] + d) : -1);
+    dofs_.push_back(dofs);
+    shape_.push_back(p.N);
+    for (int d = 0; d < 3; ++d) reference_.push_back(X[d]);
+    append_point_rows(problem, p.nodes, p.N, rows_);
   }
   // The turning stiffness couples the points of each segment (the last one ends at the
   // fixed pull point, if any): one block of the tangent each, set by rank 0.
@@ -43,10 +36,6 @@ CablePath::CablePath(const CableConfig& config, Problem& problem, const std::str
     if (i + 1 < dofs_.size()) ends.insert(ends.end(), dofs_[i + 1].begin(), dofs_[i + 1].end());
     couplings_.push_back(problem.add_coupling(std::move(ends)));
   }
-}
-
-CablePath::~CablePath() {
-  for (auto& v : rows_) VecDestroy(&v);
 }
 
 std::vector<double> CablePath::positions(Vec u) const {

@@ -26,7 +26,6 @@ class CablePath {
   // Collective. Throws InputError naming the deck, the cable and the point when a point
   // lies outside the mesh.
   CablePath(const CableConfig& config, Problem& problem, const std::string& deck_path);
-  ~CablePath();
   CablePath(const CablePath&) = delete;
   CablePath& operator=(const CablePath&) = delete;
 
@@ -57,7 +56,7 @@ class CablePath {
 
   CableConfig config_;
   std::vector<double> reference_;  // 3 per point
-  std::vector<Vec> rows_;          // 3 per point: the point's coordinate as a row over u
+  VecArray rows_;                  // 3 per point: the point's coordinate as a row over u
   // Per point: the global dofs of its element's nodes (3 per node, -1 where constrained)
   // and the nodes' shape-function values there.
   std::vector<std::vector<PetscInt>> dofs_;

@@ -46,9 +46,8 @@ Cavity::Cavity(const CavityConfig& config, Problem& problem, const std::string& 
     : Constraint(config.group), problem_(problem), config_(config) {
   check_cavity_surface(problem, deck_path, config.group);
   surface_ = problem.add_cavity_surface(config.group);
-  Vec zero = problem.create_vector();
+  const VecHandle zero(problem.create_vector());
   reference_measure = problem.enclosed_volume(surface_, zero);
-  HS_PETSC(VecDestroy(&zero));
   if (!(reference_measure > 0))
     throw InputError(deck_path + ": cavity '" + config.group + "': its faces enclose a volume of " +
                      std::to_string(reference_measure) +

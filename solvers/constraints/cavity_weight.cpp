@@ -68,12 +68,8 @@ CavityWeight::CavityWeight(const Distribution& dist, const CavityConfig& cavity,
     context_ = std::make_unique<fluidweight::Context>(options_);
     context_->set_cavities({surface});
   }
-  HS_PETSC(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(global_dofs_.size()), &surface_u_));
-}
-
-CavityWeight::~CavityWeight() {
-  VecScatterDestroy(&gather_);
-  VecDestroy(&surface_u_);
+  HS_PETSC(
+      VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(global_dofs_.size()), surface_u_.out()));
 }
 
 const char* CavityWeight::device() const {
@@ -85,11 +81,10 @@ const char* CavityWeight::device() const {
 void CavityWeight::add_weight(Vec u, double load_factor, Vec W) {
   const double t0 = MPI_Wtime();
   if (!gather_) {  // set up against the first u: every u shares the problem's layout
-    IS is_from;
+    IsHandle is_from;
     HS_PETSC(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(global_dofs_.size()),
-                             global_dofs_.data(), PETSC_COPY_VALUES, &is_from));
-    HS_PETSC(VecScatterCreate(u, is_from, surface_u_, nullptr, &gather_));
-    HS_PETSC(ISDestroy(&is_from));
+                             global_dofs_.data(), PETSC_COPY_VALUES, is_from.out()));
+    HS_PETSC(VecScatterCreate(u, is_from, surface_u_, nullptr, gather_.out()));
   }
   HS_PETSC(VecScatterBegin(gather_, u, surface_u_, INSERT_VALUES, SCATTER_FORWARD));
   HS_PETSC(VecScatterEnd(gather_, u, surface_u_, INSERT_VALUES, SCATTER_FORWARD));

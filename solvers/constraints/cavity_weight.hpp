@@ -14,6 +14,7 @@
 #include "deck/config.hpp"
 #include "mesh/distribution.hpp"
 #include "solvers/gathered_surface.hpp"
+#include "solvers/petsc_handle.hpp"
 
 namespace hs {
 
@@ -26,7 +27,6 @@ class CavityWeight {
   // Collective. `owner` is the rank that runs the fluid-weight module for this cavity.
   CavityWeight(const Distribution& dist, const CavityConfig& cavity,
                const std::array<double, 3>& gravity, int owner, MPI_Comm comm);
-  ~CavityWeight();
   CavityWeight(const CavityWeight&) = delete;
   CavityWeight& operator=(const CavityWeight&) = delete;
 
@@ -51,8 +51,8 @@ class CavityWeight {
   std::vector<double> positions_;      // owner: current positions
   std::vector<PetscInt> global_dofs_;  // owner: PETSc dofs of the surface nodes
   std::unique_ptr<fluidweight::Context> context_;  // owner only
-  VecScatter gather_ = nullptr;
-  Vec surface_u_ = nullptr;  // sequential, 3 per surface node on the owner, empty elsewhere
+  VecHandle surface_u_;  // sequential, 3 per surface node on the owner, empty elsewhere
+  VecScatterHandle gather_;
   double total_weight_ = 0, volume_ = 0, seconds_ = 0;
 };
 

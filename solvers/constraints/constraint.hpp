@@ -20,6 +20,8 @@
 #include <optional>
 #include <string>
 
+#include "solvers/petsc_handle.hpp"
+
 namespace hs {
 
 class Problem;

@@ -53,7 +53,7 @@ ConstraintSet::ConstraintSet(const Config& config, Problem& problem)
     linearized_ |= c->frozen_coupling();
   }
   if (any_load) {
-    loads_ = problem.create_vector();
+    loads_ = VecHandle(problem.create_vector());
     problem.set_extra_load(loads_);
   }
 }
@@ -61,7 +61,6 @@ ConstraintSet::ConstraintSet(const Config& config, Problem& problem)
 ConstraintSet::~ConstraintSet() {
   problem_.set_extra_load(nullptr);
   constraints_.clear();
-  VecDestroy(&loads_);
 }
 
 int ConstraintSet::find(const std::string& name) const {
@@ -115,11 +114,11 @@ bool ConstraintSet::linearize(Vec u, double s, Mat J, ConstraintLinearization& l
   const double t0 = MPI_Wtime();
   const size_t m = constraints_.size();
   if (lin.g.size() != m) {
-    lin.g.resize(m, nullptr);
-    lin.q.resize(m, nullptr);
+    lin.g.resize(m);
+    lin.q.resize(m);
     for (size_t k = 0; k < m; ++k) {
-      lin.g[k] = problem_.create_vector();
-      if (constraints_[k]->measure_load()) lin.q[k] = problem_.create_vector();
+      lin.g.reset(k, problem_.create_vector());
+      if (constraints_[k]->measure_load()) lin.q.reset(k, problem_.create_vector());
     }
   }
   lin.alpha.assign(m, 0.0);

@@ -26,7 +26,7 @@ namespace hs {
 // q_k (nullptr where a constraint has no load following its measure), and the controls'
 // linearisation alpha_k g_k^T du + b_k dlambda_k.
 struct ConstraintLinearization {
-  std::vector<Vec> g, q;
+  VecArray g, q;
   std::vector<double> alpha, b;
 };
 
@@ -86,7 +86,7 @@ class ConstraintSet {
  private:
   Problem& problem_;
   std::vector<std::unique_ptr<Constraint>> constraints_;
-  Vec loads_ = nullptr;  // the constraints' own loads, the problem's extra load
+  VecHandle loads_;  // the constraints' own loads, the problem's extra load
   bool linearized_ = false;
   int collapsed_ = -1;  // the first constraint outside its domain at the last residual(), or -1
   double build_seconds_ = 0;

@@ -17,13 +17,9 @@ HydraulicCavity::HydraulicCavity(const CavityConfig& config, Problem& problem,
   if (!weighs(config, gravity)) return;
   weight_ = std::make_unique<CavityWeight>(problem.distribution(), config, gravity, owner,
                                            problem.comm());
-  W_ = problem.create_vector();
-  if (config.fluid_weight.coupling == WeightCoupling::linearized) frozen_ = problem.create_vector();
-}
-
-HydraulicCavity::~HydraulicCavity() {
-  VecDestroy(&W_);
-  VecDestroy(&frozen_);
+  W_ = VecHandle(problem.create_vector());
+  if (config.fluid_weight.coupling == WeightCoupling::linearized)
+    frozen_ = VecHandle(problem.create_vector());
 }
 
 void HydraulicCavity::add_load(Vec u, double s, Vec load) {

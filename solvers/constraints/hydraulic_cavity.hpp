@@ -19,7 +19,6 @@ class HydraulicCavity : public Cavity {
   // `owner`: the rank that runs the fluid-weight module for this cavity.
   HydraulicCavity(const CavityConfig& config, Problem& problem,
                   const std::array<double, 3>& gravity, int owner, const std::string& deck_path);
-  ~HydraulicCavity() override;
 
   // Whether the liquid weighs anything (density > 0 under gravity).
   static bool weighs(const CavityConfig& config, const std::array<double, 3>& gravity);
@@ -42,8 +41,8 @@ class HydraulicCavity : public Cavity {
 
  private:
   std::unique_ptr<CavityWeight> weight_;  // liquid with density > 0 under gravity only
-  Vec W_ = nullptr;                       // its nodal weights (current)
-  Vec frozen_ = nullptr;                  // linearized: weights at the start of the step
+  VecHandle W_;                           // its nodal weights (current)
+  VecHandle frozen_;                      // linearized: weights at the start of the step
   double frozen_volume_ = 0;
   double seconds_ = 0;
   int calls_ = 0;

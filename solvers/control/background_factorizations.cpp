@@ -4,6 +4,7 @@
 
 #include "common/exchange.hpp"
 #include "solvers/petsc_check.hpp"
+#include "solvers/petsc_handle.hpp"
 
 namespace hs {
 namespace {
@@ -27,6 +28,10 @@ CsrMatrix csr_of(Mat A) {
   return m;
 }
 
+// MatCreateSubMatrices' array (of one matrix here), released as the handles release theirs.
+PetscErrorCode destroy_submatrix(Mat** whole) { return MatDestroySubMatrices(1, whole); }
+using SubMatrixHandle = PetscHandle<Mat*, destroy_submatrix>;
+
 }  // namespace
 
 BackgroundFactorizations::BackgroundFactorizations(MPI_Comm comm, int threads, KSP inline_ksp,
@@ -37,7 +42,7 @@ BackgroundFactorizations::BackgroundFactorizations(MPI_Comm comm, int threads, K
     limit_openmp_to_one_thread();
     pool_ = std::make_unique<FactorPool>(threads);
   }
-  HS_PETSC(KSPCreate(comm, &correction_));
+  HS_PETSC(KSPCreate(comm, correction_.out()));
   HS_PETSC(KSPSetType(correction_, KSPGMRES));
   HS_PETSC(KSPSetPCSide(correction_, PC_RIGHT));  // its residual is the true residual
   HS_PETSC(KSPSetTolerances(correction_, rtol, 0.0, PETSC_DEFAULT, 50));
@@ -51,11 +56,7 @@ BackgroundFactorizations::BackgroundFactorizations(MPI_Comm comm, int threads, K
 }
 
 BackgroundFactorizations::~BackgroundFactorizations() {
-  pool_.reset();  // joins the threads first
-  KSPDestroy(&correction_);
-  VecScatterDestroy(&to_zero_);
-  VecDestroy(&x0_);
-  VecDestroy(&y0_);
+  pool_.reset();  // joins the threads first; the PETSc objects go after
 }
 
 BackgroundFactorizations::Poll BackgroundFactorizations::poll() {
@@ -102,17 +103,16 @@ bool BackgroundFactorizations::submit_if_idle(Mat J, int state) {
   if (!idle) return false;
   PetscInt n = 0;
   HS_PETSC(MatGetSize(J, &n, nullptr));
-  IS rows;
-  HS_PETSC(ISCreateStride(comm_, rank_ == 0 ? n : 0, 0, 1, &rows));
-  Mat* whole = nullptr;
-  HS_PETSC(MatCreateSubMatrices(J, 1, &rows, &rows, MAT_INITIAL_MATRIX, &whole));
+  IsHandle rows;
+  HS_PETSC(ISCreateStride(comm_, rank_ == 0 ? n : 0, 0, 1, rows.out()));
+  SubMatrixHandle whole;
+  const IS row_list[1] = {rows};
+  HS_PETSC(MatCreateSubMatrices(J, 1, row_list, row_list, MAT_INITIAL_MATRIX, whole.out()));
   if (rank_ == 0) {
-    CsrMatrix A = csr_of(whole[0]);
+    CsrMatrix A = csr_of(whole.get()[0]);
     if (filter_) filter_(A);
     pool_->submit(A, state);
   }
-  HS_PETSC(MatDestroySubMatrices(1, &whole));
-  HS_PETSC(ISDestroy(&rows));
   return true;
 }
 
@@ -134,8 +134,8 @@ PetscErrorCode BackgroundFactorizations::apply(PC pc, Vec x, Vec y) {
     PetscCall(KSPSolve(self->inline_ksp_, x, y));
     PetscFunctionReturn(0);
   }
-  if (!self->to_zero_) PetscCall(VecScatterCreateToZero(x, &self->to_zero_, &self->x0_));
-  if (!self->y0_) PetscCall(VecDuplicate(self->x0_, &self->y0_));
+  if (!self->to_zero_) PetscCall(VecScatterCreateToZero(x, self->to_zero_.out(), self->x0_.out()));
+  if (!self->y0_) PetscCall(VecDuplicate(self->x0_, self->y0_.out()));
   PetscCall(VecScatterBegin(self->to_zero_, x, self->x0_, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(self->to_zero_, x, self->x0_, INSERT_VALUES, SCATTER_FORWARD));
   if (self->rank_ == 0) {

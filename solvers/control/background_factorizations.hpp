@@ -16,6 +16,7 @@
 #include <string>
 
 #include "control/factor_pool.hpp"
+#include "solvers/petsc_handle.hpp"
 
 namespace hs {
 
@@ -62,13 +63,13 @@ class BackgroundFactorizations {
   MPI_Comm comm_;
   int rank_ = 0, threads_ = 0;
   KSP inline_ksp_;
-  KSP correction_ = nullptr;
+  KspHandle correction_;
   std::unique_ptr<FactorPool> pool_;        // rank 0
   std::unique_ptr<CholeskyFactor> factor_;  // rank 0: the adopted background factorization
   Source source_ = Source::none;
   int state_ = -1;
-  VecScatter to_zero_ = nullptr;  // the whole vector on rank 0, for the factor's solves
-  Vec x0_ = nullptr, y0_ = nullptr;
+  VecScatterHandle to_zero_;  // the whole vector on rank 0, for the factor's solves
+  VecHandle x0_, y0_;
   std::function<void(CsrMatrix&)> filter_;
 };
 

@@ -73,10 +73,10 @@ ResultRecorder::ResultRecorder(Problem& problem, const Config& config,
   broadcast_string(staging_, 0, comm);
   writer_ = std::make_unique<XdmfWriter>(comm, staging_, config.deck_name,
                                          output_layout(problem.distribution(), comm));
-  load_ = problem.create_vector();
+  load_ = VecHandle(problem.create_vector());
 }
 
-ResultRecorder::~ResultRecorder() { VecDestroy(&load_); }
+ResultRecorder::~ResultRecorder() = default;
 
 void ResultRecorder::record(double time, Vec u, double s, const std::string& time_kind) {
   const double t0 = MPI_Wtime();

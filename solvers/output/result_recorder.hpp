@@ -94,7 +94,7 @@ class ResultRecorder {
   HistorySources sources_;
   StepHistory history_;
   int newton_at_last_row_ = 0;
-  Vec load_ = nullptr;
+  VecHandle load_;
   const ConstraintSet* constraints_ = nullptr;
 };
 

@@ -18,8 +18,8 @@ ErrorNorms displacement_error(const Problem& problem, Vec u, const ExactSolution
   const TetQuadrature& rule = tet_quadrature(2 * (order + 1));
 
   // The displacement of the local (owned + ghost) nodes.
-  Vec uw;
-  HS_PETSC(VecDuplicate(u, &uw));
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u, uw.out()));
   double err2 = 0, norm2 = 0;
   {
     const Problem::LocalView view(u, uw);
@@ -48,7 +48,6 @@ ErrorNorms displacement_error(const Problem& problem, Vec u, const ExactSolution
       }
     }
   }
-  HS_PETSC(VecDestroy(&uw));
 
   double local[2] = {err2, norm2}, global[2] = {0, 0};
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, problem.comm());

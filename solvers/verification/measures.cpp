@@ -18,14 +18,13 @@ double measure(const MeasureRequest& request, Problem& problem, Vec u) {
     }
     case Measure::radial_reaction: {
       // At constrained nodes the internal forces are the reactions.
-      Vec f;
-      HS_PETSC(VecDuplicate(u, &f));
+      VecHandle f;
+      HS_PETSC(VecDuplicate(u, f.out()));
       problem.internal_force(u, f);
       const double radial = problem.sum_over_group(request.group, f, [](auto& X, auto& v) {
         const double R = std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
         return (v[0] * X[0] + v[1] * X[1] + v[2] * X[2]) / R;
       });
-      HS_PETSC(VecDestroy(&f));
       return radial;
     }
   }

@@ -46,7 +46,7 @@ struct ControlScene : DeckProblem {
   std::unique_ptr<hs::ConstraintSet> cavities;
   std::unique_ptr<hs::BorderedNewton> newton;
   std::unique_ptr<hs::Effectors> effectors;
-  Vec rest = nullptr;
+  hs::VecHandle rest;
 
   // deck: a file of input/; effector: its reference position; actuator: its bounds.
   ControlScene(const std::string& deck, const std::array<double, 3>& effector,
@@ -65,16 +65,14 @@ struct ControlScene : DeckProblem {
     hs::set_solver_options(config.solver, false);
     newton = std::make_unique<hs::BorderedNewton>(*problem, *cavities);
     effectors = std::make_unique<hs::Effectors>(config, *problem);
-    rest = problem->create_vector();
-    Vec f = problem->create_vector();
+    rest = hs::VecHandle(problem->create_vector());
+    const hs::VecHandle f(problem->create_vector());
     problem->external_load(rest, 1.0, f);
     PetscReal norm = 0;
     VecNorm(f, NORM_2, &norm);
-    VecDestroy(&f);
     newton->set_load_norm(norm);
     for (double s : {0.25, 0.5, 0.75, 1.0}) solve_at(rest, 0.0, s);
   }
-  ~ControlScene() { VecDestroy(&rest); }
 
   // Equilibrium at actuation p of constraint 0 (pressure or tension), load factor s.
   void solve_at(Vec u, double p, double s = 1.0) {
@@ -91,24 +89,22 @@ struct ControlScene : DeckProblem {
   // equilibrium at its actuation in `equilibrium` when asked.
   hs::ControlStepReport drive(const std::array<double, 3>& target, int steps,
                               std::vector<double>* equilibrium = nullptr) {
-    Vec u = problem->create_vector();
+    const hs::VecHandle u(problem->create_vector());
     VecCopy(rest, u);
     hs::InverseController controller(config, *problem, *cavities, *newton, *effectors);
     controller.set_rest(u);
     hs::ControlStepReport r;
     for (int k = 0; k < steps; ++k) r = controller.step(u, {{"tip", target}});
     if (equilibrium) *equilibrium = controller.equilibrium_positions(u);
-    VecDestroy(&u);
     return r;
   }
 
   // The effector's position after a forward run to actuation p from rest (4 increments).
   std::array<double, 3> forward(double p) {
-    Vec u = problem->create_vector();
+    const hs::VecHandle u(problem->create_vector());
     VecCopy(rest, u);
     for (int k = 1; k <= 4; ++k) solve_at(u, p * k / 4);
     const auto x = effectors->positions(u);
-    VecDestroy(&u);
     (*cavities)[0].lambda = 0;
     return {x[0], x[1], x[2]};
   }

@@ -28,8 +28,8 @@ const std::string kSource = HYDROSOFT_SOURCE_DIR;
 struct Body : hs_test::DeckProblem {
   Body() : DeckProblem("finger_pneumatic.yaml", {"mesh.parameters.h=0.006"}) {}
   // u = A X at every node (owned entries; the new numbering of the distribution).
-  Vec affine(const double A[3][3]) {
-    Vec u = problem->create_vector();
+  hs::VecHandle affine(const double A[3][3]) {
+    hs::VecHandle u(problem->create_vector());
     for (int64_t l = 0; l < dist.num_owned(); ++l) {
       const int64_t id = dist.local_nodes[l];
       for (int d = 0; d < 3; ++d) {
@@ -59,7 +59,7 @@ double distance(const std::array<double, 3>& a, const std::array<double, 3>& b) 
 TEST(Cables, LengthUnderAnAffineDeformationIsExact) {
   Body b;
   const double A[3][3] = {{0.02, -0.05, 0.01}, {0.03, -0.01, 0.04}, {-0.02, 0.06, 0.015}};
-  Vec u = b.affine(A);
+  const hs::VecHandle u(b.affine(A));
   for (bool pull : {false, true}) {
     const hs::CableConfig config = bottom_cable(pull);
     hs::CablePath cable(config, *b.problem, "test");
@@ -77,20 +77,18 @@ TEST(Cables, LengthUnderAnAffineDeformationIsExact) {
       L0 += distance(*config.pull_point, config.points.back());
       L += distance(*config.pull_point, map(config.points.back()));
     }
-    Vec zero = b.problem->create_vector();
+    const hs::VecHandle zero(b.problem->create_vector());
     EXPECT_NEAR(cable.length(zero), L0, 1e-15) << pull;
     EXPECT_NEAR(cable.length(u), L, 1e-14) << pull;
-    VecDestroy(&zero);
   }
-  VecDestroy(&u);
 }
 
 TEST(Cables, PullDirectionIsMinusTheLengthGradient) {
   Body b;
   const double A[3][3] = {{0.05, 0.02, -0.03}, {-0.04, 0.01, 0.02}, {0.03, -0.02, 0.04}};
   const double B[3][3] = {{0.3, -0.1, 0.2}, {0.1, 0.4, -0.2}, {-0.3, 0.2, 0.1}};
-  Vec u = b.affine(A), du = b.affine(B), g = b.problem->create_vector();
-  Vec up = b.problem->create_vector(), um = b.problem->create_vector();
+  const hs::VecHandle u(b.affine(A)), du(b.affine(B)), g(b.problem->create_vector());
+  const hs::VecHandle up(b.problem->create_vector()), um(b.problem->create_vector());
   for (bool pull : {false, true}) {
     hs::CablePath cable(bottom_cable(pull), *b.problem, "test");
     cable.pull_direction(u, g);
@@ -121,7 +119,6 @@ TEST(Cables, PullDirectionIsMinusTheLengthGradient) {
     }
     for (int d = 0; d < 3; ++d) EXPECT_NEAR(net[d], expected[d], 1e-13) << pull << " " << d;
   }
-  for (Vec* v : {&u, &du, &g, &up, &um}) VecDestroy(v);
 }
 
 TEST(Cables, OutsidePointIsRefused) {
@@ -184,7 +181,7 @@ void expect_tangent_matches_differences(double friction) {
   CableScene s(10.0, friction);
   hs::Constraint& cable = (*s.cavities)[0];
   cable.lambda = 0.8;
-  Vec u = s.problem->create_vector(), du = s.problem->create_vector();
+  const hs::VecHandle u(s.problem->create_vector()), du(s.problem->create_vector());
   VecCopy(s.rest, u);
   const double B[3][3] = {{0.3, -0.1, 0.2}, {0.1, 0.4, -0.2}, {-0.3, 0.2, 0.1}};
   PetscInt lo, hi;
@@ -194,12 +191,12 @@ void expect_tangent_matches_differences(double friction) {
   VecAssemblyBegin(du);
   VecAssemblyEnd(du);
   s.problem->zero_constrained(du);
-  Mat J = s.problem->create_matrix();
+  const hs::MatHandle J(s.problem->create_matrix());
   hs::ConstraintLinearization lin;
   std::vector<double> c;
-  Vec R = s.problem->create_vector(), Rp = s.problem->create_vector(),
-      Rm = s.problem->create_vector(), up = s.problem->create_vector(),
-      Jdu = s.problem->create_vector();
+  const hs::VecHandle R(s.problem->create_vector()), Rp(s.problem->create_vector()),
+      Rm(s.problem->create_vector()), up(s.problem->create_vector()),
+      Jdu(s.problem->create_vector());
   ASSERT_TRUE(s.cavities->residual(u, 1.0, R, c));
   ASSERT_TRUE(s.cavities->linearize(u, 1.0, J, lin));
   MatMult(J, du, Jdu);
@@ -215,10 +212,6 @@ void expect_tangent_matches_differences(double friction) {
   VecAXPY(Rp, -1.0, Jdu);
   VecNorm(Rp, NORM_2, &diff);
   EXPECT_LT(diff, 1e-6 * ref) << diff << " of " << ref << ", friction " << friction;
-  for (Vec* v : {&u, &du, &R, &Rp, &Rm, &up, &Jdu}) VecDestroy(v);
-  MatDestroy(&J);
-  for (auto& v : lin.g) VecDestroy(&v);
-  for (auto& v : lin.q) VecDestroy(&v);
 }
 
 TEST(Cables, TangentWithTheCableStiffnessMatchesDifferences) {
@@ -236,7 +229,8 @@ TEST(CapstanCables, WithoutFrictionTheyPullAsTheFrictionlessCable) {
   hs::Cable plain(config, *b.problem, "test");
   hs::CapstanCable capstan(config, *b.problem, "test");
   const double A[3][3] = {{0.02, 0.01, -0.03}, {0.0, -0.01, 0.02}, {0.05, 0.01, 0.01}};
-  Vec u = b.affine(A), g0 = b.problem->create_vector(), g1 = b.problem->create_vector();
+  const hs::VecHandle u(b.affine(A)), g0(b.problem->create_vector()),
+      g1(b.problem->create_vector());
   plain.forces(u, g0);
   capstan.forces(u, g1);
   PetscReal ref = 0, diff = 0;
@@ -245,7 +239,6 @@ TEST(CapstanCables, WithoutFrictionTheyPullAsTheFrictionlessCable) {
   VecNorm(g1, NORM_2, &diff);
   EXPECT_GT(ref, 0.5);
   EXPECT_LT(diff, 1e-14 * ref);
-  for (Vec* v : {&u, &g0, &g1}) VecDestroy(v);
 }
 
 TEST(CapstanCables, FrictionHoldsBackTheCurlAndTheControllerFindsTheTension) {

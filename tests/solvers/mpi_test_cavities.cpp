@@ -92,7 +92,7 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
     // No Dirichlet condition, so that no entry of the gradient is zeroed.
     Scene s("cylinder_air.yaml", {"mesh.order=" + std::to_string(order), "boundary=[]"});
     hs::Problem& p = *s.problem;
-    Vec u = p.create_vector(), g = p.create_vector(), du = p.create_vector();
+    const hs::VecHandle u(p.create_vector()), g(p.create_vector()), du(p.create_vector());
     bend(p, u, 0.01);
     const hs::Constraint& cavity = (*s.cavities)[0];
     cavity.forces(u, g);
@@ -109,10 +109,9 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
     // step keeps round-off small.
     bend(p, du, 1e-2);
     auto volume_at = [&](double t) {
-      Vec ut = p.create_vector();
+      const hs::VecHandle ut(p.create_vector());
       VecWAXPY(ut, t, du, u);
       const double v = cavity.measure_at(ut);
-      VecDestroy(&ut);
       return v;
     };
     const double h = 1.0;
@@ -121,7 +120,6 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
     PetscScalar gdu = 0;
     VecDot(g, du, &gdu);
     EXPECT_NEAR(gdu, dV, 1e-9 * std::abs(dV)) << "order " << order;
-    for (Vec* v : {&u, &g, &du}) VecDestroy(v);
   }
 }
 
@@ -274,7 +272,8 @@ TEST(Cavities, PressureWorkEqualsStoredEnergyAndGravityWork) {
   hs::Problem& p = *s.problem;
   hs::set_solver_options(s.config.solver, false);
   hs::BorderedNewton newton(p, *s.cavities);
-  Vec u = p.create_vector(), f = p.create_vector(), fg = p.create_vector(), u0 = p.create_vector();
+  const hs::VecHandle u(p.create_vector()), f(p.create_vector()), fg(p.create_vector()),
+      u0(p.create_vector());
   p.external_load(u, 1.0, fg);  // gravity alone (cavity pressure 0)
   PetscReal fg_norm = 0;
   VecNorm(fg, NORM_2, &fg_norm);
@@ -308,13 +307,12 @@ TEST(Cavities, PressureWorkEqualsStoredEnergyAndGravityWork) {
   const double pressure_work = p_max * volume[n] - integral_v_dp;
   EXPECT_GT(psi - psi0, 0.0);
   EXPECT_NEAR(pressure_work, (psi - psi0) + gravity_work, 1e-5 * pressure_work);
-  for (Vec* v : {&u, &f, &fg, &u0}) VecDestroy(v);
 }
 
 TEST(Cavities, DistributedWeightsMatchOneSerialComputation) {
   Scene s("cylinder_water.yaml", {"cavities[0].fluid_weight.grid=120"});
   hs::Problem& p = *s.problem;
-  Vec u = p.create_vector(), w = p.create_vector();
+  const hs::VecHandle u(p.create_vector()), w(p.create_vector());
   bend(p, u, 0.01);
   hs::CavityWeight weight(s.dist, s.config.cavities[0], s.config.gravity, s.dist.size - 1,
                           PETSC_COMM_WORLD);  // owned by the last rank
@@ -350,14 +348,12 @@ TEST(Cavities, DistributedWeightsMatchOneSerialComputation) {
     EXPECT_LT(worst, 1e-9 * scale);
     EXPECT_NEAR(weight.total_weight(), r.total_weight, 1e-9 * r.total_weight);
   }
-  VecDestroy(&u);
-  VecDestroy(&w);
 }
 
 TEST(Cavities, ColumnAndHydrostaticWeightsHaveTheSameResultantAndMoment) {
   Scene s("cylinder_water.yaml", {"cavities[0].fluid_weight.grid=400"});
   hs::Problem& p = *s.problem;
-  Vec u = p.create_vector(), column = p.create_vector(), exact = p.create_vector();
+  const hs::VecHandle u(p.create_vector()), column(p.create_vector()), exact(p.create_vector());
   bend(p, u, 0.01);
   hs::CavityConfig c = s.config.cavities[0];
   hs::CavityWeight by_columns(s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
@@ -379,7 +375,6 @@ TEST(Cavities, ColumnAndHydrostaticWeightsHaveTheSameResultantAndMoment) {
   VecAXPY(column, -1.0, exact);
   VecNorm(column, NORM_2, &difference);
   EXPECT_GT(difference, 1e-2 * weight);
-  for (Vec* v : {&u, &column, &exact}) VecDestroy(v);
 }
 
 // u = (R - I) X: a rigid rotation by 30 deg turns the tip face's mean normal by 30 deg. About
@@ -391,7 +386,7 @@ TEST(TipOrientation, RigidRotationTurnsTheTipFaceByItsAngle) {
   hs::Problem& p = *s.problem;
   const double theta = 30 * M_PI / 180, c = std::cos(theta), sn = std::sin(theta);
   for (int axis : {0, 1}) {
-    Vec u = p.create_vector();
+    const hs::VecHandle u(p.create_vector());
     PetscScalar* a;
     VecGetArray(u, &a);
     for (int64_t n = 0; n < p.distribution().num_owned(); ++n) {
@@ -413,7 +408,6 @@ TEST(TipOrientation, RigidRotationTurnsTheTipFaceByItsAngle) {
     const hs::TipOrientation rest = hs::tip_orientation(p, "tip", s.config.gravity, u);
     EXPECT_NEAR(rest.rotation_deg, 0, 1e-12);
     EXPECT_NEAR(rest.inclination_deg, 0, 1e-10);
-    VecDestroy(&u);
   }
 }
 

@@ -148,7 +148,7 @@ TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   hs::ConstraintSet cavities(config, problem);
   hs::set_solver_options(config.solver, false);
   hs::BorderedNewton newton(problem, cavities);
-  Vec u = problem.create_vector(), R = problem.create_vector();
+  const hs::VecHandle u(problem.create_vector()), R(problem.create_vector());
   PetscScalar* a;
   VecGetArray(u, &a);
   for (int64_t n = 0; n < dist.num_owned(); ++n)
@@ -168,8 +168,6 @@ TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   VecSet(u, 0.0);
   EXPECT_TRUE(cavities.residual(u, 1.0, R, c));
   EXPECT_EQ(cavities.collapse_reason(), "");
-  VecDestroy(&u);
-  VecDestroy(&R);
 }
 
 }  // namespace

@@ -86,7 +86,7 @@ TEST(ControlBackground, FailedBackgroundFactorizationFallsBackInLine) {
     s.config.control->factor_threads = threads;
     hs::Constraint& cavity = (*s.cavities)[0];  // back to the rest state's pressure
     cavity.lambda = cavity.target = 0;
-    Vec u = s.problem->create_vector();
+    const hs::VecHandle u(s.problem->create_vector());
     VecCopy(s.rest, u);
     hs::InverseController controller(s.config, *s.problem, *s.cavities, *s.newton, *s.effectors);
     if (auto* bg = controller.background())
@@ -98,7 +98,6 @@ TEST(ControlBackground, FailedBackgroundFactorizationFallsBackInLine) {
       reports.push_back(controller.step(u, {{"tip", target}}));
       if (auto* bg = controller.background()) bg->wait_idle();
     }
-    VecDestroy(&u);
   };
   std::vector<hs::ControlStepReport> sequential, failing;
   run(0, sequential);
