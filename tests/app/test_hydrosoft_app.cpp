@@ -256,7 +256,8 @@ TEST(UntrustedMesh, SigtermStopsTheRunWhileGmshMeshes) {
   kill(run, SIGTERM);
   EXPECT_EQ(wait_for(run), 143) << text_of(err);
   EXPECT_NE(kill(gmsh, 0), 0) << "gmsh's process outlived the run";
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5);
+  // Far below the minutes of parsing, with room for a sanitized build's exit (6 s).
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30);
   EXPECT_NE(text_of(err).find("interrupted by SIGTERM"), std::string::npos) << text_of(err);
   EXPECT_FALSE(fs::exists(dir.path() / "out"));
 }

@@ -166,7 +166,8 @@ TEST(Yeoh, PrintedKeysReadBackTheSameLaw) {
   for (const auto& item : YAML::Load(out.c_str()))
     printed[item.first.Scalar()] = item.second.as<double>();
   EXPECT_EQ(printed.size(), 4u) << out.c_str();
-  const auto& back = dynamic_cast<const YeohLaw&>(*make_material_law("yeoh", printed));
+  const auto read_back = make_material_law("yeoh", printed);
+  const auto& back = dynamic_cast<const YeohLaw&>(*read_back);
   EXPECT_EQ(back.C1(), 0.11e6);
   EXPECT_EQ(back.C2(), 0.02e6);
   EXPECT_EQ(back.C3(), -1.46);
