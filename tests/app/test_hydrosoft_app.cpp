@@ -232,26 +232,31 @@ TEST(UntrustedMesh, SigtermStopsTheRunWhileGmshMeshes) {
   const pid_t run = hs::testing::start(std::string(HYDROSOFT_EXE) + " " + yaml +
                                        " --set mesh.file=block.geo --set output.folder=" +
                                        (dir.path() / "out").string() + " > /dev/null 2> " + err);
-  pid_t gmsh = 0;  // gmsh's process
+  // gmsh's process: a fork of the run that is still the run's program half a second later (the
+  // singleton's orted is a fork of the run too, for the moment before its exec).
+  const auto fork_of = [](pid_t run, pid_t pid) {
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string text((std::istreambuf_iterator<char>(stat)), {});
+    const size_t close = text.rfind(')');
+    if (close == std::string::npos || text.find("(hydrosoft)") == std::string::npos) return false;
+    std::istringstream fields(text.substr(close + 2));
+    std::string state;
+    pid_t parent = 0;
+    return fields >> state >> parent && parent == run;
+  };
+  pid_t gmsh = 0;
   for (int i = 0; i < 600 && gmsh == 0; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     for (const auto& entry : fs::directory_iterator("/proc")) {
       const std::string name = entry.path().filename();
       if (name.find_first_not_of("0123456789") != std::string::npos) continue;  // not a process
-      std::ifstream stat(entry.path() / "stat");
-      std::string text((std::istreambuf_iterator<char>(stat)), {});
-      const size_t close = text.rfind(')');
-      if (close == std::string::npos) continue;
-      std::istringstream fields(text.substr(close + 2));
-      std::string state;
-      pid_t parent = 0;
-      // A fork of the run (not the singleton's orted, also its child).
-      const bool fork_of_run = text.find("(hydrosoft)") != std::string::npos;
-      if (fields >> state >> parent && parent == run && fork_of_run) gmsh = std::stoi(name);
+      if (fork_of(run, std::stoi(name))) gmsh = std::stoi(name);
     }
+    if (gmsh == 0) continue;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    if (!fork_of(run, gmsh)) gmsh = 0;
   }
   ASSERT_GT(gmsh, 0) << text_of(err);
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const auto start = std::chrono::steady_clock::now();
   kill(run, SIGTERM);
   EXPECT_EQ(wait_for(run), 143) << text_of(err);
