@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# The whole test suite: installs, builds, and runs every test (serial and 1/2-rank MPI).
+# The whole test suite: installs, builds with warnings as errors, checks the format of the
+# C++ and CUDA files, and runs every test (serial and 1/2-rank MPI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
+bash scripts/check_format.sh
 export OPENBLAS_NUM_THREADS=1 OMPI_MCA_rmaps_base_oversubscribe=1
 cd "${BUILD_DIR:-build}"
 ctest --output-on-failure -j 2 --timeout 900
