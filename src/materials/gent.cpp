@@ -23,11 +23,10 @@ StressResult gent(double mu, double Jm, double kappa, const Mat3& H, bool with_t
   const double J_minus_one = tensor::det_minus_one(H);
   if (!(1.0 + J_minus_one > 0)) return inverted_result();
   const double lnJ = std::log1p(J_minus_one);
-  const double g_minus_one = std::expm1(-2.0 / 3.0 * lnJ);
-  const double g = 1.0 + g_minus_one;
   const Mat3 E = tensor::green_lagrange(H);
   const double trE = E.trace();
-  const double x = (3.0 * g_minus_one + 2.0 * g * trE) / Jm;
+  const auto [g, excess] = tensor::isochoric_I1(lnJ, trE);
+  const double x = excess / Jm;
   // Past the limiting chain the energy is not defined: an inverted point for the caller.
   if (!(x < 1.0)) return inverted_result();
   const double w = 0.5 * mu / (1.0 - x);

@@ -3,6 +3,8 @@
 // (and of the isochoric first-invariant block below, made of them).
 #pragma once
 
+#include <cmath>
+
 #include "materials/material.hpp"
 
 namespace hs::tensor {
@@ -18,6 +20,18 @@ inline Mat3 green_lagrange(const Mat3& H) { return 0.5 * (H + H.transpose() + H.
 inline double det_minus_one(const Mat3& H) {
   const double t = H.trace();
   return t + 0.5 * (t * t - (H * H).trace()) + H.determinant();
+}
+
+// The isochoric first invariant's part J^-2/3 and its excess I1b - 3 = J^-2/3 tr C - 3, from
+// ln J and tr E: I1b - 3 = 3 (g - 1) + 2 g tr E with g - 1 = expm1(-2/3 ln J) (Gent, Yeoh).
+struct IsochoricI1 {
+  double g;       // J^-2/3
+  double excess;  // I1b - 3
+};
+inline IsochoricI1 isochoric_I1(double lnJ, double trE) {
+  const double g_minus_one = std::expm1(-2.0 / 3.0 * lnJ);
+  const double g = 1.0 + g_minus_one;
+  return {g, 3.0 * g_minus_one + 2.0 * g * trE};
 }
 
 // Deviatoric part X - tr(X)/3 I.

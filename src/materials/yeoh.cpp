@@ -25,11 +25,9 @@ StressResult yeoh(double C1, double C2, double C3, double kappa, const Mat3& H, 
   const double J_minus_one = tensor::det_minus_one(H);
   if (!(1.0 + J_minus_one > 0)) return inverted_result();
   const double lnJ = std::log1p(J_minus_one);
-  const double g_minus_one = std::expm1(-2.0 / 3.0 * lnJ);
-  const double g = 1.0 + g_minus_one;
   const Mat3 E = tensor::green_lagrange(H);
   const double trE = E.trace();
-  const double x = 3.0 * g_minus_one + 2.0 * g * trE;
+  const auto [g, x] = tensor::isochoric_I1(lnJ, trE);
   const double w = C1 + x * (2.0 * C2 + 3.0 * C3 * x);
   const Mat3 I = Mat3::Identity();
   const Mat3 F = I + H;
