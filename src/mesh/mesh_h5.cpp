@@ -21,7 +21,7 @@ namespace {
 const char* kFormat = "hydrosoft mesh";
 
 // A byte count as people read it: 68719476736 -> "68719476736" (exact below 2^53).
-std::string count_text(double bytes) {
+std::string byte_count_text(double bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.0f", bytes);
   return text;
@@ -199,8 +199,8 @@ MeshSlab read_mesh_h5(const std::string& path, int64_t max_elements, MPI_Comm co
     else if (shape.stored_bytes < shape.claimed_bytes)
       fail(name + ": claims " + std::to_string(shape.rows) +
            (shape.cols ? " x " + std::to_string(shape.cols) : std::string()) + " entries (" +
-           count_text(shape.claimed_bytes) + " bytes) but stores " +
-           count_text(shape.stored_bytes) +
+           byte_count_text(shape.claimed_bytes) + " bytes) but stores " +
+           byte_count_text(shape.stored_bytes) +
            " bytes: hydrosoft writes its datasets whole and uncompressed");
     stored_total += shape.stored_bytes;
   };
@@ -264,8 +264,8 @@ MeshSlab read_mesh_h5(const std::string& path, int64_t max_elements, MPI_Comm co
     s.groups.group_nodes[name] = n.rows;
   }
   if (error.empty() && stored_total > file_bytes)
-    fail("its datasets claim " + count_text(stored_total) + " bytes of storage, more than the " +
-         count_text(file_bytes) + "-byte file holds");
+    fail("its datasets claim " + byte_count_text(stored_total) + " bytes of storage, more than the " +
+         byte_count_text(file_bytes) + "-byte file holds");
   throw_together<InputError>(error, comm);
   s.num_nodes = nodes.rows;
 
