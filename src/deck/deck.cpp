@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <regex>
 #include <set>
 
 #include "common/deck_reader.hpp"
@@ -14,6 +13,7 @@
 #include "deck/control_section.hpp"
 #include "deck/exact_section.hpp"
 #include "deck/overrides.hpp"
+#include "deck/run_sections.hpp"
 #include "io/output.hpp"
 #include "materials/registry.hpp"
 
@@ -21,9 +21,6 @@ namespace hs {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A dynamic run of more steps than this is a mistyped dt (and would overflow a step count).
-constexpr double kMaxTimeSteps = 1e7;
 
 YAML::Node load_yaml(const std::string& path) {
   std::error_code error;  // a name too long for the system is a missing file, not an exception
@@ -180,120 +177,6 @@ void parse_loads(const DeckReader& r, const YAML::Node& node, Config& c) {
   }
 }
 
-TimeConfig parse_time(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(
-      node, "time",
-      {"type", "steps", "schedule", "dt", "end_time", "integrator", "newmark", "max_cutbacks"});
-  TimeConfig t;
-  if (const auto n = node["type"])
-    t.type = enum_of<TimeType>(kTimeTypeNames, one_of(r, n, "time.type", kTimeTypeNames));
-  if (t.type == TimeType::dynamic) {
-    const std::string reason = "not used when time.type is dynamic (dt and end_time set the steps)";
-    for (const char* name : {"steps", "schedule", "max_cutbacks"})
-      forbid(r, node, "time", name, reason);
-    const auto dt = required(r, node, "time", "dt"), end = required(r, node, "time", "end_time");
-    t.dt = r.number(dt, "time.dt");
-    t.end_time = r.number(end, "time.end_time");
-    require(t.dt > 0, r, dt, "time.dt", "must be > 0, got " + format_number(t.dt));
-    require(t.end_time > 0, r, end, "time.end_time",
-            "must be > 0, got " + format_number(t.end_time));
-    require(t.dt <= t.end_time, r, dt, "time.dt", "must not exceed time.end_time");
-    require(t.end_time / t.dt <= kMaxTimeSteps, r, dt, "time.dt",
-            "gives " + format_number(std::ceil(t.end_time / t.dt)) + " steps of time.end_time " +
-                format_number(t.end_time) + ", more than " + format_number(kMaxTimeSteps));
-    if (const auto n = node["integrator"])
-      t.integrator =
-          enum_of<Integrator>(kIntegratorNames, one_of(r, n, "time.integrator", kIntegratorNames));
-    if (const auto n = node["newmark"]) {
-      require(t.integrator == Integrator::newmark, r, n, "time.newmark",
-              "only used by integrator newmark");
-      r.check_map(n, "time.newmark", {"beta", "gamma"});
-      if (n["beta"]) t.newmark_beta = r.number(n["beta"], "time.newmark.beta");
-      if (n["gamma"]) t.newmark_gamma = r.number(n["gamma"], "time.newmark.gamma");
-      // beta > 0: the implicit update divides by beta; gamma >= 1/2: no negative damping.
-      require(t.newmark_beta > 0, r, n, "time.newmark.beta", "must be > 0");
-      require(t.newmark_gamma >= 0.5, r, n, "time.newmark.gamma", "must be >= 0.5");
-    }
-    return t;
-  }
-  const std::string reason = "only used when time.type is dynamic";
-  for (const char* name : {"dt", "end_time", "integrator", "newmark"})
-    forbid(r, node, "time", name, reason);
-  if (const auto n = node["steps"]) {
-    t.steps = r.integer(n, "time.steps");
-    require(t.steps >= 1, r, n, "time.steps", "must be >= 1, got " + std::to_string(t.steps));
-  }
-  if (const auto n = node["schedule"]) {
-    t.schedule = r.numbers(n, "time.schedule");
-    require(!t.schedule.empty(), r, n, "time.schedule", "must hold at least one load factor");
-    if (node["steps"] && t.steps != static_cast<int>(t.schedule.size()))
-      r.fail("time.steps", node["steps"],
-             "is " + std::to_string(t.steps) + " but time.schedule has " +
-                 std::to_string(t.schedule.size()) + " entries");
-    t.steps = static_cast<int>(t.schedule.size());
-  }
-  if (const auto n = node["max_cutbacks"]) {
-    t.max_cutbacks = r.integer(n, "time.max_cutbacks");
-    require(t.max_cutbacks >= 0, r, n, "time.max_cutbacks", "must be >= 0");
-  }
-  return t;
-}
-
-SolverConfig parse_solver(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "solver", {"preset", "petsc_options"});
-  SolverConfig s;
-  if (const auto n = node["preset"])
-    s.preset = enum_of<SolverPreset>(kSolverPresetNames,
-                                     one_of(r, n, "solver.preset", kSolverPresetNames));
-  if (const auto options = node["petsc_options"]) {
-    if (!options.IsMap())
-      r.fail("solver.petsc_options", options, "expected a map of option: value");
-    static const std::regex option_name("[A-Za-z][A-Za-z0-9_]*");
-    for (const auto& entry : options) {
-      const std::string name = entry.first.Scalar();
-      const std::string key = child_key("solver.petsc_options", name);
-      if (!name.empty() && name[0] == '-')
-        r.fail(key, entry.first, "write PETSc options without the leading dash");
-      if (!std::regex_match(name, option_name))
-        r.fail(key, entry.first, "not a PETSc option name (letters, digits and _ only)");
-      if (s.petsc_options.count(name)) r.fail(key, entry.first, "duplicate key");
-      if (!entry.second.IsNull() && !entry.second.IsScalar())
-        r.fail(key, entry.second, "expected a single value (or nothing, for a flag)");
-      s.petsc_options[name] = entry.second.IsNull() ? "" : entry.second.Scalar();
-    }
-  }
-  return s;
-}
-
-CheckpointConfig parse_checkpoint(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "output.checkpoint", {"every", "minutes"});
-  CheckpointConfig c;
-  if (const auto n = node["every"]) {
-    c.every = r.integer(n, "output.checkpoint.every");
-    require(c.every >= 1, r, n, "output.checkpoint.every", "must be >= 1 (converged steps)");
-  }
-  if (const auto n = node["minutes"]) {
-    c.minutes = r.number(n, "output.checkpoint.minutes");
-    require(c.minutes > 0, r, n, "output.checkpoint.minutes", "must be > 0");
-  }
-  if (c.every == 0 && c.minutes == 0)
-    r.fail("output.checkpoint", node, "needs every (steps) or minutes, or both");
-  return c;
-}
-
-OutputConfig parse_output(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "output", {"folder", "every", "progress", "checkpoint"});
-  OutputConfig o;
-  if (const auto n = node["folder"]) o.folder = r.text(n, "output.folder");
-  if (const auto n = node["every"]) {
-    o.every = r.integer(n, "output.every");
-    require(o.every >= 1, r, n, "output.every", "must be >= 1");
-  }
-  if (const auto n = node["progress"]) o.progress = r.boolean(n, "output.progress");
-  if (const auto n = node["checkpoint"]) o.checkpoint = parse_checkpoint(r, n);
-  return o;
-}
-
 }  // namespace
 
 Config parse_deck(const std::string& path, const std::vector<std::string>& overrides) {
@@ -317,12 +200,12 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
       c.dirichlet.push_back(parse_boundary(r, list[i], item_key("boundary", i)));
   }
   if (const auto n = root["loads"]) parse_loads(r, n, c);
-  if (const auto n = root["time"]) c.time = parse_time(r, n);
+  if (const auto n = root["time"]) c.time = parse_time(r, n, c);
   parse_cavity_sections(r, root, c);
   parse_cable_section(r, root, c);
   parse_control_section(r, root, c);  // its actuators are cavities and cables
-  if (const auto n = root["solver"]) c.solver = parse_solver(r, n);
-  if (const auto n = root["output"]) c.output = parse_output(r, n);
+  if (const auto n = root["solver"]) c.solver = parse_solver(r, n, c);
+  if (const auto n = root["output"]) c.output = parse_output(r, n, c);
   if (c.output.folder.empty()) c.output.folder = (fs::path("out") / c.deck_name).string();
   const std::string problem = output_folder_problem(c.output.folder);
   if (!problem.empty()) {

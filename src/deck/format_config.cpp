@@ -8,6 +8,7 @@
 
 #include "common/deck_reader.hpp"
 #include "deck/deck.hpp"
+#include "deck/section_keys.hpp"
 #include "materials/material.hpp"
 #include "verification/registry.hpp"
 
@@ -92,38 +93,13 @@ void emit_loads(YAML::Emitter& out, const Config& c) {
   out << YAML::EndSeq << YAML::EndMap;
 }
 
-void emit_fluid_weight(YAML::Emitter& out, const FluidWeightConfig& w) {
-  out << YAML::Key << "fluid_weight" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  out << YAML::Key << "method" << YAML::Value << name_of(kWeightMethodNames, w.method);
-  if (w.method == WeightMethod::column) out << YAML::Key << "grid" << YAML::Value << w.grid;
-  out << YAML::Key << "device" << YAML::Value << name_of(kWeightDeviceNames, w.device);
-  out << YAML::Key << "coupling" << YAML::Value << name_of(kWeightCouplingNames, w.coupling);
-  out << YAML::EndMap;
-}
-
-// Each cavity with the keys of its kind only.
-void emit_cavities(YAML::Emitter& out, const std::vector<CavityConfig>& cavities) {
+void emit_cavities(YAML::Emitter& out, const Config& c) {
   out << YAML::Key << "cavities" << YAML::Value;
-  if (cavities.empty()) out << YAML::Flow;
+  if (c.cavities.empty()) out << YAML::Flow;
   out << YAML::BeginSeq;
-  for (const auto& c : cavities) {
+  for (const auto& cavity : c.cavities) {
     out << YAML::BeginMap;
-    out << YAML::Key << "group" << YAML::Value << c.group;
-    out << YAML::Key << "kind" << YAML::Value << name_of(kCavityKindNames, c.kind);
-    if (is_actuated(c.kind)) {
-      if (c.added_volume)
-        emit_number(out, "added_volume", *c.added_volume);
-      else
-        emit_number(out, "pressure", c.pressure);
-    }
-    if (c.kind == CavityKind::hydraulic) {
-      emit_number(out, "density", c.density);
-      emit_fluid_weight(out, c.fluid_weight);
-    }
-    if (c.kind == CavityKind::sealed_gas) {
-      emit_number(out, "initial_pressure", c.initial_pressure);
-      emit_number(out, "atmospheric_pressure", c.atmospheric_pressure);
-    }
+    write_keys(out, cavity_keys(), cavity, c);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
@@ -247,28 +223,6 @@ void emit_control(YAML::Emitter& out, const ControlConfig& control,
   out << YAML::EndMap;
 }
 
-// With states, the first state's steps replace time.steps (and a schedule).
-void emit_time(YAML::Emitter& out, const TimeConfig& t, bool has_states) {
-  out << YAML::Key << "time" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "type" << YAML::Value << name_of(kTimeTypeNames, t.type);
-  if (t.type == TimeType::dynamic) {
-    emit_number(out, "dt", t.dt);
-    emit_number(out, "end_time", t.end_time);
-    out << YAML::Key << "integrator" << YAML::Value << name_of(kIntegratorNames, t.integrator);
-    if (t.integrator == Integrator::newmark) {
-      out << YAML::Key << "newmark" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      emit_number(out, "beta", t.newmark_beta);
-      emit_number(out, "gamma", t.newmark_gamma);
-      out << YAML::EndMap;
-    }
-  } else {
-    if (!has_states) out << YAML::Key << "steps" << YAML::Value << t.steps;
-    if (!t.schedule.empty()) emit_numbers(out, "schedule", t.schedule.data(), t.schedule.size());
-    out << YAML::Key << "max_cutbacks" << YAML::Value << t.max_cutbacks;
-  }
-  out << YAML::EndMap;
-}
-
 }  // namespace
 
 std::string format_config(const Config& c) {
@@ -280,9 +234,11 @@ std::string format_config(const Config& c) {
   emit_boundary(out, c.dirichlet);
   emit_loads(out, c);
   // Cavities, states and tip belong to static and quasi-static runs only.
-  if (c.time.type != TimeType::dynamic) emit_cavities(out, c.cavities);
+  if (c.time.type != TimeType::dynamic) emit_cavities(out, c);
   if (!c.cables.empty()) emit_cables(out, c.cables);
-  emit_time(out, c.time, !c.states.empty());
+  out << YAML::Key << "time" << YAML::Value << YAML::BeginMap;
+  write_keys(out, time_keys(), c.time, c);
+  out << YAML::EndMap;
   emit_states(out, c.states);
   if (c.tip) {
     out << YAML::Key << "tip" << YAML::Value << YAML::Flow << YAML::BeginMap;
@@ -292,25 +248,10 @@ std::string format_config(const Config& c) {
   if (c.control) emit_control(out, *c.control, c.cables);
 
   out << YAML::Key << "solver" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "preset" << YAML::Value << name_of(kSolverPresetNames, c.solver.preset);
-  out << YAML::Key << "petsc_options" << YAML::Value;
-  if (c.solver.petsc_options.empty()) out << YAML::Flow;
-  out << YAML::BeginMap;
-  for (const auto& [name, value] : c.solver.petsc_options)
-    out << YAML::Key << name << YAML::Value << value;
-  out << YAML::EndMap << YAML::EndMap;
-
+  write_keys(out, solver_keys(), c.solver, c);
+  out << YAML::EndMap;
   out << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "folder" << YAML::Value << c.output.folder;
-  out << YAML::Key << "every" << YAML::Value << c.output.every;
-  out << YAML::Key << "progress" << YAML::Value << c.output.progress;
-  if (c.output.checkpoint) {
-    out << YAML::Key << "checkpoint" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    if (c.output.checkpoint->every > 0)
-      out << YAML::Key << "every" << YAML::Value << c.output.checkpoint->every;
-    if (c.output.checkpoint->minutes > 0) emit_number(out, "minutes", c.output.checkpoint->minutes);
-    out << YAML::EndMap;
-  }
+  write_keys(out, output_keys(), c.output, c);
   out << YAML::EndMap;
 
   out << YAML::Key << "exact" << YAML::Value << YAML::BeginMap;
