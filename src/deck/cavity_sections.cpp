@@ -75,8 +75,8 @@ std::vector<CavityConfig> parse_cavities(const DeckReader& r, const YAML::Node& 
 
 // The targets of a later state: cavity name -> {pressure: P} or {added_volume: V}.
 std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key,
-                                                  const std::vector<CavityConfig>& cavities) {
+                                                  const std::string& key, const Config& c) {
+  const std::vector<CavityConfig>& cavities = c.cavities;
   if (!node.IsMap())
     r.fail(key, node, "expected a map of cavity name: {pressure: P} or {added_volume: V}");
   std::vector<std::string> names;
@@ -97,57 +97,39 @@ std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAM
              "cavity '" + name + "' is " + name_of(kCavityKindNames, kind) +
                  ": sealed chambers are not actuated, so a state cannot set them");
     const YAML::Node target = entry.second;
-    r.check_map(target, ckey, {"pressure", "added_volume"});
-    if (static_cast<bool>(target["pressure"]) == static_cast<bool>(target["added_volume"]))
-      r.fail(ckey, target, "give exactly one of pressure or added_volume");
     CavityTarget t;
-    if (const auto n = target["pressure"]) t.pressure = r.number(n, child_key(ckey, "pressure"));
-    if (const auto n = target["added_volume"])
-      t.added_volume = r.number(n, child_key(ckey, "added_volume"));
+    read_keys(r, target, ckey, target_keys(), t, c);
+    if (!t.pressure == !t.added_volume)
+      r.fail(ckey, target, "give exactly one of pressure or added_volume");
     targets[name] = t;
   }
   return targets;
 }
 
 std::vector<StateConfig> parse_states(const DeckReader& r, const YAML::Node& node,
-                                      const std::vector<CavityConfig>& cavities) {
+                                      const Config& c) {
   r.check_list(node, "states");
   require(node.size() > 0, r, node, "states",
           "must hold at least one state (leave states out for one load ramp over time.steps)");
   std::vector<StateConfig> states;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string key = item_key("states", i);
-    r.check_map(node[i], key, {"name", "steps", "cavities"});
+    // The first state is where the load (and the cavities' own controls) goes from 0 to
+    // full; a target there would say two things about the same ramp.
+    if (i == 0 && node[i].IsMap() && node[i]["cavities"])
+      r.fail(child_key(key, "cavities"), node[i]["cavities"],
+             "not allowed in the first state: it ramps the load and the cavities' own controls "
+             "(cavities[].pressure or added_volume) from 0 to full; give targets in later "
+             "states");
     StateConfig s;
-    s.name = r.text(required(r, node[i], key, "name"), child_key(key, "name"));
+    read_keys(r, node[i], key, state_keys(), s, c);
     for (size_t j = 0; j < i; ++j)
       if (states[j].name == s.name)
         r.fail(child_key(key, "name"), node[i]["name"],
                "duplicate state name '" + s.name + "' (also in " + item_key("states", j) + ")");
-    if (const auto n = node[i]["steps"]) {
-      s.steps = r.integer(n, child_key(key, "steps"));
-      require(s.steps >= 1, r, n, child_key(key, "steps"),
-              "must be >= 1, got " + std::to_string(s.steps));
-    }
-    if (const auto n = node[i]["cavities"]) {
-      // The first state is where the load (and the cavities' own controls) goes from 0 to
-      // full; a target there would say two things about the same ramp.
-      require(i > 0, r, n, child_key(key, "cavities"),
-              "not allowed in the first state: it ramps the load and the cavities' own controls "
-              "(cavities[].pressure or added_volume) from 0 to full; give targets in later "
-              "states");
-      s.cavities = parse_targets(r, n, child_key(key, "cavities"), cavities);
-    }
     states.push_back(s);
   }
   return states;
-}
-
-TipConfig parse_tip(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "tip", {"group"});
-  TipConfig tip;
-  tip.group = r.text(required(r, node, "tip", "group"), "tip.group");
-  return tip;
 }
 
 }  // namespace
@@ -239,6 +221,50 @@ const KeyTable<CavityConfig>& cavity_keys() {
   return keys;
 }
 
+const KeyTable<CavityTarget>& target_keys() {
+  static const KeyTable<CavityTarget> keys = {
+      optional_number_key("pressure", &CavityTarget::pressure, "Pa"),
+      optional_number_key("added_volume", &CavityTarget::added_volume,
+                          "m³, relative to the volume at the end of the first state"),
+  };
+  return keys;
+}
+
+const KeyTable<StateConfig>& state_keys() {
+  static const KeyTable<StateConfig> keys = {
+      text_key("name", &StateConfig::name, "name", "unique; names the state in the output")
+          .needed(),
+      integer_key("steps", &StateConfig::steps, at_least(1), "increments of the state's ramp"),
+      custom_key<StateConfig>(
+          "cavities", "map cavity: target", "none",
+          "not in the first state. Each target is `{pressure: P}` (Pa) or `{added_volume: V}` "
+          "(m³), exactly one; pneumatic and hydraulic cavities only (sealed ones are not "
+          "actuated)",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, StateConfig& s,
+             const Config& c) { s.cavities = parse_targets(r, n, key, c); },
+          [](YAML::Emitter& out, const StateConfig& s, const Config& c) {
+            out << YAML::BeginMap;
+            for (const auto& [name, target] : s.cavities) {
+              out << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap;
+              write_keys(out, target_keys(), target, c);
+              out << YAML::EndMap;
+            }
+            out << YAML::EndMap;
+          })
+          .printed_when([](const StateConfig& s) { return !s.cavities.empty(); }),
+  };
+  return keys;
+}
+
+const KeyTable<TipConfig>& tip_keys() {
+  static const KeyTable<TipConfig> keys = {
+      text_key("group", &TipConfig::group, "name",
+               "surface group whose mean deformed normal is reported for every state")
+          .needed(),
+  };
+  return keys;
+}
+
 void parse_cavity_sections(const DeckReader& r, const YAML::Node& root, Config& c) {
   // Dynamic runs have no states to step through and no cavity equations in their time
   // integrator.
@@ -251,13 +277,17 @@ void parse_cavity_sections(const DeckReader& r, const YAML::Node& root, Config& 
 
   if (const auto n = root["cavities"]) c.cavities = parse_cavities(r, n, c);
   if (const auto n = root["states"]) {
-    c.states = parse_states(r, n, c.cavities);
+    c.states = parse_states(r, n, c);
     // The first state's steps replace time.steps; its ramp is linear, so no schedule either
     // (time_keys says so; parse_time has checked that time is a map).
     if (const auto time = root["time"]) check_uses(r, time, "time", time_keys(), c.time, c);
     c.time.steps = c.states.front().steps;
   }
-  if (const auto n = root["tip"]) c.tip = parse_tip(r, n);
+  if (const auto n = root["tip"]) {
+    TipConfig tip;
+    read_keys(r, n, "tip", tip_keys(), tip, c);
+    c.tip = tip;
+  }
 }
 
 }  // namespace hs

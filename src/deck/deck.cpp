@@ -8,6 +8,7 @@
 
 #include "common/deck_reader.hpp"
 #include "common/error.hpp"
+#include "deck/body_sections.hpp"
 #include "deck/cable_section.hpp"
 #include "deck/cavity_sections.hpp"
 #include "deck/control_section.hpp"
@@ -42,55 +43,6 @@ YAML::Node load_yaml(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw InputError(path + ": cannot read the deck: " + e.msg);
   }
-}
-
-MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::path& deck_dir) {
-  const std::string key = "mesh";
-  r.check_map(node, key, {"file", "order", "parameters", "refine", "trust_geo", "max_elements"});
-  MeshConfig mesh;
-  const YAML::Node file = required(r, node, key, "file");
-  const fs::path given = r.text(file, "mesh.file");
-  const fs::path resolved = fs::absolute(given.is_absolute() ? given : deck_dir / given);
-  mesh.file = resolved.lexically_normal().string();
-  std::error_code error;  // a name too long for the system is a missing file, not an exception
-  if (!fs::is_regular_file(mesh.file, error))
-    r.fail(
-        "mesh.file", file,
-        "mesh file '" + (mesh.file.size() > 200 ? mesh.file.substr(0, 200) + "..." : mesh.file) +
-            "' not found (a relative path starts at the deck's folder" +
-            (error && error != std::errc::no_such_file_or_directory ? "; " + error.message() : "") +
-            ")");
-  std::string extension = resolved.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  require(extension == ".msh" || extension == ".geo" || extension == ".h5", r, file, "mesh.file",
-          "expected a .msh, .geo or .h5 (hydrosoft mesh) file, got '" + extension + "'");
-  if (const auto n = node["order"]) {
-    require(extension != ".h5", r, n, "mesh.order",
-            "an .h5 mesh keeps the order it was meshed at (set it when meshing)");
-    mesh.order = r.integer(n, "mesh.order");
-    require(mesh.order == 1 || mesh.order == 2, r, n, "mesh.order", "must be 1 or 2");
-  }
-  const std::string geo_only = "only used with a .geo mesh file";
-  if (const auto n = node["parameters"]) {
-    require(extension == ".geo", r, n, "mesh.parameters", geo_only);
-    mesh.parameters = r.number_map(n, "mesh.parameters");
-  }
-  if (const auto n = node["refine"]) {
-    require(extension == ".geo", r, n, "mesh.refine", geo_only);
-    mesh.refine = r.integer(n, "mesh.refine");
-    require(mesh.refine >= 0, r, n, "mesh.refine", "must be >= 0");
-  }
-  if (const auto n = node["trust_geo"]) {
-    require(extension == ".geo", r, n, "mesh.trust_geo", geo_only);
-    mesh.trust_geo = r.boolean(n, "mesh.trust_geo");
-  }
-  if (const auto n = node["max_elements"]) {
-    mesh.max_elements = r.integer(n, "mesh.max_elements");
-    require(mesh.max_elements >= 1, r, n, "mesh.max_elements", "must be >= 1");
-  }
-  mesh.deck_dir =
-      (deck_dir.empty() ? fs::current_path() : fs::absolute(deck_dir)).lexically_normal().string();
-  return mesh;
 }
 
 // The deck owns group and density; the registry reads the model's law from the rest of the map.
@@ -131,52 +83,6 @@ std::vector<MaterialConfig> parse_materials(const DeckReader& r, const YAML::Nod
   return materials;
 }
 
-DirichletConfig parse_boundary(const DeckReader& r, const YAML::Node& node,
-                               const std::string& key) {
-  r.check_map(node, key, {"group", "components", "value", "scaled", "exact"});
-  DirichletConfig bc;
-  bc.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
-  if (const auto n = node["components"]) {
-    const std::string ckey = child_key(key, "components");
-    r.check_list(n, ckey);
-    require(n.size() > 0, r, n, ckey, "must name at least one of x, y, z");
-    bc.components = {false, false, false};
-    for (size_t i = 0; i < n.size(); ++i) {
-      const std::string c = one_of(r, n[i], item_key(ckey, i), {"x", "y", "z"});
-      bool& on = bc.components[c[0] - 'x'];
-      require(!on, r, n[i], item_key(ckey, i), "component '" + c + "' named twice");
-      on = true;
-    }
-  }
-  if (const auto n = node["value"]) bc.value = r.vector3(n, child_key(key, "value"));
-  if (const auto n = node["scaled"]) bc.scaled = r.boolean(n, child_key(key, "scaled"));
-  if (const auto n = node["exact"]) bc.exact = r.boolean(n, child_key(key, "exact"));
-  if (bc.exact) forbid(r, node, key, "value", "not used when exact is true");
-  return bc;
-}
-
-void parse_loads(const DeckReader& r, const YAML::Node& node, Config& c) {
-  r.check_map(node, "loads", {"gravity", "pressure"});
-  if (const auto n = node["gravity"]) {
-    c.gravity = r.vector3(n, "loads.gravity");
-    // A thousand g: beyond any robot's, and far from where rho g overflows.
-    for (double g : c.gravity)
-      require(std::abs(g) <= 1e4, r, n, "loads.gravity",
-              "each component must be within +-1e4 m/s^2, got " + format_number(g));
-  }
-  if (const auto list = node["pressure"]) {
-    r.check_list(list, "loads.pressure");
-    for (size_t i = 0; i < list.size(); ++i) {
-      const std::string key = item_key("loads.pressure", i);
-      r.check_map(list[i], key, {"group", "value"});
-      PressureConfig p;
-      p.group = r.text(required(r, list[i], key, "group"), child_key(key, "group"));
-      p.value = r.number(required(r, list[i], key, "value"), child_key(key, "value"));
-      c.pressures.push_back(p);
-    }
-  }
-}
-
 }  // namespace
 
 Config parse_deck(const std::string& path, const std::vector<std::string>& overrides) {
@@ -192,12 +98,12 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   Config c;
   c.deck_path = path;
   c.deck_name = fs::path(path).stem().string();
-  c.mesh = parse_mesh(r, required(r, root, "", "mesh"), fs::path(path).parent_path());
+  c.mesh = parse_mesh(r, required(r, root, "", "mesh"), fs::path(path).parent_path().string(), c);
   c.materials = parse_materials(r, required(r, root, "", "materials"));
   if (const auto list = root["boundary"]) {
     r.check_list(list, "boundary");
     for (size_t i = 0; i < list.size(); ++i)
-      c.dirichlet.push_back(parse_boundary(r, list[i], item_key("boundary", i)));
+      c.dirichlet.push_back(parse_boundary(r, list[i], item_key("boundary", i), c));
   }
   if (const auto n = root["loads"]) parse_loads(r, n, c);
   if (const auto n = root["time"]) c.time = parse_time(r, n, c);

@@ -49,9 +49,14 @@ Limit any_number() {
 
 std::vector<DeckKeyTable> deck_key_tables() {
   return {
+      {"mesh", markdown_table(mesh_keys())},
+      {"boundary", markdown_table(boundary_keys())},
+      {"loads", markdown_table(loads_keys())},
       {"time", markdown_table(time_keys())},
       {"cavities", markdown_table(cavity_keys())},
       {"fluid_weight", markdown_table(fluid_weight_keys())},
+      {"states", markdown_table(state_keys())},
+      {"cables", markdown_table(cable_keys())},
       {"solver", markdown_table(solver_keys())},
       {"output", markdown_table(output_keys())},
   };

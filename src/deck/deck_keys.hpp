@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -120,6 +121,20 @@ DeckKey<S> number_key(std::string name, double S::*member, Limit limit, std::str
   return k;
 }
 
+// A number the deck may leave out (none: not set).
+template <class S>
+DeckKey<S> optional_number_key(std::string name, std::optional<double> S::*member,
+                               std::string meaning) {
+  DeckKey<S> k = new_key<S>(std::move(name), "number", "none", std::move(meaning));
+  k.read = [member](const DeckReader& r, const YAML::Node& n, const std::string& key, S& s,
+                    const Config&) { s.*member = r.number(n, key); };
+  k.write = [member](YAML::Emitter& out, const S& s, const Config&) {
+    out << format_number(*(s.*member));
+  };
+  k.printed = [member](const S& s) { return (s.*member).has_value(); };
+  return k;
+}
+
 template <class S>
 DeckKey<S> bool_key(std::string name, bool S::*member, std::string meaning) {
   DeckKey<S> k =
@@ -190,6 +205,18 @@ const KeyUse<S>* unmet_use(const DeckKey<S>& k, const S& s, const Config& c) {
   return nullptr;
 }
 
+// The uses of the keys `node` gives, checked against the whole section and the configuration
+// read so far (read_keys checks each use again once the section is read; parse_deck once
+// later sections are: time.steps is not used with states, which it reads after time).
+template <class S>
+void check_uses(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                const KeyTable<S>& table, const S& s, const Config& c) {
+  for (const auto& k : table)
+    if (const YAML::Node n = node[k.name])
+      if (const KeyUse<S>* unmet = unmet_use(k, s, c))
+        r.fail(child_key(key, k.name), n, unmet->reason(s));
+}
+
 // Reads the map `node` (path `key`) into `s`, key by key in the table's order: a key not in
 // the table, a key given where it does not apply, a required one missing, a value of the
 // wrong type or out of its limits are each an error naming the file, the key and the reason.
@@ -207,17 +234,7 @@ void read_keys(const DeckReader& r, const YAML::Node& node, const std::string& k
     if (unmet) r.fail(child_key(key, k.name), n, unmet->reason(s));
     k.read(r, n, child_key(key, k.name), s, c);
   }
-}
-
-// The uses of the keys `node` gives, checked again once later sections are read (time.steps
-// is not used with states, which parse_deck reads after time).
-template <class S>
-void check_uses(const DeckReader& r, const YAML::Node& node, const std::string& key,
-                const KeyTable<S>& table, const S& s, const Config& c) {
-  for (const auto& k : table)
-    if (const YAML::Node n = node[k.name])
-      if (const KeyUse<S>* unmet = unmet_use(k, s, c))
-        r.fail(child_key(key, k.name), n, unmet->reason(s));
+  check_uses(r, node, key, table, s, c);  // uses that depend on keys below them
 }
 
 // The keys that apply (and are printed) as `key: value` pairs, in the table's order, into a

@@ -33,19 +33,6 @@ void emit_number_map(YAML::Emitter& out, const std::string& key,
   out << YAML::EndMap;
 }
 
-void emit_mesh(YAML::Emitter& out, const MeshConfig& mesh) {
-  out << YAML::Key << "mesh" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "file" << YAML::Value << mesh.file;
-  out << YAML::Key << "order" << YAML::Value << mesh.order;
-  if (std::filesystem::path(mesh.file).extension() == ".geo") {
-    emit_number_map(out, "parameters", mesh.parameters);
-    out << YAML::Key << "refine" << YAML::Value << mesh.refine;
-    out << YAML::Key << "trust_geo" << YAML::Value << mesh.trust_geo;
-  }
-  out << YAML::Key << "max_elements" << YAML::Value << mesh.max_elements;
-  out << YAML::EndMap;
-}
-
 void emit_materials(YAML::Emitter& out, const std::vector<MaterialConfig>& materials) {
   out << YAML::Key << "materials" << YAML::Value << YAML::BeginSeq;
   for (const auto& m : materials) {
@@ -60,37 +47,16 @@ void emit_materials(YAML::Emitter& out, const std::vector<MaterialConfig>& mater
   out << YAML::EndSeq;
 }
 
-void emit_boundary(YAML::Emitter& out, const std::vector<DirichletConfig>& boundary) {
+void emit_boundary(YAML::Emitter& out, const Config& c) {
   out << YAML::Key << "boundary" << YAML::Value;
-  if (boundary.empty()) out << YAML::Flow;
+  if (c.dirichlet.empty()) out << YAML::Flow;
   out << YAML::BeginSeq;
-  for (const auto& bc : boundary) {
+  for (const auto& bc : c.dirichlet) {
     out << YAML::BeginMap;
-    out << YAML::Key << "group" << YAML::Value << bc.group;
-    out << YAML::Key << "components" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-    for (int d = 0; d < 3; ++d)
-      if (bc.components[d]) out << std::string(1, static_cast<char>('x' + d));
-    out << YAML::EndSeq;
-    if (!bc.exact) emit_numbers(out, "value", bc.value.data(), 3);
-    out << YAML::Key << "scaled" << YAML::Value << bc.scaled;
-    out << YAML::Key << "exact" << YAML::Value << bc.exact;
+    write_keys(out, boundary_keys(), bc, c);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
-}
-
-void emit_loads(YAML::Emitter& out, const Config& c) {
-  out << YAML::Key << "loads" << YAML::Value << YAML::BeginMap;
-  emit_numbers(out, "gravity", c.gravity.data(), 3);
-  out << YAML::Key << "pressure" << YAML::Value;
-  if (c.pressures.empty()) out << YAML::Flow;
-  out << YAML::BeginSeq;
-  for (const auto& p : c.pressures) {
-    out << YAML::Flow << YAML::BeginMap << YAML::Key << "group" << YAML::Value << p.group;
-    emit_number(out, "value", p.value);
-    out << YAML::EndMap;
-  }
-  out << YAML::EndSeq << YAML::EndMap;
 }
 
 void emit_cavities(YAML::Emitter& out, const Config& c) {
@@ -105,44 +71,23 @@ void emit_cavities(YAML::Emitter& out, const Config& c) {
   out << YAML::EndSeq;
 }
 
-// Only when the deck gave states: an empty list is not a valid deck (one implicit state).
-void emit_cables(YAML::Emitter& out, const std::vector<CableConfig>& cables) {
+void emit_cables(YAML::Emitter& out, const Config& c) {
   out << YAML::Key << "cables" << YAML::Value << YAML::BeginSeq;
-  for (const auto& c : cables) {
+  for (const auto& cable : c.cables) {
     out << YAML::BeginMap;
-    out << YAML::Key << "name" << YAML::Value << c.name;
-    out << YAML::Key << "points" << YAML::Value << YAML::BeginSeq;
-    for (const auto& p : c.points) {
-      out << YAML::Flow << YAML::BeginSeq;
-      for (double x : p) out << x;
-      out << YAML::EndSeq;
-    }
-    out << YAML::EndSeq;
-    if (c.pull_point) emit_numbers(out, "pull_point", c.pull_point->data(), 3);
-    emit_number(out, "force", c.force);
-    emit_number(out, "friction", c.friction);
+    write_keys(out, cable_keys(), cable, c);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
 }
 
-void emit_states(YAML::Emitter& out, const std::vector<StateConfig>& states) {
-  if (states.empty()) return;
+// Only when the deck gave states: an empty list is not a valid deck (one implicit state).
+void emit_states(YAML::Emitter& out, const Config& c) {
+  if (c.states.empty()) return;
   out << YAML::Key << "states" << YAML::Value << YAML::BeginSeq;
-  for (const auto& s : states) {
+  for (const auto& s : c.states) {
     out << YAML::BeginMap;
-    out << YAML::Key << "name" << YAML::Value << s.name;
-    out << YAML::Key << "steps" << YAML::Value << s.steps;
-    if (!s.cavities.empty()) {
-      out << YAML::Key << "cavities" << YAML::Value << YAML::BeginMap;
-      for (const auto& [name, target] : s.cavities) {
-        out << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap;
-        if (target.pressure) emit_number(out, "pressure", *target.pressure);
-        if (target.added_volume) emit_number(out, "added_volume", *target.added_volume);
-        out << YAML::EndMap;
-      }
-      out << YAML::EndMap;
-    }
+    write_keys(out, state_keys(), s, c);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
@@ -229,20 +174,24 @@ std::string format_config(const Config& c) {
   YAML::Emitter out;
   out << YAML::Comment("deck: " + c.deck_path);
   out << YAML::BeginMap;
-  emit_mesh(out, c.mesh);
+  out << YAML::Key << "mesh" << YAML::Value << YAML::BeginMap;
+  write_keys(out, mesh_keys(), c.mesh, c);
+  out << YAML::EndMap;
   emit_materials(out, c.materials);
-  emit_boundary(out, c.dirichlet);
-  emit_loads(out, c);
+  emit_boundary(out, c);
+  out << YAML::Key << "loads" << YAML::Value << YAML::BeginMap;
+  write_keys(out, loads_keys(), c, c);
+  out << YAML::EndMap;
   // Cavities, states and tip belong to static and quasi-static runs only.
   if (c.time.type != TimeType::dynamic) emit_cavities(out, c);
-  if (!c.cables.empty()) emit_cables(out, c.cables);
+  if (!c.cables.empty()) emit_cables(out, c);
   out << YAML::Key << "time" << YAML::Value << YAML::BeginMap;
   write_keys(out, time_keys(), c.time, c);
   out << YAML::EndMap;
-  emit_states(out, c.states);
+  emit_states(out, c);
   if (c.tip) {
     out << YAML::Key << "tip" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    out << YAML::Key << "group" << YAML::Value << c.tip->group;
+    write_keys(out, tip_keys(), *c.tip, c);
     out << YAML::EndMap;
   }
   if (c.control) emit_control(out, *c.control, c.cables);

@@ -6,6 +6,10 @@
 
 namespace hs {
 
+const KeyTable<MeshConfig>& mesh_keys();  // body_sections.cpp
+const KeyTable<DirichletConfig>& boundary_keys();
+const KeyTable<Config>& loads_keys();  // gravity and pressures
+const KeyTable<PressureConfig>& pressure_keys();
 const KeyTable<TimeConfig>& time_keys();  // run_sections.cpp
 const KeyTable<TimeConfig>& newmark_keys();
 const KeyTable<SolverConfig>& solver_keys();
@@ -13,5 +17,9 @@ const KeyTable<OutputConfig>& output_keys();
 const KeyTable<CheckpointConfig>& checkpoint_keys();
 const KeyTable<CavityConfig>& cavity_keys();  // cavity_sections.cpp
 const KeyTable<FluidWeightConfig>& fluid_weight_keys();
+const KeyTable<StateConfig>& state_keys();
+const KeyTable<CavityTarget>& target_keys();  // a later state's target for a cavity
+const KeyTable<TipConfig>& tip_keys();
+const KeyTable<CableConfig>& cable_keys();  // cable_section.cpp
 
 }  // namespace hs
