@@ -57,6 +57,10 @@ std::vector<DeckKeyTable> deck_key_tables() {
       {"fluid_weight", markdown_table(fluid_weight_keys())},
       {"states", markdown_table(state_keys())},
       {"cables", markdown_table(cable_keys())},
+      {"control", markdown_table(control_keys())},
+      {"effectors", markdown_table(effector_keys())},
+      {"actuators", markdown_table(cavity_actuator_keys())},
+      {"cable_actuators", markdown_table(cable_actuator_keys())},
       {"solver", markdown_table(solver_keys())},
       {"output", markdown_table(output_keys())},
   };

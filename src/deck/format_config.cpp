@@ -93,81 +93,6 @@ void emit_states(YAML::Emitter& out, const Config& c) {
   out << YAML::EndSeq;
 }
 
-// Only the bounds the deck set: an unset bound keeps its default (no bound), which is not
-// worth printing (and 1e300 would read as a bound the deck never gave).
-void emit_bound(YAML::Emitter& out, const std::string& key, double value, double unset) {
-  if (value != unset) emit_number(out, key, value);
-}
-
-constexpr const char* kCavityKeys[] = {"cavity",
-                                       "min_pressure",
-                                       "max_pressure",
-                                       "min_volume_growth",
-                                       "max_volume_growth",
-                                       "max_pressure_change"};
-constexpr const char* kCableKeys[] = {"cable",    "min_force", "max_force",
-                                      "min_pull", "max_pull",  "max_force_change"};
-
-void emit_control(YAML::Emitter& out, const ControlConfig& control,
-                  const std::vector<CableConfig>& cables) {
-  const ActuatorConfig unset;
-  out << YAML::Key << "control" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "effectors" << YAML::Value << YAML::BeginSeq;
-  for (const auto& e : control.effectors) {
-    out << YAML::BeginMap;
-    out << YAML::Key << "name" << YAML::Value << e.name;
-    if (e.point.empty())
-      emit_numbers(out, "position", e.position.data(), 3);
-    else
-      out << YAML::Key << "point" << YAML::Value << e.point;
-    out << YAML::Key << "directions" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-    for (int d = 0; d < 3; ++d)
-      if (e.directions[d]) out << std::string(1, static_cast<char>('x' + d));
-    out << YAML::EndSeq;
-    emit_number(out, "weight", e.weight);
-    out << YAML::EndMap;
-  }
-  out << YAML::EndSeq;
-  out << YAML::Key << "actuators" << YAML::Value << YAML::BeginSeq;
-  for (const auto& a : control.actuators) {
-    out << YAML::BeginMap;
-    const bool cable = std::any_of(cables.begin(), cables.end(),
-                                   [&](const CableConfig& c) { return c.name == a.constraint; });
-    // The deck's keys in the driven constraint's units: a cable's force and pull, a cavity's
-    // pressure and volume growth. A cable's min_force is always printed (its default is 0).
-    const char* const* k = cable ? kCableKeys : kCavityKeys;
-    out << YAML::Key << k[0] << YAML::Value << a.constraint;
-    if (cable)
-      emit_number(out, k[1], a.min_multiplier);
-    else
-      emit_bound(out, k[1], a.min_multiplier, unset.min_multiplier);
-    emit_bound(out, k[2], a.max_multiplier, unset.max_multiplier);
-    emit_bound(out, k[3], a.min_measure_change, unset.min_measure_change);
-    emit_bound(out, k[4], a.max_measure_change, unset.max_measure_change);
-    emit_bound(out, k[5], a.max_multiplier_step, unset.max_multiplier_step);
-    out << YAML::EndMap;
-  }
-  out << YAML::EndSeq;
-  // Only when the deck gave targets: an empty list is not a valid deck.
-  if (!control.targets.empty()) {
-    out << YAML::Key << "targets" << YAML::Value << YAML::BeginSeq;
-    for (const auto& set : control.targets) {
-      out << YAML::Flow << YAML::BeginMap;
-      for (const auto& t : set) emit_numbers(out, t.effector, t.position.data(), 3);
-      out << YAML::EndMap;
-    }
-    out << YAML::EndSeq;
-  }
-  out << YAML::Key << "steps_per_target" << YAML::Value << control.steps_per_target;
-  emit_number(out, "regularization", control.regularization);
-  out << YAML::Key << "newton_finish" << YAML::Value << control.newton_finish;
-  out << YAML::Key << "free_solve" << YAML::Value << name_of(kFreeSolveNames, control.free_solve);
-  out << YAML::Key << "refactor_every" << YAML::Value << control.refactor_every;
-  out << YAML::Key << "check_equilibrium" << YAML::Value << control.check_equilibrium;
-  out << YAML::Key << "factor_threads" << YAML::Value << control.factor_threads;
-  out << YAML::EndMap;
-}
-
 }  // namespace
 
 std::string format_config(const Config& c) {
@@ -194,7 +119,11 @@ std::string format_config(const Config& c) {
     write_keys(out, tip_keys(), *c.tip, c);
     out << YAML::EndMap;
   }
-  if (c.control) emit_control(out, *c.control, c.cables);
+  if (c.control) {
+    out << YAML::Key << "control" << YAML::Value << YAML::BeginMap;
+    write_keys(out, control_keys(), *c.control, c);
+    out << YAML::EndMap;
+  }
 
   out << YAML::Key << "solver" << YAML::Value << YAML::BeginMap;
   write_keys(out, solver_keys(), c.solver, c);

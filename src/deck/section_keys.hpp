@@ -20,6 +20,10 @@ const KeyTable<FluidWeightConfig>& fluid_weight_keys();
 const KeyTable<StateConfig>& state_keys();
 const KeyTable<CavityTarget>& target_keys();  // a later state's target for a cavity
 const KeyTable<TipConfig>& tip_keys();
-const KeyTable<CableConfig>& cable_keys();  // cable_section.cpp
+const KeyTable<CableConfig>& cable_keys();      // cable_section.cpp
+const KeyTable<ControlConfig>& control_keys();  // control_section.cpp
+const KeyTable<EffectorConfig>& effector_keys();
+const KeyTable<ActuatorConfig>& cavity_actuator_keys();
+const KeyTable<ActuatorConfig>& cable_actuator_keys();
 
 }  // namespace hs
