@@ -89,18 +89,16 @@ const KeyTable<CableConfig>& cable_keys() {
   return keys;
 }
 
-void parse_cable_section(const DeckReader& r, const YAML::Node& root, Config& c) {
-  const YAML::Node node = root["cables"];
-  if (!node) return;
-  if (c.time.type == TimeType::dynamic)
-    forbid(r, root, "", "cables", "cables need time.type static or quasi_static");
+std::vector<CableConfig> parse_cables(const DeckReader& r, const YAML::Node& node,
+                                      const Config& c) {
   r.check_list(node, "cables");
+  std::vector<CableConfig> cables;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string key = item_key("cables", i);
-    c.cables.push_back(parse_cable(r, node[i], key, c));
-    const std::string& name = c.cables.back().name;
+    cables.push_back(parse_cable(r, node[i], key, c));
+    const std::string& name = cables.back().name;
     for (size_t j = 0; j < i; ++j)
-      if (c.cables[j].name == name)
+      if (cables[j].name == name)
         r.fail(child_key(key, "name"), node[i]["name"],
                "duplicate cable name '" + name + "' (also " + item_key("cables", j) + ")");
     for (const auto& cavity : c.cavities)
@@ -108,6 +106,7 @@ void parse_cable_section(const DeckReader& r, const YAML::Node& root, Config& c)
         r.fail(child_key(key, "name"), node[i]["name"],
                "'" + name + "' is also a cavity's name: actuators are named by it");
   }
+  return cables;
 }
 
 }  // namespace hs

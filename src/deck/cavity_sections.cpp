@@ -57,22 +57,6 @@ CavityConfig parse_cavity(const DeckReader& r, const YAML::Node& node, const std
   return cavity;
 }
 
-std::vector<CavityConfig> parse_cavities(const DeckReader& r, const YAML::Node& node,
-                                         const Config& c) {
-  r.check_list(node, "cavities");
-  std::vector<CavityConfig> cavities;
-  for (size_t i = 0; i < node.size(); ++i) {
-    const std::string key = item_key("cavities", i);
-    cavities.push_back(parse_cavity(r, node[i], key, c));
-    for (size_t j = 0; j < i; ++j)
-      if (cavities[j].group == cavities[i].group)
-        r.fail(child_key(key, "group"), node[i]["group"],
-               "duplicate cavity group '" + cavities[i].group + "' (also in " +
-                   item_key("cavities", j) + ")");
-  }
-  return cavities;
-}
-
 // The targets of a later state: cavity name -> {pressure: P} or {added_volume: V}.
 std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAML::Node& node,
                                                   const std::string& key, const Config& c) {
@@ -104,32 +88,6 @@ std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAM
     targets[name] = t;
   }
   return targets;
-}
-
-std::vector<StateConfig> parse_states(const DeckReader& r, const YAML::Node& node,
-                                      const Config& c) {
-  r.check_list(node, "states");
-  require(node.size() > 0, r, node, "states",
-          "must hold at least one state (leave states out for one load ramp over time.steps)");
-  std::vector<StateConfig> states;
-  for (size_t i = 0; i < node.size(); ++i) {
-    const std::string key = item_key("states", i);
-    // The first state is where the load (and the cavities' own controls) goes from 0 to
-    // full; a target there would say two things about the same ramp.
-    if (i == 0 && node[i].IsMap() && node[i]["cavities"])
-      r.fail(child_key(key, "cavities"), node[i]["cavities"],
-             "not allowed in the first state: it ramps the load and the cavities' own controls "
-             "(cavities[].pressure or added_volume) from 0 to full; give targets in later "
-             "states");
-    StateConfig s;
-    read_keys(r, node[i], key, state_keys(), s, c);
-    for (size_t j = 0; j < i; ++j)
-      if (states[j].name == s.name)
-        r.fail(child_key(key, "name"), node[i]["name"],
-               "duplicate state name '" + s.name + "' (also in " + item_key("states", j) + ")");
-    states.push_back(s);
-  }
-  return states;
 }
 
 }  // namespace
@@ -265,29 +223,46 @@ const KeyTable<TipConfig>& tip_keys() {
   return keys;
 }
 
-void parse_cavity_sections(const DeckReader& r, const YAML::Node& root, Config& c) {
-  // Dynamic runs have no states to step through and no cavity equations in their time
-  // integrator.
-  if (c.time.type == TimeType::dynamic)
-    for (const char* name : {"cavities", "states", "tip"})
-      forbid(r, root, "", name,
-             std::string(name == std::string("tip") ? "the tip is reported per state: " : "") +
-                 "cavities and states need time.type static or quasi_static (time.type is "
-                 "dynamic)");
+std::vector<CavityConfig> parse_cavities(const DeckReader& r, const YAML::Node& node,
+                                         const Config& c) {
+  r.check_list(node, "cavities");
+  std::vector<CavityConfig> cavities;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string key = item_key("cavities", i);
+    cavities.push_back(parse_cavity(r, node[i], key, c));
+    for (size_t j = 0; j < i; ++j)
+      if (cavities[j].group == cavities[i].group)
+        r.fail(child_key(key, "group"), node[i]["group"],
+               "duplicate cavity group '" + cavities[i].group + "' (also in " +
+                   item_key("cavities", j) + ")");
+  }
+  return cavities;
+}
 
-  if (const auto n = root["cavities"]) c.cavities = parse_cavities(r, n, c);
-  if (const auto n = root["states"]) {
-    c.states = parse_states(r, n, c);
-    // The first state's steps replace time.steps; its ramp is linear, so no schedule either
-    // (time_keys says so; parse_time has checked that time is a map).
-    if (const auto time = root["time"]) check_uses(r, time, "time", time_keys(), c.time, c);
-    c.time.steps = c.states.front().steps;
+std::vector<StateConfig> parse_states(const DeckReader& r, const YAML::Node& node,
+                                      const Config& c) {
+  r.check_list(node, "states");
+  require(node.size() > 0, r, node, "states",
+          "must hold at least one state (leave states out for one load ramp over time.steps)");
+  std::vector<StateConfig> states;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string key = item_key("states", i);
+    // The first state is where the load (and the cavities' own controls) goes from 0 to
+    // full; a target there would say two things about the same ramp.
+    if (i == 0 && node[i].IsMap() && node[i]["cavities"])
+      r.fail(child_key(key, "cavities"), node[i]["cavities"],
+             "not allowed in the first state: it ramps the load and the cavities' own controls "
+             "(cavities[].pressure or added_volume) from 0 to full; give targets in later "
+             "states");
+    StateConfig s;
+    read_keys(r, node[i], key, state_keys(), s, c);
+    for (size_t j = 0; j < i; ++j)
+      if (states[j].name == s.name)
+        r.fail(child_key(key, "name"), node[i]["name"],
+               "duplicate state name '" + s.name + "' (also in " + item_key("states", j) + ")");
+    states.push_back(s);
   }
-  if (const auto n = root["tip"]) {
-    TipConfig tip;
-    read_keys(r, n, "tip", tip_keys(), tip, c);
-    c.tip = tip;
-  }
+  return states;
 }
 
 }  // namespace hs

@@ -1,4 +1,4 @@
-// parse_control_section: the end effectors of a soft robot, the cavities that actuate it and
+// parse_control: the end effectors of a soft robot, the cavities that actuate it and
 // the targets its effectors are driven to (docs/decks.md, "control"; docs/control.md).
 #include "deck/control_section.hpp"
 
@@ -126,24 +126,6 @@ std::vector<std::vector<ControlTarget>> parse_control_targets(
     sets.push_back(set);
   }
   return sets;
-}
-
-ControlConfig parse_control(const DeckReader& r, const YAML::Node& node, const Config& c) {
-  const std::string key = "control";
-  if (node.IsMap() && node["targets_from_stdin"])
-    r.fail(child_key(key, "targets_from_stdin"), node["targets_from_stdin"],
-           "not a deck key: the command line sets it (--targets -)");
-  ControlConfig control;
-  read_keys(r, node, key, control_keys(), control, c);
-  // Kept where Newton is the free solve as long as they change nothing (printed, so that the
-  // printout stays the restart fingerprint of such decks).
-  if (control.free_solve != FreeSolve::one_step) {
-    require(control.refactor_every == 1, r, node["refactor_every"], "control.refactor_every",
-            "needs free_solve: one_step (Newton refactors every step)");
-    require(control.factor_threads == 0, r, node["factor_threads"], "control.factor_threads",
-            "needs free_solve: one_step");
-  }
-  return control;
 }
 
 }  // namespace
@@ -374,12 +356,22 @@ const KeyTable<ControlConfig>& control_keys() {
   return keys;
 }
 
-void parse_control_section(const DeckReader& r, const YAML::Node& root, Config& c) {
-  // Control steps from one static equilibrium to the next; dynamic runs have no cavities.
-  if (c.time.type == TimeType::dynamic)
-    forbid(r, root, "", "control",
-           "control needs time.type static or quasi_static (time.type is dynamic)");
-  if (const auto n = root["control"]) c.control = parse_control(r, n, c);
+ControlConfig parse_control(const DeckReader& r, const YAML::Node& node, const Config& c) {
+  const std::string key = "control";
+  if (node.IsMap() && node["targets_from_stdin"])
+    r.fail(child_key(key, "targets_from_stdin"), node["targets_from_stdin"],
+           "not a deck key: the command line sets it (--targets -)");
+  ControlConfig control;
+  read_keys(r, node, key, control_keys(), control, c);
+  // Kept where Newton is the free solve as long as they change nothing (printed, so that the
+  // printout stays the restart fingerprint of such decks).
+  if (control.free_solve != FreeSolve::one_step) {
+    require(control.refactor_every == 1, r, node["refactor_every"], "control.refactor_every",
+            "needs free_solve: one_step (Newton refactors every step)");
+    require(control.factor_threads == 0, r, node["factor_threads"], "control.factor_threads",
+            "needs free_solve: one_step");
+  }
+  return control;
 }
 
 }  // namespace hs

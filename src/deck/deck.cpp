@@ -1,22 +1,15 @@
 // parse_deck: YAML -> Config, validating every key before any work (docs/decks.md).
 #include "deck/deck.hpp"
 
-#include <cctype>
-#include <cmath>
+#include <algorithm>
 #include <filesystem>
-#include <set>
+#include <stdexcept>
 
 #include "common/deck_reader.hpp"
 #include "common/error.hpp"
-#include "deck/body_sections.hpp"
-#include "deck/cable_section.hpp"
-#include "deck/cavity_sections.hpp"
-#include "deck/control_section.hpp"
-#include "deck/exact_section.hpp"
 #include "deck/overrides.hpp"
-#include "deck/run_sections.hpp"
+#include "deck/section_keys.hpp"
 #include "io/output.hpp"
-#include "materials/registry.hpp"
 
 namespace hs {
 namespace {
@@ -45,44 +38,6 @@ YAML::Node load_yaml(const std::string& path) {
   }
 }
 
-// The deck owns group and density; the registry reads the model's law from the rest of the map.
-MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const std::string& key) {
-  const std::vector<std::string> deck_keys = {"group", "model", "density"};
-  std::vector<std::string> known = {"group", "model"};
-  for (const auto& name : material_law_keys()) known.push_back(name);
-  known.push_back("density");
-  r.check_map(node, key, known);
-  MaterialConfig m;
-  m.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
-  const std::string model = r.text(required(r, node, key, "model"), child_key(key, "model"));
-  m.law = parse_material_law(r, node, key, model, deck_keys);
-  if (const auto n = node["density"]) {
-    m.density = r.number(n, child_key(key, "density"));
-    require(m.density >= 0, r, n, child_key(key, "density"),
-            "must be >= 0, got " + format_number(m.density));
-    // Above any solid's (osmium: 22,590 kg/m^3), and far from where rho g overflows.
-    require(m.density <= 1e5, r, n, child_key(key, "density"),
-            "must be <= 1e5 kg/m^3, got " + format_number(m.density));
-  }
-  return m;
-}
-
-std::vector<MaterialConfig> parse_materials(const DeckReader& r, const YAML::Node& node) {
-  r.check_list(node, "materials");
-  require(node.size() > 0, r, node, "materials", "at least one material is required");
-  std::vector<MaterialConfig> materials;
-  for (size_t i = 0; i < node.size(); ++i) {
-    const std::string key = item_key("materials", i);
-    materials.push_back(parse_material(r, node[i], key));
-    for (size_t j = 0; j < i; ++j)
-      if (materials[j].group == materials[i].group)
-        r.fail(child_key(key, "group"), node[i]["group"],
-               "duplicate material group '" + materials[i].group + "' (also in " +
-                   item_key("materials", j) + ")");
-  }
-  return materials;
-}
-
 }  // namespace
 
 Config parse_deck(const std::string& path, const std::vector<std::string>& overrides) {
@@ -91,27 +46,26 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (root.IsNull()) r.fail("mesh", "required key missing (the deck is empty)");
   if (!root.IsMap())
     r.fail("(top level)", root, "expected a map of sections (mesh, materials, ...)");
-  r.check_map(root, "",
-              {"mesh", "materials", "boundary", "loads", "cavities", "cables", "time", "states",
-               "tip", "control", "solver", "output", "exact"});
+  const KeyTable<Config>& sections = deck_section_keys();
+  r.check_map(root, "", key_names(sections));
 
   Config c;
   c.deck_path = path;
   c.deck_name = fs::path(path).stem().string();
-  c.mesh = parse_mesh(r, required(r, root, "", "mesh"), fs::path(path).parent_path().string(), c);
-  c.materials = parse_materials(r, required(r, root, "", "materials"));
-  if (const auto list = root["boundary"]) {
-    r.check_list(list, "boundary");
-    for (size_t i = 0; i < list.size(); ++i)
-      c.dirichlet.push_back(parse_boundary(r, list[i], item_key("boundary", i), c));
+  // In the order they depend on each other: cavities, cables, states and control need the
+  // time section's type; states and control name cavities and cables.
+  const std::vector<std::string> order = {"mesh",     "materials", "boundary", "loads", "time",
+                                          "cavities", "cables",    "states",   "tip",   "control",
+                                          "solver",   "output",    "exact"};
+  if (order.size() != sections.size()) throw std::logic_error("parse_deck: a section unread");
+  for (const std::string& name : order) {
+    const auto k = std::find_if(sections.begin(), sections.end(),
+                                [&](const DeckKey<Config>& k) { return k.name == name; });
+    read_key(r, root, "", *k, c, c);
+    // time.steps and time.schedule are not used with states (read after time).
+    if (name == "states" && root["states"] && root["time"])
+      check_uses(r, root["time"], "time", time_keys(), c.time, c);
   }
-  if (const auto n = root["loads"]) parse_loads(r, n, c);
-  if (const auto n = root["time"]) c.time = parse_time(r, n, c);
-  parse_cavity_sections(r, root, c);
-  parse_cable_section(r, root, c);
-  parse_control_section(r, root, c);  // its actuators are cavities and cables
-  if (const auto n = root["solver"]) c.solver = parse_solver(r, n, c);
-  if (const auto n = root["output"]) c.output = parse_output(r, n, c);
   if (c.output.folder.empty()) c.output.folder = (fs::path("out") / c.deck_name).string();
   const std::string problem = output_folder_problem(c.output.folder);
   if (!problem.empty()) {
@@ -136,7 +90,6 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
                "not supported with control.free_solve one_step and a hydraulic cavity's "
                "fluid_weight.coupling linearized (the frozen weights are not saved, so such a "
                "run cannot be restarted to the same numbers)");
-  parse_exact_section(r, root, c);
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
     if (c.dirichlet[i].exact && !c.exact.type)
       r.fail(child_key(item_key("boundary", i), "exact"), root["boundary"][i]["exact"],

@@ -217,23 +217,29 @@ void check_uses(const DeckReader& r, const YAML::Node& node, const std::string& 
         r.fail(child_key(key, k.name), n, unmet->reason(s));
 }
 
-// Reads the map `node` (path `key`) into `s`, key by key in the table's order: a key not in
-// the table, a key given where it does not apply, a required one missing, a value of the
-// wrong type or out of its limits are each an error naming the file, the key and the reason.
+// Reads the key `k` of the map `node` (path `key`) into `s`, if the map gives it: a key given
+// where it does not apply, a required one missing, a value of the wrong type or out of its
+// limits are each an error naming the file, the key and the reason.
+template <class S>
+void read_key(const DeckReader& r, const YAML::Node& node, const std::string& key,
+              const DeckKey<S>& k, S& s, const Config& c) {
+  const YAML::Node n = node[k.name];
+  const KeyUse<S>* unmet = unmet_use(k, s, c);
+  if (!n) {
+    if (k.required && !unmet) r.fail(child_key(key, k.name), node, "required key missing");
+    return;
+  }
+  if (unmet) r.fail(child_key(key, k.name), n, unmet->reason(s));
+  k.read(r, n, child_key(key, k.name), s, c);
+}
+
+// Reads the map `node` (path `key`) into `s`, key by key in the table's order (read_key); a
+// key not in the table is an error too.
 template <class S>
 void read_keys(const DeckReader& r, const YAML::Node& node, const std::string& key,
                const KeyTable<S>& table, S& s, const Config& c) {
   r.check_map(node, key, key_names(table));
-  for (const auto& k : table) {
-    const YAML::Node n = node[k.name];
-    const KeyUse<S>* unmet = unmet_use(k, s, c);
-    if (!n) {
-      if (k.required && !unmet) r.fail(child_key(key, k.name), node, "required key missing");
-      continue;
-    }
-    if (unmet) r.fail(child_key(key, k.name), n, unmet->reason(s));
-    k.read(r, n, child_key(key, k.name), s, c);
-  }
+  for (const auto& k : table) read_key(r, node, key, k, s, c);
   check_uses(r, node, key, table, s, c);  // uses that depend on keys below them
 }
 

@@ -6,9 +6,7 @@
 
 namespace hs {
 
-void parse_exact_section(const DeckReader& r, const YAML::Node& root, Config& c) {
-  const YAML::Node node = root["exact"];
-  if (!node) return;
+void parse_exact_section(const DeckReader& r, const YAML::Node& node, Config& c) {
   r.check_map(node, "exact", {"type", "parameters"});
   std::vector<std::string> names = {"none"};
   for (const auto& name : exact_solution_names()) names.push_back(name);
