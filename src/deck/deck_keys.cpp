@@ -63,6 +63,7 @@ std::vector<DeckKeyTable> deck_key_tables() {
       {"cable_actuators", markdown_table(cable_actuator_keys())},
       {"solver", markdown_table(solver_keys())},
       {"output", markdown_table(output_keys())},
+      {"exact", markdown_table(exact_keys())},
   };
 }
 

@@ -13,7 +13,6 @@
 #include "deck/section_keys.hpp"
 #include "materials/material.hpp"
 #include "materials/registry.hpp"
-#include "verification/registry.hpp"
 
 namespace hs {
 namespace {
@@ -210,13 +209,7 @@ const KeyTable<Config>& deck_section_keys() {
           "exact", "map", "none", "an exact solution to compare with",
           [](R r, N n, K, Config& s, const Config&) { parse_exact_section(r, n, s); },
           [](YAML::Emitter& out, const Config& c, const Config&) {
-            out << YAML::BeginMap;
-            out << YAML::Key << "type" << YAML::Value
-                << (c.exact.type ? c.exact.type->name : "none");
-            out << YAML::Key << "parameters" << YAML::Value << YAML::Flow << YAML::BeginMap;
-            for (const auto& [name, value] : c.exact.parameters)
-              out << YAML::Key << name << YAML::Value << format_number(value);
-            out << YAML::EndMap << YAML::EndMap;
+            write_map(out, exact_keys(), c.exact, c);
           }),
   };
   return keys;

@@ -28,5 +28,6 @@ const KeyTable<ControlConfig>& control_keys();  // control_section.cpp
 const KeyTable<EffectorConfig>& effector_keys();
 const KeyTable<ActuatorConfig>& cavity_actuator_keys();
 const KeyTable<ActuatorConfig>& cable_actuator_keys();
+const KeyTable<ExactConfig>& exact_keys();  // exact_section.cpp
 
 }  // namespace hs
