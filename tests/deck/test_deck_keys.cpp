@@ -29,7 +29,8 @@ std::string read_text(const fs::path& path) {
   return text.str();
 }
 
-const std::string kOpen = "<!-- keys:", kClose = "<!-- /keys -->";
+// Markers open a line (the prose may quote them).
+const std::string kOpen = "\n<!-- keys:", kClose = "\n<!-- /keys -->";
 
 // docs/decks.md with each marked table replaced by the registry's; `seen` gets the names of
 // the marked tables, in the docs' order, and `differ` those whose text was not the registry's.
@@ -51,15 +52,15 @@ std::string with_generated_tables(const std::string& doc, std::vector<std::strin
       if (t.name == name) table = t.markdown;
     EXPECT_FALSE(table.empty()) << "docs/decks.md marks a table '" << name
                                 << "' that the registry does not have";
-    const size_t begin = name_end + 5;
-    if (doc.substr(begin, close - begin) != table) {
+    const size_t begin = name_end + 5, end = close + 1;  // the table's lines, each with its \n
+    if (doc.substr(begin, end - begin) != table) {
       differ.push_back(name);
       ADD_FAILURE() << "docs/decks.md's table '" << name << "' is\n"
-                    << doc.substr(begin, close - begin) << "the registry's is\n"
+                    << doc.substr(begin, end - begin) << "the registry's is\n"
                     << table;
     }
     out += doc.substr(at, begin - at) + table;
-    at = close;
+    at = end;
   }
   return out + doc.substr(at);
 }
