@@ -4,7 +4,6 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <array>
 #include <string>
 
 #include "common/deck_reader.hpp"
@@ -19,10 +18,5 @@ DirichletConfig parse_boundary(const DeckReader& r, const YAML::Node& node, cons
                                const Config& c);
 // Reads gravity and pressures into `c`.
 void parse_loads(const DeckReader& r, const YAML::Node& node, Config& c);
-
-// Axes as the deck lists them ([x, z]): read (non-empty, no repeats) and written.
-std::array<bool, 3> read_directions(const DeckReader& r, const YAML::Node& n,
-                                    const std::string& key);
-void write_axes(YAML::Emitter& out, const std::array<bool, 3>& on);
 
 }  // namespace hs

@@ -7,12 +7,6 @@
 namespace hs {
 namespace {
 
-void write_point(YAML::Emitter& out, const std::array<double, 3>& p) {
-  out << YAML::Flow << YAML::BeginSeq;
-  for (double x : p) out << format_number(x);
-  out << YAML::EndSeq;
-}
-
 CableConfig parse_cable(const DeckReader& r, const YAML::Node& node, const std::string& key,
                         const Config& c) {
   CableConfig cable;
@@ -74,7 +68,7 @@ const KeyTable<CableConfig>& cable_keys() {
           [](const DeckReader& r, const YAML::Node& n, const std::string& key, CableConfig& cable,
              const Config&) { cable.pull_point = r.vector3(n, key); },
           [](YAML::Emitter& out, const CableConfig& cable, const Config&) {
-            write_point(out, *cable.pull_point);
+            write_numbers(out, cable.pull_point->data(), 3);
           })
           .printed_when([](const CableConfig& cable) { return cable.pull_point.has_value(); }),
       number_key("force", &CableConfig::force, at_least(0, "a cable pulls, it cannot push"),

@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "deck/body_sections.hpp"
 #include "deck/cavity_sections.hpp"
 #include "deck/section_keys.hpp"
 
@@ -178,12 +177,6 @@ DeckKey<ActuatorConfig> constraint_key(std::string name, std::string meaning, bo
       .needed();
 }
 
-void write_numbers(YAML::Emitter& out, const std::array<double, 3>& values) {
-  out << YAML::Flow << YAML::BeginSeq;
-  for (double v : values) out << format_number(v);
-  out << YAML::EndSeq;
-}
-
 }  // namespace
 
 const KeyTable<EffectorConfig>& effector_keys() {
@@ -204,7 +197,7 @@ const KeyTable<EffectorConfig>& effector_keys() {
           [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
              const Config&) { e.position = r.vector3(n, key); },
           [](YAML::Emitter& out, const EffectorConfig& e, const Config&) {
-            write_numbers(out, e.position);
+            write_numbers(out, e.position.data(), 3);
           })
           .printed_when([](const EffectorConfig& e) { return e.point.empty(); }),
       custom_key<EffectorConfig>(
@@ -212,7 +205,7 @@ const KeyTable<EffectorConfig>& effector_keys() {
           "the components of the effector's position that are steered; the others are free "
           "(non-empty, no repeats)",
           [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
-             const Config&) { e.directions = read_directions(r, n, key); },
+             const Config&) { e.directions = read_axes(r, n, key, "direction"); },
           [](YAML::Emitter& out, const EffectorConfig& e, const Config&) {
             write_axes(out, e.directions);
           }),
@@ -316,7 +309,7 @@ const KeyTable<ControlConfig>& control_keys() {
               out << YAML::Flow << YAML::BeginMap;
               for (const auto& t : set) {
                 out << YAML::Key << t.effector << YAML::Value;
-                write_numbers(out, t.position);
+                write_numbers(out, t.position.data(), 3);
               }
               out << YAML::EndMap;
             }

@@ -43,6 +43,33 @@ Limit within(double low, double high) {
           }};
 }
 
+void write_numbers(YAML::Emitter& out, const double* values, size_t n) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (size_t i = 0; i < n; ++i) out << format_number(values[i]);
+  out << YAML::EndSeq;
+}
+
+void write_axes(YAML::Emitter& out, const std::array<bool, 3>& on) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (int d = 0; d < 3; ++d)
+    if (on[d]) out << std::string(1, static_cast<char>('x' + d));
+  out << YAML::EndSeq;
+}
+
+std::array<bool, 3> read_axes(const DeckReader& r, const YAML::Node& n, const std::string& key,
+                              const std::string& what) {
+  r.check_list(n, key);
+  require(n.size() > 0, r, n, key, "must name at least one of x, y, z");
+  std::array<bool, 3> on{false, false, false};
+  for (size_t i = 0; i < n.size(); ++i) {
+    const std::string axis = one_of(r, n[i], item_key(key, i), {"x", "y", "z"});
+    bool& flag = on[axis[0] - 'x'];
+    require(!flag, r, n[i], item_key(key, i), what + " '" + axis + "' named twice");
+    flag = true;
+  }
+  return on;
+}
+
 Limit any_number() {
   return {"", [](double) { return std::string(); }};
 }

@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -20,14 +21,22 @@ namespace hs {
 // A bound on a number beyond its type: the docs' words ("≥ 1") and the check's.
 struct Limit {
   std::string doc;                             // e.g. "≥ 1", "in [1, 8192]"
-  std::function<std::string(double)> problem;  // empty when the value is fine
+  std::function<std::string(double)> problem;  // the message, or empty where x is fine
 };
 // `note` follows the bound in the message, e.g. "must be >= 1 (converged steps), got 0".
 Limit at_least(double low, const std::string& note = "");  // "must be >= low, got x"
 Limit above(double low, const std::string& note = "");     // "must be > low, got x"
 Limit within(double low, double high);  // "must be >= low, got x" or "must be <= high, got x"
 Limit any_number();                     // no bound
-std::string doc_number(double value);   // the docs' spelling: 1e-3 -> "1e-3", 20000000
+std::string doc_number(double value);   // the docs' spelling: 20000000, not 2e+07
+
+// Values as the printout writes them: numbers in flow style by format_number (the shortest
+// text that reads back exactly), axes as a list of x, y, z.
+void write_numbers(YAML::Emitter& out, const double* values, size_t n);
+void write_axes(YAML::Emitter& out, const std::array<bool, 3>& on);
+// A list of x, y, z, non-empty and without repeats (a repeat: "`what` 'z' named twice").
+std::array<bool, 3> read_axes(const DeckReader& r, const YAML::Node& n, const std::string& key,
+                              const std::string& what);
 
 // When a key applies; where it does not, giving it is an error with `reason` and the
 // printout leaves it out. `holds` sees the section read so far (the keys above it in the

@@ -21,12 +21,6 @@ const KeyUse<TimeConfig> kNotDynamic = use_when<TimeConfig>(
     is_not_dynamic, "not used when time.type is dynamic (dt and end_time set the steps)",
     "static/quasi-static");
 
-void write_numbers(YAML::Emitter& out, const std::vector<double>& values) {
-  out << YAML::Flow << YAML::BeginSeq;
-  for (double v : values) out << format_number(v);
-  out << YAML::EndSeq;
-}
-
 }  // namespace
 
 const KeyTable<TimeConfig>& newmark_keys() {
@@ -60,7 +54,7 @@ const KeyTable<TimeConfig>& time_keys() {
             require(!t.schedule.empty(), r, n, key, "must hold at least one load factor");
           },
           [](YAML::Emitter& out, const TimeConfig& t, const Config&) {
-            write_numbers(out, t.schedule);
+            write_numbers(out, t.schedule.data(), t.schedule.size());
           })
           .only(kNotDynamic)
           .only(use_when<TimeConfig>(
