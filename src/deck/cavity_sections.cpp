@@ -1,5 +1,5 @@
-// parse_cavity_sections: the cavities of a soft robot, the states a run goes through and the
-// tip it reports (docs/decks.md, "Cavities, states and tip").
+// The sections `cavities` and `states` and the map of `tip`: the cavities of a soft robot, the
+// states a run goes through and the face it reports (docs/decks.md, "Cavities, states and tip").
 #include "deck/cavity_sections.hpp"
 
 #include <algorithm>
@@ -137,19 +137,13 @@ const KeyTable<CavityConfig>& cavity_keys() {
                  "gauge pressure (Pa) at the end of the first state, ramped with the load factor")
           .only(kinds_only(is_actuated, actuated, "`pneumatic`, `hydraulic`"))
           .printed_when([](const CavityConfig& cavity) { return !cavity.added_volume; }),
-      custom_key<CavityConfig>(
-          "added_volume", "number", "none",
+      optional_number_key(
+          "added_volume", &CavityConfig::added_volume,
           "volume (m³) added to the undeformed cavity by the end of the first state, ramped "
           "with the load factor (negative: withdrawn); the pressure is then an unknown. "
           "Excludes `pressure`. A value that would leave the cavity a volume ≤ 0 is refused "
-          "before any work (its walls would have to pass through each other).",
-          [](const DeckReader& r, const YAML::Node& n, const std::string& key, CavityConfig& cavity,
-             const Config&) { cavity.added_volume = r.number(n, key); },
-          [](YAML::Emitter& out, const CavityConfig& cavity, const Config&) {
-            out << format_number(*cavity.added_volume);
-          })
-          .only(kinds_only(is_actuated, actuated, "`pneumatic`, `hydraulic`"))
-          .printed_when([](const CavityConfig& cavity) { return cavity.added_volume.has_value(); }),
+          "before any work (its walls would have to pass through each other).")
+          .only(kinds_only(is_actuated, actuated, "`pneumatic`, `hydraulic`")),
       number_key("density", &CavityConfig::density, at_least(0),
                  "the liquid's density (kg/m³; water 1000, mercury 13600); 0 is a weightless "
                  "liquid")

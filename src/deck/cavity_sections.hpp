@@ -1,5 +1,5 @@
-// The deck sections `cavities`, `states` and `tip` (docs/decks.md), parsed apart from the
-// rest of the deck because they are checked against each other and against `time`.
+// The deck sections `cavities` and `states` (docs/decks.md); their keys, and those of `tip`,
+// are the tables of deck/section_keys.hpp.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "deck/cavity_sections.hpp"
 #include "deck/section_keys.hpp"
 
 namespace hs {
@@ -126,10 +125,6 @@ std::vector<std::vector<ControlTarget>> parse_control_targets(
   }
   return sets;
 }
-
-}  // namespace
-
-namespace {
 
 // An actuator's bound, printed only where the deck set it: an unset bound is no bound (and
 // 1e300 would read as a bound the deck never gave).
