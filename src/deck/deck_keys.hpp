@@ -277,7 +277,7 @@ std::string markdown_table(const KeyTable<S>& table) {
   return text;
 }
 
-// Every converted section's docs table, by the name that marks it in docs/decks.md
+// The key tables that docs/decks.md shows, each by the name that marks it there
 // (<!-- keys:NAME --> ... <!-- /keys -->).
 struct DeckKeyTable {
   std::string name;
