@@ -19,9 +19,11 @@ std::string extension_of(const MeshConfig& mesh) {
   return extension;
 }
 
-const KeyUse<MeshConfig> kGeoOnly = use_when<MeshConfig>(
-    [](const MeshConfig& mesh, const Config&) { return extension_of(mesh) == ".geo"; },
-    "only used with a .geo mesh file", "`.geo` only");
+KeyUse<MeshConfig> geo_only() {
+  return use_when<MeshConfig>(
+      [](const MeshConfig& mesh, const Config&) { return extension_of(mesh) == ".geo"; },
+      "only used with a .geo mesh file", "`.geo` only");
+}
 
 }  // namespace
 
@@ -75,9 +77,9 @@ const KeyTable<MeshConfig>& mesh_keys() {
               out << YAML::Key << name << YAML::Value << format_number(value);
             out << YAML::EndMap;
           })
-          .only(kGeoOnly),
+          .only(geo_only()),
       integer_key("refine", &MeshConfig::refine, at_least(0), "uniform refinements after meshing")
-          .only(kGeoOnly),
+          .only(geo_only()),
       bool_key("trust_geo", &MeshConfig::trust_geo,
                "run the `.geo` as it is. A `.geo` is gmsh code; an untrusted one (the default) is "
                "refused before meshing when it runs a command (`SystemCall`, `System`, "
@@ -85,7 +87,7 @@ const KeyTable<MeshConfig>& mesh_keys() {
                "> file`, `CreateDir`, `DeleteFile`), asks on standard input, sets an option "
                "naming a file or a program, or reads or names a file outside its own folder and "
                "the deck's folder (`Include \"/etc/passwd\"`). Every `.geo` of `meshes/` passes.")
-          .only(kGeoOnly),
+          .only(geo_only()),
       integer_key("max_elements", &MeshConfig::max_elements, at_least(1),
                   "the most tetrahedra the mesh may have, after `refine`. A `.geo` is refused "
                   "before meshing when its size options (`Mesh.MeshSizeMax`) already promise "

@@ -96,7 +96,7 @@ KeyUse<Config> static_runs_only(const std::string& reason) {
       [](const Config& c, const Config&) { return c.time.type != TimeType::dynamic; }, reason,
       "static and quasi-static runs only");
 }
-const std::string kNeedsStatic =
+constexpr const char* kNeedsStatic =
     "cavities and states need time.type static or quasi_static (time.type is dynamic)";
 
 }  // namespace
@@ -182,7 +182,7 @@ const KeyTable<Config>& deck_section_keys() {
             out << YAML::Flow;
             write_map(out, tip_keys(), *c.tip, c);
           })
-          .only(static_runs_only("the tip is reported per state: " + kNeedsStatic))
+          .only(static_runs_only(std::string("the tip is reported per state: ") + kNeedsStatic))
           .printed_when([](const Config& c) { return c.tip.has_value(); }),
       custom_key<Config>(
           "control", "map", "none", "inverse control",

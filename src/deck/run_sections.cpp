@@ -15,11 +15,16 @@ constexpr double kMaxTimeSteps = 1e7;
 bool is_dynamic(const TimeConfig& t, const Config&) { return t.type == TimeType::dynamic; }
 bool is_not_dynamic(const TimeConfig& t, const Config&) { return t.type != TimeType::dynamic; }
 
-const KeyUse<TimeConfig> kDynamicOnly =
-    use_when<TimeConfig>(is_dynamic, "only used when time.type is dynamic", "dynamic");
-const KeyUse<TimeConfig> kNotDynamic = use_when<TimeConfig>(
-    is_not_dynamic, "not used when time.type is dynamic (dt and end_time set the steps)",
-    "static/quasi-static");
+// Functions, not globals: the tables are made on first use, whatever the order of static
+// initialization.
+KeyUse<TimeConfig> dynamic_only() {
+  return use_when<TimeConfig>(is_dynamic, "only used when time.type is dynamic", "dynamic");
+}
+KeyUse<TimeConfig> not_dynamic() {
+  return use_when<TimeConfig>(is_not_dynamic,
+                              "not used when time.type is dynamic (dt and end_time set the steps)",
+                              "static/quasi-static");
+}
 
 }  // namespace
 
@@ -40,7 +45,7 @@ const KeyTable<TimeConfig>& time_keys() {
       integer_key("steps", &TimeConfig::steps, at_least(1),
                   "number of load increments of the linear ramp to load factor 1 (not with "
                   "`states`: the first state's `steps`)")
-          .only(kNotDynamic)
+          .only(not_dynamic())
           .only(use_when<TimeConfig>(
               [](const TimeConfig&, const Config& c) { return c.states.empty(); },
               "not used when states are given (the first state's steps replace it)", "")),
@@ -56,7 +61,7 @@ const KeyTable<TimeConfig>& time_keys() {
           [](YAML::Emitter& out, const TimeConfig& t, const Config&) {
             write_numbers(out, t.schedule.data(), t.schedule.size());
           })
-          .only(kNotDynamic)
+          .only(not_dynamic())
           .only(use_when<TimeConfig>(
               [](const TimeConfig&, const Config& c) { return c.states.empty(); },
               "not used when states are given (the first state ramps the load linearly over its "
@@ -70,18 +75,18 @@ const KeyTable<TimeConfig>& time_keys() {
           "2^-40 of the step or stop changing the load factor, and a run after 16 converged "
           "solves per planned step (at least 256) (docs/reliability.md, \"Load stepping always "
           "ends\")")
-          .only(kNotDynamic),
+          .only(not_dynamic()),
       number_key("dt", &TimeConfig::dt, above(0),
                  "time step (s), at most `end_time` and at least `end_time` / 1e7")
-          .only(kDynamicOnly)
+          .only(dynamic_only())
           .needed(),
       number_key("end_time", &TimeConfig::end_time, above(0),
                  "final time (s); the run takes ⌈end_time / dt⌉ steps")
-          .only(kDynamicOnly)
+          .only(dynamic_only())
           .needed(),
       enum_key("integrator", &TimeConfig::integrator, kIntegratorNames,
                "`newmark` or `backward_euler`")
-          .only(kDynamicOnly),
+          .only(dynamic_only()),
       custom_key<TimeConfig>(
           "newmark", "`{beta, gamma}`",
           "`{beta: " + doc_number(defaults.newmark_beta) +
@@ -95,7 +100,7 @@ const KeyTable<TimeConfig>& time_keys() {
             write_keys(out, newmark_keys(), t, c);
             out << YAML::EndMap;
           })
-          .only(kDynamicOnly)
+          .only(dynamic_only())
           .only(use_when<TimeConfig>(
               [](const TimeConfig& t, const Config&) {
                 return t.integrator == Integrator::newmark;
