@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "deck/section_keys.hpp"
+#include "materials/registry.hpp"
 
 namespace hs {
 namespace {
@@ -77,6 +78,8 @@ Limit any_number() {
 std::vector<DeckKeyTable> deck_key_tables() {
   return {
       {"mesh", markdown_table(mesh_keys())},
+      {"materials", markdown_table(material_keys())},
+      {"material_laws", material_laws_markdown()},
       {"boundary", markdown_table(boundary_keys())},
       {"loads", markdown_table(loads_keys())},
       {"time", markdown_table(time_keys())},

@@ -17,34 +17,37 @@
 namespace hs {
 namespace {
 
-MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const std::string& key) {
-  const std::vector<std::string> deck_keys = {"group", "model", "density"};
-  std::vector<std::string> known = {"group", "model"};
-  for (const auto& name : material_law_keys()) known.push_back(name);
-  known.push_back("density");
+MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                              const Config& c) {
+  const std::vector<std::string> deck_keys = key_names(material_keys());
+  std::vector<std::string> known;  // the models' keys after `model`, as printed
+  for (const auto& name : deck_keys) {
+    known.push_back(name);
+    if (name == "model")
+      for (const auto& law_key : material_law_keys()) known.push_back(law_key);
+  }
   r.check_map(node, key, known);
   MaterialConfig m;
-  m.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
-  const std::string model = r.text(required(r, node, key, "model"), child_key(key, "model"));
-  m.law = parse_material_law(r, node, key, model, deck_keys);
-  if (const auto n = node["density"]) {
-    m.density = r.number(n, child_key(key, "density"));
-    require(m.density >= 0, r, n, child_key(key, "density"),
-            "must be >= 0, got " + format_number(m.density));
-    // Above any solid's (osmium: 22,590 kg/m^3), and far from where rho g overflows.
-    require(m.density <= 1e5, r, n, child_key(key, "density"),
-            "must be <= 1e5 kg/m^3, got " + format_number(m.density));
+  for (const auto& k : material_keys()) {
+    if (k.read) {
+      read_key(r, node, key, k, m, c);
+      continue;
+    }
+    // `model`: its law, from the whole map.
+    const std::string model = r.text(required(r, node, key, k.name), child_key(key, k.name));
+    m.law = parse_material_law(r, node, key, model, deck_keys);
   }
   return m;
 }
 
-std::vector<MaterialConfig> parse_materials(const DeckReader& r, const YAML::Node& node) {
+std::vector<MaterialConfig> parse_materials(const DeckReader& r, const YAML::Node& node,
+                                            const Config& c) {
   r.check_list(node, "materials");
   require(node.size() > 0, r, node, "materials", "at least one material is required");
   std::vector<MaterialConfig> materials;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string key = item_key("materials", i);
-    materials.push_back(parse_material(r, node[i], key));
+    materials.push_back(parse_material(r, node[i], key, c));
     for (size_t j = 0; j < i; ++j)
       if (materials[j].group == materials[i].group)
         r.fail(child_key(key, "group"), node[i]["group"],
@@ -54,14 +57,12 @@ std::vector<MaterialConfig> parse_materials(const DeckReader& r, const YAML::Nod
   return materials;
 }
 
-void write_materials(YAML::Emitter& out, const std::vector<MaterialConfig>& materials) {
+void write_materials(YAML::Emitter& out, const std::vector<MaterialConfig>& materials,
+                     const Config& c) {
   out << YAML::BeginSeq;
   for (const auto& m : materials) {
     out << YAML::BeginMap;
-    out << YAML::Key << "group" << YAML::Value << m.group;
-    out << YAML::Key << "model" << YAML::Value << m.law->name();
-    m.law->print(out);
-    out << YAML::Key << "density" << YAML::Value << format_number(m.density);
+    write_keys(out, material_keys(), m, c);
     out << YAML::EndMap;
     out << YAML::Comment(m.law->derived_values());
   }
@@ -101,6 +102,40 @@ constexpr const char* kNeedsStatic =
 
 }  // namespace
 
+// The model's own keys follow `model`, in its law's table (materials/registry.hpp): read from
+// the whole map by parse_material (`model` has no reader of its own), printed after its name.
+const KeyTable<MaterialConfig>& material_keys() {
+  static const KeyTable<MaterialConfig> keys = {
+      text_key("group", &MaterialConfig::group, "name",
+               "volume physical group (unique across materials)")
+          .needed(),
+      custom_key<MaterialConfig>(
+          "model", "name", "required",
+          [] {
+            std::vector<std::string> names;
+            for (const auto& name : material_law_names()) names.push_back("`" + name + "`");
+            return join(names) + " (docs/formulation.md); its keys are in the table below";
+          }(),
+          nullptr,
+          [](YAML::Emitter& out, const MaterialConfig& m, const Config&) {
+            out << m.law->name();
+            print_material_law(out, *m.law);
+          })
+          .needed(),
+      number_key("density", &MaterialConfig::density,
+                 // Above any solid's (osmium: 22,590 kg/m^3), and far from where rho g overflows.
+                 Limit{"in [0, 1e5]",
+                       [](double x) {
+                         if (x < 0) return "must be >= 0, got " + format_number(x);
+                         if (x > 1e5) return "must be <= 1e5 kg/m^3, got " + format_number(x);
+                         return std::string();
+                       }},
+                 "kg/m³: gravity load and, in dynamic runs, inertia (above any solid's; larger "
+                 "values overflow rho g)"),
+  };
+  return keys;
+}
+
 const KeyTable<Config>& deck_section_keys() {
   using R = const DeckReader&;
   using N = const YAML::Node&;
@@ -117,9 +152,9 @@ const KeyTable<Config>& deck_section_keys() {
           .needed(),
       custom_key<Config>(
           "materials", "list", "required", "the materials, one per volume group",
-          [](R r, N n, K, Config& s, const Config&) { s.materials = parse_materials(r, n); },
+          [](R r, N n, K, Config& s, const Config& c) { s.materials = parse_materials(r, n, c); },
           [](YAML::Emitter& out, const Config& c, const Config&) {
-            write_materials(out, c.materials);
+            write_materials(out, c.materials, c);
           })
           .needed(),
       custom_key<Config>(

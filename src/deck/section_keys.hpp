@@ -9,6 +9,8 @@ namespace hs {
 // The deck's top-level map: its sections, in the printout's order (deck_sections.cpp).
 const KeyTable<Config>& deck_section_keys();
 
+const KeyTable<MaterialConfig>&
+material_keys();  // deck_sections.cpp; a law's own keys: materials/registry.hpp
 const KeyTable<MeshConfig>& mesh_keys();  // body_sections.cpp
 const KeyTable<DirichletConfig>& boundary_keys();
 const KeyTable<Config>& loads_keys();  // gravity and pressures
