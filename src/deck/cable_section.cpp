@@ -2,20 +2,17 @@
 
 #include <cmath>
 
+#include "deck/section_keys.hpp"
+
 namespace hs {
 namespace {
 
-CableConfig parse_cable(const DeckReader& r, const YAML::Node& node, const std::string& key) {
-  r.check_map(node, key, {"name", "points", "pull_point", "force", "friction"});
+CableConfig parse_cable(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                        const Config& c) {
   CableConfig cable;
-  cable.name = r.text(required(r, node, key, "name"), child_key(key, "name"));
+  read_keys(r, node, key, cable_keys(), cable, c);
   const std::string pkey = child_key(key, "points");
-  const YAML::Node points = required(r, node, key, "points");
-  r.check_list(points, pkey);
-  for (size_t i = 0; i < points.size(); ++i)
-    cable.points.push_back(r.vector3(points[i], item_key(pkey, i)));
-  if (const auto n = node["pull_point"])
-    cable.pull_point = r.vector3(n, child_key(key, "pull_point"));
+  const YAML::Node points = node["points"];
   const size_t segments = cable.points.size() - (cable.pull_point ? 0 : 1);
   require(!cable.points.empty() && segments >= 1, r, points, pkey,
           "a cable needs at least two points, or one point and a pull_point (got " +
@@ -32,33 +29,70 @@ CableConfig parse_cable(const DeckReader& r, const YAML::Node& node, const std::
              i + 1 < cable.points.size() ? points[i + 1] : node["pull_point"],
              "coincides with the point before it: a cable segment needs a length");
   }
-  if (const auto n = node["force"]) {
-    cable.force = r.number(n, child_key(key, "force"));
-    require(cable.force >= 0, r, n, child_key(key, "force"),
-            "must be >= 0 (a cable pulls, it cannot push), got " + format_number(cable.force));
-  }
-  if (const auto n = node["friction"]) {
-    cable.friction = r.number(n, child_key(key, "friction"));
-    require(cable.friction >= 0, r, n, child_key(key, "friction"),
-            "must be >= 0 (a Coulomb friction coefficient), got " + format_number(cable.friction));
-  }
   return cable;
 }
 
 }  // namespace
 
-void parse_cable_section(const DeckReader& r, const YAML::Node& root, Config& c) {
-  const YAML::Node node = root["cables"];
-  if (!node) return;
-  if (c.time.type == TimeType::dynamic)
-    forbid(r, root, "", "cables", "cables need time.type static or quasi_static");
+const KeyTable<CableConfig>& cable_keys() {
+  static const KeyTable<CableConfig> keys = {
+      text_key("name", &CableConfig::name, "name",
+               "unique among cables and cavities; control actuators name it")
+          .needed(),
+      custom_key<CableConfig>(
+          "points", "list of 3 numbers", "required",
+          "material points of the undeformed body (m) the cable runs through, in order (each "
+          "located in its tetrahedron: a point outside the mesh is an error); at least two, or "
+          "one with a `pull_point`; consecutive points distinct",
+          [](const DeckReader& r, const YAML::Node& points, const std::string& key,
+             CableConfig& cable, const Config&) {
+            r.check_list(points, key);
+            for (size_t i = 0; i < points.size(); ++i)
+              cable.points.push_back(r.vector3(points[i], item_key(key, i)));
+          },
+          [](YAML::Emitter& out, const CableConfig& cable, const Config&) {
+            // The emitter's own digits, not format_number's (both read back exactly): the
+            // printout is the restart fingerprint, which a change of spelling would break.
+            out << YAML::BeginSeq;
+            for (const auto& p : cable.points) {
+              out << YAML::Flow << YAML::BeginSeq;
+              for (double x : p) out << x;
+              out << YAML::EndSeq;
+            }
+            out << YAML::EndSeq;
+          })
+          .needed(),
+      custom_key<CableConfig>(
+          "pull_point", "3 numbers", "none",
+          "a point fixed in space after the last point: the cable's last segment runs to it",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, CableConfig& cable,
+             const Config&) { cable.pull_point = r.vector3(n, key); },
+          [](YAML::Emitter& out, const CableConfig& cable, const Config&) {
+            write_numbers(out, cable.pull_point->data(), 3);
+          })
+          .printed_when([](const CableConfig& cable) { return cable.pull_point.has_value(); }),
+      number_key("force", &CableConfig::force, at_least(0, "a cable pulls, it cannot push"),
+                 "tension (N) at the end of the first state, ramped with the load factor like a "
+                 "cavity pressure; later states keep it (they do not name cables)"),
+      number_key("friction", &CableConfig::friction, at_least(0, "a Coulomb friction coefficient"),
+                 "Coulomb friction coefficient where the cable turns through its points (the "
+                 "capstan equation, docs/control.md): the tension falls by exp(-friction theta) "
+                 "at each turn away from the motor; 0 is the frictionless cable. With friction "
+                 "the tangent is not symmetric (LU, not Cholesky)"),
+  };
+  return keys;
+}
+
+std::vector<CableConfig> parse_cables(const DeckReader& r, const YAML::Node& node,
+                                      const Config& c) {
   r.check_list(node, "cables");
+  std::vector<CableConfig> cables;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string key = item_key("cables", i);
-    c.cables.push_back(parse_cable(r, node[i], key));
-    const std::string& name = c.cables.back().name;
+    cables.push_back(parse_cable(r, node[i], key, c));
+    const std::string& name = cables.back().name;
     for (size_t j = 0; j < i; ++j)
-      if (c.cables[j].name == name)
+      if (cables[j].name == name)
         r.fail(child_key(key, "name"), node[i]["name"],
                "duplicate cable name '" + name + "' (also " + item_key("cables", j) + ")");
     for (const auto& cavity : c.cavities)
@@ -66,6 +100,7 @@ void parse_cable_section(const DeckReader& r, const YAML::Node& root, Config& c)
         r.fail(child_key(key, "name"), node[i]["name"],
                "'" + name + "' is also a cavity's name: actuators are named by it");
   }
+  return cables;
 }
 
 }  // namespace hs

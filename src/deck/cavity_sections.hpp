@@ -1,19 +1,21 @@
-// The deck sections `cavities`, `states` and `tip` (docs/decks.md), parsed apart from the
-// rest of the deck because they are checked against each other and against `time`.
+// The deck sections `cavities` and `states` (docs/decks.md); their keys, and those of `tip`,
+// are the tables of deck/section_keys.hpp.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
 
 #include <string>
+#include <vector>
 
 #include "common/deck_reader.hpp"
 #include "deck/config.hpp"
 
 namespace hs {
 
-// Reads root["cavities"], root["states"] and root["tip"] into `c`. Needs c.time parsed
-// already: these sections need a static or quasi-static run, and `states` replaces
-// time.steps and time.schedule (which must then be absent from root["time"]).
-void parse_cavity_sections(const DeckReader& r, const YAML::Node& root, Config& c);
+// The list `node` of section `cavities`.
+std::vector<CavityConfig> parse_cavities(const DeckReader& r, const YAML::Node& node,
+                                         const Config& c);
+// The list `node` of section `states`, whose targets name c.cavities (read before).
+std::vector<StateConfig> parse_states(const DeckReader& r, const YAML::Node& node, const Config& c);
 
 }  // namespace hs

@@ -1,4 +1,4 @@
-// parse_control_section: the end effectors of a soft robot, the cavities that actuate it and
+// parse_control: the end effectors of a soft robot, the cavities that actuate it and
 // the targets its effectors are driven to (docs/decks.md, "control"; docs/control.md).
 #include "deck/control_section.hpp"
 
@@ -6,50 +6,31 @@
 #include <string>
 #include <vector>
 
-#include "deck/cavity_sections.hpp"
+#include "deck/section_keys.hpp"
 
 namespace hs {
 namespace {
 
-EffectorConfig parse_effector(const DeckReader& r, const YAML::Node& node, const std::string& key) {
-  r.check_map(node, key, {"name", "point", "position", "directions", "weight"});
+EffectorConfig parse_effector(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                              const Config& c) {
   EffectorConfig e;
-  e.name = r.text(required(r, node, key, "name"), child_key(key, "name"));
+  read_keys(r, node, key, effector_keys(), e, c);
   // A mesh node or a material point inside an element: one of them, not both.
-  if (static_cast<bool>(node["point"]) == static_cast<bool>(node["position"]))
+  if (!node["point"] == !node["position"])
     r.fail(key, node,
            "give exactly one of point (a point group with one node) or position (a material "
            "point, in reference coordinates)");
-  if (const auto n = node["point"]) e.point = r.text(n, child_key(key, "point"));
-  if (const auto n = node["position"]) e.position = r.vector3(n, child_key(key, "position"));
-  if (const auto n = node["directions"]) {
-    const std::string dkey = child_key(key, "directions");
-    r.check_list(n, dkey);
-    require(n.size() > 0, r, n, dkey, "must name at least one of x, y, z");
-    e.directions = {false, false, false};
-    for (size_t i = 0; i < n.size(); ++i) {
-      const std::string d = one_of(r, n[i], item_key(dkey, i), {"x", "y", "z"});
-      bool& on = e.directions[d[0] - 'x'];
-      require(!on, r, n[i], item_key(dkey, i), "direction '" + d + "' named twice");
-      on = true;
-    }
-  }
-  if (const auto n = node["weight"]) {
-    e.weight = r.number(n, child_key(key, "weight"));
-    require(e.weight > 0, r, n, child_key(key, "weight"),
-            "must be > 0, got " + format_number(e.weight));
-  }
   return e;
 }
 
 std::vector<EffectorConfig> parse_effectors(const DeckReader& r, const YAML::Node& node,
-                                            const std::string& key) {
+                                            const std::string& key, const Config& c) {
   r.check_list(node, key);
   require(node.size() > 0, r, node, key, "at least one effector is required");
   std::vector<EffectorConfig> effectors;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string ekey = item_key(key, i);
-    effectors.push_back(parse_effector(r, node[i], ekey));
+    effectors.push_back(parse_effector(r, node[i], ekey, c));
     for (size_t j = 0; j < i; ++j)
       if (effectors[j].name == effectors[i].name)
         r.fail(child_key(ekey, "name"), node[i]["name"],
@@ -59,13 +40,10 @@ std::vector<EffectorConfig> parse_effectors(const DeckReader& r, const YAML::Nod
   return effectors;
 }
 
-// Optional bounds `low_name` <= `high_name` (unset: unbounded); the lower one must not exceed
-// the upper one.
-void parse_bounds(const DeckReader& r, const YAML::Node& node, const std::string& key,
-                  const std::string& low_name, const std::string& high_name, double& low,
-                  double& high) {
-  if (const auto n = node[low_name]) low = r.number(n, child_key(key, low_name));
-  if (const auto n = node[high_name]) high = r.number(n, child_key(key, high_name));
+// The lower bound `low_name` must not exceed the upper one `high_name` (unset: unbounded).
+void check_bounds(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                  const std::string& low_name, const std::string& high_name, double low,
+                  double high) {
   if (low > high)
     r.fail(child_key(key, low_name), node[low_name],
            "is " + format_number(low) + " but " + high_name + " is " + format_number(high) +
@@ -74,86 +52,38 @@ void parse_bounds(const DeckReader& r, const YAML::Node& node, const std::string
 
 // A cable actuator: bounds on its tension (N) and its pull (its shortening, m).
 ActuatorConfig parse_cable_actuator(const DeckReader& r, const YAML::Node& node,
-                                    const std::string& key,
-                                    const std::vector<CableConfig>& cables) {
-  r.check_map(node, key,
-              {"cable", "min_force", "max_force", "min_pull", "max_pull", "max_force_change"});
+                                    const std::string& key, const Config& c) {
   ActuatorConfig a;
   a.min_multiplier = 0;  // a cable cannot push
-  const YAML::Node cable = node["cable"];
-  const std::string ckey = child_key(key, "cable");
-  a.constraint = r.text(cable, ckey);
-  std::vector<std::string> names;
-  for (const auto& c : cables) names.push_back(c.name);
-  if (!contains(names, a.constraint))
-    r.fail(ckey, cable,
-           names.empty() ? "not a declared cable (the deck has no cables section)"
-                         : "not a declared cable (did you mean '" + nearest(a.constraint, names) +
-                               "'? cables: " + join(names) + ")");
-  parse_bounds(r, node, key, "min_force", "max_force", a.min_multiplier, a.max_multiplier);
-  if (a.min_multiplier < 0)
-    r.fail(child_key(key, "min_force"), node["min_force"],
-           "must be >= 0 (a cable pulls, it cannot push), got " + format_number(a.min_multiplier));
-  parse_bounds(r, node, key, "min_pull", "max_pull", a.min_measure_change, a.max_measure_change);
-  if (const auto n = node["max_force_change"]) {
-    a.max_multiplier_step = r.number(n, child_key(key, "max_force_change"));
-    require(a.max_multiplier_step > 0, r, n, child_key(key, "max_force_change"),
-            "must be > 0, got " + format_number(a.max_multiplier_step));
-  }
+  read_keys(r, node, key, cable_actuator_keys(), a, c);
+  check_bounds(r, node, key, "min_force", "max_force", a.min_multiplier, a.max_multiplier);
+  check_bounds(r, node, key, "min_pull", "max_pull", a.min_measure_change, a.max_measure_change);
   return a;
 }
 
 ActuatorConfig parse_actuator(const DeckReader& r, const YAML::Node& node, const std::string& key,
-                              const std::vector<CavityConfig>& cavities,
-                              const std::vector<CableConfig>& cables) {
+                              const Config& c) {
   if (node.IsMap() && node["cable"]) {
     if (node["cavity"])
       r.fail(child_key(key, "cable"), node["cable"], "give one of cavity and cable, not both");
-    return parse_cable_actuator(r, node, key, cables);
+    return parse_cable_actuator(r, node, key, c);
   }
-  r.check_map(node, key,
-              {"cavity", "min_pressure", "max_pressure", "min_volume_growth", "max_volume_growth",
-               "max_pressure_change"});
   ActuatorConfig a;
-  const YAML::Node cavity = required(r, node, key, "cavity");
-  const std::string ckey = child_key(key, "cavity");
-  a.constraint = r.text(cavity, ckey);
-  std::vector<std::string> names;
-  for (const auto& c : cavities) names.push_back(c.group);
-  const auto found = std::find(names.begin(), names.end(), a.constraint);
-  if (found == names.end())
-    r.fail(ckey, cavity,
-           names.empty() ? "not a declared cavity (the deck has no cavities section)"
-                         : "not a declared cavity (did you mean '" + nearest(a.constraint, names) +
-                               "'? cavities: " + join(names) + ")");
-  const CavityKind kind = cavities[found - names.begin()].kind;
-  if (!is_actuated(kind))
-    r.fail(ckey, cavity,
-           "cavity '" + a.constraint + "' is " + name_of(kCavityKindNames, kind) +
-               ": sealed chambers are not actuated, so control cannot drive them (use a "
-               "pneumatic or hydraulic cavity)");
-
-  parse_bounds(r, node, key, "min_pressure", "max_pressure", a.min_multiplier, a.max_multiplier);
-  parse_bounds(r, node, key, "min_volume_growth", "max_volume_growth", a.min_measure_change,
+  read_keys(r, node, key, cavity_actuator_keys(), a, c);
+  check_bounds(r, node, key, "min_pressure", "max_pressure", a.min_multiplier, a.max_multiplier);
+  check_bounds(r, node, key, "min_volume_growth", "max_volume_growth", a.min_measure_change,
                a.max_measure_change);
-  if (const auto n = node["max_pressure_change"]) {
-    a.max_multiplier_step = r.number(n, child_key(key, "max_pressure_change"));
-    require(a.max_multiplier_step > 0, r, n, child_key(key, "max_pressure_change"),
-            "must be > 0, got " + format_number(a.max_multiplier_step));
-  }
   return a;
 }
 
 std::vector<ActuatorConfig> parse_actuators(const DeckReader& r, const YAML::Node& node,
-                                            const std::string& key,
-                                            const std::vector<CavityConfig>& cavities,
-                                            const std::vector<CableConfig>& cables) {
+                                            const std::string& key, const Config& c) {
   r.check_list(node, key);
   require(node.size() > 0, r, node, key, "at least one actuator is required");
   std::vector<ActuatorConfig> actuators;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string akey = item_key(key, i);
-    actuators.push_back(parse_actuator(r, node[i], akey, cavities, cables));
+    actuators.push_back(parse_actuator(r, node[i], akey, c));
     const char* what = node[i]["cable"] ? "cable" : "cavity";
     for (size_t j = 0; j < i; ++j)
       if (actuators[j].constraint == actuators[i].constraint)
@@ -196,67 +126,240 @@ std::vector<std::vector<ControlTarget>> parse_control_targets(
   return sets;
 }
 
-ControlConfig parse_control(const DeckReader& r, const YAML::Node& node,
-                            const std::vector<CavityConfig>& cavities,
-                            const std::vector<CableConfig>& cables) {
-  const std::string key = "control";
-  if (node.IsMap() && node["targets_from_stdin"])
-    r.fail(child_key(key, "targets_from_stdin"), node["targets_from_stdin"],
-           "not a deck key: the command line sets it (--targets -)");
-  r.check_map(
-      node, key,
-      {"effectors", "actuators", "targets", "steps_per_target", "regularization", "newton_finish",
-       "free_solve", "refactor_every", "check_equilibrium", "factor_threads"});
-  ControlConfig control;
-  control.effectors =
-      parse_effectors(r, required(r, node, key, "effectors"), child_key(key, "effectors"));
-  control.actuators = parse_actuators(r, required(r, node, key, "actuators"),
-                                      child_key(key, "actuators"), cavities, cables);
-  if (const auto n = node["targets"])
-    control.targets = parse_control_targets(r, n, child_key(key, "targets"), control.effectors);
-  if (const auto n = node["steps_per_target"]) {
-    control.steps_per_target = r.integer(n, "control.steps_per_target");
-    require(control.steps_per_target >= 1, r, n, "control.steps_per_target",
-            "must be >= 1, got " + std::to_string(control.steps_per_target));
-  }
-  if (const auto n = node["regularization"]) {
-    control.regularization = r.number(n, "control.regularization");
-    require(control.regularization >= 0, r, n, "control.regularization",
-            "must be >= 0, got " + format_number(control.regularization));
-  }
-  if (const auto n = node["newton_finish"])
-    control.newton_finish = r.boolean(n, "control.newton_finish");
-  if (const auto n = node["free_solve"])
-    control.free_solve = enum_of<FreeSolve>(
-        kFreeSolveNames, one_of(r, n, child_key(key, "free_solve"), kFreeSolveNames));
-  if (const auto n = node["refactor_every"]) {
-    control.refactor_every = r.integer(n, "control.refactor_every");
-    require(control.refactor_every >= 1, r, n, "control.refactor_every",
-            "must be >= 1, got " + std::to_string(control.refactor_every));
-    require(control.refactor_every == 1 || control.free_solve == FreeSolve::one_step, r, n,
-            "control.refactor_every", "needs free_solve: one_step (Newton refactors every step)");
-  }
-  if (const auto n = node["check_equilibrium"])
-    control.check_equilibrium = r.boolean(n, "control.check_equilibrium");
-  if (const auto n = node["factor_threads"]) {
-    control.factor_threads = r.integer(n, "control.factor_threads");
-    require(control.factor_threads >= 0 && control.factor_threads <= 64, r, n,
-            "control.factor_threads",
-            "must be 0 ... 64, got " + std::to_string(control.factor_threads));
-    require(control.factor_threads == 0 || control.free_solve == FreeSolve::one_step, r, n,
-            "control.factor_threads", "needs free_solve: one_step");
-  }
-  return control;
+// An actuator's bound, printed only where the deck set it: an unset bound is no bound (and
+// 1e300 would read as a bound the deck never gave).
+DeckKey<ActuatorConfig> bound_key(std::string name, double ActuatorConfig::*member, Limit limit,
+                                  std::string meaning) {
+  return number_key(std::move(name), member, std::move(limit), std::move(meaning))
+      .defaults_to("none")
+      .printed_when(
+          [member](const ActuatorConfig& a) { return a.*member != ActuatorConfig{}.*member; });
+}
+
+// The actuator's constraint: a declared cavity of `kind` ... or cable, by name.
+DeckKey<ActuatorConfig> constraint_key(std::string name, std::string meaning, bool cable) {
+  return custom_key<ActuatorConfig>(
+             std::move(name), "name", "required", std::move(meaning),
+             [cable](const DeckReader& r, const YAML::Node& n, const std::string& key,
+                     ActuatorConfig& a, const Config& c) {
+               a.constraint = r.text(n, key);
+               std::vector<std::string> names;
+               if (cable)
+                 for (const auto& cable : c.cables) names.push_back(cable.name);
+               else
+                 for (const auto& cavity : c.cavities) names.push_back(cavity.group);
+               const std::string what = cable ? "cable" : "cavity";
+               const auto found = std::find(names.begin(), names.end(), a.constraint);
+               if (found == names.end())
+                 r.fail(key, n,
+                        names.empty()
+                            ? "not a declared " + what + " (the deck has no " +
+                                  (cable ? "cables" : "cavities") + " section)"
+                            : "not a declared " + what + " (did you mean '" +
+                                  nearest(a.constraint, names) + "'? " +
+                                  (cable ? "cables" : "cavities") + ": " + join(names) + ")");
+               if (cable) return;
+               const CavityKind kind = c.cavities[found - names.begin()].kind;
+               if (!is_actuated(kind))
+                 r.fail(key, n,
+                        "cavity '" + a.constraint + "' is " + name_of(kCavityKindNames, kind) +
+                            ": sealed chambers are not actuated, so control cannot drive them "
+                            "(use a pneumatic or hydraulic cavity)");
+             },
+             [](YAML::Emitter& out, const ActuatorConfig& a, const Config&) {
+               out << a.constraint;
+             })
+      .needed();
 }
 
 }  // namespace
 
-void parse_control_section(const DeckReader& r, const YAML::Node& root, Config& c) {
-  // Control steps from one static equilibrium to the next; dynamic runs have no cavities.
-  if (c.time.type == TimeType::dynamic)
-    forbid(r, root, "", "control",
-           "control needs time.type static or quasi_static (time.type is dynamic)");
-  if (const auto n = root["control"]) c.control = parse_control(r, n, c.cavities, c.cables);
+const KeyTable<EffectorConfig>& effector_keys() {
+  static const KeyTable<EffectorConfig> keys = {
+      text_key("name", &EffectorConfig::name, "name",
+               "unique across effectors; the target sets name it")
+          .needed(),
+      text_key("point", &EffectorConfig::point, "name",
+               "a physical point group of the mesh with exactly one node (checked once the mesh "
+               "is loaded), e.g. `effector` of `meshes/finger.geo`; the effector is that node")
+          .defaults_to("required (or `position`)")
+          .printed_when([](const EffectorConfig& e) { return !e.point.empty(); }),
+      custom_key<EffectorConfig>(
+          "position", "3 numbers", "required (or `point`)",
+          "a point of the undeformed body, in reference coordinates (m); the solver finds the "
+          "element that holds it (a point outside the mesh is an error then). Give exactly one "
+          "of `point` and `position`.",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
+             const Config&) { e.position = r.vector3(n, key); },
+          [](YAML::Emitter& out, const EffectorConfig& e, const Config&) {
+            write_numbers(out, e.position.data(), 3);
+          })
+          .printed_when([](const EffectorConfig& e) { return e.point.empty(); }),
+      custom_key<EffectorConfig>(
+          "directions", "list of `x`, `y`, `z`", "`[x, y, z]`",
+          "the components of the effector's position that are steered; the others are free "
+          "(non-empty, no repeats)",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
+             const Config&) { e.directions = read_axes(r, n, key, "direction"); },
+          [](YAML::Emitter& out, const EffectorConfig& e, const Config&) {
+            write_axes(out, e.directions);
+          }),
+      number_key("weight", &EffectorConfig::weight, above(0),
+                 "the weight of this effector's squared error"),
+  };
+  return keys;
+}
+
+const KeyTable<ActuatorConfig>& cavity_actuator_keys() {
+  static const KeyTable<ActuatorConfig> keys = {
+      constraint_key("cavity",
+                     "a cavity of the `cavities` section of kind `pneumatic` or `hydraulic` "
+                     "(sealed cavities are not actuated); at most one actuator per cavity",
+                     false),
+      bound_key("min_pressure", &ActuatorConfig::min_multiplier, any_number(),
+                "lower bound on the cavity's gauge pressure (Pa); at most `max_pressure` (equal "
+                "bounds hold the pressure)"),
+      bound_key("max_pressure", &ActuatorConfig::max_multiplier, any_number(),
+                "upper bound on the cavity's gauge pressure (Pa)"),
+      bound_key("min_volume_growth", &ActuatorConfig::min_measure_change, any_number(),
+                "lower bound on the cavity's volume minus its volume at the rest state (m³); at "
+                "most `max_volume_growth`"),
+      bound_key("max_volume_growth", &ActuatorConfig::max_measure_change, any_number(),
+                "upper bound on the cavity's volume minus its volume at the rest state (m³)"),
+      bound_key("max_pressure_change", &ActuatorConfig::max_multiplier_step, above(0),
+                "the most the pressure may change in one control step (Pa)"),
+  };
+  return keys;
+}
+
+const KeyTable<ActuatorConfig>& cable_actuator_keys() {
+  static const KeyTable<ActuatorConfig> keys = {
+      constraint_key("cable",
+                     "a cable of the `cables` section; at most one actuator per cable (instead "
+                     "of `cavity`)",
+                     true),
+      // Printed always: a cable actuator's lower bound is 0 unless the deck sets another.
+      number_key("min_force", &ActuatorConfig::min_multiplier,
+                 at_least(0, "a cable pulls, it cannot push"),
+                 "lower bound on the tension (N); at most `max_force`")
+          .defaults_to("0"),
+      bound_key("max_force", &ActuatorConfig::max_multiplier, any_number(),
+                "upper bound on the tension (N)"),
+      bound_key("min_pull", &ActuatorConfig::min_measure_change, any_number(),
+                "lower bound on the pull: the cable's shortening since the rest state (m); at "
+                "most `max_pull`"),
+      bound_key("max_pull", &ActuatorConfig::max_measure_change, any_number(),
+                "upper bound on the pull (m)"),
+      bound_key("max_force_change", &ActuatorConfig::max_multiplier_step, above(0),
+                "the most the tension may change in one control step (N)"),
+  };
+  return keys;
+}
+
+const KeyTable<ControlConfig>& control_keys() {
+  static const KeyTable<ControlConfig> keys = {
+      custom_key<ControlConfig>(
+          "effectors", "list", "required", "at least one; the keys below",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ControlConfig& k,
+             const Config& c) { k.effectors = parse_effectors(r, n, key, c); },
+          [](YAML::Emitter& out, const ControlConfig& k, const Config& c) {
+            out << YAML::BeginSeq;
+            for (const auto& e : k.effectors) {
+              out << YAML::BeginMap;
+              write_keys(out, effector_keys(), e, c);
+              out << YAML::EndMap;
+            }
+            out << YAML::EndSeq;
+          })
+          .needed(),
+      custom_key<ControlConfig>(
+          "actuators", "list", "required", "at least one; the keys below",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ControlConfig& k,
+             const Config& c) { k.actuators = parse_actuators(r, n, key, c); },
+          [](YAML::Emitter& out, const ControlConfig& k, const Config& c) {
+            out << YAML::BeginSeq;
+            for (const auto& a : k.actuators) {
+              const bool cable =
+                  std::any_of(c.cables.begin(), c.cables.end(),
+                              [&](const CableConfig& cable) { return cable.name == a.constraint; });
+              out << YAML::BeginMap;
+              write_keys(out, cable ? cable_actuator_keys() : cavity_actuator_keys(), a, c);
+              out << YAML::EndMap;
+            }
+            out << YAML::EndSeq;
+          })
+          .needed(),
+      custom_key<ControlConfig>(
+          "targets", "list of maps effector: 3 numbers", "none",
+          "target sets, reached one after the other: each maps effector names to the position "
+          "(m) the effector should reach, e.g. `{tip: [0.09, 0, -0.01]}`. A set names at least "
+          "one effector, each at most once. Without `targets` the run has none from the deck: "
+          "`--targets -` on the command line reads them from standard input (docs/control.md); "
+          "that switch is not a deck key.",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ControlConfig& k,
+             const Config&) { k.targets = parse_control_targets(r, n, key, k.effectors); },
+          [](YAML::Emitter& out, const ControlConfig& k, const Config&) {
+            out << YAML::BeginSeq;
+            for (const auto& set : k.targets) {
+              out << YAML::Flow << YAML::BeginMap;
+              for (const auto& t : set) {
+                out << YAML::Key << t.effector << YAML::Value;
+                write_numbers(out, t.position.data(), 3);
+              }
+              out << YAML::EndMap;
+            }
+            out << YAML::EndSeq;
+          })
+          // Only when the deck gave targets: an empty list is not a valid deck.
+          .printed_when([](const ControlConfig& k) { return !k.targets.empty(); }),
+      integer_key("steps_per_target", &ControlConfig::steps_per_target, at_least(1),
+                  "control steps spent on each target set"),
+      number_key("regularization", &ControlConfig::regularization, at_least(0),
+                 "weight of the squared pressure changes against the effector error (its "
+                 "scaling: docs/control.md); 0 leaves the pressure changes unpenalised"),
+      bool_key("newton_finish", &ControlConfig::newton_finish,
+               "end every control step with a Newton solve of the equilibrium at the step's new "
+               "pressures"),
+      enum_key("free_solve", &ControlConfig::free_solve, kFreeSolveNames,
+               "`newton`: the free configuration of each step is converged by Newton at the held "
+               "pressures, and each target set's reported position is the equilibrium at its "
+               "final pressures; `one_step`: the paper's real-time step, one linearisation (one "
+               "assembly, one factorization) for the free motion and the compliance together, "
+               "the reported position the step's prediction (docs/control.md)"),
+      integer_key("refactor_every", &ControlConfig::refactor_every, at_least(1),
+                  "`one_step` only: factorize the tangent every N steps and reuse it in between "
+                  "(a modified-Newton free step on the fresh residual, the compliance of up to "
+                  "N − 1 steps ago)"),
+      bool_key("check_equilibrium", &ControlConfig::check_equilibrium,
+               "`one_step` only: after each target set, also solve for the equilibrium at its "
+               "pressures (on a copy, outside the step times) and report it as `equilibrium`, "
+               "`equilibrium_error_m`"),
+      integer_key("factor_threads", &ControlConfig::factor_threads, within(0, 64),
+                  "`one_step` only: threads (on rank 0) that factor the tangent in the "
+                  "background while the loop steps on; each step then corrects with the newest "
+                  "factorization it has (GMRES on the current tangent, preconditioned by it) and "
+                  "factors in line only when it has none or one failed (docs/control.md, "
+                  "\"Factorizations in the background\"). 1 on a 2-core machine with 1 rank"),
+  };
+  return keys;
+}
+
+ControlConfig parse_control(const DeckReader& r, const YAML::Node& node, const Config& c) {
+  const std::string key = "control";
+  if (node.IsMap() && node["targets_from_stdin"])
+    r.fail(child_key(key, "targets_from_stdin"), node["targets_from_stdin"],
+           "not a deck key: the command line sets it (--targets -)");
+  ControlConfig control;
+  read_keys(r, node, key, control_keys(), control, c);
+  // Kept where Newton is the free solve as long as they change nothing (printed, so that the
+  // printout stays the restart fingerprint of such decks).
+  if (control.free_solve != FreeSolve::one_step) {
+    require(control.refactor_every == 1, r, node["refactor_every"], "control.refactor_every",
+            "needs free_solve: one_step (Newton refactors every step)");
+    require(control.factor_threads == 0, r, node["factor_threads"], "control.factor_threads",
+            "needs free_solve: one_step");
+  }
+  return control;
 }
 
 }  // namespace hs

@@ -9,9 +9,8 @@
 
 namespace hs {
 
-// Reads root["control"] into c.control (left empty without the section). Needs c.time and
-// c.cavities parsed already: control needs a static or quasi-static run, and its actuators
-// are declared pneumatic or hydraulic cavities.
-void parse_control_section(const DeckReader& r, const YAML::Node& root, Config& c);
+// The map `node` of section `control`. Needs c.cavities and c.cables read already: its
+// actuators are declared pneumatic or hydraulic cavities and cables.
+ControlConfig parse_control(const DeckReader& r, const YAML::Node& node, const Config& c);
 
 }  // namespace hs

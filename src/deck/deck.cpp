@@ -1,29 +1,20 @@
 // parse_deck: YAML -> Config, validating every key before any work (docs/decks.md).
 #include "deck/deck.hpp"
 
-#include <cctype>
-#include <cmath>
+#include <algorithm>
 #include <filesystem>
-#include <regex>
-#include <set>
+#include <stdexcept>
 
 #include "common/deck_reader.hpp"
 #include "common/error.hpp"
-#include "deck/cable_section.hpp"
-#include "deck/cavity_sections.hpp"
-#include "deck/control_section.hpp"
-#include "deck/exact_section.hpp"
 #include "deck/overrides.hpp"
+#include "deck/section_keys.hpp"
 #include "io/output.hpp"
-#include "materials/registry.hpp"
 
 namespace hs {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A dynamic run of more steps than this is a mistyped dt (and would overflow a step count).
-constexpr double kMaxTimeSteps = 1e7;
 
 YAML::Node load_yaml(const std::string& path) {
   std::error_code error;  // a name too long for the system is a missing file, not an exception
@@ -47,253 +38,6 @@ YAML::Node load_yaml(const std::string& path) {
   }
 }
 
-MeshConfig parse_mesh(const DeckReader& r, const YAML::Node& node, const fs::path& deck_dir) {
-  const std::string key = "mesh";
-  r.check_map(node, key, {"file", "order", "parameters", "refine", "trust_geo", "max_elements"});
-  MeshConfig mesh;
-  const YAML::Node file = required(r, node, key, "file");
-  const fs::path given = r.text(file, "mesh.file");
-  const fs::path resolved = fs::absolute(given.is_absolute() ? given : deck_dir / given);
-  mesh.file = resolved.lexically_normal().string();
-  std::error_code error;  // a name too long for the system is a missing file, not an exception
-  if (!fs::is_regular_file(mesh.file, error))
-    r.fail(
-        "mesh.file", file,
-        "mesh file '" + (mesh.file.size() > 200 ? mesh.file.substr(0, 200) + "..." : mesh.file) +
-            "' not found (a relative path starts at the deck's folder" +
-            (error && error != std::errc::no_such_file_or_directory ? "; " + error.message() : "") +
-            ")");
-  std::string extension = resolved.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  require(extension == ".msh" || extension == ".geo" || extension == ".h5", r, file, "mesh.file",
-          "expected a .msh, .geo or .h5 (hydrosoft mesh) file, got '" + extension + "'");
-  if (const auto n = node["order"]) {
-    require(extension != ".h5", r, n, "mesh.order",
-            "an .h5 mesh keeps the order it was meshed at (set it when meshing)");
-    mesh.order = r.integer(n, "mesh.order");
-    require(mesh.order == 1 || mesh.order == 2, r, n, "mesh.order", "must be 1 or 2");
-  }
-  const std::string geo_only = "only used with a .geo mesh file";
-  if (const auto n = node["parameters"]) {
-    require(extension == ".geo", r, n, "mesh.parameters", geo_only);
-    mesh.parameters = r.number_map(n, "mesh.parameters");
-  }
-  if (const auto n = node["refine"]) {
-    require(extension == ".geo", r, n, "mesh.refine", geo_only);
-    mesh.refine = r.integer(n, "mesh.refine");
-    require(mesh.refine >= 0, r, n, "mesh.refine", "must be >= 0");
-  }
-  if (const auto n = node["trust_geo"]) {
-    require(extension == ".geo", r, n, "mesh.trust_geo", geo_only);
-    mesh.trust_geo = r.boolean(n, "mesh.trust_geo");
-  }
-  if (const auto n = node["max_elements"]) {
-    mesh.max_elements = r.integer(n, "mesh.max_elements");
-    require(mesh.max_elements >= 1, r, n, "mesh.max_elements", "must be >= 1");
-  }
-  mesh.deck_dir =
-      (deck_dir.empty() ? fs::current_path() : fs::absolute(deck_dir)).lexically_normal().string();
-  return mesh;
-}
-
-// The deck owns group and density; the registry reads the model's law from the rest of the map.
-MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const std::string& key) {
-  const std::vector<std::string> deck_keys = {"group", "model", "density"};
-  std::vector<std::string> known = {"group", "model"};
-  for (const auto& name : material_law_keys()) known.push_back(name);
-  known.push_back("density");
-  r.check_map(node, key, known);
-  MaterialConfig m;
-  m.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
-  const std::string model = r.text(required(r, node, key, "model"), child_key(key, "model"));
-  m.law = parse_material_law(r, node, key, model, deck_keys);
-  if (const auto n = node["density"]) {
-    m.density = r.number(n, child_key(key, "density"));
-    require(m.density >= 0, r, n, child_key(key, "density"),
-            "must be >= 0, got " + format_number(m.density));
-    // Above any solid's (osmium: 22,590 kg/m^3), and far from where rho g overflows.
-    require(m.density <= 1e5, r, n, child_key(key, "density"),
-            "must be <= 1e5 kg/m^3, got " + format_number(m.density));
-  }
-  return m;
-}
-
-std::vector<MaterialConfig> parse_materials(const DeckReader& r, const YAML::Node& node) {
-  r.check_list(node, "materials");
-  require(node.size() > 0, r, node, "materials", "at least one material is required");
-  std::vector<MaterialConfig> materials;
-  for (size_t i = 0; i < node.size(); ++i) {
-    const std::string key = item_key("materials", i);
-    materials.push_back(parse_material(r, node[i], key));
-    for (size_t j = 0; j < i; ++j)
-      if (materials[j].group == materials[i].group)
-        r.fail(child_key(key, "group"), node[i]["group"],
-               "duplicate material group '" + materials[i].group + "' (also in " +
-                   item_key("materials", j) + ")");
-  }
-  return materials;
-}
-
-DirichletConfig parse_boundary(const DeckReader& r, const YAML::Node& node,
-                               const std::string& key) {
-  r.check_map(node, key, {"group", "components", "value", "scaled", "exact"});
-  DirichletConfig bc;
-  bc.group = r.text(required(r, node, key, "group"), child_key(key, "group"));
-  if (const auto n = node["components"]) {
-    const std::string ckey = child_key(key, "components");
-    r.check_list(n, ckey);
-    require(n.size() > 0, r, n, ckey, "must name at least one of x, y, z");
-    bc.components = {false, false, false};
-    for (size_t i = 0; i < n.size(); ++i) {
-      const std::string c = one_of(r, n[i], item_key(ckey, i), {"x", "y", "z"});
-      bool& on = bc.components[c[0] - 'x'];
-      require(!on, r, n[i], item_key(ckey, i), "component '" + c + "' named twice");
-      on = true;
-    }
-  }
-  if (const auto n = node["value"]) bc.value = r.vector3(n, child_key(key, "value"));
-  if (const auto n = node["scaled"]) bc.scaled = r.boolean(n, child_key(key, "scaled"));
-  if (const auto n = node["exact"]) bc.exact = r.boolean(n, child_key(key, "exact"));
-  if (bc.exact) forbid(r, node, key, "value", "not used when exact is true");
-  return bc;
-}
-
-void parse_loads(const DeckReader& r, const YAML::Node& node, Config& c) {
-  r.check_map(node, "loads", {"gravity", "pressure"});
-  if (const auto n = node["gravity"]) {
-    c.gravity = r.vector3(n, "loads.gravity");
-    // A thousand g: beyond any robot's, and far from where rho g overflows.
-    for (double g : c.gravity)
-      require(std::abs(g) <= 1e4, r, n, "loads.gravity",
-              "each component must be within +-1e4 m/s^2, got " + format_number(g));
-  }
-  if (const auto list = node["pressure"]) {
-    r.check_list(list, "loads.pressure");
-    for (size_t i = 0; i < list.size(); ++i) {
-      const std::string key = item_key("loads.pressure", i);
-      r.check_map(list[i], key, {"group", "value"});
-      PressureConfig p;
-      p.group = r.text(required(r, list[i], key, "group"), child_key(key, "group"));
-      p.value = r.number(required(r, list[i], key, "value"), child_key(key, "value"));
-      c.pressures.push_back(p);
-    }
-  }
-}
-
-TimeConfig parse_time(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(
-      node, "time",
-      {"type", "steps", "schedule", "dt", "end_time", "integrator", "newmark", "max_cutbacks"});
-  TimeConfig t;
-  if (const auto n = node["type"])
-    t.type = enum_of<TimeType>(kTimeTypeNames, one_of(r, n, "time.type", kTimeTypeNames));
-  if (t.type == TimeType::dynamic) {
-    const std::string reason = "not used when time.type is dynamic (dt and end_time set the steps)";
-    for (const char* name : {"steps", "schedule", "max_cutbacks"})
-      forbid(r, node, "time", name, reason);
-    const auto dt = required(r, node, "time", "dt"), end = required(r, node, "time", "end_time");
-    t.dt = r.number(dt, "time.dt");
-    t.end_time = r.number(end, "time.end_time");
-    require(t.dt > 0, r, dt, "time.dt", "must be > 0, got " + format_number(t.dt));
-    require(t.end_time > 0, r, end, "time.end_time",
-            "must be > 0, got " + format_number(t.end_time));
-    require(t.dt <= t.end_time, r, dt, "time.dt", "must not exceed time.end_time");
-    require(t.end_time / t.dt <= kMaxTimeSteps, r, dt, "time.dt",
-            "gives " + format_number(std::ceil(t.end_time / t.dt)) + " steps of time.end_time " +
-                format_number(t.end_time) + ", more than " + format_number(kMaxTimeSteps));
-    if (const auto n = node["integrator"])
-      t.integrator =
-          enum_of<Integrator>(kIntegratorNames, one_of(r, n, "time.integrator", kIntegratorNames));
-    if (const auto n = node["newmark"]) {
-      require(t.integrator == Integrator::newmark, r, n, "time.newmark",
-              "only used by integrator newmark");
-      r.check_map(n, "time.newmark", {"beta", "gamma"});
-      if (n["beta"]) t.newmark_beta = r.number(n["beta"], "time.newmark.beta");
-      if (n["gamma"]) t.newmark_gamma = r.number(n["gamma"], "time.newmark.gamma");
-      // beta > 0: the implicit update divides by beta; gamma >= 1/2: no negative damping.
-      require(t.newmark_beta > 0, r, n, "time.newmark.beta", "must be > 0");
-      require(t.newmark_gamma >= 0.5, r, n, "time.newmark.gamma", "must be >= 0.5");
-    }
-    return t;
-  }
-  const std::string reason = "only used when time.type is dynamic";
-  for (const char* name : {"dt", "end_time", "integrator", "newmark"})
-    forbid(r, node, "time", name, reason);
-  if (const auto n = node["steps"]) {
-    t.steps = r.integer(n, "time.steps");
-    require(t.steps >= 1, r, n, "time.steps", "must be >= 1, got " + std::to_string(t.steps));
-  }
-  if (const auto n = node["schedule"]) {
-    t.schedule = r.numbers(n, "time.schedule");
-    require(!t.schedule.empty(), r, n, "time.schedule", "must hold at least one load factor");
-    if (node["steps"] && t.steps != static_cast<int>(t.schedule.size()))
-      r.fail("time.steps", node["steps"],
-             "is " + std::to_string(t.steps) + " but time.schedule has " +
-                 std::to_string(t.schedule.size()) + " entries");
-    t.steps = static_cast<int>(t.schedule.size());
-  }
-  if (const auto n = node["max_cutbacks"]) {
-    t.max_cutbacks = r.integer(n, "time.max_cutbacks");
-    require(t.max_cutbacks >= 0, r, n, "time.max_cutbacks", "must be >= 0");
-  }
-  return t;
-}
-
-SolverConfig parse_solver(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "solver", {"preset", "petsc_options"});
-  SolverConfig s;
-  if (const auto n = node["preset"])
-    s.preset = enum_of<SolverPreset>(kSolverPresetNames,
-                                     one_of(r, n, "solver.preset", kSolverPresetNames));
-  if (const auto options = node["petsc_options"]) {
-    if (!options.IsMap())
-      r.fail("solver.petsc_options", options, "expected a map of option: value");
-    static const std::regex option_name("[A-Za-z][A-Za-z0-9_]*");
-    for (const auto& entry : options) {
-      const std::string name = entry.first.Scalar();
-      const std::string key = child_key("solver.petsc_options", name);
-      if (!name.empty() && name[0] == '-')
-        r.fail(key, entry.first, "write PETSc options without the leading dash");
-      if (!std::regex_match(name, option_name))
-        r.fail(key, entry.first, "not a PETSc option name (letters, digits and _ only)");
-      if (s.petsc_options.count(name)) r.fail(key, entry.first, "duplicate key");
-      if (!entry.second.IsNull() && !entry.second.IsScalar())
-        r.fail(key, entry.second, "expected a single value (or nothing, for a flag)");
-      s.petsc_options[name] = entry.second.IsNull() ? "" : entry.second.Scalar();
-    }
-  }
-  return s;
-}
-
-CheckpointConfig parse_checkpoint(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "output.checkpoint", {"every", "minutes"});
-  CheckpointConfig c;
-  if (const auto n = node["every"]) {
-    c.every = r.integer(n, "output.checkpoint.every");
-    require(c.every >= 1, r, n, "output.checkpoint.every", "must be >= 1 (converged steps)");
-  }
-  if (const auto n = node["minutes"]) {
-    c.minutes = r.number(n, "output.checkpoint.minutes");
-    require(c.minutes > 0, r, n, "output.checkpoint.minutes", "must be > 0");
-  }
-  if (c.every == 0 && c.minutes == 0)
-    r.fail("output.checkpoint", node, "needs every (steps) or minutes, or both");
-  return c;
-}
-
-OutputConfig parse_output(const DeckReader& r, const YAML::Node& node) {
-  r.check_map(node, "output", {"folder", "every", "progress", "checkpoint"});
-  OutputConfig o;
-  if (const auto n = node["folder"]) o.folder = r.text(n, "output.folder");
-  if (const auto n = node["every"]) {
-    o.every = r.integer(n, "output.every");
-    require(o.every >= 1, r, n, "output.every", "must be >= 1");
-  }
-  if (const auto n = node["progress"]) o.progress = r.boolean(n, "output.progress");
-  if (const auto n = node["checkpoint"]) o.checkpoint = parse_checkpoint(r, n);
-  return o;
-}
-
 }  // namespace
 
 Config parse_deck(const std::string& path, const std::vector<std::string>& overrides) {
@@ -302,27 +46,26 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (root.IsNull()) r.fail("mesh", "required key missing (the deck is empty)");
   if (!root.IsMap())
     r.fail("(top level)", root, "expected a map of sections (mesh, materials, ...)");
-  r.check_map(root, "",
-              {"mesh", "materials", "boundary", "loads", "cavities", "cables", "time", "states",
-               "tip", "control", "solver", "output", "exact"});
+  const KeyTable<Config>& sections = deck_section_keys();
+  r.check_map(root, "", key_names(sections));
 
   Config c;
   c.deck_path = path;
   c.deck_name = fs::path(path).stem().string();
-  c.mesh = parse_mesh(r, required(r, root, "", "mesh"), fs::path(path).parent_path());
-  c.materials = parse_materials(r, required(r, root, "", "materials"));
-  if (const auto list = root["boundary"]) {
-    r.check_list(list, "boundary");
-    for (size_t i = 0; i < list.size(); ++i)
-      c.dirichlet.push_back(parse_boundary(r, list[i], item_key("boundary", i)));
+  // In the order they depend on each other: cavities, cables, states and control need the
+  // time section's type; states and control name cavities and cables.
+  const std::vector<std::string> order = {"mesh",     "materials", "boundary", "loads", "time",
+                                          "cavities", "cables",    "states",   "tip",   "control",
+                                          "solver",   "output",    "exact"};
+  if (order.size() != sections.size()) throw std::logic_error("parse_deck: a section unread");
+  for (const std::string& name : order) {
+    const auto k = std::find_if(sections.begin(), sections.end(),
+                                [&](const DeckKey<Config>& k) { return k.name == name; });
+    read_key(r, root, "", *k, c, c);
+    // time.steps and time.schedule are not used with states (read after time).
+    if (name == "states" && root["states"] && root["time"])
+      check_uses(r, root["time"], "time", time_keys(), c.time, c);
   }
-  if (const auto n = root["loads"]) parse_loads(r, n, c);
-  if (const auto n = root["time"]) c.time = parse_time(r, n);
-  parse_cavity_sections(r, root, c);
-  parse_cable_section(r, root, c);
-  parse_control_section(r, root, c);  // its actuators are cavities and cables
-  if (const auto n = root["solver"]) c.solver = parse_solver(r, n);
-  if (const auto n = root["output"]) c.output = parse_output(r, n);
   if (c.output.folder.empty()) c.output.folder = (fs::path("out") / c.deck_name).string();
   const std::string problem = output_folder_problem(c.output.folder);
   if (!problem.empty()) {
@@ -347,7 +90,6 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
                "not supported with control.free_solve one_step and a hydraulic cavity's "
                "fluid_weight.coupling linearized (the frozen weights are not saved, so such a "
                "run cannot be restarted to the same numbers)");
-  parse_exact_section(r, root, c);
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
     if (c.dirichlet[i].exact && !c.exact.type)
       r.fail(child_key(item_key("boundary", i), "exact"), root["boundary"][i]["exact"],

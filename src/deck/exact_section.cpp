@@ -1,21 +1,54 @@
 #include "deck/exact_section.hpp"
 
 #include "common/error.hpp"
+#include "deck/section_keys.hpp"
 #include "materials/material.hpp"
 #include "verification/registry.hpp"
 
 namespace hs {
 
-void parse_exact_section(const DeckReader& r, const YAML::Node& root, Config& c) {
-  const YAML::Node node = root["exact"];
-  if (!node) return;
-  r.check_map(node, "exact", {"type", "parameters"});
+namespace {
+
+std::vector<std::string> exact_type_names() {
   std::vector<std::string> names = {"none"};
   for (const auto& name : exact_solution_names()) names.push_back(name);
-  const std::string type = node["type"] ? one_of(r, node["type"], "exact.type", names) : "none";
-  if (const auto n = node["parameters"]) c.exact.parameters = r.number_map(n, "exact.parameters");
+  return names;
+}
+
+}  // namespace
+
+const KeyTable<ExactConfig>& exact_keys() {
+  static const KeyTable<ExactConfig> keys = {
+      custom_key<ExactConfig>(
+          "type", "name", "`none`",
+          "an exact solution to compare with (summary.json `error`) and to take `exact: true` "
+          "boundary values from",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ExactConfig& e,
+             const Config&) {
+            const std::string type = one_of(r, n, key, exact_type_names());
+            e.type = type == "none" ? nullptr : &exact_solution_type(type);
+          },
+          [](YAML::Emitter& out, const ExactConfig& e, const Config&) {
+            out << (e.type ? e.type->name : "none");
+          }),
+      custom_key<ExactConfig>(
+          "parameters", "map name: number", "none", "exactly the parameters of the chosen solution",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ExactConfig& e,
+             const Config&) { e.parameters = r.number_map(n, key); },
+          [](YAML::Emitter& out, const ExactConfig& e, const Config&) {
+            out << YAML::Flow << YAML::BeginMap;
+            for (const auto& [name, value] : e.parameters)
+              out << YAML::Key << name << YAML::Value << format_number(value);
+            out << YAML::EndMap;
+          }),
+  };
+  return keys;
+}
+
+void parse_exact_section(const DeckReader& r, const YAML::Node& node, Config& c) {
+  read_keys(r, node, "exact", exact_keys(), c.exact, c);
   const auto& parameters = c.exact.parameters;
-  if (type == "none") {
+  if (!c.exact.type) {
     if (!parameters.empty()) {
       const std::string& name = parameters.begin()->first;
       r.fail(child_key("exact.parameters", name), node["parameters"][name],
@@ -23,7 +56,6 @@ void parse_exact_section(const DeckReader& r, const YAML::Node& root, Config& c)
     }
     return;
   }
-  c.exact.type = &exact_solution_type(type);
   try {
     check_exact_parameters(*c.exact.type, parameters);
   } catch (const ExactInputError& e) {

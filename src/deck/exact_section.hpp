@@ -12,9 +12,10 @@
 
 namespace hs {
 
-// Fills c.exact (left empty without the section or with type none); the parameters' names
-// and values are checked here, errors as "FILE: exact.parameters.NAME: reason (line N)".
-void parse_exact_section(const DeckReader& r, const YAML::Node& root, Config& c);
+// Fills c.exact from the map `node` of section `exact` (left empty with type none); the
+// parameters' names and values are checked here, errors as "FILE: exact.parameters.NAME:
+// reason (line N)".
+void parse_exact_section(const DeckReader& r, const YAML::Node& node, Config& c);
 
 // The deck's exact solution built from its parameters and the deck's numbers (materials,
 // gravity), or null without one. Throws InputError "FILE: KEY: reason" for a deck whose

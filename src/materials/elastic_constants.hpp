@@ -1,5 +1,5 @@
 // The elastic constants shared by every law: read from a material's map as E, nu or as
-// mu, lambda (docs/decks.md), checked, the other pair derived; printed back as the pair given.
+// mu, lambda (their key table), checked, the other pair derived; printed back as the pair given.
 // ElasticLaw holds them for the laws whose parameters are these constants (plus, for some,
 // keys of their own).
 #pragma once
@@ -11,21 +11,49 @@
 #include <vector>
 
 #include "common/deck_reader.hpp"
+#include "materials/law_keys.hpp"
 #include "materials/material.hpp"
 
 namespace hs {
 
-// The keys parse_elastic_constants reads.
-inline const std::vector<std::string> kElasticConstantKeys = {"E", "nu", "mu", "lambda"};
+// Whether (mu, lambda) is what E, nu give (then the deck gave E, nu): the derived pair,
+// converted back, may differ in the last bit, so the given one is printed.
+bool given_as_E_nu(const ElasticConstants& c);
 
-// Exactly one of the pairs (E, nu), (mu, lambda) from the map `node` at `key`; throws through
-// r.fail as "FILE: KEY: reason" when a pair is missing, mixed or non-physical.
-ElasticConstants parse_elastic_constants(const DeckReader& r, const YAML::Node& node,
-                                         const std::string& key);
+// The Poisson ratio's bound: in (-1, 0.5), 0.5 being incompressible.
+Limit poisson_ratio_limit();
 
-// The Poisson ratio `nu` of the map `node` at `key`, required, in (-1, 0.5): the one check of nu,
-// for the pair (E, nu) and for a law whose shear modulus comes from keys of its own (yeoh).
-double parse_poisson_ratio(const DeckReader& r, const YAML::Node& node, const std::string& key);
+// The keys E, nu, mu, lambda of a law whose parameters S are ElasticConstants or derive from
+// them: each read as given (E, mu > 0; nu in (-1, 0.5)), printed as the pair the deck gave.
+// resolve_elastic_constants then checks the pair and derives the other.
+template <class S>
+KeyTable<S> elastic_constant_keys() {
+  const auto engineering = [](const S& s) { return given_as_E_nu(s); };
+  const auto lame = [](const S& s) { return !given_as_E_nu(s); };
+  return {
+      number_key<S>("E", &S::E, above(0), "Young's modulus (Pa), with `nu`")
+          .defaults_to("required without `mu`, `lambda`")
+          .printed_when(engineering),
+      number_key<S>("nu", &S::nu, poisson_ratio_limit(),
+                    "Poisson's ratio, with `E` (0.5, incompressible, is beyond a "
+                    "displacement formulation)")
+          .defaults_to("required without `mu`, `lambda`")
+          .printed_when(engineering),
+      number_key<S>("mu", &S::mu, above(0), "Lamé's shear modulus μ (Pa), with `lambda`")
+          .defaults_to("required without `E`, `nu`")
+          .printed_when(lame),
+      number_key<S>("lambda", &S::lambda, any_number(),
+                    "Lamé's λ (Pa), with `mu`; the bulk modulus λ + 2μ/3 must be > 0")
+          .defaults_to("required without `E`, `nu`")
+          .printed_when(lame),
+  };
+}
+
+// The constants `read` holds once the keys of the map `node` at `key` are read: exactly one of
+// the pairs (E, nu), (mu, lambda) given, the other derived; throws through r.fail as
+// "FILE: KEY: reason" when a pair is missing, mixed or non-physical.
+ElasticConstants resolve_elastic_constants(const DeckReader& r, const YAML::Node& node,
+                                           const std::string& key, const ElasticConstants& read);
 
 // The pair (E, nu) given, (mu, lambda) derived:
 //   mu = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu)).
@@ -37,25 +65,15 @@ ElasticConstants elastic_constants_from_mu_nu(double mu, double nu);
 //   E = mu (3 lambda + 2 mu) / (lambda + mu),  nu = lambda / (2 (lambda + mu)).
 ElasticConstants elastic_constants_from_lame(double mu, double lambda);
 
-// `key: value` with the shortest text that reads back as exactly `value`.
-void print_number(YAML::Emitter& out, const std::string& key, double value);
-
-// A law whose parameters are the elastic constants, and possibly keys of its own (it then
-// extends print and derived_values).
+// A law whose parameters are the elastic constants, and possibly keys of its own.
 class ElasticLaw : public MaterialLaw {
  public:
   explicit ElasticLaw(const ElasticConstants& constants) : constants_(constants) {}
   const ElasticConstants& elastic_constants() const override { return constants_; }
-  // The pair the deck gave, E and nu or mu and lambda.
-  void print(YAML::Emitter& out) const override;
   // The derived pair, e.g. "mu = 1e+05, lambda = 4.9e+06".
   std::string derived_values() const override;
 
  protected:
-  // Whether (mu, lambda) is what E, nu give (then the deck gave E, nu): the derived pair,
-  // converted back, may differ in the last bit, so the given one is printed.
-  bool given_as_E_nu() const;
-
   ElasticConstants constants_;
 };
 
@@ -70,11 +88,16 @@ template <const char* Name, ElasticPointwise Pointwise>
 class ConstantsOnlyLaw : public ElasticLaw {
  public:
   static constexpr const char* kName = Name;
-  static std::vector<std::string> keys() { return kElasticConstantKeys; }
-  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key) {
-    return std::make_shared<ConstantsOnlyLaw>(parse_elastic_constants(r, node, key));
+  using Parameters = ElasticConstants;
+  static const KeyTable<Parameters>& keys() {
+    static const KeyTable<Parameters> keys = elastic_constant_keys<Parameters>();
+    return keys;
   }
+  static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,
+                                                 const std::string& key, const Parameters& read) {
+    return std::make_shared<ConstantsOnlyLaw>(resolve_elastic_constants(r, node, key, read));
+  }
+  const Parameters& parameters() const { return constants_; }
 
   using ElasticLaw::ElasticLaw;
   std::string name() const override { return kName; }

@@ -50,29 +50,26 @@ StressResult gent(double mu, double Jm, double kappa, const Mat3& H, bool with_t
   return s;
 }
 
-std::vector<std::string> GentLaw::keys() {
-  std::vector<std::string> keys = kElasticConstantKeys;
-  keys.push_back("Jm");
+const KeyTable<GentParameters>& GentLaw::keys() {
+  static const KeyTable<GentParameters> keys = [] {
+    KeyTable<GentParameters> keys = elastic_constant_keys<GentParameters>();
+    keys.push_back(number_key<GentParameters>(
+                       "Jm", &GentParameters::Jm, above(0, "the limit of I1b - 3"),
+                       "the limit of Ī₁ − 3 (the chains' extensibility): ψ = −μ Jm/2 ln(1 − (Ī₁ − "
+                       "3)/Jm) + κ/2 (ln J)², κ = λ + 2μ/3; a smaller Jm stiffens sooner")
+                       .needed());
+    return keys;
+  }();
   return keys;
 }
 
-std::shared_ptr<const MaterialLaw> GentLaw::parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key) {
-  const ElasticConstants constants = parse_elastic_constants(r, node, key);
-  const YAML::Node n = required(r, node, key, "Jm");
-  const double Jm = r.number(n, child_key(key, "Jm"));
-  require(Jm > 0, r, n, child_key(key, "Jm"),
-          "must be > 0 (the limit of I1b - 3), got " + format_number(Jm));
-  return std::make_shared<GentLaw>(constants, Jm);
+std::shared_ptr<const MaterialLaw> GentLaw::make(const DeckReader& r, const YAML::Node& node,
+                                                 const std::string& key, const Parameters& read) {
+  return std::make_shared<GentLaw>(resolve_elastic_constants(r, node, key, read), read.Jm);
 }
 
 StressResult GentLaw::stress(const Mat3& H, bool with_tangent) const {
   return gent(constants_.mu, Jm_, constants_.lambda + 2.0 * constants_.mu / 3.0, H, with_tangent);
-}
-
-void GentLaw::print(YAML::Emitter& out) const {
-  ElasticLaw::print(out);
-  print_number(out, "Jm", Jm_);
 }
 
 }  // namespace hs

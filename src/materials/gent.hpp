@@ -12,17 +12,23 @@ namespace hs {
 // for det F <= 0 and outside the limiting chain (I1b - 3 >= Jm); A = 0 unless with_tangent.
 StressResult gent(double mu, double Jm, double kappa, const Mat3& H, bool with_tangent);
 
+struct GentParameters : ElasticConstants {
+  double Jm = 0;
+};
+
 class GentLaw final : public ElasticLaw {
  public:
   static constexpr const char* kName = "gent";
-  static std::vector<std::string> keys();
-  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key);
+  using Parameters = GentParameters;
+  // The elastic constants' and Jm.
+  static const KeyTable<Parameters>& keys();
+  static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,
+                                                 const std::string& key, const Parameters& read);
+  Parameters parameters() const { return {constants_, Jm_}; }
 
   GentLaw(const ElasticConstants& constants, double Jm) : ElasticLaw(constants), Jm_(Jm) {}
   std::string name() const override { return kName; }
   StressResult stress(const Mat3& H, bool with_tangent) const override;
-  void print(YAML::Emitter& out) const override;
 
   double Jm() const { return Jm_; }
 

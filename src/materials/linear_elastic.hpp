@@ -12,9 +12,9 @@ inline constexpr char kLinearElasticName[] = "linear_elastic";
 
 class LinearElasticLaw final : public ConstantsOnlyLaw<kLinearElasticName, linear_elastic> {
  public:
-  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key) {
-    return std::make_shared<LinearElasticLaw>(parse_elastic_constants(r, node, key));
+  static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,
+                                                 const std::string& key, const Parameters& read) {
+    return std::make_shared<LinearElasticLaw>(resolve_elastic_constants(r, node, key, read));
   }
   using ConstantsOnlyLaw::ConstantsOnlyLaw;
   // Small strain does not tell the configurations apart: its P already is sigma.

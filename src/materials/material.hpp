@@ -1,16 +1,12 @@
 // Constitutive laws behind one interface. A law is an object made by the registry
 // (materials/registry.hpp) from its YAML map; each law lives in one file (its name, its
-// parameters and their checks, psi, P and dP/dF), so nothing outside that file switches on the
+// parameters' key table, psi, P and dP/dF), so nothing outside that file switches on the
 // model. Its pointwise functions stay pure (functions of H = F - I and numbers), so that each
 // can be checked against finite differences (tests/materials).
 #pragma once
 
 #include <Eigen/Dense>
 #include <string>
-
-namespace YAML {
-class Emitter;
-}
 
 namespace hs {
 
@@ -50,8 +46,6 @@ class MaterialLaw {
   virtual bool tangent_always_definite() const { return false; }
   // The elastic constants the deck gave (closed-form references of verification decks read them).
   virtual const ElasticConstants& elastic_constants() const = 0;
-  // Writes the law's own keys into the material's map being printed (it reads back the same).
-  virtual void print(YAML::Emitter& out) const = 0;
   // What the law derived from its keys, for a comment beside the printed map.
   virtual std::string derived_values() const = 0;
 };

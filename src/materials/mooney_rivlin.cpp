@@ -66,18 +66,29 @@ StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& H, bo
   return s;
 }
 
-std::vector<std::string> MooneyRivlinLaw::keys() {
-  std::vector<std::string> keys = kElasticConstantKeys;
-  keys.insert(keys.end(), {"c1", "c2"});
+const KeyTable<MooneyRivlinParameters>& MooneyRivlinLaw::keys() {
+  using P = MooneyRivlinParameters;
+  static const KeyTable<P> keys = [] {
+    KeyTable<P> keys = elastic_constant_keys<P>();
+    keys.push_back(optional_number_key<P>("c1", &P::c1,
+                                          "the first invariant's coefficient: ψ = c1 (Ī₁ − 3) + c2 "
+                                          "(Ī₂ − 3) + κ/2 (ln J)², κ = λ + "
+                                          "2μ/3; c1 + c2 > 0 (the small-strain shear modulus "
+                                          "is 2 (c1 + c2))")
+                       .defaults_to("μ/2"));
+    keys.push_back(
+        number_key<P>("c2", &P::c2, any_number(), "the second invariant's coefficient, see `c1`"));
+    return keys;
+  }();
   return keys;
 }
 
-std::shared_ptr<const MaterialLaw> MooneyRivlinLaw::parse(const DeckReader& r,
-                                                          const YAML::Node& node,
-                                                          const std::string& key) {
-  const ElasticConstants constants = parse_elastic_constants(r, node, key);
-  const double c1 = node["c1"] ? r.number(node["c1"], child_key(key, "c1")) : constants.mu / 2;
-  const double c2 = node["c2"] ? r.number(node["c2"], child_key(key, "c2")) : 0.0;
+std::shared_ptr<const MaterialLaw> MooneyRivlinLaw::make(const DeckReader& r,
+                                                         const YAML::Node& node,
+                                                         const std::string& key,
+                                                         const Parameters& read) {
+  const ElasticConstants constants = resolve_elastic_constants(r, node, key, read);
+  const double c1 = read.c1.value_or(constants.mu / 2), c2 = read.c2;
   require(c1 + c2 > 0, r, node, child_key(key, "c1"),
           "c1 + c2 must be > 0 (the small-strain shear modulus is 2 (c1 + c2))");
   return std::make_shared<MooneyRivlinLaw>(constants, c1, c2);
@@ -86,12 +97,6 @@ std::shared_ptr<const MaterialLaw> MooneyRivlinLaw::parse(const DeckReader& r,
 StressResult MooneyRivlinLaw::stress(const Mat3& H, bool with_tangent) const {
   // Bulk modulus of the small-strain limit; the shear modulus there is 2 (c1 + c2).
   return mooney_rivlin(c1_, c2_, constants_.lambda + 2.0 * constants_.mu / 3.0, H, with_tangent);
-}
-
-void MooneyRivlinLaw::print(YAML::Emitter& out) const {
-  ElasticLaw::print(out);
-  print_number(out, "c1", c1_);
-  print_number(out, "c2", c2_);
 }
 
 }  // namespace hs

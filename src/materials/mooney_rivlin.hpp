@@ -3,6 +3,8 @@
 // and c1, c2 (default c1 = mu / 2, c2 = 0: then it is neo-Hookean-like).
 #pragma once
 
+#include <optional>
+
 #include "materials/elastic_constants.hpp"
 
 namespace hs {
@@ -11,18 +13,25 @@ namespace hs {
 // det F <= 0; A = 0 unless with_tangent.
 StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& H, bool with_tangent);
 
+struct MooneyRivlinParameters : ElasticConstants {
+  std::optional<double> c1;  // none: mu / 2
+  double c2 = 0;
+};
+
 class MooneyRivlinLaw final : public ElasticLaw {
  public:
   static constexpr const char* kName = "mooney_rivlin";
-  static std::vector<std::string> keys();
-  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key);
+  using Parameters = MooneyRivlinParameters;
+  // The elastic constants', c1 and c2.
+  static const KeyTable<Parameters>& keys();
+  static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,
+                                                 const std::string& key, const Parameters& read);
+  Parameters parameters() const { return {constants_, c1_, c2_}; }
 
   MooneyRivlinLaw(const ElasticConstants& constants, double c1, double c2)
       : ElasticLaw(constants), c1_(c1), c2_(c2) {}
   std::string name() const override { return kName; }
   StressResult stress(const Mat3& H, bool with_tangent) const override;
-  void print(YAML::Emitter& out) const override;
 
   double c1() const { return c1_; }
   double c2() const { return c2_; }

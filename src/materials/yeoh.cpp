@@ -63,33 +63,35 @@ double yeoh_softening_onset(double C1, double C2, double C3) {
   return onset;
 }
 
-std::vector<std::string> YeohLaw::keys() { return {"C1", "C2", "C3", "nu"}; }
+const KeyTable<YeohParameters>& YeohLaw::keys() {
+  using P = YeohParameters;
+  static const KeyTable<P> keys = {
+      number_key<P>(
+          "C1", &P::C1, above(0, "the small-strain shear modulus is 2 C1"),
+          "the first coefficient (Pa): ψ = C1 x + C2 x² + C3 x³ + κ/2 (ln J)², x = Ī₁ − 3; the "
+          "small-strain shear modulus is μ = 2 C1")
+          .needed(),
+      number_key<P>("C2", &P::C2, any_number(),
+                    "the second coefficient (Pa), of either sign as published fits have them"),
+      number_key<P>("C3", &P::C3, any_number(), "the third coefficient (Pa), as `C2`"),
+      number_key<P>("nu", &P::nu, poisson_ratio_limit(),
+                    "Poisson's ratio: the bulk modulus κ = 2μ (1 + ν) / (3 (1 − 2ν))")
+          .needed(),
+  };
+  return keys;
+}
 
-std::shared_ptr<const MaterialLaw> YeohLaw::parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key) {
-  const YAML::Node c1 = required(r, node, key, "C1");
-  const double C1 = r.number(c1, child_key(key, "C1"));
-  require(C1 > 0, r, c1, child_key(key, "C1"),
-          "must be > 0 (the small-strain shear modulus is 2 C1), got " + format_number(C1));
-  const double C2 = node["C2"] ? r.number(node["C2"], child_key(key, "C2")) : 0.0;
-  const double C3 = node["C3"] ? r.number(node["C3"], child_key(key, "C3")) : 0.0;
-  const double nu = parse_poisson_ratio(r, node, key);
-  const ElasticConstants c = elastic_constants_from_mu_nu(2 * C1, nu);
-  require(std::isfinite(c.E) && std::isfinite(c.lambda), r, c1, child_key(key, "C1"),
+std::shared_ptr<const MaterialLaw> YeohLaw::make(const DeckReader& r, const YAML::Node& node,
+                                                 const std::string& key, const Parameters& read) {
+  const ElasticConstants c = elastic_constants_from_mu_nu(2 * read.C1, read.nu);
+  require(std::isfinite(c.E) && std::isfinite(c.lambda), r, node["C1"], child_key(key, "C1"),
           "gives E = " + format_number(c.E) + ", lambda = " + format_number(c.lambda) +
-              " with nu = " + format_number(nu) + ", beyond a double");
-  return std::make_shared<YeohLaw>(c, C2, C3);
+              " with nu = " + format_number(read.nu) + ", beyond a double");
+  return std::make_shared<YeohLaw>(c, read.C2, read.C3);
 }
 
 StressResult YeohLaw::stress(const Mat3& H, bool with_tangent) const {
   return yeoh(C1(), C2_, C3_, constants_.lambda + 2.0 * constants_.mu / 3.0, H, with_tangent);
-}
-
-void YeohLaw::print(YAML::Emitter& out) const {
-  print_number(out, "C1", C1());
-  print_number(out, "C2", C2_);
-  print_number(out, "C3", C3_);
-  print_number(out, "nu", constants_.nu);
 }
 
 std::string YeohLaw::derived_values() const {

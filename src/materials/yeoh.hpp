@@ -17,12 +17,18 @@ StressResult yeoh(double C1, double C2, double C3, double kappa, const Mat3& H, 
 // which the fit softens under further stretch; +inf if it stays positive.
 double yeoh_softening_onset(double C1, double C2, double C3);
 
+struct YeohParameters {
+  double C1 = 0, C2 = 0, C3 = 0, nu = 0;
+};
+
 class YeohLaw final : public MaterialLaw {
  public:
   static constexpr const char* kName = "yeoh";
-  static std::vector<std::string> keys();
-  static std::shared_ptr<const MaterialLaw> parse(const DeckReader& r, const YAML::Node& node,
-                                                  const std::string& key);
+  using Parameters = YeohParameters;
+  static const KeyTable<Parameters>& keys();  // C1, C2, C3, nu
+  static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,
+                                                 const std::string& key, const Parameters& read);
+  Parameters parameters() const { return {C1(), C2_, C3_, constants_.nu}; }
 
   // C1 = small_strain.mu / 2 (small_strain from elastic_constants_from_mu_nu(2 C1, nu)).
   YeohLaw(const ElasticConstants& small_strain, double C2, double C3)
@@ -30,8 +36,6 @@ class YeohLaw final : public MaterialLaw {
   std::string name() const override { return kName; }
   StressResult stress(const Mat3& H, bool with_tangent) const override;
   const ElasticConstants& elastic_constants() const override { return constants_; }
-  // C1, C2, C3, nu, as the deck gives them.
-  void print(YAML::Emitter& out) const override;
   // mu, lambda, E, and the softening onset where there is one.
   std::string derived_values() const override;
 

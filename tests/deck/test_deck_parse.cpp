@@ -558,6 +558,24 @@ TEST_F(DeckParse, RoundTripThroughFormatConfig) {
   }
 }
 
+// The printout leaves out what the deck may not say: an .h5 mesh keeps its order (the
+// printout used to give mesh.order, which the reader refuses for an .h5), and a .GEO is a
+// .geo (its parameters, refine and trust_geo used to be left out, and read back as defaults).
+TEST_F(DeckParse, PrintoutsOfH5AndUpperCaseGeoMeshesReadBack) {
+  tmp.write("decks/body.h5", "");
+  tmp.write("decks/body.GEO", "");
+  const std::string materials = "materials: [{group: body, model: neo_hookean, E: 1, nu: 0.3}]\n";
+  for (const std::string mesh :
+       {"mesh: {file: body.h5}\n", "mesh: {file: body.GEO, parameters: {h: 0.1}, refine: 1}\n"}) {
+    const Config first = parse_deck(tmp.write("decks/deck.yaml", mesh + materials));
+    const std::string printed = format_config(first);
+    SCOPED_TRACE(printed);
+    Config second;
+    ASSERT_NO_THROW(second = parse_deck(tmp.write("elsewhere/deck.yaml", printed)));
+    expect_same(first, second);
+  }
+}
+
 // A subnormal is a finite number: the deck reads it as it is (the interactive mode's target
 // lines refused it once, docs/reliability.md), from the file and from an override.
 TEST_F(DeckParse, SubnormalNumbersAreRead) {

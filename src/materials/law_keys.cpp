@@ -1,0 +1,10 @@
+#include "materials/law_keys.hpp"
+
+namespace hs {
+
+const Config& no_sections() {
+  static const Config none{};
+  return none;
+}
+
+}  // namespace hs
