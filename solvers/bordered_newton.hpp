@@ -19,7 +19,7 @@
 
 namespace hs {
 
-class BorderedNewton {
+class BorderedNewton : public NonlinearSolver {
  public:
   BorderedNewton(Problem& problem, ConstraintSet& constraints);
   BorderedNewton(const BorderedNewton&) = delete;
@@ -27,11 +27,11 @@ class BorderedNewton {
 
   // Solves at load factor s from u and the cavities' current pressures; on success u and the
   // pressures hold the solution.
-  NewtonResult solve(Vec u, double s);
+  NewtonResult solve(Vec u, double s) override;
   // The norm of the full external load (gravity, pressure loads): with the pressure forces,
   // it sets the residual tolerance 1e-9 F.
   void set_load_norm(double norm) { load_norm_ = norm; }
-  double solve_seconds() const { return solve_s_; }
+  double solve_seconds() const override { return solve_s_; }
   double constraint_seconds() const { return constraint_s_; }
 
  private:
