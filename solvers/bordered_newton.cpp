@@ -5,24 +5,16 @@
 #include <cmath>
 #include <string>
 
-#include "solvers/multi_solve.hpp"
-
 namespace hs {
 
 BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints)
-    : problem_(problem), constraints_(constraints) {
+    : problem_(problem),
+      constraints_(constraints),
+      system_(problem, constraints, BorderedSystem::Order::per_constraint) {
   J_ = MatHandle(problem.create_matrix());
   R_ = VecHandle(problem.create_vector());
-  HS_PETSC(VecDuplicate(R_, a_.out()));
   HS_PETSC(VecDuplicate(R_, du_.out()));
   HS_PETSC(VecDuplicate(R_, u_trial_.out()));
-  for (int c = 0; c < constraints.size(); ++c) {
-    VecHandle y, z;
-    HS_PETSC(VecDuplicate(R_, y.out()));
-    if (constraints[c].measure_load()) HS_PETSC(VecDuplicate(R_, z.out()));
-    Y_.push_back(y.release());
-    Z_.push_back(z.release());
-  }
   HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
   HS_PETSC(KSPSetFromOptions(ksp_));  // -ksp_type, -pc_type, ...: the deck's and the preset's
   PetscInt max_it = max_it_;
@@ -39,7 +31,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   const double assembly_before = timers.residual_s + timers.jacobian_s;
   const int m = constraints_.size();
   NewtonResult result;
-  std::vector<double> c, c_trial, g_norm(m, 0.0);
+  std::vector<double> c, g_norm(m, 0.0);
   std::vector<double> lambda = constraints_.multipliers();
 
   auto force_scale = [&]() {
@@ -101,95 +93,59 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
     }
     const double tc = MPI_Wtime();
     HS_PETSC(KSPSetOperators(ksp_, J_, J_));
-    std::vector<Vec> rhs_columns{R_}, solutions{a_};
-    for (int i = 0; i < m; ++i) {
-      HS_PETSC(VecNorm(lin_.g[i], NORM_2, &g_norm[i]));
-      rhs_columns.push_back(lin_.g[i]);
-      solutions.push_back(Y_[i]);
-      if (Z_[i]) {
-        rhs_columns.push_back(lin_.q[i]);
-        solutions.push_back(Z_[i]);
-      }
-    }
-    const bool linear_ok = solve_columns(ksp_, rhs_columns, solutions, &result.linear_iterations);
-    if (!linear_ok) {
+    for (int i = 0; i < m; ++i) HS_PETSC(VecNorm(lin_.g[i], NORM_2, &g_norm[i]));
+    if (!system_.solve(ksp_, R_, lin_, &result.linear_iterations)) {
       result.reason = "linear solve failed";
       break;
     }
-    // Dense system for zeta = [dlambda (m); eta (one per weighted cavity)], du = -a + Y dl + Z eta.
-    std::vector<int> weighted;
-    for (int i = 0; i < m; ++i)
-      if (Z_[i]) weighted.push_back(i);
-    const int n = m + static_cast<int>(weighted.size());
-    std::vector<Vec> columns(Y_.begin(), Y_.end());
-    for (int h : weighted) columns.push_back(Z_[h]);
-    Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
-    Eigen::VectorXd rhs(n);
-    std::vector<PetscScalar> dots(n);
-    auto g_dot_columns = [&](int i) {  // g_i . column_k for every k, and g_i . a
-      HS_PETSC(VecMDot(lin_.g[i], n, columns.data(), dots.data()));
-      PetscScalar ga = 0;
-      HS_PETSC(VecDot(lin_.g[i], a_, &ga));
-      return ga;
-    };
-    for (int i = 0; i < m; ++i) {  // alpha g_i^T du + b dlambda_i = -c_i
-      const double ga = g_dot_columns(i);
-      for (int k = 0; k < n; ++k) S(i, k) = lin_.alpha[i] * dots[k];
-      S(i, i) += lin_.b[i];
-      rhs(i) = -c[i] + lin_.alpha[i] * ga;
-    }
-    for (size_t w = 0; w < weighted.size(); ++w) {  // eta_h - g_h^T du = 0
-      const int row = m + static_cast<int>(w);
-      const double ga = g_dot_columns(weighted[w]);
-      for (int k = 0; k < n; ++k) S(row, k) = dots[k];
-      S(row, row) -= 1;
-      rhs(row) = ga;
-    }
-    const Eigen::VectorXd zeta = S.fullPivLu().solve(rhs);
-    HS_PETSC(VecCopy(a_, du_));
-    HS_PETSC(VecScale(du_, -1.0));
-    HS_PETSC(VecMAXPY(du_, n, zeta.data(), columns.data()));
+    system_.factor_dense(lin_);
+    const Eigen::VectorXd zeta = system_.solve_dense(system_.residual_rhs(lin_, c));
+    system_.step(zeta, du_);
     constraint_s_ += MPI_Wtime() - tc;
 
-    // Full Newton steps, halved only where the trial leaves the domain (an inverted element,
-    // a cavity volume <= 0, a value that is not finite). No descent test on |R|: a bending
-    // structure's first step from rest overshoots the residual by orders of magnitude (the spurious
-    // stretch of the linear rotation), and a merit test would crawl there; a diverging increment is
-    // caught by the iteration limit and cut back by the stepping.
-    double t = 1;
-    bool accepted = false;
-    std::string collapse;  // the last trial's collapsed cavity, if that was why it was refused
-    for (int halving = 0; halving <= 8; ++halving, t /= 2) {
-      HS_PETSC(VecWAXPY(u_trial_, t, du_, u));
-      std::vector<double> trial = lambda;
-      for (int i = 0; i < m; ++i) trial[i] += t * zeta(i);
-      constraints_.set_multipliers(trial);
-      ok = constraints_.residual(u_trial_, s, R_, c_trial);
-      PetscReal norm = 0;
-      HS_PETSC(VecNorm(R_, NORM_2, &norm));
-      bool finite = std::isfinite(norm);
-      for (double x : c_trial) finite &= std::isfinite(x);
-      collapse = constraints_.collapse_reason();
-      if (ok && finite) {
-        HS_PETSC(VecCopy(u_trial_, u));
-        lambda = trial;
-        c = c_trial;
-        r_norm = norm;
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) {
-      constraints_.set_multipliers(lambda);
-      ok = constraints_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
-      result.reason = collapse.empty() ? "every shortened step inverts an element"
-                                       : "every shortened step fails: " + collapse;
-      break;
-    }
+    if (!take_step(u, s, zeta, lambda, c, r_norm, result.reason)) break;
   }
   const double assembly = timers.residual_s + timers.jacobian_s - assembly_before;
   solve_s_ += MPI_Wtime() - t0 - assembly;
   return result;
+}
+
+// Full Newton steps, halved only where the trial leaves the domain (an inverted element, a
+// cavity volume <= 0, a value that is not finite). No descent test on |R|: a bending
+// structure's first step from rest overshoots the residual by orders of magnitude (the spurious
+// stretch of the linear rotation), and a merit test would crawl there; a diverging increment is
+// caught by the iteration limit and cut back by the stepping.
+bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
+                               std::vector<double>& lambda, std::vector<double>& c, double& r_norm,
+                               std::string& reason) {
+  const int m = constraints_.size();
+  std::vector<double> c_trial;
+  double t = 1;
+  std::string collapse;  // the last trial's collapsed cavity, if that was why it was refused
+  for (int halving = 0; halving <= 8; ++halving, t /= 2) {
+    HS_PETSC(VecWAXPY(u_trial_, t, du_, u));
+    std::vector<double> trial = lambda;
+    for (int i = 0; i < m; ++i) trial[i] += t * zeta(i);
+    constraints_.set_multipliers(trial);
+    const bool ok = constraints_.residual(u_trial_, s, R_, c_trial);
+    PetscReal norm = 0;
+    HS_PETSC(VecNorm(R_, NORM_2, &norm));
+    bool finite = std::isfinite(norm);
+    for (double x : c_trial) finite &= std::isfinite(x);
+    collapse = constraints_.collapse_reason();
+    if (ok && finite) {
+      HS_PETSC(VecCopy(u_trial_, u));
+      lambda = trial;
+      c = c_trial;
+      r_norm = norm;
+      return true;
+    }
+  }
+  constraints_.set_multipliers(lambda);
+  constraints_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
+  reason = collapse.empty() ? "every shortened step inverts an element"
+                            : "every shortened step fails: " + collapse;
+  return false;
 }
 
 }  // namespace hs

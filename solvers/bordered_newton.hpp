@@ -2,9 +2,10 @@
 // system of solvers/constraints/constraint_set.hpp). Each iteration solves
 //   [ J    -G ] [du     ]     [R]          J du = -R + G dlambda + Q eta
 //   [ A     B ] [dlambda] = - [c],  with   eta_h = g_h^T du (hydraulic cavities, Q = W / V)
-// by block elimination: one factorization of the sparse tangent J (PETSc KSP, from the options
-// database: MUMPS LU by default) and 1 + m + m_h solves with it, then a dense system of size
-// m + m_h for dlambda and eta. Full steps, shortened only where a trial inverts an element.
+// by block elimination (solvers/bordered_system.hpp): one factorization of the sparse tangent J
+// (PETSc KSP, from the options database: MUMPS LU by default) and 1 + m + m_h solves with it,
+// then a dense system of size m + m_h for dlambda and eta. Full steps, shortened only where a
+// trial inverts an element.
 // docs/cavities.md says why this is not a SNES: SNES would need a shell matrix and a shell
 // preconditioner doing this same elimination, on a composite vector.
 #pragma once
@@ -14,12 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "solvers/bordered_system.hpp"
 #include "solvers/constraints/constraint_set.hpp"
 #include "solvers/newton_solver.hpp"
 
 namespace hs {
 
-class BorderedNewton {
+class BorderedNewton : public NonlinearSolver {
  public:
   BorderedNewton(Problem& problem, ConstraintSet& constraints);
   BorderedNewton(const BorderedNewton&) = delete;
@@ -27,20 +29,26 @@ class BorderedNewton {
 
   // Solves at load factor s from u and the cavities' current pressures; on success u and the
   // pressures hold the solution.
-  NewtonResult solve(Vec u, double s);
+  NewtonResult solve(Vec u, double s) override;
   // The norm of the full external load (gravity, pressure loads): with the pressure forces,
   // it sets the residual tolerance 1e-9 F.
   void set_load_norm(double norm) { load_norm_ = norm; }
-  double solve_seconds() const { return solve_s_; }
+  double solve_seconds() const override { return solve_s_; }
   double constraint_seconds() const { return constraint_s_; }
 
  private:
+  // Moves u and the multipliers (lambda) along the step du_, zeta, halved where a trial leaves
+  // the domain; c and r_norm become the new point's. False, with the reason, when no step is
+  // left (the cavities are then put back at u).
+  bool take_step(Vec u, double s, const Eigen::VectorXd& zeta, std::vector<double>& lambda,
+                 std::vector<double>& c, double& r_norm, std::string& reason);
+
   Problem& problem_;
   ConstraintSet& constraints_;
   KspHandle ksp_;
   MatHandle J_;
-  VecHandle R_, a_, du_, u_trial_;
-  VecArray Y_, Z_;
+  VecHandle R_, du_, u_trial_;
+  BorderedSystem system_;
   ConstraintLinearization lin_;
   double load_norm_ = 0, solve_s_ = 0, constraint_s_ = 0;
   int max_it_ = 30;

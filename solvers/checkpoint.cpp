@@ -8,6 +8,7 @@
 #include "common/error.hpp"
 #include "common/exchange.hpp"
 #include "deck/config_fingerprint.hpp"
+#include "solvers/stepping/stepping_kind.hpp"
 
 namespace hs {
 namespace {
@@ -43,11 +44,7 @@ double wall_minutes(MPI_Comm comm) {
 }  // namespace
 
 std::string stepping_kind(const Config& config) {
-  if (config.control) return "control";
-  const bool staged = !config.cavities.empty() || !config.cables.empty() ||
-                      !config.states.empty() || config.tip || config.control;
-  if (staged) return "states";
-  return config.time.type == TimeType::dynamic ? "dynamic" : "static";
+  return stepping_kind_name(stepping_kind_of(config));
 }
 
 void check_checkpoint_use(const Config& config, bool restart) {

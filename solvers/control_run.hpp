@@ -28,20 +28,37 @@ class ControlLoop {
  public:
   ControlLoop(const Config& config, Problem& problem, ConstraintSet& constraints,
               BorderedNewton& newton, InteractiveIo io = {});
-  // From configuration u at the end of the states (the rest state), or after resume() from
-  // the checkpoint's target set: every (remaining) target set, recorded as one output step
-  // each after first_time. After each, `checkpoints` writes a checkpoint when one is due
-  // (its count starts at the first target set), holding `states` (summary.json's, so far).
-  // Returns the summary keys `targets`, `step_time_ms`, `qp`, and in the interactive mode
-  // `input`.
-  nlohmann::json run(Vec u, ResultRecorder& recorder, double first_time,
-                     Checkpointer* checkpoints = nullptr, const nlohmann::json& states = {});
 
+  // From configuration u at the end of the states (the rest state), unless resume() put the
+  // loop at a checkpoint's target set.
+  void start(Vec u);
+  // The deck's target sets (0 in the interactive mode: not known ahead), and those done.
+  int planned_sets() const;
+  int sets_done() const { return totals_.sets; }
+  bool done() const;
+  // Collective: steps towards the next target set (control.steps_per_target steps of the
+  // controller): the deck's next, or the next line of the interactive input that is answered
+  // (a refused line gets its error line at once and changes nothing). False at the end of the
+  // input, or when a signal came while it waited (then it throws Interrupted).
+  bool next_set(Vec u);
+  // The progress line's words for the last target set: its number and largest error.
+  std::string progress_text() const;
+  // The last target set was written as output step `step`: its entries of `targets` take it,
+  // and in the interactive mode its answer goes out.
+  void answer(int step);
+
+  // Checkpoints at a target-set boundary (a batch run only): the position, holding `states`
+  // (summary.json's, so far), and the vectors.
+  nlohmann::json position(const nlohmann::json& states) const;
+  NamedVecs checkpoint_fields(Vec u) const;
   // Whether a checkpoint was written by the control loop (else by the states before it).
   static bool resumes(const Restart& restart);
   // Collective: puts back u, the constraints, the controller and the results so far from a
   // checkpoint of the control loop; returns the summary's `states` of the run it came from.
   nlohmann::json resume(const Restart& restart, Vec u);
+
+  // The summary keys `targets`, `step_time_ms`, `qp`, and in the interactive mode `input`.
+  nlohmann::json summary() const;
 
   // The target set of one interactive line; throws InputError with the reason (the line is
   // named by the caller): the words (parse_target_words), an unknown effector, or a target
@@ -60,8 +77,17 @@ class ControlLoop {
 
  private:
   void check_reach(const ControlTarget& target) const;
+  // The steps towards one target set, their times and counts in totals_, and the entries of
+  // `targets` that wait for their output step (answer()).
+  void reach(Vec u, const std::vector<ControlTarget>& targets, int line_number);
+  ControlStepReport take_steps(Vec u, const std::vector<ControlTarget>& targets, bool& limit_point);
+  // The interactive mode's next answered line, or false at the end of its input.
+  bool next_line_answered(Vec u);
+  // Rank 0's JSON line on the interactive output; the first that cannot be written ends the
+  // session.
+  void write_line(const std::string& text);
 
-  // What run() keeps between target sets for summary.json: the entries of `targets` and
+  // What the loop keeps between target sets for summary.json: the entries of `targets` and
   // the steps' times so far (a checkpoint holds it: the statistics cover the whole run).
   struct Totals {
     nlohmann::json targets = nlohmann::json::array();
@@ -76,6 +102,15 @@ class ControlLoop {
     nlohmann::json failures = nlohmann::json::array();
   };
   nlohmann::json totals_state() const;
+  // The interactive session: its lines read, refused and how it ended.
+  struct Session {
+    int lines = 0, rejected = 0;
+    int undelivered = 0;  // rank 0's JSON lines that could not be written
+    std::string kept;     // the last line's first kTargetLineKept characters
+    std::size_t length = 0;
+    int end = 0;             // none, end of input, output closed
+    nlohmann::json summary;  // summary.json's `input`, once it ended
+  };
 
   const Config& config_;
   Problem& problem_;
@@ -85,7 +120,10 @@ class ControlLoop {
   InverseController controller_;
   InteractiveIo io_;
   Totals totals_;
-  bool resumed_ = false;
+  Session session_;
+  nlohmann::json pending_ = nlohmann::json::array();  // the last set's entries, unwritten
+  int pending_line_ = 0;                              // their input line (interactive)
+  bool resumed_ = false, interactive_ = false;
   std::array<double, 3> body_low_{}, body_high_{};  // the mesh's bounding box (reference)
 };
 

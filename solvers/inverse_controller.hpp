@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "solvers/bordered_newton.hpp"
+#include "solvers/bordered_system.hpp"
 #include "solvers/checkpoint.hpp"
 #include "solvers/constraints/constraint_set.hpp"
 #include "solvers/control/background_factorizations.hpp"
@@ -103,7 +104,33 @@ class InverseController {
     double rest_measure = 0;
   };
 
+  // The wall-clock times of one step's parts and the assembly before it (the report's ms).
+  struct StepClock {
+    double start = 0, free = 0, factor = 0, compliance = 0, qp = 0, correction = 0;
+    double assembly0 = 0, fluid0 = 0, free_overhead = 0;
+  };
+
   NewtonResult solve_free(Vec u, ControlStepReport& report);
+  // The residual R_ (and the controls) at the start of step 2, gone back to the last step's
+  // start when a correction with a kept factorization overshot (stale_failed); its norm.
+  double start_residual(Vec u, bool one_step, std::vector<double>& controls, bool& stale_failed);
+  // Step 2: linearises and factors when due (with the responses), else solves R_ with the kept
+  // factorization; whether the factorization is of this step's state.
+  bool factor_if_due(Vec u, bool one_step, bool stale_failed, double r_norm,
+                     ControlStepReport& report, StepClock& clock);
+  bool correct_in_background(bool stale_failed, ControlStepReport& report, StepClock& clock);
+  void take_free_step(Vec u, const std::vector<double>& controls);
+  // W (the weighted compliance of the targeted effectors), delta (their weighted distance
+  // to the targets) and each actuator's volume growth per unit of each actuation.
+  void compliance_rows(Vec u, const std::vector<ControlTarget>& targets, Eigen::MatrixXd& W,
+                       Eigen::VectorXd& delta, Eigen::MatrixXd& growth);
+  // Step 3: the pressure changes dl from the QP; the report's QP fields and saturation.
+  Eigen::VectorXd solve_actuation(const Eigen::MatrixXd& W, const Eigen::VectorXd& delta,
+                                  const Eigen::MatrixXd& growth, ControlStepReport& report);
+  // Step 4: u and the multipliers corrected by dl (and Newton at the new actuation).
+  void correct(Vec u, const Eigen::VectorXd& dl, ControlStepReport& report);
+  void finish_report(Vec u, const std::vector<ControlTarget>& targets, const StepClock& clock,
+                     ControlStepReport& report);
   // Solves the step's right-hand sides with ksp (adding its iterations to *iterations) and
   // forms the responses; false when a solve failed.
   bool factor_responses(KSP ksp, int* iterations = nullptr);
@@ -118,14 +145,13 @@ class InverseController {
   std::unique_ptr<BackgroundFactorizations> background_;  // control.factor_threads > 0
   int step_count_ = 0;                                    // steps begun, retakes included
   MatHandle J_;
-  VecArray Y_, Z_, response_;  // per cavity; per weighted cavity; per actuator
+  VecArray response_;  // per actuator
   ConstraintLinearization lin_;
-  VecHandle R_, a_, free_step_;  // residual, K^-1 R, the free step
-  // The responses of the last factorization (kept for control.refactor_every steps).
-  std::vector<Vec> columns_;
-  std::vector<int> weighted_;
+  VecHandle R_, free_step_;  // residual, the free step
+  // The elimination and the responses of the last factorization (kept for
+  // control.refactor_every steps).
+  BorderedSystem system_;
   std::vector<bool> actuated_;
-  Eigen::FullPivLU<Eigen::MatrixXd> S_lu_;
   Eigen::MatrixXd zeta_;
   bool factored_ = false;
   // The last one_step correction inverted an element: take the step again with a fresh

@@ -10,6 +10,7 @@
 
 #include "deck/config.hpp"
 #include "solvers/problem.hpp"
+#include "solvers/stepping/nonlinear_solver.hpp"
 
 namespace hs {
 
@@ -23,28 +24,20 @@ void set_solver_options(const SolverConfig& solver, bool symmetric_tangent,
 // search); throws InputError naming the deck key or the command-line option otherwise.
 void check_solver_types(const SolverConfig& solver, const std::string& deck_path);
 
-struct NewtonResult {
-  bool converged = false;
-  int iterations = 0;
-  int linear_iterations = 0;
-  double residual_norm = 0;
-  std::string reason;  // PETSc's converged/diverged reason, or CONVERGED_ROUNDOFF
-};
-
-class NewtonSolver {
+class NewtonSolver : public NonlinearSolver {
  public:
   explicit NewtonSolver(Problem& problem);
   NewtonSolver(const NewtonSolver&) = delete;
   NewtonSolver& operator=(const NewtonSolver&) = delete;
 
   // Solves at load factor s starting from u (which must satisfy the constraints at s).
-  NewtonResult solve(Vec u, double s);
+  NewtonResult solve(Vec u, double s) override;
 
   // Unless -snes_atol was given: accept a residual below 1e-9 of the full external load's
   // norm. A relative test alone cannot pass when a step starts near its solution (time steps,
   // small load increments): its floor is round-off, not the load.
   void scale_absolute_tolerance(double load_norm);
-  double solve_seconds() const { return solve_s_; }  // time in SNESSolve minus assembly
+  double solve_seconds() const override { return solve_s_; }  // SNESSolve minus assembly
   SNES snes() const { return snes_; }
 
  private:

@@ -7,19 +7,15 @@
 namespace hs {
 
 HistorySources history_sources(const Config& config, bool staged, ConstraintSet* constraints,
-                               const ControlLoop* control, const SteppingStats& stats) {
+                               const SteppingStats& stats) {
   HistorySources sources;
   sources.time_column = staged                                  ? "state"
                         : config.time.type == TimeType::dynamic ? "time_s"
                                                                 : "load_factor";
-  sources.newton_iterations = [&stats, control] {
-    return stats.newton_iterations + (control ? control->newton_iterations() : 0);
-  };
+  sources.newton_iterations = [&stats] { return stats.newton_iterations; };
   if (constraints)
     sources.columns.push_back(
         [constraints](Vec, HistoryRow& row) { constraints->add_history(row); });
-  if (control)
-    sources.columns.push_back([control](Vec u, HistoryRow& row) { control->add_history(u, row); });
   return sources;
 }
 

@@ -10,7 +10,6 @@
 #include "deck/config.hpp"
 #include "mesh/distribution.hpp"
 #include "solvers/constraints/constraint_set.hpp"
-#include "solvers/control_run.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/output/result_recorder.hpp"
 #include "solvers/problem.hpp"
@@ -20,10 +19,11 @@ namespace hs {
 
 // The history's columns (docs/output.md): the time under the name of what it is (state in a
 // scene with constraints, else time_s or load_factor), the Newton iterations of the stepping
-// and of the control steps, the cavities and cables (ConstraintSet::add_history), the
-// effectors and actuators (ControlLoop::add_history). constraints and control may be null.
+// (a control run's stepper adds those of its control steps, and its effectors and actuators:
+// Stepper::add_history), the cavities and cables (ConstraintSet::add_history). constraints
+// may be null.
 HistorySources history_sources(const Config& config, bool staged, ConstraintSet* constraints,
-                               const ControlLoop* control, const SteppingStats& stats);
+                               const SteppingStats& stats);
 
 // summary.json's time_s (assembly, output, the set-up's parts; slowest rank), mesh shares,
 // memory_mb and assembly rates. Collective.

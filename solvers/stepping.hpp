@@ -1,5 +1,5 @@
-// Load stepping with automatic cutback (static, quasi-static) and implicit time stepping
-// (Newmark, backward Euler) on top of NewtonSolver.
+// What every stepping shares (solvers/stepping/): the run's counts, the load schedule, and the
+// automatic cutback of a step with the bounds that end it.
 #pragma once
 
 #include <cstdint>
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "deck/config.hpp"
-#include "solvers/newton_solver.hpp"
 #include "solvers/problem.hpp"
+#include "solvers/stepping/nonlinear_solver.hpp"
 
 namespace hs {
 
@@ -57,59 +57,11 @@ void advance_with_cutback(
     const std::function<NewtonResult(double)>& attempt,
     const std::function<void(double, const NewtonResult&, const std::string&)>& give_up);
 
-// Moves a converged state from one load factor to the next, halving the increment when
-// Newton fails and growing it back after a success (advance_with_cutback's bounds).
-// Each increment starts from a secant predictor, the extrapolation of the last two converged
-// states, so that a prescribed boundary motion moves the interior along with it instead of
-// distorting the elements next to the boundary. Throws SolveError naming the step, the load
-// factor and the cause when it cannot go on.
-class LoadStepper {
- public:
-  LoadStepper(Problem& problem, NewtonSolver& newton, int max_cutbacks);
-  LoadStepper(const LoadStepper&) = delete;
-  LoadStepper& operator=(const LoadStepper&) = delete;
+// "Newton did not converge (REASON, residual R after N iterations)".
+std::string newton_failure(const NewtonResult& r);
 
-  // u holds the converged state at the current load factor (0 at the start).
-  void advance(Vec u, double s_to, int step, SteppingStats& stats);
-
-  // What the secant predictor remembers, for a checkpoint: the load factor of u, the previous
-  // converged state and its load factor; resume() puts them back (previous() filled first).
-  double load_factor() const { return s_; }
-  double previous_load_factor() const { return s_last_; }
-  bool has_previous() const { return has_last_; }
-  Vec previous() const { return u_last_; }
-  void resume(double s, double s_last, bool has_last) {
-    s_ = s;
-    s_last_ = s_last;
-    has_last_ = has_last;
-  }
-
- private:
-  void predict(Vec u, double s_next);
-
-  Problem& problem_;
-  NewtonSolver& newton_;
-  int max_cutbacks_;
-  double s_ = 0;           // load factor of u
-  double s_last_ = 0;      // load factor of u_last_
-  bool has_last_ = false;  // u_last_ holds an earlier converged state
-  VecHandle u_last_, saved_;
-};
-
-// Called after every converged time step with (step index, time, u, v, a).
-using StepCallback = std::function<void(int, double, Vec, Vec, Vec)>;
-
-// Where a restarted dynamic run starts: its step, and fill(v, a) sets the velocity and the
-// acceleration there (u is given); stats.energy holds the energies so far.
-struct DynamicResume {
-  int step = 0;
-  std::function<void(Vec v, Vec a)> fill;
-};
-
-// Implicit dynamics at full load from rest: u(0) = Dirichlet values, v(0) = 0,
-// M a(0) = f_ext - f_int(u(0)); or, with `resume`, from its step on.
-void run_dynamic(Problem& problem, NewtonSolver& newton, const TimeConfig& time, Vec u,
-                 SteppingStats& stats, const StepCallback& on_step,
-                 const DynamicResume* resume = nullptr);
+// Throws SolveError "step STEP (WHERE): WHY", naming the inverted element if there is one.
+[[noreturn]] void fail_step(const Problem& problem, int step, const std::string& where,
+                            const std::string& why);
 
 }  // namespace hs

@@ -1,0 +1,44 @@
+// The plan of a deck's states (docs/decks.md, "states"): the first ramps the load factor from 0
+// to 1 with the cavities at their own controls; each later state ramps the cavity controls it
+// names from their current values to its targets. A deck without states has one, "final".
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "deck/config.hpp"
+#include "solvers/constraints/constraint_set.hpp"
+
+namespace hs {
+
+// One state: its increments' end points tau (fractions of the state) and what tau sets.
+struct StatePlan {
+  std::string name;
+  std::vector<double> taus;
+  bool first = false;
+  // Later states: per cavity, the control to ramp (from -> to); unnamed cavities keep theirs.
+  struct Ramp {
+    bool active = false;
+    Constraint::Control control = Constraint::Control::multiplier;
+    double from = 0, to = 0;
+  };
+  std::vector<Ramp> ramps;  // one per constraint of the ConstraintSet
+
+  double load_factor(double tau) const { return first ? tau : 1.0; }
+  // Starts the state: fixes its ramps' start values from the constraints' current state and
+  // sets their controls. Throws InputError (naming the deck, the state and the cavity) for an
+  // added volume that would leave a cavity no volume.
+  void begin(ConstraintSet& constraints, const std::string& deck_path);
+  // Sets the constraints' targets (and the prescribed multipliers) at tau.
+  void set_targets(ConstraintSet& constraints, double tau) const;
+  // Why a ramp may have no equilibrium ahead (a pressure past its peak), for a failed step.
+  std::string failure_note(const ConstraintSet& constraints) const;
+  // The ramps for a checkpoint, and the same put back.
+  nlohmann::json ramps_json() const;
+  void resume_ramps(const nlohmann::json& ramps);
+};
+
+std::vector<StatePlan> plan_states(const Config& config);
+
+}  // namespace hs

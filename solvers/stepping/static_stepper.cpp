@@ -1,0 +1,67 @@
+#include "solvers/stepping/static_stepper.hpp"
+
+#include "common/deck_reader.hpp"
+
+namespace hs {
+
+StaticStepper::StaticStepper(const Config& config, Problem& problem, NonlinearSolver& solver,
+                             SteppingStats& stats)
+    : config_(config),
+      problem_(problem),
+      solver_(solver),
+      stats_(stats),
+      schedule_(load_schedule(config.time)),
+      predictor_(problem) {
+  stats.max_steps = max_substeps(static_cast<int64_t>(schedule_.size()));
+}
+
+std::optional<StepReport> StaticStepper::advance(Vec u) {
+  const size_t k = next_;
+  const double s_to = schedule_[k];
+  std::vector<double> no_multipliers;
+  auto attempt = [&](double s) {
+    predictor_.predict(u, no_multipliers, s);
+    problem_.apply_dirichlet(u, s);
+    const NewtonResult r = solver_.solve(u, s);
+    if (r.converged)
+      predictor_.accept(s);
+    else
+      predictor_.reject(u, no_multipliers);
+    return r;
+  };
+  advance_with_cutback(
+      predictor_.parameter(), s_to, config_.time.max_cutbacks, stats_, problem_.comm(), attempt,
+      [&](double s, const NewtonResult&, const std::string& why) {
+        fail_step(problem_, static_cast<int>(k + 1), "load factor " + std::to_string(s), why);
+      });
+  next_ = k + 1;
+  StepReport step;
+  step.index = static_cast<int>(next_);
+  step.what = "load " + format_number(s_to);
+  step.time = s_to;
+  step.load_factor = s_to;
+  step.output = done() || (static_cast<int>(next_) % config_.output.every) == 0;
+  return step;
+}
+
+nlohmann::json StaticStepper::position() const {
+  return {{"step", next_},
+          {"load_factor", predictor_.parameter()},
+          {"previous_load_factor", predictor_.previous_parameter()},
+          {"has_previous", predictor_.has_previous()},
+          {"last", done()}};
+}
+
+NamedVecs StaticStepper::checkpoint_fields(Vec u) const {
+  return {{"displacement", u}, {"previous_displacement", predictor_.previous()}};
+}
+
+void StaticStepper::resume(const Restart& restart, Vec u) {
+  const nlohmann::json& p = restart.position();
+  next_ = p.at("step");
+  restart.read("displacement", problem_, u);
+  restart.read("previous_displacement", problem_, predictor_.previous());
+  predictor_.resume(p.at("load_factor"), p.at("previous_load_factor"), p.at("has_previous"), {});
+}
+
+}  // namespace hs
