@@ -6,7 +6,7 @@
 #   bash scripts/device_bundle.sh BUILD_DIR OUT_DIR [NAME ...]
 #
 # hydrosoft and fluidweight always go in; each NAME adds a program of BUILD_DIR/bin (box_mesh,
-# bench_fluidweight, ...) or a test of BUILD_DIR/tests (mpi_test_cavities, ...), with the
+# bench_fluidweight, ...) or a test executable of BUILD_DIR/tests (mpi_test_solvers, ...), with the
 # libraries it needs (the GPU benchmarks' bring cuSOLVER and cuBLAS: name them only when they
 # are to run). input/ and meshes/ go in too. Writes OUT_DIR/part_aa, part_ab, ...: the
 # bundle (xz) in parts of 40 MB, since the device tool carries at most 64 MiB a call. Send

@@ -3,7 +3,7 @@
 # C++ and CUDA files, and runs every test (serial and 1/2-rank MPI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh
+bash scripts/build.sh all_tests  # what the tests run; the benchmarks are built by scripts/build.sh alone
 bash scripts/check_format.sh
 export OPENBLAS_NUM_THREADS=1 OMPI_MCA_rmaps_base_oversubscribe=1
 cd "${BUILD_DIR:-build}"

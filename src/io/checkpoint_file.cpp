@@ -12,7 +12,7 @@
 namespace hs {
 namespace {
 
-const char* kFormat = "hydrosoft checkpoint";
+const char* kCheckpointFormat = "hydrosoft checkpoint";
 constexpr int kVersion = 1;
 
 }  // namespace
@@ -33,7 +33,7 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::js
     {
       // A control run's state holds its results so far: often more than 64 KB.
       Hdf5File h5(tmp, Hdf5File::Mode::CreateLargeAttributes, comm, bytes);
-      h5.set_attribute("/", "format", std::string(kFormat));
+      h5.set_attribute("/", "format", std::string(kCheckpointFormat));
       h5.set_attribute("/", "version", kVersion);
       h5.set_attribute("/", "state", state.dump());
       h5.write_rows("/node_ids", rows.node_ids, rows.nodes, 0, rows.first);
@@ -79,7 +79,7 @@ CheckpointFile::CheckpointFile(const std::string& path) : path_(path) {
   };
   const std::string format = text_attribute("format"), text = text_attribute("state");
   if (file_.id < 0) fail("not an HDF5 file");
-  if (format != kFormat || text.empty()) fail("not a hydrosoft checkpoint");
+  if (format != kCheckpointFormat || text.empty()) fail("not a hydrosoft checkpoint");
   try {
     state_ = nlohmann::json::parse(text);
   } catch (const std::exception&) {

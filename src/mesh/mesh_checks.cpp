@@ -12,13 +12,12 @@
 #include "common/error.hpp"
 #include "fem/quadrature.hpp"
 #include "fem/shape.hpp"
+#include "mesh/tet_numbering.hpp"
 
 namespace hs {
 namespace {
 
-Eigen::Vector3d node_x(const Mesh& mesh, int64_t n) {
-  return Eigen::Vector3d(mesh.x[3 * n], mesh.x[3 * n + 1], mesh.x[3 * n + 2]);
-}
+using tet::node_x;
 
 std::string point(const Mesh& mesh, int64_t n) {
   std::ostringstream s;
@@ -30,7 +29,7 @@ std::string point(const Mesh& mesh, int64_t n) {
 // The quadrature degrees of the P2 element routines (src/fem/element.cpp): stiffness,
 // volume, body force, mass. A Jacobian that is not positive at one of their points stops
 // the element routines; the nodes are checked as well.
-constexpr int kP2Degrees[] = {2, 3, 5, 7};
+constexpr int kP2ElementDegrees[] = {2, 3, 5, 7};
 
 // Whether every edge node of P2 tetrahedron t sits at its edge's midpoint (to round-off):
 // its Jacobian is then that of its vertices, positive after orientation.
@@ -84,7 +83,7 @@ void check_curved_tets(const Mesh& mesh, const std::string& file, const MeshLabe
   if (mesh.order != 2) return;
   std::vector<Eigen::Vector3d> points;
   for (int a = 0; a < 10; ++a) points.push_back(tet_node(2, a));
-  for (int degree : kP2Degrees) {
+  for (int degree : kP2ElementDegrees) {
     const auto& rule = tet_quadrature(degree).points;
     points.insert(points.end(), rule.begin(), rule.end());
   }

@@ -7,25 +7,19 @@
 
 #include "common/error.hpp"
 #include "mesh/mesh_checks.hpp"
+#include "mesh/tet_numbering.hpp"
 
 namespace hs {
 namespace {
 
-// Tet10 edge node of each pair of vertices (gmsh order, see mesh.hpp); -1 on the diagonal.
-constexpr int kEdgeNode[4][4] = {{-1, 4, 6, 7}, {4, -1, 5, 9}, {6, 5, -1, 8}, {7, 9, 8, -1}};
-
-// For a positively oriented tetrahedron, the face opposite vertex v listed so that its
-// right-hand normal points away from v: e.g. face (0, 2, 1) has normal
-// (x2 - x0) x (x1 - x0), whose dot product with x3 - x0 is -det < 0.
-constexpr int kOutwardFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+using tet::kEdgeNode;
+using tet::kOutwardFace;
+using tet::node_x;
+using tet::odd_order;
 
 // Swapping vertices 1 and 2 of a tetrahedron: new node i is old node kSwap12[i]. The edge
 // nodes follow their edges, e.g. new edge (0, 1) is old edge (0, 2), node 6.
 constexpr int kSwap12[10] = {0, 2, 1, 3, 6, 5, 4, 7, 9, 8};
-
-Eigen::Vector3d node_x(const Mesh& mesh, int64_t n) {
-  return Eigen::Vector3d(mesh.x[3 * n], mesh.x[3 * n + 1], mesh.x[3 * n + 2]);
-}
 
 }  // namespace
 
@@ -55,13 +49,6 @@ size_t FaceIndex::KeyHash::operator()(const std::array<int64_t, 3>& k) const {
   for (int64_t v : k) h ^= std::hash<int64_t>()(v) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
   return h;
 }
-
-namespace {
-
-// Whether (p, q, r) is an odd permutation of its sorted order.
-bool odd_order(int64_t p, int64_t q, int64_t r) { return ((p > q) + (p > r) + (q > r)) % 2 == 1; }
-
-}  // namespace
 
 FaceIndex::FaceIndex(const Mesh& mesh) {
   const int npe = mesh.nodes_per_tet();

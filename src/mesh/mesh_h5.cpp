@@ -18,10 +18,10 @@
 namespace hs {
 namespace {
 
-const char* kFormat = "hydrosoft mesh";
+const char* kMeshFormat = "hydrosoft mesh";
 
 // A byte count as people read it: 68719476736 -> "68719476736" (exact below 2^53).
-std::string count_text(double bytes) {
+std::string byte_count_text(double bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.0f", bytes);
   return text;
@@ -138,7 +138,7 @@ void write_mesh_h5(const Mesh& mesh, const std::string& path) {
   for (const auto& [name, faces] : mesh.surfaces) check_name(path, name);
   for (const auto& [name, nodes] : mesh.node_groups) check_name(path, name);
   Hdf5File h5(path, Hdf5File::Mode::Create);
-  h5.set_attribute("/", "format", std::string(kFormat));
+  h5.set_attribute("/", "format", std::string(kMeshFormat));
   h5.set_attribute("/", "version", 1);
   h5.set_attribute("/", "order", mesh.order);
   h5.write("/nodes", mesh.x, mesh.num_nodes(), 3);
@@ -177,8 +177,8 @@ MeshSlab read_mesh_h5(const std::string& path, int64_t max_elements, MPI_Comm co
   };
   if (!h5.open())
     fail("cannot open it as an HDF5 file");
-  else if (h5.format() != kFormat)
-    fail("not a hydrosoft mesh (no attribute format = '" + std::string(kFormat) +
+  else if (h5.format() != kMeshFormat)
+    fail("not a hydrosoft mesh (no attribute format = '" + std::string(kMeshFormat) +
          "'; write one with `hydrosoft mesh DECK`)");
   throw_together<InputError>(error, comm);
 
@@ -199,8 +199,8 @@ MeshSlab read_mesh_h5(const std::string& path, int64_t max_elements, MPI_Comm co
     else if (shape.stored_bytes < shape.claimed_bytes)
       fail(name + ": claims " + std::to_string(shape.rows) +
            (shape.cols ? " x " + std::to_string(shape.cols) : std::string()) + " entries (" +
-           count_text(shape.claimed_bytes) + " bytes) but stores " +
-           count_text(shape.stored_bytes) +
+           byte_count_text(shape.claimed_bytes) + " bytes) but stores " +
+           byte_count_text(shape.stored_bytes) +
            " bytes: hydrosoft writes its datasets whole and uncompressed");
     stored_total += shape.stored_bytes;
   };
@@ -264,8 +264,8 @@ MeshSlab read_mesh_h5(const std::string& path, int64_t max_elements, MPI_Comm co
     s.groups.group_nodes[name] = n.rows;
   }
   if (error.empty() && stored_total > file_bytes)
-    fail("its datasets claim " + count_text(stored_total) + " bytes of storage, more than the " +
-         count_text(file_bytes) + "-byte file holds");
+    fail("its datasets claim " + byte_count_text(stored_total) +
+         " bytes of storage, more than the " + byte_count_text(file_bytes) + "-byte file holds");
   throw_together<InputError>(error, comm);
   s.num_nodes = nodes.rows;
 

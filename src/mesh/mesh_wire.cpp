@@ -44,9 +44,9 @@ class Writer {
   std::string out_;
 };
 
-class Reader {
+class WireReader {
  public:
-  Reader(std::string_view bytes, const std::string& file) : in_(bytes), file_(file) {}
+  WireReader(std::string_view bytes, const std::string& file) : in_(bytes), file_(file) {}
 
   template <class T>
   T value() {
@@ -126,7 +126,7 @@ std::string encode_mesh(const Mesh& mesh) {
 }
 
 Mesh decode_mesh(std::string_view bytes, const std::string& file) {
-  Reader r(bytes, file);
+  WireReader r(bytes, file);
   for (char c : kMagic)
     if (r.value<char>() != c) r.fail("not an encoded mesh");
   Mesh m;

@@ -16,15 +16,15 @@
 #include "common/exchange.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_distribute.hpp"
+#include "mesh/tet_numbering.hpp"
 
 namespace hs {
 namespace {
 
-// gmsh's node order (mesh.hpp), as mesh_faces.cpp uses it: the face opposite vertex v listed
-// so that its right-hand normal points out of a positively oriented tetrahedron, and the
-// Tet10 edge node of each pair of vertices.
-constexpr int kOutwardFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-constexpr int kEdgeNode[4][4] = {{-1, 4, 6, 7}, {4, -1, 5, 9}, {6, 5, -1, 8}, {7, 9, 8, -1}};
+using tet::kEdgeNode;
+using tet::kOutwardFace;
+using tet::node_x;
+using tet::odd_order;
 
 // The tolerance of check_duplicate_nodes, as a fraction of the mesh's extent.
 constexpr double kSamePlace = 1e-12;
@@ -112,10 +112,6 @@ LocalTets local_tets(const MeshSlab& slab, const std::string& file, MPI_Comm com
   t.labels.tet_tags.resize(slab.slab_tets());
   for (int64_t i = 0; i < slab.slab_tets(); ++i) t.labels.tet_tags[i] = slab.tet_begin + i;
   return t;
-}
-
-Eigen::Vector3d node_x(const Mesh& mesh, int64_t n) {
-  return Eigen::Vector3d(mesh.x[3 * n], mesh.x[3 * n + 1], mesh.x[3 * n + 2]);
 }
 
 // The first degenerate or inverted tetrahedron, as orient_tets_positively measures them; an
@@ -272,8 +268,6 @@ struct FaceSide {
   int64_t tet() const { return side >> 1; }
   bool odd() const { return side & 1; }
 };
-
-bool odd_order(int64_t p, int64_t q, int64_t r) { return ((p > q) + (p > r) + (q > r)) % 2 == 1; }
 
 // Every face goes to the rank its vertices hash to. Two positively oriented tetrahedra that
 // share a face see it in opposite outward orders; among three or more, two see it alike, so

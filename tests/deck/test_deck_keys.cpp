@@ -3,7 +3,7 @@
 // and fingerprint, with every key the deck gave.
 //
 // After changing a key, rewrite the docs' tables with
-//   HYDROSOFT_WRITE_DOCS=1 build/tests/test_deck_keys --gtest_filter='DeckKeys.Docs*'
+//   HYDROSOFT_WRITE_DOCS=1 build/tests/test_deck --gtest_filter='DeckKeys.Docs*'
 #include <gtest/gtest.h>
 
 #include <cstdlib>

@@ -11,8 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "../solvers/run_deck.hpp"
 #include "common/error.hpp"
-#include "run_deck.hpp"
 
 namespace {
 

@@ -9,9 +9,9 @@
 #include <fstream>
 #include <memory>
 
+#include "../solvers/run_deck.hpp"
 #include "common/error.hpp"
 #include "io/output.hpp"
-#include "run_deck.hpp"
 
 namespace {
 
