@@ -13,6 +13,7 @@
 #include "deck/config_fingerprint.hpp"
 #include "solvers/checkpoint.hpp"
 #include "solvers/stepping.hpp"
+#include "solvers/stepping/state_plan.hpp"
 
 namespace hs {
 namespace {
@@ -138,14 +139,11 @@ std::string number_text(double x) {
   return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, x).ptr);
 }
 
-// The increments of each state, as the state stepping plans them (state_stepping.cpp,
-// plan_states): the first state without `states` follows time.schedule or time.steps.
+// The increments of each state, as the state stepping plans them.
 std::vector<int64_t> state_increments(const Config& config) {
-  if (config.states.empty())
-    return {config.time.schedule.empty() ? static_cast<int64_t>(config.time.steps)
-                                         : static_cast<int64_t>(config.time.schedule.size())};
   std::vector<int64_t> increments;
-  for (const auto& state : config.states) increments.push_back(state.steps);
+  for (const StatePlan& plan : plan_states(config))
+    increments.push_back(static_cast<int64_t>(plan.taus.size()));
   return increments;
 }
 

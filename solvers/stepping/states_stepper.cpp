@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "solvers/state_stepping.hpp"
+#include "solvers/tip_orientation.hpp"
 
 namespace hs {
 

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../app/text_file.hpp"
 #include "deck/config_fingerprint.hpp"
 #include "deck/deck.hpp"
 #include "deck/deck_keys.hpp"
@@ -21,13 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::TempFolder;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Markers open a line (the prose may quote them).
 const std::string kOpen = "\n<!-- keys:", kClose = "\n<!-- /keys -->";
@@ -67,7 +61,7 @@ std::string with_generated_tables(const std::string& doc, std::vector<std::strin
 
 TEST(DeckKeys, DocsTablesAreTheRegistrys) {
   const fs::path path = fs::path(HYDROSOFT_SOURCE_DIR) / "docs" / "decks.md";
-  const std::string doc = read_text(path);
+  const std::string doc = testing::text_of(path.string());
   std::vector<std::string> seen, differ;
   const std::string generated = with_generated_tables(doc, seen, differ);
   if (std::getenv("HYDROSOFT_WRITE_DOCS") && generated != doc) std::ofstream(path) << generated;

@@ -24,7 +24,7 @@
 #include "solvers/output/gather.hpp"
 #include "solvers/problem.hpp"
 #include "solvers/simulation.hpp"
-#include "solvers/state_stepping.hpp"
+#include "solvers/tip_orientation.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "solvers/state_stepping.hpp"
+#include "solvers/tip_orientation.hpp"
 
 #include <cmath>
 
