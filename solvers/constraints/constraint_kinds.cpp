@@ -5,6 +5,7 @@
 #include "solvers/constraints/cable.hpp"
 #include "solvers/constraints/capstan_cable.hpp"
 #include "solvers/constraints/hydraulic_cavity.hpp"
+#include "solvers/constraints/pressure_limited_cavity.hpp"
 #include "solvers/constraints/sealed_cavity.hpp"
 #include "solvers/problem.hpp"
 
@@ -27,6 +28,7 @@ const CavityKindEntry kCavityKinds[] = {
     {CavityKind::hydraulic, make<HydraulicCavity>},
     {CavityKind::sealed_gas, make<SealedCavity>},
     {CavityKind::sealed_volume, make<SealedCavity>},
+    {CavityKind::pressure_limited, make<PressureLimitedCavity>},
 };
 
 // A cable is frictionless, or turns through its eyelets with Coulomb friction.
