@@ -257,12 +257,13 @@ nlohmann::json constraint_states(const ConstraintSet& constraints) {
   nlohmann::json list = nlohmann::json::array();
   for (int k = 0; k < constraints.size(); ++k) {
     const Constraint& c = constraints[k];
+    const Constraint::State s = c.snapshot();
     list.push_back({{"name", c.name()},
-                    {"lambda", c.lambda},
-                    {"target", c.target},
-                    {"control", static_cast<int>(c.control)},
-                    {"measure", c.measure},
-                    {"rest_measure", c.rest_measure}});
+                    {"lambda", s.multiplier},
+                    {"target", s.target},
+                    {"control", static_cast<int>(s.control)},
+                    {"measure", s.measure},
+                    {"rest_measure", s.rest_measure}});
   }
   return list;
 }
@@ -277,11 +278,13 @@ void restore_constraint_states(ConstraintSet& constraints, const nlohmann::json&
     if (s.at("name") != c.name())
       throw InputError("--restart: the checkpoint's constraint " + std::to_string(k) + " is '" +
                        s.at("name").get<std::string>() + "', this deck's '" + c.name() + "'");
-    c.lambda = s.at("lambda");
-    c.target = s.at("target");
-    c.control = static_cast<Constraint::Control>(s.at("control").get<int>());
-    c.measure = s.at("measure");
-    c.rest_measure = s.at("rest_measure");
+    Constraint::State state;
+    state.multiplier = s.at("lambda");
+    state.target = s.at("target");
+    state.control = static_cast<Constraint::Control>(s.at("control").get<int>());
+    state.measure = s.at("measure");
+    state.rest_measure = s.at("rest_measure");
+    c.restore(state);
   }
 }
 

@@ -119,7 +119,7 @@ void ControlLoop::add_history(Vec u, HistoryRow& row) const {
       row.add("effector_" + effectors_.name(e) + "_" + "xyz"[d] + "_m", x[3 * e + d]);
   for (const auto& actuator : config_.control->actuators) {
     const Constraint& c = constraints_[constraints_.find(actuator.constraint)];
-    row.add("actuator_" + c.name() + (c.is_cavity() ? "_Pa" : "_N"), c.lambda);
+    row.add("actuator_" + c.name() + "_" + c.units().multiplier, c.multiplier());
   }
 }
 

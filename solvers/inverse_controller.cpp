@@ -86,11 +86,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // Step 1: the free configuration at the current actuation, converged by Newton; in the
   // one_step mode it is the first Newton step of step 2's linearisation instead.
   const bool one_step = config_.control->free_solve == FreeSolve::one_step && !retake_converged_;
-  for (const auto& a : actuators_) {
-    Constraint& c = constraints_[a.constraint];
-    c.control = Constraint::Control::multiplier;
-    c.target = c.lambda;
-  }
+  for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
   if (!one_step) {
     const NewtonResult free = solve_free(u, report);
     if (!free.converged)
@@ -157,8 +153,7 @@ double InverseController::start_residual(Vec u, bool one_step, std::vector<doubl
   if (overshoot && one_step && steps_since_factorization_ > 0 && step_start_) {
     HS_PETSC(VecCopy(step_start_, u));
     constraints_.set_multipliers(step_start_pressures_);
-    for (const auto& a : actuators_)
-      constraints_[a.constraint].target = constraints_[a.constraint].lambda;
+    for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
     ok = constraints_.residual(u, 1.0, R_, controls);
     HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
     stale_failed = true;
@@ -242,7 +237,8 @@ void InverseController::take_free_step(Vec u, const std::vector<double>& control
       system_.solve_dense(system_.residual_rhs(lin_, controls, actuated_));
   system_.step(zeta_free, free_step_);
   HS_PETSC(VecAXPY(u, 1.0, free_step_));  // x_free
-  for (int c = 0; c < constraints_.size(); ++c) constraints_[c].lambda += zeta_free(c);
+  for (int c = 0; c < constraints_.size(); ++c)
+    constraints_[c].set_multiplier(constraints_[c].multiplier() + zeta_free(c));
 }
 
 void InverseController::correct(Vec u, const Eigen::VectorXd& dl, ControlStepReport& report) {
@@ -252,8 +248,7 @@ void InverseController::correct(Vec u, const Eigen::VectorXd& dl, ControlStepRep
   const Eigen::VectorXd dlambda = zeta_.topRows(m) * dl;
   for (int c = 0; c < m; ++c) lambda[c] += dlambda(c);
   constraints_.set_multipliers(lambda);
-  for (const auto& a : actuators_)
-    constraints_[a.constraint].target = constraints_[a.constraint].lambda;
+  for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
   if (config_.control->newton_finish) {
     problem_.apply_dirichlet(u, 1.0);
     const NewtonResult r = newton_.solve(u, 1.0);
@@ -262,7 +257,7 @@ void InverseController::correct(Vec u, const Eigen::VectorXd& dl, ControlStepRep
       throw SolveError("control step: Newton at the new actuation did not converge (" + r.reason +
                        ")");
   } else {
-    for (int c = 0; c < m; ++c) constraints_[c].measure = constraints_.measure(c, u);
+    for (int c = 0; c < m; ++c) constraints_[c].update_measure(u);
   }
 }
 
@@ -279,7 +274,8 @@ void InverseController::finish_report(Vec u, const std::vector<ControlTarget>& t
         error2 += std::pow(report.reached[3 * e + d] - t.position[d], 2);
   }
   report.error = std::sqrt(error2);
-  for (const auto& a : actuators_) report.actuation.push_back(constraints_[a.constraint].lambda);
+  for (const auto& a : actuators_)
+    report.actuation.push_back(constraints_[a.constraint].multiplier());
   const auto& timers = problem_.timers();
   const double assembly = timers.residual_s + timers.jacobian_s - clock.assembly0;
   const double fluid = constraints_.fluid_weight_seconds() - clock.fluid0;

@@ -42,18 +42,16 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
   constraints_.set_multipliers(last_pressures_);
   const std::vector<double> from = last_pressures_;
   auto set_actuation = [&](double t) {
-    std::vector<double> lambda = constraints_.multipliers();
     for (const auto& a : actuators_) {
-      Constraint& c = constraints_[a.constraint];
-      lambda[a.constraint] = from[a.constraint] + t * (wanted[a.constraint] - from[a.constraint]);
-      c.target = lambda[a.constraint];
+      const int c = a.constraint;
+      constraints_[c].prescribe(Constraint::Control::multiplier,
+                                from[c] + t * (wanted[c] - from[c]));
     }
-    constraints_.set_multipliers(lambda);
   };
   struct Stop {};
   SteppingStats stats;
   auto attempt = [&](double t) {
-    const std::vector<double> before = constraints_.multipliers();
+    const std::vector<Constraint::State> before = constraints_.snapshot();
     set_actuation(t);
     const NewtonResult r = solve(u);
     if (r.converged) {
@@ -61,8 +59,7 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
       last_pressures_ = constraints_.multipliers();
     } else {
       HS_PETSC(VecCopy(last_free_, u));
-      constraints_.set_multipliers(before);
-      for (const auto& a : actuators_) constraints_[a.constraint].target = before[a.constraint];
+      constraints_.restore(before);
     }
     result = r;
     return r;
@@ -74,8 +71,7 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
     // Held at the last equilibrium reached on the way: a bound of physics, not of the deck.
     HS_PETSC(VecCopy(last_free_, u));
     constraints_.set_multipliers(last_pressures_);
-    for (const auto& a : actuators_)
-      constraints_[a.constraint].target = last_pressures_[a.constraint];
+    for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
     result.converged = true;
     report.limit_point = true;
   }
@@ -83,39 +79,32 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
 }
 
 void InverseController::settle(Vec u, ControlStepReport& report) {
-  for (const auto& a : actuators_) {
-    constraints_[a.constraint].control = Constraint::Control::multiplier;
-    constraints_[a.constraint].target = constraints_[a.constraint].lambda;
-  }
+  for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
   const NewtonResult r = solve_free(u, report);
   if (!r.converged)
     throw SolveError("control: the equilibrium at the final actuation did not converge (" +
                      r.reason + ")");
   report.reached = effectors_.positions(u);
   report.actuation.clear();
-  for (const auto& a : actuators_) report.actuation.push_back(constraints_[a.constraint].lambda);
+  for (const auto& a : actuators_)
+    report.actuation.push_back(constraints_[a.constraint].multiplier());
 }
 
 // On a copy, by the free solve: Newton from the prediction, or, where a kept factorization
 // left the prediction too far off for Newton (a few steps of 5 kPa on the hydraulic finger),
 // the pressures walked from the last equilibrium found here (or the rest state).
 std::vector<double> InverseController::equilibrium_positions(Vec u) {
-  const std::vector<double> pressures = constraints_.multipliers();
-  std::vector<double> targets;
-  for (int c = 0; c < constraints_.size(); ++c) targets.push_back(constraints_[c].target);
+  // The controller's state is the one at u: what the check changes is put back.
+  const std::vector<Constraint::State> at_u = constraints_.snapshot();
   VecHandle x;
   HS_PETSC(VecDuplicate(u, x.out()));
   HS_PETSC(VecCopy(u, x));
-  for (const auto& a : actuators_) {
-    constraints_[a.constraint].control = Constraint::Control::multiplier;
-    constraints_[a.constraint].target = constraints_[a.constraint].lambda;
-  }
+  for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
   ControlStepReport report;
   const NewtonResult r = solve_free(x, report);
   const std::vector<double> positions = effectors_.positions(x);
   x.reset();
-  constraints_.set_multipliers(pressures);
-  for (int c = 0; c < constraints_.size(); ++c) constraints_[c].target = targets[c];
+  constraints_.restore(at_u);
   if (!r.converged || report.limit_point)
     throw SolveError(
         "control: the equilibrium check found no equilibrium at the current "

@@ -64,11 +64,11 @@ Eigen::VectorXd InverseController::solve_actuation(const Eigen::MatrixXd& W,
   };
   for (int a = 0; a < n; ++a) {
     const auto& b = actuators_[a].config;
-    const double lambda = constraints_[actuators_[a].constraint].lambda;
+    const double lambda = constraints_[actuators_[a].constraint].multiplier();
     PetscScalar free_growth = 0;  // the free step's volume change (linear)
     HS_PETSC(VecDot(lin_.g[actuators_[a].constraint], free_step_, &free_growth));
     const double grown =
-        constraints_[actuators_[a].constraint].measure + free_growth - actuators_[a].rest_measure;
+        constraints_[actuators_[a].constraint].measure() + free_growth - actuators_[a].rest_measure;
     Eigen::RowVectorXd unit = Eigen::RowVectorXd::Zero(n);
     unit(a) = 1;
     bound(unit, b.min_multiplier - lambda, a);

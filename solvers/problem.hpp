@@ -123,6 +123,11 @@ class Problem {
   // follower pressure surface whose pressure is set directly (not scaled by the load factor);
   // returns its index.
   int add_cavity_surface(const std::string& group);
+  bool has_cavity_surfaces() const {
+    for (const auto& s : pressure_faces_)
+      if (!s.scaled) return true;
+    return false;
+  }
   void set_surface_pressure(int surface, double p) { pressure_faces_[surface].value = p; }
   // Volume enclosed by the surface on configuration u (summed over ranks; faces point out of
   // the body, so a cavity's volume is positive).

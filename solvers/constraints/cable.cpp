@@ -2,13 +2,14 @@
 
 namespace hs {
 
-Cable::Cable(const CableConfig& config, Problem& problem, const std::string& deck_path)
-    : Constraint(config.name), problem_(problem), path_(config, problem, deck_path) {
-  pull_ = VecHandle(problem.create_vector());
-  const VecHandle zero(problem.create_vector());
-  reference_measure = measure = rest_measure = -path_.length(zero);
-  control = Control::multiplier;
-  first_state_multiplier = config.force;  // the first state ramps it like a cavity pressure
+Cable::Cable(const CableConfig& config, ConstraintContext& context)
+    : Constraint(config.name),
+      problem_(context.problem),
+      path_(config, context.problem, context.deck_path()) {
+  pull_ = VecHandle(problem_.create_vector());
+  const VecHandle zero(problem_.create_vector());
+  set_reference_measure(-path_.length(zero));
+  set_first_state(config.force, std::nullopt);  // ramped like a cavity pressure
 }
 
 double Cable::measure_at(Vec u) const { return -path_.length(u); }
@@ -20,19 +21,26 @@ void Cable::forces(Vec u, Vec g) const {
 
 void Cable::add_load(Vec u, double /*s*/, Vec load) {
   path_.pull_direction(u, pull_);
-  HS_PETSC(VecAXPY(load, lambda, pull_));
+  HS_PETSC(VecAXPY(load, multiplier(), pull_));
 }
 
-void Cable::set_stiffness(Vec u, Problem& problem) { path_.set_stiffness(u, lambda, problem); }
+void Cable::set_stiffness(Vec u, Problem& problem) {
+  path_.set_stiffness(u, multiplier(), problem);
+}
 
 nlohmann::json Cable::report() const {
   nlohmann::json j;
   j["name"] = name();
   j["kind"] = kind();
-  j["length"] = -measure;
-  j["pull"] = measure - rest_measure;  // shortening since the end of the first state
-  j["force"] = lambda;
+  j["length"] = -measure();
+  j["pull"] = measure() - rest_measure();  // shortening since the end of the first state
+  j["force"] = multiplier();
   return j;
+}
+
+void Cable::add_history(HistoryRow& row) const {
+  row.add("cable_" + name() + "_force_N", multiplier());
+  row.add("cable_" + name() + "_pull_m", measure() - rest_measure());
 }
 
 }  // namespace hs

@@ -8,18 +8,19 @@
 
 #include "deck/config.hpp"
 #include "solvers/constraints/cable_path.hpp"
-#include "solvers/constraints/constraint.hpp"
+#include "solvers/constraints/constraint_kinds.hpp"
 
 namespace hs {
 
 class Cable : public Constraint {
  public:
   // Collective; throws InputError naming the deck, the cable and a point outside the mesh.
-  Cable(const CableConfig& config, Problem& problem, const std::string& deck_path);
+  Cable(const CableConfig& config, ConstraintContext& context);
 
   std::string kind() const override { return "cable"; }
   bool actuated() const override { return true; }
-  bool is_cavity() const override { return false; }
+  const char* family() const override { return "cables"; }
+  Units units() const override { return {"N", "m"}; }
   double measure_at(Vec u) const override;
   void forces(Vec u, Vec g) const override;
   // Its tension acts on its points as a load: lambda g.
@@ -27,6 +28,8 @@ class Cable : public Constraint {
   void add_load(Vec u, double s, Vec load) override;
   void set_stiffness(Vec u, Problem& problem) override;
   nlohmann::json report() const override;
+  // cable_<name>_force_N and _pull_m (the shortening since the end of the first state).
+  void add_history(HistoryRow& row) const override;
 
  protected:
   Problem& problem_;

@@ -5,16 +5,15 @@
 
 namespace hs {
 
-CapstanCable::CapstanCable(const CableConfig& config, Problem& problem,
-                           const std::string& deck_path)
-    : Cable(config, problem, deck_path), friction_(config.friction) {
+CapstanCable::CapstanCable(const CableConfig& config, ConstraintContext& context)
+    : Cable(config, context), friction_(config.friction) {
   int rank = 0;
-  MPI_Comm_rank(problem.comm(), &rank);
+  MPI_Comm_rank(problem_.comm(), &rank);
   if (rank != 0) return;
   std::vector<PetscInt> dofs;
   for (size_t i = 0; i < path_.points(); ++i)
     dofs.insert(dofs.end(), path_.dofs(i).begin(), path_.dofs(i).end());
-  coupling_ = problem.add_coupling(dofs);
+  coupling_ = problem_.add_coupling(dofs);
 }
 
 std::vector<double> CapstanCable::point_forces(Vec u) const {
@@ -32,7 +31,7 @@ void CapstanCable::forces(Vec u, Vec g) const {
 
 void CapstanCable::add_load(Vec u, double /*s*/, Vec load) {
   path_.distribute(point_forces(u), pull_);
-  HS_PETSC(VecAXPY(load, lambda, pull_));
+  HS_PETSC(VecAXPY(load, multiplier(), pull_));
 }
 
 // The tangent of R = ... - T F(x(u)): -T N_ia dF_i/dx_m N_mb for node a of point i and node b
@@ -57,7 +56,7 @@ void CapstanCable::set_stiffness(Vec u, Problem& problem) {
           for (int x = 0; x < 3; ++x)
             for (int y = 0; y < 3; ++y)
               block[(first[i] + 3 * a + x) * n + first[m] + 3 * b + y] =
-                  -lambda * Ni[a] * Nm[b] * f.jacobian[(3 * i + x) * dim + 3 * m + y];
+                  -multiplier() * Ni[a] * Nm[b] * f.jacobian[(3 * i + x) * dim + 3 * m + y];
     }
   problem.set_coupling(coupling_, block);
 }

@@ -17,7 +17,7 @@ namespace hs {
 class CapstanCable : public Cable {
  public:
   // Collective; config.friction > 0.
-  CapstanCable(const CableConfig& config, Problem& problem, const std::string& deck_path);
+  CapstanCable(const CableConfig& config, ConstraintContext& context);
 
   void forces(Vec u, Vec g) const override;
   void add_load(Vec u, double s, Vec load) override;

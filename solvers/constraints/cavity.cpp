@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
@@ -42,55 +43,74 @@ void check_cavity_surface(const Problem& problem, const std::string& deck,
 
 }  // namespace
 
-Cavity::Cavity(const CavityConfig& config, Problem& problem, const std::string& deck_path)
-    : Constraint(config.group), problem_(problem), config_(config) {
+Cavity::Cavity(const CavityConfig& config, ConstraintContext& context)
+    : Constraint(config.group), problem_(context.problem), config_(config) {
+  const std::string& deck_path = context.deck_path();
+  Problem& problem = context.problem;
   check_cavity_surface(problem, deck_path, config.group);
   surface_ = problem.add_cavity_surface(config.group);
   const VecHandle zero(problem.create_vector());
-  reference_measure = problem.enclosed_volume(surface_, zero);
-  if (!(reference_measure > 0))
+  const double volume = problem.enclosed_volume(surface_, zero);
+  if (!(volume > 0))
     throw InputError(deck_path + ": cavity '" + config.group + "': its faces enclose a volume of " +
-                     std::to_string(reference_measure) +
+                     std::to_string(volume) +
                      " m^3; a cavity's wall faces point into the cavity, out of the body, and "
                      "enclose a positive volume (is the group an outer boundary?)");
-  measure = rest_measure = reference_measure;
-  first_state_multiplier = config.pressure;
-  first_state_measure_change = config.added_volume;
-  control = config.added_volume ? Control::measure : Control::multiplier;
+  set_reference_measure(volume);
+  set_first_state(config.pressure, config.added_volume);
   // Walls cannot pass through each other (there is no contact), so a volume target <= 0
   // has no solution; refuse it before any solve.
-  if (config.added_volume && !(reference_measure + *config.added_volume > 0))
+  if (config.added_volume && !(volume + *config.added_volume > 0))
     throw InputError(deck_path + ": cavity '" + config.group + "': added_volume " +
                      format_si(*config.added_volume) + " m^3 would leave it a volume of " +
-                     format_si(reference_measure + *config.added_volume) + " m^3 (it holds " +
-                     format_si(reference_measure) +
-                     " m^3 undeformed); a cavity's volume must stay > 0");
+                     format_si(volume + *config.added_volume) + " m^3 (it holds " +
+                     format_si(volume) + " m^3 undeformed); a cavity's volume must stay > 0");
 }
 
 double Cavity::measure_at(Vec u) const { return problem_.enclosed_volume(surface_, u); }
 
 void Cavity::forces(Vec u, Vec g) const { problem_.volume_gradient(surface_, u, g); }
 
-void Cavity::apply_multiplier(Problem& problem) { problem.set_surface_pressure(surface_, lambda); }
+void Cavity::apply_multiplier(Problem& problem) {
+  problem.set_surface_pressure(surface_, multiplier());
+}
 
 nlohmann::json Cavity::report() const {
   nlohmann::json j;
   j["name"] = name();
   j["kind"] = kind();
-  j["volume"] = measure;
-  j["volume_ml"] = measure * 1e6;
-  j["added_volume_ml"] = (measure - rest_measure) * 1e6;
-  j["pressure"] = lambda;
+  j["volume"] = measure();
+  j["volume_ml"] = measure() * 1e6;
+  j["added_volume_ml"] = (measure() - rest_measure()) * 1e6;
+  j["pressure"] = multiplier();
   double total[3] = {0, 0, 0};  // |sum of the nodal weights| on the current configuration
   if (Vec W = measure_load()) HS_PETSC(VecStrideSumAll(W, total));
   j["fluid_weight_total"] = std::hypot(total[0], total[1], total[2]);
   return j;
 }
 
+void Cavity::add_history(HistoryRow& row) const {
+  const nlohmann::json j = report();  // collective (the liquid weight's sum)
+  const std::string prefix = "cavity_" + name() + "_";
+  row.add(prefix + "pressure_Pa", multiplier());
+  row.add(prefix + "volume_m3", measure());
+  row.add(prefix + "added_volume_m3", measure() - rest_measure());
+  if (measure_load()) row.add(prefix + "fluid_weight_N", j["fluid_weight_total"].get<double>());
+}
+
 std::string Cavity::collapse_reason() const {
-  if (measure > 0) return "";
-  return "cavity '" + name() + "' reaches a volume of " + format_si(measure) +
+  if (measure() > 0) return "";
+  return "cavity '" + name() + "' reaches a volume of " + format_si(measure()) +
          " m^3 <= 0 (its walls pass through each other)";
+}
+
+std::string Cavity::ramp_failure_note() const {
+  if (control() != Control::multiplier || target() == 0) return "";
+  std::ostringstream note;
+  note << "cavity '" << name() << "' was at " << target()
+       << " Pa on a pressure ramp (past a pressure peak or a buckling of the walls there is no "
+          "equilibrium under pressure control: prescribe added_volume to pass it)";
+  return note.str();
 }
 
 }  // namespace hs

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "deck/config.hpp"
-#include "solvers/constraints/constraint.hpp"
+#include "solvers/constraints/constraint_kinds.hpp"
 
 namespace hs {
 
@@ -18,16 +18,21 @@ class Cavity : public Constraint {
   // Collective. Refuses (InputError naming the deck and the cavity) a surface that is not
   // closed, manifold and consistently oriented, one that encloses no positive volume, and an
   // added volume that would leave none.
-  Cavity(const CavityConfig& config, Problem& problem, const std::string& deck_path);
+  Cavity(const CavityConfig& config, ConstraintContext& context);
 
   std::string kind() const override { return name_of(kCavityKindNames, config_.kind); }
   bool actuated() const override { return is_actuated(config_.kind); }
-  bool is_cavity() const override { return true; }
+  const char* family() const override { return "cavities"; }
+  Units units() const override { return {"Pa", "m3"}; }
   double measure_at(Vec u) const override;
   void forces(Vec u, Vec g) const override;
   void apply_multiplier(Problem& problem) override;
   nlohmann::json report() const override;
+  // cavity_<name>_pressure_Pa, _volume_m3, _added_volume_m3 (since the end of the first
+  // state) and, with a liquid's weight, _fluid_weight_N.
+  void add_history(HistoryRow& row) const override;
   std::string collapse_reason() const override;
+  std::string ramp_failure_note() const override;
 
  protected:
   const CavityConfig& config() const { return config_; }

@@ -9,7 +9,10 @@
 //   multiplier  lambda - target                   (a prescribed pressure or tension)
 //   measure     q(u) - target                     (a prescribed volume)
 //   own law     the kind's own equation           (a sealed chamber: p V = const, V = V_0)
-// linearised as alpha g^T du + b dlambda. ConstraintSet (constraint_set.hpp) holds the
+// linearised as alpha g^T du + b dlambda. A constraint owns its state (State: what the
+// bordered Newton and the controller change, what a checkpoint keeps) and says how it is
+// reported (its family in summary.json, its units, its history columns); the kinds are
+// made from the deck by constraint_kinds.cpp. ConstraintSet (constraint_set.hpp) holds the
 // constraints of a scene and assembles these terms; BorderedNewton solves them; the inverse
 // controller drives the actuated ones. docs/architecture.md, "How to add a constraint".
 #pragma once
@@ -20,15 +23,39 @@
 #include <optional>
 #include <string>
 
+#include "io/step_history.hpp"
 #include "solvers/petsc_handle.hpp"
 
 namespace hs {
 
 class Problem;
 
+// What the fluid-weight module did for a constraint whose liquid weighs something.
+struct FluidWeightUse {
+  double seconds = 0;
+  int calls = 0;
+  std::string device;  // "cpu" or "cuda"
+  std::string method;  // the deck's fluid_weight.method
+};
+
 class Constraint {
  public:
   enum class Control { multiplier, measure, own_law };
+
+  // The state that Newton, the stepping and the controller change and a checkpoint keeps.
+  struct State {
+    double multiplier = 0;  // lambda: Pa or N
+    double target = 0;      // of the control, at the current increment
+    Control control = Control::multiplier;
+    double measure = 0;       // q at the last evaluation
+    double rest_measure = 0;  // q at the end of the first state
+  };
+
+  // The units of the multiplier and of the measure, as the history's column names write them.
+  struct Units {
+    const char* multiplier;  // "Pa", "N"
+    const char* measure;     // "m3", "m"
+  };
 
   explicit Constraint(std::string name) : name_(std::move(name)) {}
   virtual ~Constraint() = default;
@@ -38,10 +65,11 @@ class Constraint {
   // Its name in the deck (a cavity's group, a cable's name) and kind (summary.json's "kind").
   const std::string& name() const { return name_; }
   virtual std::string kind() const = 0;
+  // The list of summary.json it is reported in ("cavities", "cables").
+  virtual const char* family() const = 0;
+  virtual Units units() const = 0;
   // Whether states and the controller may drive it (pneumatic, hydraulic, cable).
   virtual bool actuated() const = 0;
-  // Whether it is a cavity: cavities count in a state's added volume and in parts.cavities.
-  virtual bool is_cavity() const = 0;
 
   // q(u), collective.
   virtual double measure_at(Vec u) const = 0;
@@ -66,29 +94,57 @@ class Constraint {
   // Linearized weight coupling: freezes the distribution of its load at u.
   virtual void freeze(Vec /*u*/, double /*s*/) {}
   virtual bool frozen_coupling() const { return false; }
+  // The fluid-weight module's work for it, or nullptr where no liquid weighs.
+  virtual const FluidWeightUse* fluid_weight() const { return nullptr; }
 
   // The control equation's value, linearisation and scale (for convergence tests).
   double control_residual() const;
   void control_linearization(double& alpha, double& b) const;
   double control_scale() const;
 
-  // What summary.json reports of it now.
+  // Its state.
+  double multiplier() const { return state_.multiplier; }
+  double measure() const { return state_.measure; }
+  double target() const { return state_.target; }
+  Control control() const { return state_.control; }
+  double rest_measure() const { return state_.rest_measure; }
+  double reference_measure() const { return reference_measure_; }
+  void set_multiplier(double lambda) { state_.multiplier = lambda; }
+  // Drives it by `control` towards `target`; a prescribed multiplier is also set.
+  void prescribe(Control control, double target);
+  // The target of its present control (a prescribed multiplier is also set).
+  void set_target(double target) { prescribe(state_.control, target); }
+  // Holds the multiplier where it is: the controller's actuators between its steps.
+  void hold_multiplier() { prescribe(Control::multiplier, state_.multiplier); }
+  // q at u, kept as its measure (collective).
+  void update_measure(Vec u) { state_.measure = measure_at(u); }
+  // The end of the first state: added volumes and pulls count from the measure now.
+  void mark_rest() { state_.rest_measure = state_.measure; }
+  State snapshot() const { return state_; }
+  void restore(const State& state) { state_ = state; }
+
+  // The first state ramps what the deck sets from nothing (tau = 0) to all of it (tau = 1):
+  // its control's target at tau.
+  virtual double first_state_target(double tau) const;
+  // Whether the first state ramps anything of its own.
+  bool ramped_in_first_state() const {
+    return first_state_multiplier_ != 0 || first_state_measure_change_.value_or(0) != 0;
+  }
+  // Why no equilibrium may lie ahead on a ramp of its control (a pressure past a peak), or "".
+  virtual std::string ramp_failure_note() const { return ""; }
+
+  // What summary.json reports of it now (collective).
   virtual nlohmann::json report() const = 0;
+  // Its columns of history.csv now (collective; docs/output.md).
+  virtual void add_history(HistoryRow& row) const = 0;
   // Why its state is outside the domain (a cavity's volume <= 0), else "".
   virtual std::string collapse_reason() const { return ""; }
 
-  // The bordered Newton's state of this constraint, shared by every kind.
-  double lambda = 0;  // multiplier: Pa or N
-  double target = 0;  // prescribed multiplier or measure of the current increment
-  Control control = Control::multiplier;
-  double measure = 0;            // q at the last evaluation
-  double reference_measure = 0;  // on the undeformed mesh
-  double rest_measure = 0;       // at the end of the first state
-  // What the first state ramps from 0 to full: the multiplier, or the measure's change.
-  double first_state_multiplier = 0;
-  std::optional<double> first_state_measure_change;
-
  protected:
+  // At construction: q on the undeformed mesh (also its measure and rest measure), and what
+  // the first state ramps: a multiplier, or a change of the measure.
+  void set_reference_measure(double q);
+  void set_first_state(double multiplier, std::optional<double> measure_change);
   // own_law: c, its linearisation and scale.
   virtual double law_residual() const { return 0; }
   virtual void law_linearization(double& /*alpha*/, double& /*b*/) const {}
@@ -96,6 +152,10 @@ class Constraint {
 
  private:
   std::string name_;
+  State state_;
+  double reference_measure_ = 0;
+  double first_state_multiplier_ = 0;
+  std::optional<double> first_state_measure_change_;
 };
 
 }  // namespace hs

@@ -2,48 +2,9 @@
 
 #include <algorithm>
 
-#include "solvers/constraints/cable.hpp"
-#include "solvers/constraints/capstan_cable.hpp"
-#include "solvers/constraints/hydraulic_cavity.hpp"
-#include "solvers/constraints/sealed_cavity.hpp"
+#include "solvers/constraints/constraint_kinds.hpp"
 
 namespace hs {
-namespace {
-
-// The deck's constraints, one line per kind. The fluid-weight module of each weighing
-// hydraulic cavity runs on its own rank, round robin.
-std::vector<std::unique_ptr<Constraint>> make_constraints(const Config& config, Problem& problem) {
-  int ranks = 1;
-  MPI_Comm_size(problem.comm(), &ranks);
-  int weighing = 0;
-  const std::string& deck = config.deck_path;
-  std::vector<std::unique_ptr<Constraint>> list;
-  for (const CavityConfig& c : config.cavities) {
-    switch (c.kind) {
-      case CavityKind::pneumatic:
-        list.push_back(std::make_unique<Cavity>(c, problem, deck));
-        break;
-      case CavityKind::hydraulic:
-        list.push_back(
-            std::make_unique<HydraulicCavity>(c, problem, config.gravity, weighing % ranks, deck));
-        weighing += HydraulicCavity::weighs(c, config.gravity);
-        break;
-      case CavityKind::sealed_gas:
-      case CavityKind::sealed_volume:
-        list.push_back(std::make_unique<SealedCavity>(c, problem, deck));
-        break;
-    }
-  }
-  for (const CableConfig& c : config.cables) {
-    if (c.friction > 0)
-      list.push_back(std::make_unique<CapstanCable>(c, problem, deck));
-    else
-      list.push_back(std::make_unique<Cable>(c, problem, deck));
-  }
-  return list;
-}
-
-}  // namespace
 
 ConstraintSet::ConstraintSet(const Config& config, Problem& problem)
     : problem_(problem), constraints_(make_constraints(config, problem)) {
@@ -71,12 +32,22 @@ int ConstraintSet::find(const std::string& name) const {
 
 std::vector<double> ConstraintSet::multipliers() const {
   std::vector<double> lambda;
-  for (const auto& c : constraints_) lambda.push_back(c->lambda);
+  for (const auto& c : constraints_) lambda.push_back(c->multiplier());
   return lambda;
 }
 
 void ConstraintSet::set_multipliers(const std::vector<double>& lambda) {
-  for (size_t k = 0; k < constraints_.size(); ++k) constraints_[k]->lambda = lambda[k];
+  for (size_t k = 0; k < constraints_.size(); ++k) constraints_[k]->set_multiplier(lambda[k]);
+}
+
+std::vector<Constraint::State> ConstraintSet::snapshot() const {
+  std::vector<Constraint::State> states;
+  for (const auto& c : constraints_) states.push_back(c->snapshot());
+  return states;
+}
+
+void ConstraintSet::restore(const std::vector<Constraint::State>& states) {
+  for (size_t k = 0; k < constraints_.size(); ++k) constraints_[k]->restore(states[k]);
 }
 
 void ConstraintSet::freeze_weights(Vec u, double s) {
@@ -90,7 +61,7 @@ bool ConstraintSet::residual(Vec u, double s, Vec R, std::vector<double>& contro
   for (size_t k = 0; k < constraints_.size(); ++k) {
     Constraint& c = *constraints_[k];
     c.apply_multiplier(problem_);
-    c.measure = c.measure_at(u);
+    c.update_measure(u);
     if (collapsed_ < 0 && !c.collapse_reason().empty()) collapsed_ = static_cast<int>(k);
   }
   build_seconds_ += MPI_Wtime() - t0;
@@ -127,7 +98,7 @@ bool ConstraintSet::linearize(Vec u, double s, Mat J, ConstraintLinearization& l
     const Constraint& c = *constraints_[k];
     c.forces(u, lin.g[k]);
     if (lin.q[k]) {  // dw = (w / q) g^T du: the load follows the measure
-      HS_PETSC(VecAXPBY(lin.q[k], 1.0 / c.measure, 0.0, c.measure_load()));
+      HS_PETSC(VecAXPBY(lin.q[k], 1.0 / c.measure(), 0.0, c.measure_load()));
       problem_.zero_constrained(lin.q[k]);
     }
     c.control_linearization(lin.alpha[k], lin.b[k]);
@@ -136,16 +107,11 @@ bool ConstraintSet::linearize(Vec u, double s, Mat J, ConstraintLinearization& l
   return ok;
 }
 
-int ConstraintSet::cavity_count() const {
-  return static_cast<int>(std::count_if(constraints_.begin(), constraints_.end(),
-                                        [](const auto& c) { return c->is_cavity(); }));
-}
-
 bool ConstraintSet::fluid_weight_load(Vec f) const {
   bool any = false;
   for (const auto& c : constraints_) {
-    // A cavity's load that follows its measure is its liquid's weight.
-    if (!c->is_cavity() || !c->measure_load()) continue;
+    // The load that follows the measure of a constraint with a liquid is its weight.
+    if (!c->fluid_weight() || !c->measure_load()) continue;
     if (!any) HS_PETSC(VecSet(f, 0.0));
     HS_PETSC(VecAXPY(f, 1.0, c->measure_load()));
     any = true;
@@ -165,33 +131,30 @@ std::string ConstraintSet::collapse_reason() const {
 double ConstraintSet::fluid_weight_seconds() const {
   double seconds = 0;
   for (const auto& c : constraints_)
-    if (const auto* h = dynamic_cast<const HydraulicCavity*>(c.get()))
-      seconds += h->weight_seconds();
+    if (const FluidWeightUse* use = c->fluid_weight()) seconds += use->seconds;
   return seconds;
 }
 
 int ConstraintSet::fluid_weight_calls() const {
   int calls = 0;
   for (const auto& c : constraints_)
-    if (const auto* h = dynamic_cast<const HydraulicCavity*>(c.get())) calls += h->weight_calls();
+    if (const FluidWeightUse* use = c->fluid_weight()) calls += use->calls;
   return calls;
 }
 
 nlohmann::json ConstraintSet::parts() const {
   nlohmann::json p;
-  const auto cavities = std::count_if(constraints_.begin(), constraints_.end(),
-                                      [](const auto& c) { return c->is_cavity(); });
-  p["cavities"] = cavities;
-  p["cables"] = constraints_.size() - cavities;
+  for (const std::string& family : constraint_families()) p[family] = 0;
   int weighted = 0;
   bool cuda = false;
   std::string method;
   for (const auto& c : constraints_) {
-    const auto* h = dynamic_cast<const HydraulicCavity*>(c.get());
-    if (!h || !h->has_weight()) continue;
+    p[c->family()] = p[c->family()].get<int>() + 1;
+    const FluidWeightUse* use = c->fluid_weight();
+    if (!use) continue;
     ++weighted;
-    cuda |= std::string(h->device()) == "cuda";
-    method = h->method();
+    cuda |= use->device == "cuda";
+    method = use->method;
   }
   p["fluid_weight"]["cavities"] = weighted;
   p["fluid_weight"]["device"] = weighted == 0 ? "none" : (cuda ? "cuda" : "cpu");
@@ -202,27 +165,30 @@ nlohmann::json ConstraintSet::parts() const {
 }
 
 nlohmann::json ConstraintSet::report() const {
-  nlohmann::json r = {{"cavities", nlohmann::json::array()}, {"cables", nlohmann::json::array()}};
-  for (const auto& c : constraints_)
-    r[c->is_cavity() ? "cavities" : "cables"].push_back(c->report());
+  nlohmann::json r;
+  for (const std::string& family : constraint_families()) r[family] = nlohmann::json::array();
+  for (const auto& c : constraints_) r[c->family()].push_back(c->report());
   return r;
 }
 
 void ConstraintSet::add_history(HistoryRow& row) const {
-  for (const auto& c : constraints_) {
-    const nlohmann::json j = c->report();  // collective (the fluid weight's sum)
-    if (c->is_cavity()) {
-      const std::string prefix = "cavity_" + c->name() + "_";
-      row.add(prefix + "pressure_Pa", j["pressure"].get<double>());
-      row.add(prefix + "volume_m3", j["volume"].get<double>());
-      row.add(prefix + "added_volume_m3", c->measure - c->rest_measure);
-      if (c->measure_load()) row.add(prefix + "fluid_weight_N", j["fluid_weight_total"]);
-    } else {
-      const std::string prefix = "cable_" + c->name() + "_";
-      row.add(prefix + "force_N", c->lambda);
-      row.add(prefix + "pull_m", c->measure - c->rest_measure);
-    }
-  }
+  for (const auto& c : constraints_) c->add_history(row);
 }
+
+double ConstraintSet::added_volume() const {
+  double added = 0;
+  for (const auto& c : constraints_)
+    if (measures_volume(*c)) added += c->measure() - c->rest_measure();
+  return added;
+}
+
+double ConstraintSet::volume_change() const {
+  double change = 0;
+  for (const auto& c : constraints_)
+    if (measures_volume(*c)) change += c->measure() - c->reference_measure();
+  return change;
+}
+
+bool measures_volume(const Constraint& c) { return std::string(c.units().measure) == "m3"; }
 
 }  // namespace hs

@@ -45,6 +45,9 @@ class ConstraintSet {
   int find(const std::string& name) const;
   std::vector<double> multipliers() const;
   void set_multipliers(const std::vector<double>& lambda);
+  // Every constraint's state, and the same put back.
+  std::vector<Constraint::State> snapshot() const;
+  void restore(const std::vector<Constraint::State>& states);
 
   // R(u, lambda; s) and the controls c (size()). Returns false on an inverted element or a
   // constraint outside its domain (collapse_reason() then says why).
@@ -63,7 +66,6 @@ class ConstraintSet {
   void freeze_weights(Vec u, double s);
   bool linearized() const { return linearized_; }
 
-  int cavity_count() const;
   // The liquids' weights of the hydraulic cavities, as the last residual added them, into f
   // (assembled); false, f untouched, when no cavity's liquid weighs anything.
   bool fluid_weight_load(Vec f) const;
@@ -75,13 +77,15 @@ class ConstraintSet {
   // cables' stiffness (not the FEM assembly).
   double constraint_build_seconds() const { return build_seconds_; }
   nlohmann::json parts() const;
-  // Collective: summary.json's {"cavities": [...], "cables": [...]}, an entry per constraint.
+  // Collective: summary.json's {"cavities": [...], "cables": [...]}, an entry per constraint
+  // in the list of its family.
   nlohmann::json report() const;
-  // Collective: the history's columns now (docs/output.md), as report() has them: per cavity
-  // cavity_<name>_pressure_Pa, _volume_m3, _added_volume_m3 (since the end of the first
-  // state) and, with a liquid's weight, _fluid_weight_N; per cable cable_<name>_force_N and
-  // _pull_m.
+  // Collective: each constraint's columns of the history now (docs/output.md).
   void add_history(HistoryRow& row) const;
+  // The volume the constraints that measure one (the cavities) gained since the end of the
+  // first state, and since the undeformed mesh: m^3.
+  double added_volume() const;
+  double volume_change() const;
 
  private:
   Problem& problem_;
@@ -91,5 +95,8 @@ class ConstraintSet {
   int collapsed_ = -1;  // the first constraint outside its domain at the last residual(), or -1
   double build_seconds_ = 0;
 };
+
+// Whether its measure is a volume (a cavity's), which states add up.
+bool measures_volume(const Constraint& c);
 
 }  // namespace hs

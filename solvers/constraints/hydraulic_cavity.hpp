@@ -16,9 +16,7 @@ namespace hs {
 
 class HydraulicCavity : public Cavity {
  public:
-  // `owner`: the rank that runs the fluid-weight module for this cavity.
-  HydraulicCavity(const CavityConfig& config, Problem& problem,
-                  const std::array<double, 3>& gravity, int owner, const std::string& deck_path);
+  HydraulicCavity(const CavityConfig& config, ConstraintContext& context);
 
   // Whether the liquid weighs anything (density > 0 under gravity).
   static bool weighs(const CavityConfig& config, const std::array<double, 3>& gravity);
@@ -28,24 +26,15 @@ class HydraulicCavity : public Cavity {
   Vec measure_load() const override { return W_; }
   void freeze(Vec u, double s) override;
   bool frozen_coupling() const override { return frozen_ != nullptr; }
+  const FluidWeightUse* fluid_weight() const override { return weight_ ? &use_ : nullptr; }
   nlohmann::json report() const override;
-
-  // The fluid-weight module's seconds and calls so far, and what ran ("cpu" or "cuda").
-  double weight_seconds() const { return seconds_; }
-  int weight_calls() const { return calls_; }
-  const char* device() const { return weight_ ? weight_->device() : "none"; }
-  const std::string& method() const {
-    return name_of(kWeightMethodNames, config().fluid_weight.method);
-  }
-  bool has_weight() const { return weight_ != nullptr; }
 
  private:
   std::unique_ptr<CavityWeight> weight_;  // liquid with density > 0 under gravity only
   VecHandle W_;                           // its nodal weights (current)
   VecHandle frozen_;                      // linearized: weights at the start of the step
   double frozen_volume_ = 0;
-  double seconds_ = 0;
-  int calls_ = 0;
+  FluidWeightUse use_;
 };
 
 }  // namespace hs

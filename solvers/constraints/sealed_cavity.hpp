@@ -10,7 +10,7 @@ namespace hs {
 
 class SealedCavity : public Cavity {
  public:
-  SealedCavity(const CavityConfig& config, Problem& problem, const std::string& deck_path);
+  SealedCavity(const CavityConfig& config, ConstraintContext& context);
 
  protected:
   double law_residual() const override;

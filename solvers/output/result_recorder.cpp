@@ -89,7 +89,7 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
   // The parts of that load, as the residual last had them (the cavities' pressures on their
   // walls, the liquids' weights): nodal_load minus these is gravity, the deck's pressures and
   // the cables' forces.
-  if (constraints_ && constraints_->cavity_count() > 0) {
+  if (constraints_ && problem_.has_cavity_surfaces()) {
     problem_.cavity_pressure_load(u, load_);
     f.cavity_pressure_load = owned_values(load_);
     if (constraints_->fluid_weight_load(load_)) f.fluid_weight_load = owned_values(load_);

@@ -25,60 +25,51 @@ std::vector<StatePlan> plan_states(const Config& config) {
       for (int i = 1; i <= states[k].steps; ++i)
         p.taus.push_back(static_cast<double>(i) / states[k].steps);
     }
-    // One ramp per constraint of the ConstraintSet: the cavities, then the cables (which the
-    // states do not ramp: they keep their first-state tension).
-    p.ramps.resize(config.cavities.size() + config.cables.size());
-    for (size_t c = 0; c < config.cavities.size(); ++c) {
-      auto it = states[k].cavities.find(config.cavities[c].group);
-      if (it == states[k].cavities.end()) continue;
-      p.ramps[c].active = true;
-      p.ramps[c].control =
-          it->second.pressure ? Constraint::Control::multiplier : Constraint::Control::measure;
-      p.ramps[c].to = it->second.pressure ? *it->second.pressure : *it->second.added_volume;
-    }
+    for (const auto& [cavity, target] : states[k].cavities)
+      p.ramps.push_back(
+          {cavity, target.pressure ? Constraint::Control::multiplier : Constraint::Control::measure,
+           0, target.pressure ? *target.pressure : *target.added_volume});
     plans.push_back(p);
   }
   return plans;
 }
 
+const StatePlan::Ramp* StatePlan::ramp_of(const Constraint& c) const {
+  for (const Ramp& r : ramps)
+    if (r.constraint == c.name()) return &r;
+  return nullptr;
+}
+
 void StatePlan::begin(ConstraintSet& constraints, const std::string& deck_path) {
-  for (int c = 0; c < constraints.size(); ++c) {
-    auto& ramp = ramps[c];
-    if (!ramp.active) continue;
-    Constraint& cav = constraints[c];
+  for (Ramp& ramp : ramps) {
+    Constraint& cav = constraints[constraints.find(ramp.constraint)];
     if (ramp.control == Constraint::Control::multiplier) {
-      ramp.from = cav.lambda;
+      ramp.from = cav.multiplier();
     } else {
-      ramp.from = cav.measure;
+      ramp.from = cav.measure();
       const double added = ramp.to;
-      ramp.to += cav.rest_measure;  // added volume is counted from the end of the first state
+      ramp.to += cav.rest_measure();  // added volume is counted from the end of the first state
       // Walls cannot pass through each other (no contact): a volume <= 0 has no solution.
       if (!(ramp.to > 0)) {
         std::ostringstream msg;
         msg << deck_path << ": state '" << name << "': cavity '" << cav.name() << "': added_volume "
             << added << " m^3 would leave it a volume of " << ramp.to << " m^3 (it holds "
-            << cav.rest_measure
+            << cav.rest_measure()
             << " m^3 at the end of the first state); a cavity's volume must stay > 0";
         throw InputError(msg.str());
       }
     }
-    cav.control = ramp.control;
+    cav.prescribe(ramp.control, ramp.from);
   }
 }
 
 void StatePlan::set_targets(ConstraintSet& constraints, double tau) const {
   for (int c = 0; c < constraints.size(); ++c) {
     Constraint& cav = constraints[c];
-    const auto& ramp = ramps[c];
-    if (ramp.active) {
-      cav.target = ramp.from + tau * (ramp.to - ramp.from);
-    } else if (first) {
-      if (cav.control == Constraint::Control::multiplier)
-        cav.target = tau * cav.first_state_multiplier;
-      if (cav.control == Constraint::Control::measure)
-        cav.target = cav.reference_measure + tau * cav.first_state_measure_change.value_or(0.0);
-    }
-    if (cav.control == Constraint::Control::multiplier) cav.lambda = cav.target;
+    if (const Ramp* ramp = ramp_of(cav))
+      cav.set_target(ramp->from + tau * (ramp->to - ramp->from));
+    else
+      cav.set_target(first ? cav.first_state_target(tau) : cav.target());
   }
 }
 
@@ -88,33 +79,31 @@ std::string StatePlan::failure_note(const ConstraintSet& constraints) const {
   std::ostringstream msg;
   for (int c = 0; c < constraints.size(); ++c) {
     const Constraint& cav = constraints[c];
-    const bool ramped = ramps[c].active || (first && cav.first_state_multiplier != 0);
-    if (ramped && cav.is_cavity() && cav.control == Constraint::Control::multiplier &&
-        cav.target != 0)
-      msg << "; cavity '" << cav.name() << "' was at " << cav.target
-          << " Pa on a pressure ramp (past a pressure peak or a buckling of the walls there "
-             "is no equilibrium under pressure control: prescribe added_volume to pass it)";
+    if (!ramp_of(cav) && !(first && cav.ramped_in_first_state())) continue;
+    const std::string note = cav.ramp_failure_note();
+    if (!note.empty()) msg << "; " << note;
   }
   return msg.str();
 }
 
-nlohmann::json StatePlan::ramps_json() const {
+nlohmann::json StatePlan::ramps_json(const ConstraintSet& constraints) const {
   nlohmann::json list = nlohmann::json::array();
-  for (const auto& r : ramps)
-    list.push_back({{"active", r.active},
-                    {"control", static_cast<int>(r.control)},
-                    {"from", r.from},
-                    {"to", r.to}});
+  for (int c = 0; c < constraints.size(); ++c) {
+    const Ramp* r = ramp_of(constraints[c]);
+    list.push_back({{"active", r != nullptr},
+                    {"control", static_cast<int>(r ? r->control : Constraint::Control::multiplier)},
+                    {"from", r ? r->from : 0.0},
+                    {"to", r ? r->to : 0.0}});
+  }
   return list;
 }
 
-void StatePlan::resume_ramps(const nlohmann::json& list) {
-  for (size_t c = 0; c < ramps.size(); ++c) {
-    const auto& r = list.at(c);
-    ramps[c].active = r.at("active");
-    ramps[c].control = static_cast<Constraint::Control>(r.at("control").get<int>());
-    ramps[c].from = r.at("from");
-    ramps[c].to = r.at("to");
+void StatePlan::resume_ramps(const nlohmann::json& list, const ConstraintSet& constraints) {
+  for (Ramp& ramp : ramps) {
+    const auto& r = list.at(constraints.find(ramp.constraint));
+    ramp.control = static_cast<Constraint::Control>(r.at("control").get<int>());
+    ramp.from = r.at("from");
+    ramp.to = r.at("to");
   }
 }
 

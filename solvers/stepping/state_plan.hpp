@@ -17,13 +17,14 @@ struct StatePlan {
   std::string name;
   std::vector<double> taus;
   bool first = false;
-  // Later states: per cavity, the control to ramp (from -> to); unnamed cavities keep theirs.
+  // The constraints it names (a later state's cavities): the control to ramp (from -> to);
+  // those it does not name keep theirs.
   struct Ramp {
-    bool active = false;
+    std::string constraint;
     Constraint::Control control = Constraint::Control::multiplier;
     double from = 0, to = 0;
   };
-  std::vector<Ramp> ramps;  // one per constraint of the ConstraintSet
+  std::vector<Ramp> ramps;
 
   double load_factor(double tau) const { return first ? tau : 1.0; }
   // Starts the state: fixes its ramps' start values from the constraints' current state and
@@ -34,9 +35,13 @@ struct StatePlan {
   void set_targets(ConstraintSet& constraints, double tau) const;
   // Why a ramp may have no equilibrium ahead (a pressure past its peak), for a failed step.
   std::string failure_note(const ConstraintSet& constraints) const;
-  // The ramps for a checkpoint, and the same put back.
-  nlohmann::json ramps_json() const;
-  void resume_ramps(const nlohmann::json& ramps);
+  // The ramps for a checkpoint, one entry per constraint, and the same put back.
+  nlohmann::json ramps_json(const ConstraintSet& constraints) const;
+  void resume_ramps(const nlohmann::json& ramps, const ConstraintSet& constraints);
+
+ private:
+  // Its ramp of constraint c, or nullptr.
+  const Ramp* ramp_of(const Constraint& c) const;
 };
 
 std::vector<StatePlan> plan_states(const Config& config);

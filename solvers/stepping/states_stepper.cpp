@@ -87,8 +87,7 @@ void StatesStepper::solve_increment(Vec u, double tau_to) {
 void StatesStepper::end_state(Vec u) {
   const StatePlan& plan = plans_[k_];
   if (plan.first)
-    for (int c = 0; c < constraints_.size(); ++c)
-      constraints_[c].rest_measure = constraints_[c].measure;
+    for (int c = 0; c < constraints_.size(); ++c) constraints_[c].mark_rest();
   nlohmann::json state;
   state["name"] = plan.name;
   state["time"] = static_cast<double>(k_ + 1);
@@ -101,14 +100,8 @@ void StatesStepper::end_state(Vec u) {
                     {"inclination_deg", t.inclination_deg},
                     {"rotation_deg", t.rotation_deg}};
   }
-  double added = 0, change = 0;
-  for (int c = 0; c < constraints_.size(); ++c) {
-    if (!constraints_[c].is_cavity()) continue;
-    added += constraints_[c].measure - constraints_[c].rest_measure;
-    change += constraints_[c].measure - constraints_[c].reference_measure;
-  }
-  state["added_volume_ml"] = added * 1e6;
-  state["volume_change_ml"] = change * 1e6;
+  state["added_volume_ml"] = constraints_.added_volume() * 1e6;
+  state["volume_change_ml"] = constraints_.volume_change() * 1e6;
   const nlohmann::json actuators = constraints_.report();
   state["cavities"] = actuators["cavities"];
   state["cables"] = actuators["cables"];
@@ -117,7 +110,7 @@ void StatesStepper::end_state(Vec u) {
 
 nlohmann::json StatesStepper::position() const {
   const StatePlan& plan = plans_[k_];
-  const nlohmann::json stepper = {{"ramps", plan.ramps_json()},
+  const nlohmann::json stepper = {{"ramps", plan.ramps_json(constraints_)},
                                   {"tau", predictor_.parameter()},
                                   {"tau_last", predictor_.previous_parameter()},
                                   {"has_last", predictor_.has_previous()},
@@ -146,7 +139,7 @@ void StatesStepper::resume(const Restart& restart, Vec u) {
   restart.read("previous_displacement", problem_, predictor_.previous());
   restore_constraint_states(constraints_, p.at("constraints"));
   const nlohmann::json& stepper = p.at("stepper");
-  plans_[k0].resume_ramps(stepper.at("ramps"));
+  plans_[k0].resume_ramps(stepper.at("ramps"), constraints_);
   predictor_.resume(stepper.at("tau"), stepper.at("tau_last"), stepper.at("has_last"),
                     stepper.at("lambda_last").get<std::vector<double>>());
   states_ = p.at("states");

@@ -25,6 +25,8 @@ KeyUse<CavityConfig> kinds_only(bool (*holds)(CavityKind), const std::string& re
 
 bool is_hydraulic(CavityKind kind) { return kind == CavityKind::hydraulic; }
 bool is_sealed_gas(CavityKind kind) { return kind == CavityKind::sealed_gas; }
+bool is_pressure_limited(CavityKind kind) { return kind == CavityKind::pressure_limited; }
+bool takes_added_volume(CavityKind kind) { return is_actuated(kind) || is_pressure_limited(kind); }
 
 FluidWeightConfig parse_fluid_weight(const DeckReader& r, const YAML::Node& node,
                                      const std::string& key, const Config& c) {
@@ -54,6 +56,12 @@ CavityConfig parse_cavity(const DeckReader& r, const YAML::Node& node, const std
             "gives the absolute pressure initial_pressure + atmospheric_pressure = " +
                 format_number(absolute) + ", must be > 0");
   }
+  if (cavity.kind == CavityKind::pressure_limited) {
+    require(cavity.added_volume.has_value(), r, node, key,
+            "a pressure_limited cavity needs added_volume (the volume its pump delivers)");
+    require(node["max_pressure"].IsDefined(), r, node, key,
+            "a pressure_limited cavity needs max_pressure (where its relief valve opens)");
+  }
   return cavity;
 }
 
@@ -79,7 +87,7 @@ std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAM
     if (!is_actuated(kind))
       r.fail(ckey, entry.first,
              "cavity '" + name + "' is " + name_of(kCavityKindNames, kind) +
-                 ": sealed chambers are not actuated, so a state cannot set them");
+                 ": only pneumatic and hydraulic cavities are actuated, so a state cannot set it");
     const YAML::Node target = entry.second;
     CavityTarget t;
     read_keys(r, target, ckey, target_keys(), t, c);
@@ -121,8 +129,7 @@ const KeyTable<FluidWeightConfig>& fluid_weight_keys() {
 
 const KeyTable<CavityConfig>& cavity_keys() {
   const std::string actuated =
-      "only used by kinds pneumatic and hydraulic (a sealed chamber is "
-      "not actuated)";
+      "only used by kinds pneumatic and hydraulic (the other kinds are not actuated)";
   static const KeyTable<CavityConfig> keys = {
       text_key("group", &CavityConfig::group, "name",
                "surface physical group of the cavity's walls (unique across cavities); also the "
@@ -132,7 +139,8 @@ const KeyTable<CavityConfig>& cavity_keys() {
                "`pneumatic` (gas at a controlled pressure or volume), `hydraulic` (liquid at a "
                "controlled pressure or volume), `sealed_gas` (a closed amount of gas), "
                "`sealed_volume` (a chamber whose volume stays fixed, e.g. sealed incompressible "
-               "liquid; no weight)"),
+               "liquid; no weight), `pressure_limited` (a pump delivers `added_volume` through "
+               "a relief valve that opens at `max_pressure`)"),
       number_key("pressure", &CavityConfig::pressure, any_number(),
                  "gauge pressure (Pa) at the end of the first state, ramped with the load factor")
           .only(kinds_only(is_actuated, actuated, "`pneumatic`, `hydraulic`"))
@@ -143,7 +151,9 @@ const KeyTable<CavityConfig>& cavity_keys() {
           "with the load factor (negative: withdrawn); the pressure is then an unknown. "
           "Excludes `pressure`. A value that would leave the cavity a volume ≤ 0 is refused "
           "before any work (its walls would have to pass through each other).")
-          .only(kinds_only(is_actuated, actuated, "`pneumatic`, `hydraulic`")),
+          .only(kinds_only(takes_added_volume,
+                           "only used by kinds pneumatic, hydraulic and pressure_limited",
+                           "`pneumatic`, `hydraulic`, `pressure_limited`")),
       number_key("density", &CavityConfig::density, at_least(0),
                  "the liquid's density (kg/m³; water 1000, mercury 13600); 0 is a weightless "
                  "liquid")
@@ -169,6 +179,11 @@ const KeyTable<CavityConfig>& cavity_keys() {
       number_key("atmospheric_pressure", &CavityConfig::atmospheric_pressure, above(0),
                  "Pa; gauge + atmospheric is the absolute pressure, which must be > 0")
           .only(kinds_only(is_sealed_gas, "only used by kind sealed_gas", "`sealed_gas`")),
+      number_key("max_pressure", &CavityConfig::max_pressure, above(0),
+                 "gauge pressure (Pa) at which the relief valve opens: the pressure never "
+                 "exceeds it, and the volume stays below what the pump delivered while it holds")
+          .only(kinds_only(is_pressure_limited, "only used by kind pressure_limited",
+                           "`pressure_limited`")),
   };
   return keys;
 }

@@ -126,9 +126,9 @@ struct FluidWeightConfig {
   WeightCoupling coupling = WeightCoupling::converged;
 };
 
-enum class CavityKind { pneumatic, hydraulic, sealed_gas, sealed_volume };
+enum class CavityKind { pneumatic, hydraulic, sealed_gas, sealed_volume, pressure_limited };
 inline const std::vector<std::string> kCavityKindNames = {"pneumatic", "hydraulic", "sealed_gas",
-                                                          "sealed_volume"};
+                                                          "sealed_volume", "pressure_limited"};
 // Pneumatic and hydraulic cavities are driven (pressure or added volume); sealed ones are not.
 inline bool is_actuated(CavityKind kind) {
   return kind == CavityKind::pneumatic || kind == CavityKind::hydraulic;
@@ -147,6 +147,9 @@ struct CavityConfig {
   // sealed_gas: p V = const with the absolute pressure; gauge pressure at the mesh's volume.
   double initial_pressure = 0;
   double atmospheric_pressure = 101325;
+  // pressure_limited: a pump delivers added_volume through a relief valve that opens at
+  // this gauge pressure (Pa).
+  double max_pressure = 0;
 };
 
 // A cable (docs/control.md): a path of material points of the body the cable runs through

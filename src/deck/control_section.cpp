@@ -163,8 +163,8 @@ DeckKey<ActuatorConfig> constraint_key(std::string name, std::string meaning, bo
                if (!is_actuated(kind))
                  r.fail(key, n,
                         "cavity '" + a.constraint + "' is " + name_of(kCavityKindNames, kind) +
-                            ": sealed chambers are not actuated, so control cannot drive them "
-                            "(use a pneumatic or hydraulic cavity)");
+                            ": only pneumatic and hydraulic cavities are actuated, so control "
+                            "cannot drive it");
              },
              [](YAML::Emitter& out, const ActuatorConfig& a, const Config&) {
                out << a.constraint;
@@ -214,7 +214,7 @@ const KeyTable<ActuatorConfig>& cavity_actuator_keys() {
   static const KeyTable<ActuatorConfig> keys = {
       constraint_key("cavity",
                      "a cavity of the `cavities` section of kind `pneumatic` or `hydraulic` "
-                     "(sealed cavities are not actuated); at most one actuator per cavity",
+                     "(the other kinds are not actuated); at most one actuator per cavity",
                      false),
       bound_key("min_pressure", &ActuatorConfig::min_multiplier, any_number(),
                 "lower bound on the cavity's gauge pressure (Pa); at most `max_pressure` (equal "

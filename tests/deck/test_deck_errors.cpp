@@ -324,7 +324,8 @@ TEST_F(DeckErrors, CavityKeysAndTypes) {
       {cavity("group: c, added_volume: [1]"), "cavities[0].added_volume",
        "expected a number, got a list"},
       {cavity("group: c, kind: liquid"), "cavities[0].kind",
-       "unknown name 'liquid' (valid: pneumatic, hydraulic, sealed_gas, sealed_volume)"},
+       "unknown name 'liquid' (valid: pneumatic, hydraulic, sealed_gas, sealed_volume, "
+       "pressure_limited)"},
       {cavity("group: c, kind: hydraulic, fluid_weight: column"), "cavities[0].fluid_weight",
        "expected a map, got 'column'"},
       {cavity("group: c, kind: hydraulic, fluid_weight: {grids: 3}"),
@@ -352,10 +353,22 @@ TEST_F(DeckErrors, CavityKeysOfOtherKinds) {
        "only used by kind hydraulic (how the liquid's weight reaches the walls) (this cavity is "
        "pneumatic)"},
       {cavity("group: c, kind: sealed_gas, pressure: 100"), "cavities[0].pressure",
-       "only used by kinds pneumatic and hydraulic (a sealed chamber is not actuated) (this "
+       "only used by kinds pneumatic and hydraulic (the other kinds are not actuated) (this "
        "cavity is sealed_gas)"},
       {cavity("group: c, kind: sealed_volume, added_volume: 1e-6"), "cavities[0].added_volume",
-       "only used by kinds pneumatic and hydraulic"},
+       "only used by kinds pneumatic, hydraulic and pressure_limited (this cavity is "
+       "sealed_volume)"},
+      {cavity("group: c, kind: pressure_limited, max_pressure: 1e4"), "cavities[0]",
+       "a pressure_limited cavity needs added_volume (the volume its pump delivers)"},
+      {cavity("group: c, kind: pressure_limited, added_volume: 1e-6"), "cavities[0]",
+       "a pressure_limited cavity needs max_pressure (where its relief valve opens)"},
+      {cavity("group: c, kind: pressure_limited, added_volume: 1e-6, max_pressure: 0"),
+       "cavities[0].max_pressure", "must be > 0"},
+      {cavity("group: c, max_pressure: 1e4"), "cavities[0].max_pressure",
+       "only used by kind pressure_limited (this cavity is pneumatic)"},
+      {cavity("group: c, kind: pressure_limited, added_volume: 1e-6, max_pressure: 1e4, "
+              "pressure: 10"),
+       "cavities[0].pressure", "only used by kinds pneumatic and hydraulic"},
       {cavity("group: c, kind: hydraulic, initial_pressure: 0"), "cavities[0].initial_pressure",
        "only used by kind sealed_gas (this cavity is hydraulic)"},
       {cavity("group: c, kind: sealed_volume, atmospheric_pressure: 1e5"),
@@ -427,9 +440,10 @@ TEST_F(DeckErrors, StateTargets) {
        "expected a number, got 'high'"},
       {targets("{c: {pressure: 1}, c: {pressure: 2}}"), "states[1].cavities.c", "duplicate key"},
       {targets("{g: {pressure: 1}}"), "states[1].cavities.g",
-       "cavity 'g' is sealed_gas: sealed chambers are not actuated"},
+       "cavity 'g' is sealed_gas: only pneumatic and hydraulic cavities are actuated, so a "
+       "state cannot set it"},
       {targets("{v: {added_volume: 1e-6}}"), "states[1].cavities.v",
-       "cavity 'v' is sealed_volume: sealed chambers are not actuated"},
+       "cavity 'v' is sealed_volume: only pneumatic and hydraulic cavities are actuated"},
   });
 }
 
@@ -553,10 +567,10 @@ TEST_F(DeckErrors, ControlActuators) {
       {kBase + "control: {effectors: " + kTip + ", actuators: [{cavity: c}]}\n",
        "control.actuators[0].cavity", "not a declared cavity (the deck has no cavities section)"},
       {control(kTip, "[{cavity: g}]"), "control.actuators[0].cavity",
-       "cavity 'g' is sealed_gas: sealed chambers are not actuated, so control cannot drive "
-       "them"},
+       "cavity 'g' is sealed_gas: only pneumatic and hydraulic cavities are actuated, so "
+       "control cannot drive it"},
       {control(kTip, "[{cavity: p}, {cavity: v}]"), "control.actuators[1].cavity",
-       "cavity 'v' is sealed_volume: sealed chambers are not actuated"},
+       "cavity 'v' is sealed_volume: only pneumatic and hydraulic cavities are actuated"},
       {control(kTip, "[{cavity: c}, {cavity: p}, {cavity: c}]"), "control.actuators[2].cavity",
        "duplicate actuator cavity 'c' (also in control.actuators[0])"},
       {actuator("min_pressure: 3000, max_pressure: 2000"), "control.actuators[0].min_pressure",

@@ -77,8 +77,7 @@ struct ControlScene : DeckProblem {
   // Equilibrium at actuation p of constraint 0 (pressure or tension), load factor s.
   void solve_at(Vec u, double p, double s = 1.0) {
     hs::Constraint& c = (*cavities)[0];
-    c.control = hs::Constraint::Control::multiplier;
-    c.target = c.lambda = p;
+    c.prescribe(hs::Constraint::Control::multiplier, p);
     problem->apply_dirichlet(u, s);
     if (cavities->linearized()) cavities->freeze_weights(u, s);
     const auto r = newton->solve(u, s);
@@ -105,7 +104,7 @@ struct ControlScene : DeckProblem {
     VecCopy(rest, u);
     for (int k = 1; k <= 4; ++k) solve_at(u, p * k / 4);
     const auto x = effectors->positions(u);
-    (*cavities)[0].lambda = 0;
+    (*cavities)[0].set_multiplier(0);
     return {x[0], x[1], x[2]};
   }
 };

@@ -180,7 +180,7 @@ TEST(Cables, ACableCannotPush) {
 void expect_tangent_matches_differences(double friction) {
   CableScene s(10.0, friction);
   hs::Constraint& cable = (*s.cavities)[0];
-  cable.lambda = 0.8;
+  cable.set_multiplier(0.8);
   const hs::VecHandle u(s.problem->create_vector()), du(s.problem->create_vector());
   VecCopy(s.rest, u);
   const double B[3][3] = {{0.3, -0.1, 0.2}, {0.1, 0.4, -0.2}, {-0.3, 0.2, 0.1}};
@@ -226,8 +226,11 @@ TEST(CapstanCables, WithoutFrictionTheyPullAsTheFrictionlessCable) {
   // Two implementations of the same forces: the capstan law at mu = 0 and the cable's -dL/du.
   Body b;
   hs::CableConfig config = bottom_cable(true);
-  hs::Cable plain(config, *b.problem, "test");
-  hs::CapstanCable capstan(config, *b.problem, "test");
+  hs::Config deck;
+  deck.deck_path = "test";
+  hs::ConstraintContext context(*b.problem, deck);
+  hs::Cable plain(config, context);
+  hs::CapstanCable capstan(config, context);
   const double A[3][3] = {{0.02, 0.01, -0.03}, {0.0, -0.01, 0.02}, {0.05, 0.01, 0.01}};
   const hs::VecHandle u(b.affine(A)), g0(b.problem->create_vector()),
       g1(b.problem->create_vector());

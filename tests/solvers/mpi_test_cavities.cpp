@@ -279,17 +279,16 @@ TEST(Cavities, PressureWorkEqualsStoredEnergyAndGravityWork) {
   VecNorm(fg, NORM_2, &fg_norm);
   newton.set_load_norm(fg_norm);
   hs::Constraint& cavity = (*s.cavities)[0];
-  cavity.control = hs::Constraint::Control::multiplier;
   const int n = 16;
   const double p_max = 3000;
   std::vector<double> volume;
   double psi0 = 0;
   for (int k = 0; k <= n; ++k) {
-    cavity.target = cavity.lambda = p_max * k / n;
+    cavity.prescribe(hs::Constraint::Control::multiplier, p_max * k / n);
     p.apply_dirichlet(u, 1.0);
     const auto r = newton.solve(u, 1.0);
-    ASSERT_TRUE(r.converged) << "pressure " << cavity.target << ": " << r.reason;
-    volume.push_back(cavity.measure);
+    ASSERT_TRUE(r.converged) << "pressure " << cavity.target() << ": " << r.reason;
+    volume.push_back(cavity.measure());
     if (k == 0) {
       p.internal_force(u, f, &psi0);
       VecCopy(u, u0);

@@ -156,8 +156,8 @@ TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   VecRestoreArray(u, &a);
   std::vector<double> c;
   EXPECT_FALSE(cavities.residual(u, 1.0, R, c));
-  const double v0 = cavities[0].reference_measure;
-  EXPECT_NEAR(cavities[0].measure, -v0, 1e-12 * v0);
+  const double v0 = cavities[0].reference_measure();
+  EXPECT_NEAR(cavities[0].measure(), -v0, 1e-12 * v0);
   const std::string reason = "cavity 'cavity' reaches a volume of " + g4(-v0) +
                              " m^3 <= 0 (its walls pass through each other)";
   EXPECT_EQ(cavities.collapse_reason(), reason);

@@ -85,7 +85,7 @@ TEST(ControlBackground, FailedBackgroundFactorizationFallsBackInLine) {
   auto run = [&](int threads, std::vector<hs::ControlStepReport>& reports) {
     s.config.control->factor_threads = threads;
     hs::Constraint& cavity = (*s.cavities)[0];  // back to the rest state's pressure
-    cavity.lambda = cavity.target = 0;
+    cavity.prescribe(hs::Constraint::Control::multiplier, 0);
     const hs::VecHandle u(s.problem->create_vector());
     VecCopy(s.rest, u);
     hs::InverseController controller(s.config, *s.problem, *s.cavities, *s.newton, *s.effectors);

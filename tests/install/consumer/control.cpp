@@ -28,8 +28,7 @@ namespace {
 bool solve_at(hs::Problem& problem, hs::ConstraintSet& cavities, hs::BorderedNewton& newton, Vec u,
               double p, double s) {
   hs::Constraint& cavity = cavities[0];
-  cavity.control = hs::Constraint::Control::multiplier;
-  cavity.target = cavity.lambda = p;
+  cavity.prescribe(hs::Constraint::Control::multiplier, p);
   problem.apply_dirichlet(u, s);
   return newton.solve(u, s).converged;
 }
