@@ -45,12 +45,14 @@ InverseController::InverseController(const Config& config, Problem& problem,
                        " chamber is not actuated (it enters fixed)");
     actuators_.push_back(act);
   }
-  const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
-  J_ = MatHandle(problem.create_matrix());
-  HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
-  options_.attach(reinterpret_cast<PetscObject>(ksp_.get()));
-  HS_PETSC(KSPSetOptionsPrefix(ksp_, kControlPrefix));
-  HS_PETSC(KSPSetFromOptions(ksp_));
+  {
+    const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
+    J_ = MatHandle(problem.create_matrix());
+    HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
+    options_.attach(reinterpret_cast<PetscObject>(ksp_.get()));
+    HS_PETSC(KSPSetOptionsPrefix(ksp_, kControlPrefix));
+    HS_PETSC(KSPSetFromOptions(ksp_));
+  }
   if (config.control->factor_threads > 0 && config.control->free_solve == FreeSolve::one_step)
     background_ = std::make_unique<BackgroundFactorizations>(
         problem.comm(), config.control->factor_threads, ksp_, kCorrectionRtol, config.solver);

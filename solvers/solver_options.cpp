@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/error.hpp"
 #include "solvers/petsc_check.hpp"
@@ -12,6 +13,8 @@
 
 namespace hs {
 namespace {
+
+std::vector<PetscOptions> pushed_databases;  // by OptionsScope, innermost last
 
 bool name_ends_with(const std::string& name, const std::string& suffix) {
   return name.size() >= suffix.size() &&
@@ -132,6 +135,10 @@ void check_solver_types(const SolverConfig& solver, const std::string& deck_path
 SolverOptions::SolverOptions(std::string prefix, const SolverConfig& solver,
                              const std::map<std::string, std::string>& preset, Reach reach)
     : prefix_(std::move(prefix)) {
+  // The command line is read from PETSc's default database: inside an OptionsScope that is
+  // another object's.
+  if (!pushed_databases.empty())
+    throw std::logic_error("solver options " + prefix_ + " composed inside an OptionsScope");
   const auto command_line = global_entries();
   // name (without prefix) -> value and the command-line option it came from ("" if none).
   std::map<std::string, std::pair<std::string, std::string>> own;
@@ -167,10 +174,12 @@ SolverOptions::SolverOptions(std::string prefix, const SolverConfig& solver,
 }
 
 SolverOptions::~SolverOptions() {
-  // A destructor does not throw: errors here leave a warning unsaid at worst.
+  // A destructor does not throw: errors here leave a warning unsaid at worst. Inside a scope
+  // (an exception on its way out of one) the global database is not the default: nothing is
+  // marked.
   for (const auto& [here, global] : copied_) {
     PetscBool used = PETSC_FALSE, set = PETSC_FALSE;
-    if (PetscOptionsUsed(db_, here.c_str(), &used) == 0 && used)
+    if (pushed_databases.empty() && PetscOptionsUsed(db_, here.c_str(), &used) == 0 && used)
       PetscOptionsHasName(nullptr, nullptr, ("-" + global).c_str(), &set);  // marks it used
   }
   PetscOptionsDestroy(&db_);
@@ -202,10 +211,6 @@ bool SolverOptions::get_unprefixed_bool(const std::string& name, bool fallback) 
   HS_PETSC(PetscOptionsGetBool(db_, nullptr, ("-" + name).c_str(), &value, nullptr));
   return value;
 }
-
-namespace {
-std::vector<PetscOptions> pushed_databases;  // by OptionsScope, innermost last
-}  // namespace
 
 OptionsScope::OptionsScope(PetscOptions database) { push(database); }
 

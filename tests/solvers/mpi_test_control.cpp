@@ -93,12 +93,15 @@ TEST(SolverObjectOptions, EachObjectTakesItsPrefixedOptionsAndTheSharedOnes) {
       hs::ActuatorConfig actuator;
       actuator.constraint = "cavity";
       control.actuators = {actuator};
+      control.free_solve = hs::FreeSolve::one_step;
+      control.factor_threads = 1;  // the background correction too
       config.control = control;
       config.solver.petsc_options = {{"ksp_max_it", "17"},
                                      {"ksp_rtol", "1e-3"},
                                      {"hs_control_ksp_rtol", "1e-4"},
                                      {"mat_mumps_icntl_14", "77"},
-                                     {"hs_control_mat_mumps_icntl_14", "88"}};
+                                     {"hs_control_mat_mumps_icntl_14", "88"},
+                                     {"hs_control_correction_ksp_rtol", "1e-2"}};
     });
     hs::ConstraintSet cavities(scene.config, *scene.problem);
     hs::BorderedNewton newton(*scene.problem, cavities, scene.config.solver, hs::TangentKind{});
@@ -147,6 +150,17 @@ TEST(SolverObjectOptions, EachObjectTakesItsPrefixedOptionsAndTheSharedOnes) {
     KSPGetTolerances(controller.ksp(), &rtol, nullptr, nullptr, &max_it);
     EXPECT_DOUBLE_EQ(rtol, 1e-4);
     EXPECT_EQ(max_it, 23);
+    // The background correction sets its own solver: its prefixed option reaches it, the
+    // unprefixed ones do not (GMRES, at most 50 iterations, as set in code).
+    ASSERT_NE(controller.background(), nullptr);
+    const hs::MatHandle J(scene.problem->create_matrix());
+    KSP correction = controller.background()->correction(J);
+    KSPGetTolerances(correction, &rtol, nullptr, nullptr, &max_it);
+    EXPECT_DOUBLE_EQ(rtol, 1e-2);
+    EXPECT_EQ(max_it, 50);
+    KSPType type;
+    KSPGetType(correction, &type);
+    EXPECT_STREQ(type, "gmres");
   }
   // Nothing of the preset or the deck went into the global database, and the options the
   // objects used are marked used there (-options_left, the "was not used" warning).
