@@ -4,7 +4,8 @@
 //
 // The deck is validated before any work and printed resolved; --set overrides a deck key
 // (e.g. --set mesh.order=2); every PETSc option can be given on the command line and wins
-// over the deck's solver.petsc_options.
+// over the deck's solver.petsc_options, unprefixed for every solver object or with one
+// object's prefix for it alone (solvers/solver_options.hpp).
 #include <fcntl.h>
 #include <petscsys.h>
 #include <poll.h>
@@ -53,7 +54,7 @@ const char* usage =
     "                    deck names as mesh.file and every rank of a run reads its part of\n"
     "  -q, --quiet       no progress line per step (the deck's output.progress: false)\n"
     "  -v, --verbose     the solvers' monitors: -snes_monitor -ksp_converged_reason and the\n"
-    "                    cavities' Newton (-hs_newton_monitor)\n"
+    "                    cavities' Newton (-hs_bordered_monitor)\n"
     "  --set key=value   override a deck key, e.g. --set mesh.order=2 --set mesh.parameters.h=0.1\n"
     "  --targets -       read control targets from standard input, one per line: 'x y z' or\n"
     "                    'effector x y z'; each line gets one JSON line on standard output,\n"
@@ -61,7 +62,9 @@ const char* usage =
     "  --restart FOLDER  continue from FOLDER/checkpoint.h5 (the deck's output.checkpoint wrote\n"
     "                    it; FOLDER a finished, .failed or .partial output folder) on any number\n"
     "                    of ranks; the deck must be the one that wrote it, output keys aside\n"
-    "  PETSc options     e.g. -snes_monitor -ksp_type cg -pc_type gamg (they win over the deck)\n";
+    "  PETSc options     e.g. -snes_monitor -ksp_type cg -pc_type gamg (they win over the deck);\n"
+    "                    one solver object's alone with its prefix: -hs_newton_, -hs_bordered_,\n"
+    "                    -hs_control_ (e.g. -hs_control_ksp_type gmres; docs/decks.md)\n";
 
 // In the interactive mode standard output carries the JSON lines alone, so that a client can
 // read it line by line: its descriptor is kept for them (returned), and descriptor 1 becomes
@@ -244,7 +247,7 @@ int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
   if (deck.empty()) return fail(2, std::string("no deck given\n") + usage);
   if (args.verbose)
-    for (const char* option : {"-snes_monitor", "-ksp_converged_reason", "-hs_newton_monitor"})
+    for (const char* option : {"-snes_monitor", "-ksp_converged_reason", "-hs_bordered_monitor"})
       PetscOptionsSetValue(nullptr, option, nullptr);
 
   int rank = 0;

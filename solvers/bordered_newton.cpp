@@ -7,22 +7,28 @@
 
 namespace hs {
 
-BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints)
+BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints,
+                               const SolverConfig& solver, TangentKind tangent)
     : problem_(problem),
       constraints_(constraints),
+      tangent_(tangent),
+      options_(kBorderedPrefix, solver, preset_options(solver.preset, tangent),
+               SolverOptions::Reach::every_object),
       system_(problem, constraints, BorderedSystem::Order::per_constraint) {
+  const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
   J_ = MatHandle(problem.create_matrix());
   R_ = VecHandle(problem.create_vector());
   HS_PETSC(VecDuplicate(R_, du_.out()));
   HS_PETSC(VecDuplicate(R_, u_trial_.out()));
   HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
-  HS_PETSC(KSPSetFromOptions(ksp_));  // -ksp_type, -pc_type, ...: the deck's and the preset's
-  PetscInt max_it = max_it_;
-  HS_PETSC(PetscOptionsGetInt(nullptr, nullptr, "-snes_max_it", &max_it, nullptr));
-  max_it_ = static_cast<int>(max_it);
-  PetscBool monitor = PETSC_FALSE;
-  HS_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-hs_newton_monitor", &monitor, nullptr));
-  monitor_ = monitor;
+  options_.attach(reinterpret_cast<PetscObject>(ksp_.get()));
+  HS_PETSC(KSPSetOptionsPrefix(ksp_, kBorderedPrefix));
+  HS_PETSC(KSPSetFromOptions(ksp_));
+  // Its own Newton's: -hs_bordered_snes_max_it, reached by an unprefixed snes_max_it (deck or
+  // command line) as every object's options are; -hs_bordered_monitor, or -hs_newton_monitor,
+  // its name before each solver object had its own prefix.
+  max_it_ = static_cast<int>(options_.get_int("snes_max_it", max_it_));
+  monitor_ = options_.get_bool("monitor", options_.get_unprefixed_bool("hs_newton_monitor", false));
 }
 
 NewtonResult BorderedNewton::solve(Vec u, double s) {

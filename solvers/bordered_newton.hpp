@@ -3,11 +3,11 @@
 //   [ J    -G ] [du     ]     [R]          J du = -R + G dlambda + Q eta
 //   [ A     B ] [dlambda] = - [c],  with   eta_h = g_h^T du (hydraulic cavities, Q = W / V)
 // by block elimination (solvers/bordered_system.hpp): one factorization of the sparse tangent J
-// (PETSc KSP, from the options database: MUMPS LU by default) and 1 + m + m_h solves with it,
-// then a dense system of size m + m_h for dlambda and eta. Full steps, shortened only where a
-// trial inverts an element.
-// docs/cavities.md says why this is not a SNES: SNES would need a shell matrix and a shell
-// preconditioner doing this same elimination, on a composite vector.
+// (PETSc KSP, with the options of prefix hs_bordered_: MUMPS by default) and 1 + m + m_h
+// solves with it, then a dense system of size m + m_h for dlambda and eta. Full steps, shortened
+// only where a trial inverts an element. docs/cavities.md says why this is not a SNES: SNES would
+// need a shell matrix and a shell preconditioner doing this same elimination, on a composite
+// vector.
 #pragma once
 
 #include <petscksp.h>
@@ -18,12 +18,15 @@
 #include "solvers/bordered_system.hpp"
 #include "solvers/constraints/constraint_set.hpp"
 #include "solvers/newton_solver.hpp"
+#include "solvers/solver_options.hpp"
 
 namespace hs {
 
 class BorderedNewton : public NonlinearSolver {
  public:
-  BorderedNewton(Problem& problem, ConstraintSet& constraints);
+  // The preset is chosen for the tangent's kind (run_setup.cpp works it out for a deck).
+  BorderedNewton(Problem& problem, ConstraintSet& constraints, const SolverConfig& solver,
+                 TangentKind tangent);
   BorderedNewton(const BorderedNewton&) = delete;
   BorderedNewton& operator=(const BorderedNewton&) = delete;
 
@@ -35,6 +38,9 @@ class BorderedNewton : public NonlinearSolver {
   void set_load_norm(double norm) { load_norm_ = norm; }
   double solve_seconds() const override { return solve_s_; }
   double constraint_seconds() const { return constraint_s_; }
+  // The tangent's kind it was made for: the inverse controller's KSP takes the same preset.
+  TangentKind tangent() const { return tangent_; }
+  KSP ksp() const { return ksp_; }
 
  private:
   // Moves u and the multipliers (lambda) along the step du_, zeta, halved where a trial leaves
@@ -45,6 +51,8 @@ class BorderedNewton : public NonlinearSolver {
 
   Problem& problem_;
   ConstraintSet& constraints_;
+  TangentKind tangent_;
+  SolverOptions options_;  // before the KSP: it outlives it
   KspHandle ksp_;
   MatHandle J_;
   VecHandle R_, du_, u_trial_;
@@ -52,7 +60,7 @@ class BorderedNewton : public NonlinearSolver {
   ConstraintLinearization lin_;
   double load_norm_ = 0, solve_s_ = 0, constraint_s_ = 0;
   int max_it_ = 30;
-  bool monitor_ = false;  // -hs_newton_monitor: one line per iteration
+  bool monitor_ = false;  // -hs_bordered_monitor: one line per iteration
 };
 
 }  // namespace hs

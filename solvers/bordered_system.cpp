@@ -2,6 +2,7 @@
 
 #include "solvers/multi_solve.hpp"
 #include "solvers/petsc_check.hpp"
+#include "solvers/solver_options.hpp"
 
 namespace hs {
 
@@ -39,7 +40,10 @@ bool BorderedSystem::solve(KSP ksp, Vec R, const ConstraintLinearization& lin, i
   return solve_columns(ksp, rhs, solutions, iterations);
 }
 
-void BorderedSystem::solve_residual(KSP ksp, Vec R) { HS_PETSC(KSPSolve(ksp, R, a_)); }
+void BorderedSystem::solve_residual(KSP ksp, Vec R) {
+  const OptionsScope scope(reinterpret_cast<PetscObject>(ksp));
+  HS_PETSC(KSPSolve(ksp, R, a_));
+}
 
 void BorderedSystem::factor_dense(const ConstraintLinearization& lin,
                                   const std::vector<bool>& held) {

@@ -30,6 +30,9 @@ InverseController::InverseController(const Config& config, Problem& problem,
       constraints_(constraints),
       newton_(newton),
       effectors_(effectors),
+      options_(kControlPrefix, config.solver,
+               preset_options(config.solver.preset, newton.tangent()),
+               SolverOptions::Reach::every_object),
       system_(problem, constraints, BorderedSystem::Order::g_then_q) {
   for (const auto& a : config.control->actuators) {
     Actuator act;
@@ -42,12 +45,17 @@ InverseController::InverseController(const Config& config, Problem& problem,
                        " chamber is not actuated (it enters fixed)");
     actuators_.push_back(act);
   }
-  J_ = MatHandle(problem.create_matrix());
-  HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
-  HS_PETSC(KSPSetFromOptions(ksp_));
+  {
+    const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
+    J_ = MatHandle(problem.create_matrix());
+    HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
+    options_.attach(reinterpret_cast<PetscObject>(ksp_.get()));
+    HS_PETSC(KSPSetOptionsPrefix(ksp_, kControlPrefix));
+    HS_PETSC(KSPSetFromOptions(ksp_));
+  }
   if (config.control->factor_threads > 0 && config.control->free_solve == FreeSolve::one_step)
     background_ = std::make_unique<BackgroundFactorizations>(
-        problem.comm(), config.control->factor_threads, ksp_, kCorrectionRtol);
+        problem.comm(), config.control->factor_threads, ksp_, kCorrectionRtol, config.solver);
   for (size_t a = 0; a < actuators_.size(); ++a) response_.push_back(problem.create_vector());
   R_ = VecHandle(problem.create_vector());
   free_step_ = VecHandle(problem.create_vector());
@@ -195,6 +203,7 @@ bool InverseController::factor_if_due(Vec u, bool one_step, bool stale_failed, d
   if (fresh) {
     clock.factor = MPI_Wtime();
     HS_PETSC(KSPSetOperators(ksp_, J_, J_));
+    const OptionsScope scope(options_.database());  // its factor's options
     HS_PETSC(KSPSetUp(ksp_));
     clock.compliance = MPI_Wtime();
     if (!factor_responses(ksp_))

@@ -27,6 +27,7 @@
 #include "solvers/constraints/constraint_set.hpp"
 #include "solvers/control/background_factorizations.hpp"
 #include "solvers/effectors.hpp"
+#include "solvers/solver_options.hpp"
 
 namespace hs {
 
@@ -72,6 +73,7 @@ class InverseController {
   InverseController(const InverseController&) = delete;
   InverseController& operator=(const InverseController&) = delete;
 
+  KSP ksp() const { return ksp_; }  // its own, with the options of prefix hs_control_
   // The background factorizations (control.factor_threads > 0), else null.
   BackgroundFactorizations* background() { return background_.get(); }
   int num_actuators() const { return static_cast<int>(actuators_.size()); }
@@ -141,6 +143,7 @@ class InverseController {
   BorderedNewton& newton_;
   Effectors& effectors_;
   std::vector<Actuator> actuators_;
+  SolverOptions options_;  // prefix hs_control_; before the KSP: it outlives it
   KspHandle ksp_;
   std::unique_ptr<BackgroundFactorizations> background_;  // control.factor_threads > 0
   int step_count_ = 0;                                    // steps begun, retakes included

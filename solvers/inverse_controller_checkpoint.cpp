@@ -67,6 +67,7 @@ void InverseController::resume(const nlohmann::json& s, const Restart& restart) 
       !constraints_.linearize(factored_at_, 1.0, J_, lin_))
     throw SolveError("--restart: an element is inverted where the kept factorization was made");
   HS_PETSC(KSPSetOperators(ksp_, J_, J_));
+  const OptionsScope scope(options_.database());  // its factor's options
   HS_PETSC(KSPSetUp(ksp_));
   if (!factor_responses(ksp_))
     throw SolveError("--restart: the factorization of the kept tangent failed");

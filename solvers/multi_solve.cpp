@@ -4,11 +4,13 @@
 
 #include "solvers/petsc_check.hpp"
 #include "solvers/petsc_handle.hpp"
+#include "solvers/solver_options.hpp"
 
 namespace hs {
 
 bool solve_columns(KSP ksp, const std::vector<Vec>& b, const std::vector<Vec>& x, int* iterations) {
   if (b.empty()) return true;
+  const OptionsScope scope(reinterpret_cast<PetscObject>(ksp));  // its factor's, its levels'
   KSPType type;
   HS_PETSC(KSPGetType(ksp, &type));
   PC pc;

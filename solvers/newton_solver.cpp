@@ -1,121 +1,27 @@
 #include "solvers/newton_solver.hpp"
 
-#include <map>
-
 #include "common/error.hpp"
 
 namespace hs {
-namespace {
-
-void set_default(const std::string& name, const std::string& value) {
-  PetscBool set = PETSC_FALSE;
-  HS_PETSC(PetscOptionsHasName(nullptr, nullptr, ("-" + name).c_str(), &set));
-  if (!set) HS_PETSC(PetscOptionsSetValue(nullptr, ("-" + name).c_str(), value.c_str()));
-}
-
-// Whether `type` is a registered type of the object kind that option `name` sets (by its
-// suffix); true for options of other kinds, which PETSc checks when they are used.
-bool known_type(const std::string& name, const std::string& type) {
-  auto ends_with = [&](const std::string& suffix) {
-    return name.size() >= suffix.size() &&
-           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
-  };
-  // Errors come back as codes, without PETSc's printed trace.
-  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-  PetscErrorCode error = 0;
-  if (ends_with("linesearch_type")) {
-    LineSearchHandle ls;
-    SNESLineSearchCreate(PETSC_COMM_SELF, ls.out());
-    error = SNESLineSearchSetType(ls, type.c_str());
-  } else if (ends_with("snes_type")) {
-    SnesHandle snes;
-    SNESCreate(PETSC_COMM_SELF, snes.out());
-    error = SNESSetType(snes, type.c_str());
-  } else if (ends_with("ksp_type")) {
-    KspHandle ksp;
-    KSPCreate(PETSC_COMM_SELF, ksp.out());
-    error = KSPSetType(ksp, type.c_str());
-  } else if (ends_with("pc_type")) {
-    PcHandle pc;
-    PCCreate(PETSC_COMM_SELF, pc.out());
-    error = PCSetType(pc, type.c_str());
-  }  // each object is released in its branch, still under the return handler
-  PetscPopErrorHandler();
-  return error == 0;
-}
-
-}  // namespace
-
-void check_solver_types(const SolverConfig& solver, const std::string& deck_path) {
-  for (const auto& [name, value] : solver.petsc_options)
-    if (!known_type(name, value))
-      throw InputError(deck_path + ": solver.petsc_options." + name + ": unknown PETSc type '" +
-                       value + "'");
-  for (const char* name : {"snes_type", "snes_linesearch_type", "ksp_type", "pc_type",
-                           "mg_levels_ksp_type", "mg_levels_pc_type"}) {
-    char value[256];
-    PetscBool set = PETSC_FALSE;
-    HS_PETSC(PetscOptionsGetString(nullptr, nullptr, (std::string("-") + name).c_str(), value,
-                                   sizeof value, &set));
-    if (set && !known_type(name, value))
-      throw InputError(std::string("command line: -") + name + ": unknown PETSc type '" + value +
-                       "'");
-  }
-}
-
-void set_solver_options(const SolverConfig& solver, bool symmetric_tangent, bool definite_tangent) {
-  // The deck's options first, so that they win over the preset; the command line, already
-  // in the database, wins over both.
-  for (const auto& [name, value] : solver.petsc_options) set_default(name, value);
-
-  // Convergence is judged on the residual (never on a small step alone: a stalled
-  // iterative solve would otherwise look converged). No divergence tolerance: a full Newton
-  // step from rest can raise the residual by more than PETSc's default factor 1e4 before it
-  // converges (the 1M-dof cantilever: x1.2e4 after its first step, then 5 more to 1e-8,
-  // where the default stopped it and cost a cutback and 6 iterations); a step that truly
-  // diverges is stopped by snes_max_it, an inverted element or a non-finite residual, and cut
-  // back.
-  const std::map<std::string, std::string> common = {
-      {"snes_type", "newtonls"}, {"snes_linesearch_type", "basic"},   {"snes_rtol", "1e-8"},
-      {"snes_stol", "0"},        {"snes_divergence_tolerance", "-1"}, {"snes_max_it", "30"}};
-  for (const auto& [k, v] : common) set_default(k, v);
-  switch (solver.preset) {
-    case SolverPreset::mumps:
-      set_default("ksp_type", "preonly");
-      // A symmetric tangent is factored as L D L^T (MUMPS's general symmetric mode, with
-      // pivoting, so an indefinite tangent near a limit point is fine): ~30% less time than LU.
-      set_default("pc_type", symmetric_tangent ? "cholesky" : "lu");
-      set_default("pc_factor_mat_solver_type", "mumps");
-      break;
-    case SolverPreset::gamg:
-      // MINRES for a symmetric tangent that may be indefinite (GAMG's smoothers keep the
-      // preconditioner definite): a finite-strain Newton iterate past the solution meets one,
-      // and CG stopping there cost a load-step cutback.
-      set_default("ksp_type", !symmetric_tangent ? "gmres" : definite_tangent ? "cg" : "minres");
-      set_default("pc_type", "gamg");
-      set_default("ksp_rtol", "1e-10");
-      set_default("ksp_max_it", "2000");
-      set_default("pc_gamg_threshold", "0.01");
-      set_default("mg_levels_ksp_type", "chebyshev");
-      set_default("mg_levels_pc_type", "jacobi");
-      break;
-  }
-}
-
-NewtonSolver::NewtonSolver(Problem& problem) : problem_(problem) {
+NewtonSolver::NewtonSolver(Problem& problem, const SolverConfig& solver, TangentKind tangent)
+    : problem_(problem),
+      options_(kNewtonPrefix, solver, preset_options(solver.preset, tangent),
+               SolverOptions::Reach::every_object) {
+  const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
   J_ = MatHandle(problem.create_matrix());
   R_ = VecHandle(problem.create_vector());
-  PetscBool near_null = PETSC_TRUE;
-  HS_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-hs_near_null_space", &near_null, nullptr));
-  if (!near_null) HS_PETSC(MatSetNearNullSpace(J_, nullptr));
+  if (!options_.get_unprefixed_bool("hs_near_null_space", true))
+    HS_PETSC(MatSetNearNullSpace(J_, nullptr));
   HS_PETSC(SNESCreate(problem.comm(), snes_.out()));
+  options_.attach(reinterpret_cast<PetscObject>(snes_.get()));
+  HS_PETSC(SNESSetOptionsPrefix(snes_, kNewtonPrefix));
   HS_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
   HS_PETSC(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
   if (problem.has_potential()) HS_PETSC(SNESSetObjective(snes_, form_objective, this));
   HS_PETSC(SNESSetFromOptions(snes_));
-  PetscBool roundoff = PETSC_TRUE;  // -hs_newton_roundoff false: PETSc's test alone
-  HS_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-hs_newton_roundoff", &roundoff, nullptr));
-  if (roundoff) HS_PETSC(SNESSetConvergenceTest(snes_, converged, this, nullptr));
+  // -hs_newton_roundoff false: PETSc's test alone
+  if (options_.get_bool("roundoff", true))
+    HS_PETSC(SNESSetConvergenceTest(snes_, converged, this, nullptr));
 }
 
 PetscErrorCode NewtonSolver::form_residual(SNES snes, Vec u, Vec R, void* ctx) {
@@ -178,9 +84,7 @@ PetscErrorCode NewtonSolver::converged(SNES snes, PetscInt it, PetscReal xnorm, 
 }
 
 void NewtonSolver::scale_absolute_tolerance(double load_norm) {
-  PetscBool set = PETSC_FALSE;
-  HS_PETSC(PetscOptionsHasName(nullptr, nullptr, "-snes_atol", &set));
-  if (set || load_norm <= 0) return;
+  if (options_.has("snes_atol") || load_norm <= 0) return;
   HS_PETSC(SNESSetTolerances(snes_, 1e-9 * load_norm, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT,
                              PETSC_DEFAULT));
 }
@@ -190,7 +94,10 @@ NewtonResult NewtonSolver::solve(Vec u, double s) {
   const auto& t = problem_.timers();
   const double assembly_before = t.residual_s + t.jacobian_s;
   const double t0 = MPI_Wtime();
-  HS_PETSC(SNESSolve(snes_, nullptr, u));
+  {
+    const OptionsScope scope(options_.database());  // MUMPS's factor, GAMG's levels
+    HS_PETSC(SNESSolve(snes_, nullptr, u));
+  }
   const double assembly = t.residual_s + t.jacobian_s - assembly_before;
   solve_s_ += MPI_Wtime() - t0 - assembly;
 

@@ -1,7 +1,8 @@
 // Newton's method for R(u; s) = 0 through PETSc's SNES (line search), with the linear
-// solver from the options database: MUMPS LU by default, CG/GMRES + GAMG with the rigid-body
-// near-null space as the "gamg" preset. Options come, lowest precedence first, from the
-// preset, the deck's solver.petsc_options and the command line.
+// solver from its options (prefix hs_newton_, solvers/solver_options.hpp): MUMPS by default,
+// CG/GMRES + GAMG with the rigid-body near-null space as the "gamg" preset. Options come,
+// lowest precedence first, from the preset, the deck's solver.petsc_options and the command
+// line.
 #pragma once
 
 #include <petscsnes.h>
@@ -10,32 +11,24 @@
 
 #include "deck/config.hpp"
 #include "solvers/problem.hpp"
+#include "solvers/solver_options.hpp"
 #include "solvers/stepping/nonlinear_solver.hpp"
 
 namespace hs {
 
-// Puts the preset's and the deck's options into PETSc's options database, leaving every
-// option that the command line already set untouched.
-void set_solver_options(const SolverConfig& solver, bool symmetric_tangent,
-                        bool definite_tangent = true);
-
-// Asks PETSc, before any work, whether every *_type option of the deck's
-// solver.petsc_options and of the command line names a type it has (KSP, PC, SNES, line
-// search); throws InputError naming the deck key or the command-line option otherwise.
-void check_solver_types(const SolverConfig& solver, const std::string& deck_path);
-
 class NewtonSolver : public NonlinearSolver {
  public:
-  explicit NewtonSolver(Problem& problem);
+  // The preset is chosen for the tangent's kind (run_setup.cpp works it out for a deck).
+  NewtonSolver(Problem& problem, const SolverConfig& solver, TangentKind tangent);
   NewtonSolver(const NewtonSolver&) = delete;
   NewtonSolver& operator=(const NewtonSolver&) = delete;
 
   // Solves at load factor s starting from u (which must satisfy the constraints at s).
   NewtonResult solve(Vec u, double s) override;
 
-  // Unless -snes_atol was given: accept a residual below 1e-9 of the full external load's
-  // norm. A relative test alone cannot pass when a step starts near its solution (time steps,
-  // small load increments): its floor is round-off, not the load.
+  // Unless snes_atol was given (deck or command line): accept a residual below 1e-9 of the full
+  // external load's norm. A relative test alone cannot pass when a step starts near its solution
+  // (time steps, small load increments): its floor is round-off, not the load.
   void scale_absolute_tolerance(double load_norm);
   double solve_seconds() const override { return solve_s_; }  // SNESSolve minus assembly
   SNES snes() const { return snes_; }
@@ -50,6 +43,7 @@ class NewtonSolver : public NonlinearSolver {
                                   PetscReal fnorm, SNESConvergedReason* reason, void* ctx);
 
   Problem& problem_;
+  SolverOptions options_;  // before the SNES: it outlives it
   SnesHandle snes_;
   MatHandle J_;
   VecHandle R_;

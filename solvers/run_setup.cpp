@@ -79,14 +79,14 @@ void RunSetup::make_solver() {
   // any pressure stiffness (a cavity's can make the tangent indefinite near a limit point).
   bool linear_laws = true;
   for (const auto& m : config.materials) linear_laws &= m.law->tangent_always_definite();
-  set_solver_options(
-      config.solver,
-      !problem->has_open_surface_pressure() && (!constraints || constraints->symmetric()),
-      linear_laws && !problem->has_follower_loads());
+  TangentKind tangent;
+  tangent.symmetric =
+      !problem->has_open_surface_pressure() && (!constraints || constraints->symmetric());
+  tangent.definite = linear_laws && !problem->has_follower_loads();
   if (constraints)
-    bordered = std::make_unique<BorderedNewton>(*problem, *constraints);
+    bordered = std::make_unique<BorderedNewton>(*problem, *constraints, config.solver, tangent);
   else
-    newton = std::make_unique<NewtonSolver>(*problem);
+    newton = std::make_unique<NewtonSolver>(*problem, config.solver, tangent);
 }
 
 nlohmann::json RunSetup::summary() {

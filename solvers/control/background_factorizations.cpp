@@ -35,14 +35,20 @@ using SubMatrixHandle = PetscHandle<Mat*, destroy_submatrix>;
 }  // namespace
 
 BackgroundFactorizations::BackgroundFactorizations(MPI_Comm comm, int threads, KSP inline_ksp,
-                                                   double rtol)
-    : comm_(comm), threads_(threads), inline_ksp_(inline_ksp) {
+                                                   double rtol, const SolverConfig& solver)
+    : comm_(comm),
+      threads_(threads),
+      inline_ksp_(inline_ksp),
+      // Its solver is set here (GMRES on the kept factorization): no preset, and only the
+      // options with its prefix, as before each object had its own.
+      options_(kCorrectionPrefix, solver, {}, SolverOptions::Reach::own_prefix_only) {
   MPI_Comm_rank(comm, &rank_);
   if (rank_ == 0) {
     limit_openmp_to_one_thread();
     pool_ = std::make_unique<FactorPool>(threads);
   }
   HS_PETSC(KSPCreate(comm, correction_.out()));
+  options_.attach(reinterpret_cast<PetscObject>(correction_.get()));
   HS_PETSC(KSPSetType(correction_, KSPGMRES));
   HS_PETSC(KSPSetPCSide(correction_, PC_RIGHT));  // its residual is the true residual
   HS_PETSC(KSPSetTolerances(correction_, rtol, 0.0, PETSC_DEFAULT, 50));
@@ -51,7 +57,7 @@ BackgroundFactorizations::BackgroundFactorizations(MPI_Comm comm, int threads, K
   HS_PETSC(PCSetType(pc, PCSHELL));
   HS_PETSC(PCShellSetContext(pc, this));
   HS_PETSC(PCShellSetApply(pc, &BackgroundFactorizations::apply));
-  HS_PETSC(KSPSetOptionsPrefix(correction_, "hs_control_correction_"));
+  HS_PETSC(KSPSetOptionsPrefix(correction_, kCorrectionPrefix));
   HS_PETSC(KSPSetFromOptions(correction_));
 }
 

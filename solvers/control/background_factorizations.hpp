@@ -17,6 +17,7 @@
 
 #include "control/factor_pool.hpp"
 #include "solvers/petsc_handle.hpp"
+#include "solvers/solver_options.hpp"
 
 namespace hs {
 
@@ -24,8 +25,10 @@ class BackgroundFactorizations {
  public:
   // threads: factorization threads on rank 0; inline_ksp: the in-line factorization (kept
   // as the preconditioner after it is set up; this class marks it reused);
-  // rtol: the correction's relative tolerance on the residual of each solve.
-  BackgroundFactorizations(MPI_Comm comm, int threads, KSP inline_ksp, double rtol);
+  // rtol: the correction's relative tolerance on the residual of each solve; solver: the
+  // deck's options with the correction's prefix (hs_control_correction_) win over these.
+  BackgroundFactorizations(MPI_Comm comm, int threads, KSP inline_ksp, double rtol,
+                           const SolverConfig& solver);
   ~BackgroundFactorizations();
   BackgroundFactorizations(const BackgroundFactorizations&) = delete;
   BackgroundFactorizations& operator=(const BackgroundFactorizations&) = delete;
@@ -63,6 +66,7 @@ class BackgroundFactorizations {
   MPI_Comm comm_;
   int rank_ = 0, threads_ = 0;
   KSP inline_ksp_;
+  SolverOptions options_;  // before the KSP: it outlives it
   KspHandle correction_;
   std::unique_ptr<FactorPool> pool_;        // rank 0
   std::unique_ptr<CholeskyFactor> factor_;  // rank 0: the adopted background factorization

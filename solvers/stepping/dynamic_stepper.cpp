@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/deck_reader.hpp"
+#include "solvers/solver_options.hpp"
 
 namespace hs {
 
@@ -44,14 +45,21 @@ void DynamicStepper::start(Vec u) {
   // Initial acceleration from M a0 = -(f_int(u0) - f_ext): CG on the mass matrix.
   problem_.apply_dirichlet(u, 1.0);
   problem_.residual(u, 1.0, R_);
+  // Its solver is set here: no preset, and only the options with its prefix (hs_mass_).
+  const SolverOptions options(kMassPrefix, config_.solver, {},
+                              SolverOptions::Reach::own_prefix_only);
   KspHandle mass_solver;
   HS_PETSC(KSPCreate(problem_.comm(), mass_solver.out()));
+  options.attach(reinterpret_cast<PetscObject>(mass_solver.get()));
+  HS_PETSC(KSPSetOptionsPrefix(mass_solver, kMassPrefix));
   HS_PETSC(KSPSetOperators(mass_solver, inertia_.M, inertia_.M));
   HS_PETSC(KSPSetType(mass_solver, KSPCG));
   PC pc;
   HS_PETSC(KSPGetPC(mass_solver, &pc));
   HS_PETSC(PCSetType(pc, PCJACOBI));
   HS_PETSC(KSPSetTolerances(mass_solver, 1e-12, 1e-30, PETSC_DEFAULT, 1000));
+  const OptionsScope scope(options.database());
+  HS_PETSC(KSPSetFromOptions(mass_solver));
   HS_PETSC(KSPSolve(mass_solver, R_, a_));
   HS_PETSC(VecScale(a_, -1.0));
   stats_.energy.push_back(total_energy(u));

@@ -61,6 +61,9 @@ TEST_P(InteractiveOutput, StandardOutputHoldsOnlyTheJsonLines) {
                         " --targets - -hs_newton_monitor < " + input + " > " + out + " 2> " + err;
   if (ranks > 1) command = std::string(HYDROSOFT_MPIEXEC) + " -np 2 " + command;
   ASSERT_EQ(wait_for(start(command)), 0) << text_of(err);
+  // -hs_newton_monitor, the bordered Newton's monitor's name before -hs_bordered_monitor,
+  // still prints its lines (on standard error).
+  EXPECT_NE(text_of(err).find("|R|"), std::string::npos) << text_of(err);
   const auto lines = lines_of(out);
   ASSERT_EQ(lines.size(), 5u) << text_of(out);
   for (size_t k = 0; k < lines.size(); ++k) {

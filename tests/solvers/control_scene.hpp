@@ -62,8 +62,8 @@ struct ControlScene : DeckProblem {
           config.control = control;
         }) {
     cavities = std::make_unique<hs::ConstraintSet>(config, *problem);
-    hs::set_solver_options(config.solver, false);
-    newton = std::make_unique<hs::BorderedNewton>(*problem, *cavities);
+    newton = std::make_unique<hs::BorderedNewton>(*problem, *cavities, config.solver,
+                                                  hs::TangentKind{false, true});
     effectors = std::make_unique<hs::Effectors>(config, *problem);
     rest = hs::VecHandle(problem->create_vector());
     const hs::VecHandle f(problem->create_vector());

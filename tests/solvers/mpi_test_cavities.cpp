@@ -270,8 +270,7 @@ TEST(Cavities, PressureWorkEqualsStoredEnergyAndGravityWork) {
   // int p dV = p_N V_N - p_0 V_0 - int V dp, the last by Simpson's rule on equal steps.
   Scene s("cylinder_air.yaml", {});
   hs::Problem& p = *s.problem;
-  hs::set_solver_options(s.config.solver, false);
-  hs::BorderedNewton newton(p, *s.cavities);
+  hs::BorderedNewton newton(p, *s.cavities, s.config.solver, hs::TangentKind{false, true});
   const hs::VecHandle u(p.create_vector()), f(p.create_vector()), fg(p.create_vector()),
       u0(p.create_vector());
   p.external_load(u, 1.0, fg);  // gravity alone (cavity pressure 0)

@@ -146,8 +146,7 @@ TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   const hs::Distribution dist = hs::load_distributed_mesh(config.mesh, PETSC_COMM_WORLD);
   hs::Problem problem(config, dist, PETSC_COMM_WORLD);
   hs::ConstraintSet cavities(config, problem);
-  hs::set_solver_options(config.solver, false);
-  hs::BorderedNewton newton(problem, cavities);
+  hs::BorderedNewton newton(problem, cavities, config.solver, hs::TangentKind{false, true});
   const hs::VecHandle u(problem.create_vector()), R(problem.create_vector());
   PetscScalar* a;
   VecGetArray(u, &a);

@@ -2,7 +2,8 @@
 // forward run reaches with a known pressure is reached to 0.1 mm with that pressure, by the
 // pneumatic and by the hydraulic cylinder (the liquid's weight acting through the unified
 // constraint); a target beyond the pressure bound ends on the forward run at the bound, with
-// the actuator marked saturated.
+// the actuator marked saturated. Each solver object takes its own options (its prefix) and
+// the shared ones, and its MUMPS factor takes them too.
 #include <gtest/gtest.h>
 #include <petscsnes.h>
 
@@ -11,6 +12,7 @@
 
 #include "control_scene.hpp"
 #include "solvers/inverse_controller.hpp"
+#include "solvers/multi_solve.hpp"
 
 namespace {
 
@@ -66,6 +68,118 @@ TEST(Control, UnreachableTargetSaturatesAtTheBound) {
   EXPECT_TRUE(r.saturated[0]);
   for (int d = 0; d < 3; ++d) EXPECT_NEAR(r.reached[d], at_bound[d], 1e-4) << d;
   EXPECT_GT(r.error, 1e-3);  // the target really is out of reach
+}
+
+// The value of option `name` of the object's own database, as PETSc reads it for the object.
+std::string option_of(KSP ksp, const char* name) {
+  PetscOptions db = nullptr;
+  PetscObjectGetOptions(reinterpret_cast<PetscObject>(ksp), &db);
+  const char* prefix = nullptr;
+  KSPGetOptionsPrefix(ksp, &prefix);
+  char value[64] = "";
+  PetscOptionsGetString(db, prefix, name, value, sizeof value, nullptr);
+  return value;
+}
+
+TEST(SolverObjectOptions, EachObjectTakesItsPrefixedOptionsAndTheSharedOnes) {
+  // As if on the command line: an option of the controller's KSP alone, and one of every object.
+  PetscOptionsSetValue(nullptr, "-hs_control_ksp_type", "gmres");
+  PetscOptionsSetValue(nullptr, "-ksp_max_it", "23");
+  PetscOptionsSetValue(nullptr, "-hs_newton_ksp_type", "bcgs");  // no plain Newton here
+  {
+    hs_test::DeckProblem scene("cylinder_air.yaml", {}, [](hs::Config& config) {
+      hs::ControlConfig control;
+      control.effectors = {hs::EffectorConfig{"tip", "", {0.0, 0.0, -0.15}}};
+      hs::ActuatorConfig actuator;
+      actuator.constraint = "cavity";
+      control.actuators = {actuator};
+      control.free_solve = hs::FreeSolve::one_step;
+      control.factor_threads = 1;  // the background correction too
+      config.control = control;
+      config.solver.petsc_options = {{"ksp_max_it", "17"},
+                                     {"ksp_rtol", "1e-3"},
+                                     {"hs_control_ksp_rtol", "1e-4"},
+                                     {"mat_mumps_icntl_14", "77"},
+                                     {"hs_control_mat_mumps_icntl_14", "88"},
+                                     {"hs_control_correction_ksp_rtol", "1e-2"}};
+    });
+    hs::ConstraintSet cavities(scene.config, *scene.problem);
+    hs::BorderedNewton newton(*scene.problem, cavities, scene.config.solver, hs::TangentKind{});
+    hs::Effectors effectors(scene.config, *scene.problem);
+    hs::InverseController controller(scene.config, *scene.problem, cavities, newton, effectors);
+
+    struct Expected {
+      KSP ksp;
+      const char *type, *pc, *rtol;
+      int icntl_14;
+    };
+    // The bordered Newton's KSP keeps the preset (the controller's option does not reach it),
+    // the deck's unprefixed rtol reaches it, the controller's prefixed one wins over it there;
+    // the command line's max_it wins over the deck's in both. (A preonly KSP does not read its
+    // tolerances: they are read from the object's database, as PETSc would.)
+    for (const Expected& e : {Expected{newton.ksp(), "preonly", "cholesky", "1e-3", 77},
+                              Expected{controller.ksp(), "gmres", "cholesky", "1e-4", 88}}) {
+      KSPType type;
+      KSPGetType(e.ksp, &type);
+      EXPECT_STREQ(type, e.type);
+      PC pc;
+      KSPGetPC(e.ksp, &pc);
+      PCType pc_type;
+      PCGetType(pc, &pc_type);
+      EXPECT_STREQ(pc_type, e.pc);
+      EXPECT_EQ(option_of(e.ksp, "-ksp_rtol"), e.rtol);
+      EXPECT_EQ(option_of(e.ksp, "-ksp_max_it"), "23");
+      // The factor PETSc makes when the KSP is set up (inside the object's solve) takes the
+      // object's options: MUMPS reads PETSc's default database, not its parent's.
+      const hs::VecHandle u(scene.problem->create_vector()), b(scene.problem->create_vector()),
+          x(scene.problem->create_vector());
+      const hs::MatHandle J(scene.problem->create_matrix());
+      ASSERT_TRUE(scene.problem->jacobian(u, 0.0, J));
+      VecSet(b, 1.0);
+      scene.problem->zero_constrained(b);
+      KSPSetOperators(e.ksp, J, J);
+      ASSERT_TRUE(hs::solve_columns(e.ksp, {b}, {x}));
+      Mat F;
+      PCFactorGetMatrix(pc, &F);
+      PetscInt icntl = 0;
+      MatMumpsGetIcntl(F, 14, &icntl);
+      EXPECT_EQ(icntl, e.icntl_14);
+    }
+    PetscReal rtol = 0;
+    PetscInt max_it = 0;
+    KSPGetTolerances(controller.ksp(), &rtol, nullptr, nullptr, &max_it);
+    EXPECT_DOUBLE_EQ(rtol, 1e-4);
+    EXPECT_EQ(max_it, 23);
+    // The background correction sets its own solver: its prefixed option reaches it, the
+    // unprefixed ones do not (GMRES, at most 50 iterations, as set in code).
+    ASSERT_NE(controller.background(), nullptr);
+    const hs::MatHandle J(scene.problem->create_matrix());
+    KSP correction = controller.background()->correction(J);
+    KSPGetTolerances(correction, &rtol, nullptr, nullptr, &max_it);
+    EXPECT_DOUBLE_EQ(rtol, 1e-2);
+    EXPECT_EQ(max_it, 50);
+    KSPType type;
+    KSPGetType(correction, &type);
+    EXPECT_STREQ(type, "gmres");
+  }
+  // Nothing of the preset or the deck went into the global database, and the options the
+  // objects used are marked used there (-options_left, the "was not used" warning).
+  for (const char* name :
+       {"-ksp_type", "-pc_type", "-snes_rtol", "-ksp_rtol", "-mat_mumps_icntl_14",
+        "-hs_control_ksp_rtol", "-pc_factor_mat_solver_type"}) {
+    PetscBool set = PETSC_TRUE;
+    PetscOptionsHasName(nullptr, nullptr, name, &set);
+    EXPECT_FALSE(set) << name;
+  }
+  PetscBool used = PETSC_FALSE;
+  PetscOptionsUsed(nullptr, "hs_control_ksp_type", &used);
+  EXPECT_TRUE(used);
+  PetscOptionsUsed(nullptr, "ksp_max_it", &used);
+  EXPECT_TRUE(used);
+  PetscOptionsUsed(nullptr, "hs_newton_ksp_type", &used);
+  EXPECT_FALSE(used);
+  for (const char* name : {"-hs_control_ksp_type", "-ksp_max_it", "-hs_newton_ksp_type"})
+    PetscOptionsClearValue(nullptr, name);
 }
 
 }  // namespace

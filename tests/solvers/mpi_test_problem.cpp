@@ -1,7 +1,7 @@
 // The distributed problem as a whole, on 1 and 2 ranks: the assembled tangent is the
 // derivative of the assembled residual (finite differences through ghosts, Dirichlet rows,
 // follower pressure and gravity together), the matrix is preallocated exactly (insertion
-// outside the pattern is an error) and carries the six rigid-body modes, the solver
+// outside the pattern is an error) and carries the six rigid-body modes, the plain Newton's
 // options take the command line over the deck over the preset, and boundary entries that
 // prescribe one node differently are refused before any solve.
 #include <gtest/gtest.h>
@@ -180,11 +180,7 @@ TEST(NewtonRoundoff, UnreachableTolerancesStopAtTheResidualsRoundoff) {
       "materials[0].model=neo_hookean", "materials[0].E=1e6",      "materials[0].nu=0.45",
       "materials[0].density=1070",      "mesh.parameters.L=0.1",   "mesh.parameters.h=0.01",
       "exact.parameters.L=0.1",         "exact.parameters.h=0.01", "solver.preset=mumps"};
-  // Each run starts from an empty options database: a run's defaults stay in it, and a
-  // later deck's options do not replace them.
-  PetscOptionsClear(nullptr);
   const auto reference = hs_test::run_deck("cantilever_gravity.yaml", deck, "roundoff_ref");
-  PetscOptionsClear(nullptr);
   auto unreachable = deck;
   unreachable.push_back("solver.petsc_options.snes_rtol=1e-20");
   unreachable.push_back("solver.petsc_options.snes_atol=1e-30");
@@ -197,10 +193,8 @@ TEST(NewtonRoundoff, UnreachableTolerancesStopAtTheResidualsRoundoff) {
   unreachable.push_back("solver.petsc_options.hs_newton_roundoff=false");
   unreachable.push_back("solver.petsc_options.snes_max_it=12");
   unreachable.push_back("time.max_cutbacks=0");
-  PetscOptionsClear(nullptr);
   EXPECT_THROW(hs_test::run_deck("cantilever_gravity.yaml", unreachable, "roundoff_off"),
                hs::SolveError);
-  PetscOptionsClear(nullptr);
 }
 
 // An evaluation that meets inverted elements names one, the same on every rank; the next
@@ -307,6 +301,24 @@ TEST(SolverOptions, UnknownTypesAreRefusedBeforeAnyWork) {
     EXPECT_STREQ(e.what(), "command line: -pc_type: unknown PETSc type 'no_such_pc'");
   }
   PetscOptionsClear(nullptr);
+  // With an object's prefix: on the command line and in the deck.
+  PetscOptionsSetValue(nullptr, "-hs_bordered_ksp_type", "no_such_ksp");
+  try {
+    hs::check_solver_types(solver, "deck.yaml");
+    FAIL() << "-hs_bordered_ksp_type no_such_ksp was accepted";
+  } catch (const hs::InputError& e) {
+    EXPECT_STREQ(e.what(), "command line: -hs_bordered_ksp_type: unknown PETSc type 'no_such_ksp'");
+  }
+  PetscOptionsClear(nullptr);
+  solver.petsc_options = {{"hs_control_pc_type", "nonsense"}};
+  try {
+    hs::check_solver_types(solver, "deck.yaml");
+    FAIL() << "hs_control_pc_type nonsense was accepted";
+  } catch (const hs::InputError& e) {
+    EXPECT_STREQ(
+        e.what(),
+        "deck.yaml: solver.petsc_options.hs_control_pc_type: unknown PETSc type 'nonsense'");
+  }
 }
 
 // A law defined at every strain gives a linear solution even where it turns elements inside
@@ -484,20 +496,60 @@ TEST(BoundaryConflicts, WhatConflictsAndWhatAgrees) {
             std::string::npos);
 }
 
+// The plain Newton's options (prefix hs_newton_): the command line's prefixed option over its
+// unprefixed one over the deck over the preset, down to GAMG's level smoothers, which PETSc
+// makes when the SNES first solves; nothing of the preset or the deck in the global database.
 TEST(SolverOptions, CommandLineWinsOverDeckOverPreset) {
   PetscOptionsSetValue(nullptr, "-ksp_type", "bcgs");  // as if given on the command line
-  hs::SolverConfig solver;
-  solver.preset = hs::SolverPreset::gamg;
-  solver.petsc_options = {{"ksp_type", "cg"}, {"pc_gamg_threshold", "0.05"}};
-  hs::set_solver_options(solver, true);
+  PetscOptionsSetValue(nullptr, "-ksp_max_it", "300");
+  PetscOptionsSetValue(nullptr, "-hs_newton_ksp_max_it", "400");
+  Fixture f({"materials[0].model=neo_hookean", "solver.preset=gamg"});
+  f.config.solver.petsc_options = {{"ksp_type", "cg"},
+                                   {"ksp_rtol", "1e-9"},
+                                   {"pc_gamg_threshold", "0.05"},
+                                   {"mg_levels_ksp_type", "richardson"},
+                                   {"mg_levels_pc_type", "sor"}};
+  {
+    hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
+    hs::NewtonSolver newton(problem, f.config.solver, hs::TangentKind{});
+    const hs::VecHandle u(problem.create_vector());
+    problem.apply_dirichlet(u, 0.1);
+    newton.solve(u, 0.1);
+    KSP ksp;
+    SNESGetKSP(newton.snes(), &ksp);
+    KSPType type;
+    KSPGetType(ksp, &type);
+    EXPECT_STREQ(type, "bcgs");
+    PetscReal rtol = 0, snes_rtol = 0;
+    PetscInt max_it = 0;
+    KSPGetTolerances(ksp, &rtol, nullptr, nullptr, &max_it);
+    EXPECT_DOUBLE_EQ(rtol, 1e-9);
+    EXPECT_EQ(max_it, 400);
+    SNESGetTolerances(newton.snes(), nullptr, &snes_rtol, nullptr, nullptr, nullptr);
+    EXPECT_DOUBLE_EQ(snes_rtol, 1e-8);  // the preset's
+    PC pc;
+    KSPGetPC(ksp, &pc);
+    PCType pc_type;
+    PCGetType(pc, &pc_type);
+    EXPECT_STREQ(pc_type, "gamg");
+    PetscInt levels = 0;
+    PCMGGetLevels(pc, &levels);
+    ASSERT_GT(levels, 1);
+    KSP smoother;
+    PCMGGetSmoother(pc, levels - 1, &smoother);
+    KSPGetType(smoother, &type);
+    EXPECT_STREQ(type, "richardson");
+  }
+  for (const char* name : {"-pc_type", "-snes_rtol", "-ksp_rtol", "-pc_gamg_threshold",
+                           "-mg_levels_ksp_type", "-snes_linesearch_type"}) {
+    PetscBool set = PETSC_TRUE;
+    PetscOptionsHasName(nullptr, nullptr, name, &set);
+    EXPECT_FALSE(set) << name;
+  }
   char value[64];
   PetscBool set;
   PetscOptionsGetString(nullptr, nullptr, "-ksp_type", value, sizeof value, &set);
   EXPECT_STREQ(value, "bcgs");
-  PetscOptionsGetString(nullptr, nullptr, "-pc_gamg_threshold", value, sizeof value, &set);
-  EXPECT_STREQ(value, "0.05");
-  PetscOptionsGetString(nullptr, nullptr, "-pc_type", value, sizeof value, &set);
-  EXPECT_STREQ(value, "gamg");
   PetscOptionsClear(nullptr);
 }
 

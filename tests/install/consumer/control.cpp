@@ -38,8 +38,8 @@ bool steer_the_finger(int rank) {
   const hs::Distribution dist = hs::load_distributed_mesh(config.mesh, PETSC_COMM_WORLD);
   hs::Problem problem(config, dist, PETSC_COMM_WORLD);
   hs::ConstraintSet cavities(config, problem);
-  hs::set_solver_options(config.solver, cavities.symmetric(), false);
-  hs::BorderedNewton newton(problem, cavities);
+  hs::BorderedNewton newton(problem, cavities, config.solver,
+                            hs::TangentKind{cavities.symmetric(), false});
   hs::Effectors effectors(config, problem);
 
   // The rest state: gravity ramped in over 4 increments, the cavity at gauge pressure 0.
