@@ -9,7 +9,7 @@
 #     FAMILIES="geo:700 binmsh:500 ..." the family cases, each NAME:COUNT, "" for none;
 #     RANKS_SHARE=0.1 the share of family cases run on 2 ranks)
 # The report is OUT/report.json and OUT/cases.csv; each defect's reproducer OUT/defects/<id>/.
-# Cases 0-99 and surface cases s0-s29 of seed 1 are the ctest sample (fuzz_sample), the first
+# Cases 0-49 and surface cases s0-s29 of seed 1 are the ctest sample (fuzz_sample), the first
 # cases of each family its own (fuzz_sample_new); the campaign starts after them (family cases
 # from 100). Needs only the executables, mpiexec (or mpirun) for the 2-rank cases and
 # /usr/bin/python3's standard library: HYDROSOFT=path/to/hydrosoft (fluidweight beside it, or
@@ -28,6 +28,6 @@ FLUIDWEIGHT=${FLUIDWEIGHT:-$(dirname "$HYDROSOFT")/fluidweight}
 family_args=()
 for family in $FAMILIES; do family_args+=(--family "$family:100"); done
 exec /usr/bin/python3 tests/fuzz/fuzz.py --hydrosoft "$HYDROSOFT" --fluidweight "$FLUIDWEIGHT" \
-  --out "$OUT" --seed "$SEED" --first 100 --cases "$CASES" --surfaces-first 30 \
+  --out "$OUT" --seed "$SEED" --first 50 --cases "$CASES" --surfaces-first 30 \
   --surfaces "$SURFACES" --run-share 0.05 "${family_args[@]}" --ranks-share "${RANKS_SHARE:-0.1}" \
   --jobs "${JOBS:-2}" --keep-time-limits

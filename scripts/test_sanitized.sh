@@ -9,15 +9,19 @@
 set -euo pipefail
 SCOPE=${1:-slice}
 case $SCOPE in
-  slice) TARGET=slice_tests MPI_TESTS=(-L slice -E '_np1$') ;;
-  full) TARGET=all_tests MPI_TESTS=(-L 'mpi|app' -E 'mpi_test_mesh_distribute_np[34]') ;;
+  slice) TARGET=slice_tests TESTS=slice MPI_TESTS=(-L slice -E '_np1$') FUZZ_CASES=20 ;;
+  full) TARGET=all_tests TESTS=all MPI_TESTS=(-L 'mpi|app' -E 'mpi_test_mesh_distribute_np[34]')
+    FUZZ_CASES=50 ;;
   *) echo "usage: $0 [slice|full]" >&2 && exit 2 ;;
 esac
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 BUILD_DIR=${SANITIZE_BUILD_DIR:-build-sanitize}
+# -O1, not Release's -O3: the sanitizers' instrumentation made -O3 compile 3.3 times as long
+# as the plain build, -O1 1.4 times (docs/reliability.md, "Sanitizers"); NDEBUG as shipped.
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DHYDROSOFT_SANITIZE=address,undefined \
-  -DFLUIDWEIGHT_CUDA=OFF
+  -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" -DCMAKE_C_FLAGS_RELEASE="-O1 -DNDEBUG" \
+  -DFLUIDWEIGHT_CUDA=OFF -DHYDROSOFT_TEST_SCOPE="$TESTS"
 cmake --build "$BUILD_DIR" -j "$(nproc)" --target "$TARGET"
 BUILD_DIR=$(cd "$BUILD_DIR" && pwd)
 SOURCE_DIR=$PWD
@@ -52,13 +56,14 @@ run_ctest -R '^fluidweight_test_' -E '^fluidweight_test_cuda$'
 export ASAN_OPTIONS=$ASAN_COMMON:fast_unwind_on_malloc=0
 run_ctest "${MPI_TESTS[@]}"
 
-# A slice of the fuzz sample (tests/fuzz/): its first 40 cases through --check, as many run for
-# real as in the sample (5 % of the fast ones). Its address-space limit would stop AddressSanitizer (which reserves terabytes
+# The fuzz sample (tests/fuzz/) on the sanitized executable: its first 20 cases (the slice) or
+# all 50 (full) through --check, as many run for real as in the sample (5 % of the fast
+# ones). Its address-space limit would stop AddressSanitizer (which reserves terabytes
 # of shadow memory): --memory-mb 0 lifts it, and the sanitizer's own limits take its place (a
 # too large allocation returns null, so std::bad_alloc as without the sanitizer).
 ASAN_OPTIONS="$ASAN_OPTIONS:allocator_may_return_null=1:max_allocation_size_mb=4096:hard_rss_limit_mb=4096" \
   /usr/bin/python3 "$SOURCE_DIR/tests/fuzz/fuzz.py" --hydrosoft bin/hydrosoft --out "$BUILD_DIR/fuzz_sanitized" \
-  --seed 1 --cases 40 --run-share 0.05 --jobs 2 --memory-mb 0 --check-timeout 180 --run-timeout 180 ||
+  --seed 1 --cases "$FUZZ_CASES" --run-share 0.05 --jobs 2 --memory-mb 0 --check-timeout 180 --run-timeout 180 ||
   failed=1
 
 if compgen -G "$REPORTS/*" > /dev/null; then
