@@ -12,6 +12,11 @@
 namespace hs {
 
 std::unique_ptr<OutputFolder> open_output_folder(const std::string& folder, MPI_Comm comm) {
+  // Every rank reads the deck itself, and the deck's check of output.folder looks at this
+  // folder's staging folder: until rank 0 has written its marker there, a rank still reading
+  // would find it foreign and stop alone, leaving the others waiting. So no rank makes the
+  // staging folder before every rank has come this far.
+  MPI_Barrier(comm);
   std::unique_ptr<OutputFolder> opened;
   on_rank_zero(comm, [&] {
     try {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <thread>
 
 #include "../solvers/run_deck.hpp"
 #include "common/error.hpp"
@@ -91,6 +92,27 @@ TEST(OutputFolders, ARunOnAnotherRunsStagingFolderIsRefused) {
 
 // What the first test of the pair below wrote, for the second to look at.
 fs::path written_by_the_previous_test;
+
+// Each rank reads the deck itself, and reading it checks the output folder; rank 0 makes the
+// staging folder (and its marker, which its check of a later rank looks for). A rank that
+// reads the deck later than rank 0 starts its run must find no staging folder yet: one caught
+// half made (no marker yet) stopped that rank alone and left the other waiting (seen as a
+// hang of 2-rank tests under load).
+TEST(OutputFolders, NoRankMakesTheStagingFolderBeforeEveryRankHasReadTheDeck) {
+  const std::string folder = hs_test::out_folder("late_reader");
+  const std::string deck = std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + kDeck;
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  bool staged_before_reading = false;
+  if (world_rank() == size - 1 && size > 1) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // rank 0 is in its run
+    staged_before_reading = fs::exists(folder + ".partial");
+  }
+  const hs::Config config = hs::parse_deck(deck, {"output.folder=" + folder});
+  hs::run_simulation(config, MPI_COMM_WORLD);
+  EXPECT_FALSE(staged_before_reading);
+  EXPECT_TRUE(fs::exists(folder + "/summary.json"));
+}
 
 TEST(TestFolders, ATestWritesItsOutputsIntoItsOwnFolder) {
   hs_test::run_deck(kDeck, {}, "mine");
