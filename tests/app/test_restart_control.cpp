@@ -17,6 +17,7 @@
 #include "restart_test_util.hpp"
 
 namespace {
+namespace test_restart_control {
 
 namespace fs = std::filesystem;
 using namespace hs::testing;
@@ -255,4 +256,5 @@ TEST(RestartControlRefused, TheInteractiveModeAndFrozenWeightsInOneStep) {
       << text_of(err);
 }
 
+}  // namespace test_restart_control
 }  // namespace
