@@ -14,6 +14,7 @@
 #include "../deck/temp_folder.hpp"
 
 namespace {
+namespace test_rank_independence {
 
 using hs::testing::TempFolder;
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
@@ -105,4 +106,5 @@ TEST(RankIndependence, HydraulicFingerFromAnH5Mesh) {
   expect_rank_independent(deck, "finger_h5", "--set control.steps_per_target=1", tmp);
 }
 
+}  // namespace test_rank_independence
 }  // namespace

@@ -15,6 +15,7 @@
 #include "restart_test_util.hpp"
 
 namespace {
+namespace test_restart {
 
 namespace fs = std::filesystem;
 using namespace hs::testing;
@@ -250,4 +251,5 @@ TEST(RestartRefused, ATamperedCheckpointNamesTheFieldBeforeAnyWork) {
         "position.time: must be step 9 times time.dt, 0.9, got 5"}});
 }
 
+}  // namespace test_restart
 }  // namespace

@@ -27,6 +27,7 @@
 #include "text_file.hpp"
 
 namespace {
+namespace test_run_outcomes {
 
 namespace fs = std::filesystem;
 using hs::testing::TempFolder;
@@ -593,4 +594,5 @@ TEST_P(DiskFull, AtACheckpointTheRunEndsAndThePreviousCheckpointIsKept) {
 
 INSTANTIATE_TEST_SUITE_P(Ranks, DiskFull, ::testing::Values(1, 2));
 
+}  // namespace test_run_outcomes
 }  // namespace

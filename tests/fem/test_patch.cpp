@@ -14,6 +14,7 @@
 
 namespace hs {
 namespace {
+namespace test_patch {
 
 using namespace testing_fixtures;
 
@@ -111,5 +112,6 @@ TEST(QuadraticPatch, P2ReproducesTheHydrostaticFieldUnderGravity) {
   EXPECT_EQ(interior, 1 + 14 + 6 + 6);
 }
 
+}  // namespace test_patch
 }  // namespace
 }  // namespace hs

@@ -15,6 +15,7 @@
 #include "io/output.hpp"
 
 namespace {
+namespace mpi_test_output_folders {
 
 namespace fs = std::filesystem;
 
@@ -130,4 +131,5 @@ TEST(TestFolders, AndTheFolderIsRemovedWhenTheTestEnds) {
   EXPECT_NE(hs_test::test_folder(), written_by_the_previous_test.parent_path());
 }
 
+}  // namespace mpi_test_output_folders
 }  // namespace

@@ -16,6 +16,7 @@
 
 namespace hs {
 namespace {
+namespace test_yeoh {
 
 using namespace material_fixtures;
 
@@ -180,5 +181,6 @@ TEST(Yeoh, PrintedKeysReadBackTheSameLaw) {
   EXPECT_EQ(back.elastic_constants().lambda, made->elastic_constants().lambda);
 }
 
+}  // namespace test_yeoh
 }  // namespace
 }  // namespace hs

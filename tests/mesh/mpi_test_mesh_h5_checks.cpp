@@ -21,6 +21,7 @@
 
 namespace hs::test {
 namespace {
+namespace mpi_test_mesh_h5_checks {
 
 int rank() {
   int r = 0;
@@ -250,5 +251,6 @@ TEST(H5Checks, TheCheckTakesTheSlabsOfAnyMesh) {
                      {"mesh: elements 0 and " + std::to_string(m.num_tets() - 1)});
 }
 
+}  // namespace mpi_test_mesh_h5_checks
 }  // namespace
 }  // namespace hs::test

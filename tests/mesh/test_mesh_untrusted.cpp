@@ -25,6 +25,7 @@
 
 namespace hs::test {
 namespace {
+namespace test_mesh_untrusted {
 
 namespace fs = std::filesystem;
 
@@ -510,5 +511,6 @@ TEST(Units, MillimetreMeshDrawsAWarningWithItsBoundingBox) {
   EXPECT_EQ(units_warning(load(corner_tet().write(dir, "m.msh")), path), "");
 }
 
+}  // namespace test_mesh_untrusted
 }  // namespace
 }  // namespace hs::test

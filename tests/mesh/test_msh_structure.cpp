@@ -15,6 +15,7 @@
 
 namespace hs::test {
 namespace {
+namespace test_msh_structure {
 
 namespace fs = std::filesystem;
 
@@ -245,5 +246,6 @@ TEST(MshStructure, WhatGmshWritesAndReadsIsAccepted) {
                      {"node 4 at (", "not a finite number"});
 }
 
+}  // namespace test_msh_structure
 }  // namespace
 }  // namespace hs::test

@@ -27,6 +27,7 @@
 #include "solvers/tip_orientation.hpp"
 
 namespace {
+namespace mpi_test_cavities {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
@@ -409,4 +410,5 @@ TEST(TipOrientation, RigidRotationTurnsTheTipFaceByItsAngle) {
   }
 }
 
+}  // namespace mpi_test_cavities
 }  // namespace

@@ -21,6 +21,7 @@
 #include "solvers/simulation.hpp"
 
 namespace {
+namespace mpi_test_cavity_extremes {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
@@ -169,4 +170,5 @@ TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   EXPECT_EQ(cavities.collapse_reason(), "");
 }
 
+}  // namespace mpi_test_cavity_extremes
 }  // namespace

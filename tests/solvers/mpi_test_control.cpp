@@ -15,6 +15,7 @@
 #include "solvers/multi_solve.hpp"
 
 namespace {
+namespace mpi_test_control {
 
 // A cylinder with its cavity as the actuator, the effector at the centre of the free end.
 struct Scene : hs_test::ControlScene {
@@ -182,4 +183,5 @@ TEST(SolverObjectOptions, EachObjectTakesItsPrefixedOptionsAndTheSharedOnes) {
     PetscOptionsClearValue(nullptr, name);
 }
 
+}  // namespace mpi_test_control
 }  // namespace

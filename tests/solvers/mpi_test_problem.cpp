@@ -26,6 +26,7 @@
 #include "solvers/problem.hpp"
 
 namespace {
+namespace mpi_test_problem {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
@@ -590,4 +591,5 @@ TEST(PetscHandle, ReleasesOnceOnEveryWayOut) {
   EXPECT_EQ(references(reused), 1);
 }
 
+}  // namespace mpi_test_problem
 }  // namespace

@@ -17,6 +17,7 @@
 #include "solvers/stepping.hpp"
 
 namespace {
+namespace mpi_test_stepping {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
@@ -139,4 +140,5 @@ TEST(Cutback, TheSubStepsOfARunAreBounded) {
   EXPECT_EQ(hs::max_substeps(100), 1600);
 }
 
+}  // namespace mpi_test_stepping
 }  // namespace

@@ -13,6 +13,7 @@
 #include "solvers/simulation.hpp"
 
 namespace {
+namespace mpi_test_stiff_cases {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
@@ -103,4 +104,5 @@ TEST(StiffCases, ReferenceThatIsNotFiniteIsRefusedBeforeTheSolve) {
   }
 }
 
+}  // namespace mpi_test_stiff_cases
 }  // namespace

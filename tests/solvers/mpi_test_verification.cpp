@@ -13,6 +13,7 @@
 #include "solvers/simulation.hpp"
 
 namespace {
+namespace mpi_test_verification {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
@@ -84,9 +85,11 @@ TEST(Verification, CantileverEulerBernoulli) {
   }
 }
 
+}  // namespace mpi_test_verification
 }  // namespace
 
 namespace {
+namespace mpi_test_verification {
 
 TEST(Verification, ElasticaLargeDeflection) {
   // beta = q L^3 / (E I) = 4: v/L = 0.42516 for the inextensible elastica; the 3D beam
@@ -120,4 +123,5 @@ TEST(Verification, NeoHookeanSpherePastThePressurePeak) {
   EXPECT_LT(steps.back()["pressure_over_mu"].get<double>(), peak - 0.01);
 }
 
+}  // namespace mpi_test_verification
 }  // namespace
