@@ -35,6 +35,13 @@ P1Geometry tet_p1_geometry(const double* X);  // throws InputError as tet_intern
 ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u, const MaterialLaw& m,
                                     double* r, double* K);
 
+// The F-bar element of nearly incompressible bodies (src/fem/fbar_element.cpp): the law at
+// Fbar = (Jbar/J)^(1/3) F, Jbar the element's volume ratio, so that a P2 element carries one
+// volumetric constraint instead of four and does not lock. Same outputs as tet_internal_force
+// (on a P1 element the two are equal).
+ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
+                                      const MaterialLaw& m, double* r, double* K);
+
 // Consistent nodal body force f_a = int rho g N_a dV (reference configuration).
 void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,
                     double* f);
@@ -72,5 +79,7 @@ struct ElementFields {
   double J = 1;
 };
 ElementFields tet_fields(int order, const double* X, const double* u, const MaterialLaw& m);
+// The same for the F-bar element: the stress at Fbar, J = Jbar.
+ElementFields tet_fields_fbar(int order, const double* X, const double* u, const MaterialLaw& m);
 
 }  // namespace hs
