@@ -75,6 +75,8 @@ ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r
   const auto& m = materials_[dist_.tet_volume[e]];
   if (!p1_geometry_.empty()) return tet_internal_force_p1(p1_geometry_[e], ue, *m.law, r, K);
   element_coordinates(e, X);
+  if (m.element == ElementFormulation::fbar)
+    return tet_internal_force_fbar(dist_.order, X, ue, *m.law, r, K);
   return tet_internal_force(dist_.order, X, ue, *m.law, r, K);
 }
 
@@ -260,7 +262,9 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
       element_coordinates(e, X);
       element_displacement(ua, e, ue);
       const auto& m = materials_[dist_.tet_volume[e]];
-      const ElementFields f = tet_fields(dist_.order, X, ue, *m.law);
+      const ElementFields f = m.element == ElementFormulation::fbar
+                                  ? tet_fields_fbar(dist_.order, X, ue, *m.law)
+                                  : tet_fields(dist_.order, X, ue, *m.law);
       von_mises[e] = f.von_mises;
       J[e] = f.J;
     }

@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include "common/error.hpp"
-
 #include "fem/element.hpp"
 
 namespace hs {

@@ -56,8 +56,8 @@ ElementOutput inverted_element(double* r, double* K) {
 }
 
 template <int NPE>
-ElementOutput fbar_internal_force(const double* X, const double* u, const MaterialLaw& m,
-                                  double* r, double* K) {
+ElementOutput fbar_internal_force(const double* X, const double* u, const MaterialLaw& m, double* r,
+                                  double* K) {
   constexpr int n = 3 * NPE;
   const auto& t = tet_tables<NPE>(fbar_degree<NPE>());
   const int nq = static_cast<int>(t.weights.size());

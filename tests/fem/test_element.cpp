@@ -83,12 +83,8 @@ TEST_P(ElementCase, ForceIsTheDerivativeOfTheEnergy) {
     std::vector<double> up = u, um = u;
     up[d] += h;
     um[d] -= h;
-    const double ep =
-        force(X, up, scratch.data(), nullptr)
-            .energy;
-    const double em =
-        force(X, um, scratch.data(), nullptr)
-            .energy;
+    const double ep = force(X, up, scratch.data(), nullptr).energy;
+    const double em = force(X, um, scratch.data(), nullptr).energy;
     fd[d] = (ep - em) / (2 * h);
   }
   for (int d = 0; d < n(); ++d) EXPECT_NEAR(r[d], fd[d], 1e-7 * max_abs(r)) << "dof " << d;
@@ -117,10 +113,8 @@ TEST_P(ElementCase, ForceWithTangentEqualsForceAlone) {
   const std::vector<double> X = distorted_tet(order());
   const std::vector<double> u = random_vector(n(), 0.15, 13);
   std::vector<double> r1(n()), r2(n()), K(n() * n());
-  const ElementOutput a =
-      force(X, u, r1.data(), nullptr);
-  const ElementOutput b =
-      force(X, u, r2.data(), K.data());
+  const ElementOutput a = force(X, u, r1.data(), nullptr);
+  const ElementOutput b = force(X, u, r2.data(), K.data());
   EXPECT_EQ(r1, r2);
   EXPECT_EQ(a.energy, b.energy);
 }
@@ -129,8 +123,7 @@ TEST_P(ElementCase, RigidTranslationGivesNoForce) {
   const std::vector<double> X = distorted_tet(order());
   std::vector<double> u(n()), r(n());
   for (int a = 0; a < n() / 3; ++a) u[3 * a] = 0.3, u[3 * a + 1] = -1.2, u[3 * a + 2] = 0.7;
-  const ElementOutput out =
-      force(X, u, r.data(), nullptr);
+  const ElementOutput out = force(X, u, r.data(), nullptr);
   EXPECT_LT(max_abs(r), 1e-13);
   EXPECT_NEAR(out.energy, 0.0, 1e-14);
 }
@@ -158,8 +151,7 @@ TEST_P(FiniteStrainElement, RigidRotationGivesNoForce) {
     const Eigen::Vector3d d = Q * x - x + Eigen::Vector3d(0.2, 0.1, -0.3);
     for (int i = 0; i < 3; ++i) u[3 * a + i] = d(i);
   }
-  const ElementOutput out =
-      force(X, u, r.data(), nullptr);
+  const ElementOutput out = force(X, u, r.data(), nullptr);
   EXPECT_LT(max_abs(r), 1e-12);
   EXPECT_NEAR(out.energy, 0.0, 1e-13);
 }
@@ -172,8 +164,7 @@ TEST_P(FiniteStrainElement, InvertedElementIsReported) {
   u[3 * 3 + 2] = dz;
   if (order() == 2)
     for (int node : {7, 8, 9}) u[3 * node + 2] = dz / 2;
-  EXPECT_FALSE(
-      force(X, u, r.data(), nullptr).valid);
+  EXPECT_FALSE(force(X, u, r.data(), nullptr).valid);
 }
 
 // On a P1 element J = Jbar: the F-bar element is the displacement element.

@@ -145,7 +145,7 @@ TEST(FbarAssembly, ClampedCubeHasNoZeroEnergyMode) {
   const double displacement = clamped_cube_softest_mode(false);
   const double fbar = clamped_cube_softest_mode(true);
   EXPECT_GT(displacement, 0.0);
-  EXPECT_GT(fbar, 0.8 * displacement);  // 0.88 measured
+  EXPECT_GT(fbar, 0.8 * displacement);          // 0.88 measured
   EXPECT_LE(fbar, displacement * (1 + 1e-12));  // one constraint per element is softer
 }
 
