@@ -63,6 +63,12 @@ struct PressureConfig {
   double value = 0;   // Pa at full load; positive pushes against the outward normal
 };
 
+// A dead traction: force per reference area, of fixed direction, on a surface group.
+struct TractionConfig {
+  std::string group;                     // surface physical group
+  std::array<double, 3> value{0, 0, 0};  // Pa at full load
+};
+
 // static: load increments to full load; quasi_static: a schedule of load factors (it may
 // unload); dynamic: implicit time stepping with inertia.
 enum class TimeType { static_, quasi_static, dynamic };
@@ -250,6 +256,7 @@ struct Config {
   std::vector<DirichletConfig> dirichlet;
   std::array<double, 3> gravity{0, 0, 0};
   std::vector<PressureConfig> pressures;
+  std::vector<TractionConfig> tractions;
   TimeConfig time;
   SolverConfig solver;
   OutputConfig output;

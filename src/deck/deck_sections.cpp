@@ -183,7 +183,7 @@ const KeyTable<Config>& deck_section_keys() {
             write_list(out, c.dirichlet, boundary_keys(), c);
           }),
       custom_key<Config>(
-          "loads", "map", "none", "gravity and pressures",
+          "loads", "map", "none", "gravity, pressures and tractions",
           [](R r, N n, K, Config& s, const Config&) { parse_loads(r, n, s); },
           [](YAML::Emitter& out, const Config& c, const Config&) {
             write_map(out, loads_keys(), c, c);

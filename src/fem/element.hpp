@@ -59,6 +59,10 @@ double tet_volume(int order, const double* X);
 // K = df/dx (the load stiffness, not symmetric in general).
 void face_pressure(int order, const double* x, double p, double* f, double* K);
 
+// A dead traction t (force per reference area, fixed in direction and size) on a triangle face
+// (3 or 6 nodes) of the reference configuration X: f_a = t int N_a dA. Exact on flat faces.
+void face_traction(int order, const double* X, const std::array<double, 3>& t, double* f);
+
 // A face's share of the volume enclosed by a closed surface whose faces point out of the body
 // (a cavity): V = -1/3 int x . n da, exact for Tri3 and Tri6. Summed over a closed surface,
 // the gradient of V in the nodal positions is face_pressure's force at p = 1 (the pressure

@@ -12,6 +12,9 @@
 // with b = dJbar/du. The tangent is a per-point 9x9 part (assembled as any law's) plus the
 // rank-two coupling through Jbar, c b^T + b c^T + D b b^T (the derivation beside each term).
 // P1 elements have one point and J = Jbar: there F-bar is the displacement element.
+// A small-strain law (linear elasticity) gets the linearisation instead, B-bar: Hbar = H +
+// (theta_mean - tr H)/3 I, theta_mean = (1/V) sum_q W_q tr H_q, so that the problem stays
+// linear (F-bar's Fbar is not linear in u even where the law is).
 #include <array>
 #include <cmath>
 #include <limits>
@@ -146,16 +149,77 @@ ElementOutput fbar_internal_force(const double* X, const double* u, const Materi
   return out;
 }
 
-// Jbar - 1 of an element, on the rule of fbar_internal_force.
+// B-bar: the same structure with the kinematic map linear, M = Id - 1/3 I (x) I, so the
+// per-point tangent is M^T A M and the coupling through theta_mean c b^T + b c^T + D b b^T
+// with b = d theta_mean/du, c = sum_q W_q/3 M^T A I G_q, D = sum_q W_q I : A : I / 9.
 template <int NPE>
-double volume_ratio_minus_one(const NodeMatrix<NPE>& Xm, const NodeMatrix<NPE>& Um) {
+ElementOutput bbar_internal_force(const double* X, const double* u, const MaterialLaw& m, double* r,
+                                  double* K) {
+  constexpr int n = 3 * NPE;
+  const auto& t = tet_tables<NPE>(fbar_degree<NPE>());
+  const int nq = static_cast<int>(t.weights.size());
+  if (nq > kMaxPoints) throw std::logic_error("B-bar element: too many quadrature points");
+  const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
+  const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
+  std::array<NodeMatrix<NPE>, kMaxPoints> G;
+  std::array<double, kMaxPoints> W;
+  std::array<Mat3, kMaxPoints> H;
+  double V = 0, theta = 0;
+  NodeMatrix<NPE> b = NodeMatrix<NPE>::Zero();
+  for (int q = 0; q < nq; ++q) {
+    Mat3 Jref;
+    W[q] = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], Jref);
+    G[q] = Jref.inverse().transpose() * t.dN[q];
+    H[q] = Um * G[q].transpose();
+    V += W[q];
+    theta += W[q] * H[q].trace();
+    b.noalias() += W[q] * G[q];  // Mat3::Identity() * G, divided by V below
+  }
+  theta /= V;
+  b /= V;
+  const Vec9 iv = tensor::flatten(Mat3::Identity());
+  const Tangent M = Tangent::Identity() - (1.0 / 3.0) * iv * iv.transpose();
+  ElementOutput out;
+  NodeMatrix<NPE> R = NodeMatrix<NPE>::Zero(), c = NodeMatrix<NPE>::Zero();
+  double S = 0, D = 0;
+  if (K) std::fill(K, K + n * n, 0.0);
+  for (int q = 0; q < nq; ++q) {
+    const Mat3 Hbar = H[q] + (theta - H[q].trace()) / 3.0 * Mat3::Identity();
+    const StressResult s = m.stress(Hbar, K != nullptr);
+    out.energy += W[q] * s.psi;
+    R.noalias() += W[q] * (s.P - s.P.trace() / 3.0 * Mat3::Identity()) * G[q];
+    S += W[q] * s.P.trace() / 3.0;
+    if (!K) continue;
+    const Tangent A9 = W[q] * M.transpose() * s.A * M;
+    add_stiffness<NPE>(A9, G[q], 1.0, K);
+    const Vec9 cq = M.transpose() * (s.A * iv) * (W[q] / 3.0);
+    c.noalias() += Eigen::Map<const Mat3>(cq.data()).transpose() * G[q];
+    D += W[q] * iv.dot(s.A * iv) / 9.0;
+  }
+  R.noalias() += S * b;
+  Eigen::Map<NodeMatrix<NPE>> r_out(r);
+  r_out = R;
+  if (!K) return out;
+  mirror_lower_blocks<NPE>(K);
+  Eigen::Map<Eigen::Matrix<double, n, n, Eigen::RowMajor>> Km(K);
+  const Eigen::Map<const Eigen::Matrix<double, n, 1>> bv(b.data()), cv(c.data());
+  Km.noalias() += cv * bv.transpose() + bv * cv.transpose() + D * bv * bv.transpose();
+  return out;
+}
+
+// Jbar - 1 of an element on the rule of fbar_internal_force, or (small_strain) its
+// linearisation theta_mean, the mean of tr H.
+template <int NPE>
+double volume_ratio_minus_one(const NodeMatrix<NPE>& Xm, const NodeMatrix<NPE>& Um,
+                              bool small_strain) {
   const auto& t = tet_tables<NPE>(fbar_degree<NPE>());
   double V = 0, v_minus_V = 0;
   for (size_t q = 0; q < t.weights.size(); ++q) {
     Mat3 Jref;
     const double W = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], Jref);
+    const Mat3 H = Um * (Jref.inverse().transpose() * t.dN[q]).transpose();
     V += W;
-    v_minus_V += W * tensor::det_minus_one(Um * (Jref.inverse().transpose() * t.dN[q]).transpose());
+    v_minus_V += W * (small_strain ? H.trace() : tensor::det_minus_one(H));
   }
   return v_minus_V / V;
 }
@@ -167,10 +231,14 @@ ElementFields fbar_fields(const double* X, const double* u, const MaterialLaw& m
   const auto& t = tet_tables<NPE>(1);  // the centroid
   Mat3 Jref;
   reference_jacobian<NPE>(Xm, t.dN[0], Jref);
-  const Mat3 F = Mat3::Identity() + Um * (Jref.inverse().transpose() * t.dN[0]).transpose();
+  const Mat3 H = Um * (Jref.inverse().transpose() * t.dN[0]).transpose();
+  const double mean = volume_ratio_minus_one<NPE>(Xm, Um, m.small_strain());
   ElementFields out;
-  out.J = 1.0 + volume_ratio_minus_one<NPE>(Xm, Um);
-  out.von_mises = von_mises(cauchy_stress(m, std::cbrt(out.J / F.determinant()) * F));
+  out.J = 1.0 + mean;
+  const Mat3 F = Mat3::Identity() + H;
+  const Mat3 Fbar = m.small_strain() ? Mat3(F + (mean - H.trace()) / 3.0 * Mat3::Identity())
+                                     : Mat3(std::cbrt(out.J / F.determinant()) * F);
+  out.von_mises = von_mises(cauchy_stress(m, Fbar));
   return out;
 }
 
@@ -182,6 +250,9 @@ ElementFields tet_fields_fbar(int order, const double* X, const double* u, const
 
 ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
                                       const MaterialLaw& m, double* r, double* K) {
+  if (m.small_strain())
+    return tet_num_nodes(order) == 4 ? bbar_internal_force<4>(X, u, m, r, K)
+                                     : bbar_internal_force<10>(X, u, m, r, K);
   return tet_num_nodes(order) == 4 ? fbar_internal_force<4>(X, u, m, r, K)
                                    : fbar_internal_force<10>(X, u, m, r, K);
 }
