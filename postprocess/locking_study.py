@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Volumetric locking: the Lame sphere at Poisson ratios from 0 to 0.4999 on one mesh, P1
-against P2. The Lame solution holds for any nu < 0.5, so the L2 error shows how far each
-element is from it as the material becomes incompressible.
+"""Volumetric locking: the Lame sphere at Poisson ratios from 0 to 0.4999 on one mesh, the
+displacement element on P1 and P2 against the F-bar element on P2. The Lame solution holds for
+any nu < 0.5, so the L2 error shows how far each element is from it as the material becomes
+incompressible.
 
     /usr/bin/python3 postprocess/locking_study.py [--h 0.25] [--out out/locking]
 
@@ -17,8 +18,12 @@ import sys
 NUS = [0.0, 0.3, 0.45, 0.49, 0.499, 0.4999]
 
 
-def run(binary, deck, order, nu, h, folder):
+ELEMENTS = [(1, "displacement"), (2, "displacement"), (2, "fbar")]
+
+
+def run(binary, deck, order, formulation, nu, h, folder):
     cmd = [binary, deck, "--set", f"mesh.order={order}", "--set", f"materials[0].nu={nu}",
+           "--set", f"materials[0].formulation={formulation}",
            "--set", f"mesh.parameters.h={h}", "--set", f"output.folder={folder}"]
     r = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
     if r.returncode != 0:
@@ -38,20 +43,25 @@ def main():
     rows = []
     for nu in NUS:
         row = {"nu": nu}
-        for order in (1, 2):
-            s = run(args.binary, args.deck, order, nu, args.h, os.path.join(args.out, f"p{order}_nu{nu}"))
-            row[f"p{order}_l2"] = s["error"]["l2_relative"]
-            row[f"p{order}_dofs"] = s["dofs"]
+        for order, formulation in ELEMENTS:
+            name = f"p{order}_{formulation}"
+            s = run(args.binary, args.deck, order, formulation, nu, args.h,
+                    os.path.join(args.out, f"{name}_nu{nu}"))
+            row[f"{name}_l2"] = s["error"]["l2_relative"]
+            row[f"{name}_dofs"] = s["dofs"]
         rows.append(row)
         print(json.dumps(row), flush=True)
     with open(os.path.join(args.out, "locking.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
-    print(f"\n| nu | P1 L2 error ({rows[0]['p1_dofs']} dofs) | P2 L2 error ({rows[0]['p2_dofs']} dofs) |")
-    print("|---|---|---|")
+    first = rows[0]
+    print(f"\n| nu | P1 L2 error ({first['p1_displacement_dofs']} dofs) "
+          f"| P2 L2 error ({first['p2_displacement_dofs']} dofs) | P2 F-bar L2 error |")
+    print("|---|---|---|---|")
     for r in rows:
-        print(f"| {r['nu']} | {r['p1_l2']:.3e} | {r['p2_l2']:.3e} |")
+        print(f"| {r['nu']} | {r['p1_displacement_l2']:.3e} | {r['p2_displacement_l2']:.3e} "
+              f"| {r['p2_fbar_l2']:.3e} |")
 
 
 if __name__ == "__main__":

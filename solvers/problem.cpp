@@ -51,6 +51,19 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     if (it != dist.faces.end()) s.faces = it->second;
     pressure_faces_.push_back(std::move(s));
   }
+  const int npf = dist.nodes_per_face();
+  for (const auto& tc : config.tractions) {
+    auto it = dist.faces.find(tc.group);
+    if (it == dist.faces.end()) continue;
+    double Xf[18], ff[18];
+    for (size_t f = 0; f < it->second.size() / npf; ++f) {
+      const int32_t* nodes = &it->second[f * npf];
+      for (int k = 0; k < 3 * npf; ++k) Xf[k] = X_[3 * nodes[k / 3] + k % 3];
+      face_traction(dist.order, Xf, tc.value, ff);
+      traction_faces_.insert(traction_faces_.end(), nodes, nodes + npf);
+      traction_forces_.insert(traction_forces_.end(), ff, ff + 3 * npf);
+    }
+  }
   bool any_faces = false;
   for (const auto& s : pressure_faces_) any_faces |= !s.faces.empty();
   int local_any = any_faces, global_any = 0;
@@ -75,6 +88,8 @@ ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r
   const auto& m = materials_[dist_.tet_volume[e]];
   if (!p1_geometry_.empty()) return tet_internal_force_p1(p1_geometry_[e], ue, *m.law, r, K);
   element_coordinates(e, X);
+  if (m.element == ElementFormulation::fbar)
+    return tet_internal_force_fbar(dist_.order, X, ue, *m.law, r, K);
   return tet_internal_force(dist_.order, X, ue, *m.law, r, K);
 }
 
@@ -107,6 +122,8 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
     }
     if (b == 0) return;
     const int npf = dist_.nodes_per_face();
+    for (size_t k = 0; k < traction_forces_.size(); ++k)
+      ra[3 * traction_faces_[k / 3] + k % 3] += b * s * traction_forces_[k];
     double xf[18], ff[18];
     for (const auto& surface : pressure_faces_)
       for (size_t f = 0; f < surface.faces.size() / npf; ++f) {
@@ -260,7 +277,9 @@ void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<
       element_coordinates(e, X);
       element_displacement(ua, e, ue);
       const auto& m = materials_[dist_.tet_volume[e]];
-      const ElementFields f = tet_fields(dist_.order, X, ue, *m.law);
+      const ElementFields f = m.element == ElementFormulation::fbar
+                                  ? tet_fields_fbar(dist_.order, X, ue, *m.law)
+                                  : tet_fields(dist_.order, X, ue, *m.law);
       von_mises[e] = f.von_mises;
       J[e] = f.J;
     }

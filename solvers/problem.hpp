@@ -192,6 +192,10 @@ class Problem {
   std::vector<double> body_force_;       // per local tet: npe*3, at full load
   std::vector<P1Geometry> p1_geometry_;  // per local tet of a P1 mesh (empty for P2)
   std::vector<PressureSurface> pressure_faces_;
+  // Dead tractions: the faces of their groups (nodes_per_face local nodes each) and each
+  // face's nodal forces at full load (3 nodes_per_face each), computed once.
+  std::vector<int32_t> traction_faces_;
+  std::vector<double> traction_forces_;
   const InertiaTerm* inertia_ = nullptr;
   Vec extra_load_ = nullptr;
   std::vector<std::vector<PetscInt>> couplings_;

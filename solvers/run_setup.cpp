@@ -99,6 +99,11 @@ nlohmann::json RunSetup::summary() {
   summary["nodes"] = dist.num_global();
   summary["elements"] = dist.num_global_tets;
   summary["order"] = dist.order;
+  for (const auto& m : config.materials)
+    summary["materials"].push_back({{"group", m.group},
+                                    {"model", m.law->name()},
+                                    {"formulation", name_of(kElementFormulationNames, m.element)},
+                                    {"formulation_reason", m.formulation_reason}});
   summary["steps"] = stats.steps;
   summary["cutbacks"] = stats.cutbacks;
   summary["newton_iterations"] = stats.newton_iterations;

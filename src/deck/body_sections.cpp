@@ -139,6 +139,21 @@ const KeyTable<PressureConfig>& pressure_keys() {
   return keys;
 }
 
+const KeyTable<TractionConfig>& traction_keys() {
+  static const KeyTable<TractionConfig> keys = {
+      text_key("group", &TractionConfig::group, "name", "surface physical group").needed(),
+      custom_key<TractionConfig>(
+          "value", "3 numbers", "required", "force per reference area (Pa) at full load",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, TractionConfig& t,
+             const Config&) { t.value = r.vector3(n, key); },
+          [](YAML::Emitter& out, const TractionConfig& t, const Config&) {
+            write_numbers(out, t.value.data(), 3);
+          })
+          .needed(),
+  };
+  return keys;
+}
+
 const KeyTable<Config>& loads_keys() {
   static const KeyTable<Config> keys = {
       custom_key<Config>(
@@ -178,6 +193,30 @@ const KeyTable<Config>& loads_keys() {
             }
             out << YAML::EndSeq;
           }),
+      custom_key<Config>(
+          "traction", "list of `{group, value}`", "none",
+          "dead traction on a surface group: `value` the force per reference area (Pa, 3 "
+          "numbers) at full load, fixed in direction and size as the body deforms (a shear "
+          "load, a hanging weight spread over a face)",
+          [](const DeckReader& r, const YAML::Node& list, const std::string& key, Config& c,
+             const Config&) {
+            r.check_list(list, key);
+            for (size_t i = 0; i < list.size(); ++i) {
+              TractionConfig t;
+              read_keys(r, list[i], item_key(key, i), traction_keys(), t, c);
+              c.tractions.push_back(t);
+            }
+          },
+          [](YAML::Emitter& out, const Config& c, const Config&) {
+            out << YAML::BeginSeq;
+            for (const auto& t : c.tractions) {
+              out << YAML::Flow << YAML::BeginMap;
+              write_keys(out, traction_keys(), t, c);
+              out << YAML::EndMap;
+            }
+            out << YAML::EndSeq;
+          })
+          .printed_when([](const Config& c) { return !c.tractions.empty(); }),
   };
   return keys;
 }

@@ -65,6 +65,12 @@ void check_groups(const Config& c, const MeshGroups& mesh) {
     require_nodes(key, group);
     if (!is_surface(mesh, group)) fail(key, "group '" + group + "' is not a surface");
   }
+  for (size_t i = 0; i < c.tractions.size(); ++i) {
+    const std::string key = child_key(item_key("loads.traction", i), "group");
+    const std::string group = c.tractions[i].group;
+    require_nodes(key, group);
+    if (!is_surface(mesh, group)) fail(key, "group '" + group + "' is not a surface");
+  }
   // A cavity is a closed surface of boundary faces; the tip's inclination is that of faces.
   for (size_t i = 0; i < c.cavities.size(); ++i) {
     const std::string key = child_key(item_key("cavities", i), "group");

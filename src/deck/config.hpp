@@ -32,10 +32,21 @@ struct MeshConfig {
 
 // A material: what the deck owns (group, density) and the law its model names, made by the
 // registry of src/materials/ from the rest of its map (its name, parameters, stress).
+// The element a material's body is solved with (docs/formulation.md, "Nearly incompressible
+// bodies"): auto picks F-bar on P2 meshes at nu >= 0.49, the displacement element otherwise
+// (deck/element_formulation.hpp). The deck's choice is printed as given; parse_deck resolves it
+// into `element`, which the run reads (never `automatic`).
+enum class ElementFormulation { automatic, displacement, fbar };
+inline const std::vector<std::string> kElementFormulationNames = {"auto", "displacement", "fbar"};
+
 struct MaterialConfig {
-  std::string group;                       // volume physical group
-  std::shared_ptr<const MaterialLaw> law;  // materials/material.hpp
-  double density = 0;                      // kg/m^3
+  std::string group;                                               // volume physical group
+  std::shared_ptr<const MaterialLaw> law;                          // materials/material.hpp
+  double density = 0;                                              // kg/m^3
+  ElementFormulation formulation = ElementFormulation::automatic;  // as the deck asks
+  ElementFormulation element = ElementFormulation::displacement;   // what runs
+  std::string formulation_reason;   // why it runs (printed beside the material)
+  std::string formulation_warning;  // the expected error of a locking element, or empty
 };
 
 struct DirichletConfig {
@@ -50,6 +61,12 @@ struct DirichletConfig {
 struct PressureConfig {
   std::string group;  // surface physical group
   double value = 0;   // Pa at full load; positive pushes against the outward normal
+};
+
+// A dead traction: force per reference area, of fixed direction, on a surface group.
+struct TractionConfig {
+  std::string group;                     // surface physical group
+  std::array<double, 3> value{0, 0, 0};  // Pa at full load
 };
 
 // static: load increments to full load; quasi_static: a schedule of load factors (it may
@@ -239,6 +256,7 @@ struct Config {
   std::vector<DirichletConfig> dirichlet;
   std::array<double, 3> gravity{0, 0, 0};
   std::vector<PressureConfig> pressures;
+  std::vector<TractionConfig> tractions;
   TimeConfig time;
   SolverConfig solver;
   OutputConfig output;

@@ -8,6 +8,7 @@
 #include "deck/cable_section.hpp"
 #include "deck/cavity_sections.hpp"
 #include "deck/control_section.hpp"
+#include "deck/element_formulation.hpp"
 #include "deck/exact_section.hpp"
 #include "deck/run_sections.hpp"
 #include "deck/section_keys.hpp"
@@ -37,6 +38,13 @@ MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const
     const std::string model = r.text(required(r, node, key, k.name), child_key(key, k.name));
     m.law = parse_material_law(r, node, key, model, deck_keys);
   }
+  const FormulationChoice choice =
+      choose_formulation(m.formulation, m.law->elastic_constants().nu, c.mesh.order);
+  if (!choice.error.empty())
+    r.fail(child_key(key, "formulation"), node["formulation"], choice.error);
+  m.element = choice.formulation;
+  m.formulation_reason = choice.reason;
+  m.formulation_warning = choice.warning;
   return m;
 }
 
@@ -64,7 +72,9 @@ void write_materials(YAML::Emitter& out, const std::vector<MaterialConfig>& mate
     out << YAML::BeginMap;
     write_keys(out, material_keys(), m, c);
     out << YAML::EndMap;
-    out << YAML::Comment(m.law->derived_values());
+    out << YAML::Comment(m.law->derived_values() +
+                         "; element: " + name_of(kElementFormulationNames, m.element) + " (" +
+                         m.formulation_reason + ")");
   }
   out << YAML::EndSeq;
 }
@@ -132,6 +142,11 @@ const KeyTable<MaterialConfig>& material_keys() {
                        }},
                  "kg/m³: gravity load and, in dynamic runs, inertia (above any solid's; larger "
                  "values overflow rho g)"),
+      enum_key("formulation", &MaterialConfig::formulation, kElementFormulationNames,
+               "the element: `fbar` (locking-free for nearly incompressible bodies, P2 "
+               "meshes), `displacement`, or `auto`: `fbar` on P2 at nu >= 0.49, else "
+               "`displacement` (docs/formulation.md); the element that runs is printed beside the "
+               "material"),
   };
   return keys;
 }
@@ -168,7 +183,7 @@ const KeyTable<Config>& deck_section_keys() {
             write_list(out, c.dirichlet, boundary_keys(), c);
           }),
       custom_key<Config>(
-          "loads", "map", "none", "gravity and pressures",
+          "loads", "map", "none", "gravity, pressures and tractions",
           [](R r, N n, K, Config& s, const Config&) { parse_loads(r, n, s); },
           [](YAML::Emitter& out, const Config& c, const Config&) {
             write_map(out, loads_keys(), c, c);

@@ -13,8 +13,9 @@ const KeyTable<MaterialConfig>&
 material_keys();  // deck_sections.cpp; a law's own keys: materials/registry.hpp
 const KeyTable<MeshConfig>& mesh_keys();  // body_sections.cpp
 const KeyTable<DirichletConfig>& boundary_keys();
-const KeyTable<Config>& loads_keys();  // gravity and pressures
+const KeyTable<Config>& loads_keys();  // gravity, pressures and tractions
 const KeyTable<PressureConfig>& pressure_keys();
+const KeyTable<TractionConfig>& traction_keys();
 const KeyTable<TimeConfig>& time_keys();  // run_sections.cpp
 const KeyTable<TimeConfig>& newmark_keys();
 const KeyTable<SolverConfig>& solver_keys();

@@ -35,6 +35,13 @@ P1Geometry tet_p1_geometry(const double* X);  // throws InputError as tet_intern
 ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u, const MaterialLaw& m,
                                     double* r, double* K);
 
+// The F-bar element of nearly incompressible bodies (src/fem/fbar_element.cpp): the law at
+// Fbar = (Jbar/J)^(1/3) F, Jbar the element's volume ratio, so that a P2 element carries one
+// volumetric constraint instead of four and does not lock. Same outputs as tet_internal_force
+// (on a P1 element the two are equal).
+ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
+                                      const MaterialLaw& m, double* r, double* K);
+
 // Consistent nodal body force f_a = int rho g N_a dV (reference configuration).
 void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,
                     double* f);
@@ -51,6 +58,10 @@ double tet_volume(int order, const double* X);
 // (a positive p pushes into the body). Returns f in f[3*npf] and, if K is not nullptr,
 // K = df/dx (the load stiffness, not symmetric in general).
 void face_pressure(int order, const double* x, double p, double* f, double* K);
+
+// A dead traction t (force per reference area, fixed in direction and size) on a triangle face
+// (3 or 6 nodes) of the reference configuration X: f_a = t int N_a dA. Exact on flat faces.
+void face_traction(int order, const double* X, const std::array<double, 3>& t, double* f);
 
 // A face's share of the volume enclosed by a closed surface whose faces point out of the body
 // (a cavity): V = -1/3 int x . n da, exact for Tri3 and Tri6. Summed over a closed surface,
@@ -72,5 +83,7 @@ struct ElementFields {
   double J = 1;
 };
 ElementFields tet_fields(int order, const double* X, const double* u, const MaterialLaw& m);
+// The same for the F-bar element: the stress at Fbar, J = Jbar.
+ElementFields tet_fields_fbar(int order, const double* X, const double* u, const MaterialLaw& m);
 
 }  // namespace hs

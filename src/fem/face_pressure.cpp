@@ -61,7 +61,27 @@ double enclosed_volume(const double* x) {
   return v;
 }
 
+template <int NPF>
+void traction(const double* X, const std::array<double, 3>& t_ref, double* f) {
+  using FaceMatrix = Eigen::Matrix<double, 3, NPF>;
+  const auto& t = tri_tables<NPF>(NPF == 3 ? 1 : 4);
+  const FaceMatrix Xm = Eigen::Map<const FaceMatrix>(X);
+  const Eigen::Vector3d tv(t_ref[0], t_ref[1], t_ref[2]);
+  FaceMatrix fm = FaceMatrix::Zero();
+  for (size_t q = 0; q < t.weights.size(); ++q) {
+    const Eigen::Vector3d Xs = Xm * t.dN[q].row(0).transpose();
+    const Eigen::Vector3d Xt = Xm * t.dN[q].row(1).transpose();
+    fm.noalias() += (t.weights[q] * Xs.cross(Xt).norm()) * tv * t.N[q].transpose();
+  }
+  Eigen::Map<FaceMatrix> f_out(f);
+  f_out = fm;
+}
+
 }  // namespace
+
+void face_traction(int order, const double* X, const std::array<double, 3>& t, double* f) {
+  tri_num_nodes(order) == 3 ? traction<3>(X, t, f) : traction<6>(X, t, f);
+}
 
 double face_enclosed_volume(int order, const double* x) {
   return tri_num_nodes(order) == 3 ? enclosed_volume<3>(x) : enclosed_volume<6>(x);

@@ -20,6 +20,7 @@ class LinearElasticLaw final : public ConstantsOnlyLaw<kLinearElasticName, linea
   // Small strain does not tell the configurations apart: its P already is sigma.
   Mat3 cauchy_stress(const Mat3& F) const override;
   bool tangent_always_definite() const override { return true; }
+  bool small_strain() const override { return true; }
 };
 
 }  // namespace hs

@@ -44,6 +44,9 @@ class MaterialLaw {
   // CG. A finite-strain law's tangent can be indefinite away from equilibrium (compression
   // past a full Newton step), where CG breaks down.
   virtual bool tangent_always_definite() const { return false; }
+  // Whether the law is of small strains (linear elasticity): the F-bar element then takes its
+  // linearisation, B-bar, so that the law stays linear (fem/fbar_element.cpp).
+  virtual bool small_strain() const { return false; }
   // The elastic constants the deck gave (closed-form references of verification decks read them).
   virtual const ElasticConstants& elastic_constants() const = 0;
   // What the law derived from its keys, for a comment beside the printed map.

@@ -229,6 +229,9 @@ TEST_F(DeckErrors, InconsistentKeys) {
        "boundary[0].components[1]", "component 'x' named twice"},
       {"mesh: {file: body.geo}\n" + kMaterials + "exact: {type: none, parameters: {a: 1}}\n",
        "exact.parameters.a", "unknown to exact solution 'none' (takes no parameters)"},
+      {kMesh + "materials:\n  - {group: body, model: neo_hookean, E: 1, nu: 0.49, "
+               "formulation: fbar}\n",
+       "materials[0].formulation", "fbar needs mesh.order: 2"},
   });
 }
 

@@ -90,6 +90,13 @@ TEST(CheckGroups, BoundaryGroupMissingOrEmpty) {
   EXPECT_EQ(error_of(c), "no error");
 }
 
+TEST(CheckGroups, TractionGroupNotASurface) {
+  Config c = valid_config();
+  c.tractions.push_back({"tip", {0, 1, 0}});
+  EXPECT_EQ(error_of(c),
+            "robot.yaml: loads.traction[0].group: group 'tip' is not a surface " + kListing);
+}
+
 TEST(CheckGroups, PressureGroupNotASurface) {
   Config c = valid_config();
   c.pressures[0].group = "tip";

@@ -630,6 +630,50 @@ materials:
   EXPECT_EQ(mooney_rivlin(c.materials[3]).c2(), 0);
 }
 
+// formulation: auto takes F-bar on P2 at nu >= 0.49 (kappa/mu >= 49.7) and the displacement
+// element otherwise; P1 at nu >= 0.49 warns with the locking error to expect; the choice and
+// its reason are printed beside the material and read back as asked.
+TEST_F(DeckParse, ElementFormulationIsResolvedAndPrinted) {
+  const std::string path = tmp.write("decks/silicone.yaml", R"(mesh: {file: body.msh, order: 2}
+materials:
+  - {group: a, model: neo_hookean, E: 2.0e5, nu: 0.4999}
+  - {group: b, model: neo_hookean, E: 2.0e5, nu: 0.489}
+  - {group: c, model: yeoh, C1: 1.1e5, nu: 0.49}
+  - {group: d, model: neo_hookean, E: 2.0e5, nu: 0.4999, formulation: displacement}
+)");
+  const Config c = parse_deck(path);
+  const auto fbar = ElementFormulation::fbar, displacement = ElementFormulation::displacement;
+  EXPECT_EQ(c.materials[0].element, fbar);
+  EXPECT_EQ(c.materials[0].formulation_reason, "auto: nu = 0.4999 >= 0.49 on P2");
+  EXPECT_EQ(c.materials[1].element, displacement);
+  EXPECT_EQ(c.materials[1].formulation_reason, "auto: nu = 0.489 < 0.49 on P2");
+  EXPECT_EQ(c.materials[2].element, fbar);
+  EXPECT_EQ(c.materials[3].element, displacement);
+  EXPECT_EQ(c.materials[3].formulation_reason, "asked, nu = 0.4999 >= 0.49 on P2");
+  for (const auto& m : c.materials) EXPECT_EQ(m.formulation_warning, "") << m.group;
+  const std::string printed = format_config(c);
+  const size_t first = printed.find("formulation: auto  # ");
+  ASSERT_NE(first, std::string::npos) << printed;
+  const size_t element = printed.find("; element: ", first);
+  EXPECT_EQ(printed.substr(element, printed.find('\n', element) - element),
+            "; element: fbar (auto: nu = 0.4999 >= 0.49 on P2)")
+      << printed;
+  const Config back = parse_deck(tmp.write("decks/printed.yaml", printed));
+  for (size_t i = 0; i < c.materials.size(); ++i)
+    EXPECT_EQ(back.materials[i].element, c.materials[i].element) << i;
+
+  const Config p1 = parse_deck(path, {"mesh.order=1"});
+  for (size_t i = 0; i < p1.materials.size(); ++i)
+    EXPECT_EQ(p1.materials[i].element, displacement) << i;
+  EXPECT_NE(p1.materials[0].formulation_warning.find(
+                "P1 displacement elements lock at nu = 0.4999: a thick sphere inflated by "
+                "pressure comes out about 86 % too stiff"),
+            std::string::npos)
+      << p1.materials[0].formulation_warning;
+  EXPECT_NE(p1.materials[2].formulation_warning.find("about 8 % too stiff"), std::string::npos);
+  EXPECT_EQ(p1.materials[1].formulation_warning, "");  // nu = 0.489
+}
+
 TEST_F(DeckParse, OverridesChangeTheTreeBeforeValidation) {
   const std::string path = tmp.write("decks/base.yaml", R"(mesh: {file: ../meshes/body.geo}
 materials:

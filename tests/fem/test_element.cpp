@@ -23,23 +23,36 @@ using namespace testing_fixtures;
 // Every law of the registry, with mu = 3, lambda = 7 (tests/materials/material_fixtures.hpp).
 const MaterialLaw& parameters(const std::string& model) { return material_fixtures::law(model); }
 
+// The displacement element and the F-bar element (fbar_element.cpp) share every check.
 struct Case {
   std::string model;
   int order;
+  bool fbar;
 };
 
 std::vector<Case> all_cases() {
   std::vector<Case> cases;
-  for (int order : {1, 2})
-    for (const std::string& model : material_fixtures::all_law_names())
-      cases.push_back({model, order});
+  for (bool fbar : {false, true})
+    for (int order : {1, 2})
+      for (const std::string& model : material_fixtures::all_law_names())
+        cases.push_back({model, order, fbar});
   return cases;
 }
 
-void PrintTo(const Case& c, std::ostream* os) { *os << c.model << " P" << c.order; }
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.model << " P" << c.order << (c.fbar ? " F-bar" : "");
+}
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
-  return info.param.model + "_P" + std::to_string(info.param.order);
+  return info.param.model + "_P" + std::to_string(info.param.order) +
+         (info.param.fbar ? "_fbar" : "");
+}
+
+ElementOutput element_force(bool fbar, int order, const std::vector<double>& X,
+                            const std::vector<double>& u, const MaterialLaw& m, double* r,
+                            double* K) {
+  return fbar ? tet_internal_force_fbar(order, X.data(), u.data(), m, r, K)
+              : tet_internal_force(order, X.data(), u.data(), m, r, K);
 }
 
 class ElementCase : public ::testing::TestWithParam<Case> {
@@ -47,6 +60,10 @@ class ElementCase : public ::testing::TestWithParam<Case> {
   int order() const { return GetParam().order; }
   int n() const { return 3 * (order() == 1 ? 4 : 10); }
   const MaterialLaw& material() const { return parameters(GetParam().model); }
+  ElementOutput force(const std::vector<double>& X, const std::vector<double>& u, double* r,
+                      double* K, const MaterialLaw* m = nullptr) const {
+    return element_force(GetParam().fbar, order(), X, u, m ? *m : material(), r, K);
+  }
 };
 
 double max_abs(const std::vector<double>& v) {
@@ -59,19 +76,15 @@ TEST_P(ElementCase, ForceIsTheDerivativeOfTheEnergy) {
   const std::vector<double> X = distorted_tet(order());
   const std::vector<double> u = random_vector(n(), 0.15, 11);
   std::vector<double> r(n()), scratch(n());
-  ASSERT_TRUE(tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr).valid);
+  ASSERT_TRUE(force(X, u, r.data(), nullptr).valid);
   const double h = 1e-6;
   std::vector<double> fd(n());
   for (int d = 0; d < n(); ++d) {
     std::vector<double> up = u, um = u;
     up[d] += h;
     um[d] -= h;
-    const double ep =
-        tet_internal_force(order(), X.data(), up.data(), material(), scratch.data(), nullptr)
-            .energy;
-    const double em =
-        tet_internal_force(order(), X.data(), um.data(), material(), scratch.data(), nullptr)
-            .energy;
+    const double ep = force(X, up, scratch.data(), nullptr).energy;
+    const double em = force(X, um, scratch.data(), nullptr).energy;
     fd[d] = (ep - em) / (2 * h);
   }
   for (int d = 0; d < n(); ++d) EXPECT_NEAR(r[d], fd[d], 1e-7 * max_abs(r)) << "dof " << d;
@@ -81,15 +94,15 @@ TEST_P(ElementCase, TangentIsTheDerivativeOfTheForce) {
   const std::vector<double> X = distorted_tet(order());
   const std::vector<double> u = random_vector(n(), 0.15, 12);
   std::vector<double> r(n()), K(n() * n()), rp(n()), rm(n());
-  tet_internal_force(order(), X.data(), u.data(), material(), r.data(), K.data());
+  force(X, u, r.data(), K.data());
   const double h = 1e-6;
   double worst = 0;
   for (int d = 0; d < n(); ++d) {
     std::vector<double> up = u, um = u;
     up[d] += h;
     um[d] -= h;
-    tet_internal_force(order(), X.data(), up.data(), material(), rp.data(), nullptr);
-    tet_internal_force(order(), X.data(), um.data(), material(), rm.data(), nullptr);
+    force(X, up, rp.data(), nullptr);
+    force(X, um, rm.data(), nullptr);
     for (int i = 0; i < n(); ++i)
       worst = std::max(worst, std::abs(K[i * n() + d] - (rp[i] - rm[i]) / (2 * h)));
   }
@@ -100,10 +113,8 @@ TEST_P(ElementCase, ForceWithTangentEqualsForceAlone) {
   const std::vector<double> X = distorted_tet(order());
   const std::vector<double> u = random_vector(n(), 0.15, 13);
   std::vector<double> r1(n()), r2(n()), K(n() * n());
-  const ElementOutput a =
-      tet_internal_force(order(), X.data(), u.data(), material(), r1.data(), nullptr);
-  const ElementOutput b =
-      tet_internal_force(order(), X.data(), u.data(), material(), r2.data(), K.data());
+  const ElementOutput a = force(X, u, r1.data(), nullptr);
+  const ElementOutput b = force(X, u, r2.data(), K.data());
   EXPECT_EQ(r1, r2);
   EXPECT_EQ(a.energy, b.energy);
 }
@@ -112,8 +123,7 @@ TEST_P(ElementCase, RigidTranslationGivesNoForce) {
   const std::vector<double> X = distorted_tet(order());
   std::vector<double> u(n()), r(n());
   for (int a = 0; a < n() / 3; ++a) u[3 * a] = 0.3, u[3 * a + 1] = -1.2, u[3 * a + 2] = 0.7;
-  const ElementOutput out =
-      tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr);
+  const ElementOutput out = force(X, u, r.data(), nullptr);
   EXPECT_LT(max_abs(r), 1e-13);
   EXPECT_NEAR(out.energy, 0.0, 1e-14);
 }
@@ -122,9 +132,8 @@ TEST_P(ElementCase, TangentAtRestIsTheLinearElasticStiffness) {
   const std::vector<double> X = distorted_tet(order());
   const std::vector<double> u(n(), 0.0);
   std::vector<double> r(n()), K(n() * n()), K_linear(n() * n());
-  tet_internal_force(order(), X.data(), u.data(), material(), r.data(), K.data());
-  tet_internal_force(order(), X.data(), u.data(), parameters("linear_elastic"), r.data(),
-                     K_linear.data());
+  force(X, u, r.data(), K.data());
+  force(X, u, r.data(), K_linear.data(), &parameters("linear_elastic"));
   for (int i = 0; i < n() * n(); ++i) EXPECT_NEAR(K[i], K_linear[i], 1e-13 * max_abs(K_linear));
 }
 
@@ -142,8 +151,7 @@ TEST_P(FiniteStrainElement, RigidRotationGivesNoForce) {
     const Eigen::Vector3d d = Q * x - x + Eigen::Vector3d(0.2, 0.1, -0.3);
     for (int i = 0; i < 3; ++i) u[3 * a + i] = d(i);
   }
-  const ElementOutput out =
-      tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr);
+  const ElementOutput out = force(X, u, r.data(), nullptr);
   EXPECT_LT(max_abs(r), 1e-12);
   EXPECT_NEAR(out.energy, 0.0, 1e-13);
 }
@@ -156,8 +164,22 @@ TEST_P(FiniteStrainElement, InvertedElementIsReported) {
   u[3 * 3 + 2] = dz;
   if (order() == 2)
     for (int node : {7, 8, 9}) u[3 * node + 2] = dz / 2;
-  EXPECT_FALSE(
-      tet_internal_force(order(), X.data(), u.data(), material(), r.data(), nullptr).valid);
+  EXPECT_FALSE(force(X, u, r.data(), nullptr).valid);
+}
+
+// On a P1 element J = Jbar: the F-bar element is the displacement element.
+TEST(FbarElement, OnP1IsTheDisplacementElement) {
+  const std::vector<double> X = distorted_tet(1);
+  const std::vector<double> u = random_vector(12, 0.15, 21);
+  for (const std::string& model : material_fixtures::all_law_names()) {
+    const MaterialLaw& m = parameters(model);
+    std::vector<double> r(12), K(144), r1(12), K1(144);
+    const ElementOutput a = tet_internal_force(1, X.data(), u.data(), m, r.data(), K.data());
+    const ElementOutput b = tet_internal_force_fbar(1, X.data(), u.data(), m, r1.data(), K1.data());
+    EXPECT_NEAR(a.energy, b.energy, 1e-13 * std::abs(a.energy)) << model;
+    for (int k = 0; k < 12; ++k) EXPECT_NEAR(r[k], r1[k], 1e-12 * max_abs(r)) << model;
+    for (int k = 0; k < 144; ++k) EXPECT_NEAR(K[k], K1[k], 1e-12 * max_abs(K)) << model;
+  }
 }
 
 // The assembly's P1 path reads the reference geometry kept per element: it must give the
@@ -191,18 +213,48 @@ INSTANTIATE_TEST_SUITE_P(Elements, FiniteStrainElement, ::testing::ValuesIn(fini
 
 class Order : public ::testing::TestWithParam<int> {};
 
-TEST_P(Order, LinearElasticStiffnessHasExactlySixRigidModes) {
-  const int order = GetParam(), n = 3 * (order == 1 ? 4 : 10);
-  const std::vector<double> X = distorted_tet(order);
+// Eigenvalues of the linear-elastic stiffness at rest (checked symmetric) of the displacement
+// or the F-bar element, for the Lame constants (mu, lambda), on the distorted element with its
+// P2 edge nodes moved by up to `curvature`.
+Eigen::VectorXd stiffness_eigenvalues(int order, bool fbar, double mu, double lambda,
+                                      double curvature = 0.06) {
+  const int n = 3 * (order == 1 ? 4 : 10);
+  const std::vector<double> X = distorted_tet(order, curvature);
   const std::vector<double> u(n, 0.0);
   std::vector<double> r(n), K(n * n);
-  tet_internal_force(order, X.data(), u.data(), parameters("linear_elastic"), r.data(), K.data());
+  const auto law =
+      material_fixtures::make_law("linear_elastic", elastic_constants_from_lame(mu, lambda));
+  element_force(fbar, order, X, u, *law, r.data(), K.data());
   const Eigen::MatrixXd Km = Eigen::Map<const Eigen::MatrixXd>(K.data(), n, n);
-  ASSERT_LT((Km - Km.transpose()).norm(), 1e-14 * Km.norm());
-  const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Km).eigenvalues();
-  const double largest = ev(n - 1);
-  for (int i = 0; i < 6; ++i) EXPECT_LT(std::abs(ev(i)), 1e-12 * largest) << "eigenvalue " << i;
-  EXPECT_GT(ev(6), 1e-4 * largest);
+  EXPECT_LT((Km - Km.transpose()).norm(), 1e-14 * Km.norm());
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Km).eigenvalues();
+}
+
+// Six rigid modes; the F-bar P2 element three more, the special conformal fields (zero
+// deviatoric strain, zero mean dilatation; exact zeros on a straight element, fbar_element.cpp).
+TEST_P(Order, LinearElasticStiffnessHasExactlyItsZeroEnergyModes) {
+  const int n = 3 * (GetParam() == 1 ? 4 : 10);
+  for (bool fbar : {false, true}) {
+    const Eigen::VectorXd ev = stiffness_eigenvalues(GetParam(), fbar, material_fixtures::kMu,
+                                                     material_fixtures::kLambda, 0.0);
+    const int zeros = fbar && GetParam() == 2 ? 9 : 6;
+    const double largest = ev(n - 1);
+    for (int i = 0; i < zeros; ++i)
+      EXPECT_LT(std::abs(ev(i)), 1e-12 * largest) << "eigenvalue " << i << (fbar ? " F-bar" : "");
+    EXPECT_GT(ev(zeros), 1e-3 * largest) << (fbar ? "F-bar" : "");
+  }
+}
+
+// Locking, counted: with lambda = 1e8 mu the modes whose stiffness grows with lambda are the
+// element's volumetric constraints. The displacement P2 element has one per quadrature point
+// (4), the F-bar element one (its volume); on P1 both have one.
+TEST_P(Order, FbarLeavesOneVolumetricConstraintPerElement) {
+  const double mu = 1.0, lambda = 1e8;
+  for (bool fbar : {false, true}) {
+    const Eigen::VectorXd ev = stiffness_eigenvalues(GetParam(), fbar, mu, lambda);
+    const long stiff = (ev.array() > 1e3 * mu).count();
+    EXPECT_EQ(stiff, GetParam() == 2 && !fbar ? 4 : 1) << (fbar ? "F-bar" : "displacement");
+  }
 }
 
 TEST_P(Order, InvertedReferenceElementIsAnInputError) {

@@ -3,6 +3,7 @@
 // differences, and a flat face carries -p A n.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "element_fixtures.hpp"
@@ -173,6 +174,28 @@ TEST(FacePressureDistribution, ConsistentSharesOnStraightFaces) {
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(f3[3 * a + 2], -1.0, 1e-15);
   for (int a = 0; a < 6; ++a) EXPECT_NEAR(f6[3 * a + 2], a < 3 ? 0.0 : -1.0, 1e-15);
   for (int a = 0; a < 6; ++a) EXPECT_EQ(f6[3 * a] + f6[3 * a + 1], 0.0);
+}
+
+// A dead traction t on a flat face: the shares are t int N_a dA (A/3 per Tri3 vertex; 0 per Tri6
+// vertex and A/3 per edge node), whatever the face's orientation; the total is t A.
+TEST(FaceTraction, ConsistentSharesAndTotalOnFlatFaces) {
+  const Eigen::Vector3d v[3] = {{0.1, 0.2, 0.09}, {1.3, 0.4, 0.73}, {0.5, 1.1, 0.47}};
+  const double A = 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).norm();
+  const std::array<double, 3> t = {0.5, -2.0, 1.25};
+  std::vector<double> x3, x6;
+  for (const auto& p : v) x3.insert(x3.end(), {p(0), p(1), p(2)});
+  x6 = x3;
+  for (int e = 0; e < 3; ++e) {
+    const Eigen::Vector3d m = 0.5 * (v[e] + v[(e + 1) % 3]);
+    x6.insert(x6.end(), {m(0), m(1), m(2)});
+  }
+  std::vector<double> f3(9), f6(18);
+  face_traction(1, x3.data(), t, f3.data());
+  face_traction(2, x6.data(), t, f6.data());
+  for (int i = 0; i < 3; ++i) {
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(f3[3 * a + i], t[i] * A / 3, 1e-14);
+    for (int a = 0; a < 6; ++a) EXPECT_NEAR(f6[3 * a + i], a < 3 ? 0.0 : t[i] * A / 3, 1e-14);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Orders, FacePressure, ::testing::Values(1, 2));

@@ -112,6 +112,44 @@ TEST(QuadraticPatch, P2ReproducesTheHydrostaticFieldUnderGravity) {
   EXPECT_EQ(interior, 1 + 14 + 6 + 6);
 }
 
+// The F-bar P2 element's own zero-energy modes (tests/fem/test_element.cpp) do not survive
+// assembly: on the cube clamped on its face x = 0 the linear-elastic stiffness at rest is
+// positive definite, its softest mode (bending) 12 % softer than the displacement
+// element's, which has no such modes.
+double clamped_cube_softest_mode(bool fbar) {
+  const CubeMesh mesh = cube_mesh(2);
+  const MaterialLaw& m = material_fixtures::law("linear_elastic");
+  const int N = static_cast<int>(mesh.x.size()), npe = 10, n = 3 * npe;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * N, 3 * N);
+  std::vector<double> re(n), Ke(n * n);
+  for (const auto& tet : mesh.tets) {
+    const std::vector<double> X = gather(mesh.x, tet), ue(n, 0.0);
+    fbar ? tet_internal_force_fbar(2, X.data(), ue.data(), m, re.data(), Ke.data())
+         : tet_internal_force(2, X.data(), ue.data(), m, re.data(), Ke.data());
+    for (int a = 0; a < npe; ++a)
+      for (int b = 0; b < npe; ++b)
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k)
+            K(3 * tet[a] + i, 3 * tet[b] + k) += Ke[(3 * a + i) * n + 3 * b + k];
+  }
+  std::vector<int> free;
+  for (int a = 0; a < N; ++a)
+    if (mesh.x[a](0) > 1e-12)
+      for (int i = 0; i < 3; ++i) free.push_back(3 * a + i);
+  Eigen::MatrixXd Kf(free.size(), free.size());
+  for (size_t r = 0; r < free.size(); ++r)
+    for (size_t c = 0; c < free.size(); ++c) Kf(r, c) = K(free[r], free[c]);
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Kf).eigenvalues()(0);
+}
+
+TEST(FbarAssembly, ClampedCubeHasNoZeroEnergyMode) {
+  const double displacement = clamped_cube_softest_mode(false);
+  const double fbar = clamped_cube_softest_mode(true);
+  EXPECT_GT(displacement, 0.0);
+  EXPECT_GT(fbar, 0.8 * displacement);          // 0.88 measured
+  EXPECT_LE(fbar, displacement * (1 + 1e-12));  // one constraint per element is softer
+}
+
 }  // namespace test_patch
 }  // namespace
 }  // namespace hs

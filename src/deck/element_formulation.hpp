@@ -1,0 +1,28 @@
+// Which element solves a material's body: the choice of the `formulation` key resolved against
+// the material's compressibility and the mesh's order (docs/formulation.md, "Nearly
+// incompressible bodies"), with the reason printed beside the material and, for an element
+// that locks, the error to expect.
+#pragma once
+
+#include <string>
+
+#include "deck/config.hpp"
+
+namespace hs {
+
+// Poisson's ratio from which auto picks the F-bar element (kappa/mu >= 49.7): there the
+// displacement element's error on a thick sphere passes 8 % on P1 (docs/stiff_cases.md).
+constexpr double kNearlyIncompressibleNu = 0.49;
+
+struct FormulationChoice {
+  ElementFormulation formulation = ElementFormulation::displacement;
+  std::string reason;   // e.g. "auto: nu = 0.4999 >= 0.49 on P2"
+  std::string warning;  // empty, or what a locking element costs here
+  std::string error;    // empty, or why the asked formulation cannot run (an input error)
+};
+
+// `asked` as the deck gives it (automatic included), Poisson's ratio nu of the material's
+// small-strain constants, the mesh's element order (1 or 2).
+FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order);
+
+}  // namespace hs
