@@ -154,6 +154,37 @@ const KeyTable<TractionConfig>& traction_keys() {
   return keys;
 }
 
+namespace {
+
+// A list of `{group, value}` loads of `loads`, each entry a flow map of `keys` ("[]" when empty).
+template <class Load>
+DeckKey<Config> surface_load_list(std::string name, std::vector<Load> Config::*member,
+                                  const KeyTable<Load>& (*keys)(), std::string meaning) {
+  return custom_key<Config>(
+      std::move(name), "list of `{group, value}`", "none", std::move(meaning),
+      [member, keys](const DeckReader& r, const YAML::Node& list, const std::string& key, Config& c,
+                     const Config&) {
+        r.check_list(list, key);
+        for (size_t i = 0; i < list.size(); ++i) {
+          Load load;
+          read_keys(r, list[i], item_key(key, i), keys(), load, c);
+          (c.*member).push_back(load);
+        }
+      },
+      [member, keys](YAML::Emitter& out, const Config& c, const Config&) {
+        if ((c.*member).empty()) out << YAML::Flow;
+        out << YAML::BeginSeq;
+        for (const auto& load : c.*member) {
+          out << YAML::Flow << YAML::BeginMap;
+          write_keys(out, keys(), load, c);
+          out << YAML::EndMap;
+        }
+        out << YAML::EndSeq;
+      });
+}
+
+}  // namespace
+
 const KeyTable<Config>& loads_keys() {
   static const KeyTable<Config> keys = {
       custom_key<Config>(
@@ -170,52 +201,13 @@ const KeyTable<Config>& loads_keys() {
           [](YAML::Emitter& out, const Config& c, const Config&) {
             write_numbers(out, c.gravity.data(), 3);
           }),
-      custom_key<Config>(
-          "pressure", "list of `{group, value}`", "none",
-          "follower pressure (Pa) on a surface group at full load; positive pushes against the "
-          "outward normal (into the body), negative pulls",
-          [](const DeckReader& r, const YAML::Node& list, const std::string& key, Config& c,
-             const Config&) {
-            r.check_list(list, key);
-            for (size_t i = 0; i < list.size(); ++i) {
-              PressureConfig p;
-              read_keys(r, list[i], item_key(key, i), pressure_keys(), p, c);
-              c.pressures.push_back(p);
-            }
-          },
-          [](YAML::Emitter& out, const Config& c, const Config&) {
-            if (c.pressures.empty()) out << YAML::Flow;
-            out << YAML::BeginSeq;
-            for (const auto& p : c.pressures) {
-              out << YAML::Flow << YAML::BeginMap;
-              write_keys(out, pressure_keys(), p, c);
-              out << YAML::EndMap;
-            }
-            out << YAML::EndSeq;
-          }),
-      custom_key<Config>(
-          "traction", "list of `{group, value}`", "none",
-          "dead traction on a surface group: `value` the force per reference area (Pa, 3 "
-          "numbers) at full load, fixed in direction and size as the body deforms (a shear "
-          "load, a hanging weight spread over a face)",
-          [](const DeckReader& r, const YAML::Node& list, const std::string& key, Config& c,
-             const Config&) {
-            r.check_list(list, key);
-            for (size_t i = 0; i < list.size(); ++i) {
-              TractionConfig t;
-              read_keys(r, list[i], item_key(key, i), traction_keys(), t, c);
-              c.tractions.push_back(t);
-            }
-          },
-          [](YAML::Emitter& out, const Config& c, const Config&) {
-            out << YAML::BeginSeq;
-            for (const auto& t : c.tractions) {
-              out << YAML::Flow << YAML::BeginMap;
-              write_keys(out, traction_keys(), t, c);
-              out << YAML::EndMap;
-            }
-            out << YAML::EndSeq;
-          })
+      surface_load_list("pressure", &Config::pressures, pressure_keys,
+                        "follower pressure (Pa) on a surface group at full load; positive pushes "
+                        "against the outward normal (into the body), negative pulls"),
+      surface_load_list("traction", &Config::tractions, traction_keys,
+                        "dead traction on a surface group: `value` the force per reference area "
+                        "(Pa, 3 numbers) at full load, fixed in direction and size as the body "
+                        "deforms (a shear load, a hanging weight spread over a face)")
           .printed_when([](const Config& c) { return !c.tractions.empty(); }),
   };
   return keys;

@@ -5,8 +5,9 @@
 namespace hs {
 namespace {
 
-// The displacement P1 element's error on the thick sphere (A = 1, B = 2, neo-Hookean, p/mu
-// = 0.5, 15k dofs) against the exact solution of the same law: docs/stiff_cases.md.
+// The displacement P1 element's error in the inner displacement of the thick sphere (A = 1,
+// B = 2, neo-Hookean, p/mu = 0.5, 15k dofs) against the exact solution of the same law:
+// docs/stiff_cases.md, "Locking".
 std::string p1_locking_error(double nu) {
   if (nu < 0.495) return "8 %";
   if (nu < 0.4995) return "40 %";
@@ -36,7 +37,7 @@ FormulationChoice choose_formulation(ElementFormulation asked, double nu, int or
   }
   c.reason = (asked == ElementFormulation::automatic ? "auto: " : "asked, ") + at;
   if (nearly_incompressible && order == 1)
-    c.warning = "P1 displacement elements lock at " + at.substr(0, at.find(" >=")) +
+    c.warning = "P1 displacement elements lock at nu = " + format_number(nu) +
                 ": a thick sphere inflated by pressure comes out about " + p1_locking_error(nu) +
                 " too stiff at this nu (docs/stiff_cases.md); mesh.order: 2 runs the "
                 "locking-free F-bar element";

@@ -11,7 +11,8 @@
 namespace hs {
 
 // Poisson's ratio from which auto picks the F-bar element (kappa/mu >= 49.7): there the
-// displacement element's error on a thick sphere passes 8 % on P1 (docs/stiff_cases.md).
+// displacement element's error on a thick sphere passes 8 % on P1 (docs/stiff_cases.md,
+// "Locking").
 constexpr double kNearlyIncompressibleNu = 0.49;
 
 struct FormulationChoice {

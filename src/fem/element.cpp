@@ -57,10 +57,10 @@ ElementOutput internal_force(const double* X, const double* u, const MaterialLaw
   const auto& t = tet_tables<NPE>(degrees<NPE>().stiffness);
   const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
   return integrate_internal_force<NPE>(u, m, r, K, [&](auto add) {
+    NodeMatrix<NPE> G;
     for (size_t q = 0; q < t.weights.size(); ++q) {
-      Mat3 J;
-      const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
-      add(J.inverse().transpose() * t.dN[q], wdV);  // grad N_a in column a
+      const double wdV = point_gradients<NPE>(Xm, t, q, G);
+      add(G, wdV);
     }
   });
 }

@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "fem/element.hpp"
+#include "fem/element_tables.hpp"
 
 namespace hs {
 
@@ -42,6 +43,17 @@ double reference_jacobian(const NodeMatrix<NPE>& X, const NodeMatrix<NPE>& dN, M
   const double detJ = J.determinant();
   if (!(detJ > 0)) throw_bad_geometry(X.data(), detJ);
   return detJ;
+}
+
+// Quadrature point q of the rule t on the element X: grad N_a (column a of G) and the point's
+// weight times det J, the volume it stands for (returned).
+template <int NPE>
+double point_gradients(const NodeMatrix<NPE>& X, const TetTables<NPE>& t, size_t q,
+                       NodeMatrix<NPE>& G) {
+  Mat3 J;
+  const double wdV = t.weights[q] * reference_jacobian<NPE>(X, t.dN[q], J);
+  G = J.inverse().transpose() * t.dN[q];
+  return wdV;
 }
 
 // K_ab += wdV sum_jl A_(ij)(kl) G_ja G_lb for the blocks b >= a (K is symmetric: every law

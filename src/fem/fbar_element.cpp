@@ -73,9 +73,7 @@ ElementOutput fbar_internal_force(const double* X, const double* u, const Materi
   double V = 0, v_minus_V = 0;
   for (int q = 0; q < nq; ++q) {
     FbarPoint<NPE>& p = pts[q];
-    Mat3 Jref;
-    p.W = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], Jref);
-    p.G = Jref.inverse().transpose() * t.dN[q];
+    p.W = point_gradients<NPE>(Xm, t, q, p.G);
     p.H = Um * p.G.transpose();
     p.J_minus_one = tensor::det_minus_one(p.H);
     if (!(1.0 + p.J_minus_one > 0)) return inverted_element<NPE>(r, K);
@@ -167,9 +165,7 @@ ElementOutput bbar_internal_force(const double* X, const double* u, const Materi
   double V = 0, theta = 0;
   NodeMatrix<NPE> b = NodeMatrix<NPE>::Zero();
   for (int q = 0; q < nq; ++q) {
-    Mat3 Jref;
-    W[q] = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], Jref);
-    G[q] = Jref.inverse().transpose() * t.dN[q];
+    W[q] = point_gradients<NPE>(Xm, t, q, G[q]);
     H[q] = Um * G[q].transpose();
     V += W[q];
     theta += W[q] * H[q].trace();
@@ -215,9 +211,9 @@ double volume_ratio_minus_one(const NodeMatrix<NPE>& Xm, const NodeMatrix<NPE>& 
   const auto& t = tet_tables<NPE>(fbar_degree<NPE>());
   double V = 0, v_minus_V = 0;
   for (size_t q = 0; q < t.weights.size(); ++q) {
-    Mat3 Jref;
-    const double W = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], Jref);
-    const Mat3 H = Um * (Jref.inverse().transpose() * t.dN[q]).transpose();
+    NodeMatrix<NPE> G;
+    const double W = point_gradients<NPE>(Xm, t, q, G);
+    const Mat3 H = Um * G.transpose();
     V += W;
     v_minus_V += W * (small_strain ? H.trace() : tensor::det_minus_one(H));
   }
@@ -228,10 +224,9 @@ template <int NPE>
 ElementFields fbar_fields(const double* X, const double* u, const MaterialLaw& m) {
   const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
   const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
-  const auto& t = tet_tables<NPE>(1);  // the centroid
-  Mat3 Jref;
-  reference_jacobian<NPE>(Xm, t.dN[0], Jref);
-  const Mat3 H = Um * (Jref.inverse().transpose() * t.dN[0]).transpose();
+  NodeMatrix<NPE> G;
+  point_gradients<NPE>(Xm, tet_tables<NPE>(1), 0, G);  // the centroid
+  const Mat3 H = Um * G.transpose();
   const double mean = volume_ratio_minus_one<NPE>(Xm, Um, m.small_strain());
   ElementFields out;
   out.J = 1.0 + mean;

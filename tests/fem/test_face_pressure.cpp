@@ -158,16 +158,22 @@ TEST_P(FacePressure, FlatFaceCarriesMinusPressureTimesAreaAlongItsNormal) {
   EXPECT_LT(total.dot(area_normal), 0.0);
 }
 
+// The straight triangle of vertices v as a Tri3 (order 1) or Tri6 with its edge nodes at the
+// midpoints (order 2), node-major.
+std::vector<double> straight_face(const Eigen::Vector3d (&v)[3], int order) {
+  std::vector<double> x;
+  for (const auto& p : v) x.insert(x.end(), {p(0), p(1), p(2)});
+  for (int e = 0; order == 2 && e < 3; ++e) {
+    const Eigen::Vector3d m = 0.5 * (v[e] + v[(e + 1) % 3]);
+    x.insert(x.end(), {m(0), m(1), m(2)});
+  }
+  return x;
+}
+
 TEST(FacePressureDistribution, ConsistentSharesOnStraightFaces) {
   // int N_a da on a straight triangle: A/3 per Tri3 vertex; 0 per Tri6 vertex, A/3 per edge node.
   const Eigen::Vector3d v[3] = {{0, 0, 0}, {2, 0, 0}, {0, 1, 0}};  // A = 1, n = +z
-  std::vector<double> x3, x6;
-  for (const auto& p : v) x3.insert(x3.end(), {p(0), p(1), p(2)});
-  x6 = x3;
-  for (int e = 0; e < 3; ++e) {
-    const Eigen::Vector3d m = 0.5 * (v[e] + v[(e + 1) % 3]);
-    x6.insert(x6.end(), {m(0), m(1), m(2)});
-  }
+  const std::vector<double> x3 = straight_face(v, 1), x6 = straight_face(v, 2);
   std::vector<double> f3(9), f6(18);
   face_pressure(1, x3.data(), 3.0, f3.data(), nullptr);
   face_pressure(2, x6.data(), 3.0, f6.data(), nullptr);
@@ -182,13 +188,7 @@ TEST(FaceTraction, ConsistentSharesAndTotalOnFlatFaces) {
   const Eigen::Vector3d v[3] = {{0.1, 0.2, 0.09}, {1.3, 0.4, 0.73}, {0.5, 1.1, 0.47}};
   const double A = 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).norm();
   const std::array<double, 3> t = {0.5, -2.0, 1.25};
-  std::vector<double> x3, x6;
-  for (const auto& p : v) x3.insert(x3.end(), {p(0), p(1), p(2)});
-  x6 = x3;
-  for (int e = 0; e < 3; ++e) {
-    const Eigen::Vector3d m = 0.5 * (v[e] + v[(e + 1) % 3]);
-    x6.insert(x6.end(), {m(0), m(1), m(2)});
-  }
+  const std::vector<double> x3 = straight_face(v, 1), x6 = straight_face(v, 2);
   std::vector<double> f3(9), f6(18);
   face_traction(1, x3.data(), t, f3.data());
   face_traction(2, x6.data(), t, f6.data());
