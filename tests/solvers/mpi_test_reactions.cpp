@@ -2,8 +2,9 @@
 // cantilever carries its weight; a clamped block under gravity, a follower pressure and a dead
 // traction reacts with minus the whole applied load (a conservation law: the internal forces
 // sum to zero); a cavity clamped at both ends pushes on its clamps with the blocked force of
-// plane-strain elasticity, equal and opposite at the two ends. On 2 ranks every figure is
-// compared with the same deck run on one (each node's force counted by its owner alone).
+// plane-strain elasticity (up to its end walls' give), equal and opposite at the two ends.
+// On 2 ranks every figure is compared with the same deck run on one (each node's force
+// counted by its owner alone).
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <mpi.h>
@@ -164,7 +165,8 @@ TEST(Reactions, TheClampOfACantileverCarriesItsWeight) {
   const double deflection = 3 * rho * g * std::pow(L, 4) / (2 * E * h * h);
   const auto& d = tip["displacement_m"];
   EXPECT_NEAR(-d[2].get<double>(), deflection, 0.01 * deflection);
-  EXPECT_LT(std::abs(d[1].get<double>()), 1e-9 * deflection);
+  // Across: zero on a symmetric mesh; the unstructured one leaves 5e-5 of the deflection.
+  EXPECT_LT(std::abs(d[1].get<double>()), 1e-3 * deflection);
   EXPECT_NEAR(tip["displacement_magnitude_m"].get<double>(),
               std::hypot(d[0].get<double>(), d[1].get<double>(), d[2].get<double>()), 1e-15);
 }
@@ -211,7 +213,10 @@ TEST(Reactions, BlockedForceOfACavityClampedAtBothEnds) {
   // 2 nu p A (A the cavity's section, for any wall). A free body from a clamp to the middle:
   // the clamp holds the end wall's p A against the wall's 2 nu p A, so each clamp pushes
   // with (1 - 2 nu) p A inwards along the axis, equal and opposite at the two ends (a
-  // closed cavity's pressure has no net force).
+  // closed cavity's pressure has no net force). That is the limit of a long tube at small
+  // strain: the end walls give under the pressure on them, which compresses the tube
+  // (eps_z < 0), and the pressure acts on the inflated section, both adding to the force:
+  // 11.4 % more here (11.7 % on a mesh of h = 6 mm), 7.0 % for a tube twice as long.
   const double p = 500, nu = 0.3, L = 0.15, t = 0.006;
   const std::string deck = write_deck(
       "blocked.yaml", "mesh:\n  file: " + kSource +
@@ -236,9 +241,10 @@ TEST(Reactions, BlockedForceOfACavityClampedAtBothEnds) {
   const Force top = force(states[1]["reactions_N"], "top");
   const Force tip = force(states[1]["reactions_N"], "tip");
   // The top face is z = 0, the body below it: the clamp there pulls the body down (-z).
-  EXPECT_NEAR(top[2], -blocked, 0.03 * blocked);
-  EXPECT_NEAR(tip[2], blocked, 0.03 * blocked);
-  for (int d = 0; d < 3; ++d) EXPECT_NEAR(top[d] + tip[d], 0, 1e-8 * p * section) << d;
+  EXPECT_GT(-top[2], blocked);
+  EXPECT_LT(-top[2], 1.15 * blocked);
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(top[d] + tip[d], 0, 1e-9 * p * section) << d;
+  EXPECT_LT(std::hypot(top[0], top[1]), 1e-3 * blocked);  // along the axis
   // At rest nothing pushes.
   EXPECT_LT(magnitude(force(states[0]["reactions_N"], "top")), 1e-9 * p * section);
   expect_same_on_one_rank(r, "top", p * section);
