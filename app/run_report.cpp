@@ -1,6 +1,7 @@
 #include "run_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <vector>
@@ -102,13 +103,20 @@ std::string targets_table(const Json& targets) {
   return table(rows);
 }
 
-// The force each boundary group's constraint exerts on the body at the end of the run.
+// The force each boundary group's constraint exerts on the body at the end of the run. A
+// component below 1e-10 of the largest is round-off of zero and printed as 0.
 std::string reactions_table(const Json& reactions) {
   std::vector<std::vector<std::string>> rows = {
       {"boundary group", "reaction x (N)", "reaction y (N)", "reaction z (N)"}};
+  double largest = 0;
+  for (const auto& [group, force] : reactions.items())
+    for (const auto& c : force) largest = std::max(largest, std::abs(c.get<double>()));
   for (const auto& [group, force] : reactions.items()) {
     std::vector<std::string> row = {group};
-    for (const auto& c : force) row.push_back(format("%.6g", c.get<double>()));
+    for (const auto& c : force) {
+      const double value = c.get<double>();
+      row.push_back(std::abs(value) <= 1e-10 * largest ? "0" : format("%.6g", value));
+    }
     rows.push_back(row);
   }
   return rows.size() > 1 ? table(rows) : "";
