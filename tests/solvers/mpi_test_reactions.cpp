@@ -172,10 +172,12 @@ TEST(Reactions, TheClampOfACantileverCarriesItsWeight) {
 }
 
 TEST(Reactions, ABlockReactsWithMinusTheWholeAppliedLoad) {
-  // A neo-Hookean block clamped at its bottom under gravity (tilted), a follower pressure on
-  // its top and a dead traction on a side, deformed by several percent: the internal forces
-  // of every element sum to zero, so at equilibrium the clamp's force is minus the sum of
-  // every applied nodal load, the deformed pressure's included.
+  // A neo-Hookean block clamped at its bottom and held in x on its side x0 (the two share an
+  // edge), under gravity (tilted), a follower pressure on its top and a dead traction on its
+  // side x1 that pushes it against x0, deformed by several percent: the internal forces of
+  // every element sum to zero, so at equilibrium the two groups' forces add up to minus the
+  // sum of every applied nodal load, the deformed pressure's included; the shared edge's
+  // x-forces count once (in bottom, the first group).
   const std::string deck = write_deck(
       "block.yaml", "mesh:\n  file: " + kSource +
                         "/meshes/block.geo\n"
@@ -183,27 +185,34 @@ TEST(Reactions, ABlockReactsWithMinusTheWholeAppliedLoad) {
                         "  parameters: {H: 0.1, h: 0.05}\n"
                         "materials:\n"
                         "  - {group: body, model: neo_hookean, E: 1.0e5, nu: 0.3, density: 1000}\n"
-                        "boundary:\n  - {group: bottom}\n"
+                        "boundary:\n  - {group: bottom}\n  - {group: x0, components: [x]}\n"
                         "loads:\n  gravity: [2.0, 0, -9.81]\n"
                         "  pressure:\n    - {group: top, value: 3000}\n"
-                        "  traction:\n    - {group: x1, value: [0, 2000, 1000]}\n"
+                        "  traction:\n    - {group: x1, value: [-2000, 2000, 1000]}\n"
                         "time: {type: static, steps: 2}\n"
                         "solver: {preset: mumps}\n");
   const Runs r = run_both(deck, "block");
-  const Force reaction = force(r.all["reactions_N"], "bottom");
+  const Force bottom = force(r.all["reactions_N"], "bottom");
+  const Force side = force(r.all["reactions_N"], "x0");
   // Dead parts alone, for the scale: 3000 Pa x 0.01 m^2 = 30 N on the top.
   const double scale = 30;
   if (world_rank() == 0) {
     const Force load = total_applied_load(r.folder + "/block.h5", 1);
-    for (int d = 0; d < 3; ++d) EXPECT_NEAR(reaction[d], -load[d], 1e-8 * scale) << d;
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(bottom[d] + side[d], -load[d], 1e-8 * scale) << d;
     // Closed form of the dead parts: the traction's force on x1 is exact; the pressure's
     // follows the top face, so only its order of size is known.
     EXPECT_NEAR(load[1], 2000 * 0.01, 0.05 * scale);
     const auto row = last_history_row(r.folder);
-    EXPECT_NEAR(row.at("reaction_bottom_y_N"), reaction[1], 1e-9 * scale);
+    EXPECT_NEAR(row.at("reaction_bottom_y_N"), bottom[1], 1e-9 * scale);
+    EXPECT_NEAR(row.at("reaction_x0_x_N"), side[0], 1e-9 * scale);
   }
-  EXPECT_GT(magnitude(reaction), scale);
+  // x0 holds x alone, and pushes back against the traction's 20 N.
+  EXPECT_EQ(side[1], 0);
+  EXPECT_EQ(side[2], 0);
+  EXPECT_GT(side[0], 0.1 * 20);
+  EXPECT_GT(magnitude(bottom), scale);
   expect_same_on_one_rank(r, "bottom", scale);
+  expect_same_on_one_rank(r, "x0", scale);
 }
 
 TEST(Reactions, BlockedForceOfACavityClampedAtBothEnds) {
