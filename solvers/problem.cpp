@@ -263,7 +263,7 @@ double Problem::residual_roundoff(Vec u) {
 
 void Problem::external_load(Vec u, double s, Vec f) { assemble_forces(u, s, 0.0, 1.0, f, nullptr); }
 
-void Problem::element_fields(Vec u, ElementFieldValues& v, bool tensors) const {
+void Problem::element_fields(Vec u, ElementFieldValues& v) const {
   VecHandle uw;
   HS_PETSC(VecDuplicate(u_work_, uw.out()));
   LocalView view(u, uw);
@@ -271,14 +271,10 @@ void Problem::element_fields(Vec u, ElementFieldValues& v, bool tensors) const {
   const auto nt = dist_.local_tets.size();
   v.von_mises.resize(nt);
   v.J.resize(nt);
-  for (auto* field : {&v.stress, &v.strain, &v.principal_stress, &v.principal_strain})
-    field->clear();
-  if (tensors) {
-    v.stress.resize(9 * nt);
-    v.strain.resize(9 * nt);
-    v.principal_stress.resize(3 * nt);
-    v.principal_strain.resize(3 * nt);
-  }
+  v.stress.resize(9 * nt);
+  v.strain.resize(9 * nt);
+  v.principal_stress.resize(3 * nt);
+  v.principal_strain.resize(3 * nt);
   double X[30], ue[30];
   for (size_t e = 0; e < nt; ++e) {
     element_coordinates(e, X);
@@ -289,7 +285,6 @@ void Problem::element_fields(Vec u, ElementFieldValues& v, bool tensors) const {
                                 : tet_fields(dist_.order, X, ue, *m.law);
     v.von_mises[e] = f.von_mises;
     v.J[e] = f.J;
-    if (!tensors) continue;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) {
         v.stress[9 * e + 3 * i + j] = f.stress(i, j);

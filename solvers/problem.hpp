@@ -102,13 +102,13 @@ class Problem {
   // residual has seen, from positions alone. Records an inverted one as inverted_element().
   bool orientation_preserved(Vec u);
 
-  // Per local tetrahedron, at the centroid (fem/element.hpp's tet_fields): von Mises stress
-  // and J; with `tensors`, also the Cauchy stress and the Green-Lagrange strain (9 values
-  // each, row-major) and their principal values (3 each, largest first).
+  // Per local tetrahedron, at the centroid (fem/element.hpp's tet_fields): von Mises stress,
+  // J, the Cauchy stress and the Green-Lagrange strain (9 values each, row-major) and their
+  // principal values (3 each, largest first).
   struct ElementFieldValues {
     std::vector<double> von_mises, J, stress, strain, principal_stress, principal_strain;
   };
-  void element_fields(Vec u, ElementFieldValues& values, bool tensors = true) const;
+  void element_fields(Vec u, ElementFieldValues& values) const;
 
   // Reactions: per group of the deck's `boundary` list (reaction_groups(), in the deck's
   // order, each group once), the force the constraint exerts on the body, summed over its
