@@ -1,6 +1,7 @@
 #include "run_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <vector>
@@ -44,29 +45,34 @@ std::string table(const std::vector<std::vector<std::string>>& rows) {
   return out.str();
 }
 
-// The tip face's inclination below the plane normal to gravity and its rotation since the
-// undeformed mesh (summary.json's per-state `tip`), or "-" without a tip.
+// The tip face's inclination below the plane normal to gravity, its rotation since the
+// undeformed mesh and how far its centroid moved (summary.json's per-state `tip`), or "-"
+// without a tip.
 std::vector<std::string> tip_cells(const Json& state) {
-  if (!state.contains("tip") || !state["tip"].is_object()) return {"-", "-"};
-  return {format("%.2f", number(state["tip"], "inclination_deg")),
-          format("%.2f", number(state["tip"], "rotation_deg"))};
+  if (!state.contains("tip") || !state["tip"].is_object()) return {"-", "-", "-"};
+  const Json& tip = state["tip"];
+  return {format("%.2f", number(tip, "inclination_deg")),
+          format("%.2f", number(tip, "rotation_deg")),
+          tip.contains("displacement_magnitude_m")
+              ? format("%.3f", 1e3 * number(tip, "displacement_magnitude_m"))
+              : "-"};
 }
 
 std::string states_table(const Json& states) {
   std::vector<std::vector<std::string>> rows = {{"state", "tip inclination (deg)",
-                                                 "tip rotation (deg)", "cavity", "p (kPa)",
-                                                 "V (ml)", "added (ml)"}};
+                                                 "tip rotation (deg)", "tip displacement (mm)",
+                                                 "cavity", "p (kPa)", "V (ml)", "added (ml)"}};
   for (const auto& s : states) {
     const auto tip = tip_cells(s);
     bool first = true;
     for (const auto& c : s.value("cavities", Json::array())) {
-      rows.push_back({first ? s.value("name", "") : "", first ? tip[0] : "", first ? tip[1] : "",
-                      c.value("name", ""), format("%.3f", 1e-3 * number(c, "pressure")),
-                      format("%.3f", number(c, "volume_ml")),
-                      format("%.3f", number(c, "added_volume_ml"))});
+      rows.push_back(
+          {first ? s.value("name", "") : "", first ? tip[0] : "", first ? tip[1] : "",
+           first ? tip[2] : "", c.value("name", ""), format("%.3f", 1e-3 * number(c, "pressure")),
+           format("%.3f", number(c, "volume_ml")), format("%.3f", number(c, "added_volume_ml"))});
       first = false;
     }
-    if (first) rows.push_back({s.value("name", ""), tip[0], tip[1], "-", "-", "-", "-"});
+    if (first) rows.push_back({s.value("name", ""), tip[0], tip[1], tip[2], "-", "-", "-", "-"});
   }
   return table(rows);
 }
@@ -95,6 +101,25 @@ std::string targets_table(const Json& targets) {
          actuation});
   }
   return table(rows);
+}
+
+// The force each boundary group's constraint exerts on the body at the end of the run. A
+// component below 1e-10 of the largest is round-off of zero and printed as 0.
+std::string reactions_table(const Json& reactions) {
+  std::vector<std::vector<std::string>> rows = {
+      {"boundary group", "reaction x (N)", "reaction y (N)", "reaction z (N)"}};
+  double largest = 0;
+  for (const auto& [group, force] : reactions.items())
+    for (const auto& c : force) largest = std::max(largest, std::abs(c.get<double>()));
+  for (const auto& [group, force] : reactions.items()) {
+    std::vector<std::string> row = {group};
+    for (const auto& c : force) {
+      const double value = c.get<double>();
+      row.push_back(std::abs(value) <= 1e-10 * largest ? "0" : format("%.6g", value));
+    }
+    rows.push_back(row);
+  }
+  return rows.size() > 1 ? table(rows) : "";
 }
 
 // The scalars of a map, one "key value" line each.
@@ -127,6 +152,8 @@ std::string run_report(const Json& summary) {
     out << targets_table(summary["targets"]);
   else if (summary.contains("states") && !summary["states"].empty())
     out << states_table(summary["states"]) << cables_table(summary["states"]);
+  if (summary.contains("reactions_N") && summary["reactions_N"].is_object())
+    out << reactions_table(summary["reactions_N"]);
   for (const char* key : {"verification", "error"})
     if (summary.contains(key) && summary[key].is_object()) out << scalars(summary[key]);
   return out.str();

@@ -7,7 +7,8 @@
 For every reader (XDMFReader, Xdmf3ReaderS, Xdmf3ReaderT) and every time step it checks
 the number of points and cells, the cell type (VTK tetra or quadratic tetra), the point and
 cell arrays (each step's datasets: displacement, nodal_load and, with cavities,
-cavity_pressure_load and fluid_weight_load; von_mises, J, rank; and the mesh's physical
+cavity_pressure_load and fluid_weight_load; von_mises, J, rank and the tensors stress,
+strain, principal_stress, principal_strain; and the mesh's physical
 groups: volume_group per cell, group_<name> per node) and the time values; then it compares
 the points, the connectivity and every array with the datasets of the .h5 file (read with
 h5py), so that a reader that misreads a field or a step is caught.
@@ -22,6 +23,11 @@ import h5py
 import numpy as np
 from paraview import servermanager, simple
 from vtkmodules.numpy_interface import dataset_adapter as dsa
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+
+# A step's per-tetrahedron datasets of several columns (the rest of its 2D ones are nodal).
+CELL_TENSORS = {"stress", "strain", "principal_stress", "principal_strain"}
 
 
 def arrays_of(h5, step):
@@ -30,7 +36,7 @@ def arrays_of(h5, step):
     points = {k: mesh[k] for k in mesh if k.startswith("group_")}
     cells = {k: mesh[k] for k in ("volume_group",) if k in mesh}
     for k, data in step.items():
-        (points if data.ndim == 2 else cells)[k] = data
+        (points if data.ndim == 2 and k not in CELL_TENSORS else cells)[k] = data
     return points, cells
 
 VTK_TETRA, VTK_QUADRATIC_TETRA = 10, 24
@@ -115,8 +121,10 @@ def check_reader(name, xmf, h5, expected):
             expect(np.array_equal(grid.PointData[array], data[:]),
                    f"{where}: {array} differs from the .h5")
         for array, data in cell_arrays.items():
-            expect(np.array_equal(grid.CellData[array], data[:]),
-                   f"{where}: {array} differs from the .h5")
+            # The raw components: the numpy adapter shows a 9-component array as 3 x 3
+            # matrices, transposed.
+            values = vtk_to_numpy(vtk_grid.GetCellData().GetArray(array))
+            expect(np.array_equal(values, data[:]), f"{where}: {array} differs from the .h5")
     simple.Delete(reader)
     return errors
 

@@ -1,5 +1,7 @@
 #include "solvers/dof_map.hpp"
 
+#include <algorithm>
+
 #include "common/error.hpp"
 #include "solvers/petsc_check.hpp"
 
@@ -21,15 +23,21 @@ DofMap::DofMap(const Config& config, const Distribution& dist, ExactDirichlet ex
   prescribed_.assign(3 * nlocal, 0.0);
   scaled_.assign(3 * nlocal, 1);
   from_exact_.assign(3 * nlocal, 0);
+  group_of_.assign(3 * nlocal, -1);
   for (const auto& bc : config.dirichlet) {
     if (bc.exact && !exact_)
       throw InputError(config.deck_path + ": boundary: group '" + bc.group +
                        "' asks for exact values but the deck has no exact solution");
+    // Every rank lists every group, also those without a node on it.
+    const auto listed = std::find(groups_.begin(), groups_.end(), bc.group);
+    const int group = static_cast<int>(listed - groups_.begin());
+    if (listed == groups_.end()) groups_.push_back(bc.group);
     auto it = dist.node_groups.find(bc.group);
     if (it == dist.node_groups.end()) continue;  // group has no node on this rank
     for (int32_t n : it->second)
       for (int d = 0; d < 3; ++d)
         if (bc.components[d]) {
+          if (group_of_[3 * n + d] < 0) group_of_[3 * n + d] = group;
           constrained_[3 * n + d] = 1;
           prescribed_[3 * n + d] = bc.value[d];
           scaled_[3 * n + d] = bc.scaled;

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "deck/config.hpp"
@@ -45,12 +46,19 @@ class DofMap {
   // Zeroes the constrained dofs of v (owned entries).
   void zero(Vec v) const;
 
+  // The deck's boundary groups, each once, in the deck's order, and the index among them of
+  // the first group that constrains a dof (reactions are summed per group).
+  const std::vector<std::string>& groups() const { return groups_; }
+  int group_of(int64_t local_dof) const { return group_of_[local_dof]; }
+
  private:
   int64_t num_owned_ = 0;
   const std::vector<double>& X_;  // the distribution's: it outlives the map
   std::vector<PetscInt> global_, ghost_blocks_;
   std::vector<char> constrained_, scaled_, from_exact_;  // per local dof
   std::vector<double> prescribed_;                       // per local dof, at full load
+  std::vector<std::string> groups_;
+  std::vector<int> group_of_;  // per local dof: index in groups_, -1 if not constrained
   ExactDirichlet exact_;
 };
 

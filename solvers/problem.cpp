@@ -263,27 +263,54 @@ double Problem::residual_roundoff(Vec u) {
 
 void Problem::external_load(Vec u, double s, Vec f) { assemble_forces(u, s, 0.0, 1.0, f, nullptr); }
 
-void Problem::element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const {
+void Problem::element_fields(Vec u, ElementFieldValues& v) const {
   VecHandle uw;
   HS_PETSC(VecDuplicate(u_work_, uw.out()));
-  {
-    LocalView view(u, uw);
-    const PetscScalar* ua = view.values();
-    const auto nt = dist_.local_tets.size();
-    von_mises.resize(nt);
-    J.resize(nt);
-    double X[30], ue[30];
-    for (size_t e = 0; e < nt; ++e) {
-      element_coordinates(e, X);
-      element_displacement(ua, e, ue);
-      const auto& m = materials_[dist_.tet_volume[e]];
-      const ElementFields f = m.element == ElementFormulation::fbar
-                                  ? tet_fields_fbar(dist_.order, X, ue, *m.law)
-                                  : tet_fields(dist_.order, X, ue, *m.law);
-      von_mises[e] = f.von_mises;
-      J[e] = f.J;
-    }
+  LocalView view(u, uw);
+  const PetscScalar* ua = view.values();
+  const auto nt = dist_.local_tets.size();
+  v.von_mises.resize(nt);
+  v.J.resize(nt);
+  v.stress.resize(9 * nt);
+  v.strain.resize(9 * nt);
+  v.principal_stress.resize(3 * nt);
+  v.principal_strain.resize(3 * nt);
+  double X[30], ue[30];
+  for (size_t e = 0; e < nt; ++e) {
+    element_coordinates(e, X);
+    element_displacement(ua, e, ue);
+    const auto& m = materials_[dist_.tet_volume[e]];
+    const ElementFields f = m.element == ElementFormulation::fbar
+                                ? tet_fields_fbar(dist_.order, X, ue, *m.law)
+                                : tet_fields(dist_.order, X, ue, *m.law);
+    v.von_mises[e] = f.von_mises;
+    v.J[e] = f.J;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        v.stress[9 * e + 3 * i + j] = f.stress(i, j);
+        v.strain[9 * e + 3 * i + j] = f.strain(i, j);
+      }
+    const auto ps = principal_values(f.stress), pe = principal_values(f.strain);
+    std::copy(ps.begin(), ps.end(), &v.principal_stress[3 * e]);
+    std::copy(pe.begin(), pe.end(), &v.principal_strain[3 * e]);
   }
+}
+
+std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {
+  VecHandle r;
+  HS_PETSC(VecDuplicate(u, r.out()));
+  assemble_forces(u, s, 1.0, -1.0, r, nullptr);  // f_int - f_ext, owned entries complete
+  const int n = static_cast<int>(dofs_.groups().size());
+  std::vector<double> sums(3 * n, 0.0);
+  const PetscScalar* a;
+  HS_PETSC(VecGetArrayRead(r, &a));
+  for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l)
+    if (dofs_.constrained(l)) sums[3 * dofs_.group_of(l) + l % 3] += a[l];
+  HS_PETSC(VecRestoreArrayRead(r, &a));
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), 3 * n, MPI_DOUBLE, MPI_SUM, comm_);
+  std::vector<std::array<double, 3>> out(n);
+  for (int g = 0; g < n; ++g) out[g] = {sums[3 * g], sums[3 * g + 1], sums[3 * g + 2]};
+  return out;
 }
 
 bool Problem::orientation_preserved(Vec u) {

@@ -102,8 +102,25 @@ class Problem {
   // residual has seen, from positions alone. Records an inverted one as inverted_element().
   bool orientation_preserved(Vec u);
 
-  // Per local tetrahedron: von Mises stress and J at the centroid.
-  void element_fields(Vec u, std::vector<double>& von_mises, std::vector<double>& J) const;
+  // Per local tetrahedron, at the centroid (fem/element.hpp's tet_fields): von Mises stress,
+  // J, the Cauchy stress and the Green-Lagrange strain (9 values each, row-major) and their
+  // principal values (3 each, largest first).
+  struct ElementFieldValues {
+    std::vector<double> von_mises, J, stress, strain, principal_stress, principal_strain;
+  };
+  void element_fields(Vec u, ElementFieldValues& values) const;
+
+  // Reactions: per group of the deck's `boundary` list (reaction_groups(), in the deck's
+  // order, each group once), the force the constraint exerts on the body, summed over its
+  // constrained dofs: f_int(u) - f_ext(u; s) there, the residual's Dirichlet rows before they
+  // are replaced (inertia left out). A dof that several groups constrain counts in the first
+  // of them only, so that the groups sum to the total reaction. Each owned dof is counted by
+  // its rank alone. Collective.
+  const std::vector<std::string>& reaction_groups() const { return dofs_.groups(); }
+  std::vector<std::array<double, 3>> reactions(Vec u, double s);
+  // The mean displacement of a surface group, int u dA / int dA over its reference faces (its
+  // centroid's displacement). Collective.
+  std::array<double, 3> mean_displacement(const std::string& group, Vec u);
 
   // The ghost-updated local form (owned then ghost nodes) of a vector, readable while alive.
   class LocalView;

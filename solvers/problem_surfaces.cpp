@@ -88,4 +88,29 @@ std::array<double, 3> Problem::area_vector(const std::string& group, Vec u) {
   return total;
 }
 
+std::array<double, 3> Problem::mean_displacement(const std::string& group, Vec u) {
+  // int u dA = sum_a u_a int N_a dA, exact for u in the face's space; int N_a dA is the
+  // nodal force of a unit dead traction.
+  double local[4] = {0, 0, 0, 0}, total[4];
+  auto it = dist_.faces.find(group);
+  if (it != dist_.faces.end()) {
+    LocalView view(u, u_work_);
+    const PetscScalar* ua = view.values();
+    const int npf = dist_.nodes_per_face();
+    double Xf[18], weights[18];
+    for (size_t f = 0; f < it->second.size() / npf; ++f) {
+      const int32_t* nodes = &it->second[f * npf];
+      for (int k = 0; k < 3 * npf; ++k) Xf[k] = X_[3 * nodes[k / 3] + k % 3];
+      face_traction(dist_.order, Xf, {1.0, 1.0, 1.0}, weights);
+      for (int a = 0; a < npf; ++a) {
+        for (int d = 0; d < 3; ++d) local[d] += weights[3 * a] * ua[3 * nodes[a] + d];
+        local[3] += weights[3 * a];
+      }
+    }
+  }
+  MPI_Allreduce(local, total, 4, MPI_DOUBLE, MPI_SUM, comm_);
+  if (!(total[3] > 0)) return {0, 0, 0};
+  return {total[0] / total[3], total[1] / total[3], total[2] / total[3]};
+}
+
 }  // namespace hs

@@ -19,7 +19,9 @@ namespace {
 
 // The summary of a run that ended: the set-up's keys, the energy of a dynamic run, the errors
 // against the exact solution, the verification quantities, and the stepper's own keys.
-nlohmann::json final_summary(RunSetup& run, const Stepper& stepper, const nlohmann::json& history) {
+// load_factor: that of the last step (the final state's reactions are taken at it).
+nlohmann::json final_summary(RunSetup& run, const Stepper& stepper, const nlohmann::json& history,
+                             double load_factor) {
   nlohmann::json summary = run.summary();
   const SteppingStats& stats = run.stats;
   if (!stats.energy.empty()) {
@@ -41,6 +43,8 @@ nlohmann::json final_summary(RunSetup& run, const Stepper& stepper, const nlohma
     summary["verification"] = history.back();
     summary["verification"]["steps"] = history;
   }
+  if (!run.problem->reaction_groups().empty())
+    summary["reactions_N"] = reactions_json(*run.problem, run.u, load_factor);
   stepper.add_summary(summary);
   summary["time_s"]["total"] = MPI_Wtime() - run.t_start;
   return summary;
@@ -61,6 +65,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
   recorder.set_history(std::move(sources));
   const bool verifies = stepper->verifies();
   nlohmann::json history;  // verification quantities after every load step
+  double load_factor = stepper->final_load_factor();  // of u, once a step was taken
   if (verifies) history = nlohmann::json::array();
   try {
     // A signal during the set-up stops the run here, before any step (nothing to keep).
@@ -80,6 +85,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
       }
       const std::optional<StepReport> step = stepper->advance(run.u);
       if (!step) continue;
+      load_factor = step->load_factor;
       if (stepper->planned_steps() > 0)
         progress->step(step->index, step->what, stepper->newton_iterations());
       if (verifies && run.exact) {
@@ -108,7 +114,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     keep_converged_steps(e, recorder, std::move(summary), comm);
     throw;
   }
-  nlohmann::json summary = final_summary(run, *stepper, history);
+  nlohmann::json summary = final_summary(run, *stepper, history, load_factor);
   const std::string folder = recorder.finish(summary);  // adds "status": "ok"
   summary["output"]["folder"] = folder;
   return summary;

@@ -29,6 +29,7 @@ TipOrientation tip_orientation(Problem& problem, const std::string& group,
   // The angle to gravity is 90 deg minus the inclination below the plane normal to it.
   if (std::hypot(gravity[0], gravity[1], gravity[2]) > 0 && std::hypot(n[0], n[1], n[2]) > 0)
     t.inclination_deg = 90 - angle_deg(n, gravity);
+  t.displacement = problem.mean_displacement(group, u);
   return t;
 }
 

@@ -69,6 +69,25 @@ OutputLayout output_layout(const Distribution& dist, MPI_Comm comm) {
   return l;
 }
 
+void add_reactions(Problem& problem, Vec u, double s, HistoryRow& row) {
+  const auto& groups = problem.reaction_groups();
+  if (groups.empty()) return;
+  const auto forces = problem.reactions(u, s);
+  for (size_t g = 0; g < groups.size(); ++g)
+    for (int d = 0; d < 3; ++d)
+      row.add("reaction_" + groups[g] + "_" + "xyz"[d] + "_N", forces[g][d]);
+}
+
+nlohmann::json reactions_json(Problem& problem, Vec u, double s) {
+  nlohmann::json out = nlohmann::json::object();
+  const auto& groups = problem.reaction_groups();
+  if (groups.empty()) return out;
+  const auto forces = problem.reactions(u, s);
+  for (size_t g = 0; g < groups.size(); ++g)
+    out[groups[g]] = {forces[g][0], forces[g][1], forces[g][2]};
+  return out;
+}
+
 ResultRecorder::ResultRecorder(Problem& problem, const Config& config,
                                std::unique_ptr<OutputFolder> folder, MPI_Comm comm)
     : problem_(problem), comm_(comm), folder_(std::move(folder)) {
@@ -99,7 +118,16 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
     f.cavity_pressure_load = owned_values(load_);
     if (constraints_->fluid_weight_load(load_)) f.fluid_weight_load = owned_values(load_);
   }
-  problem_.element_fields(u, f.von_mises, f.J);
+  {
+    Problem::ElementFieldValues v;
+    problem_.element_fields(u, v);
+    f.von_mises = std::move(v.von_mises);
+    f.J = std::move(v.J);
+    f.stress = std::move(v.stress);
+    f.strain = std::move(v.strain);
+    f.principal_stress = std::move(v.principal_stress);
+    f.principal_strain = std::move(v.principal_strain);
+  }
   f.rank.assign(f.J.size(), rank_);
   HistoryRow row;
   row.add_count("step", written_);
@@ -107,6 +135,7 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
   const int newton = sources_.newton_iterations ? sources_.newton_iterations() : 0;
   if (sources_.newton_iterations) row.add_count("newton_iterations", newton - newton_at_last_row_);
   for (const auto& columns : sources_.columns) columns(u, row);
+  add_reactions(problem_, u, s, row);
   // Refuses a non-finite value on every rank, before writing; a file that cannot be written
   // stops every rank with SolveError.
   writer_->write_step(f);

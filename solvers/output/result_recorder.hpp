@@ -36,6 +36,12 @@ struct HistorySources {
   std::vector<std::function<void(Vec u, HistoryRow& row)>> columns;
 };
 
+// The reactions of the deck's boundary groups (Problem::reactions) at u and load factor s:
+// history columns reaction_<group>_<x|y|z>_N, and summary.json's {group: [x, y, z]} (N).
+// Collective.
+void add_reactions(Problem& problem, Vec u, double s, HistoryRow& row);
+nlohmann::json reactions_json(Problem& problem, Vec u, double s);
+
 class ResultRecorder {
  public:
   // folder: open_output_folder's result (null except on rank 0).

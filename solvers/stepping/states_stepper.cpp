@@ -1,5 +1,6 @@
 #include "solvers/stepping/states_stepper.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -96,10 +97,15 @@ void StatesStepper::end_state(Vec u) {
   state["load_factor"] = plan.load_factor(plan.taus.back());
   if (config_.tip) {
     const TipOrientation t = tip_orientation(problem_, config_.tip->group, config_.gravity, u);
+    const auto& d = t.displacement;
     state["tip"] = {{"group", config_.tip->group},
                     {"inclination_deg", t.inclination_deg},
-                    {"rotation_deg", t.rotation_deg}};
+                    {"rotation_deg", t.rotation_deg},
+                    {"displacement_m", {d[0], d[1], d[2]}},
+                    {"displacement_magnitude_m", std::hypot(d[0], d[1], d[2])}};
   }
+  if (!problem_.reaction_groups().empty())
+    state["reactions_N"] = reactions_json(problem_, u, state["load_factor"].get<double>());
   state["added_volume_ml"] = constraints_.added_volume() * 1e6;
   state["volume_change_ml"] = constraints_.volume_change() * 1e6;
   const nlohmann::json actuators = constraints_.report();

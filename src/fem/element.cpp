@@ -116,10 +116,13 @@ ElementFields fields(const double* X, const double* u, const MaterialLaw& m) {
   const NodeMatrix<NPE> Um = Eigen::Map<const NodeMatrix<NPE>>(u);
   Mat3 J;
   reference_jacobian<NPE>(Xm, t.dN[0], J);
-  const Mat3 F = Mat3::Identity() + Um * (J.inverse().transpose() * t.dN[0]).transpose();
+  const Mat3 H = Um * (J.inverse().transpose() * t.dN[0]).transpose();
+  const Mat3 F = Mat3::Identity() + H;
   ElementFields out;
   out.J = F.determinant();
-  out.von_mises = von_mises(cauchy_stress(m, F));
+  out.stress = cauchy_stress(m, F);
+  out.von_mises = von_mises(out.stress);
+  out.strain = green_lagrange_strain(H);
   return out;
 }
 
@@ -133,6 +136,16 @@ bool orientation_preserved(const double* X, const double* u) {
 }
 
 }  // namespace
+
+Mat3 green_lagrange_strain(const Mat3& H) { return 0.5 * (H + H.transpose() + H.transpose() * H); }
+
+std::array<double, 3> principal_values(const Mat3& symmetric) {
+  // The iterative solver, not computeDirect: the closed-form roots lose digits to
+  // cancellation when two eigenvalues are close (a uniaxial stress has two equal ones).
+  Eigen::SelfAdjointEigenSolver<Mat3> solver(symmetric, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d ascending = solver.eigenvalues();
+  return {ascending[2], ascending[1], ascending[0]};
+}
 
 P1Geometry tet_p1_geometry(const double* X) {
   const auto& t = tet_tables<4>(1);  // one point: grad N is constant on a P1 element

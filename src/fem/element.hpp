@@ -84,14 +84,20 @@ double face_enclosed_volume(int order, const double* x);
 // finite stress, so this is the inversion check of a step at a tenth of tet_fields' cost.
 bool tet_orientation_preserved(int order, const double* X, const double* u);
 
-// Element values for output, at the element centroid: deformation gradient F, Cauchy
-// von Mises stress and J = det F.
+// Element values for output, at the element centroid: the Cauchy stress sigma (Pa), its von
+// Mises value, the Green-Lagrange strain E = (F^T F - I) / 2 and J = det F.
 struct ElementFields {
   double von_mises = 0;
   double J = 1;
+  Mat3 stress = Mat3::Zero();
+  Mat3 strain = Mat3::Zero();
 };
+// E = (H + H^T + H^T H) / 2 from H = F - I, which keeps a small strain's relative precision.
+Mat3 green_lagrange_strain(const Mat3& H);
+// The eigenvalues of a symmetric tensor, largest first (principal stresses or strains).
+std::array<double, 3> principal_values(const Mat3& symmetric);
 ElementFields tet_fields(int order, const double* X, const double* u, const MaterialLaw& m);
-// The same for the F-bar element: the stress at Fbar, J = Jbar.
+// The same for the F-bar element: the stress and the strain at Fbar, J = Jbar.
 ElementFields tet_fields_fbar(int order, const double* X, const double* u, const MaterialLaw& m);
 
 }  // namespace hs

@@ -233,7 +233,9 @@ ElementFields fbar_fields(const double* X, const double* u, const MaterialLaw& m
   const Mat3 F = Mat3::Identity() + H;
   const Mat3 Fbar = m.small_strain() ? Mat3(F + (mean - H.trace()) / 3.0 * Mat3::Identity())
                                      : Mat3(std::cbrt(out.J / F.determinant()) * F);
-  out.von_mises = von_mises(cauchy_stress(m, Fbar));
+  out.stress = cauchy_stress(m, Fbar);
+  out.von_mises = von_mises(out.stress);
+  out.strain = green_lagrange_strain(Fbar - Mat3::Identity());
   return out;
 }
 

@@ -89,7 +89,11 @@ struct StepFields {
   std::vector<double> cavity_pressure_load, fluid_weight_load;
   std::vector<double> von_mises;  // per tetrahedron of its rows (Cauchy, at the centroid)
   std::vector<double> J;          // per tetrahedron (det F at the centroid)
-  std::vector<int> rank;          // per tetrahedron: the MPI rank that owns it
+  // Tensors at the centroid, written only when not empty (all four together): per
+  // tetrahedron the Cauchy stress and the Green-Lagrange strain (9 each, row-major: xx xy xz
+  // yx ... zz) and their principal values (3 each, largest first).
+  std::vector<double> stress, strain, principal_stress, principal_strain;
+  std::vector<int> rank;  // per tetrahedron: the MPI rank that owns it
 };
 
 // <folder>/<name>.h5 and <folder>/<name>.xmf (layout: docs/output.md). P2 meshes are

@@ -3,6 +3,8 @@
 //   /mesh/coordinates  N x 3 float64      /mesh/topology  E x 4 or E x 10 int64 (VTK order)
 //   /mesh/node_ids  N int64, /mesh/tet_ids  E int64 (the rows' numbers in the mesh file)
 //   /step_<k>/displacement, nodal_load  N x 3 float64;  von_mises, J  E float64;
+//   stress, strain  E x 9 float64 (Cauchy, Green-Lagrange; row-major 3 x 3),
+//   principal_stress, principal_strain  E x 3 float64 (largest first);
 //   /step_<k>/rank  E int32;  attributes /step_<k>/time, time_kind;
 //   with cavities /step_<k>/cavity_pressure_load (and with a liquid's weight
 //   fluid_weight_load)  N x 3 float64, the parts of nodal_load they are.
@@ -19,6 +21,7 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "common/error.hpp"
 #include "common/exchange.hpp"
@@ -39,8 +42,8 @@ struct XdmfWriter::Impl {
   std::vector<int64_t> node_ids, tet_ids;
   std::vector<double> times;  // of the steps written so far
   std::vector<std::string> time_kinds;
-  std::vector<char> has_pressure, has_weight;  // per step: its optional fields
-  std::vector<std::string> mask_names;         // /mesh/group_<name> datasets
+  std::vector<char> has_pressure, has_weight, has_tensors;  // per step: its optional fields
+  std::vector<std::string> mask_names;                      // /mesh/group_<name> datasets
   bool closed = false;
 
   std::string h5_path() const { return folder + "/" + name + ".h5"; }
@@ -138,6 +141,20 @@ std::string first_non_finite(const char* field, const std::vector<double>& value
   return {};
 }
 
+// The same for a field of several values per tetrahedron.
+std::string first_non_finite_cell(const char* field, const std::vector<double>& values, int per_tet,
+                                  const std::vector<int64_t>& ids, size_t step, double time) {
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (std::isfinite(values[i])) continue;
+    const int64_t tet = ids[i / per_tet];
+    return "output step " + std::to_string(step) + " (time " + number_text(time) + "): " + field +
+           "[" + std::to_string(per_tet * tet + static_cast<int64_t>(i % per_tet)) +
+           "] (tetrahedron " + std::to_string(tet) + ") is not finite (" +
+           std::to_string(values[i]) + "); the step was not written";
+  }
+  return {};
+}
+
 }  // namespace
 
 std::string XdmfWriter::Impl::grid(const std::string& indent, int step) const {
@@ -180,6 +197,14 @@ std::string XdmfWriter::Impl::grid(const std::string& indent, int step) const {
       attribute("cavity_pressure_load", "Vector", "Node", nodes, 3, "Float", 8);
     if (has_weight[step]) attribute("fluid_weight_load", "Vector", "Node", nodes, 3, "Float", 8);
     attribute("von_mises", "Scalar", "Cell", tets, 0, "Float", 8);
+    if (has_tensors[step]) {
+      // Full 3 x 3 tensors: XDMF's Tensor6 order (xx xy xz yy yz zz) is not VTK's symmetric
+      // order (xx yy zz xy yz xz), and the readers differ in whether they convert it.
+      attribute("stress", "Tensor", "Cell", tets, 9, "Float", 8);
+      attribute("strain", "Tensor", "Cell", tets, 9, "Float", 8);
+      attribute("principal_stress", "Vector", "Cell", tets, 3, "Float", 8);
+      attribute("principal_strain", "Vector", "Cell", tets, 3, "Float", 8);
+    }
     attribute("J", "Scalar", "Cell", tets, 0, "Float", 8);
     attribute("rank", "Scalar", "Cell", tets, 0, "Int", 4);
   }
@@ -303,6 +328,13 @@ void XdmfWriter::write_step(const StepFields& f) {
   const bool pressure = !f.cavity_pressure_load.empty(), weight = !f.fluid_weight_load.empty();
   if (pressure) require_size("cavity_pressure_load", f.cavity_pressure_load.size(), 3 * w.my_nodes);
   if (weight) require_size("fluid_weight_load", f.fluid_weight_load.size(), 3 * w.my_nodes);
+  const bool tensors = !f.stress.empty();
+  if (tensors) {
+    require_size("stress", f.stress.size(), 9 * w.my_tets);
+    require_size("strain", f.strain.size(), 9 * w.my_tets);
+    require_size("principal_stress", f.principal_stress.size(), 3 * w.my_tets);
+    require_size("principal_strain", f.principal_strain.size(), 3 * w.my_tets);
+  }
   const size_t k = w.times.size();
   if (!std::isfinite(f.time))
     throw SolveError("output step " + std::to_string(k) + ": the time is not finite");
@@ -312,6 +344,12 @@ void XdmfWriter::write_step(const StepFields& f) {
   if (error.empty())
     error = first_non_finite("von_mises", f.von_mises, w.tet_ids, false, k, f.time);
   if (error.empty()) error = first_non_finite("J", f.J, w.tet_ids, false, k, f.time);
+  for (const auto& [field, values, per_tet] :
+       {std::tuple<const char*, const std::vector<double>&, int>{"stress", f.stress, 9},
+        {"strain", f.strain, 9},
+        {"principal_stress", f.principal_stress, 3},
+        {"principal_strain", f.principal_strain, 3}})
+    if (error.empty()) error = first_non_finite_cell(field, values, per_tet, w.tet_ids, k, f.time);
   if (error.empty())
     error = first_non_finite("cavity_pressure_load", f.cavity_pressure_load, w.node_ids, true, k,
                              f.time);
@@ -324,9 +362,10 @@ void XdmfWriter::write_step(const StepFields& f) {
 
   const std::string step = "/step_" + std::to_string(k);
   const int64_t nodal_fields = 2 + pressure + weight;
-  const int64_t bytes =
-      nodal_fields * w.nodes * 3 * 8 + w.tets * (8 + 8 + 4) +
-      Hdf5File::metadata_allowance(3 + 2 * (nodal_fields + 3), static_cast<int64_t>(k) + 1);
+  const int64_t cell_fields = 3 + 4 * tensors;
+  const int64_t bytes = nodal_fields * w.nodes * 3 * 8 + w.tets * (8 + 8 + 4 + tensors * 24 * 8) +
+                        Hdf5File::metadata_allowance(3 + 2 * (nodal_fields + cell_fields),
+                                                     static_cast<int64_t>(k) + 1);
   // The step exists for readers once the .xmf names it. The new .xmf is written first (a full
   // disk then stops the step before the .h5 holds any of it) and put in place last: the .h5
   // never holds a step that the .xmf does not name, nor the .xmf one that the .h5 lacks.
@@ -334,6 +373,7 @@ void XdmfWriter::write_step(const StepFields& f) {
   w.time_kinds.push_back(f.time_kind);
   w.has_pressure.push_back(pressure);
   w.has_weight.push_back(weight);
+  w.has_tensors.push_back(tensors);
   std::unique_ptr<StagedFile> xmf;  // rank 0's
   try {
     write_together(w.comm, w.rank == 0,
@@ -352,6 +392,17 @@ void XdmfWriter::write_step(const StepFields& f) {
     if (weight) nodal("fluid_weight_load", f.fluid_weight_load, "N");
     h5.write_rows(step + "/von_mises", f.von_mises, w.tets, 0, w.first_tet);
     h5.set_attribute(step + "/von_mises", "units", std::string("Pa"));
+    if (tensors) {
+      auto cells = [&](const char* field, const std::vector<double>& values, int cols,
+                       const char* units) {
+        h5.write_rows(step + "/" + field, values, w.tets, cols, w.first_tet);
+        h5.set_attribute(step + "/" + field, "units", std::string(units));
+      };
+      cells("stress", f.stress, 9, "Pa");
+      cells("strain", f.strain, 9, "1");
+      cells("principal_stress", f.principal_stress, 3, "Pa");
+      cells("principal_strain", f.principal_strain, 3, "1");
+    }
     h5.write_rows(step + "/J", f.J, w.tets, 0, w.first_tet);
     h5.set_attribute(step + "/J", "units", std::string("1"));
     h5.write_rows(step + "/rank", f.rank, w.tets, 0, w.first_tet);
@@ -363,6 +414,7 @@ void XdmfWriter::write_step(const StepFields& f) {
     w.time_kinds.pop_back();
     w.has_pressure.pop_back();
     w.has_weight.pop_back();
+    w.has_tensors.pop_back();
     throw SolveError("output step " + std::to_string(k) + " (time " + number_text(f.time) +
                      ") not written: " + e.what());
   }

@@ -2,7 +2,9 @@
 // on 2 under mpiexec: cavity_pressure_load does the virtual work 3 p V of a closed cavity,
 // fluid_weight_load sums to the liquid's weight of the history and summary.json, and what
 // nodal_load holds beside them is the silicone's weight; the group masks are the cavity's
-// loaded nodes and the clamped ones. A deck without cavities writes neither part.
+// loaded nodes and the clamped ones; the stress tensors are symmetric and give the von Mises
+// field and the principal stresses written beside them. A deck without cavities writes
+// neither load part.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -121,6 +123,31 @@ void check_cylinder(const std::string& launcher) {
          {"displacement", "nodal_load", "cavity_pressure_load", "fluid_weight_load"})
       EXPECT_EQ(h5.text(step + "/" + field, "units"), field[0] == 'd' ? "m" : "N") << field;
     EXPECT_EQ(h5.text(step + "/von_mises", "units"), "Pa");
+    // The tensors per tetrahedron: von Mises and the principal stresses are those of the
+    // written Cauchy stress, which is symmetric.
+    EXPECT_EQ(h5.text(step + "/stress", "units"), "Pa");
+    EXPECT_EQ(h5.text(step + "/strain", "units"), "1");
+    const auto sigma = h5.doubles(step + "/stress");
+    const auto principal = h5.doubles(step + "/principal_stress");
+    const auto mises = h5.doubles(step + "/von_mises");
+    ASSERT_EQ(sigma.size(), 9 * tets);
+    ASSERT_EQ(principal.size(), 3 * tets);
+    ASSERT_EQ(h5.doubles(step + "/strain").size(), 9 * tets);
+    for (size_t e = 0; e < tets; ++e) {
+      const double* s = &sigma[9 * e];
+      const double* p = &principal[3 * e];
+      const double scale = std::abs(s[0]) + std::abs(s[4]) + std::abs(s[8]) + 1;
+      EXPECT_NEAR(s[1], s[3], 1e-12 * scale);
+      EXPECT_NEAR(p[0] + p[1] + p[2], s[0] + s[4] + s[8], 1e-12 * scale);
+      EXPECT_GE(p[0], p[1]);
+      EXPECT_GE(p[1], p[2]);
+      const double shear = s[1] * s[1] + s[2] * s[2] + s[5] * s[5];
+      const double vm =
+          std::sqrt(0.5 * ((s[0] - s[4]) * (s[0] - s[4]) + (s[4] - s[8]) * (s[4] - s[8]) +
+                           (s[8] - s[0]) * (s[8] - s[0])) +
+                    3 * shear);
+      EXPECT_NEAR(mises[e], vm, 1e-12 * scale);
+    }
     const auto u = h5.doubles(step + "/displacement");
     const auto load = h5.doubles(step + "/nodal_load");
     const auto fp = h5.doubles(step + "/cavity_pressure_load");

@@ -383,7 +383,10 @@ TEST(History, EveryOutputStepHasARowEqualToTheSummaryAndTheH5) {
                                              "effector_tip_x_m",
                                              "effector_tip_y_m",
                                              "effector_tip_z_m",
-                                             "actuator_cavity_Pa"};
+                                             "actuator_cavity_Pa",
+                                             "reaction_base_x_N",
+                                             "reaction_base_y_N",
+                                             "reaction_base_z_N"};
   EXPECT_EQ(csv.header, expected);
   ASSERT_EQ(csv.rows.size(), summary["outputs"].get<size_t>());
   ASSERT_EQ(csv.rows.size(), 6u);
@@ -397,6 +400,10 @@ TEST(History, EveryOutputStepHasARowEqualToTheSummaryAndTheH5) {
   EXPECT_EQ(last[csv.column("cavity_cavity_fluid_weight_N")],
             cavity["fluid_weight_total"].get<double>());
   EXPECT_GT(last[csv.column("cavity_cavity_fluid_weight_N")], 0);
+  // The clamp's reaction at the last step is the run's.
+  for (int d = 0; d < 3; ++d)
+    EXPECT_EQ(last[csv.column(std::string("reaction_base_") + "xyz"[d] + "_N")],
+              summary["reactions_N"]["base"][d].get<double>());
   // Each target set's row: its effector where summary.json says it was reached, its actuation.
   for (size_t t = 0; t < 2; ++t) {
     const auto& target = summary["targets"][t];
@@ -430,10 +437,17 @@ TEST(History, AStaticRunNamesItsLoadFactor) {
   const std::string folder = (tmp.path() / "beam").string();
   ASSERT_EQ(run(cantilever(folder, "--set time.steps=4 --set output.every=2")), 0);
   const Csv csv = csv_of(folder + "/history.csv");
-  EXPECT_EQ(csv.header, (std::vector<std::string>{"step", "load_factor", "newton_iterations"}));
+  EXPECT_EQ(csv.header, (std::vector<std::string>{"step", "load_factor", "newton_iterations",
+                                                  "reaction_clamped_x_N", "reaction_clamped_y_N",
+                                                  "reaction_clamped_z_N"}));
   ASSERT_EQ(csv.rows.size(), 2u);  // every 2nd of 4 steps
   EXPECT_EQ(csv.rows[0][1], 0.5);
   EXPECT_EQ(csv.rows[1][1], 1.0);
+  // The clamp carries the weight at the row's load factor: rho g L h^2 = 24.525 N in full.
+  EXPECT_NEAR(csv.rows[0][csv.column("reaction_clamped_z_N")], 0.5 * 24.525, 1e-8);
+  EXPECT_NEAR(csv.rows[1][csv.column("reaction_clamped_z_N")], 24.525, 1e-8);
+  EXPECT_EQ(csv.rows[1][csv.column("reaction_clamped_z_N")],
+            json_of(folder + "/summary.json")["reactions_N"]["clamped"][2].get<double>());
   EXPECT_EQ(json_of(folder + "/summary.json")["outputs"], 2);
   EXPECT_EQ(h5_column(folder + "/cantilever_gravity.h5", "/history/load_factor"),
             (std::vector<double>{0.5, 1.0}));

@@ -32,6 +32,26 @@ TEST(RunReport, StatesGiveEachCavitysPressureInKilopascalsAndVolumesInMillilitre
   EXPECT_EQ(report.find("{"), std::string::npos) << "no JSON on the screen";
 }
 
+TEST(RunReport, TipDisplacementInMillimetresAndReactionsPerBoundaryGroup) {
+  const Json summary = Json::parse(R"({"steps": 3, "newton_iterations": 9,
+    "reactions_N": {"base": [0.0, 1.0817425, -2.5e-14], "x0": [-3.25, 0, 0]},
+    "states": [{"name": "inflated", "tip": {"group": "tip", "inclination_deg": 0,
+                "rotation_deg": 17.2, "displacement_m": [0, -0.019, 0.0001],
+                "displacement_magnitude_m": 0.0190026},
+                "cavities": [{"name": "cavity", "pressure": 7915.9, "volume_ml": 93.98,
+                              "added_volume_ml": 15.0}]}]})");
+  const std::string report = hs::run_report(summary);
+  EXPECT_NE(report.find("tip displacement (mm)"), std::string::npos) << report;
+  EXPECT_NE(report.find("17.20               19.003"), std::string::npos) << report;
+  EXPECT_NE(report.find("boundary group  reaction x (N)  reaction y (N)  reaction z (N)"),
+            std::string::npos)
+      << report;
+  // -2.5e-14 N beside 3.25 N is round-off of zero.
+  EXPECT_NE(report.find("base            0               1.08174         0\n"), std::string::npos)
+      << report;
+  EXPECT_NE(report.find("x0              -3.25"), std::string::npos) << report;
+}
+
 TEST(RunReport, CablesGiveTheirForceAndPullInMillimetres) {
   const Json summary = Json::parse(R"({"steps": 8, "newton_iterations": 20,
     "states": [{"name": "pulled", "cavities": [],

@@ -160,5 +160,88 @@ TEST(Fields, UniaxialStretchOfACurvedElement) {
   }
 }
 
+// u = H X for a homogeneous H: F = I + H on every element, straight or curved.
+std::vector<double> homogeneous_displacement(const std::vector<double>& X, const Mat3& H) {
+  std::vector<double> u(X.size());
+  for (size_t a = 0; a < X.size() / 3; ++a) {
+    const Eigen::Vector3d ua = H * Eigen::Vector3d(X[3 * a], X[3 * a + 1], X[3 * a + 2]);
+    for (int d = 0; d < 3; ++d) u[3 * a + d] = ua(d);
+  }
+  return u;
+}
+
+double largest_difference(const Mat3& a, const Mat3& b) { return (a - b).cwiseAbs().maxCoeff(); }
+
+TEST(Fields, NeoHookeanStressAndStrainOfAHomogeneousDeformation) {
+  // A stretch with shear: the closed form of the law, sigma = (mu (b - I) + lambda ln J I) / J
+  // with b = F F^T, and E = (F^T F - I) / 2, on straight and curved elements, for the
+  // standard and the F-bar element (Jbar = J when the deformation is homogeneous).
+  const double mu = 3.0e5, lambda = 7.0e5;
+  const auto nh = make_material_law("neo_hookean", {{"mu", mu}, {"lambda", lambda}});
+  const Mat3 H = (Mat3() << 0.2, 0.05, 0.0, -0.03, -0.08, 0.1, 0.02, 0.0, -0.06).finished();
+  const Mat3 F = Mat3::Identity() + H;
+  const double J = F.determinant();
+  const Mat3 sigma =
+      (mu * (F * F.transpose() - Mat3::Identity()) + lambda * std::log(J) * Mat3::Identity()) / J;
+  const Mat3 E = 0.5 * (F.transpose() * F - Mat3::Identity());
+  for (int order : {1, 2}) {
+    const std::vector<double> X = mapped_tet(order, order == 2 ? 0.3 : 0.0);
+    const std::vector<double> u = homogeneous_displacement(X, H);
+    for (const ElementFields& f : {tet_fields(order, X.data(), u.data(), *nh),
+                                   tet_fields_fbar(order, X.data(), u.data(), *nh)}) {
+      EXPECT_LT(largest_difference(f.stress, sigma), 1e-12 * sigma.norm()) << "order " << order;
+      EXPECT_LT(largest_difference(f.strain, E), 1e-13) << "order " << order;
+      EXPECT_NEAR(f.J, J, 1e-13);
+    }
+  }
+}
+
+TEST(Fields, UniaxialStretchStressAndPrincipalValues) {
+  // F = diag(1 + e, 1, 1): sigma_1 = (mu (l^2 - 1) + lambda ln l) / l, sigma_2 = sigma_3 =
+  // lambda ln l / l; E_11 = ((1 + e)^2 - 1) / 2, the other strains 0. Principal values come
+  // largest first.
+  const double mu = 3.0, lambda = 7.0, e = 0.25, l = 1 + e;
+  const auto nh = make_material_law("neo_hookean", {{"mu", mu}, {"lambda", lambda}});
+  const Mat3 H = Eigen::Vector3d(e, 0, 0).asDiagonal();
+  const std::vector<double> X = mapped_tet(2, 0.3);
+  const ElementFields f = tet_fields(2, X.data(), homogeneous_displacement(X, H).data(), *nh);
+  const double s1 = (mu * (l * l - 1) + lambda * std::log(l)) / l, s2 = lambda * std::log(l) / l;
+  const Mat3 sigma = Eigen::Vector3d(s1, s2, s2).asDiagonal();
+  EXPECT_LT(largest_difference(f.stress, sigma), 1e-13);
+  EXPECT_NEAR(f.strain(0, 0), (l * l - 1) / 2, 1e-15);
+  EXPECT_NEAR(f.strain.norm() - std::abs(f.strain(0, 0)), 0, 1e-15);
+  const auto ps = principal_values(f.stress), pe = principal_values(f.strain);
+  EXPECT_NEAR(ps[0], s1, 1e-13);
+  EXPECT_NEAR(ps[1], s2, 1e-13);
+  EXPECT_NEAR(ps[2], s2, 1e-13);
+  EXPECT_NEAR(pe[0], (l * l - 1) / 2, 1e-15);
+  EXPECT_NEAR(pe[1], 0, 1e-15);
+  EXPECT_NEAR(pe[2], 0, 1e-15);
+}
+
+TEST(Fields, LinearElasticStressIsLameOfTheSmallStrain) {
+  // sigma = lambda tr(eps) I + 2 mu eps, eps = sym(H), for a general small H; the strain field
+  // is Green-Lagrange's, which differs from eps by H^T H / 2.
+  const double mu = 3.0e5, lambda = 7.0e5;
+  const auto linear = make_material_law("linear_elastic", {{"mu", mu}, {"lambda", lambda}});
+  const Mat3 H = 1e-4 * (Mat3() << 2.0, 0.5, -1.0, 0.3, -0.8, 1.0, 0.2, 0.4, -0.6).finished();
+  const Mat3 eps = 0.5 * (H + H.transpose());
+  const Mat3 sigma = lambda * eps.trace() * Mat3::Identity() + 2 * mu * eps;
+  for (int order : {1, 2}) {
+    const std::vector<double> X = mapped_tet(order, order == 2 ? 0.3 : 0.0);
+    const ElementFields f =
+        tet_fields(order, X.data(), homogeneous_displacement(X, H).data(), *linear);
+    EXPECT_LT(largest_difference(f.stress, sigma), 1e-12 * sigma.norm()) << "order " << order;
+    EXPECT_LT(largest_difference(f.strain, eps + 0.5 * H.transpose() * H), 1e-19);
+    // Principal stresses: those of the symmetric sigma, by an independent route (its
+    // invariants: their sum is the trace, their product the determinant).
+    const auto ps = principal_values(f.stress);
+    EXPECT_GE(ps[0], ps[1]);
+    EXPECT_GE(ps[1], ps[2]);
+    EXPECT_NEAR(ps[0] + ps[1] + ps[2], sigma.trace(), 1e-12 * sigma.norm());
+    EXPECT_NEAR(ps[0] * ps[1] * ps[2], sigma.determinant(), 1e-10 * std::pow(sigma.norm(), 3));
+  }
+}
+
 }  // namespace
 }  // namespace hs

@@ -70,6 +70,16 @@ StepFields fields(const Mesh& mesh, int step, double time) {
     f.von_mises.push_back(1e5 * (e + 1) + step);
     f.J.push_back(1 - 0.01 * (e + step));
     f.rank.push_back(static_cast<int>((e + step) % 2));
+    if (step == 1) {  // a step with the tensors (9 and 3 per tetrahedron)
+      for (int k = 0; k < 9; ++k) {
+        f.stress.push_back(1e4 * (e + 1) * (k + 1) - step);
+        f.strain.push_back(1e-3 * (k - 4) + e);
+      }
+      for (int k = 0; k < 3; ++k) {
+        f.principal_stress.push_back(1e5 * (3 - k) + e);
+        f.principal_strain.push_back(0.1 * (3 - k) - e);
+      }
+    }
   }
   return f;
 }
@@ -269,13 +279,26 @@ void check_xmf(const std::string& folder, const std::string& name, const Mesh& m
   }
   EXPECT_GE(collection, 0);
   EXPECT_EQ(grids, static_cast<int>(times.size()));
-  int loaded = 0;  // steps with the load parts
-  for (int k = 0; k < grids; ++k)
-    loaded += !read_dataset(folder + "/" + name + ".h5",
-                            "/step_" + std::to_string(k) + "/cavity_pressure_load")
-                   .dims.empty();
+  int loaded = 0, tensors = 0;  // steps with the load parts, with the tensors
+  for (int k = 0; k < grids; ++k) {
+    const std::string step = "/step_" + std::to_string(k);
+    loaded +=
+        !read_dataset(folder + "/" + name + ".h5", step + "/cavity_pressure_load").dims.empty();
+    tensors += !read_dataset(folder + "/" + name + ".h5", step + "/stress").dims.empty();
+  }
   // Topology, geometry, volume_group, the one node mask and five fields per step.
-  EXPECT_EQ(items, 9 * grids + 2 * loaded);
+  EXPECT_EQ(items, 9 * grids + 2 * loaded + 4 * tensors);
+  // The tensors as ParaView's 3 x 3 tensors, their principal values as 3 components.
+  for (const auto& e : elements) {
+    if (e.name != "Attribute") continue;
+    const std::string& field = e.attributes.at("Name");
+    if (field == "stress" || field == "strain")
+      EXPECT_EQ(e.attributes.at("AttributeType"), "Tensor") << field;
+    if (field.rfind("principal_", 0) == 0)
+      EXPECT_EQ(e.attributes.at("AttributeType"), "Vector") << field;
+    if (field == "stress" || field.rfind("principal_", 0) == 0)
+      EXPECT_EQ(e.attributes.at("Center"), "Cell") << field;
+  }
 }
 
 // ---- Tests ----
@@ -329,6 +352,15 @@ TEST_P(XdmfWriterTest, Hdf5HoldsEveryArray) {
   const StepFields f = fields(mesh, 1, 1.0);
   EXPECT_EQ(read_dataset(h5(), "/step_1/cavity_pressure_load").values, f.cavity_pressure_load);
   EXPECT_EQ(read_dataset(h5(), "/step_1/fluid_weight_load").values, f.fluid_weight_load);
+  // The tensors only where the step has them: E x 9 and E x 3, row by row.
+  EXPECT_TRUE(read_dataset(h5(), "/step_0/stress").dims.empty());
+  EXPECT_EQ(read_dataset(h5(), "/step_1/stress").values, f.stress);
+  EXPECT_EQ(read_dataset(h5(), "/step_1/stress").dims, (std::vector<hsize_t>{hsize_t(E), 9}));
+  EXPECT_EQ(read_dataset(h5(), "/step_1/strain").values, f.strain);
+  EXPECT_EQ(read_dataset(h5(), "/step_1/principal_stress").values, f.principal_stress);
+  EXPECT_EQ(read_dataset(h5(), "/step_1/principal_strain").dims,
+            (std::vector<hsize_t>{hsize_t(E), 3}));
+  EXPECT_EQ(read_dataset(h5(), "/step_1/principal_strain").values, f.principal_strain);
   // The physical groups, their names and every dataset's units.
   EXPECT_EQ(read_dataset(h5(), "/mesh/volume_group").values, (std::vector<double>{0, 1}));
   EXPECT_EQ(read_text_attribute(h5(), "/mesh/volume_group", "names"), "[\"base\",\"cap\"]");
@@ -348,6 +380,10 @@ TEST_P(XdmfWriterTest, Hdf5HoldsEveryArray) {
                                                     {"/step_1/cavity_pressure_load", "N"},
                                                     {"/step_1/fluid_weight_load", "N"},
                                                     {"/step_1/von_mises", "Pa"},
+                                                    {"/step_1/stress", "Pa"},
+                                                    {"/step_1/strain", "1"},
+                                                    {"/step_1/principal_stress", "Pa"},
+                                                    {"/step_1/principal_strain", "1"},
                                                     {"/step_1/J", "1"},
                                                     {"/step_1/rank", "1"}};
   for (const auto& [dataset, unit] : units)
@@ -411,6 +447,10 @@ TEST_P(XdmfWriterTest, RefusesNonFiniteValues) {
   f = fields(mesh, 1, 1.0);
   f.J[1] = INFINITY;
   EXPECT_NE(message(f).find("J[1] (tetrahedron 1) is not finite"), std::string::npos);
+  f = fields(mesh, 1, 1.0);
+  f.stress[9 + 4] = NAN;  // tetrahedron 1, yy
+  EXPECT_NE(message(f).find("stress[13] (tetrahedron 1) is not finite"), std::string::npos)
+      << message(f);
   f = fields(mesh, 1, 1.0);
   f.nodal_load.back() = -INFINITY;
   EXPECT_NE(message(f).find("nodal_load[" + std::to_string(3 * mesh.num_nodes() - 1) + "]"),
