@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/interrupt.hpp"
+#include "solvers/residual_test.hpp"
 
 namespace hs {
 
@@ -78,24 +79,14 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
                              std::abs(c[i]) / constraints_.control_scale(i), lambda[i]));
       HS_PETSC(PetscPrintf(problem_.comm(), "\n"));
     }
-    if ((r_norm <= tolerance || (it > 0 && r_norm <= rtol_ * r0)) && controls_met(c)) {
+    ResidualTest test{tolerance, rtol_, [&] { return problem_.residual_roundoff(u); },
+                      constraints_.load_jump()};
+    const std::string verdict =
+        residual_verdict(test, it, r_norm, r0, r_previous, controls_met(c), floor);
+    if (!verdict.empty()) {
       result.converged = true;
-      result.reason = "converged";
+      result.reason = verdict;
       break;
-    }
-    // A residual that no longer falls by half may sit at a floor no Newton step goes below:
-    // the round-off of the internal forces (as the plain Newton's test), or the jump of a
-    // column method's weights when a wall crosses a column's centre (one column's weight).
-    if (it > 1 && r_norm >= 0.5 * r_previous && controls_met(c)) {
-      const double jump = constraints_.load_jump();
-      floor = std::max(problem_.residual_roundoff(u), jump);
-      if (r_norm <= floor) {
-        result.converged = true;
-        result.reason = r_norm <= jump ? "converged (|R| within one column's weight, the column "
-                                         "method's resolution)"
-                                       : "converged (|R| at its round-off)";
-        break;
-      }
     }
     r_previous = r_norm;
     if (it >= max_it_) {

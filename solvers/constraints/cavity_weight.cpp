@@ -35,8 +35,8 @@ CavityWeight::CavityWeight(const Distribution& dist, const CavityConfig& cavity,
   MPI_Comm_rank(comm, &rank_);
   const auto& fw = cavity.fluid_weight;
   options_.method = fw.method == WeightMethod::hydrostatic   ? fluidweight::Method::hydrostatic
-                     : fw.method == WeightMethod::column_head ? fluidweight::Method::column_head
-                                                              : fluidweight::Method::column;
+                    : fw.method == WeightMethod::column_head ? fluidweight::Method::column_head
+                                                             : fluidweight::Method::column;
   options_.implementation = fw.device == WeightDevice::cuda ? fluidweight::Implementation::cuda
                                                             : fluidweight::Implementation::cpu_fast;
   options_.grid = fw.grid;

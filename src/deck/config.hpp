@@ -135,8 +135,7 @@ enum class WeightDevice { cpu, cuda };  // cuda: column only
 // converged: weight recomputed at every Newton iterate; linearized: the paper's J_w = w / v_c,
 // distribution frozen at the start of each step.
 enum class WeightCoupling { converged, linearized };
-inline const std::vector<std::string> kWeightMethodNames = {"column", "column_head",
-                                                            "hydrostatic"};
+inline const std::vector<std::string> kWeightMethodNames = {"column", "column_head", "hydrostatic"};
 inline const std::vector<std::string> kWeightDeviceNames = {"cpu", "cuda"};
 inline const std::vector<std::string> kWeightCouplingNames = {"converged", "linearized"};
 struct FluidWeightConfig {
