@@ -37,6 +37,7 @@
 #include "run_report.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/simulation.hpp"
+#include "solvers/solver_options.hpp"
 #include "solvers/verification/reference_check.hpp"
 #include "version.hpp"
 
@@ -161,6 +162,7 @@ void print_deck_warnings(const hs::Config& config) {
 // --check: the deck validated and printed resolved, its mesh loaded (or meshed) and its groups
 // checked, the mesh's statistics printed; nothing solved, nothing written.
 void check_deck(const hs::Config& config) {
+  hs::check_solver_options(config.solver, config.deck_path);
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0)

@@ -17,6 +17,7 @@
 #include "mesh/mesh_h5.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/petsc_handle.hpp"
+#include "solvers/solver_options.hpp"
 
 // Scotch's generator advances with every partition in a process: reset before each one, a
 // graph splits the same way each time. (Declared here: scotch.h is not needed for one call.)
@@ -51,7 +52,7 @@ std::unique_ptr<Mesh> load_mesh_on_rank_zero(const MeshConfig& cfg, MPI_Comm com
 
 void use_one_scotch_thread() { setenv("SCOTCH_PTHREAD_NUMBER", "1", 0); }
 
-std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm) {
+std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm, const SolverConfig& solver) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   const int64_t n = slab.slab_tets();
@@ -71,8 +72,12 @@ std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm) {
   MatHandle adjacency;
   HS_PETSC(MatCreateMPIAdj(comm, static_cast<PetscInt>(n), static_cast<PetscInt>(slab.num_tets), ia,
                            ja, nullptr, adjacency.out()));
+  const SolverOptions options(kPartitionPrefix, solver, {}, SolverOptions::Reach::every_object);
   MatPartitioningHandle partitioning;
   HS_PETSC(MatPartitioningCreate(comm, partitioning.out()));
+  const auto object = reinterpret_cast<PetscObject>(partitioning.get());
+  options.attach(object);
+  HS_PETSC(PetscObjectSetOptionsPrefix(object, kPartitionPrefix));
   HS_PETSC(MatPartitioningSetAdjacency(partitioning, adjacency));
   HS_PETSC(MatPartitioningSetType(partitioning, MATPARTITIONINGPTSCOTCH));
   HS_PETSC(MatPartitioningSetFromOptions(partitioning));
@@ -86,7 +91,8 @@ std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm) {
   return part;
 }
 
-Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm, MeshLoadTimes* times) {
+Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm, MeshLoadTimes* times,
+                                   const SolverConfig& solver) {
   const double t0 = MPI_Wtime();
   // From a .msh or .geo, rank 0 keeps the whole mesh only until the blocks are sent. An .h5
   // is checked in blocks as it is read (read_mesh_h5), the element limit before reading.
@@ -98,7 +104,7 @@ Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm, MeshLoa
         cfg.file + ": " + std::to_string(slab.num_tets) +
         " tetrahedra, more than mesh.max_elements = " + std::to_string(cfg.max_elements));
   const double t1 = MPI_Wtime();
-  const std::vector<int> part = partition_slab(slab, comm);
+  const std::vector<int> part = partition_slab(slab, comm, solver);
   const double t2 = MPI_Wtime();
   Distribution d = distribute_slabs(slab, part, comm);
   if (times) {

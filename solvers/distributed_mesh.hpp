@@ -22,9 +22,10 @@ struct MeshLoadTimes {
 };
 
 // Collective. Throws InputError on every rank for a bad mesh (naming the file) and for more
-// tetrahedra than cfg.max_elements.
+// tetrahedra than cfg.max_elements. `solver`: the deck's options for the partitioner.
 Distribution load_distributed_mesh(const MeshConfig& cfg, MPI_Comm comm,
-                                   MeshLoadTimes* times = nullptr);
+                                   MeshLoadTimes* times = nullptr,
+                                   const SolverConfig& solver = SolverConfig{});
 
 // Collective: the whole mesh on rank 0 (null elsewhere), loaded or meshed through gmsh; its
 // units warning, if any, on standard error. A failure is thrown on every rank.
@@ -32,9 +33,11 @@ std::unique_ptr<Mesh> load_mesh_on_rank_zero(const MeshConfig& cfg, MPI_Comm com
 
 // Collective: the part (rank) of each of the slab's tetrahedra, balanced, with few faces
 // cut. The same mesh on the same ranks splits the same way when Scotch runs one thread per
-// process (use_one_scotch_thread; with several its search is not repeatable). The PETSc
-// option -mat_partitioning_type chooses another of PETSc's partitioners.
-std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm);
+// process (use_one_scotch_thread; with several its search is not repeatable). The
+// partitioner's own options (prefix hs_partition_, composed from `solver` and the command line
+// as a solver object's are): -mat_partitioning_type chooses another of PETSc's partitioners.
+std::vector<int> partition_slab(const MeshSlab& slab, MPI_Comm comm,
+                                const SolverConfig& solver = SolverConfig{});
 
 // Before the first partition (main, and the tests' main): Scotch runs one thread per process,
 // unless SCOTCH_PTHREAD_NUMBER is set. The ranks already fill the cores; Scotch's default,

@@ -16,7 +16,7 @@ namespace hs {
 
 RunSetup::RunSetup(const Config& config_in, MPI_Comm comm_in, const std::string& restart_folder)
     : config(config_in), comm(comm_in), t_start(MPI_Wtime()), kind(stepping_kind_of(config_in)) {
-  check_solver_types(config.solver, config.deck_path);
+  check_solver_options(config.solver, config.deck_path);
   // A static body that its conditions leave free to move rigidly has a singular tangent:
   // every step would fail, which is better said at once (again with the mesh, below).
   if (config.dirichlet.empty())
@@ -52,7 +52,7 @@ RunSetup::RunSetup(const Config& config_in, MPI_Comm comm_in, const std::string&
 }
 
 void RunSetup::load_mesh() {
-  dist = load_distributed_mesh(config.mesh, comm, &mesh_times);
+  dist = load_distributed_mesh(config.mesh, comm, &mesh_times, config.solver);
   check_groups(config, dist.groups);
   check_rigid_motions_held(config, dist.node_groups, dist.x, comm);
   exact = make_exact_solution(config);

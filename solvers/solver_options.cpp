@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/petsc_handle.hpp"
@@ -43,6 +44,10 @@ bool known_type(const std::string& name, const std::string& type) {
     PcHandle pc;
     PCCreate(PETSC_COMM_SELF, pc.out());
     error = PCSetType(pc, type.c_str());
+  } else if (name_ends_with(name, "mat_partitioning_type")) {
+    MatPartitioningHandle partitioning;
+    MatPartitioningCreate(PETSC_COMM_SELF, partitioning.out());
+    error = MatPartitioningSetType(partitioning, type.c_str());
   }  // each object is released in its branch, still under the return handler
   PetscPopErrorHandler();
   return error == 0;
@@ -75,10 +80,28 @@ std::vector<std::pair<std::string, std::string>> global_entries() {
 // for an option of every object.
 std::string owner_of(const std::string& name) {
   std::string owner;
-  for (const char* prefix :
-       {kNewtonPrefix, kBorderedPrefix, kControlPrefix, kCorrectionPrefix, kMassPrefix})
+  for (const char* prefix : kSolverPrefixes)
     if (name.rfind(prefix, 0) == 0 && std::string(prefix).size() > owner.size()) owner = prefix;
   return owner;
+}
+
+// Why the option `name` (without its dash) is not hydrosoft's, or "" where it is hydrosoft's
+// or PETSc's; `dash` is how the message spells an option ("-" on the command line).
+std::string unknown_option_problem(const std::string& name, const std::string& dash) {
+  if (name.rfind("hs_", 0) != 0 || !owner_of(name).empty()) return "";
+  std::vector<std::string> known(std::begin(kUnprefixedOptions), std::end(kUnprefixedOptions));
+  if (contains(known, name)) return "";
+  // The nearest of every prefix put in place of every beginning of the name (and of the
+  // options without a prefix): -hs_bordred_ksp_type is nearest -hs_bordered_ksp_type.
+  std::vector<std::string> prefixes;
+  for (const char* prefix : kSolverPrefixes) {
+    prefixes.emplace_back(prefix);
+    for (size_t begin = 1; begin <= name.size(); ++begin)
+      known.push_back(prefix + name.substr(begin));
+  }
+  return "unknown hydrosoft option prefix (did you mean " + dash + nearest(name, known) +
+         "? the solver objects' prefixes are " + join(prefixes) +
+         "; docs/decks.md, \"Solver options\")";
 }
 
 void set_value(PetscOptions db, const std::string& name, const std::string& value) {
@@ -122,12 +145,19 @@ std::map<std::string, std::string> preset_options(SolverPreset preset, TangentKi
   return options;
 }
 
-void check_solver_types(const SolverConfig& solver, const std::string& deck_path) {
+void check_solver_options(const SolverConfig& solver, const std::string& deck_path) {
+  const auto command_line = global_entries();
+  for (const auto& [name, value] : solver.petsc_options)
+    if (const std::string problem = unknown_option_problem(name, ""); !problem.empty())
+      throw InputError(deck_path + ": solver.petsc_options." + name + ": " + problem);
+  for (const auto& [name, value] : command_line)
+    if (const std::string problem = unknown_option_problem(name, "-"); !problem.empty())
+      throw InputError("command line: -" + name + ": " + problem);
   for (const auto& [name, value] : solver.petsc_options)
     if (!known_type(name, value))
       throw InputError(deck_path + ": solver.petsc_options." + name + ": unknown PETSc type '" +
                        value + "'");
-  for (const auto& [name, value] : global_entries())
+  for (const auto& [name, value] : command_line)
     if (!known_type(name, value))
       throw InputError("command line: -" + name + ": unknown PETSc type '" + value + "'");
 }

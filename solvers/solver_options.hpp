@@ -20,12 +20,20 @@ namespace hs {
 // The prefixes of the solver objects: the plain Newton's SNES (its KSP, PC and line search
 // included), the bordered Newton (its KSP and its own Newton parameters), the inverse
 // controller's KSP, the controller's background correction KSP, the dynamic stepping's
-// mass solve.
+// mass solve (its matrix included), the mesh's partitioner over the ranks.
 inline constexpr const char* kNewtonPrefix = "hs_newton_";
 inline constexpr const char* kBorderedPrefix = "hs_bordered_";
 inline constexpr const char* kControlPrefix = "hs_control_";
 inline constexpr const char* kCorrectionPrefix = "hs_control_correction_";
 inline constexpr const char* kMassPrefix = "hs_mass_";
+inline constexpr const char* kPartitionPrefix = "hs_partition_";
+// Every object's prefix: the one list that the composition of an object's options and the
+// check of option names (check_solver_options) read. A new solver object adds its line here.
+inline constexpr const char* kSolverPrefixes[] = {kNewtonPrefix,  kBorderedPrefix,
+                                                  kControlPrefix, kCorrectionPrefix,
+                                                  kMassPrefix,    kPartitionPrefix};
+// hydrosoft's options that no object's prefix begins (read with get_unprefixed_bool).
+inline constexpr const char* kUnprefixedOptions[] = {"hs_near_null_space"};
 
 // What the preset needs to know of the tangent: symmetric (L D L^T, CG or MINRES) and
 // positive definite (CG).
@@ -37,11 +45,13 @@ struct TangentKind {
 // The preset's options for a tangent of this kind, without prefix.
 std::map<std::string, std::string> preset_options(SolverPreset preset, TangentKind tangent);
 
-// Asks PETSc, before any work, whether every *_type option of the deck's
-// solver.petsc_options and of the command line (with or without an object's prefix) names a
-// type it has (KSP, PC, SNES, line search); throws InputError naming the deck key or the
-// command-line option otherwise.
-void check_solver_types(const SolverConfig& solver, const std::string& deck_path);
+// Before any work, for every option of the deck's solver.petsc_options and of the command
+// line: one that begins with "hs_" must begin with an object's prefix (kSolverPrefixes) or be
+// one of kUnprefixedOptions, where a misspelt prefix would otherwise leave the option unread
+// without a word; and PETSc is asked whether every *_type option (with or without an object's
+// prefix) names a type it has (KSP, PC, SNES, line search, mesh partitioner). Throws InputError
+// naming the deck key or the command-line option, and for a prefix the nearest known one.
+void check_solver_options(const SolverConfig& solver, const std::string& deck_path);
 
 class SolverOptions {
  public:

@@ -17,7 +17,14 @@ DynamicStepper::DynamicStepper(const Config& config, Problem& problem, Nonlinear
       solver_(solver),
       stats_(stats),
       nsteps_(static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9))) {
-  inertia_.M = MatHandle(problem.create_mass_matrix());
+  {
+    // The mass matrix reads the mass solve's options (a matrix's -mat_view, as the tangent reads
+    // its solver's), not PETSc's global database.
+    const SolverOptions options(kMassPrefix, config.solver, {},
+                                SolverOptions::Reach::own_prefix_only);
+    const OptionsScope scope(options.database());
+    inertia_.M = MatHandle(problem.create_mass_matrix());
+  }
   for (VecHandle* v : {&v_, &a_, &a_new_, &R_, &inertia_.u_pred, &Mv_, &f_ext_, &scratch_})
     *v = VecHandle(problem.create_vector());  // zeroed: v(0) = 0
 }

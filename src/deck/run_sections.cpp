@@ -126,9 +126,11 @@ const KeyTable<SolverConfig>& solver_keys() {
           "any PETSc option, written without the leading dash (`ksp_type: cg`), for every "
           "solver object, or with an object's prefix for that one alone (`hs_control_ksp_type: "
           "gmres`; \"Solver options\" below); values are any scalar, kept as text; an empty "
-          "value is a flag (`snes_monitor:`). Before any work PETSc is asked whether every "
-          "`*_type` option (KSP, PC, SNES, line search, with or without a prefix; from the "
-          "deck or the command line) names a type it has",
+          "value is a flag (`snes_monitor:`). Before any work (and by `--check`), from the "
+          "deck or the command line: an option that begins with `hs_` must begin with a solver "
+          "object's prefix (an error names the nearest), and PETSc is asked whether every "
+          "`*_type` option (KSP, PC, SNES, line search, mesh partitioner, with or without a "
+          "prefix) names a type it has",
           [](const DeckReader& r, const YAML::Node& options, const std::string& key,
              SolverConfig& s, const Config&) {
             if (!options.IsMap()) r.fail(key, options, "expected a map of option: value");

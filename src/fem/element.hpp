@@ -12,6 +12,14 @@
 
 namespace hs {
 
+// The quadrature degrees of the element routines (element.cpp says why these): what the
+// mesh checks sample a curved element's Jacobian at (src/mesh/mesh_checks.cpp).
+struct QuadratureDegrees {
+  int stiffness, volume, body, mass;
+};
+constexpr QuadratureDegrees kP1Degrees{1, 1, 1, 2};
+constexpr QuadratureDegrees kP2Degrees{2, 3, 5, 7};
+
 struct ElementOutput {
   bool valid = true;  // false if any quadrature point has det F <= 0 (inverted element);
                       // linear_elastic, a small-strain law, is never inverted

@@ -15,14 +15,8 @@ namespace hs {
 template <int NPE>
 using NodeMatrix = Eigen::Matrix<double, 3, NPE>;  // column a: a vector at node a
 
-struct Degrees {
-  int stiffness, volume, body, mass;
-};
-constexpr Degrees kP1Degrees{1, 1, 1, 2};
-constexpr Degrees kP2Degrees{2, 3, 5, 7};
-
 template <int NPE>
-constexpr const Degrees& degrees() {
+constexpr const QuadratureDegrees& degrees() {
   return NPE == 4 ? kP1Degrees : kP2Degrees;
 }
 

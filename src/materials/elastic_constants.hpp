@@ -27,23 +27,23 @@ Limit poisson_ratio_limit();
 // them: each read as given (E, mu > 0; nu in (-1, 0.5)), printed as the pair the deck gave.
 // resolve_elastic_constants then checks the pair and derives the other.
 template <class S>
-KeyTable<S> elastic_constant_keys() {
+LawKeyTable<S> elastic_constant_keys() {
   const auto engineering = [](const S& s) { return given_as_E_nu(s); };
   const auto lame = [](const S& s) { return !given_as_E_nu(s); };
   return {
-      number_key<S>("E", &S::E, above(0), "Young's modulus (Pa), with `nu`")
+      LawKeys::number_key<S>("E", &S::E, above(0), "Young's modulus (Pa), with `nu`")
           .defaults_to("required without `mu`, `lambda`")
           .printed_when(engineering),
-      number_key<S>("nu", &S::nu, poisson_ratio_limit(),
-                    "Poisson's ratio, with `E` (0.5, incompressible, is beyond a "
-                    "displacement formulation)")
+      LawKeys::number_key<S>("nu", &S::nu, poisson_ratio_limit(),
+                             "Poisson's ratio, with `E` (0.5, incompressible, is beyond a "
+                             "displacement formulation)")
           .defaults_to("required without `mu`, `lambda`")
           .printed_when(engineering),
-      number_key<S>("mu", &S::mu, above(0), "Lamé's shear modulus μ (Pa), with `lambda`")
+      LawKeys::number_key<S>("mu", &S::mu, above(0), "Lamé's shear modulus μ (Pa), with `lambda`")
           .defaults_to("required without `E`, `nu`")
           .printed_when(lame),
-      number_key<S>("lambda", &S::lambda, any_number(),
-                    "Lamé's λ (Pa), with `mu`; the bulk modulus λ + 2μ/3 must be > 0")
+      LawKeys::number_key<S>("lambda", &S::lambda, any_number(),
+                             "Lamé's λ (Pa), with `mu`; the bulk modulus λ + 2μ/3 must be > 0")
           .defaults_to("required without `E`, `nu`")
           .printed_when(lame),
   };
@@ -89,8 +89,8 @@ class ConstantsOnlyLaw : public ElasticLaw {
  public:
   static constexpr const char* kName = Name;
   using Parameters = ElasticConstants;
-  static const KeyTable<Parameters>& keys() {
-    static const KeyTable<Parameters> keys = elastic_constant_keys<Parameters>();
+  static const LawKeyTable<Parameters>& keys() {
+    static const LawKeyTable<Parameters> keys = elastic_constant_keys<Parameters>();
     return keys;
   }
   static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,

@@ -50,10 +50,10 @@ StressResult gent(double mu, double Jm, double kappa, const Mat3& H, bool with_t
   return s;
 }
 
-const KeyTable<GentParameters>& GentLaw::keys() {
-  static const KeyTable<GentParameters> keys = [] {
-    KeyTable<GentParameters> keys = elastic_constant_keys<GentParameters>();
-    keys.push_back(number_key<GentParameters>(
+const LawKeyTable<GentParameters>& GentLaw::keys() {
+  static const LawKeyTable<GentParameters> keys = [] {
+    LawKeyTable<GentParameters> keys = elastic_constant_keys<GentParameters>();
+    keys.push_back(LawKeys::number_key<GentParameters>(
                        "Jm", &GentParameters::Jm, above(0, "the limit of I1b - 3"),
                        "the limit of Ī₁ − 3 (the chains' extensibility): ψ = −μ Jm/2 ln(1 − (Ī₁ − "
                        "3)/Jm) + κ/2 (ln J)², κ = λ + 2μ/3; a smaller Jm stiffens sooner")

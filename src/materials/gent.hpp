@@ -21,7 +21,7 @@ class GentLaw final : public ElasticLaw {
   static constexpr const char* kName = "gent";
   using Parameters = GentParameters;
   // The elastic constants' and Jm.
-  static const KeyTable<Parameters>& keys();
+  static const LawKeyTable<Parameters>& keys();
   static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,
                                                  const std::string& key, const Parameters& read);
   Parameters parameters() const { return {constants_, Jm_}; }

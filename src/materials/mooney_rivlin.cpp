@@ -66,18 +66,19 @@ StressResult mooney_rivlin(double c1, double c2, double kappa, const Mat3& H, bo
   return s;
 }
 
-const KeyTable<MooneyRivlinParameters>& MooneyRivlinLaw::keys() {
+const LawKeyTable<MooneyRivlinParameters>& MooneyRivlinLaw::keys() {
   using P = MooneyRivlinParameters;
-  static const KeyTable<P> keys = [] {
-    KeyTable<P> keys = elastic_constant_keys<P>();
-    keys.push_back(optional_number_key<P>("c1", &P::c1,
-                                          "the first invariant's coefficient: ψ = c1 (Ī₁ − 3) + c2 "
-                                          "(Ī₂ − 3) + κ/2 (ln J)², κ = λ + "
-                                          "2μ/3; c1 + c2 > 0 (the small-strain shear modulus "
-                                          "is 2 (c1 + c2))")
-                       .defaults_to("μ/2"));
+  static const LawKeyTable<P> keys = [] {
+    LawKeyTable<P> keys = elastic_constant_keys<P>();
     keys.push_back(
-        number_key<P>("c2", &P::c2, any_number(), "the second invariant's coefficient, see `c1`"));
+        LawKeys::optional_number_key<P>("c1", &P::c1,
+                                        "the first invariant's coefficient: ψ = c1 (Ī₁ − 3) + c2 "
+                                        "(Ī₂ − 3) + κ/2 (ln J)², κ = λ + "
+                                        "2μ/3; c1 + c2 > 0 (the small-strain shear modulus "
+                                        "is 2 (c1 + c2))")
+            .defaults_to("μ/2"));
+    keys.push_back(LawKeys::number_key<P>("c2", &P::c2, any_number(),
+                                          "the second invariant's coefficient, see `c1`"));
     return keys;
   }();
   return keys;

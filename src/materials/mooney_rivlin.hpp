@@ -23,7 +23,7 @@ class MooneyRivlinLaw final : public ElasticLaw {
   static constexpr const char* kName = "mooney_rivlin";
   using Parameters = MooneyRivlinParameters;
   // The elastic constants', c1 and c2.
-  static const KeyTable<Parameters>& keys();
+  static const LawKeyTable<Parameters>& keys();
   static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,
                                                  const std::string& key, const Parameters& read);
   Parameters parameters() const { return {constants_, c1_, c2_}; }

@@ -63,19 +63,20 @@ double yeoh_softening_onset(double C1, double C2, double C3) {
   return onset;
 }
 
-const KeyTable<YeohParameters>& YeohLaw::keys() {
+const LawKeyTable<YeohParameters>& YeohLaw::keys() {
   using P = YeohParameters;
-  static const KeyTable<P> keys = {
-      number_key<P>(
+  static const LawKeyTable<P> keys = {
+      LawKeys::number_key<P>(
           "C1", &P::C1, above(0, "the small-strain shear modulus is 2 C1"),
           "the first coefficient (Pa): ψ = C1 x + C2 x² + C3 x³ + κ/2 (ln J)², x = Ī₁ − 3; the "
           "small-strain shear modulus is μ = 2 C1")
           .needed(),
-      number_key<P>("C2", &P::C2, any_number(),
-                    "the second coefficient (Pa), of either sign as published fits have them"),
-      number_key<P>("C3", &P::C3, any_number(), "the third coefficient (Pa), as `C2`"),
-      number_key<P>("nu", &P::nu, poisson_ratio_limit(),
-                    "Poisson's ratio: the bulk modulus κ = 2μ (1 + ν) / (3 (1 − 2ν))")
+      LawKeys::number_key<P>(
+          "C2", &P::C2, any_number(),
+          "the second coefficient (Pa), of either sign as published fits have them"),
+      LawKeys::number_key<P>("C3", &P::C3, any_number(), "the third coefficient (Pa), as `C2`"),
+      LawKeys::number_key<P>("nu", &P::nu, poisson_ratio_limit(),
+                             "Poisson's ratio: the bulk modulus κ = 2μ (1 + ν) / (3 (1 − 2ν))")
           .needed(),
   };
   return keys;

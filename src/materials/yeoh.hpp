@@ -25,7 +25,7 @@ class YeohLaw final : public MaterialLaw {
  public:
   static constexpr const char* kName = "yeoh";
   using Parameters = YeohParameters;
-  static const KeyTable<Parameters>& keys();  // C1, C2, C3, nu
+  static const LawKeyTable<Parameters>& keys();  // C1, C2, C3, nu
   static std::shared_ptr<const MaterialLaw> make(const DeckReader& r, const YAML::Node& node,
                                                  const std::string& key, const Parameters& read);
   Parameters parameters() const { return {C1(), C2_, C3_, constants_.nu}; }

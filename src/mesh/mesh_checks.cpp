@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "fem/element.hpp"
 #include "fem/quadrature.hpp"
 #include "fem/shape.hpp"
 #include "mesh/tet_numbering.hpp"
@@ -25,11 +26,6 @@ std::string point(const Mesh& mesh, int64_t n) {
   s << "(" << mesh.x[3 * n] << ", " << mesh.x[3 * n + 1] << ", " << mesh.x[3 * n + 2] << ")";
   return s.str();
 }
-
-// The quadrature degrees of the P2 element routines (src/fem/element.cpp): stiffness,
-// volume, body force, mass. A Jacobian that is not positive at one of their points stops
-// the element routines; the nodes are checked as well.
-constexpr int kP2ElementDegrees[] = {2, 3, 5, 7};
 
 // Whether every edge node of P2 tetrahedron t sits at its edge's midpoint (to round-off):
 // its Jacobian is then that of its vertices, positive after orientation.
@@ -83,7 +79,9 @@ void check_curved_tets(const Mesh& mesh, const std::string& file, const MeshLabe
   if (mesh.order != 2) return;
   std::vector<Eigen::Vector3d> points;
   for (int a = 0; a < 10; ++a) points.push_back(tet_node(2, a));
-  for (int degree : kP2ElementDegrees) {
+  // A Jacobian that is not positive at a point of one of the element routines' rules stops
+  // them; the nodes are checked as well.
+  for (int degree : {kP2Degrees.stiffness, kP2Degrees.volume, kP2Degrees.body, kP2Degrees.mass}) {
     const auto& rule = tet_quadrature(degree).points;
     points.insert(points.end(), rule.begin(), rule.end());
   }

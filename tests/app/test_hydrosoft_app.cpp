@@ -3,7 +3,8 @@
 // else the run prints (its configuration, its summary, a PETSc-level monitor), on 1 and 2
 // ranks; a client that closes its pipes mid-step ends the session with its steps kept; a
 // second run on the output folder of a run in progress fails at once while the first one
-// finishes with consistent results; and a mesh that hides a shell command where the checks
+// finishes with consistent results; an option with a misspelt solver-object prefix stops the
+// run before any work; and a mesh that hides a shell command where the checks
 // before gmsh once did not look runs no command, however the run is started.
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -179,6 +180,36 @@ TEST(SharedOutputFolder, ASecondRunFailsAtOnceAndTheFirstFinishes) {
   EXPECT_EQ(grids, summary["outputs"].get<int>());
   EXPECT_FALSE(fs::exists(folder + ".partial"));
   EXPECT_FALSE(fs::exists(folder + ".lock"));
+}
+
+// An option with a misspelt object prefix was read by nothing and the run went on without a
+// word. Now the run, and --check, stop before any work, naming the option and its source.
+TEST(SolverOptions, AMisspeltPrefixStopsTheRunNamingTheOption) {
+  const TempFolder dir;
+  const std::string deck = std::string(HYDROSOFT_SOURCE_DIR) + "/input/hydrostatic_patch.yaml";
+  const std::string out = (dir.path() / "out").string(), err = (dir.path() / "err.txt").string();
+  const std::string run = std::string(HYDROSOFT_EXE) + " " + deck + " --set output.folder=" + out;
+  const struct {
+    std::string command, message;
+  } cases[] = {
+      {run + " -hs_bordred_ksp_type preonly",
+       "hydrosoft: error: command line: -hs_bordred_ksp_type: unknown hydrosoft option prefix "
+       "(did you mean -hs_bordered_ksp_type?"},
+      {run + " --set solver.petsc_options.hs_nwton_ksp_type=cg",
+       "hydrosoft: error: " + deck +
+           ": solver.petsc_options.hs_nwton_ksp_type: unknown hydrosoft option prefix (did you "
+           "mean hs_newton_ksp_type?"},
+      {std::string(HYDROSOFT_EXE) + " --check " + deck + " -hs_mas_ksp_rtol 1e-9",
+       "hydrosoft: error: command line: -hs_mas_ksp_rtol: unknown hydrosoft option prefix (did "
+       "you mean -hs_mass_ksp_rtol?"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.command);
+    EXPECT_EQ(hs::testing::run(c.command + " > /dev/null 2> " + err), 2);
+    const std::string message = text_of(err);
+    EXPECT_NE(message.find(c.message), std::string::npos) << message;
+    EXPECT_FALSE(fs::exists(out));
+  }
 }
 
 // A .geo whose shell command hides in a file it merges (any name: gmsh reads an unknown one as

@@ -6,6 +6,7 @@
 // 1 to 4 ranks.
 #include <gtest/gtest.h>
 #include <mpi.h>
+#include <petscsys.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -233,6 +234,25 @@ TEST(PartitionSlab, BalancedPartsThatCutFewFaces) {
       cut += part[t] != part[whole.neighbours[k]];
     }
   EXPECT_LE(cut, interior / 10);
+}
+
+// The partitioner has its own options (prefix hs_partition_), from the deck and the command
+// line, as a solver object's: PETSc's "current" partitioner keeps every tetrahedron on its rank.
+TEST(PartitionSlab, TakesItsOwnOptionsFromTheDeckAndTheCommandLine) {
+  const Ranks r;
+  if (r.size < 2) GTEST_SKIP() << "needs 2 ranks";
+  const Mesh m = load_geo("block.geo", {{"h", 0.3}}, 1);
+  const MeshSlab slab = slab_of(m, r.rank, r.size);
+  const std::vector<int> kept(slab.slab_tets(), r.rank);
+  ASSERT_NE(partition_slab(slab, MPI_COMM_WORLD), kept);  // PTScotch moves some
+  for (const char* name : {"hs_partition_mat_partitioning_type", "mat_partitioning_type"}) {
+    SolverConfig solver;
+    solver.petsc_options = {{name, "current"}};
+    EXPECT_EQ(partition_slab(slab, MPI_COMM_WORLD, solver), kept) << name;
+  }
+  PetscOptionsSetValue(nullptr, "-hs_partition_mat_partitioning_type", "current");
+  EXPECT_EQ(partition_slab(slab, MPI_COMM_WORLD), kept);
+  PetscOptionsClearValue(nullptr, "-hs_partition_mat_partitioning_type");
 }
 
 TEST(LoadDistributedMesh, AMissingFileFailsOnEveryRankWithTheRootsMessage) {

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "../materials/material_fixtures.hpp"
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "deck/boundary_conflicts.hpp"
 #include "deck/deck.hpp"
@@ -24,6 +25,7 @@
 #include "solvers/multi_solve.hpp"
 #include "solvers/newton_solver.hpp"
 #include "solvers/problem.hpp"
+#include "solvers/solver_options.hpp"
 
 namespace {
 namespace mpi_test_problem {
@@ -281,7 +283,7 @@ TEST(SolverOptions, UnknownTypesAreRefusedBeforeAnyWork) {
   hs::SolverConfig solver;
   solver.petsc_options = {{"ksp_type", "nonsense"}};
   try {
-    hs::check_solver_types(solver, "deck.yaml");
+    hs::check_solver_options(solver, "deck.yaml");
     FAIL() << "ksp_type nonsense was accepted";
   } catch (const hs::InputError& e) {
     EXPECT_STREQ(e.what(),
@@ -292,11 +294,11 @@ TEST(SolverOptions, UnknownTypesAreRefusedBeforeAnyWork) {
                           {"snes_linesearch_type", "bt"},
                           {"mg_levels_ksp_type", "chebyshev"},
                           {"ksp_rtol", "1e-6"}};
-  EXPECT_NO_THROW(hs::check_solver_types(solver, "deck.yaml"));
+  EXPECT_NO_THROW(hs::check_solver_options(solver, "deck.yaml"));
   PetscOptionsSetValue(nullptr, "-pc_type", "no_such_pc");  // as if on the command line
   solver.petsc_options.clear();
   try {
-    hs::check_solver_types(solver, "deck.yaml");
+    hs::check_solver_options(solver, "deck.yaml");
     FAIL() << "-pc_type no_such_pc was accepted";
   } catch (const hs::InputError& e) {
     EXPECT_STREQ(e.what(), "command line: -pc_type: unknown PETSc type 'no_such_pc'");
@@ -305,7 +307,7 @@ TEST(SolverOptions, UnknownTypesAreRefusedBeforeAnyWork) {
   // With an object's prefix: on the command line and in the deck.
   PetscOptionsSetValue(nullptr, "-hs_bordered_ksp_type", "no_such_ksp");
   try {
-    hs::check_solver_types(solver, "deck.yaml");
+    hs::check_solver_options(solver, "deck.yaml");
     FAIL() << "-hs_bordered_ksp_type no_such_ksp was accepted";
   } catch (const hs::InputError& e) {
     EXPECT_STREQ(e.what(), "command line: -hs_bordered_ksp_type: unknown PETSc type 'no_such_ksp'");
@@ -313,13 +315,74 @@ TEST(SolverOptions, UnknownTypesAreRefusedBeforeAnyWork) {
   PetscOptionsClear(nullptr);
   solver.petsc_options = {{"hs_control_pc_type", "nonsense"}};
   try {
-    hs::check_solver_types(solver, "deck.yaml");
+    hs::check_solver_options(solver, "deck.yaml");
     FAIL() << "hs_control_pc_type nonsense was accepted";
   } catch (const hs::InputError& e) {
     EXPECT_STREQ(
         e.what(),
         "deck.yaml: solver.petsc_options.hs_control_pc_type: unknown PETSc type 'nonsense'");
   }
+}
+
+// A misspelt prefix was read by no object, without a word: -hs_bordred_ksp_type preonly ran the
+// bordered Newton with its preset's solver.
+TEST(SolverOptions, UnknownPrefixesAreRefusedBeforeAnyWork) {
+  hs::SolverConfig solver;
+  const std::string known = "the solver objects' prefixes are " + [] {
+    std::vector<std::string> prefixes(std::begin(hs::kSolverPrefixes),
+                                      std::end(hs::kSolverPrefixes));
+    return hs::join(prefixes);
+  }() + "; docs/decks.md, \"Solver options\")";
+  solver.petsc_options = {{"hs_bordred_ksp_type", "preonly"}};
+  try {
+    hs::check_solver_options(solver, "deck.yaml");
+    FAIL() << "hs_bordred_ksp_type was accepted";
+  } catch (const hs::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "deck.yaml: solver.petsc_options.hs_bordred_ksp_type: unknown hydrosoft option "
+              "prefix (did you mean hs_bordered_ksp_type? " +
+                  known);
+  }
+  solver.petsc_options.clear();
+  PetscOptionsSetValue(nullptr, "-hs_contrl_correction_ksp_rtol", "1e-3");  // the command line
+  try {
+    hs::check_solver_options(solver, "deck.yaml");
+    FAIL() << "-hs_contrl_correction_ksp_rtol was accepted";
+  } catch (const hs::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "command line: -hs_contrl_correction_ksp_rtol: unknown hydrosoft option prefix "
+              "(did you mean -hs_control_correction_ksp_rtol? " +
+                  known);
+  }
+  PetscOptionsClear(nullptr);
+  // Each object's prefix, one letter dropped, is taken back to it; spelt right, it passes.
+  for (const char* prefix : hs::kSolverPrefixes) {
+    const std::string right = std::string(prefix) + "ksp_rtol";
+    const std::string wrong = right.substr(0, 4) + right.substr(5);
+    solver.petsc_options = {{wrong, "1e-3"}};
+    try {
+      hs::check_solver_options(solver, "deck.yaml");
+      ADD_FAILURE() << wrong << " was accepted";
+    } catch (const hs::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("(did you mean " + right + "?"), std::string::npos)
+          << e.what();
+    }
+    solver.petsc_options = {{right, "1e-3"}};
+    EXPECT_NO_THROW(hs::check_solver_options(solver, "deck.yaml")) << right;
+  }
+  // hydrosoft's unprefixed options, and PETSc's own (which PETSc reports if unused), pass.
+  solver.petsc_options = {{"hs_near_null_space", "false"},
+                          {"hs_newton_monitor", ""},
+                          {"ksp_rtol", "1e-6"},
+                          {"mat_mumps_icntl_14", "50"}};
+  EXPECT_NO_THROW(hs::check_solver_options(solver, "deck.yaml"));
+  solver.petsc_options = {{"hs_near_nul_space", "false"}};
+  EXPECT_THROW(hs::check_solver_options(solver, "deck.yaml"), hs::InputError);
+  // The partitioner's type is checked as the solvers' are.
+  solver.petsc_options = {{"hs_partition_mat_partitioning_type", "ptscotch"}};
+  EXPECT_NO_THROW(hs::check_solver_options(solver, "deck.yaml"));
+  solver.petsc_options = {{"mat_partitioning_type", "no_such_partitioner"}};
+  EXPECT_THROW(hs::check_solver_options(solver, "deck.yaml"), hs::InputError);
 }
 
 // A law defined at every strain gives a linear solution even where it turns elements inside
