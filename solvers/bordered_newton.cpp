@@ -3,7 +3,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
+
+#include "common/interrupt.hpp"
+#include "solvers/residual_test.hpp"
 
 namespace hs {
 
@@ -28,6 +32,10 @@ BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints,
   // command line) as every object's options are; -hs_bordered_monitor, or -hs_newton_monitor,
   // its name before each solver object had its own prefix.
   max_it_ = static_cast<int>(options_.get_int("snes_max_it", max_it_));
+  // PETSc's names for the tolerances: snes_atol in N (else 1e-9 of the force scale),
+  // snes_rtol relative to the first residual.
+  atol_ = options_.get_real("snes_atol", -1);
+  rtol_ = options_.get_real("snes_rtol", rtol_);
   monitor_ = options_.get_bool("monitor", options_.get_unprefixed_bool("hs_newton_monitor", false));
 }
 
@@ -55,7 +63,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   PetscReal r_norm = 0;
   HS_PETSC(VecNorm(R_, NORM_2, &r_norm));
   const double r0 = r_norm;
-  double r_previous = r_norm;
+  double r_previous = r_norm, floor = 0;
   for (int it = 0;; ++it) {
     result.residual_norm = r_norm;
     if (!ok || !std::isfinite(r_norm)) {
@@ -63,33 +71,33 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
       result.reason = ok ? "residual not finite" : collapse.empty() ? "inverted element" : collapse;
       break;
     }
-    const double F = force_scale();
+    const double tolerance = atol_ >= 0 ? atol_ : 1e-9 * force_scale();
     if (monitor_) {
-      HS_PETSC(PetscPrintf(problem_.comm(), "  %2d |R| %.3e (tol %.3e)", it, r_norm, 1e-9 * F));
+      HS_PETSC(PetscPrintf(problem_.comm(), "  %2d |R| %.3e (tol %.3e)", it, r_norm, tolerance));
       for (int i = 0; i < m; ++i)
         HS_PETSC(PetscPrintf(problem_.comm(), "  c%d/C %.3e p %.6g", i,
                              std::abs(c[i]) / constraints_.control_scale(i), lambda[i]));
       HS_PETSC(PetscPrintf(problem_.comm(), "\n"));
     }
-    if ((r_norm <= 1e-9 * F || (it > 0 && r_norm <= 1e-8 * r0)) && controls_met(c)) {
+    ResidualTest test{tolerance, rtol_, [&] { return problem_.residual_roundoff(u); },
+                      constraints_.load_jump()};
+    const std::string verdict =
+        residual_verdict(test, it, r_norm, r0, r_previous, controls_met(c), floor);
+    if (!verdict.empty()) {
       result.converged = true;
-      result.reason = "converged";
-      break;
-    }
-    // The column method's weights are piecewise smooth in the wall positions (a node moving
-    // across a column boundary moves a section's weight), so the residual can stall a few
-    // decades above the tolerance at a floor set by the grid. A residual that no longer
-    // falls and is already below 1e-6 of the force scale is that floor: accept it.
-    if (it > 1 && r_norm <= 1e-6 * F && r_norm >= 0.5 * r_previous && controls_met(c)) {
-      result.converged = true;
-      result.reason = "converged (residual at its floor)";
+      result.reason = verdict;
       break;
     }
     r_previous = r_norm;
     if (it >= max_it_) {
-      result.reason = "maximum iterations";
+      char why[160];
+      std::snprintf(why, sizeof why, "maximum iterations, %d; tolerance %.3g N, floor %.3g N",
+                    max_it_, tolerance, floor);
+      result.reason = why;
       break;
     }
+    // Between iterations: a Newton that cannot converge must not hold a signal back.
+    stop_if_interrupted(problem_.comm());
     ++result.iterations;
 
     // Linearise, factor once, and solve for R, every g_c and every q_h.

@@ -60,7 +60,8 @@ class BorderedNewton : public NonlinearSolver {
   ConstraintLinearization lin_;
   double load_norm_ = 0, solve_s_ = 0, constraint_s_ = 0;
   int max_it_ = 30;
-  bool monitor_ = false;  // -hs_bordered_monitor: one line per iteration
+  double atol_ = -1, rtol_ = 1e-8;  // atol < 0: 1e-9 of the force scale
+  bool monitor_ = false;            // -hs_bordered_monitor: one line per iteration
 };
 
 }  // namespace hs

@@ -230,6 +230,12 @@ PetscInt SolverOptions::get_int(const std::string& name, PetscInt fallback) cons
   return fallback;
 }
 
+double SolverOptions::get_real(const std::string& name, double fallback) const {
+  PetscReal value = fallback;
+  HS_PETSC(PetscOptionsGetReal(db_, prefix_.c_str(), ("-" + name).c_str(), &value, nullptr));
+  return value;
+}
+
 bool SolverOptions::get_bool(const std::string& name, bool fallback) const {
   PetscBool value = fallback ? PETSC_TRUE : PETSC_FALSE;
   HS_PETSC(PetscOptionsGetBool(db_, prefix_.c_str(), ("-" + name).c_str(), &value, nullptr));

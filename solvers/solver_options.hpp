@@ -76,6 +76,7 @@ class SolverOptions {
   // The object's option `name` (without prefix or dash).
   bool has(const std::string& name) const;
   PetscInt get_int(const std::string& name, PetscInt fallback) const;
+  double get_real(const std::string& name, double fallback) const;
   bool get_bool(const std::string& name, bool fallback) const;
   // An option read without the object's prefix (-hs_near_null_space): the command line's, or
   // else the deck's, as the global database held it before objects had their own.

@@ -1,4 +1,4 @@
-// fluidweight MESH [--grid N] [--method column|hydrostatic] [--device cpu|cuda] [--kernel NAME]
+// fluidweight MESH [--grid N] [--method column|column_head|hydrostatic] [--device cpu|cuda] [--kernel NAME]
 //             [--alpha A] [--rho R] [--gravity gx,gy,gz] [--repeat K] [--forces FILE] [--json]
 //
 // Reads a closed surface (.obj, .off, .stl, .msh), computes the liquid's weight on its nodes,
@@ -19,12 +19,13 @@ namespace fw = fluidweight;
 namespace {
 
 const char* kUsage =
-    "usage: fluidweight MESH [--grid N] [--method column|hydrostatic] [--device cpu|cuda]\n"
-    "                   [--kernel NAME] [--alpha A] [--rho R] [--gravity gx,gy,gz]\n"
-    "                   [--repeat K] [--forces FILE] [--json]\n"
+    "usage: fluidweight MESH [--grid N] [--method column|column_head|hydrostatic]\n"
+    "                   [--device cpu|cuda] [--kernel NAME] [--alpha A] [--rho R]\n"
+    "                   [--gravity gx,gy,gz] [--repeat K] [--forces FILE] [--json]\n"
     "  MESH      closed triangle surface: .obj, .off, .stl (ASCII or binary), .msh (ASCII)\n"
     "  --grid    columns per side of the N x N grid (default 200)\n"
-    "  --method  column (the paper's column method, default) or hydrostatic (closed form)\n"
+    "  --method  column (the paper's column method, default), column_head (its columns with the\n"
+    "            pressure at each floor's and ceiling's depth) or hydrostatic (closed form)\n"
     "  --device  cpu (default) or cuda\n"
     "  --kernel  cpu: fast (all threads, default) or reference;\n"
     "            cuda: tiled (default), fused, automatic, leveraging or triangle_parallel,\n"

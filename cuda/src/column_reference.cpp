@@ -20,7 +20,7 @@ struct Hit {
 }  // namespace
 
 void column_reference(const CavityView& cavity, const Frame& frame, const GridParams& grid,
-                      double rho_g, CavityOutput& out) {
+                      double rho_g, bool head, CavityOutput& out) {
   out.values.assign(cavity.num_vertices, 0.0);
   out.column_volume = 0.0;
   out.unmatched_columns = 0;
@@ -58,6 +58,8 @@ void column_reference(const CavityView& cavity, const Frame& frame, const GridPa
 
   // Step 5: per column, the k-th lowest floor pairs with the k-th lowest ceiling; the section's
   // weight rho |g| w d h goes to the floor triangle's nodes by the barycentric coordinates.
+  // With the head, the floor carries the pressure at its depth below the top, rho |g| w d
+  // (top - z_floor), and the ceiling the pressure at its own depth upwards: the same net.
   std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
     return std::make_tuple(a.column, !a.bottom, a.z, a.triangle) <
            std::make_tuple(b.column, !b.bottom, b.z, b.triangle);
@@ -72,10 +74,17 @@ void column_reference(const CavityView& cavity, const Frame& frame, const GridPa
     if (num_bottoms != num_tops) ++out.unmatched_columns;
     for (size_t r = 0; r < std::min(num_bottoms, num_tops); ++r) {
       const Hit& floor = hits[first + r];
-      double h = hits[tops + r].z - floor.z;
+      const Hit& ceiling = hits[tops + r];
+      const double h = ceiling.z - floor.z, top = grid.u1 - grid.u0;
       sum_heights += h;
+      const double on_floor = head ? top - floor.z : h;
       const int* v = cavity.triangles + 3 * floor.triangle;
-      for (int k = 0; k < 3; ++k) out.values[v[k]] += rho_g * grid.cell_area * h * floor.lambda[k];
+      for (int k = 0; k < 3; ++k)
+        out.values[v[k]] += rho_g * grid.cell_area * on_floor * floor.lambda[k];
+      if (!head) continue;
+      const int* w = cavity.triangles + 3 * ceiling.triangle;
+      for (int k = 0; k < 3; ++k)
+        out.values[w[k]] -= rho_g * grid.cell_area * (top - ceiling.z) * ceiling.lambda[k];
     }
     first = end;
   }

@@ -24,6 +24,9 @@ void check_options(const Options& o) {
   if (!(o.alpha > 0.0) || !std::isfinite(o.alpha)) fail("alpha must be finite and > 0");
   if (o.threads < 0) fail("threads must be >= 0");
   if (o.tile != 0 && o.tile != 8 && o.tile != 16) fail("tile must be 0 (auto), 8 or 16");
+  if (o.method == Method::column_head && o.implementation == Implementation::cuda)
+    fail(
+        "method column_head runs on the CPU only (the CUDA kernels are the paper's column method)");
 }
 
 // Without the overflow of the squares: a sum of forces near 1e154 N still has its length.
@@ -119,7 +122,8 @@ const std::vector<Result>& Context::compute() {
       if (o.method == Method::hydrostatic) {
         detail::hydrostatic(views[c], m.frame, grid, rho_g, m.outputs[c]);
       } else {
-        detail::column_reference(views[c], m.frame, grid, rho_g, m.outputs[c]);
+        detail::column_reference(views[c], m.frame, grid, rho_g, o.method == Method::column_head,
+                                 m.outputs[c]);
       }
     }
   }
@@ -151,6 +155,10 @@ const std::vector<Result>& Context::compute() {
     r.total_weight = norm3(sum);
     r.signed_volume = volumes[c];
     r.unmatched_columns = out.unmatched_columns;
+    if (o.method != Method::hydrostatic) {
+      const detail::GridParams grid = detail::grid_for(views[c], m.frame, o.grid, volumes[c]);
+      r.column_weight = grid.empty ? 0.0 : rho_g * grid.cell_area * (grid.u1 - grid.u0);
+    }
     r.timings.wall_ms = wall_ms;
     r.timings.gpu_ms = gpu_ms;
   }
@@ -177,7 +185,9 @@ bool cuda_available() { return detail::device_present(); }
 
 std::string cuda_device_name() { return detail::device_name(); }
 
-std::string to_string(Method m) { return m == Method::column ? "column" : "hydrostatic"; }
+std::string to_string(Method m) {
+  return m == Method::column ? "column" : m == Method::column_head ? "column_head" : "hydrostatic";
+}
 
 std::string to_string(Kernel k) {
   switch (k) {
@@ -209,8 +219,9 @@ std::string to_string(Implementation i) {
 
 Method parse_method(const std::string& name) {
   if (name == "column") return Method::column;
+  if (name == "column_head") return Method::column_head;
   if (name == "hydrostatic") return Method::hydrostatic;
-  throw InputError("method: '" + name + "' is not one of column, hydrostatic");
+  throw InputError("method: '" + name + "' is not one of column, column_head, hydrostatic");
 }
 
 Kernel parse_kernel(const std::string& name) {

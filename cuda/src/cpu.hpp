@@ -40,8 +40,9 @@ struct CavityOutput {
 // Column method, CPU reference: every candidate column of every triangle is tested, every hit
 // is stored, each column's floors and ceilings are sorted and paired. Simple, double precision.
 // rho_g = rho |g|.
+// head = false: the paper's Step 5; true: column_head (fluidweight.hpp's Method).
 void column_reference(const CavityView& cavity, const Frame& frame, const GridParams& grid,
-                      double rho_g, CavityOutput& out);
+                      double rho_g, bool head, CavityOutput& out);
 
 // Column method, CPU fast path: row sweeps over bands of rows, on worker threads. Computes
 // the grid (Step 1) itself, on the threads, and returns the signed volume.

@@ -183,3 +183,41 @@ TEST(ColumnReference, ThinFeatures) {
     EXPECT_EQ(r.unmatched_columns, 0);
   }
 }
+
+// column_head on three stacked arms (the "E"): every floor and ceiling carries the liquid's
+// pressure at its depth below the top, as the closed form's vertical components do; the
+// paper's column method leaves the lower arms' ceilings unloaded and puts the head on no wall.
+// Both weigh the same in total.
+TEST(ColumnHead, FloorsAndCeilingsCarryThePressureAtTheirDepth) {
+  const SurfaceMesh e = e_shape();
+  Options head = options(kReference, 200);
+  head.method = fw::Method::column_head;
+  Options closed = options(kReference, 1);
+  closed.method = fw::Method::hydrostatic;
+  const Result h = fw::compute(e, head), c = fw::compute(e, closed), paper = run(e, 200);
+  double largest = 0, head_error = 0, paper_error = 0;
+  for (int v = 0; v < e.num_vertices(); ++v) {
+    largest = std::max(largest, std::fabs(c.forces[3 * v + 1]));
+    head_error = std::max(head_error, std::fabs(h.forces[3 * v + 1] - c.forces[3 * v + 1]));
+    paper_error = std::max(paper_error, std::fabs(paper.forces[3 * v + 1] - c.forces[3 * v + 1]));
+    EXPECT_EQ(h.forces[3 * v], 0.0);  // vertical only: the side walls' push is left out
+  }
+  EXPECT_LT(head_error, 0.01 * largest) << head_error / largest;
+  EXPECT_GT(paper_error, 0.3 * largest) << paper_error / largest;
+  const double weight = 1000 * 9.81 * std::fabs(volume(e));
+  EXPECT_NEAR(total_force(h)[1], -weight, 1e-3 * weight);
+  EXPECT_NEAR(total_force(h)[1], total_force(paper)[1], 1e-12 * weight);
+  EXPECT_EQ(h.column_volume, paper.column_volume);
+}
+
+// A column's weight, the size of a jump of the weights: rho g times a column's cross-section
+// times the cavity's height (here 5 x 3 columns' box over N^2, height 5), none in closed form.
+TEST(ColumnHead, ColumnWeightIsOneColumnOfTheCavitysHeight) {
+  const SurfaceMesh e = e_shape();
+  const Result paper = run(e, 100);
+  EXPECT_NEAR(paper.column_weight, 1000 * 9.81 * (5.0 * 3.0 / (100 * 100)) * 5.0,
+              0.02 * paper.column_weight);
+  Options closed = options(kReference, 100);
+  closed.method = fw::Method::hydrostatic;
+  EXPECT_EQ(fw::compute(e, closed).column_weight, 0.0);
+}

@@ -34,8 +34,9 @@ CavityWeight::CavityWeight(const Distribution& dist, const CavityConfig& cavity,
     : comm_(comm), owner_(owner), density_(cavity.density) {
   MPI_Comm_rank(comm, &rank_);
   const auto& fw = cavity.fluid_weight;
-  options_.method = fw.method == WeightMethod::hydrostatic ? fluidweight::Method::hydrostatic
-                                                           : fluidweight::Method::column;
+  options_.method = fw.method == WeightMethod::hydrostatic   ? fluidweight::Method::hydrostatic
+                    : fw.method == WeightMethod::column_head ? fluidweight::Method::column_head
+                                                             : fluidweight::Method::column;
   options_.implementation = fw.device == WeightDevice::cuda ? fluidweight::Implementation::cuda
                                                             : fluidweight::Implementation::cpu_fast;
   options_.grid = fw.grid;
@@ -89,7 +90,7 @@ void CavityWeight::add_weight(Vec u, double load_factor, Vec W) {
   HS_PETSC(VecScatterBegin(gather_, u, surface_u_, INSERT_VALUES, SCATTER_FORWARD));
   HS_PETSC(VecScatterEnd(gather_, u, surface_u_, INSERT_VALUES, SCATTER_FORWARD));
 
-  double summary[2] = {0, 0};  // total weight, measured volume
+  double summary[3] = {0, 0, 0};  // total weight, measured volume, one column's weight
   if (rank_ == owner_) {
     const PetscScalar* su;
     HS_PETSC(VecGetArrayRead(surface_u_, &su));
@@ -104,12 +105,14 @@ void CavityWeight::add_weight(Vec u, double load_factor, Vec W) {
                             ADD_VALUES));
     summary[0] = std::abs(load_factor) * r.total_weight;
     summary[1] = r.column_volume;
+    summary[2] = std::abs(load_factor) * r.column_weight;
   }
   HS_PETSC(VecAssemblyBegin(W));
   HS_PETSC(VecAssemblyEnd(W));
-  MPI_Bcast(summary, 2, MPI_DOUBLE, owner_, comm_);
+  MPI_Bcast(summary, 3, MPI_DOUBLE, owner_, comm_);
   total_weight_ = summary[0];
   volume_ = summary[1];
+  column_weight_ = summary[2];
   seconds_ = MPI_Wtime() - t0;
 }
 

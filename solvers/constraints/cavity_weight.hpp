@@ -38,6 +38,9 @@ class CavityWeight {
   // Of the last add_weight (the same on every rank): |sum of the nodal forces|, the volume the
   // module measured (column volume, or |signed volume| for hydrostatic), and its time.
   double total_weight() const { return total_weight_; }
+  // The column methods' jump in the weights (fluidweight::Result::column_weight, times the
+  // load factor) at the last call; 0 in closed form.
+  double column_weight() const { return column_weight_; }
   double measured_volume() const { return volume_; }
   double seconds() const { return seconds_; }
   const char* device() const;
@@ -53,7 +56,7 @@ class CavityWeight {
   std::unique_ptr<fluidweight::Context> context_;  // owner only
   VecHandle surface_u_;  // sequential, 3 per surface node on the owner, empty elsewhere
   VecScatterHandle gather_;
-  double total_weight_ = 0, volume_ = 0, seconds_ = 0;
+  double total_weight_ = 0, volume_ = 0, seconds_ = 0, column_weight_ = 0;
 };
 
 }  // namespace hs

@@ -94,6 +94,10 @@ class Constraint {
   // Linearized weight coupling: freezes the distribution of its load at u.
   virtual void freeze(Vec /*u*/, double /*s*/) {}
   virtual bool frozen_coupling() const { return false; }
+  // How far its loads can jump between two configurations as close as one likes (N): a
+  // column method's weights move by up to one column's weight when a wall crosses a column's
+  // centre. Newton's residual cannot be asked to fall below it. 0 for loads smooth in u.
+  virtual double load_jump() const { return 0; }
   // The fluid-weight module's work for it, or nullptr where no liquid weighs.
   virtual const FluidWeightUse* fluid_weight() const { return nullptr; }
 

@@ -128,6 +128,12 @@ std::string ConstraintSet::collapse_reason() const {
   return collapsed_ < 0 ? "" : constraints_[collapsed_]->collapse_reason();
 }
 
+double ConstraintSet::load_jump() const {
+  double jump = 0;
+  for (const auto& k : constraints_) jump = std::max(jump, k->load_jump());
+  return jump;
+}
+
 double ConstraintSet::fluid_weight_seconds() const {
   double seconds = 0;
   for (const auto& c : constraints_)

@@ -54,6 +54,8 @@ class ConstraintSet {
   bool residual(Vec u, double s, Vec R, std::vector<double>& c);
   // After a residual() that returned false: why, if a constraint left its domain; else "".
   std::string collapse_reason() const;
+  // The largest load_jump() of its constraints (N).
+  double load_jump() const;
   // Tangent and linearisation at (u, lambda; s), after a residual() at the same point.
   bool linearize(Vec u, double s, Mat J, ConstraintLinearization& lin);
   // q_k(u) (collective).

@@ -26,6 +26,8 @@ class HydraulicCavity : public Cavity {
   Vec measure_load() const override { return W_; }
   void freeze(Vec u, double s) override;
   bool frozen_coupling() const override { return frozen_ != nullptr; }
+  // Frozen, the weights are w V / v_c within a step: smooth.
+  double load_jump() const override { return weight_ && !frozen_ ? weight_->column_weight() : 0.0; }
   const FluidWeightUse* fluid_weight() const override { return weight_ ? &use_ : nullptr; }
   nlohmann::json report() const override;
 

@@ -103,21 +103,24 @@ std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAM
 const KeyTable<FluidWeightConfig>& fluid_weight_keys() {
   static const KeyTable<FluidWeightConfig> keys = {
       enum_key("method", &FluidWeightConfig::method, kWeightMethodNames,
-               "`column`: the column method (docs/fluidweight.md), the weight of vertical columns "
-               "of liquid on the deformed walls; `hydrostatic`: the pressure ρ g d of the depth d "
-               "below the cavity's highest point"),
+               "`hydrostatic`: the pressure ρ g d of the depth d below the cavity's highest point "
+               "on every wall, in closed form (exact for a full cavity); `column`: the paper's "
+               "column method (docs/fluidweight.md), each vertical column's weight on its floor "
+               "(leaves out the head above each section: wrong where chambers stack, "
+               "docs/cavities.md); `column_head`: the same columns with ρ g d on every floor and "
+               "ceiling (leaves out the side walls; cpu only)"),
       // N^2 columns, each with its own hits: 8192^2 is 6.7e7 columns, past any cavity's need
       // (200-1000 resolve the meshes of docs/fluidweight.md) and within memory.
       integer_key("grid", &FluidWeightConfig::grid, within(1, 8192),
                   "the weight is sampled on a `grid` × `grid` set of columns")
           .only({[](const FluidWeightConfig& w, const Config&) {
-                   return w.method == WeightMethod::column;
+                   return w.method != WeightMethod::hydrostatic;
                  },
                  [](const FluidWeightConfig& w) {
-                   return "only used by method column (method is " +
+                   return "only used by the column methods (method is " +
                           name_of(kWeightMethodNames, w.method) + ")";
                  },
-                 "`column` only"}),
+                 "`column`, `column_head`"}),
       enum_key("device", &FluidWeightConfig::device, kWeightDeviceNames,
                "`cpu` or `cuda` (`cuda` with `column` only)"),
       enum_key("coupling", &FluidWeightConfig::coupling, kWeightCouplingNames,

@@ -128,17 +128,19 @@ const std::string& name_of(const std::vector<std::string>& names, Enum value) {
 }
 
 // How a hydraulic cavity's liquid weight reaches the wall nodes (docs/cavities.md).
-enum class WeightMethod { column, hydrostatic };  // the paper's Section III | closed form
-enum class WeightDevice { cpu, cuda };            // cuda: column only
+// column: the paper's Section III; column_head: its columns with the pressure at each floor's
+// and ceiling's depth; hydrostatic: that pressure on every wall, in closed form.
+enum class WeightMethod { column, column_head, hydrostatic };
+enum class WeightDevice { cpu, cuda };  // cuda: column only
 // converged: weight recomputed at every Newton iterate; linearized: the paper's J_w = w / v_c,
 // distribution frozen at the start of each step.
 enum class WeightCoupling { converged, linearized };
-inline const std::vector<std::string> kWeightMethodNames = {"column", "hydrostatic"};
+inline const std::vector<std::string> kWeightMethodNames = {"column", "column_head", "hydrostatic"};
 inline const std::vector<std::string> kWeightDeviceNames = {"cpu", "cuda"};
 inline const std::vector<std::string> kWeightCouplingNames = {"converged", "linearized"};
 struct FluidWeightConfig {
-  WeightMethod method = WeightMethod::column;
-  int grid = 200;  // column: N x N columns
+  WeightMethod method = WeightMethod::hydrostatic;
+  int grid = 200;  // column methods: N x N columns
   WeightDevice device = WeightDevice::cpu;
   WeightCoupling coupling = WeightCoupling::converged;
 };

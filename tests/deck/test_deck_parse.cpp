@@ -72,7 +72,7 @@ cavities:
   - {group: open}
   - {group: chamber, kind: sealed_gas, initial_pressure: -5.0e3, atmospheric_pressure: 1.0e5}
   - {group: core, kind: sealed_volume}
-  - {group: water, kind: hydraulic, fluid_weight: {method: hydrostatic}}
+  - {group: water, kind: hydraulic, fluid_weight: {device: cpu}}
   - {group: bubble, kind: sealed_gas}
 time: {type: quasi_static, max_cutbacks: 4}
 states:
@@ -402,7 +402,8 @@ TEST_F(DeckParse, ReadsCavitiesStatesAndTip) {
   EXPECT_EQ(c.cavities[6].initial_pressure, 0);
   EXPECT_EQ(c.cavities[6].atmospheric_pressure, 101325);
 
-  // Hydraulic defaults: a weightless liquid; the fluid-weight keys not given keep theirs.
+  // Hydraulic defaults: a weightless liquid; the fluid-weight keys not given keep theirs (the
+  // closed form, exact for a full cavity).
   const auto& water = c.cavities[5];
   EXPECT_EQ(water.density, 0);
   EXPECT_EQ(water.fluid_weight.method, hs::WeightMethod::hydrostatic);

@@ -376,6 +376,49 @@ TEST(Cavities, ColumnAndHydrostaticWeightsHaveTheSameResultantAndMoment) {
   EXPECT_GT(difference, 1e-2 * weight);
 }
 
+// column_head on the bent cylinder, distributed: its nodal forces are the closed form's
+// vertical components (the column quadrature of the same pressure on floors and ceilings),
+// with the same total; the paper's column method is further from them (no head on the
+// ceiling, its whole weight on the floor).
+TEST(Cavities, ColumnHeadIsTheClosedFormsVerticalLoad) {
+  Scene s("cylinder_water.yaml", {"cavities[0].fluid_weight.grid=400"});
+  hs::Problem& p = *s.problem;
+  const hs::VecHandle u(p.create_vector()), head(p.create_vector()), paper(p.create_vector()),
+      exact(p.create_vector());
+  bend(p, u, 0.01);
+  hs::CavityConfig c = s.config.cavities[0];
+  hs::CavityWeight by_columns(s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
+  c.fluid_weight.method = hs::WeightMethod::column_head;
+  hs::CavityWeight by_head(s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
+  c.fluid_weight.method = hs::WeightMethod::hydrostatic;
+  hs::CavityWeight by_pressure(s.dist, c, s.config.gravity, 0, PETSC_COMM_WORLD);
+  by_columns.add_weight(u, 1.0, paper);
+  by_head.add_weight(u, 1.0, head);
+  by_pressure.add_weight(u, 1.0, exact);
+  EXPECT_NEAR(by_head.total_weight(), by_columns.total_weight(), 1e-12 * by_head.total_weight());
+  EXPECT_GT(by_head.column_weight(), 0.0);
+  EXPECT_EQ(by_pressure.column_weight(), 0.0);
+  // Gravity is along -y: compare the y components, node by node.
+  auto largest_y = [&](Vec v) {
+    PetscInt n = 0;
+    VecGetLocalSize(v, &n);
+    const PetscScalar* a;
+    VecGetArrayRead(v, &a);
+    double m = 0;
+    for (PetscInt i = 1; i < n; i += 3) m = std::max(m, std::abs(a[i]));
+    VecRestoreArrayRead(v, &a);
+    double all = 0;
+    MPI_Allreduce(&m, &all, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+    return all;
+  };
+  const double scale = largest_y(exact);
+  VecAXPY(head, -1.0, exact);
+  VecAXPY(paper, -1.0, exact);
+  const double head_error = largest_y(head), paper_error = largest_y(paper);
+  EXPECT_LT(head_error, 0.05 * scale);
+  EXPECT_GT(paper_error, 3 * head_error);
+}
+
 // u = (R - I) X: a rigid rotation by 30 deg turns the tip face's mean normal by 30 deg. About
 // x (normal to the face's normal -z and to gravity -y) the face tilts by 30 deg out of the
 // vertical; about y (gravity's axis) it stays vertical: the inclination stays 0 where the

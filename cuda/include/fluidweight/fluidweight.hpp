@@ -34,7 +34,12 @@ struct SurfaceMesh {
   int num_triangles() const { return static_cast<int>(triangles.size() / 3); }
 };
 
-enum class Method { column, hydrostatic };
+// column: the paper's column method, each section's weight on its floor. column_head: the
+// same columns, each floor and ceiling loaded by the liquid's pressure at its depth below the
+// highest point (the head above a section's ceiling pushes its floor down and its ceiling up:
+// zero net, but it inflates; CPU only). hydrostatic: that pressure on every wall, in closed
+// form (docs/fluidweight.md, "The head above a section").
+enum class Method { column, column_head, hydrostatic };
 enum class Implementation { cpu_reference, cpu_fast, cuda };
 // CUDA kernels for Steps 3-4 (see docs/fluidweight.md): the paper's leveraging kernel, one
 // thread per triangle, tiles with a load-balanced search inside each tile, Steps 1-5 fused in
@@ -72,6 +77,10 @@ struct Result {
   double signed_volume = 0.0;       // divergence theorem; negative for an inward orientation
   double total_weight = 0.0;        // |sum of the nodal forces|
   long long unmatched_columns = 0;  // columns whose floors and ceilings do not pair (0 when closed)
+  // Column methods: rho |g| times one column's cross-section times the cavity's height, the
+  // most one column section weighs: a wall crossing a column's centre moves up to this much
+  // force between its nodes, so the weights jump by it. 0 for the closed form.
+  double column_weight = 0.0;
   Timings timings;
 };
 
