@@ -225,6 +225,7 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
   std::vector<double> equilibrium;
   if (config_.control->free_solve == FreeSolve::one_step && config_.control->check_equilibrium)
     equilibrium = controller_.equilibrium_positions(u);
+  if (io_.after_steps) io_.after_steps(u, line_number);
   check_finite(u, r, equilibrium);
   ++totals_.sets;
   auto error_of = [&](const std::vector<double>& x, int e, const ControlTarget& target) {

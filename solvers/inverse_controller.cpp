@@ -157,7 +157,10 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     return again;
   }
   force_refactor_ = retake_converged_ = false;
-  if (config_.control->free_solve == FreeSolve::one_step && !config_.control->newton_finish)
+  // Refined when every step factors (a kept factorization is for speed, and its chord step
+  // from a stale tangent does not measure the distance to equilibrium: docs/control.md).
+  if (config_.control->free_solve == FreeSolve::one_step && !config_.control->newton_finish &&
+      config_.control->refactor_every == 1)
     refine(u, targets, report);
   finish_report(u, targets, clock, report);
   return report;

@@ -56,21 +56,14 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     }
     for (int c = 0; c < constraints_.size(); ++c) constraints_[c].update_measure(u);
     const std::vector<double> x1 = effectors_.positions(u);
-    double moved2 = 0, off2 = 0;
+    double moved2 = 0;
     for (const auto& t : targets) {
       const int e = effectors_.index(t.effector);
       for (int d = 0; d < 3; ++d)
-        if (effectors_.config(e).directions[d]) {
-          moved2 += std::pow(x1[3 * e + d] - x0[3 * e + d], 2);
-          off2 += std::pow(x1[3 * e + d] - t.position[d], 2);
-        }
+        if (effectors_.config(e).directions[d]) moved2 += std::pow(x1[3 * e + d] - x0[3 * e + d], 2);
     }
     report.free_step_m = std::sqrt(moved2);
-    const bool saturated =
-        std::find(report.saturated.begin(), report.saturated.end(), true) != report.saturated.end();
-    const bool settled = report.free_step_m <= tolerance;
-    if ((settled && (saturated || std::sqrt(off2) <= tolerance)) || pass == kMaxRefinements)
-      break;
+    if (report.free_step_m <= tolerance || pass == kMaxRefinements) break;
     // Again from here, freshly linearised.
     ++report.refinements;
     HS_PETSC(VecCopy(u, before));
