@@ -263,8 +263,8 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
     if (r.negative_pivots >= 0) j["negative_pivots"] = r.negative_pivots;
     std::string fallback = r.fallback;
     if (!r.background_failure.empty())
-      fallback = r.background_failure + "; factored in line" + (fallback.empty() ? "" : "; ") +
-                 fallback;
+      fallback =
+          r.background_failure + "; factored in line" + (fallback.empty() ? "" : "; ") + fallback;
     if (!fallback.empty()) j["fallback"] = fallback;
     pending_.push_back(j);
   }
@@ -349,8 +349,9 @@ void ControlLoop::check_finite(Vec u, const ControlStepReport& r,
            std::isfinite(r.free_step_m) && finite(von_mises) && finite(J);
   MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, problem_.comm());
   if (!ok)
-    throw SolveError("control step: its result is not finite (a position, an actuation or "
-                     "the stress of an element)");
+    throw SolveError(
+        "control step: its result is not finite (a position, an actuation or "
+        "the stress of an element)");
 }
 
 bool ControlLoop::next_line_answered(Vec u) {

@@ -62,9 +62,9 @@ struct ControlStepReport {
   // The free configuration could not reach the actuation of the last correction (a limit
   // point of the pressure: no equilibrium there) and stayed at the last one reached.
   bool limit_point = false;
-  // one_step: the refinements of the step's correction with its own factorization
-  // (control.one_step_tolerance), and how far the last one's free step moved the targeted
-  // effectors (m): the distance of the answer before it from its equilibrium, to first order.
+  // one_step: the passes taken again with a fresh factorization (control.one_step_tolerance),
+  // and how far the last free step from a correction moved the targeted effectors (m): a lower
+  // bound of the answer's distance from its equilibrium (docs/control.md).
   int refinements = 0;
   double free_step_m = 0;
   // Negative pivots of the in-line L D L^T factorization the step used (MUMPS; -1 when not
@@ -136,9 +136,9 @@ class InverseController {
   bool factor_if_due(Vec u, bool one_step, bool stale_failed, double r_norm,
                      ControlStepReport& report, StepClock& clock);
   bool correct_in_background(bool stale_failed, ControlStepReport& report, StepClock& clock);
-  // one_step: the step's correction refined with the step's own solver (a residual, one
-  // solve, the QP) while its free step moves the targeted effectors by more than
-  // control.one_step_tolerance.
+  // one_step: a free step from the step's correction (a residual, one solve with the step's
+  // solver), and the step taken again from there with a fresh factorization while that free
+  // step moves the targeted effectors by more than control.one_step_tolerance.
   void refine(Vec u, const std::vector<ControlTarget>& targets, ControlStepReport& report);
   // The negative pivots of ksp_'s factorization (MUMPS L D L^T), -1 when not known.
   int negative_pivots() const;

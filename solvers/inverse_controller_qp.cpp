@@ -71,7 +71,7 @@ Eigen::VectorXd InverseController::solve_actuation(const Eigen::MatrixXd& W,
     const auto& b = actuators_[a].config;
     const double lambda = constraints_[actuators_[a].constraint].multiplier();
     const double origin = change_origin_[a];  // the change per step counts from there
-    PetscScalar free_growth = 0;  // the free step's volume change (linear)
+    PetscScalar free_growth = 0;              // the free step's volume change (linear)
     HS_PETSC(VecDot(lin_.g[actuators_[a].constraint], free_step_, &free_growth));
     const double grown =
         constraints_[actuators_[a].constraint].measure() + free_growth - actuators_[a].rest_measure;

@@ -13,9 +13,8 @@
 namespace hs {
 namespace {
 
-// Enough on the finger decks near their limit point (the free step shrinks by 3-10 times per
-// refinement there); a step that needs more is far from its equilibrium and says so in
-// free_step_m.
+// Fresh passes converge as Newton does: two met the equilibrium to round-off on the finger's
+// sweep; more than four means the step is far from its equilibrium (free_step_m says so).
 constexpr int kMaxRefinements = 4;
 
 }  // namespace
@@ -26,12 +25,12 @@ constexpr int kMaxRefinements = 4;
 // next step, finding its free configuration past the target, took the pressure back: the
 // actuation went the wrong way on monotone targets (docs/control.md). So the step ends with a
 // free step from its correction (one residual, one solve with the step's factorization): the
-// answer is that free configuration, and how far the free step moved the targeted effectors
-// (free_step_m) is its distance from equilibrium before it, to first order. While that is
-// over the tolerance, or the answer is near its equilibrium but off a target it could reach,
-// the step is taken again from there with a fresh factorization (a chord step with the
-// step's old factorization does not converge after a jump of 5 kPa on the hydraulic finger:
-// measured), its pressure change still counted from the step's start.
+// answer is that free configuration. While the free step moved the targeted effectors by more
+// than the tolerance (free_step_m; made with the factorization of before the pressure change it
+// underestimates the distance to equilibrium, 3-10 times on the fingers), the step is taken
+// again from there with a fresh factorization (chord steps with the step's old one did not
+// converge after a jump of 5 kPa on the hydraulic finger), its pressure change still counted
+// from the step's start.
 void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
                                ControlStepReport& report) {
   const double tolerance = config_.control->one_step_tolerance;
@@ -60,7 +59,8 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     for (const auto& t : targets) {
       const int e = effectors_.index(t.effector);
       for (int d = 0; d < 3; ++d)
-        if (effectors_.config(e).directions[d]) moved2 += std::pow(x1[3 * e + d] - x0[3 * e + d], 2);
+        if (effectors_.config(e).directions[d])
+          moved2 += std::pow(x1[3 * e + d] - x0[3 * e + d], 2);
     }
     report.free_step_m = std::sqrt(moved2);
     if (report.free_step_m <= tolerance || pass == kMaxRefinements) break;
@@ -75,6 +75,8 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     ControlStepReport pass_report;
     factor_if_due(u, true, false, r_norm, pass_report, clock);
     force_refactor_ = false;
+    if (!pass_report.background_failure.empty())  // found by this pass's poll
+      report.background_failure = pass_report.background_failure;
     if (pass_report.negative_pivots > 0) {  // not trusted: Newton at the held pressures
       for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
       const NewtonResult r = solve_free(u, report);
@@ -84,8 +86,10 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
                          " negative pivots: the answer is the equilibrium at its actuation, "
                          "converged by Newton";
       if (!r.converged)
-        throw SolveError("control step: no equilibrium at the actuation after an indefinite "
-                         "tangent (" + r.reason + ")");
+        throw SolveError(
+            "control step: no equilibrium at the actuation after an indefinite "
+            "tangent (" +
+            r.reason + ")");
       report.free_step_m = 0;
       break;
     }

@@ -8,8 +8,8 @@
 
 #include <cmath>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "../solvers/run_deck.hpp"
@@ -57,7 +57,8 @@ nlohmann::json run_interactive(const std::string& input, std::vector<nlohmann::j
     std::vector<std::string> all = kSmallFinger;
     all.insert(all.end(), overrides.begin(), overrides.end());
     all.push_back("output.folder=" + hs_test::out_folder(tag));
-    config = hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/finger_hydraulic.yaml", all);
+    config =
+        hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/finger_hydraulic.yaml", all);
     config.control->targets_from_stdin = true;
   }
   return hs::run_simulation(config, MPI_COMM_WORLD, io);

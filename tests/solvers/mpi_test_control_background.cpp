@@ -113,8 +113,8 @@ TEST(ControlBackground, MonotoneTargetsGiveAMonotoneActuation) {
   bool said = false;
   for (size_t k = 0; k < z.size(); ++k) {
     const double p = t[k]["actuation"][0];
-    EXPECT_GE(p, last - 1e-6) << k;             // never back
-    EXPECT_LE(p - last, 5000 + 1e-6) << k;      // the step bound, refinements included
+    EXPECT_GE(p, last - 1e-6) << k;         // never back
+    EXPECT_LE(p - last, 5000 + 1e-6) << k;  // the step bound, refinements included
     const auto reached = t[k]["reached"].get<std::vector<double>>();
     const auto equilibrium = t[k]["equilibrium"].get<std::vector<double>>();
     double d2 = 0;
