@@ -191,6 +191,8 @@ ControlStepReport ControlLoop::take_steps(Vec u, const std::vector<ControlTarget
   ControlStepReport r;
   for (int k = 0; k < config_.control->steps_per_target; ++k) {
     r = controller_.step(u, targets);
+    if (!r.fallback.empty() && rank == 0)
+      std::cerr << "hydrosoft: control: " << r.fallback << std::endl;
     newton_iterations_ += r.newton_iterations;
     limit_point |= r.limit_point;
     t.total.push_back(r.total_ms);
@@ -223,6 +225,8 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
   std::vector<double> equilibrium;
   if (config_.control->free_solve == FreeSolve::one_step && config_.control->check_equilibrium)
     equilibrium = controller_.equilibrium_positions(u);
+  if (io_.after_steps) io_.after_steps(u, line_number);
+  check_finite(u, r, equilibrium);
   ++totals_.sets;
   auto error_of = [&](const std::vector<double>& x, int e, const ControlTarget& target) {
     double err2 = 0;
@@ -252,6 +256,16 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
     j["actuation"] = r.actuation;
     j["saturated"] = r.saturated;
     j["limit_point"] = limit_point;
+    if (config_.control->free_solve == FreeSolve::one_step) {
+      j["refinements"] = r.refinements;
+      j["free_step_m"] = r.free_step_m;
+    }
+    if (r.negative_pivots >= 0) j["negative_pivots"] = r.negative_pivots;
+    std::string fallback = r.fallback;
+    if (!r.background_failure.empty())
+      fallback =
+          r.background_failure + "; factored in line" + (fallback.empty() ? "" : "; ") + fallback;
+    if (!fallback.empty()) j["fallback"] = fallback;
     pending_.push_back(j);
   }
 }
@@ -285,6 +299,61 @@ void ControlLoop::write_line(const std::string& text) {
               << std::endl;
 }
 
+// A step that fails (no equilibrium, a factorization that fails, a result that is not finite)
+// must not end an interactive session without an answer: the robot is put back where the last
+// answered line left it, the line gets an error line, and the session reads the next.
+bool ControlLoop::reach_or_explain(Vec u, const std::vector<ControlTarget>& targets,
+                                   int line_number) {
+  VecHandle saved;
+  HS_PETSC(VecDuplicate(u, saved.out()));
+  HS_PETSC(VecCopy(u, saved));
+  const std::vector<Constraint::State> states = constraints_.snapshot();
+  std::string error;
+  try {
+    reach(u, targets, line_number);
+    return true;
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const SolveError& e) {
+    error = e.what();
+  }
+  HS_PETSC(VecCopy(saved, u));
+  constraints_.restore(states);
+  controller_.recover();
+  pending_ = nlohmann::json::array();
+  ++session_.failed;
+  const std::string text = "the control step failed (" + error +
+                           "): nothing changed, the robot stays where the last answered line "
+                           "left it";
+  int rank = 0;
+  MPI_Comm_rank(problem_.comm(), &rank);
+  if (rank == 0) {
+    write_line(json_line({{"error", text}, {"line", line_number}}));
+    std::cerr << "hydrosoft: standard input, line " << line_number << ": " << text << std::endl;
+  }
+  return false;
+}
+
+// Every number of an answer, and the von Mises stress and J of every element that its output
+// step would write, finite on every rank; else the step failed (SolveError).
+void ControlLoop::check_finite(Vec u, const ControlStepReport& r,
+                               const std::vector<double>& equilibrium) const {
+  auto finite = [](const std::vector<double>& v) {
+    for (double x : v)
+      if (!std::isfinite(x)) return false;
+    return true;
+  };
+  std::vector<double> von_mises, J;
+  problem_.element_fields(u, von_mises, J);
+  int ok = finite(r.reached) && finite(r.actuation) && finite(equilibrium) &&
+           std::isfinite(r.free_step_m) && finite(von_mises) && finite(J);
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, problem_.comm());
+  if (!ok)
+    throw SolveError(
+        "control step: its result is not finite (a position, an actuation or "
+        "the stress of an element)");
+}
+
 bool ControlLoop::next_line_answered(Vec u) {
   const MPI_Comm comm = problem_.comm();
   int rank = 0;
@@ -308,8 +377,8 @@ bool ControlLoop::next_line_answered(Vec u) {
       error = std::string(e.what()) + ": " + quote_target_line(s.kept, s.length);
     }
     if (error.empty()) {
-      reach(u, targets, s.lines);
-      return true;
+      if (reach_or_explain(u, targets, s.lines)) return true;
+      continue;  // its error line is written
     }
     // A refused line changes nothing (no step, no output step), and the next line is read.
     ++s.rejected;
@@ -323,8 +392,9 @@ bool ControlLoop::next_line_answered(Vec u) {
   MPI_Bcast(&s.undelivered, 1, MPI_INT, 0, comm);
   const bool closed = static_cast<InputEnd>(s.end) == InputEnd::output_closed;
   s.summary = {{"lines", s.lines},
-               {"answered", s.lines - s.rejected},
+               {"answered", s.lines - s.rejected - s.failed},
                {"rejected", s.rejected},
+               {"failed", s.failed},
                {"end", closed ? "standard output closed" : "end of input"},
                {"undelivered", s.undelivered}};
   return false;

@@ -81,6 +81,13 @@ class ControlLoop {
   // `targets` that wait for their output step (answer()).
   void reach(Vec u, const std::vector<ControlTarget>& targets, int line_number);
   ControlStepReport take_steps(Vec u, const std::vector<ControlTarget>& targets, bool& limit_point);
+  // The interactive mode: reach() for one line; a step that fails (SolveError) puts u and the
+  // constraints back, writes the line's error line and returns false.
+  bool reach_or_explain(Vec u, const std::vector<ControlTarget>& targets, int line_number);
+  // Throws SolveError unless the answer's numbers and the fields its output step writes are
+  // finite on every rank.
+  void check_finite(Vec u, const ControlStepReport& r,
+                    const std::vector<double>& equilibrium) const;
   // The interactive mode's next answered line, or false at the end of its input.
   bool next_line_answered(Vec u);
   // Rank 0's JSON line on the interactive output; the first that cannot be written ends the
@@ -105,6 +112,7 @@ class ControlLoop {
   // The interactive session: its lines read, refused and how it ended.
   struct Session {
     int lines = 0, rejected = 0;
+    int failed = 0;       // lines whose control step failed (answered by an error line)
     int undelivered = 0;  // rank 0's JSON lines that could not be written
     std::string kept;     // the last line's first kTargetLineKept characters
     std::size_t length = 0;

@@ -6,6 +6,8 @@
 // the end of its input.
 #pragma once
 
+#include <petscvec.h>
+
 #include <functional>
 #include <istream>
 #include <string>
@@ -15,6 +17,9 @@ namespace hs {
 struct InteractiveIo {
   std::istream* input = nullptr;                            // null: std::cin
   std::function<bool(const std::string& line)> write_line;  // null: std::cout, flushed
+  // Tests: called on every rank after an interactive line's control steps, before its answer
+  // is checked (a test makes the step fail there, e.g. with a NaN in u).
+  std::function<void(Vec u, int line)> after_steps;
 };
 
 }  // namespace hs

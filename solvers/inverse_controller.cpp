@@ -109,8 +109,28 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // free step from there.
   std::vector<double> controls;
   bool stale_failed = false;
+  change_origin_.clear();
   const double r_norm = start_residual(u, one_step, controls, stale_failed);
   const bool fresh = factor_if_due(u, one_step, stale_failed, r_norm, report, clock);
+  // An indefinite tangent (negative pivots of L D L^T) is not trusted for a step from a
+  // configuration that is not an equilibrium: its free step may climb instead of descend.
+  // The step is taken again with the free configuration converged by Newton (which walks the
+  // pressures and stops at a limit point), and the answer says so.
+  if (one_step && report.negative_pivots > 0) {
+    const int negative = report.negative_pivots;
+    retake_converged_ = true;
+    ControlStepReport again = step(u, targets);
+    again.fallback = "the tangent had " + std::to_string(negative) +
+                     " negative pivots (not positive definite): the free configuration was "
+                     "converged by Newton" +
+                     (again.fallback.empty() ? std::string() : "; " + again.fallback);
+    again.total_ms += 1e3 * max_over_ranks(MPI_Wtime() - clock.start, problem_.comm());
+    return again;
+  }
+  if (!one_step && report.negative_pivots > 0)
+    report.fallback = "the tangent at the free equilibrium has " +
+                      std::to_string(report.negative_pivots) +
+                      " negative pivots (an unstable equilibrium under held pressures)";
   take_free_step(u, controls);
   Eigen::MatrixXd W, growth;
   Eigen::VectorXd delta;
@@ -137,6 +157,11 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     return again;
   }
   force_refactor_ = retake_converged_ = false;
+  // Refined when every step factors (a kept factorization is for speed, and its chord step
+  // from a stale tangent does not measure the distance to equilibrium: docs/control.md).
+  if (config_.control->free_solve == FreeSolve::one_step && !config_.control->newton_finish &&
+      config_.control->refactor_every == 1)
+    refine(u, targets, report);
   finish_report(u, targets, clock, report);
   return report;
 }
@@ -185,6 +210,7 @@ bool InverseController::factor_if_due(Vec u, bool one_step, bool stale_failed, d
                         steps_since_factorization_ + 1 >= config_.control->refactor_every ||
                         r_norm > residual_at_factorization_;
   bool fresh = refactor;  // factored at this step's state
+  step_ksp_ = ksp_;
   clock.factor = clock.compliance = MPI_Wtime();
   if (!refactor) {
     ++steps_since_factorization_;
@@ -205,6 +231,7 @@ bool InverseController::factor_if_due(Vec u, bool one_step, bool stale_failed, d
     HS_PETSC(KSPSetOperators(ksp_, J_, J_));
     const OptionsScope scope(options_.database());  // its factor's options
     HS_PETSC(KSPSetUp(ksp_));
+    report.negative_pivots = negative_pivots();
     clock.compliance = MPI_Wtime();
     if (!factor_responses(ksp_))
       throw SolveError("control step: the factorization of the tangent failed");
@@ -232,10 +259,14 @@ bool InverseController::correct_in_background(bool stale_failed, ControlStepRepo
   clock.compliance = MPI_Wtime();
   if (!fresh) {
     report.staleness = step_count_ - background_->preconditioner_state();
-    fresh = !factor_responses(background_->correction(J_), &report.correction_iterations);
+    step_ksp_ = background_->correction(J_);
+    fresh = !factor_responses(step_ksp_, &report.correction_iterations);
     if (fresh) report.background_failure = "the correction did not converge";
   }
-  if (fresh) HS_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
+  if (fresh) {
+    HS_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_FALSE));
+    step_ksp_ = ksp_;
+  }
   return fresh;
 }
 

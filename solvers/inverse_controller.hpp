@@ -62,6 +62,16 @@ struct ControlStepReport {
   // The free configuration could not reach the actuation of the last correction (a limit
   // point of the pressure: no equilibrium there) and stayed at the last one reached.
   bool limit_point = false;
+  // one_step: the passes taken again with a fresh factorization (control.one_step_tolerance),
+  // and how far the last free step from a correction moved the targeted effectors (m): a lower
+  // bound of the answer's distance from its equilibrium (docs/control.md).
+  int refinements = 0;
+  double free_step_m = 0;
+  // Negative pivots of the in-line L D L^T factorization the step used (MUMPS; -1 when not
+  // known: another solver, or no in-line factorization this step), and what the step did
+  // instead of trusting an indefinite tangent (empty when nothing).
+  int negative_pivots = -1;
+  std::string fallback;
 };
 
 class InverseController {
@@ -89,6 +99,11 @@ class InverseController {
   // the controller's state are left as they were): the position a one_step controller's
   // prediction stands for. Throws SolveError when Newton does not converge.
   std::vector<double> equilibrium_positions(Vec u);
+
+  // After a step that failed (SolveError) and u and the constraints were put back to the
+  // last answered state: the kept factorization and the retake flags are dropped, so that
+  // the next step starts afresh there.
+  void recover();
 
   // Checkpoints at a target-set boundary (docs/control.md, "Checkpoints and restarts"): what
   // the controller keeps between steps, as JSON scalars and named vectors (valid until the
@@ -121,6 +136,12 @@ class InverseController {
   bool factor_if_due(Vec u, bool one_step, bool stale_failed, double r_norm,
                      ControlStepReport& report, StepClock& clock);
   bool correct_in_background(bool stale_failed, ControlStepReport& report, StepClock& clock);
+  // one_step: a free step from the step's correction (a residual, one solve with the step's
+  // solver), and the step taken again from there with a fresh factorization while that free
+  // step moves the targeted effectors by more than control.one_step_tolerance.
+  void refine(Vec u, const std::vector<ControlTarget>& targets, ControlStepReport& report);
+  // The negative pivots of ksp_'s factorization (MUMPS L D L^T), -1 when not known.
+  int negative_pivots() const;
   void take_free_step(Vec u, const std::vector<double>& controls);
   // W (the weighted compliance of the targeted effectors), delta (their weighted distance
   // to the targets) and each actuator's volume growth per unit of each actuation.
@@ -157,6 +178,10 @@ class InverseController {
   std::vector<bool> actuated_;
   Eigen::MatrixXd zeta_;
   bool factored_ = false;
+  KSP step_ksp_ = nullptr;  // the solver of this step's responses (in line or the correction)
+  // Each actuator's actuation before the step's first QP: the per-step change bound counts
+  // from there, refinements included.
+  std::vector<double> change_origin_;
   // The last one_step correction inverted an element: take the step again with a fresh
   // factorization, or (if it had one) with the free configuration converged.
   bool force_refactor_ = false, retake_converged_ = false;

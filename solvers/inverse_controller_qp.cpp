@@ -62,10 +62,16 @@ Eigen::VectorXd InverseController::solve_actuation(const Eigen::MatrixXd& W,
       owner.push_back(a);
     }
   };
+  if (static_cast<int>(change_origin_.size()) != n) {
+    change_origin_.resize(n);
+    for (int a = 0; a < n; ++a)
+      change_origin_[a] = constraints_[actuators_[a].constraint].multiplier();
+  }
   for (int a = 0; a < n; ++a) {
     const auto& b = actuators_[a].config;
     const double lambda = constraints_[actuators_[a].constraint].multiplier();
-    PetscScalar free_growth = 0;  // the free step's volume change (linear)
+    const double origin = change_origin_[a];  // the change per step counts from there
+    PetscScalar free_growth = 0;              // the free step's volume change (linear)
     HS_PETSC(VecDot(lin_.g[actuators_[a].constraint], free_step_, &free_growth));
     const double grown =
         constraints_[actuators_[a].constraint].measure() + free_growth - actuators_[a].rest_measure;
@@ -73,8 +79,8 @@ Eigen::VectorXd InverseController::solve_actuation(const Eigen::MatrixXd& W,
     unit(a) = 1;
     bound(unit, b.min_multiplier - lambda, a);
     bound(-unit, lambda - b.max_multiplier, a);
-    bound(unit, -b.max_multiplier_step, a);
-    bound(-unit, -b.max_multiplier_step, a);
+    bound(unit, origin - b.max_multiplier_step - lambda, a);
+    bound(-unit, lambda - origin - b.max_multiplier_step, a);
     bound(growth.row(a), b.min_measure_change - grown, a);
     bound(-growth.row(a), grown - b.max_measure_change, a);
   }

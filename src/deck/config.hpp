@@ -241,6 +241,9 @@ struct ControlConfig {
   // free motion and the compliance together.
   FreeSolve free_solve = FreeSolve::newton;
   int refactor_every = 1;  // one_step: factorize the tangent every N steps (1: every step)
+  // one_step: the step's correction is refined with its own factorization while its free
+  // step moves a targeted effector by more than this (m; 0: never, the paper's single step).
+  double one_step_tolerance = 1e-5;
   // one_step: after each target set, also solve for the equilibrium at its actuation (on a
   // copy, outside the step times) and report its error: the prediction's real accuracy.
   bool check_equilibrium = false;

@@ -330,6 +330,15 @@ const KeyTable<ControlConfig>& control_keys() {
                   "`one_step` only: factorize the tangent every N steps and reuse it in between "
                   "(a modified-Newton free step on the fresh residual, the compliance of up to "
                   "N − 1 steps ago)"),
+      number_key(
+          "one_step_tolerance", &ControlConfig::one_step_tolerance, at_least(0),
+          "`one_step` with `refactor_every: 1` (m): each step ends with a free step from its "
+          "correction (one residual, one solve with the step's factorization), and while "
+          "that free step moves the targeted effectors by more than this the step is "
+          "taken again from there with a fresh factorization (at most 4 times); the "
+          "answers' `free_step_m` is that free step, a lower bound of their distance from "
+          "equilibrium (within 0.1 mm on the finger decks). 0: the single linearisation of "
+          "the paper (docs/control.md)"),
       bool_key("check_equilibrium", &ControlConfig::check_equilibrium,
                "`one_step` only: after each target set, also solve for the equilibrium at its "
                "pressures (on a copy, outside the step times) and report it as `equilibrium`, "
@@ -358,6 +367,9 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node, const C
             "needs free_solve: one_step (Newton refactors every step)");
     require(control.factor_threads == 0, r, node["factor_threads"], "control.factor_threads",
             "needs free_solve: one_step");
+    require(control.one_step_tolerance == ControlConfig{}.one_step_tolerance, r,
+            node["one_step_tolerance"], "control.one_step_tolerance",
+            "needs free_solve: one_step (Newton converges every free configuration)");
   }
   return control;
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "../solvers/run_deck.hpp"
@@ -39,16 +40,28 @@ hs::Config finger(const std::string& tag) {
 // With `writable` >= 0, only that many lines can be written, as to a client that then closes
 // its end of standard output.
 nlohmann::json run_interactive(const std::string& input, std::vector<nlohmann::json>& written,
-                               const std::string& tag, int writable = -1) {
+                               const std::string& tag, int writable = -1,
+                               std::function<void(Vec, int)> after_steps = {},
+                               const std::vector<std::string>& overrides = {}) {
   std::istringstream in(input);
   hs::InteractiveIo io;
+  io.after_steps = std::move(after_steps);
   io.input = &in;
   io.write_line = [&, writable](const std::string& line) {
     if (writable >= 0 && static_cast<int>(written.size()) >= writable) return false;
     written.push_back(nlohmann::json::parse(line));
     return true;
   };
-  return hs::run_simulation(finger(tag), MPI_COMM_WORLD, io);
+  hs::Config config = finger(tag);
+  if (!overrides.empty()) {
+    std::vector<std::string> all = kSmallFinger;
+    all.insert(all.end(), overrides.begin(), overrides.end());
+    all.push_back("output.folder=" + hs_test::out_folder(tag));
+    config =
+        hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/finger_hydraulic.yaml", all);
+    config.control->targets_from_stdin = true;
+  }
+  return hs::run_simulation(config, MPI_COMM_WORLD, io);
 }
 
 std::string error_of(const nlohmann::json& line) {
@@ -103,6 +116,7 @@ TEST(Interactive, BadLinesAreAnsweredWithAnErrorAndTheLoopGoesOn) {
   EXPECT_EQ(summary["input"], nlohmann::json({{"lines", 10},
                                               {"answered", 2},
                                               {"rejected", 8},
+                                              {"failed", 0},
                                               {"end", "end of input"},
                                               {"undelivered", 0}}));
   ASSERT_EQ(summary["targets"].size(), 2u);
@@ -129,6 +143,52 @@ TEST(Interactive, ARefusedLineChangesNothing) {
   EXPECT_EQ(a["step"], b["step"]);
 }
 
+// A step that fails inside (here its result made NaN on every rank, as an indefinite tangent
+// once left a NaN von Mises stress) gets an error line; the session goes on from where the last
+// answered line left the robot, and nothing that is not finite is answered or written. In both
+// free_solve modes.
+TEST(Interactive, AStepThatFailsIsAnsweredByAnErrorLineAndChangesNothing) {
+  for (const std::vector<std::string> mode :
+       {std::vector<std::string>{}, {"control.free_solve=one_step"}}) {
+    const std::string tag = mode.empty() ? "failed_newton" : "failed_one_step";
+    const auto poison = [](Vec u, int line) {
+      if (line != 2) return;
+      PetscInt low = 0, high = 0;
+      VecGetOwnershipRange(u, &low, &high);
+      if (high > low) VecSetValue(u, low, std::nan(""), INSERT_VALUES);
+      VecAssemblyBegin(u);
+      VecAssemblyEnd(u);
+    };
+    std::vector<nlohmann::json> written, plain;
+    const nlohmann::json summary = run_interactive("0.09 0 -0.012\n0.09 0 -0.010\n0.09 0 -0.008\n",
+                                                   written, tag, -1, poison, mode);
+    // The run without the failed line, for the default mode (one run less; the one_step mode
+    // puts back its state the same way).
+    if (mode.empty()) run_interactive("0.09 0 -0.012\n0.09 0 -0.008\n", plain, tag + "_plain");
+    if (world_rank() != 0) continue;
+    ASSERT_EQ(written.size(), 3u) << tag;  // one JSON line per input line
+    EXPECT_EQ(written[1]["line"], 2);
+    EXPECT_FALSE(written[1].contains("answer")) << written[1];
+    EXPECT_NE(error_of(written[1]).find("not finite"), std::string::npos) << error_of(written[1]);
+    EXPECT_NE(error_of(written[1]).find("nothing changed"), std::string::npos);
+    ASSERT_TRUE(written[2].contains("answer")) << written[2];
+    const auto& a = written[2]["answer"];
+    if (mode.empty()) {
+      ASSERT_EQ(plain.size(), 2u);
+      const auto& b = plain[1]["answer"];
+      for (int d = 0; d < 3; ++d)
+        EXPECT_NEAR(a["reached"][d].get<double>(), b["reached"][d].get<double>(), 1e-9);
+      EXPECT_NEAR(a["actuation"][0].get<double>(), b["actuation"][0].get<double>(), 1e-3);
+    }
+    EXPECT_LT(a["error_m"].get<double>(), 3e-3) << tag;  // 2 steps of 5 kPa at most
+    EXPECT_EQ(summary["status"], "ok");
+    EXPECT_EQ(summary["input"]["answered"], 2);
+    EXPECT_EQ(summary["input"]["failed"], 1);
+    EXPECT_EQ(summary["targets"].size(), 2u);
+    EXPECT_EQ(summary["outputs"], 4 + 2);  // the failed line wrote no output step
+  }
+}
+
 TEST(Interactive, EndOfInputAtOnceEndsTheRunWithItsStates) {
   std::vector<nlohmann::json> written;
   const nlohmann::json summary = run_interactive("", written, "empty");
@@ -153,6 +213,7 @@ TEST(Interactive, AClosedStandardOutputEndsTheSessionAndKeepsItsSteps) {
   EXPECT_EQ(summary["input"], nlohmann::json({{"lines", 3},
                                               {"answered", 2},
                                               {"rejected", 1},
+                                              {"failed", 0},
                                               {"end", "standard output closed"},
                                               {"undelivered", 1}}));
   EXPECT_EQ(summary["status"], "ok");

@@ -54,7 +54,7 @@ class ControlPackage(unittest.TestCase):
         self.assertEqual((low.line, high.line), (1, 3))
         summary = scene.summary
         self.assertEqual(summary["input"], {"lines": 3, "answered": 2, "rejected": 1,
-                                            "end": "end of input", "undelivered": 0})
+                                            "failed": 0, "end": "end of input", "undelivered": 0})
         for answer, entry in zip((low, high), summary["targets"]):
             np.testing.assert_array_equal(answer.reached, entry["reached"])
             np.testing.assert_array_equal(answer.actuation, entry["actuation"])

@@ -1,0 +1,139 @@
+// The one_step controller's guards (docs/control.md, "The real-time step"): the refinement of a
+// step's correction with the step's own solver, the inertia of its factorization, and the
+// reset after a step that failed.
+#include <petscksp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "common/error.hpp"
+#include "solvers/inverse_controller.hpp"
+
+namespace hs {
+namespace {
+
+// Fresh passes converge as Newton does: two met the equilibrium to round-off on the finger's
+// sweep; more than four means the step is far from its equilibrium (free_step_m says so).
+constexpr int kMaxRefinements = 4;
+
+}  // namespace
+
+// One linearisation predicts the motion of a pressure change with the compliance at the start
+// of the step; on a body that softens as it deforms (near a limit point of the pressure, or a
+// PneuNet bending far) the equilibrium at the new pressure lies beyond the prediction, and the
+// next step, finding its free configuration past the target, took the pressure back: the
+// actuation went the wrong way on monotone targets (docs/control.md). So the step ends with a
+// free step from its correction (one residual, one solve with the step's factorization): the
+// answer is that free configuration. While the free step moved the targeted effectors by more
+// than the tolerance (free_step_m; made with the factorization of before the pressure change it
+// underestimates the distance to equilibrium, 3-10 times on the fingers), the step is taken
+// again from there with a fresh factorization (chord steps with the step's old one did not
+// converge after a jump of 5 kPa on the hydraulic finger), its pressure change still counted
+// from the step's start.
+void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
+                               ControlStepReport& report) {
+  const double tolerance = config_.control->one_step_tolerance;
+  if (tolerance <= 0 || !step_ksp_) return;
+  VecHandle before;
+  HS_PETSC(VecDuplicate(u, before.out()));
+  for (int pass = 0;; ++pass) {
+    std::vector<double> controls;
+    problem_.apply_dirichlet(u, 1.0);
+    if (!constraints_.residual(u, 1.0, R_, controls)) break;  // checked: cannot be inverted
+    system_.solve_residual(step_ksp_, R_);
+    const std::vector<double> x0 = effectors_.positions(u);
+    const std::vector<double> at_answer = constraints_.multipliers();
+    take_free_step(u, controls);
+    if (!problem_.orientation_preserved(u)) {  // the answer stays the correction before it
+      HS_PETSC(VecAXPY(u, -1.0, free_step_));
+      constraints_.set_multipliers(at_answer);
+      for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+      report.fallback += std::string(report.fallback.empty() ? "" : "; ") +
+                         "the free step after the correction inverted an element: not taken";
+      break;
+    }
+    for (int c = 0; c < constraints_.size(); ++c) constraints_[c].update_measure(u);
+    const std::vector<double> x1 = effectors_.positions(u);
+    double moved2 = 0;
+    for (const auto& t : targets) {
+      const int e = effectors_.index(t.effector);
+      for (int d = 0; d < 3; ++d)
+        if (effectors_.config(e).directions[d])
+          moved2 += std::pow(x1[3 * e + d] - x0[3 * e + d], 2);
+    }
+    report.free_step_m = std::sqrt(moved2);
+    if (report.free_step_m <= tolerance || pass == kMaxRefinements) break;
+    // Again from here, freshly linearised.
+    ++report.refinements;
+    HS_PETSC(VecCopy(u, before));
+    const std::vector<double> pressures = constraints_.multipliers();
+    StepClock clock;
+    bool stale_failed = false;
+    force_refactor_ = true;
+    const double r_norm = start_residual(u, true, controls, stale_failed);
+    ControlStepReport pass_report;
+    factor_if_due(u, true, false, r_norm, pass_report, clock);
+    force_refactor_ = false;
+    if (!pass_report.background_failure.empty())  // found by this pass's poll
+      report.background_failure = pass_report.background_failure;
+    if (pass_report.negative_pivots > 0) {  // not trusted: Newton at the held pressures
+      for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+      const NewtonResult r = solve_free(u, report);
+      report.fallback += std::string(report.fallback.empty() ? "" : "; ") +
+                         "a refinement met a tangent with " +
+                         std::to_string(pass_report.negative_pivots) +
+                         " negative pivots: the answer is the equilibrium at its actuation, "
+                         "converged by Newton";
+      if (!r.converged)
+        throw SolveError(
+            "control step: no equilibrium at the actuation after an indefinite "
+            "tangent (" +
+            r.reason + ")");
+      report.free_step_m = 0;
+      break;
+    }
+    take_free_step(u, controls);
+    Eigen::MatrixXd W, growth;
+    Eigen::VectorXd delta;
+    compliance_rows(u, targets, W, delta, growth);
+    const Eigen::VectorXd dl = solve_actuation(W, delta, growth, report);
+    correct(u, dl, report);
+    if (!problem_.orientation_preserved(u)) {
+      HS_PETSC(VecCopy(before, u));
+      constraints_.set_multipliers(pressures);
+      for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+      for (int c = 0; c < constraints_.size(); ++c) constraints_[c].update_measure(u);
+      report.fallback += std::string(report.fallback.empty() ? "" : "; ") +
+                         "a refinement inverted an element: the answer before it was kept";
+      break;
+    }
+  }
+}
+
+int InverseController::negative_pivots() const {
+  PC pc;
+  HS_PETSC(KSPGetPC(ksp_, &pc));
+  PetscBool cholesky = PETSC_FALSE;
+  HS_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCCHOLESKY, &cholesky));
+  if (!cholesky) return -1;
+  Mat F;
+  HS_PETSC(PCFactorGetMatrix(pc, &F));
+  MatSolverType type = nullptr;
+  HS_PETSC(MatFactorGetSolverType(F, &type));
+  if (!type || std::strcmp(type, MATSOLVERMUMPS) != 0) return -1;
+  PetscInt negative = 0;
+  HS_PETSC(MatMumpsGetInfog(F, 12, &negative));  // the same on every rank
+  return static_cast<int>(negative);
+}
+
+void InverseController::recover() {
+  factored_ = false;
+  retake_converged_ = false;
+  force_refactor_ = true;  // in line, whatever background factorization there is
+  steps_since_factorization_ = 0;
+  residual_at_factorization_ = 0;
+  change_origin_.clear();
+}
+
+}  // namespace hs
