@@ -334,8 +334,8 @@ bool ControlLoop::reach_or_explain(Vec u, const std::vector<ControlTarget>& targ
   return false;
 }
 
-// Every number of an answer, and the von Mises stress and J of every element that its output
-// step would write, finite on every rank; else the step failed (SolveError).
+// Every number of an answer, and the element fields (von Mises, J, the stress and strain
+// tensors) that its output step would write, finite on every rank; else the step failed.
 void ControlLoop::check_finite(Vec u, const ControlStepReport& r,
                                const std::vector<double>& equilibrium) const {
   auto finite = [](const std::vector<double>& v) {
@@ -343,10 +343,11 @@ void ControlLoop::check_finite(Vec u, const ControlStepReport& r,
       if (!std::isfinite(x)) return false;
     return true;
   };
-  std::vector<double> von_mises, J;
-  problem_.element_fields(u, von_mises, J);
+  Problem::ElementFieldValues fields;
+  problem_.element_fields(u, fields);
   int ok = finite(r.reached) && finite(r.actuation) && finite(equilibrium) &&
-           std::isfinite(r.free_step_m) && finite(von_mises) && finite(J);
+           std::isfinite(r.free_step_m) && finite(fields.von_mises) && finite(fields.J) &&
+           finite(fields.stress) && finite(fields.strain);
   MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, problem_.comm());
   if (!ok)
     throw SolveError(

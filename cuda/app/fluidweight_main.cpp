@@ -1,5 +1,6 @@
-// fluidweight MESH [--grid N] [--method column|column_head|hydrostatic] [--device cpu|cuda] [--kernel NAME]
-//             [--alpha A] [--rho R] [--gravity gx,gy,gz] [--repeat K] [--forces FILE] [--json]
+// fluidweight MESH [--grid N] [--method column|column_head|hydrostatic] [--device cpu|cuda]
+//             [--kernel NAME] [--alpha A] [--rho R] [--gravity gx,gy,gz] [--repeat K]
+//             [--forces FILE] [--json]
 //
 // Reads a closed surface (.obj, .off, .stl, .msh), computes the liquid's weight on its nodes,
 // prints the volumes, the total weight and the median time over the repeats (a JSON object with
