@@ -1,6 +1,7 @@
 #include "common/deck_reader.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <set>
@@ -48,6 +49,18 @@ std::string item_key(const std::string& parent, size_t index) {
 }
 
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
+  // Keys that are symbols (a law's E, nu) are far in spelling from the names people write for
+  // them: those names first, where the symbol is a candidate.
+  static const std::pair<const char*, const char*> kSpelledOut[] = {
+      {"youngs", "E"},          {"young", "E"},           {"youngs_modulus", "E"},
+      {"young_modulus", "E"},   {"elastic_modulus", "E"}, {"poisson", "nu"},
+      {"poissons_ratio", "nu"}, {"poisson_ratio", "nu"},  {"rho", "density"},
+      {"shear_modulus", "mu"},  {"bulk_modulus", "kappa"}};
+  std::string lower;
+  for (const char c : word) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const auto& [name, key] : kSpelledOut)
+    if (lower == name && std::find(candidates.begin(), candidates.end(), key) != candidates.end())
+      return key;
   std::string best;
   size_t best_distance = std::string::npos;
   for (const auto& c : candidates) {

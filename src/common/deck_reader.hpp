@@ -67,7 +67,8 @@ std::string child_key(const std::string& parent, const std::string& name);
 // "materials" + 2 -> "materials[2]".
 std::string item_key(const std::string& parent, size_t index);
 
-// The entry of `candidates` closest to `word` (Levenshtein distance), for "did you mean".
+// The entry of `candidates` closest to `word` (Levenshtein distance), for "did you mean"; a
+// spelled-out name of a symbol key (youngs, poisson) gives the symbol (E, nu).
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates);
 
 // The shortest text that reads back as exactly `value` (e.g. 0.3, 1e+06).

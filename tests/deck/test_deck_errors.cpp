@@ -54,6 +54,10 @@ TEST_F(DeckErrors, UnknownKeysSuggestTheNearest) {
       {kMesh + "materials:\n  - {group: b, model: linear_elastic, E: 1, nu: 0.3}\n"
                "  - {group: c, model: linear_elastic, E: 1, Nu: 0.3}\n",
        "materials[1].Nu", "unknown key (did you mean 'nu'? valid keys: group, model, E, nu"},
+      {kMesh + "materials:\n  - {group: b, model: linear_elastic, youngs: 1, nu: 0.3}\n",
+       "materials[0].youngs", "unknown key (did you mean 'E'?"},
+      {kMesh + "materials:\n  - {group: b, model: linear_elastic, E: 1, Poisson: 0.3}\n",
+       "materials[0].Poisson", "unknown key (did you mean 'nu'?"},
       {kMesh + kMaterials + "time: {type: static, stpes: 3}\n", "time.stpes",
        "did you mean 'steps'?"},
       {kMesh + kMaterials + "loads: {gravity: [0, 0, -1], gravity: [0, 0, 1]}\n", "loads.gravity",
