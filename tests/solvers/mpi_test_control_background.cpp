@@ -162,7 +162,11 @@ TEST(ControlBackground, FailedBackgroundFactorizationFallsBackInLine) {
   run(0, sequential);
   run(1, failing);
   ASSERT_EQ(failing.size(), 6u);
-  EXPECT_TRUE(failing[0].background_failure.empty());  // nothing submitted before step 1
+  // Step 1 submits the first background factorization; its refinement pass polls the job, and
+  // reports its failure if the job has already ended (a race with the thread): either is right.
+  EXPECT_TRUE(failing[0].background_failure.empty() ||
+              failing[0].background_failure.find("not positive definite") != std::string::npos)
+      << failing[0].background_failure;
   for (size_t k = 1; k < failing.size(); ++k) {
     EXPECT_NE(failing[k].background_failure.find("not positive definite"), std::string::npos)
         << k << ": " << failing[k].background_failure;
