@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "fem/element.hpp"
+#include "materials/volumetric_term.hpp"
 
 namespace hs {
 
@@ -42,6 +43,22 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     const auto& m = materials_[dist.tet_volume[e]];
     tet_body_force(dist.order, X.data(), m.density, config.gravity, &body_force_[e * 3 * npe_]);
     if (dist.order == 1) p1_geometry_.push_back(tet_p1_geometry(X.data()));
+  }
+  bool any_nodal = false;
+  for (const auto& m : materials_) {
+    const bool nodal = m.element == ElementFormulation::nodal_pressure;
+    if (nodal && dist.order != 1)
+      throw InputError("material group '" + m.group + "': nodal_pressure needs a P1 mesh");
+    element_laws_.push_back(nodal ? std::make_shared<WithoutVolumetricTerm>(m.law) : m.law);
+    any_nodal |= nodal;
+  }
+  if (any_nodal) {  // every rank: the materials are the deck's
+    std::vector<double> modulus(nt, 0.0);
+    for (size_t e = 0; e < nt; ++e) {
+      const auto& m = materials_[dist.tet_volume[e]];
+      if (m.element == ElementFormulation::nodal_pressure) modulus[e] = m.law->volumetric_modulus();
+    }
+    nodal_ = std::make_unique<NodalPressure>(dist, p1_geometry_, std::move(modulus), dofs_, comm);
   }
 
   for (const auto& pc : config.pressures) {
@@ -86,11 +103,16 @@ ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r
   double X[30], ue[30];
   element_displacement(ua, e, ue);
   const auto& m = materials_[dist_.tet_volume[e]];
-  if (!p1_geometry_.empty()) return tet_internal_force_p1(p1_geometry_[e], ue, *m.law, r, K);
+  const MaterialLaw& law = *element_laws_[dist_.tet_volume[e]];
+  if (!p1_geometry_.empty()) {
+    const ElementOutput out = tet_internal_force_p1(p1_geometry_[e], ue, law, r, K);
+    if (nodal_ && nodal_->takes_part(e)) nodal_->add_element(e, ue, r, K);
+    return out;
+  }
   element_coordinates(e, X);
   if (m.element == ElementFormulation::fbar)
-    return tet_internal_force_fbar(dist_.order, X, ue, *m.law, r, K);
-  return tet_internal_force(dist_.order, X, ue, *m.law, r, K);
+    return tet_internal_force_fbar(dist_.order, X, ue, law, r, K);
+  return tet_internal_force(dist_.order, X, ue, law, r, K);
 }
 
 void Problem::element_displacement(const PetscScalar* u_local, int64_t e, double* u) const {
@@ -107,6 +129,11 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
   assemble_local(u, out, [&](const PetscScalar* ua, PetscScalar* ra) {
     const int n = 3 * npe_;
     double re[30];
+    if (a != 0 && nodal_) {
+      int64_t at = -1;
+      if (!nodal_->update(ua, &at) && at >= 0) bad = dist_.local_tets[at];
+      local_energy += nodal_->owned_energy();
+    }
     for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
       const int32_t* nodes = &dist_.tet_nodes[e * npe_];
       if (a != 0) {
@@ -173,6 +200,8 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
   {
     LocalView view(u, u_work_);
     const PetscScalar* ua = view.values();
+    int64_t at = -1;
+    if (nodal_ && !nodal_->update(ua, &at) && at >= 0) bad = dist_.local_tets[at];
     double re[30], K[900];
     for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
       const ElementOutput out = element_force(e, ua, re, K);
@@ -192,6 +221,9 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
         pairs_->add_nodes(nodes, npf, Kf, value);
       }
     }
+    if (nodal_)
+      nodal_->fill_coupling(
+          ua, tangent_values_.data() + tangent_values_.size() - nodal_->num_coupling_entries());
   }
   fill_constraint_entries(value + block_values);
   HS_PETSC(MatSetValuesCOO(J, tangent_values_.data(), INSERT_VALUES));
@@ -244,6 +276,7 @@ double Problem::residual_roundoff(Vec u) {
       element_force(static_cast<int64_t>(e), ua, re, K);
       element_coordinates(static_cast<int64_t>(e), X);
       element_displacement(ua, static_cast<int64_t>(e), ue);
+      if (nodal_ && nodal_->takes_part(e)) nodal_->add_element_scale(e, ue, K);
       double c[3] = {0, 0, 0};
       for (int k = 0; k < n; ++k) c[k % 3] += X[k] / npe_;
       for (int k = 0; k < n; ++k) size[k] = std::abs(ue[k]) + std::abs(X[k] - c[k % 3]);
@@ -275,14 +308,18 @@ void Problem::element_fields(Vec u, ElementFieldValues& v) const {
   v.strain.resize(9 * nt);
   v.principal_stress.resize(3 * nt);
   v.principal_strain.resize(3 * nt);
+  if (nodal_) nodal_->update(ua, nullptr);
   double X[30], ue[30];
   for (size_t e = 0; e < nt; ++e) {
     element_coordinates(e, X);
     element_displacement(ua, e, ue);
     const auto& m = materials_[dist_.tet_volume[e]];
-    const ElementFields f = m.element == ElementFormulation::fbar
-                                ? tet_fields_fbar(dist_.order, X, ue, *m.law)
-                                : tet_fields(dist_.order, X, ue, *m.law);
+    const MaterialLaw& law = *element_laws_[dist_.tet_volume[e]];
+    ElementFields f = m.element == ElementFormulation::fbar
+                          ? tet_fields_fbar(dist_.order, X, ue, law)
+                          : tet_fields(dist_.order, X, ue, law);
+    if (nodal_ && nodal_->takes_part(e))  // the volumetric stress of the element's nodes
+      f.stress += nodal_->element_pressure(e) * Mat3::Identity();
     v.von_mises[e] = f.von_mises;
     v.J[e] = f.J;
     for (int i = 0; i < 3; ++i)

@@ -22,6 +22,7 @@
 #include "mesh/distribution.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/dof_map.hpp"
+#include "solvers/nodal_pressure.hpp"
 #include "solvers/node_pair_blocks.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/petsc_handle.hpp"
@@ -204,6 +205,10 @@ class Problem {
   const Distribution& dist_;
   int npe_;
   std::vector<MaterialConfig> materials_;  // per mesh volume group: its law and density
+  // Per mesh volume group: the law its elements integrate (a nodal-pressure material's less
+  // its volumetric term, which nodal_ integrates per node).
+  std::vector<std::shared_ptr<const MaterialLaw>> element_laws_;
+  std::unique_ptr<NodalPressure> nodal_;  // when a material runs the nodal-pressure element
   DofMap dofs_;
   const std::vector<double>& X_;         // reference coordinates of local nodes
   std::vector<double> body_force_;       // per local tet: npe*3, at full load

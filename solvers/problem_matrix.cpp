@@ -71,6 +71,7 @@ Mat Problem::create_matrix() {
   if (!pairs_) pairs_ = std::make_unique<NodePairBlocks>(dist_.tet_nodes, npe_, dist_.num_local());
   std::vector<PetscInt> rows, cols;
   tangent_entries(rows, cols);
+  if (nodal_) nodal_->coupling_entries(rows, cols);  // last: jacobian() fills them at the end
   tangent_values_.assign(rows.size(), 0.0);
   MatHandle A;  // the caller's once returned
   HS_PETSC(MatCreate(comm_, A.out()));

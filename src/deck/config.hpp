@@ -36,8 +36,9 @@ struct MeshConfig {
 // bodies"): auto picks F-bar on P2 meshes at nu >= 0.49, the displacement element otherwise
 // (deck/element_formulation.hpp). The deck's choice is printed as given; parse_deck resolves it
 // into `element`, which the run reads (never `automatic`).
-enum class ElementFormulation { automatic, displacement, fbar };
-inline const std::vector<std::string> kElementFormulationNames = {"auto", "displacement", "fbar"};
+enum class ElementFormulation { automatic, displacement, fbar, nodal_pressure };
+inline const std::vector<std::string> kElementFormulationNames = {"auto", "displacement", "fbar",
+                                                                  "nodal_pressure"};
 
 struct MaterialConfig {
   std::string group;                                               // volume physical group

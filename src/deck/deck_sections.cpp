@@ -39,7 +39,8 @@ MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const
     m.law = parse_material_law(r, node, key, model, deck_keys);
   }
   const FormulationChoice choice =
-      choose_formulation(m.formulation, m.law->elastic_constants().nu, c.mesh.order);
+      choose_formulation(m.formulation, m.law->elastic_constants().nu, c.mesh.order,
+                         m.law->volumetric_modulus() > 0);
   if (!choice.error.empty())
     r.fail(child_key(key, "formulation"), node["formulation"], choice.error);
   m.element = choice.formulation;
@@ -143,10 +144,11 @@ const KeyTable<MaterialConfig>& material_keys() {
                  "kg/m³: gravity load and, in dynamic runs, inertia (above any solid's; larger "
                  "values overflow rho g)"),
       enum_key("formulation", &MaterialConfig::formulation, kElementFormulationNames,
-               "the element: `fbar` (locking-free for nearly incompressible bodies, P2 "
-               "meshes), `displacement`, or `auto`: `fbar` on P2 at nu >= 0.49, else "
-               "`displacement` (docs/formulation.md); the element that runs is printed beside the "
-               "material"),
+               "the element: `fbar` (locking-free for nearly incompressible bodies on P2 "
+               "meshes), `nodal_pressure` (the same on P1 meshes, for laws with a (ln J)^2 "
+               "volumetric term), `displacement`, or `auto`: at nu >= 0.49 `fbar` on P2 and "
+               "`nodal_pressure` on P1 where the law allows, else `displacement` "
+               "(docs/formulation.md); the element that runs is printed beside the material"),
   };
   return keys;
 }

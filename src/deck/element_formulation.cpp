@@ -16,31 +16,48 @@ std::string p1_locking_error(double nu) {
 
 }  // namespace
 
-FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order) {
+FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order,
+                                     bool law_has_volumetric_term) {
   const bool nearly_incompressible = nu >= kNearlyIncompressibleNu;
   const std::string at = "nu = " + format_number(nu) + (nearly_incompressible ? " >= " : " < ") +
                          format_number(kNearlyIncompressibleNu) + " on P" + std::to_string(order);
   FormulationChoice c;
+  const bool automatic = asked == ElementFormulation::automatic;
+  c.reason = (automatic ? "auto: " : "asked, ") + at;
   if (asked == ElementFormulation::fbar) {
     if (order == 1)
       c.error =
           "fbar needs mesh.order: 2 (on a P1 element J is constant and F-bar is the "
-          "displacement element)";
+          "displacement element); nodal_pressure is the locking-free element of P1 meshes";
     c.formulation = ElementFormulation::fbar;
-    c.reason = "asked, " + at;
     return c;
   }
-  if (asked == ElementFormulation::automatic && nearly_incompressible && order == 2) {
-    c.formulation = ElementFormulation::fbar;
-    c.reason = "auto: " + at;
+  if (asked == ElementFormulation::nodal_pressure) {
+    if (order != 1)
+      c.error = "nodal_pressure needs mesh.order: 1 (fbar is the locking-free element of P2)";
+    else if (!law_has_volumetric_term)
+      c.error =
+          "nodal_pressure needs a law with the volumetric term k/2 (ln J)^2 (neo_hookean, "
+          "mooney_rivlin, yeoh, gent)";
+    c.formulation = ElementFormulation::nodal_pressure;
     return c;
   }
-  c.reason = (asked == ElementFormulation::automatic ? "auto: " : "asked, ") + at;
+  if (automatic && nearly_incompressible && order == 2) {
+    c.formulation = ElementFormulation::fbar;
+    return c;
+  }
+  if (automatic && nearly_incompressible && law_has_volumetric_term) {
+    c.formulation = ElementFormulation::nodal_pressure;
+    return c;
+  }
   if (nearly_incompressible && order == 1)
     c.warning = "P1 displacement elements lock at nu = " + format_number(nu) +
                 ": a thick sphere inflated by pressure comes out about " + p1_locking_error(nu) +
-                " too stiff at this nu (docs/stiff_cases.md); mesh.order: 2 runs the "
-                "locking-free F-bar element";
+                " too stiff at this nu (docs/stiff_cases.md); " +
+                (law_has_volumetric_term
+                     ? "formulation: nodal_pressure (the default) runs the locking-free element"
+                     : "this law has no (ln J)^2 volumetric term for the locking-free "
+                       "nodal_pressure element; mesh.order: 2 runs the F-bar element");
   return c;
 }
 

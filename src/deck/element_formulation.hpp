@@ -10,9 +10,9 @@
 
 namespace hs {
 
-// Poisson's ratio from which auto picks the F-bar element (kappa/mu >= 49.7): there the
-// displacement element's error on a thick sphere passes 8 % on P1 (docs/stiff_cases.md,
-// "Locking").
+// Poisson's ratio from which auto picks a locking-free element (kappa/mu >= 49.7): F-bar on
+// P2, nodal pressure on P1. There the displacement element's error on a thick sphere passes
+// 8 % on P1 (docs/stiff_cases.md, "Locking").
 constexpr double kNearlyIncompressibleNu = 0.49;
 
 struct FormulationChoice {
@@ -23,7 +23,9 @@ struct FormulationChoice {
 };
 
 // `asked` as the deck gives it (automatic included), Poisson's ratio nu of the material's
-// small-strain constants, the mesh's element order (1 or 2).
-FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order);
+// small-strain constants, the mesh's element order (1 or 2), and whether the law's energy has
+// the volumetric term k/2 (ln J)^2 that the nodal-pressure element integrates per node.
+FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order,
+                                     bool law_has_volumetric_term);
 
 }  // namespace hs

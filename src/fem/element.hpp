@@ -43,6 +43,12 @@ P1Geometry tet_p1_geometry(const double* X);  // throws InputError as tet_intern
 ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u, const MaterialLaw& m,
                                     double* r, double* K);
 
+// The change v - V of a P1 element's volume at displacements u, and (where not nullptr) its
+// gradient dv/du (12 values) and Hessian d2v/du2 (12 x 12, row-major): what the nodal-pressure
+// element of P1 meshes assembles (src/fem/p1_volume.cpp). v - V keeps the digits of a small
+// change (V det_minus_one(H)).
+double p1_volume_change(const P1Geometry& g, const double* u, double* grad, double* hess);
+
 // The F-bar element of nearly incompressible bodies (src/fem/fbar_element.cpp): the law at
 // Fbar = (Jbar/J)^(1/3) F, Jbar the element's volume ratio, so that a P2 element carries one
 // volumetric constraint instead of four and does not lock. Same outputs as tet_internal_force

@@ -83,8 +83,9 @@ using ElasticPointwise = StressResult (*)(double mu, double lambda, const Mat3& 
 
 // The registered law of such a function: its file declares the function and one alias,
 //   inline constexpr char kNeoHookeanName[] = "neo_hookean";
-//   using NeoHookeanLaw = ConstantsOnlyLaw<kNeoHookeanName, neo_hookean>;
-template <const char* Name, ElasticPointwise Pointwise>
+//   using NeoHookeanLaw = ConstantsOnlyLaw<kNeoHookeanName, neo_hookean, true>;
+// LambdaLnJ: psi has the volumetric term lambda/2 (ln J)^2 (volumetric_modulus() = lambda).
+template <const char* Name, ElasticPointwise Pointwise, bool LambdaLnJ = false>
 class ConstantsOnlyLaw : public ElasticLaw {
  public:
   static constexpr const char* kName = Name;
@@ -104,6 +105,7 @@ class ConstantsOnlyLaw : public ElasticLaw {
   StressResult stress(const Mat3& H, bool with_tangent) const override {
     return Pointwise(constants_.mu, constants_.lambda, H, with_tangent);
   }
+  double volumetric_modulus() const override { return LambdaLnJ ? constants_.lambda : 0.0; }
 };
 
 }  // namespace hs

@@ -69,7 +69,7 @@ std::shared_ptr<const MaterialLaw> GentLaw::make(const DeckReader& r, const YAML
 }
 
 StressResult GentLaw::stress(const Mat3& H, bool with_tangent) const {
-  return gent(constants_.mu, Jm_, constants_.lambda + 2.0 * constants_.mu / 3.0, H, with_tangent);
+  return gent(constants_.mu, Jm_, volumetric_modulus(), H, with_tangent);
 }
 
 }  // namespace hs

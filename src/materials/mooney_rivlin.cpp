@@ -97,7 +97,7 @@ std::shared_ptr<const MaterialLaw> MooneyRivlinLaw::make(const DeckReader& r,
 
 StressResult MooneyRivlinLaw::stress(const Mat3& H, bool with_tangent) const {
   // Bulk modulus of the small-strain limit; the shear modulus there is 2 (c1 + c2).
-  return mooney_rivlin(c1_, c2_, constants_.lambda + 2.0 * constants_.mu / 3.0, H, with_tangent);
+  return mooney_rivlin(c1_, c2_, volumetric_modulus(), H, with_tangent);
 }
 
 }  // namespace hs

@@ -10,6 +10,6 @@ namespace hs {
 StressResult neo_hookean(double mu, double lambda, const Mat3& H, bool with_tangent);
 
 inline constexpr char kNeoHookeanName[] = "neo_hookean";
-using NeoHookeanLaw = ConstantsOnlyLaw<kNeoHookeanName, neo_hookean>;
+using NeoHookeanLaw = ConstantsOnlyLaw<kNeoHookeanName, neo_hookean, true>;
 
 }  // namespace hs

@@ -92,7 +92,7 @@ std::shared_ptr<const MaterialLaw> YeohLaw::make(const DeckReader& r, const YAML
 }
 
 StressResult YeohLaw::stress(const Mat3& H, bool with_tangent) const {
-  return yeoh(C1(), C2_, C3_, constants_.lambda + 2.0 * constants_.mu / 3.0, H, with_tangent);
+  return yeoh(C1(), C2_, C3_, volumetric_modulus(), H, with_tangent);
 }
 
 std::string YeohLaw::derived_values() const {

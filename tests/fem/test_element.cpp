@@ -201,6 +201,45 @@ TEST(P1Geometry, KeptGeometryGivesTheSameForceAndTangent) {
   EXPECT_NEAR(g.volume, tet_volume(1, X.data()), 1e-15);
 }
 
+// The nodal-pressure element's volume of a P1 element: the change against the volume of the
+// moved vertices, its gradient and Hessian against central differences (v is cubic in u, so
+// the differences are exact up to round-off).
+TEST(P1Volume, ChangeGradientAndHessianAreTheVolumesDerivatives) {
+  const std::vector<double> X = distorted_tet(1);
+  const P1Geometry g = tet_p1_geometry(X.data());
+  std::vector<double> u(12);
+  for (int k = 0; k < 12; ++k) u[k] = 0.2 * std::sin(1.3 * k + 0.7);
+  auto volume = [&](const std::vector<double>& d) {
+    std::vector<double> x(12);
+    for (int k = 0; k < 12; ++k) x[k] = X[k] + d[k];
+    const Eigen::Vector3d a(x[3] - x[0], x[4] - x[1], x[5] - x[2]);
+    const Eigen::Vector3d b(x[6] - x[0], x[7] - x[1], x[8] - x[2]);
+    const Eigen::Vector3d c(x[9] - x[0], x[10] - x[1], x[11] - x[2]);
+    return a.dot(b.cross(c)) / 6;
+  };
+  std::vector<double> grad(12), hess(144), gp(12), gm(12);
+  const double change = p1_volume_change(g, u.data(), grad.data(), hess.data());
+  EXPECT_NEAR(change, volume(u) - g.volume, 1e-14 * g.volume);
+  const double h = 1e-5;
+  for (int k = 0; k < 12; ++k) {
+    std::vector<double> up = u, um = u;
+    up[k] += h;
+    um[k] -= h;
+    EXPECT_NEAR(grad[k], (volume(up) - volume(um)) / (2 * h), 1e-8 * max_abs(grad)) << k;
+    p1_volume_change(g, up.data(), gp.data(), nullptr);
+    p1_volume_change(g, um.data(), gm.data(), nullptr);
+    for (int i = 0; i < 12; ++i)
+      EXPECT_NEAR(hess[12 * i + k], (gp[i] - gm[i]) / (2 * h), 1e-8 * max_abs(hess)) << i << " " << k;
+  }
+  // A small change keeps its digits: v - V is not a difference of two volumes.
+  std::vector<double> tiny(12);
+  for (int k = 0; k < 12; ++k) tiny[k] = 1e-12 * u[k];
+  const double small = p1_volume_change(g, tiny.data(), grad.data(), nullptr);
+  double linear = 0;
+  for (int k = 0; k < 12; ++k) linear += grad[k] * tiny[k];
+  EXPECT_NEAR(small, linear, 1e-9 * std::abs(linear));
+}
+
 std::vector<Case> finite_strain_cases() {
   std::vector<Case> cases;
   for (const Case& c : all_cases())

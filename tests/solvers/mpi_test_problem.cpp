@@ -115,6 +115,70 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Combine(::testing::Values(1, 2),
                        ::testing::ValuesIn(hs::material_fixtures::finite_strain_law_names())));
 
+// The nodal-pressure element of P1 meshes (solvers/nodal_pressure.hpp) on 1 and 2 ranks: its
+// tangent, whose patch coupling reaches across the rank boundary, is the derivative of its
+// residual, and its residual the derivative of its energy, for every law with a (ln J)^2
+// volumetric term, at nu = 0.49 (kappa/mu = 50).
+class NodalPressureTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) {
+  Fixture f({"mesh.order=1", "materials[0].density=1000"});
+  f.config.pressures.clear();  // a potential: the energy check below
+  auto& material = f.config.materials[0];
+  material.law = hs::material_fixtures::make_law(
+      GetParam(), hs::elastic_constants_from_E_nu(1e6, 0.49));
+  material.element = hs::ElementFormulation::nodal_pressure;
+  hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
+  const hs::VecHandle u(problem.create_vector()), v(problem.create_vector());
+  fill_random(u, 0.01, 5);
+  fill_random(v, 1.0, 6);
+  const double s = 0.7;
+  problem.apply_dirichlet(u, s);
+  problem.apply_dirichlet(v, 0.0);
+  const hs::MatHandle J(problem.create_matrix());
+  ASSERT_TRUE(problem.jacobian(u, s, J));
+  hs::VecHandle Jv, R, Rp, Rm, up, um;
+  for (auto* h : {&Jv, &R, &Rp, &Rm, &up, &um}) VecDuplicate(u, h->out());
+  MatMult(J, v, Jv);
+  const double eps = 1e-6;
+  VecWAXPY(up, eps, v, u);
+  VecWAXPY(um, -eps, v, u);
+  ASSERT_TRUE(problem.residual(up, s, Rp));
+  ASSERT_TRUE(problem.residual(um, s, Rm));
+  VecAXPY(Rp, -1.0, Rm);
+  VecScale(Rp, 1.0 / (2 * eps));
+  VecAXPY(Rp, -1.0, Jv);
+  PetscReal err, ref;
+  VecNorm(Rp, NORM_2, &err);
+  VecNorm(Jv, NORM_2, &ref);
+  EXPECT_LT(err, 1e-6 * ref) << GetParam();
+  EXPECT_GT(ref, 0);
+
+  ASSERT_TRUE(problem.residual(u, s, R));
+  PetscScalar slope = 0;
+  VecDot(R, v, &slope);
+  double Ep = 0, Em = 0;
+  ASSERT_TRUE(problem.potential_energy(up, s, &Ep));
+  ASSERT_TRUE(problem.potential_energy(um, s, &Em));
+  EXPECT_NEAR((Ep - Em) / (2 * eps), slope, 1e-6 * std::abs(slope)) << GetParam();
+
+  // The tangent is symmetric (the element has an energy) and wider than the displacement
+  // element's: a node couples to its neighbours' neighbours.
+  PetscBool symmetric = PETSC_FALSE;
+  MatIsSymmetric(J, 1e-10 * ref, &symmetric);
+  EXPECT_TRUE(symmetric);
+  material.element = hs::ElementFormulation::displacement;
+  hs::Problem plain(f.config, f.dist, PETSC_COMM_WORLD);
+  const hs::MatHandle J0(plain.create_matrix());
+  MatInfo wide, narrow;
+  MatGetInfo(J, MAT_GLOBAL_SUM, &wide);
+  MatGetInfo(J0, MAT_GLOBAL_SUM, &narrow);
+  EXPECT_GT(wide.nz_used, 1.5 * narrow.nz_used);
+}
+
+INSTANTIATE_TEST_SUITE_P(Laws, NodalPressureTest,
+                         ::testing::Values("neo_hookean", "mooney_rivlin", "yeoh", "gent"));
+
 // Without follower pressure the residual is the gradient of the potential energy (the line
 // search's objective): its central difference along a direction is R . v.
 TEST(PotentialEnergy, DerivativeIsTheResidual) {

@@ -1,0 +1,203 @@
+#include "solvers/nodal_pressure.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "materials/volumetric_term.hpp"
+#include "solvers/petsc_check.hpp"
+
+namespace hs {
+
+NodalPressure::NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
+                             std::vector<double> modulus, const DofMap& dofs, MPI_Comm comm)
+    : dist_(dist), geometry_(geometry), modulus_(std::move(modulus)), comm_(comm) {
+  const int64_t nl = dist.num_local(), no = dist.num_owned();
+  std::vector<PetscInt> ghosts(dist.local_nodes.begin() + no, dist.local_nodes.end());
+  HS_PETSC(VecCreateGhost(comm, static_cast<PetscInt>(no), PETSC_DETERMINE,
+                          static_cast<PetscInt>(ghosts.size()), ghosts.data(), patch_sum_.out()));
+  V_.assign(nl, 0.0);
+  kV_.assign(nl, 0.0);
+  for (size_t e = 0; e < modulus_.size(); ++e) {
+    if (!takes_part(e)) continue;
+    for (int a = 0; a < 4; ++a) {
+      const int32_t n = dist.tet_nodes[4 * e + a];
+      V_[n] += geometry_[e].volume / 4;
+      kV_[n] += modulus_[e] * geometry_[e].volume / 4;
+    }
+  }
+  sum_over_patches(V_);
+  sum_over_patches(kV_);
+  dof_index_.resize(3 * nl);
+  for (int32_t n = 0; n < nl; ++n) dofs.indices(&n, 1, &dof_index_[3 * n]);
+  dv_.assign(nl, 0.0);
+  p_.assign(nl, 0.0);
+  c_.assign(nl, 0.0);
+}
+
+void NodalPressure::sum_over_patches(std::vector<double>& local_values) {
+  Vec local;
+  PetscScalar* a;
+  HS_PETSC(VecGhostGetLocalForm(patch_sum_, &local));
+  HS_PETSC(VecGetArray(local, &a));
+  std::copy(local_values.begin(), local_values.end(), a);
+  HS_PETSC(VecRestoreArray(local, &a));
+  HS_PETSC(VecGhostRestoreLocalForm(patch_sum_, &local));
+  HS_PETSC(VecGhostUpdateBegin(patch_sum_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecGhostUpdateEnd(patch_sum_, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecGhostUpdateBegin(patch_sum_, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostUpdateEnd(patch_sum_, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostGetLocalForm(patch_sum_, &local));
+  HS_PETSC(VecGetArray(local, &a));
+  std::copy(a, a + local_values.size(), local_values.begin());
+  HS_PETSC(VecRestoreArray(local, &a));
+  HS_PETSC(VecGhostRestoreLocalForm(patch_sum_, &local));
+}
+
+namespace {
+void element_displacement(const Distribution& dist, const PetscScalar* u_local, size_t e,
+                          double* ue) {
+  for (int a = 0; a < 4; ++a)
+    for (int d = 0; d < 3; ++d) ue[3 * a + d] = u_local[3 * dist.tet_nodes[4 * e + a] + d];
+}
+}  // namespace
+
+bool NodalPressure::update(const PetscScalar* u_local, int64_t* bad_tet) {
+  std::fill(dv_.begin(), dv_.end(), 0.0);
+  double ue[12];
+  for (size_t e = 0; e < modulus_.size(); ++e) {
+    if (!takes_part(e)) continue;
+    element_displacement(dist_, u_local, e, ue);
+    const double change = p1_volume_change(geometry_[e], ue, nullptr, nullptr);
+    for (int a = 0; a < 4; ++a) dv_[dist_.tet_nodes[4 * e + a]] += change / 4;
+  }
+  sum_over_patches(dv_);
+  bool ok = true;
+  for (size_t n = 0; n < V_.size(); ++n) {
+    p_[n] = c_[n] = 0;
+    if (!(V_[n] > 0)) continue;
+    const double J_minus_one = dv_[n] / V_[n];
+    if (!(1.0 + J_minus_one > 0)) {
+      ok = false;
+      continue;
+    }
+    const VolumetricValues U1 = volumetric_function(1.0, J_minus_one);
+    p_[n] = kV_[n] * U1.dU / V_[n];
+    c_[n] = kV_[n] * U1.d2U / (V_[n] * V_[n]);
+  }
+  if (!ok && bad_tet)
+    for (size_t e = 0; e < modulus_.size() && *bad_tet < 0; ++e)
+      for (int a = 0; a < 4; ++a) {
+        const int32_t n = dist_.tet_nodes[4 * e + a];
+        if (takes_part(e) && !(1.0 + dv_[n] / V_[n] > 0)) *bad_tet = static_cast<int64_t>(e);
+      }
+  return ok;
+}
+
+double NodalPressure::element_pressure(int64_t e) const {
+  double sum = 0;
+  for (int a = 0; a < 4; ++a) sum += p_[dist_.tet_nodes[4 * e + a]];
+  return sum / 4;
+}
+
+void NodalPressure::add_element(int64_t e, const double* ue, double* r, double* K) const {
+  double grad[12], hess[144];
+  p1_volume_change(geometry_[e], ue, grad, K ? hess : nullptr);
+  const double p = element_pressure(e);
+  for (int k = 0; k < 12; ++k) r[k] += p * grad[k];
+  if (K)
+    for (int k = 0; k < 144; ++k) K[k] += p * hess[k];
+}
+
+void NodalPressure::add_element_scale(int64_t e, const double* ue, double* K) const {
+  double grad[12];
+  p1_volume_change(geometry_[e], ue, grad, nullptr);
+  const double c = modulus_[e] / geometry_[e].volume;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) K[12 * i + j] += c * grad[i] * grad[j];
+}
+
+double NodalPressure::owned_energy() const {
+  double sum = 0;
+  for (int64_t n = 0; n < dist_.num_owned(); ++n)
+    if (V_[n] > 0) sum += kV_[n] * volumetric_function(1.0, dv_[n] / V_[n]).U;
+  return sum;
+}
+
+void NodalPressure::coupling_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) {
+  if (!coupling_) make_coupling();
+  rows.insert(rows.end(), coupling_rows_.begin(), coupling_rows_.end());
+  cols.insert(cols.end(), coupling_cols_.begin(), coupling_cols_.end());
+}
+
+void NodalPressure::make_coupling() {
+  const PetscInt no = static_cast<PetscInt>(dist_.num_owned());
+  const PetscInt first = static_cast<PetscInt>(dist_.owned_offsets[dist_.rank]);
+  // G: a row per node, a column per dof; every element adds its dv_e/du / 4 to its nodes' rows.
+  std::vector<PetscInt> gr, gc;
+  for (size_t e = 0; e < modulus_.size(); ++e) {
+    if (!takes_part(e)) continue;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        for (int i = 0; i < 3; ++i) {
+          gr.push_back(static_cast<PetscInt>(dist_.local_nodes[dist_.tet_nodes[4 * e + a]]));
+          gc.push_back(dof_index_[3 * dist_.tet_nodes[4 * e + b] + i]);
+        }
+  }
+  g_values_.assign(gr.size(), 0.0);
+  HS_PETSC(MatCreate(comm_, G_.out()));
+  HS_PETSC(MatSetSizes(G_, no, 3 * no, PETSC_DETERMINE, PETSC_DETERMINE));
+  HS_PETSC(MatSetType(G_, MATAIJ));
+  HS_PETSC(MatSetPreallocationCOO(G_, static_cast<PetscCount>(gr.size()), gr.data(), gc.data()));
+  HS_PETSC(MatSetValuesCOO(G_, g_values_.data(), INSERT_VALUES));
+  std::vector<PetscInt> diagonal(no);
+  for (PetscInt n = 0; n < no; ++n) diagonal[n] = first + n;
+  HS_PETSC(MatCreate(comm_, D_.out()));
+  HS_PETSC(MatSetSizes(D_, no, no, PETSC_DETERMINE, PETSC_DETERMINE));
+  HS_PETSC(MatSetType(D_, MATAIJ));
+  HS_PETSC(MatSetPreallocationCOO(D_, no, diagonal.data(), diagonal.data()));
+  std::vector<PetscScalar> ones(no, 1.0);
+  HS_PETSC(MatSetValuesCOO(D_, ones.data(), INSERT_VALUES));
+  HS_PETSC(MatPtAP(D_, G_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, coupling_.out()));
+  PetscInt begin, end;
+  HS_PETSC(MatGetOwnershipRange(coupling_, &begin, &end));
+  for (PetscInt row = begin; row < end; ++row) {
+    PetscInt n;
+    const PetscInt* c;
+    HS_PETSC(MatGetRow(coupling_, row, &n, &c, nullptr));
+    for (PetscInt k = 0; k < n; ++k) {
+      coupling_rows_.push_back(row);
+      coupling_cols_.push_back(c[k]);
+    }
+    coupling_row_sizes_.push_back(n);
+    HS_PETSC(MatRestoreRow(coupling_, row, &n, &c, nullptr));
+  }
+}
+
+void NodalPressure::fill_coupling(const PetscScalar* u_local, PetscScalar* values) {
+  double ue[12], grad[12];
+  PetscScalar* g = g_values_.data();
+  for (size_t e = 0; e < modulus_.size(); ++e) {
+    if (!takes_part(e)) continue;
+    element_displacement(dist_, u_local, e, ue);
+    p1_volume_change(geometry_[e], ue, grad, nullptr);
+    for (int a = 0; a < 4; ++a)
+      for (int k = 0; k < 12; ++k) *g++ = grad[k] / 4;
+  }
+  HS_PETSC(MatSetValuesCOO(G_, g_values_.data(), INSERT_VALUES));
+  HS_PETSC(MatSetValuesCOO(D_, c_.data(), INSERT_VALUES));  // owned nodes come first
+  Mat coupling = coupling_;  // refilled in place
+  HS_PETSC(MatPtAP(D_, G_, MAT_REUSE_MATRIX, PETSC_DEFAULT, &coupling));
+  PetscInt begin, end;
+  HS_PETSC(MatGetOwnershipRange(coupling_, &begin, &end));
+  for (PetscInt row = begin; row < end; ++row) {
+    PetscInt n;
+    const PetscScalar* v;
+    HS_PETSC(MatGetRow(coupling_, row, &n, nullptr, &v));
+    if (n != coupling_row_sizes_[row - begin])
+      throw std::logic_error("NodalPressure: the patch coupling's pattern changed");
+    values = std::copy(v, v + n, values);
+    HS_PETSC(MatRestoreRow(coupling_, row, &n, nullptr, &v));
+  }
+}
+
+}  // namespace hs

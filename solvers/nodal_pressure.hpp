@@ -1,0 +1,82 @@
+// The volumetric energy of a P1 body integrated per node (docs/formulation.md, "Nearly
+// incompressible bodies on P1 meshes"): the averaged-nodal-pressure tetrahedron. Each element
+// of a nodal-pressure material integrates its law less the stiff term k/2 (ln J)^2
+// (materials/volumetric_term.hpp); that term is integrated over the patch of elements around
+// each node a, on the patch's volume ratio:
+//   Pi_vol = sum_a kV_a U1(J_a),   U1(J) = (ln J)^2 / 2,   J_a = v_a / V_a,
+//   v_a = sum_(e at a) v_e / 4,   V_a = sum V_e / 4,   kV_a = sum k_e V_e / 4.
+// Its force is element-local once the nodal pressures p_a = kV_a U1'(J_a) / V_a are known:
+//   r = sum_e pbar_e dv_e/du,   pbar_e = the mean of p_a over e's four nodes;
+// its tangent adds pbar_e d2v_e/du2 per element and the patch coupling
+//   sum_a c_a g_a g_a^T,   c_a = kV_a U1''(J_a) / V_a^2,   g_a = dv_a/du = sum_(e at a) dv_e/du / 4,
+// which joins every two nodes of a's patch: the tangent's stencil reaches the neighbours'
+// neighbours. The coupling is G^T D G (G the matrix of the g_a, D = diag(c_a)), formed by PETSc
+// (MatPtAP) over all ranks, so that a patch cut by a rank boundary is summed exactly.
+// One nodal volume ratio per node, not per element: a body of n nodes carries n volumetric
+// constraints against 3 n displacements, where the displacement element carries one per
+// element (about 5.5 n), and so does not lock.
+#pragma once
+
+#include <petscmat.h>
+#include <petscvec.h>
+
+#include <vector>
+
+#include "fem/element.hpp"
+#include "mesh/distribution.hpp"
+#include "solvers/dof_map.hpp"
+#include "solvers/petsc_handle.hpp"
+
+namespace hs {
+
+class NodalPressure {
+ public:
+  // modulus[e]: k_e of local tet e (0: the element is not a nodal-pressure one). Collective.
+  NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
+                std::vector<double> modulus, const DofMap& dofs, MPI_Comm comm);
+
+  // From the local displacements (3 per local node, owned then ghosts): the volume ratios
+  // and pressures of all local nodes. Collective. False if a patch's volume is not positive
+  // (then `bad_tet` is a local tet at such a node).
+  bool update(const PetscScalar* u_local, int64_t* bad_tet);
+  bool takes_part(int64_t e) const { return modulus_[e] > 0; }
+  // pbar_e, the element's mean nodal pressure (tension positive): its Cauchy stress's
+  // volumetric part.
+  double element_pressure(int64_t e) const;
+  // Adds pbar_e dv_e/du to r and pbar_e d2v_e/du2 to K (K may be nullptr) of local tet e.
+  void add_element(int64_t e, const double* ue, double* r, double* K) const;
+  // sum of kV_a U1(J_a) over the owned nodes (this rank's share).
+  double owned_energy() const;
+  // Adds the element's own volumetric stiffness (k_e / V_e) dv_e/du (dv_e/du)^T to K: the
+  // scale of the round-off of its nodal forces (Problem::residual_roundoff).
+  void add_element_scale(int64_t e, const double* ue, double* K) const;
+
+  // The patch coupling's entries (owned rows, global dof indices), appended to rows/cols in
+  // the order fill_coupling writes their values. Collective.
+  void coupling_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols);
+  size_t num_coupling_entries() const { return coupling_rows_.size(); }
+  // The values of those entries at the displacements of the last update.
+  void fill_coupling(const PetscScalar* u_local, PetscScalar* values);
+
+ private:
+  // The sums over patches of per-local-node values (each rank's elements' shares), complete
+  // at every local node afterwards. Collective.
+  void sum_over_patches(std::vector<double>& local_values);
+  // G, D and the pattern of G^T D G (MatPtAP's symbolic product), once.
+  void make_coupling();
+
+  const Distribution& dist_;
+  const std::vector<P1Geometry>& geometry_;
+  std::vector<double> modulus_;       // per local tet
+  std::vector<double> V_, kV_;        // per local node
+  std::vector<double> dv_, p_, c_;    // per local node, at the last update
+  std::vector<PetscInt> dof_index_;   // per local node: 3 global dof indices (-1 constrained)
+  VecHandle patch_sum_;               // ghosted, one value per node
+  MatHandle G_, D_, coupling_;        // the g_a by rows, diag(c_a), G^T D G
+  std::vector<PetscScalar> g_values_;
+  std::vector<PetscInt> coupling_rows_, coupling_cols_;  // its entries, in fill order
+  std::vector<PetscInt> coupling_row_sizes_;             // per owned row
+  MPI_Comm comm_;
+};
+
+}  // namespace hs
