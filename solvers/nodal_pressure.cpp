@@ -9,8 +9,13 @@
 namespace hs {
 
 NodalPressure::NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
-                             std::vector<double> modulus, const DofMap& dofs, MPI_Comm comm)
-    : dist_(dist), geometry_(geometry), modulus_(std::move(modulus)), comm_(comm) {
+                             std::vector<double> modulus, bool small_strain, const DofMap& dofs,
+                             MPI_Comm comm)
+    : dist_(dist),
+      geometry_(geometry),
+      modulus_(std::move(modulus)),
+      small_strain_(small_strain),
+      comm_(comm) {
   const int64_t nl = dist.num_local(), no = dist.num_owned();
   std::vector<PetscInt> ghosts(dist.local_nodes.begin() + no, dist.local_nodes.end());
   HS_PETSC(VecCreateGhost(comm, static_cast<PetscInt>(no), PETSC_DETERMINE,
@@ -67,7 +72,7 @@ bool NodalPressure::update(const PetscScalar* u_local, int64_t* bad_tet) {
   for (size_t e = 0; e < modulus_.size(); ++e) {
     if (!takes_part(e)) continue;
     element_displacement(dist_, u_local, e, ue);
-    const double change = p1_volume_change(geometry_[e], ue, nullptr, nullptr);
+    const double change = p1_volume_change(geometry_[e], ue, nullptr, nullptr, small_strain_);
     for (int a = 0; a < 4; ++a) dv_[dist_.tet_nodes[4 * e + a]] += change / 4;
   }
   sum_over_patches(dv_);
@@ -76,11 +81,11 @@ bool NodalPressure::update(const PetscScalar* u_local, int64_t* bad_tet) {
     p_[n] = c_[n] = 0;
     if (!(V_[n] > 0)) continue;
     const double J_minus_one = dv_[n] / V_[n];
-    if (!(1.0 + J_minus_one > 0)) {
+    if (!small_strain_ && !(1.0 + J_minus_one > 0)) {
       ok = false;
       continue;
     }
-    const VolumetricValues U1 = volumetric_function(1.0, J_minus_one);
+    const VolumetricValues U1 = volumetric_function(1.0, J_minus_one, small_strain_);
     p_[n] = kV_[n] * U1.dU / V_[n];
     c_[n] = kV_[n] * U1.d2U / (V_[n] * V_[n]);
   }
@@ -101,7 +106,7 @@ double NodalPressure::element_pressure(int64_t e) const {
 
 void NodalPressure::add_element(int64_t e, const double* ue, double* r, double* K) const {
   double grad[12], hess[144];
-  p1_volume_change(geometry_[e], ue, grad, K ? hess : nullptr);
+  p1_volume_change(geometry_[e], ue, grad, K ? hess : nullptr, small_strain_);
   const double p = element_pressure(e);
   for (int k = 0; k < 12; ++k) r[k] += p * grad[k];
   if (K)
@@ -110,7 +115,7 @@ void NodalPressure::add_element(int64_t e, const double* ue, double* r, double* 
 
 void NodalPressure::add_element_scale(int64_t e, const double* ue, double* K) const {
   double grad[12];
-  p1_volume_change(geometry_[e], ue, grad, nullptr);
+  p1_volume_change(geometry_[e], ue, grad, nullptr, small_strain_);
   const double c = modulus_[e] / geometry_[e].volume;
   for (int i = 0; i < 12; ++i)
     for (int j = 0; j < 12; ++j) K[12 * i + j] += c * grad[i] * grad[j];
@@ -119,7 +124,7 @@ void NodalPressure::add_element_scale(int64_t e, const double* ue, double* K) co
 double NodalPressure::owned_energy() const {
   double sum = 0;
   for (int64_t n = 0; n < dist_.num_owned(); ++n)
-    if (V_[n] > 0) sum += kV_[n] * volumetric_function(1.0, dv_[n] / V_[n]).U;
+    if (V_[n] > 0) sum += kV_[n] * volumetric_function(1.0, dv_[n] / V_[n], small_strain_).U;
   return sum;
 }
 
@@ -179,7 +184,7 @@ void NodalPressure::fill_coupling(const PetscScalar* u_local, PetscScalar* value
   for (size_t e = 0; e < modulus_.size(); ++e) {
     if (!takes_part(e)) continue;
     element_displacement(dist_, u_local, e, ue);
-    p1_volume_change(geometry_[e], ue, grad, nullptr);
+    p1_volume_change(geometry_[e], ue, grad, nullptr, small_strain_);
     for (int a = 0; a < 4; ++a)
       for (int k = 0; k < 12; ++k) *g++ = grad[k] / 4;
   }

@@ -31,9 +31,11 @@ namespace hs {
 
 class NodalPressure {
  public:
-  // modulus[e]: k_e of local tet e (0: the element is not a nodal-pressure one). Collective.
+  // modulus[e]: k_e of local tet e (0: the element is not a nodal-pressure one); small_strain:
+  // the laws are of small strains (U1 = (J - 1)^2 / 2 on the linearised volume change, the
+  // linear elastic body's averaged nodal dilatation). Collective.
   NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
-                std::vector<double> modulus, const DofMap& dofs, MPI_Comm comm);
+                std::vector<double> modulus, bool small_strain, const DofMap& dofs, MPI_Comm comm);
 
   // From the local displacements (3 per local node, owned then ghosts): the volume ratios
   // and pressures of all local nodes. Collective. False if a patch's volume is not positive
@@ -68,6 +70,7 @@ class NodalPressure {
   const Distribution& dist_;
   const std::vector<P1Geometry>& geometry_;
   std::vector<double> modulus_;       // per local tet
+  bool small_strain_;
   std::vector<double> V_, kV_;        // per local node
   std::vector<double> dv_, p_, c_;    // per local node, at the last update
   std::vector<PetscInt> dof_index_;   // per local node: 3 global dof indices (-1 constrained)

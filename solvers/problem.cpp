@@ -53,12 +53,22 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     any_nodal |= nodal;
   }
   if (any_nodal) {  // every rank: the materials are the deck's
+    int small_strain = -1;  // of the nodal-pressure materials: one kind of volume change
+    for (const auto& m : materials_) {
+      if (m.element != ElementFormulation::nodal_pressure) continue;
+      if (small_strain >= 0 && small_strain != m.law->small_strain())
+        throw InputError("material group '" + m.group +
+                         "': nodal_pressure bodies of small-strain and finite-strain laws "
+                         "cannot share nodes; give one of them formulation: displacement");
+      small_strain = m.law->small_strain();
+    }
     std::vector<double> modulus(nt, 0.0);
     for (size_t e = 0; e < nt; ++e) {
       const auto& m = materials_[dist.tet_volume[e]];
       if (m.element == ElementFormulation::nodal_pressure) modulus[e] = m.law->volumetric_modulus();
     }
-    nodal_ = std::make_unique<NodalPressure>(dist, p1_geometry_, std::move(modulus), dofs_, comm);
+    nodal_ = std::make_unique<NodalPressure>(dist, p1_geometry_, std::move(modulus),
+                                             small_strain == 1, dofs_, comm);
   }
 
   for (const auto& pc : config.pressures) {

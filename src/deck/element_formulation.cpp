@@ -37,8 +37,8 @@ FormulationChoice choose_formulation(ElementFormulation asked, double nu, int or
       c.error = "nodal_pressure needs mesh.order: 1 (fbar is the locking-free element of P2)";
     else if (!law_has_volumetric_term)
       c.error =
-          "nodal_pressure needs a law with the volumetric term k/2 (ln J)^2 (neo_hookean, "
-          "mooney_rivlin, yeoh, gent)";
+          "nodal_pressure needs a law with a volumetric term k/2 (ln J)^2 or k/2 (tr eps)^2 "
+          "(neo_hookean, mooney_rivlin, yeoh, gent, linear_elastic)";
     c.formulation = ElementFormulation::nodal_pressure;
     return c;
   }
@@ -56,8 +56,8 @@ FormulationChoice choose_formulation(ElementFormulation asked, double nu, int or
                 " too stiff at this nu (docs/stiff_cases.md); " +
                 (law_has_volumetric_term
                      ? "formulation: nodal_pressure (the default) runs the locking-free element"
-                     : "this law has no (ln J)^2 volumetric term for the locking-free "
-                       "nodal_pressure element; mesh.order: 2 runs the F-bar element");
+                     : "this law has no volumetric term for the locking-free nodal_pressure "
+                       "element; mesh.order: 2 runs the F-bar element");
   return c;
 }
 

@@ -46,8 +46,10 @@ ElementOutput tet_internal_force_p1(const P1Geometry& g, const double* u, const 
 // The change v - V of a P1 element's volume at displacements u, and (where not nullptr) its
 // gradient dv/du (12 values) and Hessian d2v/du2 (12 x 12, row-major): what the nodal-pressure
 // element of P1 meshes assembles (src/fem/p1_volume.cpp). v - V keeps the digits of a small
-// change (V det_minus_one(H)).
-double p1_volume_change(const P1Geometry& g, const double* u, double* grad, double* hess);
+// change (V det_minus_one(H)). linearised: the first-order change V tr(H), its gradient, a zero
+// Hessian (the volume change of a small-strain law).
+double p1_volume_change(const P1Geometry& g, const double* u, double* grad, double* hess,
+                        bool linearised = false);
 
 // The F-bar element of nearly incompressible bodies (src/fem/fbar_element.cpp): the law at
 // Fbar = (Jbar/J)^(1/3) F, Jbar the element's volume ratio, so that a P2 element carries one

@@ -6,15 +6,25 @@
 // the second from d cof(F)_ij / dF_kl = eps_ikm eps_jln F_mn. Both are polynomials in F, so
 // they hold for an inverted element too.
 #include <Eigen/Dense>
+#include <algorithm>
 
 #include "fem/element.hpp"
 #include "materials/tensor.hpp"
 
 namespace hs {
 
-double p1_volume_change(const P1Geometry& g, const double* u, double* grad, double* hess) {
+double p1_volume_change(const P1Geometry& g, const double* u, double* grad, double* hess,
+                        bool linearised) {
   const Eigen::Map<const Eigen::Matrix<double, 3, 4>> G(g.grad), U(u);
   const Mat3 H = U * G.transpose();
+  if (linearised) {
+    if (grad) {
+      Eigen::Map<Eigen::Matrix<double, 3, 4>> dv(grad);
+      dv = g.volume * G;
+    }
+    if (hess) std::fill(hess, hess + 144, 0.0);
+    return g.volume * H.trace();
+  }
   const Mat3 F = Mat3::Identity() + H;
   const double J_minus_one = tensor::det_minus_one(H);
   if (grad) {

@@ -11,7 +11,16 @@
 
 namespace hs {
 
-StressResult volumetric_term(double k, const Mat3& H, bool with_tangent) {
+StressResult volumetric_term(double k, const Mat3& H, bool with_tangent, bool small_strain) {
+  if (small_strain) {
+    const double tr = H.trace();
+    StressResult s;
+    s.P = k * tr * Mat3::Identity();
+    s.psi = 0.5 * k * tr * tr;
+    s.A.setZero();
+    if (with_tangent) tensor::add_outer(s.A, k, Mat3::Identity(), Mat3::Identity());
+    return s;
+  }
   const double J_minus_one = tensor::det_minus_one(H);
   if (!(1.0 + J_minus_one > 0)) return inverted_result();
   const double lnJ = std::log1p(J_minus_one);
@@ -27,7 +36,8 @@ StressResult volumetric_term(double k, const Mat3& H, bool with_tangent) {
   return s;
 }
 
-VolumetricValues volumetric_function(double k, double J_minus_one) {
+VolumetricValues volumetric_function(double k, double J_minus_one, bool small_strain) {
+  if (small_strain) return {0.5 * k * J_minus_one * J_minus_one, k * J_minus_one, k};
   const double J = 1.0 + J_minus_one, lnJ = std::log1p(J_minus_one);
   return {0.5 * k * lnJ * lnJ, k * lnJ / J, k * (1.0 - lnJ) / (J * J)};
 }
@@ -42,7 +52,7 @@ WithoutVolumetricTerm::WithoutVolumetricTerm(std::shared_ptr<const MaterialLaw> 
 StressResult WithoutVolumetricTerm::stress(const Mat3& H, bool with_tangent) const {
   StressResult s = law_->stress(H, with_tangent);
   if (!std::isfinite(s.psi)) return s;
-  const StressResult v = volumetric_term(k_, H, with_tangent);
+  const StressResult v = volumetric_term(k_, H, with_tangent, law_->small_strain());
   s.P -= v.P;
   s.psi -= v.psi;
   if (with_tangent) s.A -= v.A;

@@ -238,6 +238,17 @@ TEST(P1Volume, ChangeGradientAndHessianAreTheVolumesDerivatives) {
   double linear = 0;
   for (int k = 0; k < 12; ++k) linear += grad[k] * tiny[k];
   EXPECT_NEAR(small, linear, 1e-9 * std::abs(linear));
+  // Linearised (a small-strain law's): V tr(H) and the gradient at rest, no Hessian.
+  std::vector<double> grad0(12);
+  p1_volume_change(g, std::vector<double>(12, 0.0).data(), grad0.data(), nullptr);
+  const double lin = p1_volume_change(g, u.data(), grad.data(), hess.data(), true);
+  double expected = 0;
+  for (int k = 0; k < 12; ++k) {
+    expected += grad0[k] * u[k];
+    EXPECT_NEAR(grad[k], grad0[k], 1e-15 * max_abs(grad0));
+  }
+  EXPECT_NEAR(lin, expected, 1e-14 * g.volume);
+  EXPECT_EQ(max_abs(hess), 0.0);
 }
 
 std::vector<Case> finite_strain_cases() {

@@ -37,6 +37,18 @@ TEST(VolumetricTerm, StressAndTangentAreTheDerivativesOfTheEnergy) {
   }
 }
 
+TEST(VolumetricTerm, SmallStrainFormIsTheLinearElasticDilatationEnergy) {
+  std::mt19937 rng(3);
+  const Mat3 H = random_F(rng, 0.01) - Mat3::Identity();
+  const StressResult s = volumetric_term(4e6, H, true, true);
+  EXPECT_NEAR(s.psi, 2e6 * H.trace() * H.trace(), 1e-12 * s.psi);
+  EXPECT_LT(relative_error(s.P, 4e6 * H.trace() * Mat3::Identity()), 1e-14);
+  const VolumetricValues v = volumetric_function(4e6, 0.01, true);
+  EXPECT_DOUBLE_EQ(v.U, 2e6 * 1e-4);
+  EXPECT_DOUBLE_EQ(v.dU, 4e4);
+  EXPECT_DOUBLE_EQ(v.d2U, 4e6);
+}
+
 TEST(VolumetricTerm, FunctionOfJAgreesWithTheTensorForm) {
   const double k = 2.5e6;
   for (double J : {0.7, 0.999, 1.0, 1.3}) {
@@ -62,7 +74,8 @@ TEST(VolumetricTerm, LawLessTheTermPlusTheTermIsTheLaw) {
     EXPECT_EQ(rest.volumetric_modulus(), 0);
     const Mat3 F = random_F(rng, 0.2);
     const StressResult full = stress(*law, F), part = stress(rest, F);
-    const StressResult term = volumetric_term(law->volumetric_modulus(), F - Mat3::Identity(), true);
+    const StressResult term = volumetric_term(law->volumetric_modulus(), F - Mat3::Identity(), true,
+                                              law->small_strain());
     EXPECT_LT(relative_error(part.P + term.P, full.P), 1e-12) << name;
     EXPECT_LT(relative_error(part.A + term.A, full.A), 1e-12) << name;
     EXPECT_NEAR(part.psi + term.psi, full.psi, 1e-12 * std::abs(full.psi)) << name;
@@ -74,7 +87,7 @@ TEST(VolumetricTerm, LawLessTheTermPlusTheTermIsTheLaw) {
       for (int k = 0; k < 3; ++k) bulk += A0(4 * i, 4 * k) / 9;
     EXPECT_LT(std::abs(bulk), 1e6) << name;
   }
-  EXPECT_GE(laws, 4);  // neo_hookean, mooney_rivlin, yeoh, gent
+  EXPECT_GE(laws, 5);  // neo_hookean, mooney_rivlin, yeoh, gent, linear_elastic
 }
 
 }  // namespace

@@ -177,7 +177,8 @@ TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Laws, NodalPressureTest,
-                         ::testing::Values("neo_hookean", "mooney_rivlin", "yeoh", "gent"));
+                         ::testing::Values("neo_hookean", "mooney_rivlin", "yeoh", "gent",
+                                           "linear_elastic"));
 
 // Without follower pressure the residual is the gradient of the potential energy (the line
 // search's objective): its central difference along a direction is R . v.
