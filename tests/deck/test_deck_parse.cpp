@@ -663,16 +663,54 @@ materials:
   for (size_t i = 0; i < c.materials.size(); ++i)
     EXPECT_EQ(back.materials[i].element, c.materials[i].element) << i;
 
+  // P1: the nodal-pressure element where the law has a volumetric term; forcing the
+  // displacement element warns with the error to expect; a law without the term warns too.
   const Config p1 = parse_deck(path, {"mesh.order=1"});
-  for (size_t i = 0; i < p1.materials.size(); ++i)
-    EXPECT_EQ(p1.materials[i].element, displacement) << i;
-  EXPECT_NE(p1.materials[0].formulation_warning.find(
+  const auto nodal = ElementFormulation::nodal_pressure;
+  EXPECT_EQ(p1.materials[0].element, nodal);
+  EXPECT_EQ(p1.materials[0].formulation_reason, "auto: nu = 0.4999 >= 0.49 on P1");
+  EXPECT_EQ(p1.materials[1].element, displacement);
+  EXPECT_EQ(p1.materials[2].element, nodal);
+  EXPECT_EQ(p1.materials[3].element, displacement);
+  for (int i : {0, 1, 2}) EXPECT_EQ(p1.materials[i].formulation_warning, "") << i;
+  EXPECT_NE(p1.materials[3].formulation_warning.find(
                 "P1 displacement elements lock at nu = 0.4999: a thick sphere inflated by "
                 "pressure comes out about 86 % too stiff"),
             std::string::npos)
-      << p1.materials[0].formulation_warning;
-  EXPECT_NE(p1.materials[2].formulation_warning.find("about 8 % too stiff"), std::string::npos);
-  EXPECT_EQ(p1.materials[1].formulation_warning, "");  // nu = 0.489
+      << p1.materials[3].formulation_warning;
+  const Config svk = parse_deck(path, {"mesh.order=1", "materials[0].model=saint_venant_kirchhoff"});
+  EXPECT_EQ(svk.materials[0].element, displacement);
+  EXPECT_NE(svk.materials[0].formulation_warning.find("this law has no volumetric term"),
+            std::string::npos)
+      << svk.materials[0].formulation_warning;
+}
+
+// An element that cannot run where it is asked for is refused, naming the one that can.
+TEST_F(DeckParse, ElementFormulationThatCannotRunIsRefused) {
+  const std::string path = tmp.write("decks/forced.yaml", R"(mesh: {file: body.msh, order: 1}
+materials:
+  - {group: a, model: neo_hookean, E: 2.0e5, nu: 0.4999}
+)");
+  auto error_of = [&](std::vector<std::string> overrides) {
+    try {
+      parse_deck(path, overrides);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of({"materials[0].formulation=fbar"}).find("nodal_pressure is the locking-free element of P1"),
+            std::string::npos);
+  EXPECT_NE(error_of({"materials[0].formulation=nodal_pressure", "mesh.order=2"})
+                .find("nodal_pressure needs mesh.order: 1"),
+            std::string::npos);
+  EXPECT_NE(error_of({"materials[0].formulation=nodal_pressure",
+                      "materials[0].model=saint_venant_kirchhoff"})
+                .find("materials[0].formulation: nodal_pressure needs a law with a volumetric term"),
+            std::string::npos)
+      << error_of({"materials[0].formulation=nodal_pressure",
+                   "materials[0].model=saint_venant_kirchhoff"});
+  EXPECT_EQ(error_of({"materials[0].formulation=nodal_pressure"}), "no error");
 }
 
 TEST_F(DeckParse, OverridesChangeTheTreeBeforeValidation) {
