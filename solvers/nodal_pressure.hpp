@@ -31,7 +31,7 @@ namespace hs {
 
 class NodalPressure {
  public:
-  // modulus[e]: k_e of local tet e (0: the element is not a nodal-pressure one); small_strain:
+  // modulus[e]: k_e of local tet e (< 0: the element is not a nodal-pressure one); small_strain:
   // the laws are of small strains (U1 = (J - 1)^2 / 2 on the linearised volume change, the
   // linear elastic body's averaged nodal dilatation). Collective.
   NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
@@ -41,12 +41,18 @@ class NodalPressure {
   // and pressures of all local nodes. Collective. False if a patch's volume is not positive
   // (then `bad_tet` is a local tet at such a node).
   bool update(const PetscScalar* u_local, int64_t* bad_tet);
-  bool takes_part(int64_t e) const { return modulus_[e] > 0; }
+  bool takes_part(int64_t e) const { return modulus_[e] >= 0; }
   // pbar_e, the element's mean nodal pressure (tension positive): its Cauchy stress's
   // volumetric part.
   double element_pressure(int64_t e) const;
   // Adds pbar_e dv_e/du to r and pbar_e d2v_e/du2 to K (K may be nullptr) of local tet e.
   void add_element(int64_t e, const double* ue, double* r, double* K) const;
+  // -p_a of the owned nodes (positive in compression; 0 at nodes of no nodal-pressure body).
+  std::vector<double> owned_compression() const {
+    std::vector<double> c(p_.begin(), p_.begin() + dist_.num_owned());
+    for (double& x : c) x = -x;
+    return c;
+  }
   // sum of kV_a U1(J_a) over the owned nodes (this rank's share).
   double owned_energy() const;
   // Adds the element's own volumetric stiffness (k_e / V_e) dv_e/du (dv_e/du)^T to K: the

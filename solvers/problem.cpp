@@ -62,7 +62,7 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
                          "cannot share nodes; give one of them formulation: displacement");
       small_strain = m.law->small_strain();
     }
-    std::vector<double> modulus(nt, 0.0);
+    std::vector<double> modulus(nt, -1.0);
     for (size_t e = 0; e < nt; ++e) {
       const auto& m = materials_[dist.tet_volume[e]];
       if (m.element == ElementFormulation::nodal_pressure) modulus[e] = m.law->volumetric_modulus();
@@ -341,6 +341,15 @@ void Problem::element_fields(Vec u, ElementFieldValues& v) const {
     std::copy(ps.begin(), ps.end(), &v.principal_stress[3 * e]);
     std::copy(pe.begin(), pe.end(), &v.principal_strain[3 * e]);
   }
+}
+
+std::vector<double> Problem::nodal_pressure(Vec u) const {
+  if (!nodal_) return {};
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
+  LocalView view(u, uw);
+  nodal_->update(view.values(), nullptr);
+  return nodal_->owned_compression();
 }
 
 std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {

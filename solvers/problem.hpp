@@ -110,6 +110,9 @@ class Problem {
     std::vector<double> von_mises, J, stress, strain, principal_stress, principal_strain;
   };
   void element_fields(Vec u, ElementFieldValues& values) const;
+  // The nodal-pressure element's pressure per owned node on configuration u (positive in
+  // compression, NodalPressure::owned_compression); empty without that element. Collective.
+  std::vector<double> nodal_pressure(Vec u) const;
 
   // Reactions: per group of the deck's `boundary` list (reaction_groups(), in the deck's
   // order, each group once), the force the constraint exerts on the body, summed over its

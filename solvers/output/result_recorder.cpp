@@ -128,6 +128,7 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
     f.principal_stress = std::move(v.principal_stress);
     f.principal_strain = std::move(v.principal_strain);
   }
+  f.pressure = problem_.nodal_pressure(u);
   f.rank.assign(f.J.size(), rank_);
   HistoryRow row;
   row.add_count("step", written_);

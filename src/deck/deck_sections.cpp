@@ -40,7 +40,7 @@ MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const
   }
   const FormulationChoice choice =
       choose_formulation(m.formulation, m.law->elastic_constants().nu, c.mesh.order,
-                         m.law->volumetric_modulus() > 0);
+                         m.law->has_volumetric_term());
   if (!choice.error.empty())
     r.fail(child_key(key, "formulation"), node["formulation"], choice.error);
   m.element = choice.formulation;

@@ -93,6 +93,9 @@ struct StepFields {
   // tetrahedron the Cauchy stress and the Green-Lagrange strain (9 each, row-major: xx xy xz
   // yx ... zz) and their principal values (3 each, largest first).
   std::vector<double> stress, strain, principal_stress, principal_strain;
+  // Bodies of the nodal-pressure element only (written when not empty): per node, the
+  // volumetric stress of its patch, positive in compression (-k ln J_a / J_a).
+  std::vector<double> pressure;
   std::vector<int> rank;  // per tetrahedron: the MPI rank that owns it
 };
 

@@ -43,6 +43,7 @@ struct XdmfWriter::Impl {
   std::vector<double> times;  // of the steps written so far
   std::vector<std::string> time_kinds;
   std::vector<char> has_pressure, has_weight, has_tensors;  // per step: its optional fields
+  std::vector<char> has_nodal_pressure;
   std::vector<std::string> mask_names;                      // /mesh/group_<name> datasets
   bool closed = false;
 
@@ -196,6 +197,7 @@ std::string XdmfWriter::Impl::grid(const std::string& indent, int step) const {
     if (has_pressure[step])
       attribute("cavity_pressure_load", "Vector", "Node", nodes, 3, "Float", 8);
     if (has_weight[step]) attribute("fluid_weight_load", "Vector", "Node", nodes, 3, "Float", 8);
+    if (has_nodal_pressure[step]) attribute("pressure", "Scalar", "Node", nodes, 0, "Float", 8);
     attribute("von_mises", "Scalar", "Cell", tets, 0, "Float", 8);
     if (has_tensors[step]) {
       // Full 3 x 3 tensors: XDMF's Tensor6 order (xx xy xz yy yz zz) is not VTK's symmetric
@@ -328,6 +330,8 @@ void XdmfWriter::write_step(const StepFields& f) {
   const bool pressure = !f.cavity_pressure_load.empty(), weight = !f.fluid_weight_load.empty();
   if (pressure) require_size("cavity_pressure_load", f.cavity_pressure_load.size(), 3 * w.my_nodes);
   if (weight) require_size("fluid_weight_load", f.fluid_weight_load.size(), 3 * w.my_nodes);
+  const bool nodal_pressure = !f.pressure.empty();
+  if (nodal_pressure) require_size("pressure", f.pressure.size(), w.my_nodes);
   const bool tensors = !f.stress.empty();
   if (tensors) {
     require_size("stress", f.stress.size(), 9 * w.my_tets);
@@ -355,6 +359,11 @@ void XdmfWriter::write_step(const StepFields& f) {
                              f.time);
   if (error.empty())
     error = first_non_finite("fluid_weight_load", f.fluid_weight_load, w.node_ids, true, k, f.time);
+  for (size_t i = 0; i < f.pressure.size() && error.empty(); ++i)
+    if (!std::isfinite(f.pressure[i]))
+      error = "output step " + std::to_string(k) + " (time " + number_text(f.time) +
+              "): pressure (node " + std::to_string(w.node_ids[i]) + ") is not finite (" +
+              std::to_string(f.pressure[i]) + "); the step was not written";
   if (w.comm != MPI_COMM_NULL)
     throw_together<SolveError>(error, w.comm);
   else if (!error.empty())
@@ -363,8 +372,9 @@ void XdmfWriter::write_step(const StepFields& f) {
   const std::string step = "/step_" + std::to_string(k);
   const int64_t nodal_fields = 2 + pressure + weight;
   const int64_t cell_fields = 3 + 4 * tensors;
-  const int64_t bytes = nodal_fields * w.nodes * 3 * 8 + w.tets * (8 + 8 + 4 + tensors * 24 * 8) +
-                        Hdf5File::metadata_allowance(3 + 2 * (nodal_fields + cell_fields),
+  const int64_t bytes = nodal_fields * w.nodes * 3 * 8 + nodal_pressure * w.nodes * 8 +
+                        w.tets * (8 + 8 + 4 + tensors * 24 * 8) +
+                        Hdf5File::metadata_allowance(3 + 2 * (nodal_fields + cell_fields + 1),
                                                      static_cast<int64_t>(k) + 1);
   // The step exists for readers once the .xmf names it. The new .xmf is written first (a full
   // disk then stops the step before the .h5 holds any of it) and put in place last: the .h5
@@ -374,6 +384,7 @@ void XdmfWriter::write_step(const StepFields& f) {
   w.has_pressure.push_back(pressure);
   w.has_weight.push_back(weight);
   w.has_tensors.push_back(tensors);
+  w.has_nodal_pressure.push_back(nodal_pressure);
   std::unique_ptr<StagedFile> xmf;  // rank 0's
   try {
     write_together(w.comm, w.rank == 0,
@@ -390,6 +401,10 @@ void XdmfWriter::write_step(const StepFields& f) {
     nodal("nodal_load", f.nodal_load, "N");
     if (pressure) nodal("cavity_pressure_load", f.cavity_pressure_load, "N");
     if (weight) nodal("fluid_weight_load", f.fluid_weight_load, "N");
+    if (nodal_pressure) {
+      h5.write_rows(step + "/pressure", f.pressure, w.nodes, 0, w.first_node);
+      h5.set_attribute(step + "/pressure", "units", std::string("Pa"));
+    }
     h5.write_rows(step + "/von_mises", f.von_mises, w.tets, 0, w.first_tet);
     h5.set_attribute(step + "/von_mises", "units", std::string("Pa"));
     if (tensors) {
@@ -415,6 +430,7 @@ void XdmfWriter::write_step(const StepFields& f) {
     w.has_pressure.pop_back();
     w.has_weight.pop_back();
     w.has_tensors.pop_back();
+    w.has_nodal_pressure.pop_back();
     throw SolveError("output step " + std::to_string(k) + " (time " + number_text(f.time) +
                      ") not written: " + e.what());
   }

@@ -105,6 +105,7 @@ class ConstantsOnlyLaw : public ElasticLaw {
   StressResult stress(const Mat3& H, bool with_tangent) const override {
     return Pointwise(constants_.mu, constants_.lambda, H, with_tangent);
   }
+  bool has_volumetric_term() const override { return LambdaLnJ; }
   double volumetric_modulus() const override { return LambdaLnJ ? constants_.lambda : 0.0; }
 };
 

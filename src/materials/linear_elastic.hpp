@@ -17,7 +17,8 @@ class LinearElasticLaw final : public ConstantsOnlyLaw<kLinearElasticName, linea
     return std::make_shared<LinearElasticLaw>(resolve_elastic_constants(r, node, key, read));
   }
   using ConstantsOnlyLaw::ConstantsOnlyLaw;
-  double volumetric_modulus() const override { return constants_.lambda; }  // lambda/2 tr(eps)^2
+  bool has_volumetric_term() const override { return true; }  // lambda/2 tr(eps)^2
+  double volumetric_modulus() const override { return constants_.lambda; }
   // Small strain does not tell the configurations apart: its P already is sigma.
   Mat3 cauchy_stress(const Mat3& F) const override;
   bool tangent_always_definite() const override { return true; }

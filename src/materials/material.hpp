@@ -47,9 +47,10 @@ class MaterialLaw {
   // Whether the law is of small strains (linear elasticity): the F-bar element then takes its
   // linearisation, B-bar, so that the law stays linear (fem/fbar_element.cpp).
   virtual bool small_strain() const { return false; }
-  // k of the law's volumetric term k/2 (ln J)^2, or k/2 (tr eps)^2 for a small-strain law
-  // (materials/volumetric_term.hpp): the term a nodal-pressure element integrates per node; 0
-  // when psi has no such term.
+  // Whether psi has the volumetric term k/2 (ln J)^2, or k/2 (tr eps)^2 for a small-strain law
+  // (materials/volumetric_term.hpp): the term a nodal-pressure element integrates per node;
+  // and its k (0 without the term).
+  virtual bool has_volumetric_term() const { return false; }
   virtual double volumetric_modulus() const { return 0; }
   // The elastic constants the deck gave (closed-form references of verification decks read them).
   virtual const ElasticConstants& elastic_constants() const = 0;

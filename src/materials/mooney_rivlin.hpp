@@ -32,6 +32,7 @@ class MooneyRivlinLaw final : public ElasticLaw {
       : ElasticLaw(constants), c1_(c1), c2_(c2) {}
   std::string name() const override { return kName; }
   StressResult stress(const Mat3& H, bool with_tangent) const override;
+  bool has_volumetric_term() const override { return true; }
   double volumetric_modulus() const override { return constants_.lambda + 2.0 * constants_.mu / 3.0; }
 
   double c1() const { return c1_; }

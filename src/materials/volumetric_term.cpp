@@ -44,7 +44,7 @@ VolumetricValues volumetric_function(double k, double J_minus_one, bool small_st
 
 WithoutVolumetricTerm::WithoutVolumetricTerm(std::shared_ptr<const MaterialLaw> law)
     : law_(std::move(law)), k_(law_->volumetric_modulus()) {
-  if (!(k_ > 0))
+  if (!law_->has_volumetric_term())
     throw std::logic_error("WithoutVolumetricTerm: law " + law_->name() +
                            " has no volumetric term k/2 (ln J)^2");
 }

@@ -24,8 +24,8 @@ struct VolumetricValues {
 };
 VolumetricValues volumetric_function(double k, double J_minus_one, bool small_strain = false);
 
-// `law` less its volumetric term (law.volumetric_modulus() > 0): psi - k/2 (ln J)^2, with the
-// law's name and constants. Its own volumetric_modulus() is 0.
+// `law` less its volumetric term (law.has_volumetric_term()): psi - k/2 (ln J)^2, with the
+// law's name and constants; it has no volumetric term of its own.
 class WithoutVolumetricTerm final : public MaterialLaw {
  public:
   explicit WithoutVolumetricTerm(std::shared_ptr<const MaterialLaw> law);

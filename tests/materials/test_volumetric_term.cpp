@@ -68,10 +68,11 @@ TEST(VolumetricTerm, LawLessTheTermPlusTheTermIsTheLaw) {
   int laws = 0;
   for (const std::string& name : all_law_names()) {
     const auto law = make_law(name, elastic_constants_from_E_nu(1e6, 0.4999));
-    if (law->volumetric_modulus() == 0) continue;
+    if (!law->has_volumetric_term()) continue;
     ++laws;
     const WithoutVolumetricTerm rest(law);
-    EXPECT_EQ(rest.volumetric_modulus(), 0);
+    EXPECT_FALSE(rest.has_volumetric_term());
+    EXPECT_GT(law->volumetric_modulus(), 1e9);  // kappa or lambda at nu = 0.4999
     const Mat3 F = random_F(rng, 0.2);
     const StressResult full = stress(*law, F), part = stress(rest, F);
     const StressResult term = volumetric_term(law->volumetric_modulus(), F - Mat3::Identity(), true,
