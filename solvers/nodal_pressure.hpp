@@ -8,7 +8,8 @@
 // Its force is element-local once the nodal pressures p_a = kV_a U1'(J_a) / V_a are known:
 //   r = sum_e pbar_e dv_e/du,   pbar_e = the mean of p_a over e's four nodes;
 // its tangent adds pbar_e d2v_e/du2 per element and the patch coupling
-//   sum_a c_a g_a g_a^T,   c_a = kV_a U1''(J_a) / V_a^2,   g_a = dv_a/du = sum_(e at a) dv_e/du / 4,
+//   sum_a c_a g_a g_a^T,   c_a = kV_a U1''(J_a) / V_a^2,   g_a = dv_a/du = sum_(e at a) dv_e/du /
+//   4,
 // which joins every two nodes of a's patch: the tangent's stencil reaches the neighbours'
 // neighbours. The coupling is G^T D G (G the matrix of the g_a, D = diag(c_a)), formed by PETSc
 // (MatPtAP) over all ranks, so that a patch cut by a rank boundary is summed exactly.
@@ -75,13 +76,13 @@ class NodalPressure {
 
   const Distribution& dist_;
   const std::vector<P1Geometry>& geometry_;
-  std::vector<double> modulus_;       // per local tet
+  std::vector<double> modulus_;  // per local tet
   bool small_strain_;
-  std::vector<double> V_, kV_;        // per local node
-  std::vector<double> dv_, p_, c_;    // per local node, at the last update
-  std::vector<PetscInt> dof_index_;   // per local node: 3 global dof indices (-1 constrained)
-  VecHandle patch_sum_;               // ghosted, one value per node
-  MatHandle G_, D_, coupling_;        // the g_a by rows, diag(c_a), G^T D G
+  std::vector<double> V_, kV_;       // per local node
+  std::vector<double> dv_, p_, c_;   // per local node, at the last update
+  std::vector<PetscInt> dof_index_;  // per local node: 3 global dof indices (-1 constrained)
+  VecHandle patch_sum_;              // ghosted, one value per node
+  MatHandle G_, D_, coupling_;       // the g_a by rows, diag(c_a), G^T D G
   std::vector<PetscScalar> g_values_;
   std::vector<PetscInt> coupling_rows_, coupling_cols_;  // its entries, in fill order
   std::vector<PetscInt> coupling_row_sizes_;             // per owned row

@@ -52,7 +52,7 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     element_laws_.push_back(nodal ? std::make_shared<WithoutVolumetricTerm>(m.law) : m.law);
     any_nodal |= nodal;
   }
-  if (any_nodal) {  // every rank: the materials are the deck's
+  if (any_nodal) {          // every rank: the materials are the deck's
     int small_strain = -1;  // of the nodal-pressure materials: one kind of volume change
     for (const auto& m : materials_) {
       if (m.element != ElementFormulation::nodal_pressure) continue;

@@ -38,9 +38,8 @@ MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const
     const std::string model = r.text(required(r, node, key, k.name), child_key(key, k.name));
     m.law = parse_material_law(r, node, key, model, deck_keys);
   }
-  const FormulationChoice choice =
-      choose_formulation(m.formulation, m.law->elastic_constants().nu, c.mesh.order,
-                         m.law->has_volumetric_term());
+  const FormulationChoice choice = choose_formulation(m.formulation, m.law->elastic_constants().nu,
+                                                      c.mesh.order, m.law->has_volumetric_term());
   if (!choice.error.empty())
     r.fail(child_key(key, "formulation"), node["formulation"], choice.error);
   m.element = choice.formulation;

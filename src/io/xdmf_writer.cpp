@@ -44,7 +44,7 @@ struct XdmfWriter::Impl {
   std::vector<std::string> time_kinds;
   std::vector<char> has_pressure, has_weight, has_tensors;  // per step: its optional fields
   std::vector<char> has_nodal_pressure;
-  std::vector<std::string> mask_names;                      // /mesh/group_<name> datasets
+  std::vector<std::string> mask_names;  // /mesh/group_<name> datasets
   bool closed = false;
 
   std::string h5_path() const { return folder + "/" + name + ".h5"; }

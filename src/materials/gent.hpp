@@ -30,7 +30,9 @@ class GentLaw final : public ElasticLaw {
   std::string name() const override { return kName; }
   StressResult stress(const Mat3& H, bool with_tangent) const override;
   bool has_volumetric_term() const override { return true; }
-  double volumetric_modulus() const override { return constants_.lambda + 2.0 * constants_.mu / 3.0; }
+  double volumetric_modulus() const override {
+    return constants_.lambda + 2.0 * constants_.mu / 3.0;
+  }
 
   double Jm() const { return Jm_; }
 

@@ -33,7 +33,9 @@ class MooneyRivlinLaw final : public ElasticLaw {
   std::string name() const override { return kName; }
   StressResult stress(const Mat3& H, bool with_tangent) const override;
   bool has_volumetric_term() const override { return true; }
-  double volumetric_modulus() const override { return constants_.lambda + 2.0 * constants_.mu / 3.0; }
+  double volumetric_modulus() const override {
+    return constants_.lambda + 2.0 * constants_.mu / 3.0;
+  }
 
   double c1() const { return c1_; }
   double c2() const { return c2_; }

@@ -1,8 +1,9 @@
 // The volumetric term k/2 (ln J)^2 that the hyperelastic laws of this code share (neo-Hookean
 // with k = lambda; Mooney-Rivlin, Yeoh and Gent with the bulk modulus kappa), its small-strain
-// form k/2 (tr eps)^2 (linear elasticity, k = lambda), and a law with that term taken out. The nodal-pressure element (docs/formulation.md, "Nearly incompressible
-// bodies on P1 meshes") integrates the law without its stiff volumetric term per element and
-// the term itself per node, on the volume ratio of the node's patch.
+// form k/2 (tr eps)^2 (linear elasticity, k = lambda), and a law with that term taken out. The
+// nodal-pressure element (docs/formulation.md, "Nearly incompressible bodies on P1 meshes")
+// integrates the law without its stiff volumetric term per element and the term itself per node, on
+// the volume ratio of the node's patch.
 #pragma once
 
 #include <memory>

@@ -36,7 +36,9 @@ class YeohLaw final : public MaterialLaw {
   std::string name() const override { return kName; }
   StressResult stress(const Mat3& H, bool with_tangent) const override;
   bool has_volumetric_term() const override { return true; }
-  double volumetric_modulus() const override { return constants_.lambda + 2.0 * constants_.mu / 3.0; }
+  double volumetric_modulus() const override {
+    return constants_.lambda + 2.0 * constants_.mu / 3.0;
+  }
   const ElasticConstants& elastic_constants() const override { return constants_; }
   // mu, lambda, E, and the softening onset where there is one.
   std::string derived_values() const override;

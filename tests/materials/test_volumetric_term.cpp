@@ -56,8 +56,13 @@ TEST(VolumetricTerm, FunctionOfJAgreesWithTheTensorForm) {
     const Mat3 H = (std::cbrt(J) - 1) * Mat3::Identity();
     EXPECT_NEAR(v.U, volumetric_term(k, H, false).psi, 1e-9 * k);
     const double h = 1e-6;
-    EXPECT_NEAR(v.dU, (volumetric_function(k, J - 1 + h).U - volumetric_function(k, J - 1 - h).U) / (2 * h), 1e-6 * k);
-    EXPECT_NEAR(v.d2U, (volumetric_function(k, J - 1 + h).dU - volumetric_function(k, J - 1 - h).dU) / (2 * h), 1e-5 * k);
+    EXPECT_NEAR(
+        v.dU, (volumetric_function(k, J - 1 + h).U - volumetric_function(k, J - 1 - h).U) / (2 * h),
+        1e-6 * k);
+    EXPECT_NEAR(
+        v.d2U,
+        (volumetric_function(k, J - 1 + h).dU - volumetric_function(k, J - 1 - h).dU) / (2 * h),
+        1e-5 * k);
   }
 }
 
@@ -75,8 +80,8 @@ TEST(VolumetricTerm, LawLessTheTermPlusTheTermIsTheLaw) {
     EXPECT_GT(law->volumetric_modulus(), 1e9);  // kappa or lambda at nu = 0.4999
     const Mat3 F = random_F(rng, 0.2);
     const StressResult full = stress(*law, F), part = stress(rest, F);
-    const StressResult term = volumetric_term(law->volumetric_modulus(), F - Mat3::Identity(), true,
-                                              law->small_strain());
+    const StressResult term =
+        volumetric_term(law->volumetric_modulus(), F - Mat3::Identity(), true, law->small_strain());
     EXPECT_LT(relative_error(part.P + term.P, full.P), 1e-12) << name;
     EXPECT_LT(relative_error(part.A + term.A, full.A), 1e-12) << name;
     EXPECT_NEAR(part.psi + term.psi, full.psi, 1e-12 * std::abs(full.psi)) << name;

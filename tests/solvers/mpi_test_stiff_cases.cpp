@@ -1,11 +1,11 @@
 // Stiff and extreme cases (docs/stiff_cases.md): stiffness contrast 1e6 in one body, a load
 // too large for one Newton step (cutback recovers), and true failures that stop with a
 // message naming the step and the cause, leaving no output behind.
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <mpi.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -87,7 +87,9 @@ TEST(StiffCases, NodalPressureElementDoesNotLockOnP1) {
                                      "mesh.parameters.h=0.2", "exact.parameters.stretch=1.2",
                                      "time.steps=4"};
   auto last_error = [](const nlohmann::json& s) {
-    double e = s.is_null() ? 0.0 : s["verification"]["steps"].back()["pressure_relative_error"].get<double>();
+    double e = s.is_null()
+                   ? 0.0
+                   : s["verification"]["steps"].back()["pressure_relative_error"].get<double>();
     MPI_Bcast(&e, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     return e;
   };
