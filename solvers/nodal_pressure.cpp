@@ -190,7 +190,7 @@ void NodalPressure::fill_coupling(const PetscScalar* u_local, PetscScalar* value
   }
   HS_PETSC(MatSetValuesCOO(G_, g_values_.data(), INSERT_VALUES));
   HS_PETSC(MatSetValuesCOO(D_, c_.data(), INSERT_VALUES));  // owned nodes come first
-  Mat coupling = coupling_;  // refilled in place
+  Mat coupling = coupling_;                                 // refilled in place
   HS_PETSC(MatPtAP(D_, G_, MAT_REUSE_MATRIX, PETSC_DEFAULT, &coupling));
   PetscInt begin, end;
   HS_PETSC(MatGetOwnershipRange(coupling_, &begin, &end));

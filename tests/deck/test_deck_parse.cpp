@@ -678,7 +678,8 @@ materials:
                 "pressure comes out about 86 % too stiff"),
             std::string::npos)
       << p1.materials[3].formulation_warning;
-  const Config svk = parse_deck(path, {"mesh.order=1", "materials[0].model=saint_venant_kirchhoff"});
+  const Config svk =
+      parse_deck(path, {"mesh.order=1", "materials[0].model=saint_venant_kirchhoff"});
   EXPECT_EQ(svk.materials[0].element, displacement);
   EXPECT_NE(svk.materials[0].formulation_warning.find("this law has no volumetric term"),
             std::string::npos)
@@ -699,15 +700,17 @@ materials:
     }
     return std::string("no error");
   };
-  EXPECT_NE(error_of({"materials[0].formulation=fbar"}).find("nodal_pressure is the locking-free element of P1"),
+  EXPECT_NE(error_of({"materials[0].formulation=fbar"})
+                .find("nodal_pressure is the locking-free element of P1"),
             std::string::npos);
   EXPECT_NE(error_of({"materials[0].formulation=nodal_pressure", "mesh.order=2"})
                 .find("nodal_pressure needs mesh.order: 1"),
             std::string::npos);
-  EXPECT_NE(error_of({"materials[0].formulation=nodal_pressure",
-                      "materials[0].model=saint_venant_kirchhoff"})
-                .find("materials[0].formulation: nodal_pressure needs a law with a volumetric term"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of(
+          {"materials[0].formulation=nodal_pressure", "materials[0].model=saint_venant_kirchhoff"})
+          .find("materials[0].formulation: nodal_pressure needs a law with a volumetric term"),
+      std::string::npos)
       << error_of({"materials[0].formulation=nodal_pressure",
                    "materials[0].model=saint_venant_kirchhoff"});
   EXPECT_EQ(error_of({"materials[0].formulation=nodal_pressure"}), "no error");

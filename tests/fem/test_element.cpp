@@ -229,7 +229,8 @@ TEST(P1Volume, ChangeGradientAndHessianAreTheVolumesDerivatives) {
     p1_volume_change(g, up.data(), gp.data(), nullptr);
     p1_volume_change(g, um.data(), gm.data(), nullptr);
     for (int i = 0; i < 12; ++i)
-      EXPECT_NEAR(hess[12 * i + k], (gp[i] - gm[i]) / (2 * h), 1e-8 * max_abs(hess)) << i << " " << k;
+      EXPECT_NEAR(hess[12 * i + k], (gp[i] - gm[i]) / (2 * h), 1e-8 * max_abs(hess))
+          << i << " " << k;
   }
   // A small change keeps its digits: v - V is not a difference of two volumes.
   std::vector<double> tiny(12);

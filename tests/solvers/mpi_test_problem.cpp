@@ -125,8 +125,8 @@ TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) {
   Fixture f({"mesh.order=1", "materials[0].density=1000"});
   f.config.pressures.clear();  // a potential: the energy check below
   auto& material = f.config.materials[0];
-  material.law = hs::material_fixtures::make_law(
-      GetParam(), hs::elastic_constants_from_E_nu(1e6, 0.49));
+  material.law =
+      hs::material_fixtures::make_law(GetParam(), hs::elastic_constants_from_E_nu(1e6, 0.49));
   material.element = hs::ElementFormulation::nodal_pressure;
   hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
   const hs::VecHandle u(problem.create_vector()), v(problem.create_vector());
