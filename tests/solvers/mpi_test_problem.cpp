@@ -176,6 +176,54 @@ TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) {
   EXPECT_GT(wide.nz_used, 1.5 * narrow.nz_used);
 }
 
+// The pressure patch test: a homogeneous deformation u = A X on the distorted mesh of the
+// thick sphere gives every patch the same volume ratio, so the nodal pressures are all the
+// law's, k ln J / J (small strains: lambda tr A), no pressure mode is excited, and every
+// interior node is in equilibrium to round-off (the symmetry planes carry no shear: A is
+// diagonal).
+TEST_P(NodalPressureTest, HomogeneousDeformationIsReproducedExactly) {
+  Fixture f({"mesh.order=1"});
+  f.config.pressures.clear();
+  f.config.gravity = {0, 0, 0};
+  auto& material = f.config.materials[0];
+  material.law =
+      hs::material_fixtures::make_law(GetParam(), hs::elastic_constants_from_E_nu(1e6, 0.4999));
+  material.element = hs::ElementFormulation::nodal_pressure;
+  hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
+  const hs::VecHandle u(problem.create_vector()), R(problem.create_vector());
+  const double A[3] = {0.02, -0.01, 0.015};
+  PetscScalar* a;
+  VecGetArray(u, &a);
+  for (int64_t n = 0; n < f.dist.num_owned(); ++n)
+    for (int d = 0; d < 3; ++d) a[3 * n + d] = A[d] * problem.reference_coordinate(n, d);
+  VecRestoreArray(u, &a);
+  ASSERT_TRUE(problem.residual(u, 1.0, R));
+  const double k = material.law->volumetric_modulus();
+  const double J = (1 + A[0]) * (1 + A[1]) * (1 + A[2]);
+  const double p = material.law->small_strain() ? k * (A[0] + A[1] + A[2]) : k * std::log(J) / J;
+  const std::vector<double> pressure = problem.nodal_pressure(u);
+  ASSERT_EQ(static_cast<int64_t>(pressure.size()), f.dist.num_owned());
+  double worst_pressure = 0, worst_force = 0, largest_force = 0;
+  const PetscScalar* r;
+  VecGetArrayRead(R, &r);
+  for (int64_t n = 0; n < f.dist.num_owned(); ++n) {
+    worst_pressure = std::max(worst_pressure, std::abs(pressure[n] + p));
+    double radius = 0;
+    for (int d = 0; d < 3; ++d) radius += std::pow(problem.reference_coordinate(n, d), 2);
+    radius = std::sqrt(radius);
+    const bool interior = radius > 1.0 + 1e-9 && radius < 2.0 - 1e-9;
+    for (int d = 0; d < 3; ++d) {
+      if (problem.constrained(3 * n + d)) continue;
+      largest_force = std::max(largest_force, std::abs(r[3 * n + d]));
+      if (interior) worst_force = std::max(worst_force, std::abs(r[3 * n + d]));
+    }
+  }
+  VecRestoreArrayRead(R, &r);
+  EXPECT_LT(worst_pressure, 1e-9 * std::abs(p)) << GetParam();
+  EXPECT_LT(worst_force, 1e-9 * largest_force) << GetParam();
+  EXPECT_GT(largest_force, 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Laws, NodalPressureTest,
                          ::testing::Values("neo_hookean", "mooney_rivlin", "yeoh", "gent",
                                            "linear_elastic"));
