@@ -19,7 +19,9 @@ tip deflection.
 
 Mesh size: the ratio between levels is r = (elements_fine / elements_coarse)^(1/3), i.e. the
 ratio of h_eff = (V / elements)^(1/3) with the domain volume V cancelled -- what the mesher
-made, not what was asked for. --volume V also prints h_eff itself.
+made, not what was asked for. --volume V also prints h_eff itself. Levels are ordered by
+their element counts. --h-key must name a key that sets the mesh size and nothing else (the
+cantilever's mesh.parameters.h is the beam's section: refine it with mesh.parameters.n).
 
 Observed order from three levels with ratios r21 = h1/h2, r32 = h2/h3 (coarse to fine):
 (q1 - q2)/(q2 - q3) = r32^p (r21^p - 1)/(r32^p - 1), which is r^p for a constant ratio r;
@@ -103,21 +105,24 @@ def default_quantities(summary):
     return q
 
 
-def observed_order(h, q):
+def observed_order(h, q, noise=1e-9):
     """Order, extrapolated value and error estimate from three levels, coarse to fine.
 
-    h: the three mesh sizes (any common scale), q: the values. Returns dict(p, q_inf, error,
-    note): p and q_inf are None where the sequence gives none, and note says why."""
+    h: the three mesh sizes (any common scale), q: the values; differences below noise times
+    the values are the solver's tolerance, not the mesh. Returns dict(p, q_inf, error, note):
+    p and q_inf are None where the sequence gives none, and note says why."""
     (h1, h2, h3), (q1, q2, q3) = h, q
     r21, r32 = h1 / h2, h2 / h3
     if r21 <= 1 + 1e-9 or r32 <= 1 + 1e-9:
         return dict(p=None, q_inf=None, error=None, note="levels not refined (same or coarser mesh)")
     e21, e32 = q1 - q2, q2 - q3
     scale = max(abs(q1), abs(q2), abs(q3), 1e-300)
-    if abs(e21) <= 1e-14 * scale and abs(e32) <= 1e-14 * scale:
-        return dict(p=None, q_inf=q3, error=0.0, note="the same on the finest three levels")
-    if abs(e32) <= 1e-14 * scale:
-        return dict(p=None, q_inf=q3, error=0.0, note="the finest two levels agree to round-off")
+    if abs(e21) <= noise * scale and abs(e32) <= noise * scale:
+        return dict(p=None, q_inf=q3, error=0.0,
+                    note=f"the same on the finest three levels (to {noise:g} relative)")
+    if abs(e32) <= noise * scale:
+        return dict(p=None, q_inf=q3, error=0.0,
+                    note=f"the finest two levels agree (to {noise:g} relative)")
     rho = e21 / e32
     if rho <= 0:
         return dict(p=None, q_inf=None, error=None,
@@ -172,7 +177,7 @@ def run_level(args, order, h, refine):
         return json.load(f)
 
 
-def analyse(rows, quantities):
+def analyse(rows, quantities, noise=1e-9):
     """Per order and quantity: the three finest levels' order, q_inf and each level's error."""
     results = []
     for order in sorted({r["order"] for r in rows}):
@@ -183,7 +188,7 @@ def analyse(rows, quantities):
             if len(levels) < 3:
                 res = dict(p=None, q_inf=None, error=None, note="fewer than three levels")
             else:
-                res = plausibility(observed_order(sizes[-3:], values[-3:]), order)
+                res = plausibility(observed_order(sizes[-3:], values[-3:], noise), order)
             for r in levels:
                 r[f"{name} error"] = abs(r[name] - res["q_inf"]) if res["q_inf"] is not None else None
             results.append(dict(order=order, quantity=name, finest=values[-1],
@@ -254,8 +259,10 @@ def plot(path, deck, rows, quantities, results):
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("deck")
-    p.add_argument("--h", type=float, nargs="+", help="mesh sizes (default: the deck's)")
-    p.add_argument("--h-key", default="mesh.parameters.h", help="the deck key --h sets")
+    p.add_argument("--h", type=float, nargs="+",
+                   help="mesh sizes, coarse first (default: the deck's); the values of --h-key")
+    p.add_argument("--h-key", default="mesh.parameters.h",
+                   help="the deck key --h sets (e.g. mesh.parameters.n, elements across a section)")
     p.add_argument("--refine", type=int, nargs="+", default=[0], help="uniform refinements (mesh.refine)")
     p.add_argument("--order", type=int, nargs="+", default=[1, 2], choices=[1, 2])
     p.add_argument("--quantity", nargs="+", help="paths into summary.json (default: see above)")
@@ -263,6 +270,8 @@ def main():
     p.add_argument("--binary", default="build/bin/hydrosoft")
     p.add_argument("--np", type=int, default=1, help="MPI ranks (more than 1: through mpirun)")
     p.add_argument("--volume", type=float, help="the domain's volume, to print h_eff")
+    p.add_argument("--noise", type=float, default=1e-9,
+                   help="relative differences below this are solver tolerance, not the mesh")
     p.add_argument("--out", default="out/refinement")
     args = p.parse_args()
     for what, path in (("deck", args.deck), ("binary", args.binary)):
@@ -273,13 +282,15 @@ def main():
             parse_path(q)
     except QuantityError as e:
         sys.exit(f"refinement_study: {e}")
+    if len(set(args.order)) != len(args.order):
+        sys.exit("refinement_study: --order lists an order twice")
     if any(h <= 0 for h in args.h or []) or any(k < 0 for k in args.refine):
         sys.exit("refinement_study: --h must be > 0 and --refine >= 0")
     os.makedirs(args.out, exist_ok=True)
 
-    # Coarse to fine: larger h first, then fewer refinements.
-    levels = sorted(itertools.product(args.h or [None], sorted(set(args.refine))),
-                    key=lambda hk: (hk[1], -(hk[0] or 0)))
+    # Run in the order given (the first run, which checks the quantities, best the cheapest);
+    # the analysis orders the levels by their element counts.
+    levels = list(itertools.product(args.h or [None], args.refine))
     rows, quantities = [], args.quantity
     for order in args.order:
         for h, refine in levels:
@@ -299,7 +310,8 @@ def main():
                   f"t={s['time_s']['total']:.2f}s " + " ".join(f"{v:.6g}" for v in values.values()),
                   flush=True)
 
-    results = analyse(rows, quantities)
+    rows.sort(key=lambda r: (args.order.index(r["order"]), r["elements"]))
+    results = analyse(rows, quantities, args.noise)
     csv_path = os.path.join(args.out, "refinement.csv")
     with open(csv_path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
