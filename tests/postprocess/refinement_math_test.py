@@ -40,7 +40,17 @@ def check_power_laws():
     q = [1.0 + 0.5 * x**2 + 3.0 * x**3 for x in h]
     res = rs.observed_order(h, q)
     assert 1.9 < res["p"] < 2.3 and abs(res["q_inf"] - 1.0) < 0.1 * abs(q[2] - 1.0), res
-    print(f"power laws: {len(cases)} sequences, p and q0 recovered")
+    # Whole levels: h_eff from the element counts, h = (V / elements)^(1/3) with any V; the
+    # errors of every level, and only the finest three enter the order.
+    rows = [dict(order=2, elements=e, time_total_s=1.0) for e in (100, 1000, 8000, 27000)]
+    for r in rows:
+        r["q"] = 5.0 + 0.2 * (3.0 / r["elements"]) ** (3.0 / 3.0)
+    rows[0]["q"] += 1.0  # far from the asymptote, and outside the three finest
+    (res,) = rs.analyse(rows, ["q"])
+    assert close(res["p"], 3.0, 1e-8) and close(res["q_inf"], 5.0, 1e-10), res
+    for r in rows:
+        assert close(r["q error"], r["q"] - 5.0, 1e-8), r
+    print(f"power laws: {len(cases)} sequences and a study's levels, p and q0 recovered")
 
 
 def check_no_order():
