@@ -118,10 +118,10 @@ def observed_order(h, q, noise=1e-9):
     e21, e32 = q1 - q2, q2 - q3
     scale = max(abs(q1), abs(q2), abs(q3), 1e-300)
     if abs(e21) <= noise * scale and abs(e32) <= noise * scale:
-        return dict(p=None, q_inf=q3, error=0.0,
+        return dict(p=None, q_inf=q3, error=noise * scale,
                     note=f"the same on the finest three levels (to {noise:g} relative)")
     if abs(e32) <= noise * scale:
-        return dict(p=None, q_inf=q3, error=0.0,
+        return dict(p=None, q_inf=q3, error=noise * scale,
                     note=f"the finest two levels agree (to {noise:g} relative)")
     rho = e21 / e32
     if rho <= 0:
@@ -156,15 +156,16 @@ def plausibility(res, order):
 
 
 def run_level(args, order, h, refine):
-    name = f"p{order}" + (f"_h{h:g}" if h is not None else "") + (f"_r{refine}" if refine else "")
+    name = f"p{order}" + (f"_h{h:g}" if h is not None else "") + (f"_r{refine}" if refine is not None else "")
     folder = os.path.join(args.out, name)
     cmd = []
     if args.np > 1:
         cmd = ["mpirun", "--oversubscribe", "-np", str(args.np)]
         if os.geteuid() == 0:
             cmd.append("--allow-run-as-root")
-    cmd += [args.binary, args.deck, "-q", "--set", f"mesh.order={order}",
-            "--set", f"mesh.refine={refine}", "--set", f"output.folder={folder}"]
+    cmd += [args.binary, args.deck, "-q", "--set", f"mesh.order={order}", "--set", f"output.folder={folder}"]
+    if refine is not None:  # only when asked: a deck whose mesh is not a .geo takes no refine
+        cmd += ["--set", f"mesh.refine={refine}"]
     if h is not None:
         cmd += ["--set", f"{args.h_key}={h}"]
     for s in args.set:
@@ -208,7 +209,7 @@ def write_markdown(path, deck, rows, quantities, results, volume):
         lines += [f"P{order}:", "", "| " + " | ".join(head + quantities) + " |",
                   "|" + "---|" * (len(head) + len(quantities))]
         for r in levels:
-            cells = [fmt(r["h"], "g"), str(r["refine"]), f"{r['elements']:,}", f"{r['dofs']:,}"]
+            cells = [fmt(r["h"], "g"), fmt(r["refine"], "d"), f"{r['elements']:,}", f"{r['dofs']:,}"]
             cells += [f"{(volume / r['elements']) ** (1 / 3):.4g}"] if volume else []
             cells += [f"{r['time_total_s']:.2f}"] + [fmt(r[q]) for q in quantities]
             lines.append("| " + " | ".join(cells) + " |")
@@ -263,7 +264,7 @@ def main():
                    help="mesh sizes, coarse first (default: the deck's); the values of --h-key")
     p.add_argument("--h-key", default="mesh.parameters.h",
                    help="the deck key --h sets (e.g. mesh.parameters.n, elements across a section)")
-    p.add_argument("--refine", type=int, nargs="+", default=[0], help="uniform refinements (mesh.refine)")
+    p.add_argument("--refine", type=int, nargs="+", help="uniform refinements, mesh.refine (default: the deck's)")
     p.add_argument("--order", type=int, nargs="+", default=[1, 2], choices=[1, 2])
     p.add_argument("--quantity", nargs="+", help="paths into summary.json (default: see above)")
     p.add_argument("--set", action="append", default=[], help="another deck override, key=value")
@@ -284,13 +285,13 @@ def main():
         sys.exit(f"refinement_study: {e}")
     if len(set(args.order)) != len(args.order):
         sys.exit("refinement_study: --order lists an order twice")
-    if any(h <= 0 for h in args.h or []) or any(k < 0 for k in args.refine):
+    if any(h <= 0 for h in args.h or []) or any(k < 0 for k in args.refine or []):
         sys.exit("refinement_study: --h must be > 0 and --refine >= 0")
     os.makedirs(args.out, exist_ok=True)
 
     # Run in the order given (the first run, which checks the quantities, best the cheapest);
     # the analysis orders the levels by their element counts.
-    levels = list(itertools.product(args.h or [None], args.refine))
+    levels = list(itertools.product(args.h or [None], args.refine or [None]))
     rows, quantities = [], args.quantity
     for order in args.order:
         for h, refine in levels:
@@ -306,7 +307,7 @@ def main():
                 sys.exit(f"refinement_study: {e}")
             rows.append(dict(order=order, h=h, refine=refine, elements=s["elements"], dofs=s["dofs"],
                              ranks=s["ranks"], time_total_s=s["time_s"]["total"], **values))
-            print(f"P{order} h={fmt(h, 'g')} refine={refine} dofs={s['dofs']:>8} "
+            print(f"P{order} h={fmt(h, 'g')} refine={fmt(refine, 'd')} dofs={s['dofs']:>8} "
                   f"t={s['time_s']['total']:.2f}s " + " ".join(f"{v:.6g}" for v in values.values()),
                   flush=True)
 
