@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Mesh-refinement study of a deck with an exact solution: runs hydrosoft at several mesh
 sizes for P1 and P2, writes a CSV of error, size and run time, fits the L2 rates and plots
-error against run time and against the mesh size.
+error against run time and against the mesh size. A deck without an exact solution is
+refused before any run: postprocess/refinement_study.py studies those.
 
     /usr/bin/python3 postprocess/convergence_study.py                       # Lame sphere
     /usr/bin/python3 postprocess/convergence_study.py --np 2 --out out/convergence
@@ -14,10 +15,27 @@ import csv
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 
 DEFAULT_LEVELS = {1: [0.4, 0.2, 0.1, 0.05], 2: [0.5, 0.35, 0.25, 0.18, 0.125]}
+
+
+NO_EXACT = ("{deck} has no exact solution ({why}), so there is no error to "
+            "measure; for a refinement study of its quantities (observed order, Richardson "
+            "extrapolation) run: /usr/bin/python3 postprocess/refinement_study.py {deck}")
+
+
+def require_exact_solution(deck):
+    """Refuses, before any run, a deck without a top-level exact: section."""
+    try:
+        with open(deck) as f:
+            text = f.read()
+    except OSError as e:
+        sys.exit(f"convergence_study: cannot read the deck {deck}: {e.strerror}")
+    if not re.search(r"^exact\s*:", text, re.MULTILINE):
+        sys.exit("convergence_study: " + NO_EXACT.format(deck=deck, why="no exact: section"))
 
 
 def run_level(args, order, h):
@@ -32,7 +50,10 @@ def run_level(args, order, h):
     if result.returncode != 0:
         sys.exit(f"convergence_study: level p{order} h={h} failed:\n{result.stderr}")
     with open(os.path.join(folder, "summary.json")) as f:
-        return json.load(f)
+        summary = json.load(f)
+    if "error" not in summary:  # an exact: section whose type is none
+        sys.exit("convergence_study: " + NO_EXACT.format(deck=args.deck, why="its exact.type is none"))
+    return summary
 
 
 def fitted_rate(hs, errors, finest=3):
@@ -54,6 +75,7 @@ def main():
     p.add_argument("--p1", type=float, nargs="+", default=DEFAULT_LEVELS[1])
     p.add_argument("--p2", type=float, nargs="+", default=DEFAULT_LEVELS[2])
     args = p.parse_args()
+    require_exact_solution(args.deck)
     os.makedirs(args.out, exist_ok=True)
 
     rows = []
