@@ -1,6 +1,7 @@
 #include "solvers/nodal_pressure.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "materials/volumetric_term.hpp"
@@ -89,6 +90,7 @@ bool NodalPressure::update(const PetscScalar* u_local, int64_t* bad_tet) {
     p_[n] = kV_[n] * U1.dU / V_[n];
     c_[n] = kV_[n] * U1.d2U / (V_[n] * V_[n]);
   }
+  tangent_p_ = p_;
   if (!ok && bad_tet)
     for (size_t e = 0; e < modulus_.size() && *bad_tet < 0; ++e)
       for (int a = 0; a < 4; ++a) {
@@ -96,6 +98,62 @@ bool NodalPressure::update(const PetscScalar* u_local, int64_t* bad_tet) {
         if (takes_part(e) && !(1.0 + dv_[n] / V_[n] > 0)) *bad_tet = static_cast<int64_t>(e);
       }
   return ok;
+}
+
+// With U1 = (ln J)^2 / 2 and q the Kirchhoff pressure kbar ln J, the tangent's terms are
+//   p_a = q_a / J_a (the Cauchy pressure in the element part),
+//   c_a = (kbar_a - q_a) / (V_a J_a^2) = kV_a U1''(J_a) / V_a^2 when q_a = kbar_a ln J_a,
+// and the mixed Newton's q_a is kbar_a (ln J_a(u0) + g_a(u0) . (u - u0) / v_a(u0)), u0 the
+// previous tangent's point.
+void NodalPressure::linearize(const PetscScalar* u_local) {
+  if (small_strain_) return;  // linear: the tangent does not depend on u
+  const size_t nl = V_.size();
+  // An inverted patch (the tangent is refused) is no point to linearise from, on any rank.
+  int valid = 1;
+  for (size_t n = 0; n < nl; ++n)
+    if (V_[n] > 0 && !(1.0 + dv_[n] / V_[n] > 0)) valid = 0;
+  MPI_Allreduce(MPI_IN_PLACE, &valid, 1, MPI_INT, MPI_MIN, comm_);
+  if (!valid) {
+    linearized_ = false;
+    return;
+  }
+  if (linearized_) {
+    std::vector<double> dv_lin(nl, 0.0);  // g_a(u0) . (u - u0), summed over the patches
+    for (size_t e = 0; e < modulus_.size(); ++e) {
+      if (!takes_part(e)) continue;
+      double change = 0;
+      for (int a = 0; a < 4; ++a) {
+        const int32_t n = dist_.tet_nodes[4 * e + a];
+        for (int d = 0; d < 3; ++d)
+          change += grad_lin_[12 * e + 3 * a + d] * (u_local[3 * n + d] - u_lin_[3 * n + d]);
+      }
+      for (int a = 0; a < 4; ++a) dv_lin[dist_.tet_nodes[4 * e + a]] += change / 4;
+    }
+    sum_over_patches(dv_lin);
+    for (size_t n = 0; n < nl; ++n) {
+      if (!(V_[n] > 0)) continue;
+      const double lnJ = lnJ_lin_[n] + dv_lin[n] / v_lin_[n];
+      const double J = 1.0 + dv_[n] / V_[n], kbar = kV_[n] / V_[n];
+      tangent_p_[n] = kbar * lnJ / J;
+      c_[n] = kbar * (1.0 - lnJ) / (V_[n] * J * J);
+    }
+  }
+  linearized_ = true;
+  u_lin_.assign(u_local, u_local + 3 * nl);
+  lnJ_lin_.assign(nl, 0.0);
+  v_lin_.assign(nl, 0.0);
+  for (size_t n = 0; n < nl; ++n)
+    if (V_[n] > 0) {
+      lnJ_lin_[n] = std::log1p(dv_[n] / V_[n]);
+      v_lin_[n] = V_[n] + dv_[n];
+    }
+  grad_lin_.assign(12 * modulus_.size(), 0.0);
+  double ue[12];
+  for (size_t e = 0; e < modulus_.size(); ++e) {
+    if (!takes_part(e)) continue;
+    element_displacement(dist_, u_local, e, ue);
+    p1_volume_change(geometry_[e], ue, &grad_lin_[12 * e], nullptr);
+  }
 }
 
 double NodalPressure::element_pressure(int64_t e) const {
@@ -109,8 +167,10 @@ void NodalPressure::add_element(int64_t e, const double* ue, double* r, double* 
   p1_volume_change(geometry_[e], ue, grad, K ? hess : nullptr, small_strain_);
   const double p = element_pressure(e);
   for (int k = 0; k < 12; ++k) r[k] += p * grad[k];
-  if (K)
-    for (int k = 0; k < 144; ++k) K[k] += p * hess[k];
+  if (!K) return;
+  double q = 0;
+  for (int a = 0; a < 4; ++a) q += tangent_p_[dist_.tet_nodes[4 * e + a]] / 4;
+  for (int k = 0; k < 144; ++k) K[k] += q * hess[k];
 }
 
 void NodalPressure::add_element_scale(int64_t e, const double* ue, double* K) const {

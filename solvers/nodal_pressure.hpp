@@ -16,6 +16,13 @@
 // One nodal volume ratio per node, not per element: a body of n nodes carries n volumetric
 // constraints against 3 n displacements, where the displacement element carries one per
 // element (about 5.5 n), and so does not lock.
+// Newton's tangent takes the patch pressure as an unknown of its own, condensed per node (the
+// mixed form sum_a V_a [q_a ln J_a - q_a^2 / (2 kbar_a)], kbar_a = kV_a / V_a, has the same
+// solutions): its step is the displacement step with the tangent's pressure linearised from
+// the previous tangent's point, q_a = kbar_a (ln J_a + d(ln J_a) . du), instead of kbar_a ln J_a
+// at u. The residual is the same; the tangents differ away from equilibrium only. A full step
+// that overshoots the nearly rigid volume makes kbar ln J(u) huge and q not: Newton's
+// iterations stop growing with k (docs/formulation.md).
 #pragma once
 
 #include <petscmat.h>
@@ -46,7 +53,12 @@ class NodalPressure {
   // pbar_e, the element's mean nodal pressure (tension positive): its Cauchy stress's
   // volumetric part.
   double element_pressure(int64_t e) const;
-  // Adds pbar_e dv_e/du to r and pbar_e d2v_e/du2 to K (K may be nullptr) of local tet e.
+  // Newton's tangent at u (after update(u)): the pressures linearised from the previous call's
+  // point (the first call, and small-strain bodies, take those of u), and this point kept for
+  // the next call. Collective.
+  void linearize(const PetscScalar* u_local);
+  // Adds pbar_e dv_e/du to r and, with the tangent's pressures (those of update() until
+  // linearize()), pbar_e d2v_e/du2 to K (K may be nullptr) of local tet e.
   void add_element(int64_t e, const double* ue, double* r, double* K) const;
   // -p_a of the owned nodes (positive in compression; 0 at nodes of no nodal-pressure body).
   std::vector<double> owned_compression() const {
@@ -80,6 +92,11 @@ class NodalPressure {
   bool small_strain_;
   std::vector<double> V_, kV_;       // per local node
   std::vector<double> dv_, p_, c_;   // per local node, at the last update
+  std::vector<double> tangent_p_;    // per local node: the tangent's pressures
+  // The previous tangent's point: local displacements, per node ln J_a and v_a, per local tet
+  // dv_e/du (12 each).
+  bool linearized_ = false;
+  std::vector<double> u_lin_, lnJ_lin_, v_lin_, grad_lin_;
   std::vector<PetscInt> dof_index_;  // per local node: 3 global dof indices (-1 constrained)
   VecHandle patch_sum_;              // ghosted, one value per node
   MatHandle G_, D_, coupling_;       // the g_a by rows, diag(c_a), G^T D G

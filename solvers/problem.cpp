@@ -212,6 +212,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
     const PetscScalar* ua = view.values();
     int64_t at = -1;
     if (nodal_ && !nodal_->update(ua, &at) && at >= 0) bad = dist_.local_tets[at];
+    if (nodal_) nodal_->linearize(ua);
     double re[30], K[900];
     for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
       const ElementOutput out = element_force(e, ua, re, K);
