@@ -171,9 +171,12 @@ std::string run_report(const Json& summary) {
   out << "# hydrosoft: done: ";
   if (control)  // its steps and Newton iterations count the loading before the control only
     out << summary["targets"].size() << " targets, ";
-  else
-    out << summary.value("steps", 0) << " steps, " << summary.value("newton_iterations", 0)
-        << " Newton iterations, ";
+  else {
+    out << summary.value("steps", 0) << " steps, ";
+    // The steps count the sub-steps of cut-back steps: the cutbacks say why they exceed the plan.
+    if (summary.value("cutbacks", 0) > 0) out << summary.value("cutbacks", 0) << " cutbacks, ";
+    out << summary.value("newton_iterations", 0) << " Newton iterations, ";
+  }
   out << format("%.2f", number(time, "total")) << " s on " << summary.value("ranks", 1)
       << (summary.value("ranks", 1) == 1 ? " rank\n" : " ranks\n");
   const Json output = summary.value("output", Json::object());

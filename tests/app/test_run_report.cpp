@@ -50,6 +50,14 @@ TEST(RunReport, StatesGiveEachCavitysPressureInKilopascalsAndVolumesInMillilitre
   EXPECT_EQ(report.find("{"), std::string::npos) << "no JSON on the screen";
 }
 
+// The sub-steps the cutbacks added are explained on the line that counts the steps.
+TEST(RunReport, CutbacksAreCountedBesideTheSteps) {
+  const Json summary = Json::parse(R"({"steps": 8, "cutbacks": 7, "newton_iterations": 106})");
+  const std::string report = hs::run_report(summary);
+  EXPECT_NE(report.find("done: 8 steps, 7 cutbacks, 106 Newton iterations, "), std::string::npos)
+      << report;
+}
+
 TEST(RunReport, TipDisplacementInMillimetresAndReactionsPerBoundaryGroup) {
   const Json summary = Json::parse(R"({"steps": 3, "newton_iterations": 9,
     "reactions_N": {"base": [0.0, 1.0817425, -2.5e-14], "x0": [-3.25, 0, 0]},
