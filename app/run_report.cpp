@@ -11,10 +11,21 @@ namespace {
 
 using Json = nlohmann::json;
 
+// A minus sign before digits that are all zero ("-0.000" for -4.5e-13 Pa in kPa) says nothing.
 std::string format(const char* spec, double v) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, spec, v);
-  return buffer;
+  std::string s = buffer;
+  const std::string mantissa = s.substr(0, s.find_first_of("eE"));
+  if (!s.empty() && s[0] == '-' && mantissa.find_first_of("123456789") == std::string::npos)
+    s.erase(0, 1);
+  return s;
+}
+
+// A value within 1e-10 of its column's largest magnitude is round-off of zero (a cavity let
+// down to 0 Pa ends at -4.5e-13 Pa beside 2e4 Pa) and printed as 0 in the column's format.
+std::string cell(const char* spec, double v, double column_scale) {
+  return std::abs(v) <= 1e-10 * column_scale ? format(spec, 0.0) : format(spec, v);
 }
 
 double number(const Json& j, const char* key, double fallback = 0) {
@@ -59,6 +70,10 @@ std::vector<std::string> tip_cells(const Json& state) {
 }
 
 std::string states_table(const Json& states) {
+  double largest_pressure = 0;
+  for (const auto& s : states)
+    for (const auto& c : s.value("cavities", Json::array()))
+      largest_pressure = std::max(largest_pressure, std::abs(number(c, "pressure")));
   std::vector<std::vector<std::string>> rows = {{"state", "tip inclination (deg)",
                                                  "tip rotation (deg)", "tip displacement (mm)",
                                                  "cavity", "p (kPa)", "V (ml)", "added (ml)"}};
@@ -66,10 +81,11 @@ std::string states_table(const Json& states) {
     const auto tip = tip_cells(s);
     bool first = true;
     for (const auto& c : s.value("cavities", Json::array())) {
-      rows.push_back(
-          {first ? s.value("name", "") : "", first ? tip[0] : "", first ? tip[1] : "",
-           first ? tip[2] : "", c.value("name", ""), format("%.3f", 1e-3 * number(c, "pressure")),
-           format("%.3f", number(c, "volume_ml")), format("%.3f", number(c, "added_volume_ml"))});
+      rows.push_back({first ? s.value("name", "") : "", first ? tip[0] : "", first ? tip[1] : "",
+                      first ? tip[2] : "", c.value("name", ""),
+                      cell("%.3f", 1e-3 * number(c, "pressure"), 1e-3 * largest_pressure),
+                      format("%.3f", number(c, "volume_ml")),
+                      format("%.3f", number(c, "added_volume_ml"))});
       first = false;
     }
     if (first) rows.push_back({s.value("name", ""), tip[0], tip[1], tip[2], "-", "-", "-", "-"});
@@ -80,9 +96,14 @@ std::string states_table(const Json& states) {
 // Per state and cable: its tension and how far it was pulled since the end of the first state.
 std::string cables_table(const Json& states) {
   std::vector<std::vector<std::string>> rows = {{"state", "cable", "force (N)", "pull (mm)"}};
+  double largest_force = 0;
   for (const auto& s : states)
     for (const auto& c : s.value("cables", Json::array()))
-      rows.push_back({s.value("name", ""), c.value("name", ""), format("%.4g", number(c, "force")),
+      largest_force = std::max(largest_force, std::abs(number(c, "force")));
+  for (const auto& s : states)
+    for (const auto& c : s.value("cables", Json::array()))
+      rows.push_back({s.value("name", ""), c.value("name", ""),
+                      cell("%.4g", number(c, "force"), largest_force),
                       format("%.3f", 1e3 * number(c, "pull"))});
   return rows.size() > 1 ? table(rows) : "";
 }
@@ -90,10 +111,21 @@ std::string cables_table(const Json& states) {
 std::string targets_table(const Json& targets) {
   std::vector<std::vector<std::string>> rows = {
       {"target (mm)", "reached (mm)", "error (mm)", "actuation (Pa or N)"}};
+  // Each actuator's scale over the targets: pressures (Pa) and forces (N) share the column.
+  std::vector<double> largest;
+  for (const auto& t : targets) {
+    size_t k = 0;
+    for (const auto& a : t.value("actuation", Json::array())) {
+      if (largest.size() <= k) largest.push_back(0);
+      largest[k] = std::max(largest[k], std::abs(a.get<double>()));
+      ++k;
+    }
+  }
   for (const auto& t : targets) {
     std::string actuation;
+    size_t k = 0;
     for (const auto& a : t.value("actuation", Json::array()))
-      actuation += (actuation.empty() ? "" : ", ") + format("%.4g", a.get<double>());
+      actuation += (actuation.empty() ? "" : ", ") + cell("%.4g", a.get<double>(), largest[k++]);
     rows.push_back(
         {millimetres(t.value("target", Json::array())),
          millimetres(t.value("reached", Json::array())),
@@ -103,8 +135,8 @@ std::string targets_table(const Json& targets) {
   return table(rows);
 }
 
-// The force each boundary group's constraint exerts on the body at the end of the run. A
-// component below 1e-10 of the largest is round-off of zero and printed as 0.
+// The force each boundary group's constraint exerts on the body at the end of the run, its
+// components round-off of zero against the largest of the table printed as 0.
 std::string reactions_table(const Json& reactions) {
   std::vector<std::vector<std::string>> rows = {
       {"boundary group", "reaction x (N)", "reaction y (N)", "reaction z (N)"}};
@@ -115,7 +147,7 @@ std::string reactions_table(const Json& reactions) {
     std::vector<std::string> row = {group};
     for (const auto& c : force) {
       const double value = c.get<double>();
-      row.push_back(std::abs(value) <= 1e-10 * largest ? "0" : format("%.6g", value));
+      row.push_back(cell("%.6g", value, largest));
     }
     rows.push_back(row);
   }
@@ -139,9 +171,12 @@ std::string run_report(const Json& summary) {
   out << "# hydrosoft: done: ";
   if (control)  // its steps and Newton iterations count the loading before the control only
     out << summary["targets"].size() << " targets, ";
-  else
-    out << summary.value("steps", 0) << " steps, " << summary.value("newton_iterations", 0)
-        << " Newton iterations, ";
+  else {
+    out << summary.value("steps", 0) << " steps, ";
+    // The steps count the sub-steps of cut-back steps: the cutbacks say why they exceed the plan.
+    if (summary.value("cutbacks", 0) > 0) out << summary.value("cutbacks", 0) << " cutbacks, ";
+    out << summary.value("newton_iterations", 0) << " Newton iterations, ";
+  }
   out << format("%.2f", number(time, "total")) << " s on " << summary.value("ranks", 1)
       << (summary.value("ranks", 1) == 1 ? " rank\n" : " ranks\n");
   const Json output = summary.value("output", Json::object());

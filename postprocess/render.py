@@ -10,7 +10,8 @@ is cut in half through its centre by the plane that faces the camera, so that th
 show as holes in the cut; the camera looks along the axis in which the run moved least (a
 finger bending in x-z is seen along y). Colours: the displacement's magnitude in mm or the
 von Mises stress in kPa, one scale for every step, with its bar; the edges of the deformed
-half (the cavities' rims in the cut) in black, the undeformed outline in grey. Each picture is named <deck>_<field>_step<k>.png (the last: <deck>_<field>.png) under
+half (the cavities' rims in the cut) in black, the undeformed outline in grey. Each picture is
+titled "<deck>: output k+1 of N (step k)" and named <deck>_<field>_step<k>.png (the last: <deck>_<field>.png) under
 --out (default OUT_FOLDER/pictures), written to a temporary name and renamed. --gif also
 writes <deck>_<field>.gif of every step (Pillow). docs/gallery.md shows every deck so.
 
@@ -27,15 +28,16 @@ import sys
 import h5py
 import numpy as np
 
-if not os.environ.get("DISPLAY"):
-    os.execvp("xvfb-run", ["xvfb-run", "-a", "-s", "-screen 0 1600x1200x24 -noreset",
-                           sys.executable, os.path.abspath(__file__)] + sys.argv[1:])
-from paraview import simple  # noqa: E402
-
 FIELDS = {  # name in the .xmf, how it is shown, factor to the unit shown
     "displacement": ("displacement", "POINTS", "displacement (mm)", 1e3),
     "von_mises": ("von_mises", "CELLS", "von Mises stress (kPa)", 1e-3),
 }
+
+
+def step_title(deck, k, count):
+    """The title of output step k (0-based, as in the picture's name, the .h5's step_<k> and
+    history.csv) of `count`: "output 14 of 14 (step 13)" for the last of 14."""
+    return f"{deck}: output {k + 1} of {count} (step {k})"
 
 
 def fail(message):
@@ -161,7 +163,7 @@ def main():
     frames = []
     for k in chosen:
         view.ViewTime = times[k]
-        label.Text = f"{deck}: output step {k} of {len(times) - 1}"
+        label.Text = step_title(deck, k, len(times))
         last = k == len(times) - 1
         name = f"{deck}_{a.field}.png" if last else f"{deck}_{a.field}_step{k}.png"
         path = os.path.join(out, name)
@@ -183,4 +185,9 @@ def main():
 
 
 if __name__ == "__main__":
+    # Here, not on import: a test imports step_title without ParaView or a display.
+    if not os.environ.get("DISPLAY"):
+        os.execvp("xvfb-run", ["xvfb-run", "-a", "-s", "-screen 0 1600x1200x24 -noreset",
+                               sys.executable, os.path.abspath(__file__)] + sys.argv[1:])
+    from paraview import simple
     main()

@@ -87,7 +87,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
       if (!step) continue;
       load_factor = step->load_factor;
       if (stepper->planned_steps() > 0)
-        progress->step(step->index, step->what, stepper->newton_iterations());
+        progress->step(step->index, step->what, stepper->newton_iterations(), run.stats.cutbacks);
       if (verifies && run.exact) {
         const auto v = verification_quantities(*run.exact, problem, run.u, step->load_factor);
         if (!v.is_null()) history.push_back(v);

@@ -44,7 +44,9 @@ def main():
             target = [centre[0] + a.size * math.sin(t),
                       centre[1] + a.size * math.sin(t) * math.cos(t), centre[2]]
             rows.append(scene.reach(target))
-    print("run folder: %s" % scene.folder)
+    # The run's folder was temporary and went with the scene; its summary stays.
+    print("run %s: %d targets answered" % (scene.summary["status"],
+                                           scene.summary["input"]["answered"]))
 
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     with open(a.out + ".csv.tmp", "w", newline="") as f:

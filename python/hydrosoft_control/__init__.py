@@ -22,6 +22,7 @@ import signal
 import subprocess
 import tempfile
 import time
+import weakref
 
 import numpy as np
 
@@ -88,18 +89,24 @@ class Scene:
 
     deck: the deck file (with a `control` section); ranks: MPI ranks (1 runs without mpirun);
     overrides: ["key=value", ...] as --set; output_folder: where the run writes (default: a
-    new temporary folder, kept; see .folder); executable: hydrosoft (find_executable()).
+    new temporary folder, see .folder, removed with what is in it when the scene ends:
+    close(), kill(), an exception in its `with` block, or the interpreter's exit; keep=True
+    keeps it); executable: hydrosoft (find_executable()).
     The resolved configuration, the progress and the final report go to `log` (a file path;
     default: OUTPUT_FOLDER.log beside the folder).
     """
 
     def __init__(self, deck, ranks=1, overrides=(), output_folder=None, executable=None,
-                 log=None, timeout_s=600):
+                 log=None, timeout_s=600, keep=False):
         self.deck = os.path.abspath(deck)
         if not os.path.isfile(self.deck):
             raise SceneError("%s: no such deck" % deck)
+        self._temporary = None
+        self._last_messages = None
         if output_folder is None:
-            output_folder = os.path.join(tempfile.mkdtemp(prefix="hydrosoft_scene_"), "run")
+            self._temporary = tempfile.mkdtemp(prefix="hydrosoft_scene_")
+            output_folder = os.path.join(self._temporary, "run")
+        self._keep = keep
         self.folder = os.path.abspath(output_folder)
         self.log_path = log or self.folder + ".log"
         self.timeout_s = timeout_s
@@ -121,8 +128,17 @@ class Scene:
         env.setdefault("OPENBLAS_NUM_THREADS", "1")
         self._log = open(self.log_path, "w")
         self._mpirun = ranks > 1
-        self._proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                      stderr=self._log, text=True, bufsize=1, env=env)
+        try:
+            self._proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                          stderr=self._log, text=True, bufsize=1, env=env)
+        except OSError:
+            self._log.close()
+            self._remove_temporary()
+            raise
+        # A scene never closed (no `with`, the interpreter exiting) still stops its run and
+        # removes its temporary folder; the finalizer holds no reference to the scene.
+        self._finalizer = weakref.finalize(self, _end_abandoned, self._proc, self._log,
+                                           None if keep else self._temporary)
 
     def __enter__(self):
         return self
@@ -135,6 +151,8 @@ class Scene:
         return False
 
     def _messages(self):
+        if self._last_messages is not None:  # the log went with the temporary folder
+            return self._last_messages
         if not self._log.closed:
             self._log.flush()
         with open(self.log_path, errors="replace") as f:
@@ -145,9 +163,14 @@ class Scene:
         """Sends one target (3 numbers, m) for `effector` (default: the deck's first) and waits
         for its answer. Raises TargetRefused for a refused line (the scene goes on) and
         SceneError when hydrosoft stopped."""
-        position = [float(v) for v in target]
+        # Refused here, before anything is sent: the scene goes on as for a refused line.
+        try:
+            position = [float(v) for v in target]
+        except (TypeError, ValueError):
+            raise TargetRefused("a target is 3 numbers (x, y, z in m), got %r" % (target,), None)
         if len(position) != 3:
-            raise ValueError("a target is 3 numbers (x, y, z in m), got %d" % len(position))
+            raise TargetRefused("a target is 3 numbers (x, y, z in m), got %d: %r"
+                                % (len(position), position), None)
         words = "%.17g %.17g %.17g" % tuple(position)
         return self.send_line(words if effector is None else "%s %s" % (effector, words))
 
@@ -189,16 +212,20 @@ class Scene:
             raise SceneError("hydrosoft did not end within %g s of its input's end"
                              % self.timeout_s)
         self._release()
-        if code != 0:
-            raise SceneError("hydrosoft ended with exit %d; its messages:\n%s"
-                             % (code, self._messages()))
-        with open(os.path.join(self.folder, "summary.json")) as f:
-            self.summary = json.load(f)
+        try:
+            if code != 0:
+                raise SceneError("hydrosoft ended with exit %d; its messages:\n%s"
+                                 % (code, self._messages()))
+            with open(os.path.join(self.folder, "summary.json")) as f:
+                self.summary = json.load(f)
+        finally:
+            self._remove_temporary()
         return self.summary
 
     def kill(self):
         """Stops the run at once: SIGTERM, on which hydrosoft keeps its answered steps in
-        FOLDER.failed (summary.json "status": "failed"); SIGKILL after 30 s.
+        FOLDER.failed (summary.json "status": "failed"); SIGKILL after 30 s. A temporary
+        folder (no output_folder, keep=False) is removed with them.
 
         Under mpirun the signal goes to the ranks themselves: mpirun, signalled, first closes
         their standard input, which ends the session as its client's end would, and the run
@@ -215,6 +242,7 @@ class Scene:
                 self._proc.kill()
                 self._proc.wait()
         self._release()
+        self._remove_temporary()
 
     def _ranks(self):
         """The processes mpirun started on this machine (its children, from /proc), or []."""
@@ -228,6 +256,11 @@ class Scene:
             return []
         return children
 
+    def _remove_temporary(self):
+        if self._temporary and not self._keep and self._last_messages is None:
+            self._last_messages = self._messages()
+            shutil.rmtree(self._temporary, ignore_errors=True)
+
     def _release(self):
         for stream in (self._proc.stdin, self._proc.stdout, self._log):
             if stream and not stream.closed:
@@ -235,3 +268,23 @@ class Scene:
                     stream.close()
                 except BrokenPipeError:
                     pass
+
+
+def _end_abandoned(proc, log, temporary):
+    """Ends a scene left running (SIGTERM, then SIGKILL after 30 s) and removes its temporary
+    folder once nothing writes there any more."""
+    if proc.poll() is None:
+        proc.terminate()
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+    for stream in (proc.stdin, proc.stdout, log):
+        if stream and not stream.closed:
+            try:
+                stream.close()
+            except BrokenPipeError:
+                pass
+    if temporary:
+        shutil.rmtree(temporary, ignore_errors=True)

@@ -33,7 +33,8 @@ const Case kStatic{"static", "cantilever_gravity",
                    "--set mesh.order=1 --set materials[0].model=neo_hookean "
                    "--set materials[0].E=2e5 --set time.steps=20"};
 const Case kDynamic{"dynamic", "cantilever_dynamic",
-                    "--set mesh.order=1 --set time.end_time=2.0 --set output.every=1"};
+                    "--set mesh.order=1 --set time.dt=0.1 --set time.end_time=2.0 "
+                    "--set output.every=1"};
 const Case kStates{"states", "cylinder_water", "--set states[1].steps=20"};
 
 std::string command(const Case& c, const std::string& folder, const std::string& extra,

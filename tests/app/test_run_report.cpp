@@ -2,11 +2,29 @@
 // numbers in the units the header names.
 #include <gtest/gtest.h>
 
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include "run_report.hpp"
 
 namespace {
 
 using Json = nlohmann::json;
+
+// The words of the report's line that holds both `a` and `b` (none if no line does).
+std::vector<std::string> words_of_line(const std::string& report, const std::string& a,
+                                       const std::string& b) {
+  std::istringstream lines(report);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(a) != std::string::npos && line.find(b) != std::string::npos) {
+      std::istringstream in(line);
+      std::vector<std::string> words;
+      for (std::string w; in >> w;) words.push_back(w);
+      return words;
+    }
+  return {};
+}
 
 TEST(RunReport, StatesGiveEachCavitysPressureInKilopascalsAndVolumesInMillilitres) {
   const Json summary = Json::parse(R"({
@@ -30,6 +48,14 @@ TEST(RunReport, StatesGiveEachCavitysPressureInKilopascalsAndVolumesInMillilitre
   EXPECT_NE(report.find("93.980"), std::string::npos) << report;  // ml
   EXPECT_NE(report.find("15.000"), std::string::npos) << report;
   EXPECT_EQ(report.find("{"), std::string::npos) << "no JSON on the screen";
+}
+
+// The sub-steps the cutbacks added are explained on the line that counts the steps.
+TEST(RunReport, CutbacksAreCountedBesideTheSteps) {
+  const Json summary = Json::parse(R"({"steps": 8, "cutbacks": 7, "newton_iterations": 106})");
+  const std::string report = hs::run_report(summary);
+  EXPECT_NE(report.find("done: 8 steps, 7 cutbacks, 106 Newton iterations, "), std::string::npos)
+      << report;
 }
 
 TEST(RunReport, TipDisplacementInMillimetresAndReactionsPerBoundaryGroup) {
@@ -77,6 +103,39 @@ TEST(RunReport, TargetsGiveMillimetresAndTheError) {
   EXPECT_NE(report.find("89.97, -0.40, -12.00"), std::string::npos) << report;
   EXPECT_NE(report.find("0.250"), std::string::npos) << report;
   EXPECT_NE(report.find("2.176e+04"), std::string::npos) << report;
+}
+
+// A value within 1e-10 of its column's largest magnitude is round-off of zero: printed as 0 in
+// the column's format, never as "1.455e-11" Pa beside 2.2e4 Pa or "-0.000" kPa. Each actuator
+// is its own column (Pa and N share the cell), and a column of small values alone keeps them.
+TEST(RunReport, RoundOffOfZeroIsPrintedAsZeroAgainstItsColumn) {
+  const Json targets = Json::parse(R"({"steps": 4, "newton_iterations": 9,
+    "targets": [{"target": [0.09, 0.0, -0.012], "reached": [0.09, -1e-9, -0.012],
+                 "error_m": 0, "actuation": [21759.1, 0.75, 2e-12]},
+                {"target": [0.09, 0.0, -0.01], "reached": [0.09, 0.0, -0.01],
+                 "error_m": 0, "actuation": [1.455e-11, -3e-11, 3e-12]}]})");
+  const std::string controlled = hs::run_report(targets);
+  EXPECT_NE(controlled.find("2.176e+04, 0.75, 2e-12\n"), std::string::npos) << controlled;
+  EXPECT_NE(controlled.find("0, 0, 3e-12\n"), std::string::npos) << controlled;
+  EXPECT_NE(controlled.find("90.00, 0.00, -12.00"), std::string::npos) << controlled;
+  EXPECT_EQ(controlled.find("e-11"), std::string::npos) << controlled;
+  EXPECT_EQ(controlled.find("-0.00"), std::string::npos) << controlled;  // reached y: -1e-6 mm
+
+  const Json states = Json::parse(R"({"steps": 4, "newton_iterations": 9,
+    "states": [{"name": "inflated", "cavities": [{"name": "cavity", "pressure": 20000.0,
+                 "volume_ml": 2.5, "added_volume_ml": 0.5}],
+                "cables": [{"name": "tendon", "pull": 0.001, "force": 2.5}]},
+               {"name": "deflated", "cavities": [{"name": "cavity", "pressure": -4.5e-13,
+                 "volume_ml": 2.0, "added_volume_ml": 0}],
+                "cables": [{"name": "tendon", "pull": 0, "force": 1e-14}]}]})");
+  const std::string report = hs::run_report(states);
+  const auto cavity = words_of_line(report, "deflated", "cavity");
+  ASSERT_EQ(cavity.size(), 8u) << report;
+  EXPECT_EQ(cavity[5], "0.000") << report;  // p (kPa)
+  const auto cable = words_of_line(report, "deflated", "tendon");
+  ASSERT_EQ(cable.size(), 4u) << report;
+  EXPECT_EQ(cable[2], "0") << report;  // force (N)
+  EXPECT_EQ(report.find("-0.000"), std::string::npos) << report;
 }
 
 TEST(RunReport, VerificationFiguresAreListed) {

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """postprocess/render.py on a real run: the air-filled cylinder run into a temporary folder,
 then drawn. The last step's PNG has the size asked and shows the body (a tenth of it or more
-coloured, neither white nor grey); the GIF has one frame per output step of summary.json.
+coloured, neither white nor grey); the GIF has one frame per output step of summary.json,
+and the titles count those steps from 1 to their number (before, "step 13 of 13" for 14).
 
     /usr/bin/python3 tests/postprocess/render_test.py BUILD/bin/hydrosoft
 """
@@ -15,6 +16,8 @@ import numpy as np
 from PIL import Image
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "postprocess"))
+from render import step_title  # noqa: E402
 
 
 def main():
@@ -36,6 +39,11 @@ def main():
             outputs = json.load(f)["outputs"]
         gif = Image.open(os.path.join(pictures, "cylinder_air_displacement.gif"))
         assert gif.n_frames == outputs, (gif.n_frames, outputs)
+        titles = [step_title("cylinder_air", k, outputs) for k in range(outputs)]
+        assert titles[0] == f"cylinder_air: output 1 of {outputs} (step 0)", titles[0]
+        assert titles[-1] == f"cylinder_air: output {outputs} of {outputs} (step {outputs - 1})", \
+            titles[-1]
+        assert len(set(titles)) == outputs, titles
         print(f"render: {coloured:.2f} of the picture coloured, {gif.n_frames} frames")
 
 

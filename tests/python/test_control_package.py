@@ -2,7 +2,9 @@
 """The Python control package (python/hydrosoft_control) against real runs of the coarse
 hydraulic finger: answers reach the target, a refused line raises and the scene goes on, the
 answers are those summary.json records, 2 ranks answer as 1, a scene that cannot start
-says why, a killed scene is kept as failed on 1 and 2 ranks, and an output folder whose path
+says why, a killed scene is kept as failed on 1 and 2 ranks, a target of 2 numbers is refused
+and the scene goes on, a temporary output folder is removed when the scene ends (closed,
+an error in its block, stopped, or its interpreter's exit), and an output folder whose path
 holds ' #' is written there.
 
     HYDROSOFT=build/bin/hydrosoft /usr/bin/python3 tests/python/test_control_package.py
@@ -10,6 +12,7 @@ holds ' #' is written there.
 import json
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -41,9 +44,15 @@ class ControlPackage(unittest.TestCase):
             low = scene.reach(LOW)
             with self.assertRaises(TargetRefused) as refused:
                 scene.send_line("0.09 abc -0.01")
+            # Before, two numbers raised a bare ValueError: a client catching TargetRefused
+            # to go on lost its scene.
+            with self.assertRaises(TargetRefused) as short:
+                scene.reach(HIGH[::2])
             high = scene.reach(HIGH, effector="tip")
         self.assertEqual(refused.exception.line, 2)
         self.assertIn("abc", str(refused.exception))
+        self.assertIn("3 numbers", str(short.exception))
+        self.assertIsNone(short.exception.line)  # never sent: the input's lines are 3
         for answer, target in ((low, LOW), (high, HIGH)):
             self.assertEqual(answer.effector, "tip")
             np.testing.assert_array_equal(answer.target, target)
@@ -93,6 +102,39 @@ class ControlPackage(unittest.TestCase):
             self.assertEqual(summary["status"], "failed")
             self.assertEqual(summary["reason"], "interrupted by SIGTERM")
             self.assertEqual(len(summary["targets"]), 1)
+
+    def test_a_temporary_output_folder_goes_with_its_scene(self):
+        # Before, every Scene() without output_folder left a hydrosoft_scene_* folder behind.
+        env = dict(os.environ, TMPDIR=self.tmp)
+        saved, tempfile.tempdir = tempfile.tempdir, self.tmp
+        try:
+            with Scene(DECK, overrides=COARSE) as scene:
+                scene.reach(LOW)
+                self.assertEqual(os.listdir(self.tmp), [os.path.basename(os.path.dirname(scene.folder))])
+            self.assertEqual(scene.summary["status"], "ok")
+            self.assertEqual(os.listdir(self.tmp), [])
+            with self.assertRaises(KeyError):  # an error inside the block
+                with Scene(DECK, overrides=COARSE) as scene:
+                    scene.reach(LOW)
+                    raise KeyError("the client's own error")
+            self.assertEqual(os.listdir(self.tmp), [])
+            with self.assertRaises(SceneError) as bad:  # a scene that stopped
+                with Scene(DECK, overrides=COARSE + ["control.steps_per_target=0"]) as scene:
+                    scene.reach(LOW)
+            self.assertIn("control.steps_per_target", str(bad.exception))
+            self.assertEqual(os.listdir(self.tmp), [])
+            with Scene(DECK, overrides=COARSE, keep=True) as scene:
+                scene.reach(LOW)
+            self.assertTrue(os.path.isfile(os.path.join(scene.folder, "summary.json")))
+            shutil.rmtree(os.path.dirname(scene.folder))
+        finally:
+            tempfile.tempdir = saved
+        # A scene never closed, its interpreter exiting while the run waits for input.
+        script = ("import sys; sys.path.insert(0, %r)\nfrom hydrosoft_control import Scene\n"
+                  "scene = Scene(%r, overrides=%r)\nscene.reach(%r)\n"
+                  % (os.path.join(ROOT, "python"), DECK, COARSE, LOW))
+        subprocess.run([sys.executable, "-c", script], env=env, check=True, timeout=300)
+        self.assertEqual(os.listdir(self.tmp), [])
 
     def test_an_output_folder_with_a_yaml_comment_in_its_path(self):
         # Before, the path was cut at " #" (a YAML comment): the results replaced "<tmp>/a".
