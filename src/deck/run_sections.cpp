@@ -185,8 +185,8 @@ const KeyTable<OutputConfig>& output_keys() {
                   "stops the run)"),
       bool_key("progress", &OutputConfig::progress,
                "a line per converged step on standard error: step k/n, load, time or state, "
-               "Newton iterations, elapsed and estimated time left (`-q` on the command line "
-               "sets it false)"),
+               "Newton iterations, the cutbacks once there were any, elapsed and estimated time "
+               "left (`-q` on the command line sets it false)"),
       custom_key<OutputConfig>(
           "checkpoint", "map `{every: N, minutes: M}`", "none (no checkpoints)",
           "write `checkpoint.h5` into the staging folder after every `N` converged steps "
