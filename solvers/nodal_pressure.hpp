@@ -90,9 +90,9 @@ class NodalPressure {
   const std::vector<P1Geometry>& geometry_;
   std::vector<double> modulus_;  // per local tet
   bool small_strain_;
-  std::vector<double> V_, kV_;       // per local node
-  std::vector<double> dv_, p_, c_;   // per local node, at the last update
-  std::vector<double> tangent_p_;    // per local node: the tangent's pressures
+  std::vector<double> V_, kV_;      // per local node
+  std::vector<double> dv_, p_, c_;  // per local node, at the last update
+  std::vector<double> tangent_p_;   // per local node: the tangent's pressures
   // The previous tangent's point: local displacements, per node ln J_a and v_a, per local tet
   // dv_e/du (12 each).
   bool linearized_ = false;
