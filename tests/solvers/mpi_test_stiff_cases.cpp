@@ -130,24 +130,27 @@ TEST(StiffCases, NewtonOnNodalPressureBodiesDoesNotFeelNu) {
   EXPECT_LT(iterations(silicone), 2.5 * iterations(compressible));
 }
 
+// A whole dataset of an output .h5, as `type`.
+template <class T>
+void read_dataset(hid_t file, const std::string& name, hid_t type, std::vector<T>& values) {
+  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(set);
+  values.resize(H5Sget_simple_extent_npoints(space));
+  H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Sclose(space);
+  H5Dclose(set);
+}
+
 // What the written output of the nodal-pressure element holds, read back on rank 0.
 struct NodalOutput {
   std::vector<double> pressure, stress, x;
   std::vector<long long> topology;
   NodalOutput(const std::string& h5, const std::string& step) {
     const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    auto read = [file](const std::string& name, hid_t type, auto& values) {
-      const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-      const hid_t space = H5Dget_space(set);
-      values.resize(H5Sget_simple_extent_npoints(space));
-      H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
-      H5Sclose(space);
-      H5Dclose(set);
-    };
-    read(step + "/pressure", H5T_NATIVE_DOUBLE, pressure);
-    read(step + "/stress", H5T_NATIVE_DOUBLE, stress);
-    read("mesh/coordinates", H5T_NATIVE_DOUBLE, x);
-    read("mesh/topology", H5T_NATIVE_LLONG, topology);
+    read_dataset(file, step + "/pressure", H5T_NATIVE_DOUBLE, pressure);
+    read_dataset(file, step + "/stress", H5T_NATIVE_DOUBLE, stress);
+    read_dataset(file, "mesh/coordinates", H5T_NATIVE_DOUBLE, x);
+    read_dataset(file, "mesh/topology", H5T_NATIVE_LLONG, topology);
     H5Fclose(file);
   }
   size_t tets() const { return topology.size() / 4; }
@@ -216,18 +219,10 @@ double cook_corner_deflection(const std::string& out) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (rank == 0) {
     const hid_t file = H5Fopen((out + "/cook_membrane.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    auto read = [file](const char* name, hid_t type, auto& values) {
-      const hid_t set = H5Dopen2(file, name, H5P_DEFAULT);
-      const hid_t space = H5Dget_space(set);
-      values.resize(H5Sget_simple_extent_npoints(space));
-      H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
-      H5Sclose(space);
-      H5Dclose(set);
-    };
     std::vector<double> u;
     std::vector<int> corner;
-    read("step_0/displacement", H5T_NATIVE_DOUBLE, u);
-    read("mesh/group_corner", H5T_NATIVE_INT, corner);
+    read_dataset(file, "step_0/displacement", H5T_NATIVE_DOUBLE, u);
+    read_dataset(file, "mesh/group_corner", H5T_NATIVE_INT, corner);
     H5Fclose(file);
     const auto at = std::find(corner.begin(), corner.end(), 1) - corner.begin();
     EXPECT_LT(static_cast<size_t>(at), corner.size()) << "no corner node";
