@@ -99,6 +99,8 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
 
   u_work_ = VecHandle(create_vector());
   HS_PETSC(VecDuplicate(u_work_, r_work_.out()));
+  if (!config.obstacles.empty())
+    contact_ = std::make_unique<ObstacleContact>(config, dist, X_, u_work_, comm_);
 }
 
 Problem::~Problem() = default;
@@ -135,6 +137,7 @@ void Problem::element_displacement(const PetscScalar* u_local, int64_t e, double
 // and faces. Returns false on an inverted element.
 bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy) {
   int64_t bad = -1;
+  int reached = -1;
   double local_energy = 0;
   assemble_local(u, out, [&](const PetscScalar* ua, PetscScalar* ra) {
     const int n = 3 * npe_;
@@ -143,6 +146,12 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
       int64_t at = -1;
       if (!nodal_->update(ua, &at) && at >= 0) bad = dist_.local_tets[at];
       local_energy += nodal_->owned_energy();
+    }
+    if (a != 0 && contact_) {  // the barrier's energy is stored energy: its force is a * dE/du
+      double e = 0;
+      contact_->add_forces(ua, s, a, ra, &e);
+      local_energy += e;
+      reached = contact_->inside();
     }
     for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
       const int32_t* nodes = &dist_.tet_nodes[e * npe_];
@@ -173,7 +182,12 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
   });
   if (b != 0 && extra_load_) HS_PETSC(VecAXPY(out, b, extra_load_));
   if (energy) MPI_Allreduce(&local_energy, energy, 1, MPI_DOUBLE, MPI_SUM, comm_);
-  return record_inverted(bad);
+  if (a != 0 && contact_) {
+    MPI_Allreduce(MPI_IN_PLACE, &reached, 1, MPI_INT, MPI_MAX, comm_);
+    obstacle_reached_ = reached;
+  }
+  const bool oriented = record_inverted(bad);
+  return oriented && (a == 0 || obstacle_reached_ < 0);
 }
 
 bool Problem::record_inverted(int64_t local_bad) {
@@ -219,6 +233,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
       if (!out.valid && bad < 0) bad = dist_.local_tets[e];
       pairs_->add_tet(static_cast<int64_t>(e), K, value);
     }
+    if (contact_) contact_->add_tangent(ua, s, *pairs_, value);
     const int npf = dist_.nodes_per_face();
     const int nf = 3 * npf;
     double xf[18], ff[18], Kf[324];
@@ -256,7 +271,8 @@ bool Problem::potential_energy(Vec u, double s, double* energy) {
   VecHandle f;
   HS_PETSC(VecDuplicate(u, f.out()));
   double stored = 0;
-  const bool ok = assemble_forces(u, 0.0, 1.0, 0.0, f, &stored);  // the forces are not used
+  // The forces are not used; s places moving obstacles (b = 0: no load is added).
+  const bool ok = assemble_forces(u, s, 1.0, 0.0, f, &stored);
   PetscScalar work = 0;
   if (ok) {
     assemble_forces(u, s, 0.0, 1.0, f, nullptr);  // s f_body
@@ -368,6 +384,14 @@ std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {
   std::vector<std::array<double, 3>> out(n);
   for (int g = 0; g < n; ++g) out[g] = {sums[3 * g], sums[3 * g + 1], sums[3 * g + 2]};
   return out;
+}
+
+ObstacleContact::Totals Problem::contact_totals(Vec u, double s) const {
+  if (!contact_) return {};
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
+  LocalView view(u, uw);
+  return contact_->totals(view.values(), s);
 }
 
 bool Problem::orientation_preserved(Vec u) {

@@ -24,6 +24,7 @@
 #include "solvers/dof_map.hpp"
 #include "solvers/nodal_pressure.hpp"
 #include "solvers/node_pair_blocks.hpp"
+#include "solvers/obstacle_contact.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/petsc_handle.hpp"
 
@@ -68,6 +69,15 @@ class Problem {
   bool residual(Vec u, double s, Vec R);
   bool jacobian(Vec u, double s, Mat J);
   int64_t inverted_element() const { return inverted_element_; }
+  // The obstacle a node of the body was found on or inside by the last residual (its index in
+  // the deck's list, over all ranks), or -1: the barrier refuses such a configuration as an
+  // inverted element is refused.
+  int obstacle_reached() const { return obstacle_reached_; }
+  // Contact with the deck's obstacles (null without them).
+  const ObstacleContact* contact() const { return contact_.get(); }
+  // Per obstacle, the force the body exerts on it and its touching area, on u at load
+  // factor s. Collective; empty without obstacles.
+  ObstacleContact::Totals contact_totals(Vec u, double s) const;
 
   void set_inertia(const InertiaTerm* inertia) { inertia_ = inertia; }
 
@@ -212,6 +222,7 @@ class Problem {
   // its volumetric term, which nodal_ integrates per node).
   std::vector<std::shared_ptr<const MaterialLaw>> element_laws_;
   std::unique_ptr<NodalPressure> nodal_;  // when a material runs the nodal-pressure element
+  std::unique_ptr<ObstacleContact> contact_;  // with obstacles
   DofMap dofs_;
   const std::vector<double>& X_;         // reference coordinates of local nodes
   std::vector<double> body_force_;       // per local tet: npe*3, at full load
@@ -230,6 +241,7 @@ class Problem {
   bool pattern_fixed_ = false;               // a matrix exists: no new surfaces or couplings
   VecHandle u_work_, r_work_;
   int64_t inverted_element_ = -1;  // of the last residual or tangent, over all ranks
+  int obstacle_reached_ = -1;       // of the last residual, over all ranks
   AssemblyTimers timers_;
 };
 

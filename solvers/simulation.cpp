@@ -45,6 +45,7 @@ nlohmann::json final_summary(RunSetup& run, const Stepper& stepper, const nlohma
   }
   if (!run.problem->reaction_groups().empty())
     summary["reactions_N"] = reactions_json(*run.problem, run.u, load_factor);
+  if (run.problem->contact()) summary["contact"] = contact_json(*run.problem, run.u, load_factor);
   stepper.add_summary(summary);
   summary["time_s"]["total"] = MPI_Wtime() - run.t_start;
   return summary;

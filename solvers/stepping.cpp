@@ -28,6 +28,10 @@ void fail_step(const Problem& problem, int step, const std::string& where, const
   std::string msg = "step " + std::to_string(step) + " (" + where + "): " + why;
   if (problem.inverted_element() >= 0)
     msg += "; element " + std::to_string(problem.inverted_element()) + " is inverted (det F <= 0)";
+  if (problem.obstacle_reached() >= 0)
+    msg += "; a node of the body reached obstacle '" +
+           problem.contact()->obstacles()[problem.obstacle_reached()].name +
+           "' (the contact barrier refuses it: smaller load steps or a larger contact.distance)";
   throw SolveError(msg);
 }
 

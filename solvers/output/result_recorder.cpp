@@ -88,6 +88,34 @@ nlohmann::json reactions_json(Problem& problem, Vec u, double s) {
   return out;
 }
 
+void add_contact(Problem& problem, Vec u, double s, HistoryRow& row) {
+  if (!problem.contact()) return;
+  const auto totals = problem.contact_totals(u, s);
+  const auto& obstacles = problem.contact()->obstacles();
+  for (size_t o = 0; o < obstacles.size(); ++o) {
+    for (int d = 0; d < 3; ++d)
+      row.add("contact_" + obstacles[o].name + "_" + "xyz"[d] + "_N", totals.force[o][d]);
+    row.add("contact_" + obstacles[o].name + "_area_m2", totals.area[o]);
+  }
+}
+
+nlohmann::json contact_json(Problem& problem, Vec u, double s) {
+  nlohmann::json out = nlohmann::json::object();
+  if (!problem.contact()) return out;
+  const auto totals = problem.contact_totals(u, s);
+  const auto& obstacles = problem.contact()->obstacles();
+  out["obstacles"] = nlohmann::json::array();
+  for (size_t o = 0; o < obstacles.size(); ++o)
+    out["obstacles"].push_back({{"obstacle", obstacles[o].name},
+                                {"force_N", totals.force[o]},
+                                {"area_m2", totals.area[o]}});
+  out["min_gap_m"] = totals.min_gap;
+  out["distance_m"] = problem.contact()->barrier().distance;
+  out["stiffness_Pa_per_m"] = problem.contact()->barrier().stiffness;
+  out["nodes"] = problem.contact()->num_nodes();
+  return out;
+}
+
 ResultRecorder::ResultRecorder(Problem& problem, const Config& config,
                                std::unique_ptr<OutputFolder> folder, MPI_Comm comm)
     : problem_(problem), comm_(comm), folder_(std::move(folder)) {
@@ -137,6 +165,7 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
   if (sources_.newton_iterations) row.add_count("newton_iterations", newton - newton_at_last_row_);
   for (const auto& columns : sources_.columns) columns(u, row);
   add_reactions(problem_, u, s, row);
+  add_contact(problem_, u, s, row);
   // Refuses a non-finite value on every rank, before writing; a file that cannot be written
   // stops every rank with SolveError.
   writer_->write_step(f);

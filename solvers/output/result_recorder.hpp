@@ -41,6 +41,12 @@ struct HistorySources {
 // Collective.
 void add_reactions(Problem& problem, Vec u, double s, HistoryRow& row);
 nlohmann::json reactions_json(Problem& problem, Vec u, double s);
+// The obstacles' contact (Problem::contact_totals) at u and load factor s: history columns
+// contact_<obstacle>_<x|y|z>_N and contact_<obstacle>_area_m2, and summary.json's list of
+// {obstacle, force_N: [x, y, z], area_m2} with the smallest gap. Collective; nothing
+// without obstacles.
+void add_contact(Problem& problem, Vec u, double s, HistoryRow& row);
+nlohmann::json contact_json(Problem& problem, Vec u, double s);
 
 class ResultRecorder {
  public:

@@ -106,6 +106,8 @@ void StatesStepper::end_state(Vec u) {
   }
   if (!problem_.reaction_groups().empty())
     state["reactions_N"] = reactions_json(problem_, u, state["load_factor"].get<double>());
+  if (problem_.contact())
+    state["contact"] = contact_json(problem_, u, state["load_factor"].get<double>());
   state["added_volume_ml"] = constraints_.added_volume() * 1e6;
   state["volume_change_ml"] = constraints_.volume_change() * 1e6;
   const nlohmann::json actuators = constraints_.report();

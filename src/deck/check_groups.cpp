@@ -78,6 +78,11 @@ void check_groups(const Config& c, const MeshGroups& mesh) {
     require_nodes(key, group);
     if (!is_surface(mesh, group)) fail(key, "group '" + group + "' is not a surface");
   }
+  for (size_t i = 0; i < c.contact.surfaces.size(); ++i) {
+    const std::string key = item_key("contact.surfaces", i), group = c.contact.surfaces[i];
+    require_nodes(key, group);
+    if (!is_surface(mesh, group)) fail(key, "group '" + group + "' is not a surface");
+  }
   if (c.tip) {
     require_nodes("tip.group", c.tip->group);
     if (!is_surface(mesh, c.tip->group))

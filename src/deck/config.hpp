@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "contact/obstacle.hpp"
+
 namespace hs {
 
 class MaterialLaw;
@@ -254,6 +256,14 @@ struct ControlConfig {
   bool targets_from_stdin = false;  // `--targets -` on the command line (not a deck key)
 };
 
+// Contact of the body with rigid obstacles (docs/contact.md): which of its surfaces may touch,
+// and the barrier's reach and stiffness (unset: from the mesh and the materials, at the run).
+struct ContactConfig {
+  std::vector<std::string> surfaces;  // surface groups of the body
+  std::optional<double> distance;     // dhat (m): the gap at which the barrier starts
+  std::optional<double> stiffness;    // kappa (Pa/m): the barrier's scale
+};
+
 struct Config {
   std::string deck_path;  // as given on the command line
   std::string deck_name;  // file stem, e.g. lame_sphere
@@ -275,6 +285,8 @@ struct Config {
   std::vector<StateConfig> states;
   std::optional<TipConfig> tip;
   std::optional<ControlConfig> control;
+  std::vector<ObstacleShape> obstacles;
+  ContactConfig contact;
 };
 
 }  // namespace hs

@@ -54,9 +54,9 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   c.deck_name = fs::path(path).stem().string();
   // In the order they depend on each other: cavities, cables, states and control need the
   // time section's type; states and control name cavities and cables.
-  const std::vector<std::string> order = {"mesh",     "materials", "boundary", "loads", "time",
-                                          "cavities", "cables",    "states",   "tip",   "control",
-                                          "solver",   "output",    "exact"};
+  const std::vector<std::string> order = {
+      "mesh",   "materials", "boundary", "loads",   "time",   "cavities", "cables", "states",
+      "tip",    "obstacles", "contact",  "control", "solver", "output",   "exact"};
   if (order.size() != sections.size()) throw std::logic_error("parse_deck: a section unread");
   for (const std::string& name : order) {
     const auto k = std::find_if(sections.begin(), sections.end(),
@@ -90,6 +90,9 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
                "not supported with control.free_solve one_step and a hydraulic cavity's "
                "fluid_weight.coupling linearized (the frozen weights are not saved, so such a "
                "run cannot be restarted to the same numbers)");
+  if (!c.obstacles.empty() && c.contact.surfaces.empty())
+    r.fail("contact", "required with obstacles: contact.surfaces names the body's surface "
+                      "groups that may touch them");
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
     if (c.dirichlet[i].exact && !c.exact.type)
       r.fail(child_key(item_key("boundary", i), "exact"), root["boundary"][i]["exact"],

@@ -7,6 +7,7 @@
 #include "deck/body_sections.hpp"
 #include "deck/cable_section.hpp"
 #include "deck/cavity_sections.hpp"
+#include "deck/contact_section.hpp"
 #include "deck/control_section.hpp"
 #include "deck/element_formulation.hpp"
 #include "deck/exact_section.hpp"
@@ -235,6 +236,23 @@ const KeyTable<Config>& deck_section_keys() {
           })
           .only(static_runs_only(std::string("the tip is reported per state: ") + kNeedsStatic))
           .printed_when([](const Config& c) { return c.tip.has_value(); }),
+      custom_key<Config>(
+          "obstacles", "list", "none", "rigid bodies the body may touch (docs/contact.md)",
+          [](R r, N n, K, Config& s, const Config& c) { s.obstacles = parse_obstacles(r, n, c); },
+          [](YAML::Emitter& out, const Config& c, const Config&) {
+            write_list(out, c.obstacles, obstacle_keys(), c);
+          })
+          .printed_when([](const Config& c) { return !c.obstacles.empty(); }),
+      custom_key<Config>(
+          "contact", "map", "none (required with obstacles)",
+          "the body's surfaces that touch the obstacles, the barrier (docs/contact.md)",
+          [](R r, N n, K, Config& s, const Config& c) { s.contact = parse_contact(r, n, c); },
+          [](YAML::Emitter& out, const Config& c, const Config&) {
+            write_map(out, contact_keys(), c.contact, c);
+          })
+          .only(use_when<Config>([](const Config&, const Config& c) { return !c.obstacles.empty(); },
+                                 "only used with obstacles (the section obstacles is empty)", ""))
+          .printed_when([](const Config& c) { return !c.obstacles.empty(); }),
       custom_key<Config>(
           "control", "map", "none", "inverse control",
           [](R r, N n, K, Config& s, const Config& c) { s.control = parse_control(r, n, c); },

@@ -1,0 +1,143 @@
+#include "solvers/obstacle_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "common/error.hpp"
+#include "materials/material.hpp"
+#include "solvers/petsc_check.hpp"
+
+namespace hs {
+namespace {
+
+// The diagonal of the whole mesh's bounding box (over the ranks).
+double bounding_diagonal(const std::vector<double>& X, MPI_Comm comm) {
+  double low[3], high[3];
+  for (int d = 0; d < 3; ++d) {
+    low[d] = std::numeric_limits<double>::max();
+    high[d] = -low[d];
+  }
+  for (size_t k = 0; k < X.size(); ++k) {
+    low[k % 3] = std::min(low[k % 3], X[k]);
+    high[k % 3] = std::max(high[k % 3], X[k]);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, high, 3, MPI_DOUBLE, MPI_MAX, comm);
+  return std::hypot(high[0] - low[0], high[1] - low[1], high[2] - low[2]);
+}
+
+double triangle_area(const std::vector<double>& X, const int32_t* nodes) {
+  const Eigen::Map<const Eigen::Vector3d> a(&X[3 * nodes[0]]), b(&X[3 * nodes[1]]),
+      c(&X[3 * nodes[2]]);
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+}  // namespace
+
+ObstacleContact::ObstacleContact(const Config& config, const Distribution& dist,
+                                 const std::vector<double>& X, Vec work, MPI_Comm comm)
+    : comm_(comm), obstacles_(config.obstacles), X_(X) {
+  barrier_.distance = config.contact.distance ? *config.contact.distance
+                                              : 1e-3 * bounding_diagonal(X, comm);
+  double E = 0;
+  for (const auto& m : config.materials) E = std::max(E, m.law->elastic_constants().E);
+  barrier_.stiffness =
+      config.contact.stiffness ? *config.contact.stiffness : 0.01 * E / barrier_.distance;
+
+  // Each face of the contact surfaces once (a face in two of the groups too), its area shared
+  // equally by its nodes (the lumped area of a P1 face; on P2 faces the corner nodes get a
+  // share too, which a quadratic face's consistent integral would not give them).
+  const int npf = dist.nodes_per_face();
+  std::set<std::array<int32_t, 3>> seen;
+  Vec local;
+  HS_PETSC(VecSet(work, 0.0));
+  HS_PETSC(VecGhostGetLocalForm(work, &local));
+  double* a;
+  HS_PETSC(VecGetArray(local, &a));
+  for (const auto& group : config.contact.surfaces) {
+    const auto it = dist.faces.find(group);
+    if (it == dist.faces.end()) continue;
+    for (size_t f = 0; f < it->second.size() / npf; ++f) {
+      const int32_t* nodes = &it->second[f * npf];
+      std::array<int32_t, 3> key = {nodes[0], nodes[1], nodes[2]};
+      std::sort(key.begin(), key.end());
+      if (!seen.insert(key).second) continue;
+      const double share = triangle_area(X, nodes) / npf;
+      for (int k = 0; k < npf; ++k) a[3 * nodes[k]] += share;
+    }
+  }
+  HS_PETSC(VecRestoreArray(local, &a));
+  HS_PETSC(VecGhostRestoreLocalForm(work, &local));
+  HS_PETSC(VecGhostUpdateBegin(work, ADD_VALUES, SCATTER_REVERSE));
+  HS_PETSC(VecGhostUpdateEnd(work, ADD_VALUES, SCATTER_REVERSE));
+  const double* owned;
+  HS_PETSC(VecGetArrayRead(work, &owned));
+  for (int64_t n = 0; n < dist.num_owned(); ++n)
+    if (owned[3 * n] > 0) {
+      nodes_.push_back(static_cast<int32_t>(n));
+      area_.push_back(owned[3 * n]);
+    }
+  HS_PETSC(VecRestoreArrayRead(work, &owned));
+  int64_t count = static_cast<int64_t>(nodes_.size());
+  MPI_Allreduce(&count, &num_nodes_, 1, MPI_INT64_T, MPI_SUM, comm);
+}
+
+Eigen::Vector3d ObstacleContact::position(const double* u, int32_t n) const {
+  return Eigen::Vector3d(X_[3 * n] + u[3 * n], X_[3 * n + 1] + u[3 * n + 1],
+                         X_[3 * n + 2] + u[3 * n + 2]);
+}
+
+bool ObstacleContact::add_forces(const double* u, double s, double a, double* r,
+                                 double* energy) {
+  inside_ = -1;
+  double sum = 0;
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const int32_t n = nodes_[i];
+    const NodeContact c = node_contact(obstacles_, position(u, n), s, area_[i], barrier_, false);
+    if (!c.valid && inside_ < 0) inside_ = c.inside;
+    sum += c.energy;
+    for (int d = 0; d < 3; ++d) r[3 * n + d] += a * c.gradient(d);
+  }
+  if (energy) *energy = sum;
+  return inside_ < 0;
+}
+
+void ObstacleContact::add_tangent(const double* u, double s, const NodePairBlocks& pairs,
+                                  double* values) const {
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const int32_t n = nodes_[i];
+    const NodeContact c = node_contact(obstacles_, position(u, n), s, area_[i], barrier_, true);
+    if (c.hessian.isZero(0)) continue;
+    const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> K = c.hessian;
+    pairs.add_nodes(&n, 1, K.data(), values);
+  }
+}
+
+ObstacleContact::Totals ObstacleContact::totals(const double* u, double s) const {
+  const size_t m = obstacles_.size();
+  std::vector<double> sums(4 * m, 0.0);
+  double gap = std::numeric_limits<double>::max();
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const Eigen::Vector3d x = position(u, nodes_[i]);
+    const NodeContact c = node_contact(obstacles_, x, s, area_[i], barrier_, false);
+    for (size_t o = 0; o < m; ++o) {
+      for (int d = 0; d < 3; ++d) sums[4 * o + d] += c.force[o](d);
+      if (c.active[o]) sums[4 * o + 3] += area_[i];
+      gap = std::min(gap, signed_distance(obstacles_[o], x, s).d);
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM,
+                comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &gap, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  Totals t;
+  for (size_t o = 0; o < m; ++o) {
+    t.force.push_back({sums[4 * o], sums[4 * o + 1], sums[4 * o + 2]});
+    t.area.push_back(sums[4 * o + 3]);
+  }
+  t.min_gap = gap;
+  return t;
+}
+
+}  // namespace hs

@@ -1,0 +1,64 @@
+// Contact of the body's surfaces with rigid obstacles (docs/contact.md): every owned node of
+// the deck's contact surfaces carries the barrier energy of contact/node_contact.hpp,
+// weighted by its share of the surfaces' reference area. Node by node, so no search and no
+// communication in the residual or the tangent (3x3 blocks on the diagonal), and each node
+// counted by the rank that owns it: the same sums on any number of ranks.
+#pragma once
+
+#include <mpi.h>
+#include <petscvec.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "contact/node_contact.hpp"
+#include "deck/config.hpp"
+#include "mesh/distribution.hpp"
+#include "solvers/node_pair_blocks.hpp"
+
+namespace hs {
+
+class ObstacleContact {
+ public:
+  // `work`: a ghosted vector of the problem's layout, used once to sum the nodes' areas
+  // over the ranks whose faces share them. The barrier's unset parameters come from the
+  // mesh's bounding box and the stiffest material (docs/contact.md). Collective.
+  ObstacleContact(const Config& config, const Distribution& dist, const std::vector<double>& X,
+                  Vec work, MPI_Comm comm);
+
+  // r += a dE/du at the owned contact nodes (u, r: the local forms); the energy of those
+  // nodes in *energy. False when a node is on or inside an obstacle (inside() names it).
+  bool add_forces(const double* u, double s, double a, double* r, double* energy);
+  // The barrier's Hessians into the tangent's node-pair blocks.
+  void add_tangent(const double* u, double s, const NodePairBlocks& pairs, double* values) const;
+  // The index of an obstacle a node was found inside by the last add_forces on this rank,
+  // or -1.
+  int inside() const { return inside_; }
+
+  struct Totals {
+    std::vector<std::array<double, 3>> force;  // per obstacle: the body's force on it (N)
+    std::vector<double> area;                  // per obstacle: reference area within dhat (m^2)
+    double min_gap = 0;                        // the smallest gap of any contact node (m)
+  };
+  // Over all ranks. Collective.
+  Totals totals(const double* u, double s) const;
+
+  const std::vector<ObstacleShape>& obstacles() const { return obstacles_; }
+  const ContactBarrier& barrier() const { return barrier_; }
+  int64_t num_nodes() const { return num_nodes_; }  // over all ranks
+
+ private:
+  Eigen::Vector3d position(const double* u, int32_t node) const;
+
+  MPI_Comm comm_;
+  std::vector<ObstacleShape> obstacles_;
+  ContactBarrier barrier_;
+  const std::vector<double>& X_;
+  std::vector<int32_t> nodes_;  // the owned local nodes of the contact surfaces
+  std::vector<double> area_;    // each one's share of the surfaces' area (m^2)
+  int64_t num_nodes_ = 0;
+  int inside_ = -1;
+};
+
+}  // namespace hs

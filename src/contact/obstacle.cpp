@@ -1,0 +1,78 @@
+// Signed distances of the obstacle shapes (obstacle.hpp). Where the closest point is a
+// single point of the surface (a box's corner, the whole sphere) d = |x - c| - r and
+// H = (I - n n^T) / |x - c|; along an edge or a cylinder the same in the plane normal to
+// the axis; flat parts have H = 0.
+#include "contact/obstacle.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hs {
+namespace {
+
+using Point = Eigen::Vector3d;
+
+
+Point vec(const std::array<double, 3>& a) { return Point(a[0], a[1], a[2]); }
+
+// Distance r from a point at offset v from the closest point set, curving in the subspace P
+// (a projector): d = |P v| - radius.
+SignedDistance round_distance(const Point& v, const Eigen::Matrix3d& P, double radius) {
+  SignedDistance out;
+  const Point w = P * v;
+  const double r = w.norm();
+  out.d = r - radius;
+  if (r == 0) return out;  // on the axis or the centre: no direction (d = -radius, inside)
+  out.gradient = w / r;
+  out.hessian = (P - out.gradient * out.gradient.transpose()) / r;
+  return out;
+}
+
+SignedDistance box_distance(const Point& x, const Point& center, const Point& half) {
+  const Point v = x - center;
+  Point q;
+  for (int i = 0; i < 3; ++i) q(i) = std::abs(v(i)) - half(i);
+  SignedDistance out;
+  if (q.maxCoeff() <= 0) {  // inside: the nearest face
+    int i = 0;
+    q.maxCoeff(&i);
+    out.d = q(i);
+    out.gradient(i) = v(i) >= 0 ? 1 : -1;
+    return out;
+  }
+  // Outside: the nearest point clamps the coordinates beyond the box; those axes curve.
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  Point w = Point::Zero();
+  for (int i = 0; i < 3; ++i)
+    if (q(i) > 0) {
+      P(i, i) = 1;
+      w(i) = v(i) >= 0 ? q(i) : -q(i);
+    }
+  return round_distance(w, P, 0.0);
+}
+
+}  // namespace
+
+SignedDistance signed_distance(const ObstacleShape& o, const Point& x, double s) {
+  const Point shift = s * vec(o.move);
+  switch (o.type) {
+    case ObstacleType::plane: {
+      SignedDistance out;
+      out.gradient = vec(o.normal);
+      out.d = out.gradient.dot(x - vec(o.point) - shift);
+      return out;
+    }
+    case ObstacleType::sphere:
+      return round_distance(x - vec(o.center) - shift, Eigen::Matrix3d::Identity(), o.radius);
+    case ObstacleType::cylinder: {
+      const Point a = vec(o.axis);
+      return round_distance(x - vec(o.center) - shift, Eigen::Matrix3d::Identity() - a * a.transpose(),
+                            o.radius);
+    }
+    case ObstacleType::box:
+      return box_distance(x - shift, vec(o.center), 0.5 * vec(o.size));
+  }
+  return {};
+}
+
+}  // namespace hs

@@ -1,0 +1,42 @@
+// Rigid obstacles as signed distance functions (docs/contact.md): the distance d(x) from a
+// point to the obstacle's surface, positive outside it (where the body must stay), with its
+// gradient and Hessian. The body's nodes are kept at d > 0 by the barrier of barrier.hpp;
+// a convex obstacle's d is negative everywhere inside it, so a step that would carry a node
+// through the obstacle is refused however large it is. Pure: no MPI, no PETSc.
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace hs {
+
+enum class ObstacleType { plane, sphere, box, cylinder };
+inline const std::vector<std::string> kObstacleTypeNames = {"plane", "sphere", "box", "cylinder"};
+
+// An obstacle as the deck gives it, in its place at load factor 0; at load factor s it has
+// moved by s * move (a prescribed rigid translation that follows the load, as a Dirichlet
+// value does).
+struct ObstacleShape {
+  std::string name;
+  ObstacleType type = ObstacleType::plane;
+  std::array<double, 3> point{0, 0, 0};   // plane: a point of it
+  std::array<double, 3> normal{0, 0, 1};  // plane: towards the body (unit after parsing)
+  std::array<double, 3> center{0, 0, 0};  // sphere, box, cylinder (a point of its axis)
+  double radius = 0;                      // sphere, cylinder
+  std::array<double, 3> size{0, 0, 0};    // box: edge lengths along x, y, z (axis-aligned)
+  std::array<double, 3> axis{0, 0, 1};    // cylinder: the axis (unit), infinitely long
+  std::array<double, 3> move{0, 0, 0};    // translation at full load (m)
+};
+
+struct SignedDistance {
+  double d = 0;
+  Eigen::Vector3d gradient = Eigen::Vector3d::Zero();  // unit where d is smooth
+  Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();
+};
+
+// The signed distance of point x from the obstacle at load factor s.
+SignedDistance signed_distance(const ObstacleShape& obstacle, const Eigen::Vector3d& x, double s);
+
+}  // namespace hs

@@ -1,0 +1,171 @@
+#include "deck/contact_section.hpp"
+
+#include <cmath>
+
+#include "deck/section_keys.hpp"
+
+namespace hs {
+namespace {
+
+KeyUse<ObstacleShape> types_only(std::vector<ObstacleType> types, const std::string& doc) {
+  return {[types](const ObstacleShape& o, const Config&) {
+            return std::find(types.begin(), types.end(), o.type) != types.end();
+          },
+          [doc](const ObstacleShape& o) {
+            return "only used by type " + doc + " (this obstacle is " +
+                   name_of(kObstacleTypeNames, o.type) + ")";
+          },
+          doc};
+}
+
+DeckKey<ObstacleShape> vector_key(std::string name, std::array<double, 3> ObstacleShape::*member,
+                                  std::string default_value, std::string meaning) {
+  return custom_key<ObstacleShape>(
+      std::move(name), "3 numbers", std::move(default_value), std::move(meaning),
+      [member](const DeckReader& r, const YAML::Node& n, const std::string& key, ObstacleShape& o,
+               const Config&) { o.*member = r.vector3(n, key); },
+      [member](YAML::Emitter& out, const ObstacleShape& o, const Config&) {
+        write_numbers(out, (o.*member).data(), 3);
+      });
+}
+
+// A direction given by the deck becomes a unit vector; zero length is refused.
+void normalise(const DeckReader& r, const YAML::Node& node, const std::string& key,
+               std::array<double, 3>& v) {
+  const double length = std::hypot(v[0], v[1], v[2]);
+  require(length > 0 && std::isfinite(length), r, node, key,
+          "a direction needs a non-zero length");
+  for (double& x : v) x /= length;
+}
+
+ObstacleShape parse_obstacle(const DeckReader& r, const YAML::Node& node, const std::string& key,
+                             const Config& c) {
+  ObstacleShape o;
+  read_keys(r, node, key, obstacle_keys(), o, c);
+  auto needs = [&](const char* name) {
+    require(node[name].IsDefined(), r, node, child_key(key, name),
+            "type " + name_of(kObstacleTypeNames, o.type) + " needs `" + name + "`");
+  };
+  switch (o.type) {
+    case ObstacleType::plane:
+      normalise(r, node["normal"], child_key(key, "normal"), o.normal);
+      break;
+    case ObstacleType::sphere:
+      needs("radius");
+      break;
+    case ObstacleType::cylinder:
+      needs("radius");
+      normalise(r, node["axis"], child_key(key, "axis"), o.axis);
+      break;
+    case ObstacleType::box:
+      needs("size");
+      for (int i = 0; i < 3; ++i)
+        require(o.size[i] > 0, r, node["size"], child_key(key, "size"),
+                "every edge length must be > 0, got " + format_number(o.size[i]));
+      break;
+  }
+  return o;
+}
+
+}  // namespace
+
+const KeyTable<ObstacleShape>& obstacle_keys() {
+  using T = ObstacleType;
+  static const KeyTable<ObstacleShape> keys = {
+      text_key("name", &ObstacleShape::name, "name",
+               "unique among the obstacles; names its force in summary.json and history.csv")
+          .needed(),
+      enum_key("type", &ObstacleShape::type, kObstacleTypeNames,
+               "`plane` (a half-space), `sphere`, `box` (axis-aligned) or `cylinder` (of "
+               "infinite length); the body stays outside it"),
+      vector_key("point", &ObstacleShape::point, "`[0, 0, 0]`", "a point of the plane (m)")
+          .only(types_only({T::plane}, "plane")),
+      vector_key("normal", &ObstacleShape::normal, "`[0, 0, 1]`",
+                 "the plane's normal, pointing to the side where the body is")
+          .only(types_only({T::plane}, "plane")),
+      vector_key("center", &ObstacleShape::center, "`[0, 0, 0]`",
+                 "the centre (m); of a cylinder, a point of its axis")
+          .only(types_only({T::sphere, T::box, T::cylinder}, "sphere, box, cylinder")),
+      number_key("radius", &ObstacleShape::radius, above(0), "m")
+          .only(types_only({T::sphere, T::cylinder}, "sphere, cylinder")),
+      vector_key("size", &ObstacleShape::size, "required",
+                 "edge lengths along x, y and z (m), each > 0")
+          .only(types_only({T::box}, "box")),
+      vector_key("axis", &ObstacleShape::axis, "`[0, 0, 1]`", "the cylinder's axis")
+          .only(types_only({T::cylinder}, "cylinder")),
+      vector_key("move", &ObstacleShape::move, "`[0, 0, 0]`",
+                 "a rigid translation (m) at full load, applied with the load factor as a "
+                 "Dirichlet value is (a press, a plate brought down)"),
+  };
+  return keys;
+}
+
+const KeyTable<ContactConfig>& contact_keys() {
+  static const KeyTable<ContactConfig> keys = {
+      custom_key<ContactConfig>(
+          "surfaces", "list of names", "required",
+          "surface groups of the body whose nodes may touch the obstacles",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
+             const Config&) {
+            r.check_list(n, key);
+            require(n.size() > 0, r, n, key, "at least one surface group is required");
+            for (size_t i = 0; i < n.size(); ++i) s.surfaces.push_back(r.text(n[i], item_key(key, i)));
+          },
+          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
+            out << YAML::Flow << s.surfaces;
+          })
+          .needed(),
+      custom_key<ContactConfig>(
+          "distance", "number > 0", "1e-3 of the mesh's bounding-box diagonal",
+          "dhat (m): the gap below which the barrier pushes; a node never comes closer than "
+          "0 and rests at a gap below dhat",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
+             const Config&) {
+            s.distance = r.number(n, key);
+            require(*s.distance > 0, r, n, key, "must be > 0, got " + format_number(*s.distance));
+          },
+          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
+            out << format_number(*s.distance);
+          })
+          .printed_when([](const ContactConfig& s) { return s.distance.has_value(); }),
+      custom_key<ContactConfig>(
+          "stiffness", "number > 0", "0.01 E / distance (E the stiffest material's)",
+          "kappa (Pa/m): the barrier's scale; the contact pressure at gap d is about kappa "
+          "dhat^2 / d for d << dhat (docs/contact.md)",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
+             const Config&) {
+            s.stiffness = r.number(n, key);
+            require(*s.stiffness > 0, r, n, key,
+                    "must be > 0, got " + format_number(*s.stiffness));
+          },
+          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
+            out << format_number(*s.stiffness);
+          })
+          .printed_when([](const ContactConfig& s) { return s.stiffness.has_value(); }),
+  };
+  return keys;
+}
+
+std::vector<ObstacleShape> parse_obstacles(const DeckReader& r, const YAML::Node& node,
+                                           const Config& c) {
+  r.check_list(node, "obstacles");
+  std::vector<ObstacleShape> obstacles;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string key = item_key("obstacles", i);
+    obstacles.push_back(parse_obstacle(r, node[i], key, c));
+    for (size_t j = 0; j < i; ++j)
+      if (obstacles[j].name == obstacles[i].name)
+        r.fail(child_key(key, "name"), node[i]["name"],
+               "duplicate obstacle name '" + obstacles[i].name + "' (also " +
+                   item_key("obstacles", j) + ")");
+  }
+  return obstacles;
+}
+
+ContactConfig parse_contact(const DeckReader& r, const YAML::Node& node, const Config& c) {
+  ContactConfig contact;
+  read_keys(r, node, "contact", contact_keys(), contact, c);
+  return contact;
+}
+
+}  // namespace hs
