@@ -693,6 +693,46 @@ TEST_F(DeckErrors, ErrorsGiveTheLineOfTheKey) {
                                 "incompressible, beyond a displacement formulation) (line 6)");
 }
 
+// The obstacles and contact sections (docs/contact.md).
+std::string obstacles(const std::string& entry, const std::string& contact = "{surfaces: [skin]}") {
+  return kMesh + kMaterials + "boundary: [{group: base}]\nobstacles:\n  - " + entry +
+         "\ncontact: " + contact + "\n";
+}
+
+TEST_F(DeckErrors, ObstaclesAndContact) {
+  const std::string floor = "{name: floor, type: plane}";
+  expect_errors({
+      {obstacles("{name: ball, type: sphere}"), "obstacles[0].radius",
+       "type sphere needs `radius`"},
+      {obstacles("{name: ball, type: sphere, radius: 0}"), "obstacles[0].radius", "must be > 0"},
+      {obstacles("{name: floor, type: plane, normal: [0, 0, 0]}"), "obstacles[0].normal",
+       "a direction needs a non-zero length"},
+      {obstacles("{name: rod, type: cylinder, radius: 1, axis: [0, 0, 0]}"), "obstacles[0].axis",
+       "a direction needs a non-zero length"},
+      {obstacles("{name: cup, type: box, size: [1, 0, 1]}"), "obstacles[0].size",
+       "every edge length must be > 0, got 0"},
+      {obstacles("{name: cup, type: box}"), "obstacles[0].size", "type box needs `size`"},
+      {obstacles("{name: floor, type: plane, radius: 1}"), "obstacles[0].radius",
+       "only used by type sphere, cylinder (this obstacle is plane)"},
+      {obstacles("{name: ball, type: sphere, radius: 1, normal: [0, 0, 1]}"),
+       "obstacles[0].normal", "only used by type plane (this obstacle is sphere)"},
+      {obstacles("{name: floor, type: wall}"), "obstacles[0].type", "box"},
+      {obstacles(floor + "\n  - " + floor), "obstacles[1].name",
+       "duplicate obstacle name 'floor' (also obstacles[0])"},
+      {obstacles(floor, "{surfaces: []}"), "contact.surfaces",
+       "at least one surface group is required"},
+      {obstacles(floor, "{surfaces: [skin], distance: -1}"), "contact.distance",
+       "must be > 0, got -1"},
+      {obstacles(floor, "{surfaces: [skin], stiffness: 0}"), "contact.stiffness",
+       "must be > 0, got 0"},
+      {obstacles(floor, "{distance: 1}"), "contact.surfaces", "required key missing"},
+      {kMesh + kMaterials + "boundary: [{group: base}]\nobstacles:\n  - " + floor + "\n",
+       "contact", "required with obstacles"},
+      {kMesh + kMaterials + "boundary: [{group: base}]\ncontact: {surfaces: [skin]}\n", "contact",
+       "only used with obstacles"},
+  });
+}
+
 // The cables section and cable actuators: a cable "t" from the tip towards the base.
 std::string cables(const std::string& entry, const std::string& actuators = "[{cavity: c}]") {
   return control(kTip, actuators) + "cables:\n  - " + entry + "\n";

@@ -107,6 +107,15 @@ TEST(CheckGroups, PressureGroupNotASurface) {
             "robot.yaml: loads.pressure[0].group: group 'outer' is not in the mesh " + kListing);
 }
 
+TEST(CheckGroups, ContactSurfacesAreSurfaces) {
+  Config c = valid_config();
+  c.contact.surfaces = {"inner", "tip"};
+  EXPECT_EQ(error_of(c),
+            "robot.yaml: contact.surfaces[1]: group 'tip' is not a surface " + kListing);
+  c.contact.surfaces = {"inner"};
+  EXPECT_EQ(error_of(c), "no error");
+}
+
 TEST(CheckGroups, CavityAndTipGroupsAreSurfaces) {
   Config c = valid_config();
   c.cavities = {CavityConfig{}};

@@ -1,0 +1,183 @@
+// Contact with rigid obstacles on 1 and 2 ranks (docs/contact.md), against closed forms and
+// conservation: a block pressed on a plane takes the uniaxial force of its compression, at a
+// gap where the barrier's pressure is that force per area; a block resting on a floor puts
+// its weight on it; a sphere, a cylinder and a box pressed into a clamped block push on it
+// with the clamp's reaction, no node of the body reaching them. On 2 ranks every force is
+// compared with the same deck run on one.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "../mpi_test_folder.hpp"
+#include "contact/barrier.hpp"
+#include "deck/deck.hpp"
+#include "solvers/simulation.hpp"
+
+namespace {
+namespace mpi_test_contact {
+
+using Json = nlohmann::json;
+const std::string kSource = HYDROSOFT_SOURCE_DIR;
+
+int world_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+int world_size() {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+std::string write_deck(const std::string& name, const std::string& text) {
+  const std::string path = (hs_test::test_folder() / name).string();
+  if (world_rank() == 0) std::ofstream(path) << text;
+  MPI_Barrier(MPI_COMM_WORLD);
+  return path;
+}
+
+Json shared(const Json& summary) {
+  std::string text = world_rank() == 0 ? summary.dump() : std::string();
+  int n = static_cast<int>(text.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  text.resize(n);
+  MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
+  return Json::parse(text);
+}
+
+// The run on every rank; on 2 ranks, its obstacle forces also against rank 0's run alone.
+Json run(const std::string& deck, const std::string& tag) {
+  const std::string folder = (hs_test::test_folder() / tag).string();
+  const Json all = shared(
+      hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder}), MPI_COMM_WORLD));
+  if (world_size() > 1) {
+    Json one;
+    if (world_rank() == 0)
+      one = hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder + "_one"}),
+                               MPI_COMM_SELF);
+    one = shared(one);
+    const auto& a = all["contact"]["obstacles"];
+    const auto& b = one["contact"]["obstacles"];
+    for (size_t o = 0; o < a.size(); ++o)
+      for (int d = 0; d < 3; ++d) {
+        const double fa = a[o]["force_N"][d], fb = b[o]["force_N"][d];
+        EXPECT_NEAR(fa, fb, 1e-9 * (std::abs(fb) + 1e-6)) << tag << " obstacle " << o;
+      }
+  }
+  return all;
+}
+
+std::array<double, 3> obstacle_force(const Json& summary, int o) {
+  const auto& f = summary["contact"]["obstacles"][o]["force_N"];
+  return {f[0].get<double>(), f[1].get<double>(), f[2].get<double>()};
+}
+
+std::string block_deck(const std::string& rest) {
+  return "mesh:\n  file: " + kSource +
+         "/meshes/block.geo\n  order: 1\n  parameters: {H: 0.1, h: 0.03}\n" + rest;
+}
+
+TEST(ObstacleContact, APressedBlockTakesTheUniaxialForceOfItsCompression) {
+  // A linear elastic block H = 0.1 m, free to expand sideways (symmetry planes x0, y0), its
+  // top moved down by delta onto a plane g0 below its bottom: the compression is delta - g0
+  // + gap (the gap where the barrier holds it), uniform, so P1 is exact and the force is
+  // E A (delta - g0 + gap) / H, and the barrier's pressure at that gap is the force per area.
+  const double E = 1e5, H = 0.1, A = H * H, delta = 0.006, g0 = 0.001;
+  const std::string deck = write_deck(
+      "press.yaml", block_deck("materials:\n"
+                               "  - {group: body, model: linear_elastic, E: 1.0e5, nu: 0.3}\n"
+                               "boundary:\n"
+                               "  - {group: top, components: [z], value: [0, 0, -0.006]}\n"
+                               "  - {group: x0, components: [x]}\n"
+                               "  - {group: y0, components: [y]}\n"
+                               "obstacles:\n"
+                               "  - {name: floor, type: plane, point: [0, 0, -0.001]}\n"
+                               "contact: {surfaces: [bottom]}\n"
+                               "time: {type: static, steps: 4}\n"));
+  const Json s = run(deck, "press");
+  const double gap = s["contact"]["min_gap_m"], dhat = s["contact"]["distance_m"],
+               kappa = s["contact"]["stiffness_Pa_per_m"];
+  ASSERT_GT(gap, 0);
+  ASSERT_LT(gap, dhat);
+  const auto f = obstacle_force(s, 0);
+  const double F = E * A * (delta - g0 + gap) / H;
+  EXPECT_NEAR(f[2], -F, 1e-8 * F);
+  EXPECT_NEAR(f[0], 0, 1e-10 * F);
+  EXPECT_NEAR(-kappa * hs::contact_barrier(gap, dhat).slope, F / A, 1e-6 * F / A);
+  EXPECT_NEAR(s["reactions_N"]["top"][2].get<double>(), f[2], 1e-9 * F);  // the same force
+  EXPECT_NEAR(s["contact"]["obstacles"][0]["area_m2"].get<double>(), A, 1e-12);
+}
+
+TEST(ObstacleContact, ABlockRestingOnAFloorPutsItsWeightOnIt) {
+  // Held by the barrier alone along z (its bottom starts half a dhat above the floor).
+  const double rho = 1000, g = 9.81, H = 0.1;
+  const double dhat = 1e-4;
+  const std::string deck = write_deck(
+      "rest.yaml",
+      block_deck("materials:\n"
+                 "  - {group: body, model: neo_hookean, E: 1.0e5, nu: 0.45, density: 1000}\n"
+                 "boundary:\n"
+                 "  - {group: x0, components: [x]}\n"
+                 "  - {group: y0, components: [y]}\n"
+                 "loads: {gravity: [0, 0, -9.81]}\n"
+                 "obstacles:\n"
+                 "  - {name: floor, type: plane, point: [0, 0, -5.0e-5], normal: [0, 0, 2]}\n"
+                 "contact: {surfaces: [bottom, sides], distance: 1.0e-4}\n"
+                 "time: {type: static, steps: 2}\n"));
+  const Json s = run(deck, "rest");
+  const auto f = obstacle_force(s, 0);
+  const double weight = rho * g * H * H * H;
+  EXPECT_NEAR(f[2], -weight, 1e-9 * weight);
+  EXPECT_NEAR(std::hypot(f[0], f[1]), 0, 1e-12 * weight);
+  const double gap = s["contact"]["min_gap_m"];
+  EXPECT_GT(gap, 0);
+  EXPECT_LT(gap, dhat);
+}
+
+class PressedIntoABlock : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(PressedIntoABlock, TheClampBalancesTheObstacleAndNoNodeReachesIt) {
+  // A block clamped at its bottom, an obstacle brought down 8 mm onto its top (it starts
+  // 2 mm above it): the force on the obstacle is the clamp's reaction (the body's internal
+  // forces sum to zero: the obstacle pushes it down as hard as the clamp holds it up), and
+  // the barrier keeps every node outside.
+  const std::string obstacle = GetParam();
+  const std::string shape = obstacle.substr(6, obstacle.find(',') - 6);
+  const std::string deck = write_deck(
+      "pressed_" + shape + ".yaml",
+      block_deck("materials:\n"
+                 "  - {group: body, model: neo_hookean, E: 1.0e5, nu: 0.45}\n"
+                 "boundary:\n"
+                 "  - {group: bottom}\n"
+                 "obstacles:\n"
+                 "  - {name: press, " +
+                 obstacle +
+                 ", move: [0, 0, -0.008]}\n"
+                 "contact: {surfaces: [top, sides]}\n"
+                 "time: {type: static, steps: 8}\n"));
+  const Json s = run(deck, "pressed_" + shape);
+  const auto f = obstacle_force(s, 0);
+  const auto& clamp = s["reactions_N"]["bottom"];
+  EXPECT_GT(f[2], 0.5);  // the body pushes the obstacle up
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(f[d], clamp[d].get<double>(), 1e-8 * f[2]) << shape << " " << d;
+  EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
+  EXPECT_GT(s["contact"]["obstacles"][0]["area_m2"].get<double>(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Shapes, PressedIntoABlock,
+    ::testing::Values("type: sphere, center: [0.05, 0.05, 0.132], radius: 0.03",
+                      "type: cylinder, center: [0.05, 0.05, 0.122], radius: 0.02, axis: [1, 0, 0]",
+                      "type: box, center: [0.05, 0.05, 0.112], size: [0.04, 0.04, 0.02]"),
+    [](const ::testing::TestParamInfo<std::string>& info) {
+      return info.param.substr(6, info.param.find(',') - 6);
+    });
+
+}  // namespace mpi_test_contact
+}  // namespace

@@ -1,0 +1,183 @@
+// The pointwise contact physics (src/contact/): each obstacle's signed distance against the
+// geometry it describes, its gradient and Hessian against central differences, the barrier's
+// derivatives likewise, and a node's energy, force and Hessian against differences of one
+// another; the tangent's projection keeps a positive semi-definite Hessian as it is.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "contact/barrier.hpp"
+#include "contact/node_contact.hpp"
+#include "contact/obstacle.hpp"
+
+namespace {
+
+using hs::ObstacleShape;
+using hs::ObstacleType;
+using V3 = Eigen::Vector3d;
+
+ObstacleShape plane() {
+  ObstacleShape o;
+  o.type = ObstacleType::plane;
+  o.point = {0.1, -0.2, 0.3};
+  const double n = std::sqrt(1.0 + 4.0 + 4.0);
+  o.normal = {1 / n, -2 / n, 2 / n};
+  o.move = {0.01, 0.02, -0.03};
+  return o;
+}
+ObstacleShape sphere() {
+  ObstacleShape o;
+  o.type = ObstacleType::sphere;
+  o.center = {0.2, 0.1, -0.1};
+  o.radius = 0.5;
+  o.move = {0, 0, 0.05};
+  return o;
+}
+ObstacleShape cylinder() {
+  ObstacleShape o;
+  o.type = ObstacleType::cylinder;
+  o.center = {0, 0, 0};
+  o.radius = 0.3;
+  o.axis = {0, 0.6, 0.8};
+  return o;
+}
+ObstacleShape box() {
+  ObstacleShape o;
+  o.type = ObstacleType::box;
+  o.center = {0, 0, 0};
+  o.size = {1.0, 0.6, 0.4};
+  o.move = {0.1, 0, 0};
+  return o;
+}
+
+// Central differences of d and of its gradient at x; compared with the analytic ones.
+void expect_derivatives(const ObstacleShape& o, const V3& x, double s) {
+  const double h = 1e-6;
+  const hs::SignedDistance sd = hs::signed_distance(o, x, s);
+  for (int i = 0; i < 3; ++i) {
+    V3 xp = x, xm = x;
+    xp(i) += h;
+    xm(i) -= h;
+    const auto p = hs::signed_distance(o, xp, s), m = hs::signed_distance(o, xm, s);
+    EXPECT_NEAR(sd.gradient(i), (p.d - m.d) / (2 * h), 1e-8) << "type " << int(o.type);
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(sd.hessian(j, i), (p.gradient(j) - m.gradient(j)) / (2 * h), 1e-6)
+          << "type " << int(o.type);
+  }
+}
+
+TEST(ObstacleDistance, MatchesItsGeometry) {
+  // Plane: the distance along the unit normal from the moved point.
+  const ObstacleShape p = plane();
+  const V3 x(0.4, 0.5, 0.9), q = V3(0.1, -0.2, 0.3) + 0.5 * V3(0.01, 0.02, -0.03);
+  EXPECT_NEAR(hs::signed_distance(p, x, 0.5).d, V3(p.normal.data()).dot(x - q), 1e-15);
+  // Sphere: |x - c| - r, the centre moved.
+  const ObstacleShape s = sphere();
+  EXPECT_NEAR(hs::signed_distance(s, V3(0.2, 0.1, 1.0), 1.0).d, 1.0 - (-0.1 + 0.05) - 0.5, 1e-15);
+  // Cylinder: the distance from the axis less the radius, whatever the position along it.
+  const ObstacleShape c = cylinder();
+  const V3 radial(1, 0, 0), along(0, 0.6, 0.8);
+  EXPECT_NEAR(hs::signed_distance(c, 0.7 * radial + 3.0 * along, 0).d, 0.4, 1e-14);
+  // Box: to a face, to an edge, to a corner, and inside (to the nearest face).
+  const ObstacleShape b = box();
+  EXPECT_NEAR(hs::signed_distance(b, V3(0.1, 0, 0.5), 1).d, 0.3, 1e-15);
+  EXPECT_NEAR(hs::signed_distance(b, V3(0.1 + 0.8, 0, 0.5), 1).d, std::hypot(0.3, 0.3), 1e-15);
+  EXPECT_NEAR(hs::signed_distance(b, V3(0.1 + 0.6, 0.4, 0.3), 1).d,
+              std::sqrt(0.01 + 0.01 + 0.01), 1e-15);
+  EXPECT_NEAR(hs::signed_distance(b, V3(0.1, 0.25, 0), 1).d, -0.05, 1e-15);
+}
+
+TEST(ObstacleDistance, GradientAndHessianAreItsDerivatives) {
+  expect_derivatives(plane(), V3(0.4, 0.5, 0.9), 0.7);
+  expect_derivatives(sphere(), V3(0.5, -0.3, 0.8), 0.3);
+  expect_derivatives(cylinder(), V3(0.5, -0.3, 0.8), 0);
+  expect_derivatives(box(), V3(0.2, 0.1, 0.6), 1);        // over a face
+  expect_derivatives(box(), V3(0.9, 0.05, 0.5), 1);       // beside an edge
+  expect_derivatives(box(), V3(0.9, 0.45, 0.35), 1);      // beyond a corner
+  expect_derivatives(box(), V3(0.15, 0.05, 0.1), 1);      // inside
+}
+
+TEST(ContactBarrier, DerivativesAndLimits) {
+  const double dhat = 2e-3, h = 1e-9;
+  for (double d : {1e-5, 3e-4, 1e-3, 1.9e-3}) {
+    const auto b = hs::contact_barrier(d, dhat);
+    const auto p = hs::contact_barrier(d + h, dhat), m = hs::contact_barrier(d - h, dhat);
+    EXPECT_NEAR(b.slope, (p.value - m.value) / (2 * h), 1e-6 * std::abs(b.slope) + 1e-12);
+    EXPECT_NEAR(b.curvature, (p.slope - m.slope) / (2 * h), 1e-6 * std::abs(b.curvature));
+    EXPECT_GT(b.value, 0);
+    EXPECT_LT(b.slope, 0);  // it pushes the node away
+  }
+  // C2 where contact opens: value, slope and curvature vanish at dhat.
+  const auto edge = hs::contact_barrier(dhat * (1 - 1e-9), dhat);
+  EXPECT_LT(edge.value, 1e-20);
+  EXPECT_LT(std::abs(edge.slope), 1e-14);
+  EXPECT_LT(std::abs(edge.curvature), 1e-7);
+  EXPECT_EQ(hs::contact_barrier(dhat, dhat).value, 0);
+  // Near the obstacle the pressure grows as dhat^2 / d.
+  const double d = 1e-9;
+  EXPECT_NEAR(-hs::contact_barrier(d, dhat).slope * d / (dhat * dhat), 1.0, 1e-4);
+}
+
+TEST(NodeContact, ForceAndHessianAreTheEnergysDerivatives) {
+  const double area = 1.7e-3, s = 0.4, h = 1e-7;
+  // At gap 0.1 from the sphere, 0.26 from the box's face, 0.15 from a plane through it.
+  const V3 x = V3(0.2, 0.1, -0.1 + 0.4 * 0.05) + V3(0.6, 0, 0);
+  ObstacleShape tilted = plane();
+  const V3 n(tilted.normal.data());
+  for (int i = 0; i < 3; ++i) tilted.point[i] = x(i) - 0.15 * n(i) - s * tilted.move[i];
+  const std::vector<ObstacleShape> obstacles = {tilted, sphere(), box()};
+  const hs::ContactBarrier barrier{0.3, 3e4};
+  const hs::NodeContact c = hs::node_contact(obstacles, x, s, area, barrier, false);
+  ASSERT_TRUE(c.valid);
+  int active = 0;
+  for (char a : c.active) active += a;
+  ASSERT_EQ(active, 3);
+  for (int i = 0; i < 3; ++i) {
+    V3 xp = x, xm = x;
+    xp(i) += h;
+    xm(i) -= h;
+    const auto p = hs::node_contact(obstacles, xp, s, area, barrier, false);
+    const auto m = hs::node_contact(obstacles, xm, s, area, barrier, false);
+    EXPECT_NEAR(c.gradient(i), (p.energy - m.energy) / (2 * h), 1e-6 * c.gradient.norm());
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(c.hessian(j, i), (p.gradient(j) - m.gradient(j)) / (2 * h),
+                  1e-5 * c.hessian.norm());
+  }
+  // The per-obstacle forces sum to the gradient.
+  V3 sum = V3::Zero();
+  for (const auto& f : c.force) sum += f;
+  EXPECT_LT((sum - c.gradient).norm(), 1e-14 * c.gradient.norm());
+}
+
+TEST(NodeContact, ProjectionKeepsADefiniteHessianAndClampsAnIndefiniteOne) {
+  const hs::ContactBarrier barrier{0.1, 1e3};
+  // Against a plane alone the Hessian is kappa A b'' n n^T: semi-definite, kept as it is.
+  const std::vector<ObstacleShape> flat = {plane()};
+  const V3 near_plane = V3(0.1, -0.2, 0.3) + 0.05 * V3(flat[0].normal.data());
+  const auto exact = hs::node_contact(flat, near_plane, 0, 1.0, barrier, false);
+  const auto projected = hs::node_contact(flat, near_plane, 0, 1.0, barrier, true);
+  EXPECT_LT((exact.hessian - projected.hessian).norm(), 1e-12 * exact.hessian.norm());
+  // Close to a small sphere the tangential part b'/r is negative: clamped to zero.
+  ObstacleShape ball = sphere();
+  ball.radius = 0.01;
+  ball.move = {0, 0, 0};
+  const V3 x = V3(0.2, 0.1, -0.1) + V3(0.01 + 0.09, 0, 0);
+  const auto e = hs::node_contact({ball}, x, 0, 1.0, barrier, false);
+  const auto p = hs::node_contact({ball}, x, 0, 1.0, barrier, true);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> exact_eig(e.hessian), projected_eig(p.hessian);
+  EXPECT_LT(exact_eig.eigenvalues().minCoeff(), 0);
+  EXPECT_GE(projected_eig.eigenvalues().minCoeff(), -1e-12 * p.hessian.norm());
+  // The normal stiffness b'' stays.
+  EXPECT_NEAR(p.hessian(0, 0), e.hessian(0, 0), 1e-10 * e.hessian.norm());
+}
+
+TEST(NodeContact, ANodeInsideAnObstacleIsRefused) {
+  const hs::ContactBarrier barrier{0.1, 1e3};
+  // Inside the sphere, 0.15 above the box.
+  const auto c = hs::node_contact({box(), sphere()}, V3(0.2, 0.1, 0.35), 0, 1.0, barrier, false);
+  EXPECT_FALSE(c.valid);
+  EXPECT_EQ(c.inside, 1);
+}
+
+}  // namespace
