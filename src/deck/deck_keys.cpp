@@ -44,6 +44,8 @@ std::vector<DeckKeyTable> deck_key_tables() {
       {"fluid_weight", markdown_table(fluid_weight_keys())},
       {"states", markdown_table(state_keys())},
       {"cables", markdown_table(cable_keys())},
+      {"obstacles", markdown_table(obstacle_keys())},
+      {"contact", markdown_table(contact_keys())},
       {"control", markdown_table(control_keys())},
       {"effectors", markdown_table(effector_keys())},
       {"actuators", markdown_table(cavity_actuator_keys())},

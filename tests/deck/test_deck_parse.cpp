@@ -830,9 +830,9 @@ TEST(RepositoryDecks, AllParseAndRoundTrip) {
   EXPECT_GT(count, 0);
 }
 
-// The examples of docs/decks.md are valid decks: the cavity example, the cables section (with
-// the control example), the control example, and the complete example, also with its
-// dynamic time section.
+// The examples of docs/decks.md are valid decks: the cavity example, the cables and the
+// obstacles sections (each with the control example), the control example, and the complete
+// example, also with its dynamic time section.
 TEST(DocumentedExample, Parses) {
   std::ifstream in(std::string(HYDROSOFT_SOURCE_DIR) + "/docs/decks.md");
   std::stringstream text;
@@ -844,7 +844,7 @@ TEST(DocumentedExample, Parses) {
     const size_t end = doc.find(close, at);
     blocks.push_back(doc.substr(at, end - at));
   }
-  ASSERT_EQ(blocks.size(), 5u);
+  ASSERT_EQ(blocks.size(), 6u);
   TempFolder tmp;
   tmp.write("meshes/lame_sphere.geo", "");
   tmp.write("meshes/cylinder.geo", "");
@@ -855,13 +855,19 @@ TEST(DocumentedExample, Parses) {
   EXPECT_EQ(cavity.states[1].cavities.at("cavity").added_volume, 1.5e-5);
   EXPECT_EQ(cavity.time.steps, 4);
   // The cables example is a section: it joins the control example's deck.
-  const std::string cables = blocks[1];
-  blocks.erase(blocks.begin() + 1);
+  const std::string cables = blocks[1], obstacles = blocks[2];
+  blocks.erase(blocks.begin() + 1, blocks.begin() + 3);
   const Config control = parse_deck(tmp.write("input/control.yaml", blocks[1]));
   const Config with_cable = parse_deck(tmp.write("input/cable.yaml", blocks[1] + cables));
   ASSERT_EQ(with_cable.cables.size(), 1u);
   EXPECT_EQ(with_cable.cables[0].points.size(), 4u);
   EXPECT_EQ(with_cable.cables[0].pull_point->at(0), -0.02);
+  const Config touching = parse_deck(tmp.write("input/obstacles.yaml", blocks[1] + obstacles));
+  ASSERT_EQ(touching.obstacles.size(), 4u);
+  EXPECT_EQ(touching.obstacles[1].type, ObstacleType::sphere);
+  EXPECT_EQ(touching.obstacles[1].move[2], -0.01);
+  EXPECT_EQ(touching.obstacles[3].axis[0], 1.0);
+  EXPECT_EQ(*touching.contact.distance, 1.0e-4);
   ASSERT_TRUE(control.control.has_value());
   EXPECT_EQ(control.control->effectors[0].point, "effector");
   EXPECT_EQ(control.control->actuators[0].max_measure_change, 2.0e-5);
