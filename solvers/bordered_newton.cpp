@@ -68,7 +68,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
     result.residual_norm = r_norm;
     if (!ok || !std::isfinite(r_norm)) {
       const std::string collapse = constraints_.collapse_reason();
-      result.reason = ok ? "residual not finite" : collapse.empty() ? "inverted element" : collapse;
+      result.reason = ok ? "residual not finite" : collapse.empty() ? problem_.refusal() : collapse;
       break;
     }
     const double tolerance = atol_ >= 0 ? atol_ : 1e-9 * force_scale();
@@ -157,8 +157,9 @@ bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
   }
   constraints_.set_multipliers(lambda);
   constraints_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
-  reason = collapse.empty() ? "every shortened step inverts an element"
-                            : "every shortened step fails: " + collapse;
+  reason = !collapse.empty()                   ? "every shortened step fails: " + collapse
+           : problem_.obstacle_reached() >= 0 ? "every shortened step fails: " + problem_.refusal()
+                                              : "every shortened step inverts an element";
   return false;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 
@@ -38,7 +39,10 @@ double triangle_area(const std::vector<double>& X, const int32_t* nodes) {
 
 ObstacleContact::ObstacleContact(const Config& config, const Distribution& dist,
                                  const std::vector<double>& X, Vec work, MPI_Comm comm)
-    : comm_(comm), obstacles_(config.obstacles), X_(X) {
+    : comm_(comm),
+      obstacles_(config.obstacles),
+      project_(config.solver.preset == SolverPreset::gamg),
+      X_(X) {
   barrier_.distance = config.contact.distance ? *config.contact.distance
                                               : 1e-3 * bounding_diagonal(X, comm);
   double E = 0;
@@ -82,6 +86,41 @@ ObstacleContact::ObstacleContact(const Config& config, const Distribution& dist,
   HS_PETSC(VecRestoreArrayRead(work, &owned));
   int64_t count = static_cast<int64_t>(nodes_.size());
   MPI_Allreduce(&count, &num_nodes_, 1, MPI_INT64_T, MPI_SUM, comm);
+  check_start(config.deck_path);
+}
+
+// The undeformed body must start outside every obstacle (in their places at load factor 0):
+// the barrier has no energy to start from otherwise.
+void ObstacleContact::check_start(const std::string& deck) const {
+  struct {
+    double d;
+    int rank;
+  } worst{std::numeric_limits<double>::max(), 0};
+  MPI_Comm_rank(comm_, &worst.rank);
+  int obstacle = -1;
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();
+  for (int32_t n : nodes_) {
+    const Eigen::Vector3d x(X_[3 * n], X_[3 * n + 1], X_[3 * n + 2]);
+    for (size_t o = 0; o < obstacles_.size(); ++o) {
+      const double d = signed_distance(obstacles_[o], x, 0.0).d;
+      if (d < worst.d) {
+        worst.d = d;
+        obstacle = static_cast<int>(o);
+        at = x;
+      }
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
+  if (worst.d > 0) return;
+  MPI_Bcast(&obstacle, 1, MPI_INT, worst.rank, comm_);
+  MPI_Bcast(at.data(), 3, MPI_DOUBLE, worst.rank, comm_);
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "the undeformed body's contact surface reaches %g m into it at (%g, %g, %g): "
+                "an obstacle must start outside the body",
+                -worst.d, at(0), at(1), at(2));
+  throw InputError(deck + ": obstacles[" + std::to_string(obstacle) + "] ('" +
+                   obstacles_[obstacle].name + "'): " + text);
 }
 
 Eigen::Vector3d ObstacleContact::position(const double* u, int32_t n) const {
@@ -108,7 +147,8 @@ void ObstacleContact::add_tangent(const double* u, double s, const NodePairBlock
                                   double* values) const {
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const int32_t n = nodes_[i];
-    const NodeContact c = node_contact(obstacles_, position(u, n), s, area_[i], barrier_, true);
+    const NodeContact c =
+        node_contact(obstacles_, position(u, n), s, area_[i], barrier_, project_);
     if (c.hessian.isZero(0)) continue;
     const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> K = c.hessian;
     pairs.add_nodes(&n, 1, K.data(), values);

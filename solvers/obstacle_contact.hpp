@@ -50,10 +50,15 @@ class ObstacleContact {
 
  private:
   Eigen::Vector3d position(const double* u, int32_t node) const;
+  void check_start(const std::string& deck) const;  // collective; throws InputError
 
   MPI_Comm comm_;
   std::vector<ObstacleShape> obstacles_;
   ContactBarrier barrier_;
+  // The tangent's Hessians projected onto the semi-definite ones for CG (the gamg preset),
+  // which needs a definite matrix; exact for the direct solvers, which keep Newton quadratic
+  // (docs/contact.md: 70 against 142 iterations on input/finger_press.yaml).
+  bool project_ = false;
   const std::vector<double>& X_;
   std::vector<int32_t> nodes_;  // the owned local nodes of the contact surfaces
   std::vector<double> area_;    // each one's share of the surfaces' area (m^2)

@@ -386,6 +386,12 @@ std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {
   return out;
 }
 
+std::string Problem::refusal() const {
+  if (obstacle_reached_ >= 0)
+    return "a node reached obstacle '" + contact_->obstacles()[obstacle_reached_].name + "'";
+  return "inverted element";
+}
+
 ObstacleContact::Totals Problem::contact_totals(Vec u, double s) const {
   if (!contact_) return {};
   VecHandle uw;

@@ -73,6 +73,9 @@ class Problem {
   // the deck's list, over all ranks), or -1: the barrier refuses such a configuration as an
   // inverted element is refused.
   int obstacle_reached() const { return obstacle_reached_; }
+  // Why the last residual was refused, in words: "inverted element" or "a node reached
+  // obstacle 'NAME'".
+  std::string refusal() const;
   // Contact with the deck's obstacles (null without them).
   const ObstacleContact* contact() const { return contact_.get(); }
   // Per obstacle, the force the body exerts on it and its touching area, on u at load

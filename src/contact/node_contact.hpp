@@ -2,9 +2,9 @@
 //   E(x) = kappa A sum_o b(d_o(x)),   b of barrier.hpp, d_o the signed distance of obstacle o,
 // its gradient (the node's contact force on the obstacles, a residual term) and Hessian
 //   d2E/dx2 = kappa A sum_o (b'' n n^T + b' H_o),
-// projected onto the positive semi-definite matrices for the tangent: b' < 0, so a curved
-// obstacle's b' H is negative across it and would make a stiff body's tangent indefinite,
-// as incremental potential contact projects each contact's Hessian. Pure.
+// optionally projected onto the positive semi-definite matrices, as incremental potential
+// contact projects each contact's Hessian: b' < 0, so a curved obstacle's b' H is negative
+// across it and can make the tangent indefinite, which CG cannot take. Pure.
 #pragma once
 
 #include <Eigen/Dense>

@@ -2,15 +2,18 @@
 // conservation: a block pressed on a plane takes the uniaxial force of its compression, at a
 // gap where the barrier's pressure is that force per area; a block resting on a floor puts
 // its weight on it; a sphere, a cylinder and a box pressed into a clamped block push on it
-// with the clamp's reaction, no node of the body reaching them. On 2 ranks every force is
-// compared with the same deck run on one.
+// with the clamp's reaction, no node of the body reaching them; the shipped finger pressing
+// on a ball balances its base, its weight and the ball in every state. On 2 ranks every
+// force is compared with the same deck run on one.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <mpi.h>
 
 #include <array>
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "../mpi_test_folder.hpp"
 #include "contact/barrier.hpp"
@@ -137,6 +140,43 @@ TEST(ObstacleContact, ABlockRestingOnAFloorPutsItsWeightOnIt) {
   const double gap = s["contact"]["min_gap_m"];
   EXPECT_GT(gap, 0);
   EXPECT_LT(gap, dhat);
+}
+
+// The sum over the nodes of an output step's nodal_load (gravity and the cavity's pressure,
+// which sums to zero over its closed walls).
+std::array<double, 3> total_load(const std::string& h5, int step) {
+  std::array<double, 3> total{0, 0, 0};
+  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const std::string name = "/step_" + std::to_string(step) + "/nodal_load";
+  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(set);
+  std::vector<double> load(H5Sget_simple_extent_npoints(space));
+  H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, load.data());
+  H5Sclose(space);
+  H5Dclose(set);
+  H5Fclose(file);
+  for (size_t i = 0; i < load.size(); ++i) total[i % 3] += load[i];
+  return total;
+}
+
+TEST(ObstacleContact, TheShippedFingerPressesABallWithWhatItsBaseAndWeightLeave) {
+  // In each state the body's forces balance: the base's reaction, the applied load and the
+  // ball's push on it (minus the body's force on the ball).
+  const std::string folder = (hs_test::test_folder() / "finger_press").string();
+  const Json s = run(kSource + "/input/finger_press.yaml", "finger_press");
+  double previous = 0;
+  for (const auto& state : s["states"]) {
+    const auto& f = state["contact"]["obstacles"][0]["force_N"];
+    const auto& base = state["reactions_N"]["base"];
+    const auto load = total_load(folder + "/finger_press.h5", state["step"].get<int>());
+    const double scale = std::abs(f[2].get<double>());
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(base[d].get<double>() + load[d] - f[d].get<double>(), 0, 1e-7 * scale)
+          << state["name"] << " " << d;
+    EXPECT_GT(scale, previous) << state["name"];  // presses harder as the pressure rises
+    previous = scale;
+    EXPECT_GT(state["contact"]["min_gap_m"].get<double>(), 0);
+  }
 }
 
 class PressedIntoABlock : public ::testing::TestWithParam<std::string> {};
