@@ -157,7 +157,7 @@ bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
   }
   constraints_.set_multipliers(lambda);
   constraints_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
-  reason = !collapse.empty()                   ? "every shortened step fails: " + collapse
+  reason = !collapse.empty()                  ? "every shortened step fails: " + collapse
            : problem_.obstacle_reached() >= 0 ? "every shortened step fails: " + problem_.refusal()
                                               : "every shortened step inverts an element";
   return false;

@@ -43,8 +43,8 @@ ObstacleContact::ObstacleContact(const Config& config, const Distribution& dist,
       obstacles_(config.obstacles),
       project_(config.solver.preset == SolverPreset::gamg),
       X_(X) {
-  barrier_.distance = config.contact.distance ? *config.contact.distance
-                                              : 1e-3 * bounding_diagonal(X, comm);
+  barrier_.distance =
+      config.contact.distance ? *config.contact.distance : 1e-3 * bounding_diagonal(X, comm);
   double E = 0;
   for (const auto& m : config.materials) E = std::max(E, m.law->elastic_constants().E);
   barrier_.stiffness =
@@ -128,8 +128,7 @@ Eigen::Vector3d ObstacleContact::position(const double* u, int32_t n) const {
                          X_[3 * n + 2] + u[3 * n + 2]);
 }
 
-bool ObstacleContact::add_forces(const double* u, double s, double a, double* r,
-                                 double* energy) {
+bool ObstacleContact::add_forces(const double* u, double s, double a, double* r, double* energy) {
   inside_ = -1;
   double sum = 0;
   for (size_t i = 0; i < nodes_.size(); ++i) {
@@ -147,8 +146,7 @@ void ObstacleContact::add_tangent(const double* u, double s, const NodePairBlock
                                   double* values) const {
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const int32_t n = nodes_[i];
-    const NodeContact c =
-        node_contact(obstacles_, position(u, n), s, area_[i], barrier_, project_);
+    const NodeContact c = node_contact(obstacles_, position(u, n), s, area_[i], barrier_, project_);
     if (c.hessian.isZero(0)) continue;
     const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> K = c.hessian;
     pairs.add_nodes(&n, 1, K.data(), values);

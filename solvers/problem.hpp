@@ -224,7 +224,7 @@ class Problem {
   // Per mesh volume group: the law its elements integrate (a nodal-pressure material's less
   // its volumetric term, which nodal_ integrates per node).
   std::vector<std::shared_ptr<const MaterialLaw>> element_laws_;
-  std::unique_ptr<NodalPressure> nodal_;  // when a material runs the nodal-pressure element
+  std::unique_ptr<NodalPressure> nodal_;      // when a material runs the nodal-pressure element
   std::unique_ptr<ObstacleContact> contact_;  // with obstacles
   DofMap dofs_;
   const std::vector<double>& X_;         // reference coordinates of local nodes
@@ -244,7 +244,7 @@ class Problem {
   bool pattern_fixed_ = false;               // a matrix exists: no new surfaces or couplings
   VecHandle u_work_, r_work_;
   int64_t inverted_element_ = -1;  // of the last residual or tangent, over all ranks
-  int obstacle_reached_ = -1;       // of the last residual, over all ranks
+  int obstacle_reached_ = -1;      // of the last residual, over all ranks
   AssemblyTimers timers_;
 };
 

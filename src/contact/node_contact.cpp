@@ -23,8 +23,8 @@ NodeContact node_contact(const std::vector<ObstacleShape>& obstacles, const Eige
     out.force[o] = scale * b.slope * sd.gradient;
     out.active[o] = 1;
     out.gradient += out.force[o];
-    out.hessian += scale * (b.curvature * sd.gradient * sd.gradient.transpose() +
-                            b.slope * sd.hessian);
+    out.hessian +=
+        scale * (b.curvature * sd.gradient * sd.gradient.transpose() + b.slope * sd.hessian);
   }
   if (project && !out.hessian.isZero(0)) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(out.hessian);

@@ -12,7 +12,6 @@ namespace {
 
 using Point = Eigen::Vector3d;
 
-
 Point vec(const std::array<double, 3>& a) { return Point(a[0], a[1], a[2]); }
 
 // Distance r from a point at offset v from the closest point set, curving in the subspace P
@@ -66,8 +65,8 @@ SignedDistance signed_distance(const ObstacleShape& o, const Point& x, double s)
       return round_distance(x - vec(o.center) - shift, Eigen::Matrix3d::Identity(), o.radius);
     case ObstacleType::cylinder: {
       const Point a = vec(o.axis);
-      return round_distance(x - vec(o.center) - shift, Eigen::Matrix3d::Identity() - a * a.transpose(),
-                            o.radius);
+      return round_distance(x - vec(o.center) - shift,
+                            Eigen::Matrix3d::Identity() - a * a.transpose(), o.radius);
     }
     case ObstacleType::box:
       return box_distance(x - shift, vec(o.center), 0.5 * vec(o.size));

@@ -33,8 +33,7 @@ DeckKey<ObstacleShape> vector_key(std::string name, std::array<double, 3> Obstac
 void normalise(const DeckReader& r, const YAML::Node& node, const std::string& key,
                std::array<double, 3>& v) {
   const double length = std::hypot(v[0], v[1], v[2]);
-  require(length > 0 && std::isfinite(length), r, node, key,
-          "a direction needs a non-zero length");
+  require(length > 0 && std::isfinite(length), r, node, key, "a direction needs a non-zero length");
   for (double& x : v) x /= length;
 }
 
@@ -109,7 +108,8 @@ const KeyTable<ContactConfig>& contact_keys() {
              const Config&) {
             r.check_list(n, key);
             require(n.size() > 0, r, n, key, "at least one surface group is required");
-            for (size_t i = 0; i < n.size(); ++i) s.surfaces.push_back(r.text(n[i], item_key(key, i)));
+            for (size_t i = 0; i < n.size(); ++i)
+              s.surfaces.push_back(r.text(n[i], item_key(key, i)));
           },
           [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
             out << YAML::Flow << s.surfaces;
@@ -135,8 +135,7 @@ const KeyTable<ContactConfig>& contact_keys() {
           [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
              const Config&) {
             s.stiffness = r.number(n, key);
-            require(*s.stiffness > 0, r, n, key,
-                    "must be > 0, got " + format_number(*s.stiffness));
+            require(*s.stiffness > 0, r, n, key, "must be > 0, got " + format_number(*s.stiffness));
           },
           [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
             out << format_number(*s.stiffness);

@@ -55,8 +55,8 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   // In the order they depend on each other: cavities, cables, states and control need the
   // time section's type; states and control name cavities and cables.
   const std::vector<std::string> order = {
-      "mesh",   "materials", "boundary", "loads",   "time",   "cavities", "cables", "states",
-      "tip",    "obstacles", "contact",  "control", "solver", "output",   "exact"};
+      "mesh", "materials", "boundary", "loads",   "time",   "cavities", "cables", "states",
+      "tip",  "obstacles", "contact",  "control", "solver", "output",   "exact"};
   if (order.size() != sections.size()) throw std::logic_error("parse_deck: a section unread");
   for (const std::string& name : order) {
     const auto k = std::find_if(sections.begin(), sections.end(),
@@ -91,8 +91,9 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
                "fluid_weight.coupling linearized (the frozen weights are not saved, so such a "
                "run cannot be restarted to the same numbers)");
   if (!c.obstacles.empty() && c.contact.surfaces.empty())
-    r.fail("contact", "required with obstacles: contact.surfaces names the body's surface "
-                      "groups that may touch them");
+    r.fail("contact",
+           "required with obstacles: contact.surfaces names the body's surface "
+           "groups that may touch them");
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
     if (c.dirichlet[i].exact && !c.exact.type)
       r.fail(child_key(item_key("boundary", i), "exact"), root["boundary"][i]["exact"],

@@ -250,8 +250,9 @@ const KeyTable<Config>& deck_section_keys() {
           [](YAML::Emitter& out, const Config& c, const Config&) {
             write_map(out, contact_keys(), c.contact, c);
           })
-          .only(use_when<Config>([](const Config&, const Config& c) { return !c.obstacles.empty(); },
-                                 "only used with obstacles (the section obstacles is empty)", ""))
+          .only(
+              use_when<Config>([](const Config&, const Config& c) { return !c.obstacles.empty(); },
+                               "only used with obstacles (the section obstacles is empty)", ""))
           .printed_when([](const Config& c) { return !c.obstacles.empty(); }),
       custom_key<Config>(
           "control", "map", "none", "inverse control",

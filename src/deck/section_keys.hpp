@@ -31,7 +31,7 @@ const KeyTable<ControlConfig>& control_keys();  // control_section.cpp
 const KeyTable<EffectorConfig>& effector_keys();
 const KeyTable<ActuatorConfig>& cavity_actuator_keys();
 const KeyTable<ActuatorConfig>& cable_actuator_keys();
-const KeyTable<ExactConfig>& exact_keys();  // exact_section.cpp
+const KeyTable<ExactConfig>& exact_keys();       // exact_section.cpp
 const KeyTable<ObstacleShape>& obstacle_keys();  // contact_section.cpp
 const KeyTable<ContactConfig>& contact_keys();
 

@@ -56,8 +56,8 @@ Json shared(const Json& summary) {
 // The run on every rank; on 2 ranks, its obstacle forces also against rank 0's run alone.
 Json run(const std::string& deck, const std::string& tag) {
   const std::string folder = (hs_test::test_folder() / tag).string();
-  const Json all = shared(
-      hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder}), MPI_COMM_WORLD));
+  const Json all =
+      shared(hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder}), MPI_COMM_WORLD));
   if (world_size() > 1) {
     Json one;
     if (world_rank() == 0)
@@ -188,18 +188,18 @@ TEST_P(PressedIntoABlock, TheClampBalancesTheObstacleAndNoNodeReachesIt) {
   // the barrier keeps every node outside.
   const std::string obstacle = GetParam();
   const std::string shape = obstacle.substr(6, obstacle.find(',') - 6);
-  const std::string deck = write_deck(
-      "pressed_" + shape + ".yaml",
-      block_deck("materials:\n"
-                 "  - {group: body, model: neo_hookean, E: 1.0e5, nu: 0.45}\n"
-                 "boundary:\n"
-                 "  - {group: bottom}\n"
-                 "obstacles:\n"
-                 "  - {name: press, " +
-                 obstacle +
-                 ", move: [0, 0, -0.008]}\n"
-                 "contact: {surfaces: [top, sides]}\n"
-                 "time: {type: static, steps: 8}\n"));
+  const std::string deck =
+      write_deck("pressed_" + shape + ".yaml",
+                 block_deck("materials:\n"
+                            "  - {group: body, model: neo_hookean, E: 1.0e5, nu: 0.45}\n"
+                            "boundary:\n"
+                            "  - {group: bottom}\n"
+                            "obstacles:\n"
+                            "  - {name: press, " +
+                            obstacle +
+                            ", move: [0, 0, -0.008]}\n"
+                            "contact: {surfaces: [top, sides]}\n"
+                            "time: {type: static, steps: 8}\n"));
   const Json s = run(deck, "pressed_" + shape);
   const auto f = obstacle_force(s, 0);
   const auto& clamp = s["reactions_N"]["bottom"];

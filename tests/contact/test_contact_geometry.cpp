@@ -83,8 +83,8 @@ TEST(ObstacleDistance, MatchesItsGeometry) {
   const ObstacleShape b = box();
   EXPECT_NEAR(hs::signed_distance(b, V3(0.1, 0, 0.5), 1).d, 0.3, 1e-15);
   EXPECT_NEAR(hs::signed_distance(b, V3(0.1 + 0.8, 0, 0.5), 1).d, std::hypot(0.3, 0.3), 1e-15);
-  EXPECT_NEAR(hs::signed_distance(b, V3(0.1 + 0.6, 0.4, 0.3), 1).d,
-              std::sqrt(0.01 + 0.01 + 0.01), 1e-15);
+  EXPECT_NEAR(hs::signed_distance(b, V3(0.1 + 0.6, 0.4, 0.3), 1).d, std::sqrt(0.01 + 0.01 + 0.01),
+              1e-15);
   EXPECT_NEAR(hs::signed_distance(b, V3(0.1, 0.25, 0), 1).d, -0.05, 1e-15);
 }
 
@@ -92,10 +92,10 @@ TEST(ObstacleDistance, GradientAndHessianAreItsDerivatives) {
   expect_derivatives(plane(), V3(0.4, 0.5, 0.9), 0.7);
   expect_derivatives(sphere(), V3(0.5, -0.3, 0.8), 0.3);
   expect_derivatives(cylinder(), V3(0.5, -0.3, 0.8), 0);
-  expect_derivatives(box(), V3(0.2, 0.1, 0.6), 1);        // over a face
-  expect_derivatives(box(), V3(0.9, 0.05, 0.5), 1);       // beside an edge
-  expect_derivatives(box(), V3(0.9, 0.45, 0.35), 1);      // beyond a corner
-  expect_derivatives(box(), V3(0.15, 0.05, 0.1), 1);      // inside
+  expect_derivatives(box(), V3(0.2, 0.1, 0.6), 1);    // over a face
+  expect_derivatives(box(), V3(0.9, 0.05, 0.5), 1);   // beside an edge
+  expect_derivatives(box(), V3(0.9, 0.45, 0.35), 1);  // beyond a corner
+  expect_derivatives(box(), V3(0.15, 0.05, 0.1), 1);  // inside
 }
 
 TEST(ContactBarrier, DerivativesAndLimits) {
