@@ -119,6 +119,7 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
 
     if (!take_step(u, s, zeta, lambda, c, r_norm, result.reason)) break;
   }
+  if (result.converged) problem_.accept_state(u, s);
   const double assembly = timers.residual_s + timers.jacobian_s - assembly_before;
   solve_s_ += MPI_Wtime() - t0 - assembly;
   return result;

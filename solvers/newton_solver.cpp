@@ -120,6 +120,7 @@ NewtonResult NewtonSolver::solve(Vec u, double s) {
     r.converged = false;
     r.reason = "the solution inverts an element";
   }
+  if (r.converged) problem_.accept_state(u, s);
   return r;
 }
 

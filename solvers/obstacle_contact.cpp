@@ -87,6 +87,26 @@ ObstacleContact::ObstacleContact(const Config& config, const Distribution& dist,
   int64_t count = static_cast<int64_t>(nodes_.size());
   MPI_Allreduce(&count, &num_nodes_, 1, MPI_INT64_T, MPI_SUM, comm);
   check_start(config.deck_path);
+  for (const auto& o : obstacles_) has_friction_ |= o.friction > 0;
+  slip_ = config.contact.slip ? *config.contact.slip : 0.1 * barrier_.distance;
+  if (has_friction_) {
+    const std::vector<double> zero(X.size(), 0.0);
+    accept(zero.data(), 0.0);
+  }
+}
+
+void ObstacleContact::accept(const double* u, double s) {
+  if (!has_friction_) return;
+  lag_.resize(nodes_.size());
+  for (size_t i = 0; i < nodes_.size(); ++i)
+    lag_[i] = friction_lag(obstacles_, position(u, nodes_[i]), s, area_[i], barrier_);
+}
+
+NodeContact ObstacleContact::evaluate(size_t i, const Eigen::Vector3d& x, double s,
+                                      bool project) const {
+  NodeContact c = node_contact(obstacles_, x, s, area_[i], barrier_, project);
+  if (has_friction_ && c.valid) add_friction(obstacles_, lag_[i], x, s, slip_, c);
+  return c;
 }
 
 // The undeformed body must start outside every obstacle (in their places at load factor 0):
@@ -133,7 +153,7 @@ bool ObstacleContact::add_forces(const double* u, double s, double a, double* r,
   double sum = 0;
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const int32_t n = nodes_[i];
-    const NodeContact c = node_contact(obstacles_, position(u, n), s, area_[i], barrier_, false);
+    const NodeContact c = evaluate(i, position(u, n), s, false);
     if (!c.valid && inside_ < 0) inside_ = c.inside;
     sum += c.energy;
     for (int d = 0; d < 3; ++d) r[3 * n + d] += a * c.gradient(d);
@@ -146,7 +166,7 @@ void ObstacleContact::add_tangent(const double* u, double s, const NodePairBlock
                                   double* values) const {
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const int32_t n = nodes_[i];
-    const NodeContact c = node_contact(obstacles_, position(u, n), s, area_[i], barrier_, project_);
+    const NodeContact c = evaluate(i, position(u, n), s, project_);
     if (c.hessian.isZero(0)) continue;
     const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> K = c.hessian;
     pairs.add_nodes(&n, 1, K.data(), values);
@@ -159,7 +179,7 @@ ObstacleContact::Totals ObstacleContact::totals(const double* u, double s) const
   double gap = std::numeric_limits<double>::max();
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const Eigen::Vector3d x = position(u, nodes_[i]);
-    const NodeContact c = node_contact(obstacles_, x, s, area_[i], barrier_, false);
+    const NodeContact c = evaluate(i, x, s, false);
     for (size_t o = 0; o < m; ++o) {
       for (int d = 0; d < 3; ++d) sums[4 * o + d] += c.force[o](d);
       if (c.active[o]) sums[4 * o + 3] += area_[i];

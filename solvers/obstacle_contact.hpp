@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/friction.hpp"
 #include "contact/node_contact.hpp"
 #include "deck/config.hpp"
 #include "mesh/distribution.hpp"
@@ -35,6 +36,10 @@ class ObstacleContact {
   // The index of an obstacle a node was found inside by the last add_forces on this rank,
   // or -1.
   int inside() const { return inside_; }
+  // A converged state at load factor s: the start of the next step, whose friction is lagged
+  // from here (friction.hpp). The undeformed body at s = 0 until the first.
+  void accept(const double* u, double s);
+  bool has_friction() const { return has_friction_; }
 
   struct Totals {
     std::vector<std::array<double, 3>> force;  // per obstacle: the body's force on it (N)
@@ -50,6 +55,8 @@ class ObstacleContact {
 
  private:
   Eigen::Vector3d position(const double* u, int32_t node) const;
+  // Node i's barrier and friction at position x, load factor s.
+  NodeContact evaluate(size_t i, const Eigen::Vector3d& x, double s, bool project) const;
   void check_start(const std::string& deck) const;  // collective; throws InputError
 
   MPI_Comm comm_;
@@ -63,6 +70,9 @@ class ObstacleContact {
   std::vector<int32_t> nodes_;  // the owned local nodes of the contact surfaces
   std::vector<double> area_;    // each one's share of the surfaces' area (m^2)
   int64_t num_nodes_ = 0;
+  bool has_friction_ = false;
+  double slip_ = 0;                // eps_v (m)
+  std::vector<FrictionLag> lag_;  // per contact node, with friction
   int inside_ = -1;
 };
 

@@ -386,6 +386,12 @@ std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {
   return out;
 }
 
+void Problem::accept_state(Vec u, double s) {
+  if (!contact_ || !contact_->has_friction()) return;
+  LocalView view(u, u_work_);
+  contact_->accept(view.values(), s);
+}
+
 std::string Problem::refusal() const {
   if (obstacle_reached_ >= 0)
     return "a node reached obstacle '" + contact_->obstacles()[obstacle_reached_].name + "'";

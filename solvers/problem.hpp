@@ -76,6 +76,10 @@ class Problem {
   // Why the last residual was refused, in words: "inverted element" or "a node reached
   // obstacle 'NAME'".
   std::string refusal() const;
+  // A converged state u at load factor s, from which the next step starts: contact friction
+  // lags its normal forces and slips from there (docs/contact.md). The Newton solvers call
+  // it on convergence. Collective.
+  void accept_state(Vec u, double s);
   // Contact with the deck's obstacles (null without them).
   const ObstacleContact* contact() const { return contact_.get(); }
   // Per obstacle, the force the body exerts on it and its touching area, on u at load

@@ -28,6 +28,7 @@ struct ObstacleShape {
   std::array<double, 3> size{0, 0, 0};    // box: edge lengths along x, y, z (axis-aligned)
   std::array<double, 3> axis{0, 0, 1};    // cylinder: the axis (unit), infinitely long
   std::array<double, 3> move{0, 0, 0};    // translation at full load (m)
+  double friction = 0;                    // Coulomb coefficient with the body (friction.hpp)
 };
 
 struct SignedDistance {

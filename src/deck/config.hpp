@@ -262,6 +262,7 @@ struct ContactConfig {
   std::vector<std::string> surfaces;  // surface groups of the body
   std::optional<double> distance;     // dhat (m): the gap at which the barrier starts
   std::optional<double> stiffness;    // kappa (Pa/m): the barrier's scale
+  std::optional<double> slip;         // eps_v (m): friction's slip between stick and slide
 };
 
 struct Config {

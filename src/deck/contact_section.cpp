@@ -92,6 +92,10 @@ const KeyTable<ObstacleShape>& obstacle_keys() {
           .only(types_only({T::box}, "box")),
       vector_key("axis", &ObstacleShape::axis, "`[0, 0, 1]`", "the cylinder's axis")
           .only(types_only({T::cylinder}, "cylinder")),
+      number_key("friction", &ObstacleShape::friction, at_least(0, "a Coulomb coefficient"),
+                 "Coulomb friction coefficient between the body and the obstacle (0: "
+                 "frictionless); the friction force is at most this times the normal force, "
+                 "lagged over each step (docs/contact.md)"),
       vector_key("move", &ObstacleShape::move, "`[0, 0, 0]`",
                  "a rigid translation (m) at full load, applied with the load factor as a "
                  "Dirichlet value is (a press, a plate brought down)"),
@@ -141,6 +145,19 @@ const KeyTable<ContactConfig>& contact_keys() {
             out << format_number(*s.stiffness);
           })
           .printed_when([](const ContactConfig& s) { return s.stiffness.has_value(); }),
+      custom_key<ContactConfig>(
+          "slip", "number > 0", "0.1 distance",
+          "eps_v (m): the slip within a step below which friction sticks (a spring whose force "
+          "reaches the Coulomb limit at this slip) and beyond which the node slides",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
+             const Config&) {
+            s.slip = r.number(n, key);
+            require(*s.slip > 0, r, n, key, "must be > 0, got " + format_number(*s.slip));
+          },
+          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
+            out << format_number(*s.slip);
+          })
+          .printed_when([](const ContactConfig& s) { return s.slip.has_value(); }),
   };
   return keys;
 }
