@@ -50,7 +50,8 @@ void write_all(int fd, const std::string& bytes) {
 
 [[noreturn]] void answer(char kind, const std::string& payload) {
   if (told_dropped > 0)
-    told.push_back(answer_file + ": " + std::to_string(told_dropped) + " more lines not shown");
+    told.push_back("hydrosoft: " + answer_file + ": " + std::to_string(told_dropped) +
+                   " more lines not shown");
   std::string bytes;
   for (const std::string& line : told) {
     const uint64_t size = line.size();

@@ -135,7 +135,7 @@ TEST(GeoPrintf, ControlCharactersAreWrittenOutAndTheLinesCapped) {
   EXPECT_NE(said.find("clear \\x1b[2J\n"), std::string::npos) << said.substr(0, 200);
   EXPECT_NE(said.find(": line 199\n"), std::string::npos);
   EXPECT_EQ(said.find(": line 200\n"), std::string::npos);
-  EXPECT_NE(said.find(path + ": 301 more lines not shown\n"), std::string::npos);
+  EXPECT_NE(said.find("hydrosoft: " + path + ": 301 more lines not shown\n"), std::string::npos);
   EXPECT_EQ(std::count(said.begin(), said.end(), '\n'), kMaxRelayedLines + 1);
 }
 
