@@ -177,7 +177,7 @@ def read_csv(path, unit):
     """(stretch, nominal stress in Pa) from a two-column CSV; a header 'strain' means strain."""
     rows, strain = [], False
     with open(path) as f:
-        for number_, line in enumerate(f, 1):
+        for line_number, line in enumerate(f, 1):
             line = line.strip()
             if not line or line.startswith("#"):
                 continue
@@ -186,7 +186,7 @@ def read_csv(path, unit):
                 rows.append((float(cells[0]), float(cells[1])))
             except (ValueError, IndexError):
                 if rows:
-                    sys.exit(f"fit_material.py: {path}, line {number_}: expected two numbers")
+                    sys.exit(f"fit_material.py: {path}, line {line_number}: expected two numbers")
                 strain = cells[0].lower().startswith("strain")
     if len(rows) < 2:
         sys.exit(f"fit_material.py: {path}: fewer than two data rows")
