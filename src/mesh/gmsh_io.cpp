@@ -22,6 +22,7 @@
 #include "mesh/geo_guard.hpp"
 #include "mesh/gmsh_model.hpp"
 #include "mesh/gmsh_process.hpp"
+#include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_h5.hpp"
 #include "mesh/mesh_size_limit.hpp"
 #include "mesh/msh_prescan.hpp"
@@ -31,14 +32,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One gmsh session per load, quiet (errors reach the user through InputError), single
-// threaded (reproducible meshes), finalised on every way out.
+// One gmsh session per load, quiet (errors reach the user through InputError, a .geo's Printf
+// lines through PrintfRelay), single threaded (reproducible meshes), finalised on every way out.
 class GmshSession {
  public:
   GmshSession() {
     gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
     gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::option::setNumber("General.Verbosity", 1);  // errors only
+    // Level 3 logs a .geo's Printf ("Direct") and gmsh's warnings, not its progress ("Info").
+    gmsh::option::setNumber("General.Verbosity", 3);
+    gmsh::logger::start();
     gmsh::option::setNumber("General.NumThreads", 1);
     // Never a question on standard input (gmsh asks whether to go on with "a very large
     // mesh" and reads the answer there): the input may be the run's control targets.
@@ -182,9 +185,34 @@ void refine_and_set_order(const MeshConfig& cfg, int current_order) {
   if (current_order != cfg.order) gmsh::model::mesh::setOrder(cfg.order);
 }
 
+// A .geo's Printf lines, which gmsh logs as "Direct: TEXT", go to the user as "hydrosoft:
+// FILE: TEXT" (tell_user) on every way out of the meshing: a .geo that fails after printing
+// shows what it printed. gmsh's own warnings stay in the log (many are harmless).
+class PrintfRelay {
+ public:
+  explicit PrintfRelay(const std::string& file) : file_(file) {}
+  ~PrintfRelay() {
+    try {
+      std::vector<std::string> log;
+      gmsh::logger::get(log);
+      static const std::string kPrintf = "Direct: ";
+      for (const std::string& line : log)
+        if (line.compare(0, kPrintf.size(), kPrintf) == 0)
+          tell_user("hydrosoft: " + file_ + ": " + line.substr(kPrintf.size()));
+    } catch (...) {  // the mesh or the error on its way out matters more than the lines
+    }
+  }
+  PrintfRelay(const PrintfRelay&) = delete;
+  PrintfRelay& operator=(const PrintfRelay&) = delete;
+
+ private:
+  std::string file_;
+};
+
 // In gmsh's own process (gmsh_process.hpp).
 Mesh mesh_with_gmsh(const MeshConfig& cfg, bool is_geo, const std::string& path) {
   GmshSession session;
+  PrintfRelay printed(cfg.file);
   try {
     gmsh::open(path);
     if (is_geo) {
@@ -236,8 +264,12 @@ Mesh load_mesh(const MeshConfig& cfg) {
   std::string extension = fs::path(file).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const bool is_geo = extension == ".geo";
-  if (extension == ".h5")  // a hydrosoft mesh, whole, on this process, checked as a run reads it
-    return whole_mesh(read_mesh_h5(file, cfg.max_elements, MPI_COMM_SELF));
+  if (extension == ".h5") {  // a hydrosoft mesh, whole, on this process, checked as a run reads it
+    Mesh mesh = whole_mesh(read_mesh_h5(file, cfg.max_elements, MPI_COMM_SELF));
+    if (const std::string warning = quality_warning(mesh, file); !warning.empty())
+      tell_user("hydrosoft: warning: " + warning);
+    return mesh;
+  }
   if (!is_geo && extension != ".msh")
     throw InputError(file + ": unknown mesh file type '" + extension + "' (.msh, .geo or .h5)");
   if (!is_geo && !cfg.parameters.empty())

@@ -26,6 +26,10 @@ namespace hs {
 // for a .geo before meshing when its size options already promise more, and after meshing; the
 // loaded mesh is refused for non-finite coordinates, degenerate, inverted or overlapping tetrahedra
 // and duplicated nodes (mesh_checks.hpp). Nothing is written to disk.
+//
+// On standard error (of the process that calls it: rank 0 of a run): a .geo's Printf lines, as
+// "hydrosoft: FILE: TEXT", and a warning naming the worst tetrahedron when some are slivers
+// (quality_warning in mesh_checks.hpp).
 Mesh load_mesh(const MeshConfig& cfg);
 
 // Throws InputError unless `name` is a group of the mesh with at least one node.

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "common/error.hpp"
+#include "mesh/gmsh_process.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_faces.hpp"
 
@@ -216,6 +217,8 @@ Mesh mesh_from_gmsh_model(const std::string& file, int order) {
 
   const FaceIndex faces(mesh);
   check_no_overlap(mesh, faces, file, labels);
+  if (const std::string warning = quality_warning(mesh, file, labels); !warning.empty())
+    tell_user("hydrosoft: warning: " + warning);
   for (const auto& g : groups) {
     if (g.dim == 2) attach_surface(mesh, faces, g.name, group_triangles(g, numbering, file), file);
     mesh.node_groups[g.name] = group_nodes(g, numbering, file);

@@ -1,5 +1,6 @@
-// The child writes one answer to a pipe and ends with _exit: a kind byte ('M' a mesh,
-// 'I' an input error, 'E' another error), then the encoded mesh or the message. _exit, because
+// The child writes one answer to a pipe and ends with _exit: the lines for the user (tell_user),
+// each as 'L', its length in 8 bytes and its text, then a kind byte ('M' a mesh, 'I' an input
+// error, 'E' another error) and the encoded mesh or the message. _exit, because
 // the child is a copy of an MPI process: it must not run MPI's or PETSc's exit handlers, nor
 // flush the parent's buffered output a second time.
 #include "mesh/gmsh_process.hpp"
@@ -13,14 +14,18 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
 #include <new>
+#include <string_view>
+#include <vector>
 
 #include "common/confinement.hpp"
+#include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "mesh/mesh_wire.hpp"
@@ -28,8 +33,11 @@
 namespace hs {
 namespace {
 
-int answer_fd = -1;       // the child's end of the pipe
-std::string answer_file;  // the mesh file, for the terminate handler's message
+int answer_fd = -1;             // the child's end of the pipe
+std::string answer_file;        // the mesh file, for the terminate handler's message
+std::vector<std::string> told;  // the child's lines for the user, sent with its answer
+size_t told_dropped = 0;        // beyond kMaxRelayedLines
+bool in_child = false;
 
 void write_all(int fd, const std::string& bytes) {
   for (size_t done = 0; done < bytes.size();) {
@@ -41,8 +49,39 @@ void write_all(int fd, const std::string& bytes) {
 }
 
 [[noreturn]] void answer(char kind, const std::string& payload) {
-  write_all(answer_fd, std::string(1, kind) + payload);
+  if (told_dropped > 0)
+    told.push_back("hydrosoft: " + answer_file + ": " + std::to_string(told_dropped) +
+                   " more lines not shown");
+  std::string bytes;
+  for (const std::string& line : told) {
+    const uint64_t size = line.size();
+    bytes += 'L';
+    bytes.append(reinterpret_cast<const char*>(&size), sizeof size);
+    bytes += line;
+  }
+  write_all(answer_fd, bytes + std::string(1, kind) + payload);
   _exit(0);
+}
+
+// The lines ahead of the answer's kind byte, written to standard error; the rest of `bytes`.
+// The bytes come from a process that read untrusted input: a line is printed with its control
+// characters written out, and a record that does not fit is no answer.
+std::string_view write_told_lines(std::string_view bytes, const std::string& file) {
+  size_t lines = 0;
+  while (!bytes.empty() && bytes[0] == 'L') {
+    uint64_t size = 0;
+    if (bytes.size() < 1 + sizeof size)
+      throw InputError(file + ": gmsh's process gave an answer that is not one");
+    std::memcpy(&size, bytes.data() + 1, sizeof size);
+    bytes.remove_prefix(1 + sizeof size);
+    if (size > bytes.size())
+      throw InputError(file + ": gmsh's process gave an answer that is not one");
+    if (++lines <= kMaxRelayedLines + 1)
+      std::cerr << printable(std::string(bytes.substr(0, size))) << "\n";
+    bytes.remove_prefix(size);
+  }
+  std::cerr.flush();
+  return bytes;
 }
 
 // What the exception in flight says: gmsh 4.8 throws its errors as strings.
@@ -104,6 +143,7 @@ void detach_descriptors(int fd, std::vector<int> keep) {
   detach_descriptors(fd, how.keep);
   answer_fd = fd;
   answer_file = file;
+  in_child = true;
   std::set_terminate(on_terminate);
   std::atexit(on_exit);
   if (how.confined) confine_process();
@@ -175,7 +215,7 @@ Mesh run_gmsh_process(const std::string& file, const std::function<Mesh()>& work
     run_child(fds[1], file, work, how);
   }
   close(fds[1]);
-  const std::string bytes = read_answer(fds[0], child);
+  const std::string answer_bytes = read_answer(fds[0], child);
   const int status = wait_for(child);
   if (WIFSIGNALED(status)) {
     const int signal = WTERMSIG(status);
@@ -183,11 +223,13 @@ Mesh run_gmsh_process(const std::string& file, const std::function<Mesh()>& work
                      strsignal(signal) +
                      ") while reading it: the file is damaged or made to crash gmsh");
   }
-  if (bytes.empty())
+  if (answer_bytes.empty())
     throw InputError(file + ": gmsh ended (exit status " +
                      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
                      ") without reading it to the end");
-  const std::string_view payload = std::string_view(bytes).substr(1);
+  const std::string_view bytes = write_told_lines(answer_bytes, file);
+  if (bytes.empty()) throw InputError(file + ": gmsh's process gave an answer that is not one");
+  const std::string_view payload = bytes.substr(1);
   switch (bytes[0]) {
     case 'M':
       return decode_mesh(payload, file);
@@ -197,6 +239,16 @@ Mesh run_gmsh_process(const std::string& file, const std::function<Mesh()>& work
       throw std::runtime_error(std::string(payload));
     default:
       throw InputError(file + ": gmsh's process gave an answer that is not one");
+  }
+}
+
+void tell_user(const std::string& line) {
+  if (!in_child) {
+    std::cerr << printable(line) << std::endl;
+  } else if (told.size() < kMaxRelayedLines) {
+    told.push_back(line);
+  } else {
+    ++told_dropped;
   }
 }
 

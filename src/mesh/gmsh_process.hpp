@@ -30,4 +30,11 @@ struct GmshProcess {
 Mesh run_gmsh_process(const std::string& file, const std::function<Mesh()>& work,
                       const GmshProcess& how = {});
 
+// A line for the run's standard error from inside `work` (a .geo's Printf, a warning on the
+// mesh): the child sends it with its answer, and the parent writes it (control characters
+// written out, at most kMaxRelayedLines lines) before it returns the mesh or throws, so that
+// what a failing .geo printed shows too. Outside the child it is written at once.
+void tell_user(const std::string& line);
+constexpr size_t kMaxRelayedLines = 200;
+
 }  // namespace hs

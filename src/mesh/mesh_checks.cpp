@@ -1,5 +1,5 @@
 // The checks of a loaded mesh (mesh_checks.hpp): coordinates, P2 Jacobians, duplicated nodes,
-// overlapping tetrahedra, and the units warning.
+// overlapping tetrahedra, and the quality and units warnings.
 #include "mesh/mesh_checks.hpp"
 
 #include <Eigen/Dense>
@@ -13,6 +13,7 @@
 #include "fem/element.hpp"
 #include "fem/quadrature.hpp"
 #include "fem/shape.hpp"
+#include "mesh/mesh_statistics.hpp"
 #include "mesh/tet_numbering.hpp"
 
 namespace hs {
@@ -134,6 +135,30 @@ void check_no_overlap(const Mesh& mesh, const FaceIndex& faces, const std::strin
   throw InputError(file + ": " + labels.tet(mesh, o.first) + " and " + labels.tet(mesh, o.second) +
                    " overlap: they share a face but lie on the same side of it (or a third "
                    "tetrahedron shares it too); one of them is inverted or folded over");
+}
+
+std::string quality_warning(const Mesh& mesh, const std::string& file, const MeshLabels& labels) {
+  const int npe = mesh.nodes_per_tet();
+  int64_t worst = -1, poor = 0;
+  double worst_quality = kPoorTetQuality;
+  for (int64_t t = 0; t < mesh.num_tets(); ++t) {
+    const int64_t* v = &mesh.tets[npe * t];
+    const double q =
+        tet_quality(&mesh.x[3 * v[0]], &mesh.x[3 * v[1]], &mesh.x[3 * v[2]], &mesh.x[3 * v[3]]);
+    if (q >= kPoorTetQuality) continue;
+    ++poor;
+    if (worst < 0 || q < worst_quality) worst = t, worst_quality = q;
+  }
+  if (poor == 0) return {};
+  std::ostringstream s;
+  s.precision(3);
+  s << file << ": " << labels.tet(mesh, worst) << " has a mean-ratio quality of " << worst_quality
+    << " (1 is regular), and " << poor << (poor == 1 ? " tetrahedron is" : " tetrahedra are")
+    << " below " << kPoorTetQuality
+    << " (a sliver 1/650 as thick as it is wide has 0.02): its stiffness is ill-conditioned "
+       "and its strains and stresses unreliable; remesh with optimisation (gmsh: "
+       "Mesh.Optimize, Mesh.OptimizeNetgen) unless the numbers near it do not matter";
+  return s.str();
 }
 
 std::string units_warning(const Mesh& mesh, const std::string& file) {
