@@ -41,6 +41,7 @@ BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints,
 
 NewtonResult BorderedNewton::solve(Vec u, double s) {
   const double t0 = MPI_Wtime();
+  problem_.begin_solve();
   const auto& timers = problem_.timers();
   const double assembly_before = timers.residual_s + timers.jacobian_s;
   const int m = constraints_.size();

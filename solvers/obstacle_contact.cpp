@@ -92,14 +92,24 @@ ObstacleContact::ObstacleContact(const Config& config, const Distribution& dist,
   if (has_friction_) {
     const std::vector<double> zero(X.size(), 0.0);
     accept(zero.data(), 0.0);
+    begin_step();
   }
 }
 
 void ObstacleContact::accept(const double* u, double s) {
   if (!has_friction_) return;
+  accepted_.resize(nodes_.size());
+  for (size_t i = 0; i < nodes_.size(); ++i) accepted_[i] = position(u, nodes_[i]);
+  accepted_s_ = s;
+}
+
+void ObstacleContact::begin_step() {
+  if (accepted_.empty()) return;
   lag_.resize(nodes_.size());
   for (size_t i = 0; i < nodes_.size(); ++i)
-    lag_[i] = friction_lag(obstacles_, position(u, nodes_[i]), s, area_[i], barrier_);
+    lag_[i] = friction_lag(obstacles_, accepted_[i], accepted_s_, area_[i], barrier_, slip_,
+                           lag_[i]);
+  accepted_.clear();
 }
 
 NodeContact ObstacleContact::evaluate(size_t i, const Eigen::Vector3d& x, double s,

@@ -37,8 +37,10 @@ class ObstacleContact {
   // or -1.
   int inside() const { return inside_; }
   // A converged state at load factor s: the start of the next step, whose friction is lagged
-  // from here (friction.hpp). The undeformed body at s = 0 until the first.
+  // from here (friction.hpp) once begin_step() is called; until then the forces stay those
+  // the state converged with (its output). The undeformed body at s = 0 before the first.
   void accept(const double* u, double s);
+  void begin_step();
   bool has_friction() const { return has_friction_; }
 
   struct Totals {
@@ -73,6 +75,8 @@ class ObstacleContact {
   bool has_friction_ = false;
   double slip_ = 0;                // eps_v (m)
   std::vector<FrictionLag> lag_;  // per contact node, with friction
+  std::vector<Eigen::Vector3d> accepted_;  // the last accepted positions, not yet lagged
+  double accepted_s_ = 0;
   int inside_ = -1;
 };
 

@@ -77,9 +77,13 @@ class Problem {
   // obstacle 'NAME'".
   std::string refusal() const;
   // A converged state u at load factor s, from which the next step starts: contact friction
-  // lags its normal forces and slips from there (docs/contact.md). The Newton solvers call
-  // it on convergence. Collective.
+  // lags its normal forces and anchors from there (docs/contact.md) from the next
+  // begin_solve() on. The Newton solvers call accept_state on convergence and begin_solve
+  // before each solve. Collective.
   void accept_state(Vec u, double s);
+  void begin_solve() {
+    if (contact_) contact_->begin_step();
+  }
   // Contact with the deck's obstacles (null without them).
   const ObstacleContact* contact() const { return contact_.get(); }
   // Per obstacle, the force the body exerts on it and its touching area, on u at load

@@ -3,20 +3,36 @@
 #include "contact/barrier.hpp"
 
 namespace hs {
+namespace {
+
+Eigen::Vector3d moved(const ObstacleShape& o, const Eigen::Vector3d& x, double s) {
+  return x - s * Eigen::Vector3d(o.move[0], o.move[1], o.move[2]);
+}
+
+}  // namespace
 
 FrictionLag friction_lag(const std::vector<ObstacleShape>& obstacles, const Eigen::Vector3d& x0,
-                         double s0, double area, const ContactBarrier& barrier) {
+                         double s0, double area, const ContactBarrier& barrier, double eps_v,
+                         const FrictionLag& previous) {
   FrictionLag lag;
-  lag.x0 = x0;
-  lag.s0 = s0;
   lag.normal_force.assign(obstacles.size(), 0.0);
   lag.normal.assign(obstacles.size(), Eigen::Vector3d::Zero());
+  lag.anchor.assign(obstacles.size(), Eigen::Vector3d::Zero());
   for (size_t o = 0; o < obstacles.size(); ++o) {
     if (obstacles[o].friction == 0) continue;
     const SignedDistance sd = signed_distance(obstacles[o], x0, s0);
     if (!(sd.d > 0) || sd.d >= barrier.distance) continue;
     lag.normal_force[o] = -barrier.stiffness * area * contact_barrier(sd.d, barrier.distance).slope;
     lag.normal[o] = sd.gradient;
+    const Eigen::Vector3d here = moved(obstacles[o], x0, s0);
+    lag.anchor[o] = here;  // a new contact holds the node where it touched
+    if (previous.normal_force.empty() || previous.normal_force[o] == 0) continue;
+    const Eigen::Matrix3d P =
+        Eigen::Matrix3d::Identity() - previous.normal[o] * previous.normal[o].transpose();
+    const Eigen::Vector3d w = P * (here - previous.anchor[o]);
+    const double y = w.norm();
+    lag.anchor[o] = y > eps_v ? Eigen::Vector3d(here - eps_v / y * w)
+                              : Eigen::Vector3d(here - w);
   }
   return lag;
 }
@@ -28,10 +44,9 @@ void add_friction(const std::vector<ObstacleShape>& obstacles, const FrictionLag
     if (scale == 0) continue;
     const Eigen::Vector3d n = lag.normal[o];
     const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n * n.transpose();
-    const Eigen::Vector3d move(obstacles[o].move[0], obstacles[o].move[1], obstacles[o].move[2]);
-    const Eigen::Vector3d w = P * ((x - lag.x0) - (s - lag.s0) * move);
+    const Eigen::Vector3d w = P * (moved(obstacles[o], x, s) - lag.anchor[o]);
     const double y = w.norm();
-    // f0, f1 = f0' and the Hessian's two parts: f1(y)/y P and g(y) w w^T.
+    // f0, f0'(y) / y and the Hessian's second part g(y) w w^T (its first f0'(y)/y P).
     double f0 = 0, f1_over_y = 0, g = 0;
     if (y >= eps_v) {
       f0 = y;

@@ -1,13 +1,16 @@
-// Coulomb friction of a node on the rigid obstacles, lagged as in incremental potential
-// contact (docs/contact.md, "Friction"): over a load or time step, each obstacle o the node
-// touched at the step's start pushes on it with a normal force of size lambda_o across the
-// plane normal to n_o, both frozen at that start. The node's slip on the obstacle since then,
-//   w = P_o ((x - x0) - (s - s0) move_o),   P_o = I - n_o n_o^T,
+// Coulomb friction of a node on the rigid obstacles (docs/contact.md, "Friction"), regularised
+// as in incremental potential contact and anchored so that a sticking node does not creep.
+// Over a load or time step, each obstacle o the node touched at the step's start pushes on it
+// with a normal force of size lambda_o across the plane normal to n_o, both frozen (lagged) at
+// that start, and holds it by a tangential anchor a_o carried with the obstacle. The node's
+// slip from its anchor,
+//   w = P_o ((x - s move_o) - a_o),   P_o = I - n_o n_o^T,
 // costs the potential mu_o lambda_o f0(|w|), where f0(y) = y beyond the slip eps_v at which
-// the node slides and f0(y) = -y^3 / (3 eps_v^2) + y^2 / eps_v + eps_v / 3 below it (sticking:
-// a spring whose force reaches mu lambda at eps_v, C1 where it meets the sliding branch). Its
-// gradient is the friction force (of size mu lambda while sliding, against the slip), its
-// Hessian semi-definite. Pure.
+// the node slides and f0(y) = -y^3 / (3 eps_v^2) + y^2 / eps_v + eps_v / 3 below it (a spring
+// whose force reaches mu lambda at eps_v, C1 where it meets the sliding branch). Its gradient
+// is the friction force, of size mu lambda f0'(|w|) against the slip; its Hessian is
+// semi-definite. At each step's end a sliding node's anchor follows it to eps_v behind
+// (the force stays mu lambda), a sticking node's stays. Pure.
 #pragma once
 
 #include <Eigen/Dense>
@@ -18,18 +21,18 @@
 
 namespace hs {
 
-// What the step's start froze for one node: where it was, at which load factor, and per
-// obstacle the normal force's size (0 where it did not touch) and direction.
+// What a step's start froze for one node, per obstacle: the normal force's size (0 where it
+// did not touch), its direction, and the anchor (in the obstacle's frame: less s * move).
 struct FrictionLag {
-  Eigen::Vector3d x0 = Eigen::Vector3d::Zero();
-  double s0 = 0;
   std::vector<double> normal_force;
-  std::vector<Eigen::Vector3d> normal;
+  std::vector<Eigen::Vector3d> normal, anchor;
 };
 
-// The lag at a node at x0, load factor s0: the barrier's force of each obstacle there.
+// The lag of a node at x0, load factor s0, that had `previous` over the step before (empty:
+// none, the first step): each touching obstacle's barrier force there, and the anchors.
 FrictionLag friction_lag(const std::vector<ObstacleShape>& obstacles, const Eigen::Vector3d& x0,
-                         double s0, double area, const ContactBarrier& barrier);
+                         double s0, double area, const ContactBarrier& barrier, double eps_v,
+                         const FrictionLag& previous);
 
 // Adds the friction's energy, gradient and Hessian at x, load factor s, to `out` (and each
 // obstacle's friction force to out.force), with slip eps_v.

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "contact/barrier.hpp"
+#include "contact/friction.hpp"
 #include "contact/node_contact.hpp"
 #include "contact/obstacle.hpp"
 
@@ -178,6 +179,64 @@ TEST(NodeContact, ANodeInsideAnObstacleIsRefused) {
   const auto c = hs::node_contact({box(), sphere()}, V3(0.2, 0.1, 0.35), 0, 1.0, barrier, false);
   EXPECT_FALSE(c.valid);
   EXPECT_EQ(c.inside, 1);
+}
+
+// A node on a plane with friction 0.4, lagged at x0 with its anchor there: the friction's
+// force and Hessian are its energy's derivatives, sticking (slip below eps_v) and sliding;
+// sliding, the force is mu lambda against the slip; the anchor of a sliding node follows it to
+// eps_v behind, a sticking node's stays.
+TEST(Friction, ForceAndHessianAreTheEnergysDerivativesStickingAndSliding) {
+  ObstacleShape floor;
+  floor.type = ObstacleType::plane;
+  floor.friction = 0.4;
+  floor.move = {0.01, -0.02, 0};
+  const hs::ContactBarrier barrier{1e-3, 1e6};
+  const double area = 2e-4, eps = 1e-5, s0 = 0.2, s = 0.3;
+  const V3 x0(0.01, 0.02, 4e-4);
+  const hs::FrictionLag lag = hs::friction_lag({floor}, x0, s0, area, barrier, eps, {});
+  const double lambda = -1e6 * area * hs::contact_barrier(4e-4, 1e-3).slope;
+  ASSERT_NEAR(lag.normal_force[0], lambda, 1e-12 * lambda);
+  for (double slip : {3e-6, 4e-5}) {
+    // The node moved with the floor (s - s0) move, then slipped along (3, 4, 0) / 5.
+    const V3 move(0.01, -0.02, 0), dir(0.6, 0.8, 0);
+    const V3 x = x0 + (s - s0) * move + slip * dir + V3(0, 0, 1e-5);
+    auto at = [&](const V3& y) {
+      hs::NodeContact c;
+      c.force.assign(1, V3::Zero());
+      hs::add_friction({floor}, lag, y, s, eps, c);
+      return c;
+    };
+    const hs::NodeContact c = at(x);
+    const double h = 1e-9;
+    for (int i = 0; i < 3; ++i) {
+      V3 xp = x, xm = x;
+      xp(i) += h;
+      xm(i) -= h;
+      const auto p = at(xp), m = at(xm);
+      EXPECT_NEAR(c.gradient(i), (p.energy - m.energy) / (2 * h), 1e-5 * c.gradient.norm());
+      for (int j = 0; j < 3; ++j)
+        EXPECT_NEAR(c.hessian(j, i), (p.gradient(j) - m.gradient(j)) / (2 * h),
+                    1e-5 * c.hessian.norm());
+    }
+    EXPECT_NEAR(c.gradient.dot(V3(0, 0, 1)), 0, 1e-14);  // tangential
+    if (slip > eps) {
+      EXPECT_NEAR(c.gradient.norm(), 0.4 * lambda, 1e-12 * lambda);
+      EXPECT_NEAR(c.gradient.normalized().dot(dir), 1, 1e-12);
+    } else {
+      EXPECT_LT(c.gradient.norm(), 0.4 * lambda);
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(c.hessian);
+    EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-9 * c.hessian.norm());
+    // The next step's anchor: eps behind a sliding node, where it was for a sticking one.
+    const hs::FrictionLag next = hs::friction_lag({floor}, x, s, area, barrier, eps, lag);
+    const V3 here = x - s * move;
+    const V3 behind = here - next.anchor[0];
+    if (slip > eps) {
+      EXPECT_NEAR(V3(behind(0), behind(1), 0).norm(), eps, 1e-15);
+    } else {
+      EXPECT_NEAR((next.anchor[0] - lag.anchor[0]).head<2>().norm(), 0, 1e-15);
+    }
+  }
 }
 
 }  // namespace

@@ -736,6 +736,15 @@ TEST_F(DeckErrors, ObstaclesAndContact) {
        "required with obstacles"},
       {kMesh + kMaterials + "boundary: [{group: base}]\ncontact: {surfaces: [skin]}\n", "contact",
        "only used with obstacles"},
+      {obstacles("{name: floor, type: plane, friction: -0.1}"), "obstacles[0].friction",
+       "must be >= 0 (a Coulomb coefficient), got -0.1"},
+      {obstacles(floor, "{surfaces: [skin], slip: 0}"), "contact.slip", "must be > 0, got 0"},
+      {obstacles("{name: floor, type: plane, friction: 0.5}") +
+           "output: {checkpoint: {every: 1}}\n",
+       "obstacles[0].friction", "friction is not supported with output.checkpoint"},
+      {control(kTip, kActuator) +
+           "obstacles:\n  - {name: floor, type: plane, friction: 0.5}\ncontact: {surfaces: [c]}\n",
+       "obstacles[0].friction", "friction is not supported with control"},
   });
 }
 
