@@ -10,8 +10,7 @@ namespace {
 // it (a sticking block: 227 iterations and 9 cutbacks against 62 and 3; docs/contact.md).
 // Not on the energy (bt): its infinite value beyond an obstacle stalls the backtracking.
 std::map<std::string, std::string> newton_presets(const Problem& problem,
-                                                  const SolverConfig& solver,
-                                                  TangentKind tangent) {
+                                                  const SolverConfig& solver, TangentKind tangent) {
   auto options = preset_options(solver.preset, tangent);
   if (problem.contact()) options["snes_linesearch_type"] = "l2";
   return options;

@@ -49,8 +49,8 @@ class NewtonSolver : public NonlinearSolver {
   VecHandle R_;
   double load_ = 0;
   double solve_s_ = 0;
-  double first_norm_ = 0;  // of this solve's first residual
-  double roundoff_ = -1;   // the floor it converged at, -1 when it converged otherwise
+  double first_norm_ = 0;     // of this solve's first residual
+  double roundoff_ = -1;      // the floor it converged at, -1 when it converged otherwise
   bool atol_scaled_ = false;  // by a load (scale_absolute_tolerance)
 };
 

@@ -107,8 +107,8 @@ void ObstacleContact::begin_step() {
   if (accepted_.empty()) return;
   lag_.resize(nodes_.size());
   for (size_t i = 0; i < nodes_.size(); ++i)
-    lag_[i] = friction_lag(obstacles_, accepted_[i], accepted_s_, area_[i], barrier_, slip_,
-                           lag_[i]);
+    lag_[i] =
+        friction_lag(obstacles_, accepted_[i], accepted_s_, area_[i], barrier_, slip_, lag_[i]);
   accepted_.clear();
 }
 

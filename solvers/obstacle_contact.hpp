@@ -73,8 +73,8 @@ class ObstacleContact {
   std::vector<double> area_;    // each one's share of the surfaces' area (m^2)
   int64_t num_nodes_ = 0;
   bool has_friction_ = false;
-  double slip_ = 0;                // eps_v (m)
-  std::vector<FrictionLag> lag_;  // per contact node, with friction
+  double slip_ = 0;                        // eps_v (m)
+  std::vector<FrictionLag> lag_;           // per contact node, with friction
   std::vector<Eigen::Vector3d> accepted_;  // the last accepted positions, not yet lagged
   double accepted_s_ = 0;
   int inside_ = -1;

@@ -31,8 +31,7 @@ FrictionLag friction_lag(const std::vector<ObstacleShape>& obstacles, const Eige
         Eigen::Matrix3d::Identity() - previous.normal[o] * previous.normal[o].transpose();
     const Eigen::Vector3d w = P * (here - previous.anchor[o]);
     const double y = w.norm();
-    lag.anchor[o] = y > eps_v ? Eigen::Vector3d(here - eps_v / y * w)
-                              : Eigen::Vector3d(here - w);
+    lag.anchor[o] = y > eps_v ? Eigen::Vector3d(here - eps_v / y * w) : Eigen::Vector3d(here - w);
   }
   return lag;
 }

@@ -101,10 +101,10 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
     const YAML::Node node = root["obstacles"][i]["friction"];
     const std::string key = child_key(item_key("obstacles", i), "friction");
     if (c.output.checkpoint)
-      r.fail(key, node, "friction is not supported with output.checkpoint (its lagged state "
-                        "is not saved, so a restart would not continue the same run)");
-    if (c.control)
-      r.fail(key, node, "friction is not supported with control (docs/contact.md)");
+      r.fail(key, node,
+             "friction is not supported with output.checkpoint (its lagged state "
+             "is not saved, so a restart would not continue the same run)");
+    if (c.control) r.fail(key, node, "friction is not supported with control (docs/contact.md)");
   }
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
     if (c.dirichlet[i].exact && !c.exact.type)
