@@ -183,6 +183,29 @@ void ObstacleContact::add_tangent(const double* u, double s, const NodePairBlock
   }
 }
 
+ObstacleContact::NodeValues ObstacleContact::node_values(const double* u, double s,
+                                                         int64_t num_owned) const {
+  NodeValues v;
+  v.gap.assign(num_owned, 0.0);
+  v.pressure.assign(num_owned, 0.0);
+  v.friction.assign(3 * num_owned, 0.0);
+  for (int64_t n = 0; n < num_owned; ++n) {
+    double gap = std::numeric_limits<double>::max();
+    for (const auto& o : obstacles_)
+      gap = std::min(gap, signed_distance(o, position(u, static_cast<int32_t>(n)), s).d);
+    v.gap[n] = gap;
+  }
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const int32_t n = nodes_[i];
+    const Eigen::Vector3d x = position(u, n);
+    const NodeContact normal = node_contact(obstacles_, x, s, area_[i], barrier_, false);
+    for (const auto& f : normal.force) v.pressure[n] += f.norm() / area_[i];
+    const Eigen::Vector3d friction = (evaluate(i, x, s, false).gradient - normal.gradient);
+    for (int d = 0; d < 3; ++d) v.friction[3 * n + d] = -friction(d) / area_[i];
+  }
+  return v;
+}
+
 ObstacleContact::Totals ObstacleContact::totals(const double* u, double s) const {
   const size_t m = obstacles_.size();
   std::vector<double> sums(4 * m, 0.0);

@@ -51,6 +51,14 @@ class ObstacleContact {
   // Over all ranks. Collective.
   Totals totals(const double* u, double s) const;
 
+  // Per owned node (the problem's rows): the gap to the nearest obstacle (m, every node), the
+  // contact pressure (Pa: the barrier's normal forces over the node's area; 0 off the contact
+  // surfaces) and the friction traction on the body (Pa, 3 per node).
+  struct NodeValues {
+    std::vector<double> gap, pressure, friction;
+  };
+  NodeValues node_values(const double* u, double s, int64_t num_owned) const;
+
   const std::vector<ObstacleShape>& obstacles() const { return obstacles_; }
   const ContactBarrier& barrier() const { return barrier_; }
   int64_t num_nodes() const { return num_nodes_; }  // over all ranks

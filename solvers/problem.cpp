@@ -406,6 +406,14 @@ ObstacleContact::Totals Problem::contact_totals(Vec u, double s) const {
   return contact_->totals(view.values(), s);
 }
 
+ObstacleContact::NodeValues Problem::contact_node_values(Vec u, double s) const {
+  if (!contact_) return {};
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
+  LocalView view(u, uw);
+  return contact_->node_values(view.values(), s, dist_.num_owned());
+}
+
 bool Problem::orientation_preserved(Vec u) {
   VecHandle uw;
   HS_PETSC(VecDuplicate(u_work_, uw.out()));

@@ -89,6 +89,9 @@ class Problem {
   // Per obstacle, the force the body exerts on it and its touching area, on u at load
   // factor s. Collective; empty without obstacles.
   ObstacleContact::Totals contact_totals(Vec u, double s) const;
+  // Per owned node, the contact's fields (ObstacleContact::node_values); empty without
+  // obstacles. Collective.
+  ObstacleContact::NodeValues contact_node_values(Vec u, double s) const;
 
   void set_inertia(const InertiaTerm* inertia) { inertia_ = inertia; }
 

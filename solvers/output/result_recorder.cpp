@@ -157,6 +157,13 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
     f.principal_strain = std::move(v.principal_strain);
   }
   f.pressure = problem_.nodal_pressure(u);
+  if (problem_.contact()) {
+    auto c = problem_.contact_node_values(u, s);
+    f.node_fields.push_back({"contact_gap", 1, "m", std::move(c.gap)});
+    f.node_fields.push_back({"contact_pressure", 1, "Pa", std::move(c.pressure)});
+    if (problem_.contact()->has_friction())
+      f.node_fields.push_back({"friction_traction", 3, "Pa", std::move(c.friction)});
+  }
   f.rank.assign(f.J.size(), rank_);
   HistoryRow row;
   row.add_count("step", written_);

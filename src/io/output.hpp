@@ -97,6 +97,15 @@ struct StepFields {
   // volumetric stress of its patch, positive in compression (-k ln J_a / J_a).
   std::vector<double> pressure;
   std::vector<int> rank;  // per tetrahedron: the MPI rank that owns it
+  // Further per-node fields, each written when given (decks with obstacles: contact_gap,
+  // contact_pressure, friction_traction; docs/output.md): `components` values per node.
+  struct NodeField {
+    std::string name;
+    int components = 1;
+    std::string units;
+    std::vector<double> values;
+  };
+  std::vector<NodeField> node_fields;
 };
 
 // <folder>/<name>.h5 and <folder>/<name>.xmf (layout: docs/output.md). P2 meshes are

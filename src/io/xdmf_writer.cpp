@@ -44,6 +44,8 @@ struct XdmfWriter::Impl {
   std::vector<std::string> time_kinds;
   std::vector<char> has_pressure, has_weight, has_tensors;  // per step: its optional fields
   std::vector<char> has_nodal_pressure;
+  // Per step: the further node fields' names and components (StepFields::node_fields).
+  std::vector<std::vector<std::pair<std::string, int>>> node_fields;
   std::vector<std::string> mask_names;  // /mesh/group_<name> datasets
   bool closed = false;
 
@@ -198,6 +200,9 @@ std::string XdmfWriter::Impl::grid(const std::string& indent, int step) const {
       attribute("cavity_pressure_load", "Vector", "Node", nodes, 3, "Float", 8);
     if (has_weight[step]) attribute("fluid_weight_load", "Vector", "Node", nodes, 3, "Float", 8);
     if (has_nodal_pressure[step]) attribute("pressure", "Scalar", "Node", nodes, 0, "Float", 8);
+    for (const auto& [field, components] : node_fields[step])
+      attribute(field.c_str(), components == 1 ? "Scalar" : "Vector", "Node", nodes,
+                components == 1 ? 0 : components, "Float", 8);
     attribute("von_mises", "Scalar", "Cell", tets, 0, "Float", 8);
     if (has_tensors[step]) {
       // Full 3 x 3 tensors: XDMF's Tensor6 order (xx xy xz yy yz zz) is not VTK's symmetric
@@ -332,6 +337,8 @@ void XdmfWriter::write_step(const StepFields& f) {
   if (weight) require_size("fluid_weight_load", f.fluid_weight_load.size(), 3 * w.my_nodes);
   const bool nodal_pressure = !f.pressure.empty();
   if (nodal_pressure) require_size("pressure", f.pressure.size(), w.my_nodes);
+  for (const auto& field : f.node_fields)
+    require_size(field.name.c_str(), field.values.size(), field.components * w.my_nodes);
   const bool tensors = !f.stress.empty();
   if (tensors) {
     require_size("stress", f.stress.size(), 9 * w.my_tets);
@@ -364,6 +371,13 @@ void XdmfWriter::write_step(const StepFields& f) {
       error = "output step " + std::to_string(k) + " (time " + number_text(f.time) +
               "): pressure (node " + std::to_string(w.node_ids[i]) + ") is not finite (" +
               std::to_string(f.pressure[i]) + "); the step was not written";
+  for (const auto& field : f.node_fields)
+    for (size_t i = 0; i < field.values.size() && error.empty(); ++i)
+      if (!std::isfinite(field.values[i]))
+        error = "output step " + std::to_string(k) + " (time " + number_text(f.time) +
+                "): " + field.name + " (node " + std::to_string(w.node_ids[i / field.components]) +
+                ") is not finite (" + std::to_string(field.values[i]) +
+                "); the step was not written";
   if (w.comm != MPI_COMM_NULL)
     throw_together<SolveError>(error, w.comm);
   else if (!error.empty())
@@ -372,10 +386,14 @@ void XdmfWriter::write_step(const StepFields& f) {
   const std::string step = "/step_" + std::to_string(k);
   const int64_t nodal_fields = 2 + pressure + weight;
   const int64_t cell_fields = 3 + 4 * tensors;
-  const int64_t bytes = nodal_fields * w.nodes * 3 * 8 + nodal_pressure * w.nodes * 8 +
-                        w.tets * (8 + 8 + 4 + tensors * 24 * 8) +
-                        Hdf5File::metadata_allowance(3 + 2 * (nodal_fields + cell_fields + 1),
-                                                     static_cast<int64_t>(k) + 1);
+  int64_t extra_columns = 0;
+  for (const auto& field : f.node_fields) extra_columns += field.components;
+  const int64_t bytes =
+      nodal_fields * w.nodes * 3 * 8 + nodal_pressure * w.nodes * 8 + extra_columns * w.nodes * 8 +
+      w.tets * (8 + 8 + 4 + tensors * 24 * 8) +
+      Hdf5File::metadata_allowance(
+          3 + 2 * (nodal_fields + cell_fields + 1 + static_cast<int>(f.node_fields.size())),
+          static_cast<int64_t>(k) + 1);
   // The step exists for readers once the .xmf names it. The new .xmf is written first (a full
   // disk then stops the step before the .h5 holds any of it) and put in place last: the .h5
   // never holds a step that the .xmf does not name, nor the .xmf one that the .h5 lacks.
@@ -385,6 +403,9 @@ void XdmfWriter::write_step(const StepFields& f) {
   w.has_weight.push_back(weight);
   w.has_tensors.push_back(tensors);
   w.has_nodal_pressure.push_back(nodal_pressure);
+  w.node_fields.emplace_back();
+  for (const auto& field : f.node_fields)
+    w.node_fields.back().emplace_back(field.name, field.components);
   std::unique_ptr<StagedFile> xmf;  // rank 0's
   try {
     write_together(w.comm, w.rank == 0,
@@ -404,6 +425,11 @@ void XdmfWriter::write_step(const StepFields& f) {
     if (nodal_pressure) {
       h5.write_rows(step + "/pressure", f.pressure, w.nodes, 0, w.first_node);
       h5.set_attribute(step + "/pressure", "units", std::string("Pa"));
+    }
+    for (const auto& field : f.node_fields) {
+      h5.write_rows(step + "/" + field.name, field.values, w.nodes,
+                    field.components == 1 ? 0 : field.components, w.first_node);
+      h5.set_attribute(step + "/" + field.name, "units", field.units);
     }
     h5.write_rows(step + "/von_mises", f.von_mises, w.tets, 0, w.first_tet);
     h5.set_attribute(step + "/von_mises", "units", std::string("Pa"));
@@ -431,6 +457,7 @@ void XdmfWriter::write_step(const StepFields& f) {
     w.has_weight.pop_back();
     w.has_tensors.pop_back();
     w.has_nodal_pressure.pop_back();
+    w.node_fields.pop_back();
     throw SolveError("output step " + std::to_string(k) + " (time " + number_text(f.time) +
                      ") not written: " + e.what());
   }

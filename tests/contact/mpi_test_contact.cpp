@@ -149,19 +149,24 @@ TEST(ObstacleContact, ABlockRestingOnAFloorPutsItsWeightOnIt) {
   EXPECT_LT(gap, dhat);
 }
 
+// A whole dataset of an .h5 file.
+std::vector<double> read_h5(const std::string& path, const std::string& name) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(set);
+  std::vector<double> v(H5Sget_simple_extent_npoints(space));
+  H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(space);
+  H5Dclose(set);
+  H5Fclose(file);
+  return v;
+}
+
 // The sum over the nodes of an output step's nodal_load (gravity and the cavity's pressure,
 // which sums to zero over its closed walls).
 std::array<double, 3> total_load(const std::string& h5, int step) {
   std::array<double, 3> total{0, 0, 0};
-  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const std::string name = "/step_" + std::to_string(step) + "/nodal_load";
-  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(set);
-  std::vector<double> load(H5Sget_simple_extent_npoints(space));
-  H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, load.data());
-  H5Sclose(space);
-  H5Dclose(set);
-  H5Fclose(file);
+  const auto load = read_h5(h5, "/step_" + std::to_string(step) + "/nodal_load");
   for (size_t i = 0; i < load.size(); ++i) total[i % 3] += load[i];
   return total;
 }
@@ -234,6 +239,27 @@ TEST(ObstacleContact, ASlidingBlockDragsTheFloorWithMuTimesItsNormalForce) {
     EXPECT_NEAR(fx, 0.3 * normal_before, 1e-5 * fx) << "row " << k;
     EXPECT_NEAR(rows[k].at("reaction_top_x_N"), fx, 1e-8 * fx) << "row " << k;
   }
+  // The last step's fields: every node's gap is its height above the floor; the bottom's
+  // nodes are pressed and dragged back (the floor's traction on the body along -x), the
+  // others carry nothing.
+  if (world_rank() != 0) return;
+  const std::string h5 = folder + "/slide.h5", step = "/step_7/";
+  const auto X = read_h5(h5, "/mesh/coordinates"), u = read_h5(h5, step + "displacement");
+  const auto gap = read_h5(h5, step + "contact_gap"), p = read_h5(h5, step + "contact_pressure");
+  const auto t = read_h5(h5, step + "friction_traction");
+  ASSERT_EQ(gap.size(), X.size() / 3);
+  for (size_t n = 0; n < gap.size(); ++n) {
+    EXPECT_NEAR(gap[n], X[3 * n + 2] + u[3 * n + 2] + 0.001, 1e-15) << n;
+    const bool bottom = std::abs(X[3 * n + 2]) < 1e-12;
+    if (bottom) {
+      EXPECT_GT(p[n], 0) << n;
+      EXPECT_LT(t[3 * n], 0) << n;
+      EXPECT_LE(std::hypot(t[3 * n], t[3 * n + 1]), 0.3 * 1.2 * p[n]) << n;
+    } else {
+      EXPECT_EQ(p[n], 0) << n;
+      EXPECT_EQ(t[3 * n], 0) << n;
+    }
+  }
 }
 
 TEST(ObstacleContact, AStickingBlockStaysWhereItTouched) {
@@ -246,23 +272,13 @@ TEST(ObstacleContact, AStickingBlockStaysWhereItTouched) {
   const auto f = obstacle_force(s, 0);
   EXPECT_GT(f[0], 1.0);
   EXPECT_LT(f[0], 0.5 * -f[2]);
-  // The bottom's mean x displacement per output step, from the .h5.
+  // The bottom's nodes' x displacements per output step, from the .h5.
   const std::string h5 = folder + "/stick.h5";
-  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  auto read = [&](const std::string& name) {
-    const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-    const hid_t space = H5Dget_space(set);
-    std::vector<double> v(H5Sget_simple_extent_npoints(space));
-    H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-    H5Sclose(space);
-    H5Dclose(set);
-    return v;
-  };
-  const std::vector<double> X = read("/mesh/coordinates");
+  const std::vector<double> X = read_h5(h5, "/mesh/coordinates");
   std::vector<double> touched;  // each bottom node's x at the first step in contact
   for (size_t k = 0; k < rows.size(); ++k) {
     if (rows[k].at("contact_floor_z_N") == 0) continue;
-    const std::vector<double> u = read("/step_" + std::to_string(k) + "/displacement");
+    const std::vector<double> u = read_h5(h5, "/step_" + std::to_string(k) + "/displacement");
     size_t b = 0;
     for (size_t n = 0; 3 * n < X.size(); ++n) {
       if (std::abs(X[3 * n + 2]) > 1e-12) continue;
@@ -271,7 +287,6 @@ TEST(ObstacleContact, AStickingBlockStaysWhereItTouched) {
       ++b;
     }
   }
-  H5Fclose(file);
   EXPECT_GT(touched.size(), 10u);
 }
 
