@@ -5,14 +5,12 @@
 namespace hs {
 namespace {
 
-// The preset's options; with obstacles a line search on the residual's norm (l2) instead of
-// full steps: the contact barrier's energy is convex but stiff, and full Newton steps cycle on
-// it (a sticking block: 227 iterations and 9 cutbacks against 62 and 3; docs/contact.md).
-// Not on the energy (bt): its infinite value beyond an obstacle stalls the backtracking.
+// The preset's options; with obstacles without its line search, which solve() chooses per
+// step unless the deck or the command line does.
 std::map<std::string, std::string> newton_presets(const Problem& problem,
                                                   const SolverConfig& solver, TangentKind tangent) {
   auto options = preset_options(solver.preset, tangent);
-  if (problem.contact()) options["snes_linesearch_type"] = "l2";
+  if (problem.contact()) options.erase("snes_linesearch_type");
   return options;
 }
 
@@ -33,6 +31,12 @@ NewtonSolver::NewtonSolver(Problem& problem, const SolverConfig& solver, Tangent
   HS_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
   HS_PETSC(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
   if (problem.has_potential()) HS_PETSC(SNESSetObjective(snes_, form_objective, this));
+  if (problem.contact()) {
+    SNESLineSearch search;
+    HS_PETSC(SNESGetLineSearch(snes_, &search));
+    HS_PETSC(SNESLineSearchSetPreCheck(search, limit_step, this));
+    contact_search_ = !options_.has("snes_linesearch_type");
+  }
   HS_PETSC(SNESSetFromOptions(snes_));
   // -hs_newton_roundoff false: PETSc's test alone
   if (options_.get_bool("roundoff", true))
@@ -66,6 +70,25 @@ PetscErrorCode NewtonSolver::form_objective(SNES, Vec u, PetscReal* energy, void
     // An inverted element has no energy: a value far above any reached makes the line search
     // shorten the step (it stops on an infinite one).
     *energy = self->problem_.potential_energy(u, self->load_, &value) ? value : 1e30;
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  return 0;
+}
+
+PetscErrorCode NewtonSolver::limit_step(SNESLineSearch, Vec u, Vec y, PetscBool* changed,
+                                        void* ctx) {
+  auto* self = static_cast<NewtonSolver*>(ctx);
+  try {
+    // SNES steps to u - lambda y.
+    VecHandle du;
+    PetscCall(VecDuplicate(y, du.out()));
+    PetscCall(VecAXPBY(du, -1.0, 0.0, y));
+    const double alpha = self->problem_.contact_step_limit(u, du, self->load_);
+    if (alpha < 1) {
+      PetscCall(VecScale(y, alpha));
+      *changed = PETSC_TRUE;
+    }
   } catch (const std::exception& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
   }
@@ -113,6 +136,17 @@ void NewtonSolver::scale_absolute_tolerance(double load_norm) {
 NewtonResult NewtonSolver::solve(Vec u, double s) {
   load_ = s;
   problem_.begin_solve();
+  // With obstacles, unless the deck or command line chose: a line search on the residual's
+  // norm (l2) for static steps, where full Newton steps cycle on the barrier's and friction's
+  // stiff convex energy (a sticking block: 227 iterations and 9 cutbacks against 62 and 3);
+  // full steps for time steps, where l2's extrapolation beyond the step limit reached the
+  // floor and failed a step that cannot be cut back (docs/contact.md).
+  if (contact_search_) {
+    SNESLineSearch search;
+    HS_PETSC(SNESGetLineSearch(snes_, &search));
+    HS_PETSC(SNESLineSearchSetType(
+        search, problem_.has_inertia() ? SNESLINESEARCHBASIC : SNESLINESEARCHL2));
+  }
   const auto& t = problem_.timers();
   const double assembly_before = t.residual_s + t.jacobian_s;
   const double t0 = MPI_Wtime();

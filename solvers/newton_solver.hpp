@@ -37,6 +37,9 @@ class NewtonSolver : public NonlinearSolver {
   static PetscErrorCode form_residual(SNES, Vec u, Vec R, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec u, Mat J, Mat P, void* ctx);
   static PetscErrorCode form_objective(SNES, Vec u, PetscReal* energy, void* ctx);
+  // With obstacles: shortens the Newton step so that no contact node crosses into one
+  // (Problem::contact_step_limit), before the line search.
+  static PetscErrorCode limit_step(SNESLineSearch, Vec u, Vec y, PetscBool* changed, void* ctx);
   // PETSc's test, and convergence when the residual is down to the round-off of its own
   // evaluation (Problem::residual_roundoff), checked once it is 1e-6 of the first.
   static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm,
@@ -49,9 +52,10 @@ class NewtonSolver : public NonlinearSolver {
   VecHandle R_;
   double load_ = 0;
   double solve_s_ = 0;
-  double first_norm_ = 0;     // of this solve's first residual
-  double roundoff_ = -1;      // the floor it converged at, -1 when it converged otherwise
-  bool atol_scaled_ = false;  // by a load (scale_absolute_tolerance)
+  double first_norm_ = 0;        // of this solve's first residual
+  double roundoff_ = -1;         // the floor it converged at, -1 when it converged otherwise
+  bool atol_scaled_ = false;     // by a load (scale_absolute_tolerance)
+  bool contact_search_ = false;  // the line search is chosen per solve (obstacles)
 };
 
 }  // namespace hs

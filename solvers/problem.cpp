@@ -406,6 +406,18 @@ ObstacleContact::Totals Problem::contact_totals(Vec u, double s) const {
   return contact_->totals(view.values(), s);
 }
 
+double Problem::contact_step_limit(Vec u, Vec du, double s) const {
+  if (!contact_) return 1;
+  const PetscScalar *ua, *da;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  HS_PETSC(VecGetArrayRead(du, &da));
+  double alpha = contact_->step_limit(ua, da, s);
+  HS_PETSC(VecRestoreArrayRead(du, &da));
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  MPI_Allreduce(MPI_IN_PLACE, &alpha, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  return alpha;
+}
+
 ObstacleContact::NodeValues Problem::contact_node_values(Vec u, double s) const {
   if (!contact_) return {};
   VecHandle uw;

@@ -89,11 +89,16 @@ class Problem {
   // Per obstacle, the force the body exerts on it and its touching area, on u at load
   // factor s. Collective; empty without obstacles.
   ObstacleContact::Totals contact_totals(Vec u, double s) const;
+  // The largest fraction <= 1 of the step du from u (at load factor s) that keeps every
+  // contact node outside the obstacles (ObstacleContact::step_limit), over all ranks; 1
+  // without obstacles. Collective.
+  double contact_step_limit(Vec u, Vec du, double s) const;
   // Per owned node, the contact's fields (ObstacleContact::node_values); empty without
   // obstacles. Collective.
   ObstacleContact::NodeValues contact_node_values(Vec u, double s) const;
 
   void set_inertia(const InertiaTerm* inertia) { inertia_ = inertia; }
+  bool has_inertia() const { return inertia_ != nullptr; }  // during a time step's solve
 
   // The applied external load at load factor s on configuration u (gravity + pressure).
   void external_load(Vec u, double s, Vec f);
