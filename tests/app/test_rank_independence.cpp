@@ -1,17 +1,20 @@
 // One deck, run by the executable on 1, 2 and 3 ranks: the displacements it writes agree to
 // 1e-10 of their largest value at every node (matched by /mesh/node_ids, the rows' numbers in
-// the mesh file), each rank writing its own rows. Once with the .geo meshed on rank 0 and sent
-// out in blocks, once from an .h5 mesh written by `hydrosoft mesh` and read in blocks.
+// the mesh file), each rank writing its own rows; a control deck's targets, reached positions
+// to 1e-9 m and actuations to 1e-4 Pa. Once with the .geo meshed on rank 0 and sent out in
+// blocks, once from an .h5 mesh written by `hydrosoft mesh` and read in blocks.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "../deck/temp_folder.hpp"
+#include "text_file.hpp"
 
 namespace {
 namespace test_rank_independence {
@@ -49,9 +52,25 @@ std::vector<double> displacement(const std::string& h5) {
 
 int run(const std::string& command) { return std::system((command + " > /dev/null 2>&1").c_str()); }
 
+// The control loop's answers: every target's reached position and actuation as on 1 rank.
+void expect_same_targets(const nlohmann::json& first, const nlohmann::json& got, int np) {
+  ASSERT_EQ(got["targets"].size(), first["targets"].size()) << np << " ranks";
+  for (size_t k = 0; k < first["targets"].size(); ++k) {
+    const auto &a = first["targets"][k], &b = got["targets"][k];
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(b["reached"][d].get<double>(), a["reached"][d].get<double>(), 1e-9)
+          << "target " << k << " on " << np << " ranks";
+    ASSERT_EQ(b["actuation"].size(), a["actuation"].size());
+    for (size_t i = 0; i < a["actuation"].size(); ++i)
+      EXPECT_NEAR(b["actuation"][i].get<double>(), a["actuation"][i].get<double>(), 1e-4)
+          << "target " << k << " on " << np << " ranks";
+  }
+}
+
 void expect_rank_independent(const std::string& deck, const std::string& name,
-                             const std::string& extra, const TempFolder& tmp) {
+                             const std::string& extra, const TempFolder& tmp, size_t targets = 0) {
   std::vector<double> first;
+  nlohmann::json first_summary;
   for (int np = 1; np <= 3; ++np) {
     const std::string out = (tmp.path() / (name + std::to_string(np))).string();
     ASSERT_EQ(run(std::string(HYDROSOFT_MPIEXEC) + " -np " + std::to_string(np) + " " +
@@ -59,10 +78,15 @@ void expect_rank_independent(const std::string& deck, const std::string& name,
               0)
         << deck << " on " << np << " ranks";
     const std::vector<double> u = displacement(out + "/" + name + ".h5");
+    const nlohmann::json summary =
+        nlohmann::json::parse(hs::testing::text_of(out + "/summary.json"));
     if (np == 1) {
+      if (targets > 0) ASSERT_EQ(summary["targets"].size(), targets);
       first = u;
+      first_summary = summary;
       continue;
     }
+    if (targets > 0) expect_same_targets(first_summary, summary, np);
     ASSERT_EQ(u.size(), first.size());
     double scale = 0, worst = 0;
     for (size_t i = 0; i < u.size(); ++i) {
@@ -103,7 +127,7 @@ TEST(RankIndependence, HydraulicFingerFromAnH5Mesh) {
   }
   const std::string deck = (tmp.path() / "finger_h5.yaml").string();
   std::ofstream(deck) << text;
-  expect_rank_independent(deck, "finger_h5", "--set control.steps_per_target=1", tmp);
+  expect_rank_independent(deck, "finger_h5", "--set control.steps_per_target=1", tmp, 6);
 }
 
 }  // namespace test_rank_independence
