@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "../mpi_test_folder.hpp"
+#include "common/error.hpp"
 #include "contact/barrier.hpp"
 #include "deck/deck.hpp"
 #include "solvers/simulation.hpp"
@@ -288,6 +289,99 @@ TEST(ObstacleContact, AStickingBlockStaysWhereItTouched) {
     }
   }
   EXPECT_GT(touched.size(), 10u);
+}
+
+TEST(ObstacleContact, AnObstacleThatStartsInsideTheBodyIsRefusedBeforeAnyWork) {
+  // A ball whose bottom is 5 mm below the block's top face: named, with how deep the body's
+  // surface reaches into it and where, on every rank.
+  const std::string deck = write_deck(
+      "overlap.yaml", block_deck("materials:\n"
+                                 "  - {group: body, model: neo_hookean, E: 1.0e5, nu: 0.45}\n"
+                                 "boundary:\n"
+                                 "  - {group: bottom}\n"
+                                 "obstacles:\n"
+                                 "  - {name: floor, type: plane, point: [0, 0, -1]}\n"
+                                 "  - {name: ball, type: sphere, center: [0.05, 0.05, 0.125], "
+                                 "radius: 0.03}\n"
+                                 "contact: {surfaces: [top]}\n"));
+  const std::string folder = (hs_test::test_folder() / "overlap").string();
+  try {
+    hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder}), MPI_COMM_WORLD);
+    ADD_FAILURE() << "no error";
+  } catch (const hs::InputError& e) {
+    const std::string message = e.what(),
+                      head = deck +
+                             ": obstacles[1] ('ball'): the undeformed body's contact "
+                             "surface reaches ";
+    ASSERT_EQ(message.rfind(head, 0), 0u) << message;
+    // The deepest node of the top face: at most the 5 mm of its centre, and in it.
+    const double depth = std::stod(message.substr(head.size()));
+    EXPECT_GT(depth, 0) << message;
+    EXPECT_LE(depth, 0.005 + 1e-12) << message;
+    EXPECT_NE(message.find(" m into it at ("), std::string::npos) << message;
+  }
+}
+
+TEST(ObstacleContact, TheControllerSteersAFingerThatTouchesABall) {
+  // The finger of input/finger_press.yaml, its tip height steered by its pressure: the
+  // controller's compliance includes the barrier. A target above the ball is reached; one
+  // below the ball's top cannot be, and the pressure saturates at its bound with the finger
+  // held on the ball.
+  const std::string deck = write_deck(
+      "control.yaml",
+      "mesh:\n  file: " + kSource +
+          "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004, ez: 0.003}\n"
+          "materials:\n"
+          "  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}\n"
+          "boundary:\n  - {group: base}\n"
+          "loads: {gravity: [0, 0, -9.81]}\n"
+          "cavities:\n  - {group: cavity, kind: pneumatic}\n"
+          "obstacles:\n"
+          "  - {name: ball, type: sphere, center: [0.07, 0, -0.0185], radius: 0.01}\n"
+          "contact: {surfaces: [outer, tip]}\n"
+          "states:\n  - {name: rest, steps: 4}\n"
+          "control:\n"
+          "  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
+          "  actuators:\n"
+          "    - {cavity: cavity, min_pressure: 0, max_pressure: 30000, "
+          "max_pressure_change: 5000}\n"
+          "  targets:\n    - {tip: [0.09, 0.0, -0.002]}\n    - {tip: [0.09, 0.0, -0.004]}\n"
+          "  steps_per_target: 5\n");
+  const Json s = run(deck, "control");
+  const auto& targets = s["targets"];
+  ASSERT_EQ(targets.size(), 2u);
+  EXPECT_LT(targets[0]["error_m"].get<double>(), 1e-4);
+  EXPECT_FALSE(targets[0]["saturated"][0].get<bool>());
+  EXPECT_TRUE(targets[1]["saturated"][0].get<bool>());
+  EXPECT_NEAR(targets[1]["actuation"][0].get<double>(), 30000, 1e-6);
+  EXPECT_GT(targets[1]["reached"][2].get<double>(), -0.004 + 1e-4);  // held up by the ball
+  EXPECT_LT(obstacle_force(s, 0)[2], -0.1);
+  EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
+}
+
+TEST(ObstacleContact, ADroppedBlockLandsAndBackwardEulerTakesItsEnergy) {
+  // A free block 2 mm above a floor falls, hits it and bounces (time steps of 2 ms, full
+  // Newton steps shortened before any node reaches the floor). Backward Euler only dissipates:
+  // the energy's largest departure from its start is its end, a loss between nothing and
+  // twice the fall's m g h, and no node is ever inside the floor.
+  const double m = 1000 * 0.1 * 0.1 * 0.1, g = 9.81, h = 0.002;
+  const std::string deck = write_deck(
+      "drop.yaml",
+      block_deck("materials:\n"
+                 "  - {group: body, model: neo_hookean, E: 1.0e5, nu: 0.3, density: 1000}\n"
+                 "loads: {gravity: [0, 0, -9.81]}\n"
+                 "obstacles:\n  - {name: floor, type: plane, point: [0, 0, -0.002]}\n"
+                 "contact: {surfaces: [bottom]}\n"
+                 "time: {type: dynamic, dt: 0.002, end_time: 0.1, integrator: "
+                 "backward_euler}\n"
+                 "output: {every: 5}\n"));
+  const Json s = run(deck, "drop");
+  const double final_energy = s["energy"]["final"], drift = s["energy"]["max_drift"];
+  EXPECT_LT(final_energy, -0.5 * m * g * h);
+  EXPECT_GT(final_energy, -2 * m * g * h);
+  EXPECT_NEAR(drift, -final_energy, 1e-12);
+  EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
+  EXPECT_LT(obstacle_force(s, 0)[2], 0);  // on the floor at the end
 }
 
 class PressedIntoABlock : public ::testing::TestWithParam<std::string> {};
