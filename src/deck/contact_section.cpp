@@ -66,6 +66,20 @@ ObstacleShape parse_obstacle(const DeckReader& r, const YAML::Node& node, const 
   return o;
 }
 
+// A number > 0 the map may leave out (then the run works it out: `default_value` says how).
+DeckKey<ContactConfig> positive_key(std::string name, std::optional<double> ContactConfig::*member,
+                                    std::string default_value, std::string meaning) {
+  DeckKey<ContactConfig> k = optional_number_key(std::move(name), member, std::move(meaning));
+  k.type = "number > 0";
+  k.default_value = std::move(default_value);
+  k.read = [member](const DeckReader& r, const YAML::Node& n, const std::string& key,
+                    ContactConfig& s, const Config&) {
+    s.*member = r.number(n, key);
+    require(*(s.*member) > 0, r, n, key, "must be > 0, got " + format_number(*(s.*member)));
+  };
+  return k;
+}
+
 }  // namespace
 
 const KeyTable<ObstacleShape>& obstacle_keys() {
@@ -119,45 +133,17 @@ const KeyTable<ContactConfig>& contact_keys() {
             out << YAML::Flow << s.surfaces;
           })
           .needed(),
-      custom_key<ContactConfig>(
-          "distance", "number > 0", "1e-3 of the mesh's bounding-box diagonal",
-          "dhat (m): the gap below which the barrier pushes; a node never comes closer than "
-          "0 and rests at a gap below dhat",
-          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
-             const Config&) {
-            s.distance = r.number(n, key);
-            require(*s.distance > 0, r, n, key, "must be > 0, got " + format_number(*s.distance));
-          },
-          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
-            out << format_number(*s.distance);
-          })
-          .printed_when([](const ContactConfig& s) { return s.distance.has_value(); }),
-      custom_key<ContactConfig>(
-          "stiffness", "number > 0", "0.01 E / distance (E the stiffest material's)",
-          "kappa (Pa/m): the barrier's scale; the contact pressure at gap d is about kappa "
-          "dhat^2 / d for d << dhat (docs/contact.md)",
-          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
-             const Config&) {
-            s.stiffness = r.number(n, key);
-            require(*s.stiffness > 0, r, n, key, "must be > 0, got " + format_number(*s.stiffness));
-          },
-          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
-            out << format_number(*s.stiffness);
-          })
-          .printed_when([](const ContactConfig& s) { return s.stiffness.has_value(); }),
-      custom_key<ContactConfig>(
-          "slip", "number > 0", "0.1 distance",
-          "eps_v (m): the slip within a step below which friction sticks (a spring whose force "
-          "reaches the Coulomb limit at this slip) and beyond which the node slides",
-          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
-             const Config&) {
-            s.slip = r.number(n, key);
-            require(*s.slip > 0, r, n, key, "must be > 0, got " + format_number(*s.slip));
-          },
-          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
-            out << format_number(*s.slip);
-          })
-          .printed_when([](const ContactConfig& s) { return s.slip.has_value(); }),
+      positive_key("distance", &ContactConfig::distance, "1e-3 of the mesh's bounding-box diagonal",
+                   "dhat (m): the gap below which the barrier pushes; a node never comes closer "
+                   "than 0 and rests at a gap below dhat"),
+      positive_key("stiffness", &ContactConfig::stiffness,
+                   "0.01 E / distance (E the stiffest material's)",
+                   "kappa (Pa/m): the barrier's scale; the contact pressure at gap d is about "
+                   "kappa dhat^2 / d for d << dhat (docs/contact.md)"),
+      positive_key("slip", &ContactConfig::slip, "0.1 distance",
+                   "eps_v (m): the slip within a step below which friction sticks (a spring whose "
+                   "force reaches the Coulomb limit at this slip) and beyond which the node "
+                   "slides"),
   };
   return keys;
 }

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "../mpi_test_folder.hpp"
+#include "../mpi_test_decks.hpp"
 #include "common/error.hpp"
 #include "contact/barrier.hpp"
 #include "deck/deck.hpp"
@@ -27,34 +27,11 @@ namespace {
 namespace mpi_test_contact {
 
 using Json = nlohmann::json;
+using hs_test::shared;
+using hs_test::world_rank;
+using hs_test::world_size;
+using hs_test::write_deck;
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
-
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
-int world_size() {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return size;
-}
-
-std::string write_deck(const std::string& name, const std::string& text) {
-  const std::string path = (hs_test::test_folder() / name).string();
-  if (world_rank() == 0) std::ofstream(path) << text;
-  MPI_Barrier(MPI_COMM_WORLD);
-  return path;
-}
-
-Json shared(const Json& summary) {
-  std::string text = world_rank() == 0 ? summary.dump() : std::string();
-  int n = static_cast<int>(text.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  text.resize(n);
-  MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-  return Json::parse(text);
-}
 
 // The run on every rank; on 2 ranks, its obstacle forces also against rank 0's run alone.
 Json run(const std::string& deck, const std::string& tag) {

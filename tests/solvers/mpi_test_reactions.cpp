@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "../mpi_test_folder.hpp"
+#include "../mpi_test_decks.hpp"
 #include "deck/deck.hpp"
 #include "solvers/simulation.hpp"
 
@@ -25,40 +25,14 @@ namespace {
 namespace mpi_test_reactions {
 
 using Json = nlohmann::json;
+using hs_test::shared;
+using hs_test::world_rank;
+using hs_test::world_size;
+using hs_test::write_deck;
 using Force = std::array<double, 3>;
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 constexpr double kPi = 3.14159265358979323846;
-
-int world_size() {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return size;
-}
-
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
-
-// Writes a deck into the test's folder (rank 0) and returns its path on every rank.
-std::string write_deck(const std::string& name, const std::string& text) {
-  const std::string path = (hs_test::test_folder() / name).string();
-  if (world_rank() == 0) std::ofstream(path) << text;
-  MPI_Barrier(MPI_COMM_WORLD);
-  return path;
-}
-
-// Rank 0's summary on every rank.
-Json shared(const Json& summary) {
-  std::string text = world_rank() == 0 ? summary.dump() : std::string();
-  int n = static_cast<int>(text.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  text.resize(n);
-  MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-  return Json::parse(text);
-}
 
 struct Runs {
   Json all;            // on every rank of the world

@@ -1,0 +1,45 @@
+// Helpers of the MPI tests that write their own decks and run them: the world's rank and
+// size, a deck written into the test's folder, and rank 0's summary on every rank.
+#pragma once
+
+#include <mpi.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "mpi_test_folder.hpp"
+
+namespace hs_test {
+
+inline int world_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+inline int world_size() {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+// Writes a deck into the test's folder (rank 0) and returns its path on every rank.
+inline std::string write_deck(const std::string& name, const std::string& text) {
+  const std::string path = (test_folder() / name).string();
+  if (world_rank() == 0) std::ofstream(path) << text;
+  MPI_Barrier(MPI_COMM_WORLD);
+  return path;
+}
+
+// Rank 0's summary on every rank.
+inline nlohmann::json shared(const nlohmann::json& summary) {
+  std::string text = world_rank() == 0 ? summary.dump() : std::string();
+  int n = static_cast<int>(text.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  text.resize(n);
+  MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
+  return nlohmann::json::parse(text);
+}
+
+}  // namespace hs_test
