@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "solvers/inverse_controller.hpp"
+#include "solvers/mixed_factor.hpp"
 
 namespace hs {
 namespace {
@@ -114,6 +115,7 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
 int InverseController::negative_pivots() const {
   PC pc;
   HS_PETSC(KSPGetPC(ksp_, &pc));
+  if (const int mixed = mixed_factor_negative_pivots(pc); mixed >= 0) return mixed;
   PetscBool cholesky = PETSC_FALSE;
   HS_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCCHOLESKY, &cholesky));
   if (!cholesky) return -1;

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "solvers/mixed_factor.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/petsc_handle.hpp"
 #include "solvers/solver_options.hpp"
@@ -18,12 +19,18 @@ bool solve_columns(KSP ksp, const std::vector<Vec>& b, const std::vector<Vec>& x
   PetscBool factored = PETSC_FALSE;
   HS_PETSC(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factored, PCLU, PCCHOLESKY,
                                      ""));
+  PetscBool mixed = PETSC_FALSE;  // solvers/mixed_factor.hpp: PCMatApply solves them at once
+  HS_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), kMixedFactorType, &mixed));
   Mat F = nullptr;
   PetscBool together = PETSC_FALSE;
-  if (b.size() > 1 && factored && std::strcmp(type, KSPPREONLY) == 0) {
+  if (b.size() > 1 && (factored || mixed) && std::strcmp(type, KSPPREONLY) == 0) {
     HS_PETSC(KSPSetUp(ksp));
-    HS_PETSC(PCFactorGetMatrix(pc, &F));
-    HS_PETSC(MatHasOperation(F, MATOP_MAT_SOLVE, &together));
+    if (mixed) {
+      together = PETSC_TRUE;
+    } else {
+      HS_PETSC(PCFactorGetMatrix(pc, &F));
+      HS_PETSC(MatHasOperation(F, MATOP_MAT_SOLVE, &together));
+    }
   }
   if (!together) {
     bool ok = true;
@@ -57,7 +64,10 @@ bool solve_columns(KSP ksp, const std::vector<Vec>& b, const std::vector<Vec>& x
     HS_PETSC(VecCopy(b[j], column));
     HS_PETSC(MatDenseRestoreColumnVecWrite(B, j, &column));
   }
-  HS_PETSC(MatMatSolve(F, B, X));
+  if (mixed)
+    HS_PETSC(PCMatApply(pc, B, X));
+  else
+    HS_PETSC(MatMatSolve(F, B, X));
   for (PetscInt j = 0; j < k; ++j) {
     Vec column;
     HS_PETSC(MatDenseGetColumnVecRead(X, j, &column));

@@ -209,6 +209,8 @@ void NodalPressure::make_coupling() {
         }
   }
   g_values_.assign(gr.size(), 0.0);
+  g_rows_ = gr;  // PETSc may change the arrays it is given
+  g_cols_ = gc;
   HS_PETSC(MatCreate(comm_, G_.out()));
   HS_PETSC(MatSetSizes(G_, no, 3 * no, PETSC_DETERMINE, PETSC_DETERMINE));
   HS_PETSC(MatSetType(G_, MATAIJ));
@@ -263,6 +265,46 @@ void NodalPressure::fill_coupling(const PetscScalar* u_local, PetscScalar* value
     values = std::copy(v, v + n, values);
     HS_PETSC(MatRestoreRow(coupling_, row, &n, nullptr, &v));
   }
+}
+
+PetscInt NodalPressure::mixed_dof(PetscInt dof) const {
+  if (dof < 0) return dof;
+  const auto& off = dist_.owned_offsets;
+  const auto r = std::upper_bound(off.begin(), off.end(), dof / 3) - off.begin() - 1;
+  return dof + static_cast<PetscInt>(off[r]);
+}
+
+PetscInt NodalPressure::mixed_node(PetscInt node) const {
+  const auto& off = dist_.owned_offsets;
+  const auto r = std::upper_bound(off.begin(), off.end(), node) - off.begin() - 1;
+  return node + 3 * static_cast<PetscInt>(off[r + 1]);
+}
+
+void NodalPressure::mixed_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) {
+  if (!coupling_) make_coupling();
+  const size_t n = g_rows_.size();
+  std::vector<PetscInt> pressure(n), displacement(n);
+  for (size_t k = 0; k < n; ++k) {
+    pressure[k] = mixed_node(g_rows_[k]);
+    displacement[k] = mixed_dof(g_cols_[k]);
+  }
+  rows.insert(rows.end(), pressure.begin(), pressure.end());
+  cols.insert(cols.end(), displacement.begin(), displacement.end());
+  rows.insert(rows.end(), displacement.begin(), displacement.end());
+  cols.insert(cols.end(), pressure.begin(), pressure.end());
+  const int64_t first = dist_.owned_offsets[dist_.rank];
+  for (int64_t a = 0; a < dist_.num_owned(); ++a) {
+    rows.push_back(mixed_node(static_cast<PetscInt>(first + a)));
+    cols.push_back(rows.back());
+  }
+}
+
+void NodalPressure::fill_mixed(PetscScalar* values) const {
+  values = std::copy(g_values_.begin(), g_values_.end(), values);
+  values = std::copy(g_values_.begin(), g_values_.end(), values);
+  // c_a is 0 only at nodes of no nodal-pressure body (V_a = 0, G's row empty), or of an
+  // inverted patch, whose tangent is refused.
+  for (int64_t a = 0; a < dist_.num_owned(); ++a) *values++ = c_[a] != 0 ? -1.0 / c_[a] : -1.0;
 }
 
 }  // namespace hs

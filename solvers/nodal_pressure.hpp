@@ -79,6 +79,18 @@ class NodalPressure {
   // The values of those entries at the displacements of the last update.
   void fill_coupling(const PetscScalar* u_local, PetscScalar* values);
 
+  // The mixed system [K G^T; G -D^-1] (solvers/mixed_factor.hpp): its rows on each rank are the
+  // rank's 3 no displacement rows, then its no pressure rows.
+  PetscInt mixed_local_size() const { return 4 * static_cast<PetscInt>(dist_.num_owned()); }
+  PetscInt mixed_dof(PetscInt dof) const;    // a global dof's row (negative stays negative)
+  PetscInt mixed_node(PetscInt node) const;  // a global node's pressure row
+  // Appends the entries of G, G^T and the pressure block, in the order fill_mixed writes them.
+  // Collective (the first time).
+  void mixed_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols);
+  // Their values for the last fill_coupling: g_a, g_a again, -1 / c_a (-1 at a node of no
+  // nodal-pressure body, whose G row is empty).
+  void fill_mixed(PetscScalar* values) const;
+
  private:
   // The sums over patches of per-local-node values (each rank's elements' shares), complete
   // at every local node afterwards. Collective.
@@ -101,6 +113,7 @@ class NodalPressure {
   VecHandle patch_sum_;              // ghosted, one value per node
   MatHandle G_, D_, coupling_;       // the g_a by rows, diag(c_a), G^T D G
   std::vector<PetscScalar> g_values_;
+  std::vector<PetscInt> g_rows_, g_cols_;                // G's entries: global node, global dof
   std::vector<PetscInt> coupling_rows_, coupling_cols_;  // its entries, in fill order
   std::vector<PetscInt> coupling_row_sizes_;             // per owned row
   MPI_Comm comm_;

@@ -10,6 +10,7 @@
 #include "common/error.hpp"
 #include "fem/element.hpp"
 #include "materials/volumetric_term.hpp"
+#include "solvers/mixed_factor.hpp"
 
 namespace hs {
 
@@ -254,6 +255,10 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
   fill_constraint_entries(value + block_values);
   HS_PETSC(MatSetValuesCOO(J, tangent_values_.data(), INSERT_VALUES));
   if (inertia_) HS_PETSC(MatAXPY(J, inertia_->c, inertia_->M, SUBSET_NONZERO_PATTERN));
+  PetscObject mixed = nullptr;
+  if (nodal_)
+    HS_PETSC(PetscObjectQuery(reinterpret_cast<PetscObject>(J), kMixedTangentKey, &mixed));
+  if (mixed) fill_mixed_matrix(reinterpret_cast<Mat>(mixed));
 
   const bool ok = record_inverted(bad);
   timers_.jacobian_s += MPI_Wtime() - t0;

@@ -57,8 +57,11 @@ class Problem {
   Vec create_vector() const { return dofs_.create_vector(comm_); }  // ghosted, zeroed
   // The tangent's matrix: its pattern given once by coordinates (tangent_entries), the
   // near-null space attached. After the first one, no cavity surface or coupling may be added.
+  // With a nodal-pressure body, the tangent's mixed system (solvers/mixed_factor.hpp) is
+  // composed on it and filled with it.
   Mat create_matrix();
   Mat create_mass_matrix();
+  bool has_nodal_pressure() const { return nodal_ != nullptr; }
 
   // Sets the Dirichlet dofs of u to their prescribed values at load factor s.
   void apply_dirichlet(Vec u, double s) const { dofs_.apply(u, s); }
@@ -217,6 +220,11 @@ class Problem {
   // (through the ghosted local form and a reverse ghost update).
   template <class F>
   void assemble_local(Vec u, Vec out, F add);
+  Mat create_pattern_matrix();  // the tangent's pattern, no mixed system
+  // The mixed system of a nodal-pressure body's tangent, its pattern by coordinates.
+  Mat create_mixed_matrix();
+  // Its values for the tangent whose values tangent_values_ holds.
+  void fill_mixed_matrix(Mat mixed);
   void element_coordinates(int64_t local_tet, double* X) const;
   void element_displacement(const PetscScalar* u_local, int64_t local_tet, double* u) const;
   bool assemble_forces(Vec u, double s, double a, double b, Vec out, double* energy);
@@ -257,7 +265,12 @@ class Problem {
   std::vector<std::vector<PetscScalar>> coupling_values_;
   std::unique_ptr<NodePairBlocks> pairs_;    // made with the first matrix
   std::vector<PetscScalar> tangent_values_;  // one per entry of tangent_entries
-  bool pattern_fixed_ = false;               // a matrix exists: no new surfaces or couplings
+  std::vector<PetscScalar> mass_values_;     // the mass matrix's, in the same order
+  // The mixed system's entries: the tangent's without the patch coupling, then G, G^T and the
+  // pressure block (NodalPressure::mixed_entries); their values.
+  std::vector<PetscInt> mixed_rows_, mixed_cols_;
+  std::vector<PetscScalar> mixed_values_;
+  bool pattern_fixed_ = false;  // a matrix exists: no new surfaces or couplings
   VecHandle u_work_, r_work_;
   int64_t inverted_element_ = -1;  // of the last residual or tangent, over all ranks
   int obstacle_reached_ = -1;      // of the last residual, over all ranks

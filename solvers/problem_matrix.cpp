@@ -1,6 +1,7 @@
-// Problem: the tangent's matrix and its pattern, the mass matrix.
+// Problem: the tangent's matrix and its pattern, its mixed system, the mass matrix.
 #include <stdexcept>
 
+#include "solvers/mixed_factor.hpp"
 #include "solvers/problem.hpp"
 
 namespace hs {
@@ -66,6 +67,52 @@ void Problem::fill_constraint_entries(PetscScalar* value) const {
 }
 
 Mat Problem::create_matrix() {
+  MatHandle A(create_pattern_matrix());  // the caller's once returned
+  if (nodal_) {
+    MatHandle mixed(create_mixed_matrix());
+    HS_PETSC(PetscObjectCompose(reinterpret_cast<PetscObject>(A.get()), kMixedTangentKey,
+                                reinterpret_cast<PetscObject>(mixed.get())));
+  }
+  return A.release();
+}
+
+Mat Problem::create_mixed_matrix() {
+  if (mixed_rows_.empty()) {
+    std::vector<PetscInt> rows, cols;
+    tangent_entries(rows, cols);
+    for (auto* index : {&rows, &cols})
+      for (PetscInt& i : *index) i = nodal_->mixed_dof(i);
+    nodal_->mixed_entries(rows, cols);
+    mixed_rows_ = std::move(rows);
+    mixed_cols_ = std::move(cols);
+    mixed_values_.assign(mixed_rows_.size(), 0.0);
+  }
+  MatHandle A;  // the caller's once returned
+  const PetscInt n = nodal_->mixed_local_size();
+  HS_PETSC(MatCreate(comm_, A.out()));
+  HS_PETSC(MatSetSizes(A, n, n, PETSC_DETERMINE, PETSC_DETERMINE));
+  HS_PETSC(MatSetType(A, MATAIJ));
+  std::vector<PetscInt> rows = mixed_rows_, cols = mixed_cols_;  // PETSc may change them
+  HS_PETSC(
+      MatSetPreallocationCOO(A, static_cast<PetscCount>(rows.size()), rows.data(), cols.data()));
+  return A.release();
+}
+
+// The tangent less the patch coupling (its values come last in tangent_values_), with the
+// inertia term as the tangent has it, then G, G^T and -D^-1.
+void Problem::fill_mixed_matrix(Mat mixed) {
+  const size_t tangent = tangent_values_.size() - nodal_->num_coupling_entries();
+  std::copy(tangent_values_.begin(), tangent_values_.begin() + tangent, mixed_values_.begin());
+  if (inertia_) {
+    if (mass_values_.size() != tangent_values_.size())
+      throw std::logic_error("Problem: inertia with a mass matrix not made by this problem");
+    for (size_t k = 0; k < tangent; ++k) mixed_values_[k] += inertia_->c * mass_values_[k];
+  }
+  nodal_->fill_mixed(mixed_values_.data() + tangent);
+  HS_PETSC(MatSetValuesCOO(mixed, mixed_values_.data(), INSERT_VALUES));
+}
+
+Mat Problem::create_pattern_matrix() {
   pattern_fixed_ = true;
   const int64_t nowned = dist_.num_owned();
   if (!pairs_) pairs_ = std::make_unique<NodePairBlocks>(dist_.tet_nodes, npe_, dist_.num_local());
@@ -99,8 +146,9 @@ Mat Problem::create_matrix() {
 // The consistent mass matrix in the tangent's pattern (element blocks, unit diagonal on
 // Dirichlet rows, zero elsewhere), by coordinates like the tangent.
 Mat Problem::create_mass_matrix() {
-  MatHandle M(create_matrix());  // the caller's once returned
-  std::vector<PetscScalar> values(tangent_values_.size(), 0.0);
+  MatHandle M(create_pattern_matrix());  // the caller's once returned
+  std::vector<PetscScalar>& values = mass_values_;
+  values.assign(tangent_values_.size(), 0.0);
   double X[30], Me[900];
   for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
     element_coordinates(e, X);

@@ -83,6 +83,7 @@ void RunSetup::make_solver() {
   tangent.symmetric =
       !problem->has_open_surface_pressure() && (!constraints || constraints->symmetric());
   tangent.definite = linear_laws && !problem->has_follower_loads();
+  tangent.nodal_pressure = problem->has_nodal_pressure();
   if (constraints)
     bordered = std::make_unique<BorderedNewton>(*problem, *constraints, config.solver, tangent);
   else

@@ -35,11 +35,13 @@ inline constexpr const char* kSolverPrefixes[] = {kNewtonPrefix,  kBorderedPrefi
 // hydrosoft's options that no object's prefix begins (read with get_unprefixed_bool).
 inline constexpr const char* kUnprefixedOptions[] = {"hs_near_null_space"};
 
-// What the preset needs to know of the tangent: symmetric (L D L^T, CG or MINRES) and
-// positive definite (CG).
+// What the preset needs to know of the tangent: symmetric (L D L^T, CG or MINRES), positive
+// definite (CG), and with a nodal-pressure body (MUMPS factors its mixed system,
+// solvers/mixed_factor.hpp).
 struct TangentKind {
   bool symmetric = true;
   bool definite = true;
+  bool nodal_pressure = false;
 };
 
 // The preset's options for a tangent of this kind, without prefix.
