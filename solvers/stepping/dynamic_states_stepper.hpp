@@ -49,8 +49,8 @@ class DynamicStatesStepper : public Stepper {
   void add_summary(nlohmann::json& summary) const override;
 
  private:
-  // The schedule at step n: the state it belongs to (begun here when it is a new one) and the
-  // fraction of that state's ramp.
+  // The fraction of the current state's ramp at time step n (1 once its time is reached, and
+  // after the last state).
   double fraction_at(int n) const;
   // The initial acceleration and the start of the energy balance.
   void start(Vec u);
