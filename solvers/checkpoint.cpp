@@ -124,7 +124,7 @@ Restart::Restart(const std::string& folder, const Config& config, MPI_Comm comm)
   try {
     file_ = std::make_unique<CheckpointFile>(path);
     check_checkpoint_state(file_->state(), config, path);
-    if (stepping_kind(config) == "dynamic") {
+    if (stepping_kind(config) == "dynamic" || stepping_kind(config) == "dynamic_states") {
       // The total energy after every step so far, and the initial one.
       const size_t step = file_->state().at("position").at("step").get<size_t>();
       const std::vector<double> energy = file_->series("energy");

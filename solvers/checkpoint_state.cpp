@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "deck/cavity_sections.hpp"
 #include "deck/config_fingerprint.hpp"
 #include "solvers/checkpoint.hpp"
 #include "solvers/stepping.hpp"
@@ -215,6 +216,38 @@ void check_dynamic(const Fields& f, const json& p, const Config& config) {
                                 number_text(step * config.time.dt) + ", got " + number_text(time));
 }
 
+// A dynamic run with constraints: its time step, the state that step ramps towards (the first
+// whose time step is not before it, else the last), that state's ramps, the constraints, the
+// states done and the work so far.
+void check_dynamic_states(const Fields& f, const json& p, const Config& config) {
+  check_dynamic(f, p, config);
+  const int64_t step = p.at("step").get<int64_t>();
+  const std::vector<int64_t> ends = state_time_steps(config.states, config.time.dt);
+  const int64_t states = static_cast<int64_t>(ends.size());
+  int64_t k = 0;
+  while (k + 1 < states && step > ends[k]) ++k;
+  if (f.integer(p, "position", "state", 0, states - 1, "this deck's states") != k)
+    f.fail("position.state", "must be " + std::to_string(k) + ", the state of time step " +
+                                 std::to_string(step) + " in this deck");
+  const int64_t constraints = static_cast<int64_t>(constraint_names(config).size());
+  const json& ramps =
+      f.array(p, "position", "ramps", constraints, "this deck's cavities and cables");
+  for (size_t c = 0; c < ramps.size(); ++c) {
+    const std::string entry = "position.ramps[" + std::to_string(c) + "]";
+    f.boolean(ramps[c], entry, "active");
+    f.integer(ramps[c], entry, "control", 0, 2, "multiplier, measure or own law");
+    f.number(ramps[c], entry, "from");
+    f.number(ramps[c], entry, "to");
+  }
+  check_constraints(f, p, "position", "constraints", config);
+  f.objects(p, "position", "states");
+  if (static_cast<int64_t>(p.at("states").size()) > k + 1)
+    f.fail("position.states", "has more entries than the " + std::to_string(k + 1) +
+                                  " states begun by time step " + std::to_string(step));
+  f.number(p, "position", "work_loads");
+  f.numbers(p, "position", "work", constraints, "this deck's cavities and cables");
+}
+
 void check_states(const Fields& f, const json& p, const Config& config) {
   const std::vector<int64_t> increments = state_increments(config);
   const int64_t states = static_cast<int64_t>(increments.size());
@@ -318,6 +351,8 @@ void check_checkpoint_state(const nlohmann::json& state, const Config& config,
     check_static(f, p, config);
   else if (kind == "dynamic")
     check_dynamic(f, p, config);
+  else if (kind == "dynamic_states")
+    check_dynamic_states(f, p, config);
   else if (target_sets)
     check_control(f, p, config);
   else

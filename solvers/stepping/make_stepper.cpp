@@ -1,6 +1,7 @@
 #include <utility>
 
 #include "solvers/stepping/control_stepper.hpp"
+#include "solvers/stepping/dynamic_states_stepper.hpp"
 #include "solvers/stepping/dynamic_stepper.hpp"
 #include "solvers/stepping/states_stepper.hpp"
 #include "solvers/stepping/static_stepper.hpp"
@@ -17,6 +18,9 @@ std::unique_ptr<Stepper> make_stepper(const StepperParts& p, InteractiveIo io) {
     case SteppingKind::states:
       return std::make_unique<StatesStepper>(p.config, p.problem, *p.constraints, p.solver, p.stats,
                                              *p.recorder);
+    case SteppingKind::dynamic_states:
+      return std::make_unique<DynamicStatesStepper>(p.config, p.problem, *p.constraints, p.solver,
+                                                    p.stats, *p.recorder);
     case SteppingKind::control:
       return std::make_unique<ControlStepper>(p.config, p.problem, *p.constraints, *p.bordered,
                                               p.stats, *p.recorder, std::move(io));

@@ -89,31 +89,40 @@ void StatesStepper::end_state(Vec u) {
   const StatePlan& plan = plans_[k_];
   if (plan.first)
     for (int c = 0; c < constraints_.size(); ++c) constraints_[c].mark_rest();
-  nlohmann::json state;
-  state["name"] = plan.name;
-  state["time"] = static_cast<double>(k_ + 1);
   // Its output step in this run's .h5 (null: written by the run restarted from).
-  state["step"] = recorder_.written() > 0 ? nlohmann::json(recorder_.written() - 1) : nullptr;
-  state["load_factor"] = plan.load_factor(plan.taus.back());
-  if (config_.tip) {
-    const TipOrientation t = tip_orientation(problem_, config_.tip->group, config_.gravity, u);
+  const nlohmann::json step =
+      recorder_.written() > 0 ? nlohmann::json(recorder_.written() - 1) : nullptr;
+  states_.push_back(state_entry(config_, problem_, constraints_, u, plan.name,
+                                static_cast<double>(k_ + 1), step,
+                                plan.load_factor(plan.taus.back())));
+}
+
+nlohmann::json state_entry(const Config& config, Problem& problem, ConstraintSet& constraints,
+                           Vec u, const std::string& name, double time, nlohmann::json step,
+                           double load_factor) {
+  nlohmann::json state;
+  state["name"] = name;
+  state["time"] = time;
+  state["step"] = std::move(step);
+  state["load_factor"] = load_factor;
+  if (config.tip) {
+    const TipOrientation t = tip_orientation(problem, config.tip->group, config.gravity, u);
     const auto& d = t.displacement;
-    state["tip"] = {{"group", config_.tip->group},
+    state["tip"] = {{"group", config.tip->group},
                     {"inclination_deg", t.inclination_deg},
                     {"rotation_deg", t.rotation_deg},
                     {"displacement_m", {d[0], d[1], d[2]}},
                     {"displacement_magnitude_m", std::hypot(d[0], d[1], d[2])}};
   }
-  if (!problem_.reaction_groups().empty())
-    state["reactions_N"] = reactions_json(problem_, u, state["load_factor"].get<double>());
-  if (problem_.contact())
-    state["contact"] = contact_json(problem_, u, state["load_factor"].get<double>());
-  state["added_volume_ml"] = constraints_.added_volume() * 1e6;
-  state["volume_change_ml"] = constraints_.volume_change() * 1e6;
-  const nlohmann::json actuators = constraints_.report();
+  if (!problem.reaction_groups().empty())
+    state["reactions_N"] = reactions_json(problem, u, load_factor);
+  if (problem.contact()) state["contact"] = contact_json(problem, u, load_factor);
+  state["added_volume_ml"] = constraints.added_volume() * 1e6;
+  state["volume_change_ml"] = constraints.volume_change() * 1e6;
+  const nlohmann::json actuators = constraints.report();
   state["cavities"] = actuators["cavities"];
   state["cables"] = actuators["cables"];
-  states_.push_back(state);
+  return state;
 }
 
 nlohmann::json StatesStepper::position() const {

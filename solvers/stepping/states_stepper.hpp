@@ -60,4 +60,11 @@ class StatesStepper : public Stepper {
   nlohmann::json states_ = nlohmann::json::array();
 };
 
+// A state's entry of summary.json's `states` at its end, on u (collective): its name, time
+// (a state time or seconds), output step and load factor, the tip, reactions and contact where
+// the deck has them, the added volume and the cavities and cables.
+nlohmann::json state_entry(const Config& config, Problem& problem, ConstraintSet& constraints,
+                           Vec u, const std::string& name, double time, nlohmann::json step,
+                           double load_factor);
+
 }  // namespace hs

@@ -4,9 +4,10 @@ namespace hs {
 
 SteppingKind stepping_kind_of(const Config& config) {
   if (config.control) return SteppingKind::control;
+  const bool dynamic = config.time.type == TimeType::dynamic;
   if (!config.cavities.empty() || !config.cables.empty() || !config.states.empty() || config.tip)
-    return SteppingKind::states;
-  return config.time.type == TimeType::dynamic ? SteppingKind::dynamic : SteppingKind::static_load;
+    return dynamic ? SteppingKind::dynamic_states : SteppingKind::states;
+  return dynamic ? SteppingKind::dynamic : SteppingKind::static_load;
 }
 
 std::string stepping_kind_name(SteppingKind kind) {
@@ -17,6 +18,8 @@ std::string stepping_kind_name(SteppingKind kind) {
       return "dynamic";
     case SteppingKind::states:
       return "states";
+    case SteppingKind::dynamic_states:
+      return "dynamic_states";
     case SteppingKind::control:
       return "control";
   }

@@ -3,6 +3,8 @@
 #include "deck/cavity_sections.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
@@ -96,6 +98,64 @@ std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAM
     targets[name] = t;
   }
   return targets;
+}
+
+// A dynamic run's states: each one's time (the first's 0 unless given) on a time step, in
+// order, within the run, and a ramp of at least one time step after a step state.
+void check_state_times(const DeckReader& r, const YAML::Node& node,
+                       std::vector<StateConfig>& states, const TimeConfig& time) {
+  const int64_t last_step = static_cast<int64_t>(std::ceil(time.end_time / time.dt - 1e-9));
+  // A multiple of dt as people write it: 0.3, not 0.30000000000000004.
+  auto seconds = [](double t) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.12g", t);
+    return std::string(text);
+  };
+  for (size_t k = 0; k < states.size(); ++k) {
+    const std::string key = child_key(item_key("states", k), "time");
+    const YAML::Node at = node[k]["time"] ? node[k]["time"] : node[k];
+    if (!states[k].time) {
+      if (k > 0)
+        r.fail(key, at,
+               "required in a dynamic run after the first state: the time (s) at which the "
+               "state's values are reached");
+      states[k].time = 0.0;
+    }
+    const double t = *states[k].time;
+    require(t >= 0, r, at, key, "must be >= 0, got " + format_number(t));
+    const double steps = t / time.dt;
+    if (std::abs(steps - std::round(steps)) > 1e-6 * std::max(1.0, steps))
+      r.fail(key, at,
+             format_number(t) +
+                 " s is not on a time step (a multiple of time.dt = " + format_number(time.dt) +
+                 " s; the nearest are " + seconds(std::floor(steps) * time.dt) + " and " +
+                 seconds(std::ceil(steps) * time.dt) + ")");
+    if (t > time.end_time * (1 + 1e-12))
+      r.fail(key, at,
+             format_number(t) + " s is after time.end_time, " + format_number(time.end_time) +
+                 " s: the run never reaches it");
+    if (k > 0 && t < *states[k - 1].time)
+      r.fail(key, at,
+             format_number(t) + " s is before the previous state's time, " +
+                 format_number(*states[k - 1].time) + " s (" + item_key("states", k - 1) +
+                 "): states run in order");
+  }
+  const std::vector<int64_t> steps = state_time_steps(states, time.dt);
+  for (size_t k = 1; k < states.size(); ++k) {
+    const std::string key = child_key(item_key("states", k), "time");
+    const YAML::Node at = node[k]["time"];
+    if (steps[k] > last_step)
+      r.fail(key, at,
+             "equals the previous state's time, so the step is applied over the time step "
+             "after " +
+                 format_number(*states[k].time) + " s, past time.end_time (" +
+                 format_number(time.end_time) + " s): give a later time.end_time");
+    if (steps[k] <= steps[k - 1])
+      r.fail(key, at,
+             format_number(*states[k].time) + " s leaves its ramp no time step: " +
+                 item_key("states", k - 1) + " is a step applied over the time step up to " +
+                 seconds(static_cast<double>(steps[k - 1]) * time.dt) + " s; give a later time");
+  }
 }
 
 }  // namespace
@@ -204,7 +264,23 @@ const KeyTable<StateConfig>& state_keys() {
   static const KeyTable<StateConfig> keys = {
       text_key("name", &StateConfig::name, "name", "unique; names the state in the output")
           .needed(),
-      integer_key("steps", &StateConfig::steps, at_least(1), "increments of the state's ramp"),
+      integer_key("steps", &StateConfig::steps, at_least(1), "increments of the state's ramp")
+          .only(use_when<StateConfig>(
+              [](const StateConfig&, const Config& c) { return c.time.type != TimeType::dynamic; },
+              "not used when time.type is dynamic (the states' times and time.dt set the steps)",
+              "static/quasi-static")),
+      optional_number_key(
+          "time", &StateConfig::time,
+          "s: the time at which the state's values are reached, ramped linearly from the "
+          "previous state's time (from t = 0 for the first state) and held after the last "
+          "state until `time.end_time`. A time equal to the previous state's is a step, "
+          "applied over the time step after it; the first state at time 0 applies its values "
+          "from t = 0. On a time step (a multiple of `time.dt`), not before the previous "
+          "state's, at most `time.end_time`")
+          .only(use_when<StateConfig>(
+              [](const StateConfig&, const Config& c) { return c.time.type == TimeType::dynamic; },
+              "only used when time.type is dynamic", "dynamic"))
+          .defaults_to("0 in the first state; required in later ones"),
       custom_key<StateConfig>(
           "cavities", "map cavity: target", "none",
           "not in the first state. Each target is `{pressure: P}` (Pa) or `{added_volume: V}` "
@@ -274,7 +350,21 @@ std::vector<StateConfig> parse_states(const DeckReader& r, const YAML::Node& nod
                "duplicate state name '" + s.name + "' (also in " + item_key("states", j) + ")");
     states.push_back(s);
   }
+  if (c.time.type == TimeType::dynamic) check_state_times(r, node, states, c.time);
   return states;
+}
+
+std::vector<int64_t> state_time_steps(const std::vector<StateConfig>& states, double dt) {
+  std::vector<int64_t> steps;
+  for (size_t k = 0; k < states.size(); ++k) {
+    const double t = states[k].time.value_or(0.0);
+    if (k > 0 && t == states[k - 1].time.value_or(0.0))
+      steps.push_back(steps.back() + 1);
+    else
+      steps.push_back(std::llround(t / dt));
+  }
+  if (steps.empty()) steps.push_back(0);
+  return steps;
 }
 
 }  // namespace hs

@@ -194,7 +194,10 @@ struct CavityTarget {
 };
 struct StateConfig {
   std::string name;
-  int steps = 1;
+  int steps = 1;  // static and quasi-static runs
+  // Dynamic runs: the time (s) at which its values are reached (the first state's: 0 unless
+  // given; docs/decks.md, "Dynamic runs with cavities and cables").
+  std::optional<double> time;
   std::map<std::string, CavityTarget> cavities;  // by cavity name (its group)
 };
 

@@ -1,5 +1,5 @@
 // The deck's sections as the keys of its top-level map (deck/section_keys.hpp): what each
-// holds, how it is read and printed, and the sections a dynamic run has no use for.
+// holds, how it is read and printed, and the section a dynamic run has no use for (control).
 // Materials are read and printed here: the deck owns a material's group and density, the
 // registry of src/materials/ its model's keys.
 #include <filesystem>
@@ -101,15 +101,14 @@ void write_map(YAML::Emitter& out, const KeyTable<S>& table, const S& s, const C
   out << YAML::EndMap;
 }
 
-// Cavities, states and tip, cables and control belong to static and quasi-static runs: a
-// dynamic run has no states to step through and no constraint equations in its integrator.
+// Control belongs to static and quasi-static runs: its targets are equilibria. Cavities,
+// cables, states and tip run in dynamic runs too, the states as a schedule in time
+// (solvers/stepping/dynamic_states_stepper.hpp).
 KeyUse<Config> static_runs_only(const std::string& reason) {
   return use_when<Config>(
       [](const Config& c, const Config&) { return c.time.type != TimeType::dynamic; }, reason,
       "static and quasi-static runs only");
 }
-constexpr const char* kNeedsStatic =
-    "cavities and states need time.type static or quasi_static (time.type is dynamic)";
 
 }  // namespace
 
@@ -195,15 +194,13 @@ const KeyTable<Config>& deck_section_keys() {
           [](R r, N n, K, Config& s, const Config& c) { s.cavities = parse_cavities(r, n, c); },
           [](YAML::Emitter& out, const Config& c, const Config&) {
             write_list(out, c.cavities, cavity_keys(), c);
-          })
-          .only(static_runs_only(kNeedsStatic)),
+          }),
       custom_key<Config>(
           "cables", "list", "none", "tendons that pull the body",
           [](R r, N n, K, Config& s, const Config& c) { s.cables = parse_cables(r, n, c); },
           [](YAML::Emitter& out, const Config& c, const Config&) {
             write_list(out, c.cables, cable_keys(), c);
           })
-          .only(static_runs_only("cables need time.type static or quasi_static"))
           .printed_when([](const Config& c) { return !c.cables.empty(); }),
       custom_key<Config>(
           "time", "map", "static", "load or time stepping",
@@ -220,7 +217,6 @@ const KeyTable<Config>& deck_section_keys() {
           [](YAML::Emitter& out, const Config& c, const Config&) {
             write_list(out, c.states, state_keys(), c);
           })
-          .only(static_runs_only(kNeedsStatic))
           // An empty list is not a valid deck (one implicit state).
           .printed_when([](const Config& c) { return !c.states.empty(); }),
       custom_key<Config>(
@@ -234,7 +230,6 @@ const KeyTable<Config>& deck_section_keys() {
             out << YAML::Flow;
             write_map(out, tip_keys(), *c.tip, c);
           })
-          .only(static_runs_only(std::string("the tip is reported per state: ") + kNeedsStatic))
           .printed_when([](const Config& c) { return c.tip.has_value(); }),
       custom_key<Config>(
           "obstacles", "list", "none", "rigid bodies the body may touch (docs/contact.md)",

@@ -194,7 +194,8 @@ const KeyTable<OutputConfig>& output_keys() {
           "whichever comes first, and at the step where a signal stops the run; give one or "
           "both. The file holds the latest checkpoint only; `hydrosoft DECK --restart FOLDER` "
           "continues from it (docs/output.md, \"Checkpoints and restarts\"). Static, "
-          "quasi-static, dynamic, state (cavity, cable) and control decks (a control run counts "
+          "quasi-static, dynamic, state (cavity, cable; static or dynamic) and control decks (a "
+          "control run counts "
           "target sets as steps); refused with `--targets -` and, in a control deck with "
           "`free_solve: one_step`, with a hydraulic cavity's `coupling: linearized` "
           "(docs/control.md, \"Checkpoints and restarts\")",

@@ -1,9 +1,9 @@
 // Checkpoints and --restart (docs/output.md, "Checkpoints and restarts"): a run killed
 // (SIGKILL) or stopped (SIGTERM) after a checkpoint and restarted from it, on 1 rank and on
 // 2, ends with the displacements of an uninterrupted run to 1e-8 relative: static load
-// stepping, dynamics, and the states of a hydraulic cavity deck. A checkpoint of another deck
-// or other deck values, or one whose state was edited (a step past the deck's, a missing or
-// mistyped field), is refused before the output folder is touched.
+// stepping, dynamics, and the states of a hydraulic cavity deck, statically and in time. A
+// checkpoint of another deck or other deck values, or one whose state was edited (a step past the
+// deck's, a missing or mistyped field), is refused before the output folder is touched.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <signal.h>
@@ -36,6 +36,11 @@ const Case kDynamic{"dynamic", "cantilever_dynamic",
                     "--set mesh.order=1 --set time.dt=0.1 --set time.end_time=2.0 "
                     "--set output.every=1"};
 const Case kStates{"states", "cylinder_water", "--set states[1].steps=20"};
+// The water cylinder in dynamics: its weight ramps in, then 3 kPa, over 25 time steps.
+const Case kDynamicStates{"dynamic_states", "cylinder_water",
+                          "--set 'time={type: dynamic, dt: 0.002, end_time: 0.05}' "
+                          "--set 'states=[{name: rest, time: 0.02}, {name: inflated, time: "
+                          "0.04, cavities: {cavity: {pressure: 3000}}}]' --set output.every=1"};
 
 std::string command(const Case& c, const std::string& folder, const std::string& extra,
                     const std::string& err) {
@@ -101,7 +106,8 @@ TEST_P(Restart, AfterSigkillOrSigtermEndsAsAnUninterruptedRunOn1And2Ranks) {
             << ", 2 ranks after SIGTERM " << d2 << " (max |du| / max |u|)" << std::endl;
 }
 
-INSTANTIATE_TEST_SUITE_P(Decks, Restart, ::testing::Values(kStatic, kDynamic, kStates),
+INSTANTIATE_TEST_SUITE_P(Decks, Restart,
+                         ::testing::Values(kStatic, kDynamic, kStates, kDynamicStates),
                          [](const auto& info) { return info.param.name; });
 
 TEST(RestartRefused, ACheckpointOfAnotherDeckOrOtherValues) {
@@ -250,6 +256,16 @@ TEST(RestartRefused, ATamperedCheckpointNamesTheFieldBeforeAnyWork) {
         "position.step: must be an integer from 1 to 10 (this deck's time steps), got 11"},
        {"time", [](auto& s) { s["position"]["time"] = 5; },
         "position.time: must be step 9 times time.dt, 0.9, got 5"}});
+  // A dynamic state deck's: the state must be its time step's (24 of 25: the second state).
+  const std::string in_time = (tmp.path() / "dynamic_states").string();
+  ASSERT_EQ(run(command(kDynamicStates, in_time, kCheckpoints, err)), 0) << text_of(err);
+  expect_refused(
+      kDynamicStates, "", in_time + "/checkpoint.h5",
+      {{"state", [](auto& s) { s["position"]["state"] = 0; },
+        "position.state: must be 1, the state of time step 24 in this deck"},
+       {"ramps", [](auto& s) { s["position"].erase("ramps"); }, "position.ramps: missing"},
+       {"work", [](auto& s) { s["position"]["work"] = nlohmann::json::array(); },
+        "position.work: must have 1 entries (this deck's cavities and cables), has 0"}});
 }
 
 }  // namespace test_restart

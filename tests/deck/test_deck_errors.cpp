@@ -467,12 +467,36 @@ TEST_F(DeckErrors, StateTargets) {
 }
 
 TEST_F(DeckErrors, CavitiesAndStatesAgainstTime) {
+  // A dynamic run's states are a schedule in time (docs/decks.md, "Dynamic runs with cavities
+  // and cables"): each at a time on a time step, in order, within the run.
   const std::string dynamic = "time: {type: dynamic, dt: 0.1, end_time: 1}\n";
-  const std::string need = "cavities and states need time.type static or quasi_static";
+  const std::string two = cavity("group: c") + dynamic + "states:\n  - {name: rest}\n";
+  auto second = [&](const std::string& fields) {
+    return two + "  - {name: up, " + fields + ", cavities: {c: {pressure: 1}}}\n";
+  };
   expect_errors({
-      {cavity("group: c") + dynamic, "cavities", need},
-      {kBase + dynamic + "states: [{name: rest}]\n", "states", need},
-      {kBase + dynamic + "tip: {group: tip}\n", "tip", need},
+      {second("steps: 3"), "states[1].steps", "not used when time.type is dynamic"},
+      {two + "  - {name: up, cavities: {c: {pressure: 1}}}\n", "states[1].time",
+       "required in a dynamic run after the first state"},
+      {second("time: 0.25"), "states[1].time",
+       "0.25 s is not on a time step (a multiple of time.dt = 0.1 s; the nearest are 0.2 and "
+       "0.3)"},
+      {second("time: -0.1"), "states[1].time", "must be >= 0, got -0.1"},
+      {second("time: 1.5"), "states[1].time", "1.5 s is after time.end_time, 1 s"},
+      {cavity("group: c") + dynamic + "states:\n  - {name: rest, time: 0.5}\n" +
+           "  - {name: up, time: 0.3, cavities: {c: {pressure: 1}}}\n",
+       "states[1].time", "0.3 s is before the previous state's time, 0.5 s (states[0])"},
+      {cavity("group: c") + dynamic + "states:\n  - {name: rest, time: 1}\n" +
+           "  - {name: up, time: 1, cavities: {c: {pressure: 1}}}\n",
+       "states[1].time", "past time.end_time (1 s): give a later time.end_time"},
+      {two + "  - {name: up, time: 0.3, cavities: {c: {pressure: 1}}}\n" +
+           "  - {name: down, time: 0.3, cavities: {c: {pressure: 0}}}\n" +
+           "  - {name: again, time: 0.4, cavities: {c: {pressure: 1}}}\n",
+       "states[3].time",
+       "0.4 s leaves its ramp no time step: states[2] is a step applied over the time step up "
+       "to 0.4 s"},
+      {cavity("group: c") + "states: [{name: rest, time: 0}]\n", "states[0].time",
+       "only used when time.type is dynamic"},
       {kBase + "time: {steps: 3}\nstates: [{name: rest, steps: 3}]\n", "time.steps",
        "not used when states are given (the first state's steps replace it)"},
       {kBase + "time: {type: quasi_static, schedule: [0.5, 1]}\nstates: [{name: rest}]\n",

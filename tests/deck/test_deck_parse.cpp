@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "deck/cavity_sections.hpp"
 #include "deck/deck.hpp"
 #include "materials/gent.hpp"
 #include "materials/mooney_rivlin.hpp"
@@ -831,8 +832,8 @@ TEST(RepositoryDecks, AllParseAndRoundTrip) {
 }
 
 // The examples of docs/decks.md are valid decks: the cavity example, the cables and the
-// obstacles sections (each with the control example), the control example, and the complete
-// example, also with its dynamic time section.
+// obstacles sections (each with the control example), the dynamic states example, the control
+// example, and the complete example, also with its dynamic time section.
 TEST(DocumentedExample, Parses) {
   std::ifstream in(std::string(HYDROSOFT_SOURCE_DIR) + "/docs/decks.md");
   std::stringstream text;
@@ -844,7 +845,7 @@ TEST(DocumentedExample, Parses) {
     const size_t end = doc.find(close, at);
     blocks.push_back(doc.substr(at, end - at));
   }
-  ASSERT_EQ(blocks.size(), 6u);
+  ASSERT_EQ(blocks.size(), 7u);
   TempFolder tmp;
   tmp.write("meshes/lame_sphere.geo", "");
   tmp.write("meshes/cylinder.geo", "");
@@ -854,6 +855,14 @@ TEST(DocumentedExample, Parses) {
   ASSERT_EQ(cavity.states.size(), 2u);
   EXPECT_EQ(cavity.states[1].cavities.at("cavity").added_volume, 1.5e-5);
   EXPECT_EQ(cavity.time.steps, 4);
+  // The dynamic states example, a deck too: a ramp, then a step at the same time.
+  const Config in_time = parse_deck(tmp.write("input/dynamic.yaml", blocks[1]));
+  ASSERT_EQ(in_time.states.size(), 3u);
+  EXPECT_EQ(in_time.states[0].time, 0.0);
+  EXPECT_EQ(in_time.states[1].time, 0.1);
+  EXPECT_EQ(in_time.states[2].time, 0.1);
+  EXPECT_EQ(state_time_steps(in_time.states, in_time.time.dt), (std::vector<int64_t>{0, 200, 201}));
+  blocks.erase(blocks.begin() + 1);
   // The cables example is a section: it joins the control example's deck.
   const std::string cables = blocks[1], obstacles = blocks[2];
   blocks.erase(blocks.begin() + 1, blocks.begin() + 3);
