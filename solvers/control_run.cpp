@@ -9,6 +9,7 @@
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "control/target_line.hpp"
+#include "solvers/output/result_recorder.hpp"
 #include "solvers/progress.hpp"
 
 namespace hs {
@@ -237,6 +238,8 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
   };
   pending_ = nlohmann::json::array();
   pending_line_ = line_number;
+  const nlohmann::json contact =  // the obstacles' forces where the set's answer left the body
+      problem_.contact() ? contact_json(problem_, u, 1.0) : nlohmann::json();
   for (const auto& target : targets) {
     const int e = effectors_.index(target.effector);
     nlohmann::json j;
@@ -261,6 +264,7 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
       j["free_step_m"] = r.free_step_m;
     }
     if (r.negative_pivots >= 0) j["negative_pivots"] = r.negative_pivots;
+    if (!contact.is_null()) j["contact"] = contact;
     std::string fallback = r.fallback;
     if (!r.background_failure.empty())
       fallback =

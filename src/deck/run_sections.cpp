@@ -115,7 +115,9 @@ const KeyTable<SolverConfig>& solver_keys() {
       enum_key(
           "preset", &SolverConfig::preset, kSolverPresetNames,
           "a starting set of PETSc options: `mumps` (direct MUMPS: L D L^T when the tangent is "
-          "symmetric, i.e. no `loads.pressure` on an open surface, LU otherwise) or `gamg` "
+          "symmetric, i.e. no `loads.pressure` on an open surface, LU otherwise; a "
+          "nodal-pressure body's tangent through its mixed system, `pc_type: hs_mixed`, "
+          "docs/formulation.md) or `gamg` "
           "(algebraic multigrid inside CG when the tangent is symmetric and positive definite, "
           "i.e. linear laws without pressure stiffness, MINRES when it is symmetric but may be "
           "indefinite, GMRES otherwise). Newton takes full steps (`snes_linesearch_type: "

@@ -334,6 +334,13 @@ TEST(ObstacleContact, TheControllerSteersAFingerThatTouchesABall) {
   EXPECT_GT(targets[1]["reached"][2].get<double>(), -0.004 + 1e-4);  // held up by the ball
   EXPECT_LT(obstacle_force(s, 0)[2], -0.1);
   EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
+  // Each answer carries the obstacles' forces where it left the body: the last one's are the
+  // run's end, and the first target's pressure pushes the ball less than the bound's.
+  for (int d = 0; d < 3; ++d)
+    EXPECT_DOUBLE_EQ(targets[1]["contact"]["obstacles"][0]["force_N"][d].get<double>(),
+                     obstacle_force(s, 0)[d]);
+  EXPECT_GT(targets[0]["contact"]["obstacles"][0]["force_N"][2].get<double>(),
+            obstacle_force(s, 0)[2]);
 }
 
 TEST(ObstacleContact, ADroppedBlockLandsAndBackwardEulerTakesItsEnergy) {
