@@ -47,6 +47,8 @@ nlohmann::json final_summary(RunSetup& run, const Stepper& stepper, const nlohma
     summary["reactions_N"] = reactions_json(*run.problem, run.u, load_factor);
   if (run.problem->contact()) summary["contact"] = contact_json(*run.problem, run.u, load_factor);
   stepper.add_summary(summary);
+  // The obstacles' forces beside the constraints' in the run's end state, in any kind of run.
+  if (run.problem->contact()) summary["end_of_run"]["contact"] = summary["contact"]["obstacles"];
   summary["time_s"]["total"] = MPI_Wtime() - run.t_start;
   return summary;
 }

@@ -96,6 +96,7 @@ TEST(ObstacleContact, APressedBlockTakesTheUniaxialForceOfItsCompression) {
   EXPECT_NEAR(f[2], -F, 1e-8 * F);
   EXPECT_NEAR(f[0], 0, 1e-10 * F);
   EXPECT_NEAR(-kappa * hs::contact_barrier(gap, dhat).slope, F / A, 1e-6 * F / A);
+  EXPECT_EQ(s["end_of_run"]["contact"], s["contact"]["obstacles"]);  // a static run's too
   // The same force, to Newton's tolerance (1e-8 of the first residual).
   EXPECT_NEAR(s["reactions_N"]["top"][2].get<double>(), f[2], 1e-7 * F);
   EXPECT_NEAR(s["contact"]["obstacles"][0]["area_m2"].get<double>(), A, 1e-12);
@@ -336,6 +337,8 @@ TEST(ObstacleContact, TheControllerSteersAFingerThatTouchesABall) {
   EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
   // Each answer carries the obstacles' forces where it left the body: the last one's are the
   // run's end, and the first target's pressure pushes the ball less than the bound's.
+  EXPECT_EQ(s["end_of_run"]["contact"], s["contact"]["obstacles"]);
+  EXPECT_TRUE(s["end_of_run"].contains("cavities"));
   for (int d = 0; d < 3; ++d)
     EXPECT_DOUBLE_EQ(targets[1]["contact"]["obstacles"][0]["force_N"][d].get<double>(),
                      obstacle_force(s, 0)[d]);
