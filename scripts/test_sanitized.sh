@@ -1,27 +1,31 @@
 #!/usr/bin/env bash
 # The tests built with AddressSanitizer and UndefinedBehaviorSanitizer in build-sanitize/ (or
-# $SANITIZE_BUILD_DIR) and run. `scripts/test_sanitized.sh` (CI) runs the slice: the serial
-# tests, the fluid-weight module's, those labelled `slice` (the paths that read untrusted input,
-# tests/CMakeLists.txt) and a slice of the fuzz sample on the sanitized executable.
+# $SANITIZE_BUILD_DIR) and run. `scripts/test_sanitized.sh` (CI) runs the slice: those labelled
+# `slice` (the paths that read untrusted input, tests/CMakeLists.txt), the fluid-weight
+# module's, the serial tests of the three concerns whose code changed most lately
+# (scripts/changed_concerns.sh; $SLICE_CONCERNS, a CMake list or `all`, overrides) and a slice
+# of the fuzz sample on the sanitized executable.
 # `scripts/test_sanitized.sh full` (before a release) runs every test: the MPI ones on 1 and 2
 # ranks (the distribution's on 3 and 4 too) and all that run the executable. Any sanitizer
 # report fails (docs/reliability.md, "Sanitizers").
 set -euo pipefail
 SCOPE=${1:-slice}
+cd "$(dirname "$0")/.."
 case $SCOPE in
-  slice) TARGET=slice_tests TESTS=slice MPI_TESTS=(-L slice -E '_np1$') FUZZ_CASES=20 ;;
+  slice) TARGET=slice_tests TESTS=slice MPI_TESTS=(-L slice -LE serial -E '_np1$') FUZZ_CASES=20
+    CONCERNS=${SLICE_CONCERNS:-$(bash scripts/changed_concerns.sh)} ;;
   full) TARGET=all_tests TESTS=all MPI_TESTS=(-L 'mpi|app' -E 'mpi_test_mesh_distribute_np[34]')
-    FUZZ_CASES=50 ;;
+    FUZZ_CASES=50 CONCERNS=all ;;
   *) echo "usage: $0 [slice|full]" >&2 && exit 2 ;;
 esac
-cd "$(dirname "$0")/.."
+echo "test_sanitized.sh: $SCOPE; serial test programs built whole: $CONCERNS"
 bash scripts/install_deps.sh
 BUILD_DIR=${SANITIZE_BUILD_DIR:-build-sanitize}
 # -O1, not Release's -O3: the sanitizers' instrumentation made -O3 compile 3.3 times as long
 # as the plain build, -O1 1.4 times (docs/reliability.md, "Sanitizers"); NDEBUG as shipped.
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DHYDROSOFT_SANITIZE=address,undefined \
   -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" -DCMAKE_C_FLAGS_RELEASE="-O1 -DNDEBUG" \
-  -DFLUIDWEIGHT_CUDA=OFF -DHYDROSOFT_TEST_SCOPE="$TESTS"
+  -DFLUIDWEIGHT_CUDA=OFF -DHYDROSOFT_TEST_SCOPE="$TESTS" -DHYDROSOFT_SLICE_CONCERNS="$CONCERNS"
 cmake --build "$BUILD_DIR" -j "$(nproc)" --target "$TARGET"
 BUILD_DIR=$(cd "$BUILD_DIR" && pwd)
 SOURCE_DIR=$PWD
@@ -46,7 +50,7 @@ run_ctest() {
   if grep -n "runtime error:" Testing/Temporary/LastTest.log; then failed=1; fi
 }
 export ASAN_OPTIONS=$ASAN_COMMON
-run_ctest -L serial
+run_ctest -L serial  # what the scope built: in the slice, the untrusted input's and the chosen concerns'
 run_ctest -R '^fluidweight_test_' -E '^fluidweight_test_cuda$'
 # Where MPI runs, the whole stack of each allocation: Open MPI unloads its components in
 # MPI_Finalize, so the frames of an allocation made in one cannot be named when LeakSanitizer
