@@ -1,7 +1,5 @@
 #include "solvers/stepping/dynamic_states_stepper.hpp"
 
-#include <petscksp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,7 +7,6 @@
 #include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "deck/cavity_sections.hpp"
-#include "solvers/solver_options.hpp"
 #include "solvers/stepping/states_stepper.hpp"
 
 namespace hs {
@@ -25,17 +22,10 @@ DynamicStatesStepper::DynamicStatesStepper(const Config& config, Problem& proble
       recorder_(recorder),
       plans_(plan_states(config)),
       ends_(state_time_steps(config.states, config.time.dt)),
-      nsteps_(static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9))) {
-  {
-    // The mass matrix reads the mass solve's options, as DynamicStepper's does.
-    const SolverOptions options(kMassPrefix, config.solver, {},
-                                SolverOptions::Reach::own_prefix_only);
-    const OptionsScope scope(options.database());
-    inertia_.M = MatHandle(problem.create_mass_matrix());
-  }
-  for (VecHandle* v : {&v_, &a_, &a_new_, &R_, &inertia_.u_pred, &Mv_, &f_loads_, &f_loads_new_,
-                       &u_old_, &scratch_, &g_})
-    *v = VecHandle(problem.create_vector());  // zeroed: v(0) = 0
+      nsteps_(static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9))),
+      integrator_(config, problem) {
+  for (VecHandle* v : {&R_, &Mv_, &f_loads_, &f_loads_new_, &u_old_, &scratch_, &g_})
+    *v = VecHandle(problem.create_vector());
   const int m = constraints.size();
   work_.assign(m, 0.0);
   // The schedule's values at t = 0: the first state's, where its time is 0, else its start.
@@ -75,8 +65,8 @@ void DynamicStatesStepper::other_loads(Vec u, double s, Vec f) {
 
 void DynamicStatesStepper::balance(Vec u) {
   problem_.internal_force(u, scratch_, &stored_);
-  HS_PETSC(MatMult(inertia_.M, v_, Mv_));
-  HS_PETSC(VecDot(v_, Mv_, &kinetic_));
+  HS_PETSC(MatMult(integrator_.mass(), integrator_.velocity(), Mv_));
+  HS_PETSC(VecDot(integrator_.velocity(), Mv_, &kinetic_));
   kinetic_ *= 0.5;
   double work = work_loads_;
   for (double w : work_) work += w;
@@ -86,26 +76,11 @@ void DynamicStatesStepper::balance(Vec u) {
 
 void DynamicStatesStepper::start(Vec u) {
   // Initial acceleration from M a0 = -(f_int(u0) - f_ext(u0)), the constraints' forces at the
-  // schedule's t = 0 included: CG on the mass matrix, as DynamicStepper's.
+  // schedule's t = 0 included.
   problem_.apply_dirichlet(u, s_);
   std::vector<double> control;
   constraints_.residual(u, s_, R_, control);
-  const SolverOptions options(kMassPrefix, config_.solver, {},
-                              SolverOptions::Reach::own_prefix_only);
-  KspHandle mass_solver;
-  HS_PETSC(KSPCreate(problem_.comm(), mass_solver.out()));
-  options.attach(reinterpret_cast<PetscObject>(mass_solver.get()));
-  HS_PETSC(KSPSetOptionsPrefix(mass_solver, kMassPrefix));
-  HS_PETSC(KSPSetOperators(mass_solver, inertia_.M, inertia_.M));
-  HS_PETSC(KSPSetType(mass_solver, KSPCG));
-  PC pc;
-  HS_PETSC(KSPGetPC(mass_solver, &pc));
-  HS_PETSC(PCSetType(pc, PCJACOBI));
-  HS_PETSC(KSPSetTolerances(mass_solver, 1e-12, 1e-30, PETSC_DEFAULT, 1000));
-  const OptionsScope scope(options.database());
-  HS_PETSC(KSPSetFromOptions(mass_solver));
-  HS_PETSC(KSPSolve(mass_solver, R_, a_));
-  HS_PETSC(VecScale(a_, -1.0));
+  integrator_.start(R_);
   other_loads(u, s_, f_loads_);
   for (int c = 0; c < constraints_.size(); ++c) measure_[c] = constraints_[c].measure();
   balance(u);
@@ -135,9 +110,7 @@ void DynamicStatesStepper::output_written(int step) {
 
 std::optional<StepReport> DynamicStatesStepper::advance(Vec u) {
   if (!started_) start(u);
-  const TimeConfig& time = config_.time;
-  const bool newmark = time.integrator == Integrator::newmark;
-  const double dt = time.dt, beta = time.newmark_beta, gamma = time.newmark_gamma;
+  const double dt = config_.time.dt;
   const int n = n_ + 1;
   // The state this step ramps towards: the next one once the current one's time has passed.
   if (n > ends_[k_] && k_ + 1 < plans_.size()) {
@@ -151,18 +124,10 @@ std::optional<StepReport> DynamicStatesStepper::advance(Vec u) {
   HS_PETSC(VecCopy(u, u_old_));
   problem_.apply_dirichlet(u, s);
   if (constraints_.linearized()) constraints_.freeze_weights(u, s);
-  // The problem carries the inertia during the step's solve only, and lets go of it on every
-  // way out (a failed step leaves by an exception).
-  struct Inertia {
-    Problem& problem;
-    Inertia(Problem& p, const InertiaTerm* term) : problem(p) { problem.set_inertia(term); }
-    ~Inertia() { problem.set_inertia(nullptr); }
-  } inertia(problem_, &inertia_);
-  // u_pred = u + dt v + dt^2 (1/2 - beta) a (Newmark), u + dt v (backward Euler); the step
-  // solves c M (u - u_pred) + f_int(u) - f_ext(u, lambda) = 0 with the constraints' controls.
-  HS_PETSC(VecWAXPY(inertia_.u_pred, dt, v_, u_old_));
-  if (newmark) HS_PETSC(VecAXPY(inertia_.u_pred, dt * dt * (0.5 - beta), a_));
-  inertia_.c = newmark ? 1 / (beta * dt * dt) : 1 / (dt * dt);
+  // The step solves c M (u - u_pred) + f_int(u) - f_ext(u, lambda) = 0 with the constraints'
+  // controls (time_integrator.hpp).
+  const TimeIntegrator::Scope inertia(integrator_);
+  integrator_.predict(u_old_);
   const NewtonResult r = solver_.solve(u, s);
   stats_.newton_iterations += r.iterations;
   stats_.linear_iterations += r.linear_iterations;
@@ -173,16 +138,7 @@ std::optional<StepReport> DynamicStatesStepper::advance(Vec u) {
     fail_step(problem_, n, where, newton_failure(r) + plan.failure_note(constraints_));
   ++stats_.steps;
   s_ = s;
-  // a_new = c (u - u_pred); v += dt ((1 - gamma) a + gamma a_new) or dt a_new.
-  HS_PETSC(VecWAXPY(a_new_, -1.0, inertia_.u_pred, u));
-  HS_PETSC(VecScale(a_new_, inertia_.c));
-  if (newmark) {
-    HS_PETSC(VecAXPY(v_, dt * (1 - gamma), a_));
-    HS_PETSC(VecAXPY(v_, dt * gamma, a_new_));
-  } else {
-    HS_PETSC(VecAXPY(v_, dt, a_new_));
-  }
-  HS_PETSC(VecCopy(a_new_, a_));
+  integrator_.update(u);
   // The work of this step, by the trapezoidal rule: the loads' forces over du, the
   // multipliers over dq. The solver's last residual was at u: the constraints hold its values.
   other_loads(u, s, f_loads_new_);
@@ -249,7 +205,9 @@ nlohmann::json DynamicStatesStepper::position() const {
 }
 
 NamedVecs DynamicStatesStepper::checkpoint_fields(Vec u) const {
-  return {{"displacement", u}, {"velocity", v_}, {"acceleration", a_}};
+  return {{"displacement", u},
+          {"velocity", integrator_.velocity()},
+          {"acceleration", integrator_.acceleration()}};
 }
 
 void DynamicStatesStepper::resume(const Restart& restart, Vec u) {
@@ -257,8 +215,8 @@ void DynamicStatesStepper::resume(const Restart& restart, Vec u) {
   n_ = p.at("step");
   k_ = p.at("state");
   restart.read("displacement", problem_, u);
-  restart.read("velocity", problem_, v_);
-  restart.read("acceleration", problem_, a_);
+  restart.read("velocity", problem_, integrator_.velocity());
+  restart.read("acceleration", problem_, integrator_.acceleration());
   restore_constraint_states(constraints_, p.at("constraints"));
   plans_[k_].resume_ramps(p.at("ramps"), constraints_);
   states_ = p.at("states");
@@ -276,8 +234,8 @@ void DynamicStatesStepper::resume(const Restart& restart, Vec u) {
     measure_[c] = constraints_[c].measure();
   }
   problem_.internal_force(u, scratch_, &stored_);
-  HS_PETSC(MatMult(inertia_.M, v_, Mv_));
-  HS_PETSC(VecDot(v_, Mv_, &kinetic_));
+  HS_PETSC(MatMult(integrator_.mass(), integrator_.velocity(), Mv_));
+  HS_PETSC(VecDot(integrator_.velocity(), Mv_, &kinetic_));
   kinetic_ *= 0.5;
   started_ = true;
 }

@@ -22,6 +22,7 @@
 #include "solvers/stepping.hpp"
 #include "solvers/stepping/state_plan.hpp"
 #include "solvers/stepping/stepper.hpp"
+#include "solvers/stepping/time_integrator.hpp"
 
 namespace hs {
 
@@ -74,8 +75,8 @@ class DynamicStatesStepper : public Stepper {
   size_t k_ = 0;  // the current state
   bool started_ = false;
   double s_ = 0;  // the load factor of the last step (of t = 0 before the first)
-  InertiaTerm inertia_;
-  VecHandle v_, a_, a_new_, R_, Mv_, f_loads_, f_loads_new_, u_old_, scratch_, g_;
+  TimeIntegrator integrator_;
+  VecHandle R_, Mv_, f_loads_, f_loads_new_, u_old_, scratch_, g_;
   // The energy balance: the last step's kinetic and stored energy, the work of the loads and of
   // each constraint so far, and the constraints' multipliers and measures at the last step.
   double kinetic_ = 0, stored_ = 0, work_loads_ = 0;

@@ -8,6 +8,7 @@
 #include "solvers/petsc_handle.hpp"
 #include "solvers/stepping.hpp"
 #include "solvers/stepping/stepper.hpp"
+#include "solvers/stepping/time_integrator.hpp"
 
 namespace hs {
 
@@ -40,8 +41,8 @@ class DynamicStepper : public Stepper {
   int nsteps_ = 0;
   int n_ = 0;  // time steps done
   bool started_ = false;
-  InertiaTerm inertia_;
-  VecHandle v_, a_, a_new_, R_, Mv_, f_ext_, scratch_;
+  TimeIntegrator integrator_;
+  VecHandle R_, Mv_, f_ext_, scratch_;
 };
 
 }  // namespace hs
