@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "../mpi_test_decks.hpp"
 #include "../mpi_test_folder.hpp"
 #include "deck/deck.hpp"
 #include "solvers/simulation.hpp"
@@ -28,12 +29,7 @@ inline nlohmann::json run_deck(const std::string& deck, std::vector<std::string>
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (comm != MPI_COMM_WORLD)
     return rank == 0 ? hs::run_simulation(hs::parse_deck(path, overrides), comm) : nlohmann::json();
-  std::string text = hs::run_simulation(hs::parse_deck(path, overrides), comm).dump();
-  int n = static_cast<int>(text.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  text.resize(n);
-  MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-  return nlohmann::json::parse(text);
+  return shared(hs::run_simulation(hs::parse_deck(path, overrides), comm));
 }
 
 }  // namespace hs_test
