@@ -20,7 +20,7 @@ BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints,
                SolverOptions::Reach::every_object),
       system_(problem, constraints, BorderedSystem::Order::per_constraint) {
   const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
-  J_ = MatHandle(problem.create_matrix());
+  J_ = MatHandle(problem.create_matrix(options_.factors_mixed()));
   R_ = VecHandle(problem.create_vector());
   HS_PETSC(VecDuplicate(R_, du_.out()));
   HS_PETSC(VecDuplicate(R_, u_trial_.out()));

@@ -47,7 +47,7 @@ InverseController::InverseController(const Config& config, Problem& problem,
   }
   {
     const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
-    J_ = MatHandle(problem.create_matrix());
+    J_ = MatHandle(problem.create_matrix(options_.factors_mixed()));
     HS_PETSC(KSPCreate(problem.comm(), ksp_.out()));
     options_.attach(reinterpret_cast<PetscObject>(ksp_.get()));
     HS_PETSC(KSPSetOptionsPrefix(ksp_, kControlPrefix));

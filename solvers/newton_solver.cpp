@@ -21,7 +21,7 @@ NewtonSolver::NewtonSolver(Problem& problem, const SolverConfig& solver, Tangent
       options_(kNewtonPrefix, solver, newton_presets(problem, solver, tangent),
                SolverOptions::Reach::every_object) {
   const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
-  J_ = MatHandle(problem.create_matrix());
+  J_ = MatHandle(problem.create_matrix(options_.factors_mixed()));
   R_ = VecHandle(problem.create_vector());
   if (!options_.get_unprefixed_bool("hs_near_null_space", true))
     HS_PETSC(MatSetNearNullSpace(J_, nullptr));

@@ -57,9 +57,9 @@ class Problem {
   Vec create_vector() const { return dofs_.create_vector(comm_); }  // ghosted, zeroed
   // The tangent's matrix: its pattern given once by coordinates (tangent_entries), the
   // near-null space attached. After the first one, no cavity surface or coupling may be added.
-  // With a nodal-pressure body, the tangent's mixed system (solvers/mixed_factor.hpp) is
-  // composed on it and filled with it.
-  Mat create_matrix();
+  // With `mixed` and a nodal-pressure body, the tangent's mixed system
+  // (solvers/mixed_factor.hpp) is composed on it and filled with it.
+  Mat create_matrix(bool mixed = false);
   Mat create_mass_matrix();
   bool has_nodal_pressure() const { return nodal_ != nullptr; }
 

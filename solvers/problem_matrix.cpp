@@ -66,9 +66,9 @@ void Problem::fill_constraint_entries(PetscScalar* value) const {
   for (const auto& block : coupling_values_) value = std::copy(block.begin(), block.end(), value);
 }
 
-Mat Problem::create_matrix() {
+Mat Problem::create_matrix(bool mixed) {
   MatHandle A(create_pattern_matrix());  // the caller's once returned
-  if (nodal_) {
+  if (nodal_ && mixed) {
     MatHandle mixed(create_mixed_matrix());
     HS_PETSC(PetscObjectCompose(reinterpret_cast<PetscObject>(A.get()), kMixedTangentKey,
                                 reinterpret_cast<PetscObject>(mixed.get())));

@@ -249,6 +249,16 @@ double SolverOptions::get_real(const std::string& name, double fallback) const {
   return value;
 }
 
+std::string SolverOptions::get_string(const std::string& name, const std::string& fallback) const {
+  char value[256];
+  PetscBool set = PETSC_FALSE;
+  HS_PETSC(
+      PetscOptionsGetString(db_, prefix_.c_str(), ("-" + name).c_str(), value, sizeof value, &set));
+  return set ? std::string(value) : fallback;
+}
+
+bool SolverOptions::factors_mixed() const { return get_string("pc_type", "") == kMixedFactorType; }
+
 bool SolverOptions::get_bool(const std::string& name, bool fallback) const {
   PetscBool value = fallback ? PETSC_TRUE : PETSC_FALSE;
   HS_PETSC(PetscOptionsGetBool(db_, prefix_.c_str(), ("-" + name).c_str(), &value, nullptr));

@@ -80,6 +80,10 @@ class SolverOptions {
   PetscInt get_int(const std::string& name, PetscInt fallback) const;
   double get_real(const std::string& name, double fallback) const;
   bool get_bool(const std::string& name, bool fallback) const;
+  std::string get_string(const std::string& name, const std::string& fallback) const;
+  // Whether the object's tangent is factored through its mixed system (pc_type hs_mixed,
+  // solvers/mixed_factor.hpp): its matrix then needs that system beside it.
+  bool factors_mixed() const;
   // An option read without the object's prefix (-hs_near_null_space): the command line's, or
   // else the deck's, as the global database held it before objects had their own.
   bool get_unprefixed_bool(const std::string& name, bool fallback) const;

@@ -116,7 +116,7 @@ TEST(MixedFactor, SolvesTheAssembledTangent) {
   const hs::VecHandle u(problem.create_vector());
   fill_random(u, 0.01, 3);
   problem.apply_dirichlet(u, 0.7);
-  const hs::MatHandle J(problem.create_matrix());
+  const hs::MatHandle J(problem.create_matrix(true));
   ASSERT_TRUE(problem.jacobian(u, 0.7, J));
   expect_same_solutions(J, "static");
 
