@@ -154,7 +154,7 @@ TEST(Cables, ControllerFindsTheTensionOfAForwardRun) {
   CableScene s(10.0);
   const double tension = 0.6;  // N
   const auto target = s.forward(tension);
-  ASSERT_LT(target[2], -0.015);  // the tendon curls the finger down, below its rest
+  ASSERT_LT(target[2], -0.0135);  // the tendon curls the finger down, below its rest (-12.7 mm)
   const hs::ControlStepReport r = s.drive(target, 8);
   EXPECT_LT(r.error, 1e-4);
   EXPECT_NEAR(r.actuation[0], tension, 1e-3 * tension);
