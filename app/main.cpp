@@ -151,12 +151,26 @@ void report_unused(const std::vector<std::string>& names) {
   }
 }
 
-// What the deck asks that runs but costs accuracy: a locking element (one line per material).
+// What the deck asks that runs but costs accuracy: a locking element (one line per material),
+// or a real-time mode measured not to hold on a nearly incompressible body (docs/stiff_cases.md,
+// "The shipped silicone decks at silicone's nu").
 void print_deck_warnings(const hs::Config& config) {
-  for (size_t i = 0; i < config.materials.size(); ++i)
+  bool nodal_pressure = false;
+  for (size_t i = 0; i < config.materials.size(); ++i) {
+    nodal_pressure |= config.materials[i].element == hs::ElementFormulation::nodal_pressure;
     if (!config.materials[i].formulation_warning.empty())
       std::cerr << "hydrosoft: warning: materials[" << i << "] (group " << config.materials[i].group
                 << "): " << config.materials[i].formulation_warning << std::endl;
+  }
+  const auto& control = config.control;
+  if (nodal_pressure && control && control->free_solve == hs::FreeSolve::one_step &&
+      (control->refactor_every > 1 || control->factor_threads > 0))
+    std::cerr << "hydrosoft: warning: control."
+              << (control->refactor_every > 1 ? "refactor_every > 1" : "factor_threads > 0")
+              << " on a nodal-pressure body: its stale or background factorizations did not "
+                 "track targets at nu 0.4995 (errors of 1 to 3 mm on the hydraulic finger; "
+                 "docs/stiff_cases.md); refactor_every: 1 without factor_threads did"
+              << std::endl;
 }
 
 // --check: the deck validated and printed resolved, its mesh loaded (or meshed) and its groups
