@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "contact/triangle_surface.hpp"
+
 namespace hs {
 namespace {
 
@@ -70,6 +72,8 @@ SignedDistance signed_distance(const ObstacleShape& o, const Point& x, double s)
     }
     case ObstacleType::box:
       return box_distance(x - shift, vec(o.center), 0.5 * vec(o.size));
+    case ObstacleType::surface:
+      return o.surface ? o.surface->distance(x - shift) : SignedDistance{};
   }
   return {};
 }
