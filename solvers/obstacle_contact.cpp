@@ -35,27 +35,6 @@ double triangle_area(const std::vector<double>& X, const int32_t* nodes) {
   return 0.5 * (b - a).cross(c - a).norm();
 }
 
-// How far along x + t step (t <= 1) a node can go with a gap of at least a tenth of its gap
-// d0 to a surface obstacle, which need not be convex: no point of the surface is nearer x
-// than its unsigned distance, so a move shorter than that cannot reach it. Advanced by that
-// bound again and again (conservative advancement), it stops where the gap nears a tenth of
-// d0: at once for a node moving straight at a face (the plane's own bound), after a few
-// queries for one that slides along the surface or leaves it.
-double surface_advance(const ObstacleShape& o, const Eigen::Vector3d& x,
-                       const Eigen::Vector3d& step, double s, double d0) {
-  const double length = step.norm(), keep = 0.1 * d0;
-  if (!(length > 0)) return 1;
-  double t = 0, gap = d0;
-  for (int k = 0; k < 32 && t < 1; ++k) {
-    const double advance = (gap - keep) / length;
-    if (advance <= 1e-3 * (gap / length)) break;  // within a thousandth of the keep gap
-    t += advance;
-    if (t >= 1) return 1;
-    gap = std::abs(signed_distance(o, x + t * step, s).d);
-  }
-  return std::min(t, 1.0);
-}
-
 }  // namespace
 
 ObstacleContact::ObstacleContact(const Config& config, const Distribution& dist,
@@ -208,15 +187,7 @@ double ObstacleContact::step_limit(const double* u, const double* du, double s) 
   double alpha = 1;
   for (int32_t n : nodes_) {
     const Eigen::Vector3d x = position(u, n), step(du[3 * n], du[3 * n + 1], du[3 * n + 2]);
-    for (const auto& o : obstacles_) {
-      const SignedDistance sd = signed_distance(o, x, s);
-      if (o.type == ObstacleType::surface) {
-        if (sd.d > 0) alpha = std::min(alpha, surface_advance(o, x, step, s, sd.d));
-        continue;
-      }
-      const double approach = -sd.gradient.dot(step);
-      if (approach > 0 && sd.d > 0) alpha = std::min(alpha, 0.9 * sd.d / approach);
-    }
+    for (const auto& o : obstacles_) alpha = std::min(alpha, step_bound(o, x, step, s));
   }
   return alpha;
 }

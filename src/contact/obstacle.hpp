@@ -49,4 +49,12 @@ struct SignedDistance {
 // The signed distance of point x from the obstacle at load factor s.
 SignedDistance signed_distance(const ObstacleShape& obstacle, const Eigen::Vector3d& x, double s);
 
+// The largest fraction t <= 1 of a Newton step that keeps a node at x, outside the obstacle,
+// at least a tenth of its gap d0 away from it along x + t step: by the gap's tangent
+// d0 + t n . step, a lower bound of a convex obstacle's distance (exact for a plane); for a
+// surface obstacle, which need not be convex, by its unsigned distance (a move shorter than
+// it cannot reach the surface), advanced along the step. 1 for a node on or inside.
+double step_bound(const ObstacleShape& obstacle, const Eigen::Vector3d& x,
+                  const Eigen::Vector3d& step, double s);
+
 }  // namespace hs

@@ -138,6 +138,34 @@ TEST(SurfaceDistance, ADentedSphereHasItsClosestPointAndItsWindingSign) {
   EXPECT_LT(inside, 540);
 }
 
+TEST(SurfaceDistance, TheStepBoundKeepsANodeOutOfTheDent) {
+  // Nodes in the dent's mouth, stepped in random directions as far as across the dent: along
+  // the bounded step no point is inside, and it ends at least a tenth of the gap away. The
+  // tangent bound of the convex shapes would have put some of them inside.
+  const hs_test::Surface s = dented_sphere();
+  const hs::ObstacleShape o = surface_obstacle(s, V3(0.1, 0, 0));
+  const V3 shift(0.05, 0, 0), mouth = shift + 0.8 * s.vertices[0] / 0.3;
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> in(-1, 1);
+  int tangent_inside = 0, checked = 0;
+  for (int k = 0; k < 400; ++k) {
+    const V3 x = mouth + 0.15 * V3(in(random), in(random), in(random));
+    const hs::SignedDistance start = hs::signed_distance(o, x, 0.5);
+    if (!(start.d > 0)) continue;
+    const V3 step = 0.8 * V3(in(random), in(random), in(random));
+    const double t = hs::step_bound(o, x, step, 0.5);
+    for (int i = 1; i <= 50; ++i)
+      ASSERT_GT(hs::signed_distance(o, x + t * i / 50.0 * step, 0.5).d, 0) << x.transpose();
+    EXPECT_GE(hs::signed_distance(o, x + t * step, 0.5).d, 0.1 * start.d * (1 - 1e-9));
+    const double approach = -start.gradient.dot(step);
+    const double tangent = approach > 0 ? std::min(1.0, 0.9 * start.d / approach) : 1.0;
+    tangent_inside += hs::signed_distance(o, x + tangent * step, 0.5).d < 0;
+    ++checked;
+  }
+  EXPECT_GT(checked, 200);
+  EXPECT_GT(tangent_inside, 10);
+}
+
 TEST(SurfaceDistance, GradientAndHessianAreItsDerivatives) {
   const hs::ObstacleShape o = surface_obstacle(dented_sphere(), V3(0.02, 0, -0.04));
   const V3 shift(0.01, 0, -0.02);  // move at s = 0.5
