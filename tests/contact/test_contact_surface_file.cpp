@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "contact/surface_file.hpp"
+#include "deck/config_fingerprint.hpp"
 #include "deck/deck.hpp"
 #include "surface_test_util.hpp"
 
@@ -159,6 +160,36 @@ TEST_F(SurfaceFile, ADeckWithABadSurfaceIsRefusedWhenItIsRead) {
   const hs::Config c = hs::parse_deck(file("deck.yaml"), {});
   ASSERT_EQ(c.obstacles.size(), 1u);
   EXPECT_EQ(c.obstacles[0].surface->num_triangles(), 12u);
+}
+
+TEST_F(SurfaceFile, ADeckWithASurfaceRoundTripsThroughItsPrintout) {
+  // The printout names the file by its absolute path, so it reads the same surface from
+  // anywhere; the fingerprint (a restart's check) by its name, as the mesh's.
+  const std::string deck =
+      std::string("mesh: {file: ") + HYDROSOFT_SOURCE_DIR + "/meshes/block.geo}\n" +
+      "materials: [{group: body, model: linear_elastic, E: 1.0e5, nu: 0.3}]\n"
+      "boundary: [{group: bottom}]\n"
+      "obstacles: [{name: cup, type: surface, file: cup.obj, scale: 0.5, move: [0, 0, -1]}]\n"
+      "contact: {surfaces: [top]}\n";
+  fs::create_directory(file("a"));
+  fs::create_directory(file("b"));
+  for (const char* folder : {"a", "b"}) {
+    hs_test::write_obj(file(std::string(folder) + "/cup.obj"), kBox);
+    std::ofstream(file(std::string(folder) + "/deck.yaml")) << deck;
+  }
+  const hs::Config a = hs::parse_deck(file("a/deck.yaml"), {});
+  EXPECT_EQ(a.obstacles[0].file, file("a/cup.obj"));
+  const std::string printed = hs::format_config(a);
+  std::ofstream(file("printed.yaml")) << printed;
+  const hs::Config again = hs::parse_deck(file("printed.yaml"), {});
+  EXPECT_EQ(again.obstacles[0].file, file("a/cup.obj"));
+  EXPECT_EQ(again.obstacles[0].scale, 0.5);
+  EXPECT_EQ(again.obstacles[0].surface->vertices()[0], 0.5 * kBox.vertices[0]);
+  const std::string reprinted = hs::format_config(again);
+  EXPECT_EQ(reprinted.substr(reprinted.find('\n')), printed.substr(printed.find('\n')));
+  EXPECT_EQ(hs::config_fingerprint(again), hs::config_fingerprint(a));
+  EXPECT_EQ(hs::config_fingerprint(hs::parse_deck(file("b/deck.yaml"), {})),
+            hs::config_fingerprint(a));
 }
 
 }  // namespace test_contact_surface_file
