@@ -1,6 +1,7 @@
 // A surface obstacle in a run, on 1 and 2 ranks: a box written as 12 triangles (binary STL,
 // and OBJ) and brought down into a clamped block gives the analytic box's run: the same
-// force on the obstacle, the same clamp reaction and the same displacement at every node.
+// force on the obstacle, the same clamp reaction and the same displacement at every node;
+// two tessellated balls in one file press as two spheres do, within the facets' angles.
 // The box's corners are dyadic numbers, exact in the STL's single precision. Newton converges
 // to 1e-11 of its first residual or 1e-9 N: the runs' paths differ by round-off (on 2 ranks the
 // iterations and cutbacks differ), so only their converged answers are compared.
@@ -97,6 +98,45 @@ TEST(SurfaceObstacle, ABoxOfTrianglesPressesAsTheAnalyticBox) {
     for (size_t k = 0; k < analytic.displacement.size(); ++k)
       EXPECT_NEAR(other->displacement[k], analytic.displacement[k], 1e-12) << k;  // of 8 mm
   }
+}
+
+TEST(SurfaceObstacle, TwoBallsInOneFilePressAsTwoSpheres) {
+  // Two tessellated balls in one STL: an obstacle that is not convex (between the balls the
+  // tangent of the gap is no bound of it). Brought down 8 mm into the clamped block, it pushes
+  // with the clamp's reaction, no node reaches it, and its force is the two analytic
+  // spheres' within what the facets change: a node pushed by a facet is pushed along its
+  // normal, up to 0.04 rad from the sphere's radius on a 4-times refined icosphere (edges of
+  // 0.07 rad), so by up to 4 % of the force sideways (each ball touches few nodes here).
+  const double R = 0.018;
+  hs_test::Surface two = hs_test::icosphere(4, R);
+  const size_t nv = two.vertices.size(), nt = two.triangles.size();
+  for (size_t v = 0; v < nv; ++v) two.vertices.push_back(two.vertices[v]);
+  for (size_t t = 0; t < nt; ++t) {
+    two.triangles.push_back(two.triangles[t]);
+    for (int& k : two.triangles.back()) k += static_cast<int>(nv);
+  }
+  for (size_t v = 0; v < 2 * nv; ++v)
+    two.vertices[v] += Eigen::Vector3d(v < nv ? 0.03 : 0.07, 0.05, 0.12);
+  const std::string stl = (hs_test::test_folder() / "two_balls.stl").string();
+  if (hs_test::world_rank() == 0) hs_test::write_stl_binary(stl, two);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const PressRun analytic =
+      press("two_spheres",
+            "type: sphere, center: [0.03, 0.05, 0.12], radius: 0.018, move: [0, 0, -0.008]}\n"
+            "  - {name: other, type: sphere, center: [0.07, 0.05, 0.12], radius: 0.018");
+  const PressRun mesh = press("two_balls", "type: surface, file: two_balls.stl");
+  const auto& f = mesh.summary["contact"]["obstacles"][0]["force_N"];
+  const auto& clamp = mesh.summary["reactions_N"]["bottom"];
+  const double scale = f[2].get<double>();
+  ASSERT_GT(scale, 0.5);
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(f[d].get<double>(), clamp[d].get<double>(), 1e-7 * scale) << d;
+  EXPECT_GT(mesh.summary["contact"]["min_gap_m"].get<double>(), 0);
+  const auto& a = analytic.summary["contact"]["obstacles"];
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(f[d].get<double>(),
+                a[0]["force_N"][d].get<double>() + a[1]["force_N"][d].get<double>(), 0.05 * scale)
+        << d;
 }
 
 }  // namespace mpi_test_contact_surface
