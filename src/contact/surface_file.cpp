@@ -16,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using Point = Eigen::Vector3d;
 
-std::string point_text(const Point& p) {
+std::string corner_text(const Point& p) {
   char text[96];
   std::snprintf(text, sizeof text, "(%.9g, %.9g, %.9g)", p(0), p(1), p(2));
   return text;
@@ -86,7 +86,7 @@ void check_closed(const std::string& path, const std::vector<Point>& X,
   if (worst < 0) return;
   const int t = worst / 3, k = worst % 3;
   throw InputError(path + ": not a closed, consistently oriented surface: the edge from " +
-                   point_text(X[T[t][k]]) + " to " + point_text(X[T[t][(k + 1) % 3]]) + " " +
+                   corner_text(X[T[t][k]]) + " to " + corner_text(X[T[t][(k + 1) % 3]]) + " " +
                    reason);
 }
 
@@ -110,7 +110,7 @@ std::shared_ptr<const TriangleSurface> read_obstacle_surface(const std::string& 
   for (size_t v = 0; v < X.size(); ++v) {
     X[v] = scale * Point(mesh.vertices[3 * v], mesh.vertices[3 * v + 1], mesh.vertices[3 * v + 2]);
     if (!(X[v].cwiseAbs().maxCoeff() <= kMaxSurfaceCoordinate))
-      throw InputError(path + ": vertex " + std::to_string(v + 1) + " at " + point_text(X[v]) +
+      throw InputError(path + ": vertex " + std::to_string(v + 1) + " at " + corner_text(X[v]) +
                        " m (after scale) is beyond 1e6 m from the origin: a unit or scale error");
   }
   std::vector<std::array<int, 3>> T(nt);
@@ -123,7 +123,7 @@ std::shared_ptr<const TriangleSurface> read_obstacle_surface(const std::string& 
     // Zero area to round-off: no normal, so no sign near it.
     if (!((b - a).cross(c - a).norm() > 1e-12 * longest))
       throw InputError(path + ": triangle " + std::to_string(t + 1) + " with corners " +
-                       point_text(a) + ", " + point_text(b) + ", " + point_text(c) +
+                       corner_text(a) + ", " + corner_text(b) + ", " + corner_text(c) +
                        " has no area (its corners are on one line)");
     volume += a.dot(b.cross(c)) / 6;
   }

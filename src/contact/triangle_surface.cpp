@@ -7,9 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
-#include <map>
 #include <numeric>
+#include <unordered_map>
 
 namespace hs {
 namespace {
@@ -53,7 +54,9 @@ TriangleSurface::TriangleSurface(std::vector<Point> vertices,
   const size_t nt = triangles_.size();
   face_normal_.resize(nt);
   vertex_normal_.assign(vertices_.size(), Point::Zero());
-  std::map<std::pair<int, int>, int> edge_owner;  // directed edge -> 3 t + k
+  auto directed = [](int a, int b) { return uint64_t(uint32_t(a)) << 32 | uint32_t(b); };
+  std::unordered_map<uint64_t, int> edge_owner;  // directed edge -> 3 t + k
+  edge_owner.reserve(3 * nt);
   for (size_t t = 0; t < nt; ++t) {
     const auto& v = triangles_[t];
     face_normal_[t] =
@@ -62,7 +65,7 @@ TriangleSurface::TriangleSurface(std::vector<Point> vertices,
       const Point u = vertices_[v[(k + 1) % 3]] - vertices_[v[k]],
                   w = vertices_[v[(k + 2) % 3]] - vertices_[v[k]];
       vertex_normal_[v[k]] += std::atan2(u.cross(w).norm(), u.dot(w)) * face_normal_[t];
-      edge_owner[{v[k], v[(k + 1) % 3]}] = static_cast<int>(3 * t + k);
+      edge_owner[directed(v[k], v[(k + 1) % 3])] = static_cast<int>(3 * t + k);
     }
   }
   constexpr double kFlat = 1 - 1e-12;  // cosine of the angle between normals
@@ -71,7 +74,7 @@ TriangleSurface::TriangleSurface(std::vector<Point> vertices,
   flat_vertex_.assign(vertices_.size(), 1);
   for (size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k) {
-      const auto other = edge_owner.find({triangles_[t][(k + 1) % 3], triangles_[t][k]});
+      const auto other = edge_owner.find(directed(triangles_[t][(k + 1) % 3], triangles_[t][k]));
       edge_normal_[3 * t + k] = face_normal_[t];
       if (other == edge_owner.end()) continue;
       const Point& n = face_normal_[other->second / 3];
