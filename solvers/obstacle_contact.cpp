@@ -187,11 +187,7 @@ double ObstacleContact::step_limit(const double* u, const double* du, double s) 
   double alpha = 1;
   for (int32_t n : nodes_) {
     const Eigen::Vector3d x = position(u, n), step(du[3 * n], du[3 * n + 1], du[3 * n + 2]);
-    for (const auto& o : obstacles_) {
-      const SignedDistance sd = signed_distance(o, x, s);
-      const double approach = -sd.gradient.dot(step);
-      if (approach > 0 && sd.d > 0) alpha = std::min(alpha, 0.9 * sd.d / approach);
-    }
+    for (const auto& o : obstacles_) alpha = std::min(alpha, step_bound(o, x, step, s));
   }
   return alpha;
 }

@@ -34,9 +34,8 @@ class ObstacleContact {
   // The barrier's Hessians into the tangent's node-pair blocks.
   void add_tangent(const double* u, double s, const NodePairBlocks& pairs, double* values) const;
   // The largest fraction alpha <= 1 of a step du (owned values, 3 per node, as u) that keeps
-  // every contact node at least a tenth of its gap outside every obstacle, by the gap's
-  // tangent d + alpha n . du: a lower bound of the gap of a convex obstacle (its distance is
-  // convex outside it), exact for a plane. On this rank.
+  // every contact node at least a tenth of its gap outside every obstacle (step_bound of
+  // contact/obstacle.hpp). On this rank.
   double step_limit(const double* u, const double* du, double s) const;
   // The index of an obstacle a node was found inside by the last add_forces on this rank,
   // or -1.

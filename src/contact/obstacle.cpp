@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "contact/triangle_surface.hpp"
+
 namespace hs {
 namespace {
 
@@ -50,6 +52,27 @@ SignedDistance box_distance(const Point& x, const Point& center, const Point& ha
   return round_distance(w, P, 0.0);
 }
 
+// How far along x + t step (t <= 1) a node can go with a gap of at least a tenth of its gap
+// d0 to a surface obstacle, which need not be convex: no point of the surface is nearer x
+// than its unsigned distance, so a move shorter than that cannot reach it. Advanced by that
+// bound again and again (conservative advancement), it stops where the gap nears a tenth of
+// d0: at once for a node moving straight at a face (the plane's own bound), after a few
+// queries for one that slides along the surface or leaves it.
+double surface_advance(const ObstacleShape& o, const Eigen::Vector3d& x,
+                       const Eigen::Vector3d& step, double s, double d0) {
+  const double length = step.norm(), keep = 0.1 * d0;
+  if (!(length > 0)) return 1;
+  double t = 0, gap = d0;
+  for (int k = 0; k < 32 && t < 1; ++k) {
+    const double advance = (gap - keep) / length;
+    if (advance <= 1e-3 * (gap / length)) break;  // within a thousandth of the keep gap
+    t += advance;
+    if (t >= 1) return 1;
+    gap = std::abs(signed_distance(o, x + t * step, s).d);
+  }
+  return std::min(t, 1.0);
+}
+
 }  // namespace
 
 SignedDistance signed_distance(const ObstacleShape& o, const Point& x, double s) {
@@ -70,8 +93,18 @@ SignedDistance signed_distance(const ObstacleShape& o, const Point& x, double s)
     }
     case ObstacleType::box:
       return box_distance(x - shift, vec(o.center), 0.5 * vec(o.size));
+    case ObstacleType::surface:
+      return o.surface ? o.surface->distance(x - shift) : SignedDistance{};
   }
   return {};
+}
+
+double step_bound(const ObstacleShape& o, const Point& x, const Point& step, double s) {
+  const SignedDistance sd = signed_distance(o, x, s);
+  if (!(sd.d > 0)) return 1;
+  if (o.type == ObstacleType::surface) return surface_advance(o, x, step, s, sd.d);
+  const double approach = -sd.gradient.dot(step);
+  return approach > 0 ? std::min(1.0, 0.9 * sd.d / approach) : 1.0;
 }
 
 }  // namespace hs

@@ -16,6 +16,8 @@ std::string config_fingerprint(const Config& config) {
   // The file by its name alone: the same mesh reached by another path is the same problem.
   solved.mesh.file = std::filesystem::path(solved.mesh.file).filename().string();
   solved.mesh.deck_dir.clear();
+  for (auto& o : solved.obstacles)  // a surface obstacle's file likewise
+    if (!o.file.empty()) o.file = std::filesystem::path(o.file).filename().string();
   const std::string text = format_config(solved);
   uint64_t hash = 14695981039346656037ull;  // FNV-1a: stable across builds and machines
   for (unsigned char byte : text) {

@@ -1,7 +1,10 @@
 #include "deck/contact_section.hpp"
 
 #include <cmath>
+#include <filesystem>
 
+#include "common/error.hpp"
+#include "contact/surface_file.hpp"
 #include "deck/section_keys.hpp"
 
 namespace hs {
@@ -62,6 +65,14 @@ ObstacleShape parse_obstacle(const DeckReader& r, const YAML::Node& node, const 
         require(o.size[i] > 0, r, node["size"], child_key(key, "size"),
                 "every edge length must be > 0, got " + format_number(o.size[i]));
       break;
+    case ObstacleType::surface:
+      needs("file");
+      try {  // read now, so that a bad file stops the run before any work
+        o.surface = read_obstacle_surface(o.file, o.scale);
+      } catch (const InputError& e) {
+        r.fail(child_key(key, "file"), node["file"], e.what());
+      }
+      break;
   }
   return o;
 }
@@ -89,8 +100,9 @@ const KeyTable<ObstacleShape>& obstacle_keys() {
                "unique among the obstacles; names its force in summary.json and history.csv")
           .needed(),
       enum_key("type", &ObstacleShape::type, kObstacleTypeNames,
-               "`plane` (a half-space), `sphere`, `box` (axis-aligned) or `cylinder` (of "
-               "infinite length); the body stays outside it"),
+               "`plane` (a half-space), `sphere`, `box` (axis-aligned), `cylinder` (of "
+               "infinite length) or `surface` (a closed triangle mesh from a file); the body "
+               "stays outside it"),
       vector_key("point", &ObstacleShape::point, "`[0, 0, 0]`", "a point of the plane (m)")
           .only(types_only({T::plane}, "plane")),
       vector_key("normal", &ObstacleShape::normal, "`[0, 0, 1]`",
@@ -106,6 +118,26 @@ const KeyTable<ObstacleShape>& obstacle_keys() {
           .only(types_only({T::box}, "box")),
       vector_key("axis", &ObstacleShape::axis, "`[0, 0, 1]`", "the cylinder's axis")
           .only(types_only({T::cylinder}, "cylinder")),
+      custom_key<ObstacleShape>(
+          "file", "path", "required",
+          "a closed, outward-oriented triangle surface: STL (ASCII or binary) or Wavefront OBJ "
+          "(`v` and `f` lines), at most 2,000,000 triangles and 512 MiB; a relative path starts "
+          "at the deck's folder; checked when the deck is read (docs/contact.md, \"Surface "
+          "obstacles\")",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ObstacleShape& o,
+             const Config& c) {
+            namespace fs = std::filesystem;
+            const fs::path given = r.text(n, key);
+            const fs::path deck_dir = fs::path(c.deck_path).parent_path();
+            o.file = fs::absolute(given.is_absolute() ? given : deck_dir / given)
+                         .lexically_normal()
+                         .string();
+          },
+          [](YAML::Emitter& out, const ObstacleShape& o, const Config&) { out << o.file; })
+          .only(types_only({T::surface}, "surface")),
+      number_key("scale", &ObstacleShape::scale, above(0),
+                 "the file's coordinates times this are metres (0.001 for a file in mm)")
+          .only(types_only({T::surface}, "surface")),
       number_key("friction", &ObstacleShape::friction, at_least(0, "a Coulomb coefficient"),
                  "Coulomb friction coefficient between the body and the obstacle (0: "
                  "frictionless); the friction force is at most this times the normal force, "

@@ -11,6 +11,8 @@ made from its own generator, `Random("SEED/FAMILY/i")`, and judged by classify.p
   interactive  `--targets -` whose client sends lines and garbage and closes its pipes
   lock         the output folder's .lock, .partial, .failed or itself a link to a victim;
                two runs at once on a folder and its .partial
+  obstacle     a surface obstacle's file (obstacles: [{type: surface, file: ...}]), STL or
+               OBJ, mutated by surface_mutations.py: --check
 The last three are made and run by system_families.py; the decks are family_decks.py's.
 
 A share of the cases (`--ranks-share`, drawn from a generator of its own so that the case
@@ -33,8 +35,9 @@ from family_decks import CHECKPOINT_STEPS, block_deck, checkpoint_deck, h5_deck
 from geo_mutations import make_geo_case
 from h5_mutations import mutate_h5_mesh
 from launch import finish, wait_for
+from surface_mutations import mutate_surface
 
-NAMES = ["geo", "binmsh", "h5mesh", "checkpoint", "disk", "interactive", "lock"]
+NAMES = ["geo", "binmsh", "h5mesh", "checkpoint", "disk", "interactive", "lock", "obstacle"]
 
 
 class Context:
@@ -211,6 +214,14 @@ def _make_checkpoint(rng, case, bases):
                 data=new, expect=expect, way=way, mode="run")
 
 
+def _make_obstacle(rng, case, bases):
+    base, fmt, kind, detail, expect, _, ext, data = mutate_surface(rng, ["obj", "stl", "stl_binary"])
+    # A surface the fluid-weight readers take may still be refused as an obstacle (a flattened
+    # one has triangles without area, a scaled one coordinates beyond 1e6 m): "accept" is "any".
+    case.update(source=f"{base}.{fmt}", kind="obstacle:" + kind, detail=detail, data=data, ext=ext,
+                expect="reject" if expect == "reject" else "any", mode="check")
+
+
 # ---- running a case ----
 
 def case_folders(ctx, case):
@@ -303,6 +314,13 @@ def _run_h5mesh(case, ctx, root, run, outside):
     return _run_mesh_file(case, ctx, run, root, "mesh.h5", deck, ["mesh.file=mesh.h5"], reference)
 
 
+def _run_obstacle(case, ctx, root, run, outside):
+    name = "surface." + case["ext"]
+    deck = (block_deck(ctx.geo) + f"obstacles:\n  - {{name: cup, type: surface, file: {name}}}\n"
+            "contact: {surfaces: [top]}\n")
+    return _run_mesh_file(case, ctx, run, root, name, deck, [], None)
+
+
 def _run_checkpoint(case, ctx, root, run, outside):
     _, stopped, reference = ctx.bases["checkpoint"]
     way = case["way"]
@@ -337,7 +355,7 @@ def _run_checkpoint(case, ctx, root, run, outside):
 
 MAKERS = {"geo": _make_geo, "binmsh": _make_binmsh, "h5mesh": _make_h5mesh, "checkpoint": _make_checkpoint,
           "disk": system_families.make_disk, "interactive": system_families.make_interactive,
-          "lock": system_families.make_lock}
+          "lock": system_families.make_lock, "obstacle": _make_obstacle}
 RUNNERS = {"geo": _run_geo, "binmsh": _run_binmsh, "h5mesh": _run_h5mesh, "checkpoint": _run_checkpoint,
            "disk": system_families.run_disk, "interactive": system_families.run_interactive,
-           "lock": system_families.run_lock}
+           "lock": system_families.run_lock, "obstacle": _run_obstacle}

@@ -411,10 +411,11 @@ def _mutate_file(rng, data, counts, fmt):
     return kind, f"line {n + 1}", None, b"\n".join(lines)
 
 
-def mutate_surface(rng):
-    """One case: (base, format, kind, detail, expect, volume, file extension, bytes)."""
+def mutate_surface(rng, formats=FORMATS):
+    """One case: (base, format, kind, detail, expect, volume, file extension, bytes); the format
+    one of `formats`."""
     base = rng.choice(sorted(BASES))
-    fmt = rng.choice(FORMATS)
+    fmt = rng.choice(formats)
     s = BASES[base]()
     if rng.random() < 0.55:
         kind, detail, expect, volume = _mutate_surface(rng, s, fmt)
