@@ -150,24 +150,34 @@ std::array<double, 3> total_load(const std::string& h5, int step) {
   return total;
 }
 
-TEST(ObstacleContact, TheShippedFingerPressesABallWithWhatItsBaseAndWeightLeave) {
-  // In each state the body's forces balance: the base's reaction, the applied load and the
-  // ball's push on it (minus the body's force on the ball).
-  const std::string folder = (hs_test::test_folder() / "finger_press").string();
-  const Json s = run(kSource + "/input/finger_press.yaml", "finger_press");
+// In each state the body's forces balance: the base's reaction, the applied load and the
+// obstacle's push on it (minus the body's force on the obstacle); it presses harder as the
+// pressure rises, and no node reaches the obstacle.
+void expect_finger_presses(const std::string& name) {
+  const std::string folder = (hs_test::test_folder() / name).string();
+  const Json s = run(kSource + "/input/" + name + ".yaml", name);
   double previous = 0;
   for (const auto& state : s["states"]) {
     const auto& f = state["contact"]["obstacles"][0]["force_N"];
     const auto& base = state["reactions_N"]["base"];
-    const auto load = total_load(folder + "/finger_press.h5", state["step"].get<int>());
+    const auto load = total_load(folder + "/" + name + ".h5", state["step"].get<int>());
     const double scale = std::abs(f[2].get<double>());
     for (int d = 0; d < 3; ++d)
       EXPECT_NEAR(base[d].get<double>() + load[d] - f[d].get<double>(), 0, 1e-7 * scale)
-          << state["name"] << " " << d;
-    EXPECT_GT(scale, previous) << state["name"];  // presses harder as the pressure rises
+          << name << " " << state["name"] << " " << d;
+    EXPECT_GT(scale, previous) << name << " " << state["name"];
     previous = scale;
     EXPECT_GT(state["contact"]["min_gap_m"].get<double>(), 0);
   }
+}
+
+TEST(ObstacleContact, TheShippedFingerPressesABallWithWhatItsBaseAndWeightLeave) {
+  expect_finger_presses("finger_press");
+}
+
+// The same finger on a non-convex surface read from an STL file (meshes/peanut.stl).
+TEST(ObstacleContact, TheShippedFingerPressesAnStlObjectWithWhatItsBaseAndWeightLeave) {
+  expect_finger_presses("finger_press_peanut");
 }
 
 // history.csv's rows as {column: value}.
