@@ -80,7 +80,7 @@ def _json_mutation(rng, state, position_step, total_steps):
         s[key] = value
         return kind, f"{key} {value}", s, "reject"
     if kind == "kind_name":
-        value = rng.choice(["dynamic", "states", "control", "", "STATIC", "static "])
+        value = rng.choice(["dynamic", "states", "dynamic_states", "control", "", "STATIC", "static "])
         s["kind"] = value
         return kind, f"kind {value!r}", s, "reject"
     if kind == "fingerprint":
