@@ -73,30 +73,63 @@ double surface_advance(const ObstacleShape& o, const Eigen::Vector3d& x,
   return std::min(t, 1.0);
 }
 
-}  // namespace
-
-SignedDistance signed_distance(const ObstacleShape& o, const Point& x, double s) {
-  const Point shift = s * vec(o.move);
+// The distance from the shape as the deck gives it, unmoved and unturned.
+SignedDistance shape_distance(const ObstacleShape& o, const Point& x) {
   switch (o.type) {
     case ObstacleType::plane: {
       SignedDistance out;
       out.gradient = vec(o.normal);
-      out.d = out.gradient.dot(x - vec(o.point) - shift);
+      out.d = out.gradient.dot(x - vec(o.point));
       return out;
     }
     case ObstacleType::sphere:
-      return round_distance(x - vec(o.center) - shift, Eigen::Matrix3d::Identity(), o.radius);
+      return round_distance(x - vec(o.center), Eigen::Matrix3d::Identity(), o.radius);
     case ObstacleType::cylinder: {
       const Point a = vec(o.axis);
-      return round_distance(x - vec(o.center) - shift,
-                            Eigen::Matrix3d::Identity() - a * a.transpose(), o.radius);
+      return round_distance(x - vec(o.center), Eigen::Matrix3d::Identity() - a * a.transpose(),
+                            o.radius);
     }
     case ObstacleType::box:
-      return box_distance(x - shift, vec(o.center), 0.5 * vec(o.size));
+      return box_distance(x, vec(o.center), 0.5 * vec(o.size));
     case ObstacleType::surface:
-      return o.surface ? o.surface->distance(x - shift) : SignedDistance{};
+      return o.surface ? o.surface->distance(x) : SignedDistance{};
   }
   return {};
+}
+
+Eigen::Matrix3d rotation_matrix(const std::array<double, 3>& degrees, double s) {
+  const Point v = s * M_PI / 180 * vec(degrees);
+  const double angle = v.norm();
+  if (angle == 0) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
+}
+
+}  // namespace
+
+Point pivot(const ObstacleShape& o) {
+  switch (o.type) {
+    case ObstacleType::plane:
+      return vec(o.point);
+    case ObstacleType::surface:
+      return vec(o.pivot);
+    default:
+      return vec(o.center);
+  }
+}
+
+Eigen::Matrix3d orientation(const ObstacleShape& o, double s) {
+  return rotation_matrix(o.turn, s) * rotation_matrix(o.rotation, 1);
+}
+
+// The point x taken back to the shape's own frame (x = p + s move + Q (X - p)), its distance
+// there, and the gradient and Hessian turned back: Q g, Q H Q^T.
+SignedDistance signed_distance(const ObstacleShape& o, const Point& x, double s) {
+  const Eigen::Matrix3d Q = orientation(o, s);
+  const Point p = pivot(o);
+  SignedDistance out = shape_distance(o, p + Q.transpose() * (x - p - s * vec(o.move)));
+  out.gradient = Q * out.gradient;
+  out.hessian = Q * out.hessian * Q.transpose();
+  return out;
 }
 
 double step_bound(const ObstacleShape& o, const Point& x, const Point& step, double s) {

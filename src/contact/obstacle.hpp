@@ -21,9 +21,10 @@ inline const std::vector<std::string> kObstacleTypeNames = {"plane", "sphere", "
 
 class TriangleSurface;
 
-// An obstacle as the deck gives it, in its place at load factor 0; at load factor s it has
-// moved by s * move (a prescribed rigid translation that follows the load, as a Dirichlet
-// value does).
+// An obstacle as the deck gives it, in its place at load factor 0, turned by `rotation` about
+// its pivot (pivot()); at load factor s it has moved by s * move and turned further by
+// s * turn about the moved pivot (a prescribed rigid motion that follows the load, as a
+// Dirichlet value does). Rotations are rotation vectors: the axis times the angle in degrees.
 struct ObstacleShape {
   std::string name;
   ObstacleType type = ObstacleType::plane;
@@ -36,7 +37,10 @@ struct ObstacleShape {
   std::string file;                       // surface: its STL or OBJ file (resolved path)
   double scale = 1;                       // surface: the file's coordinates times this are m
   std::shared_ptr<const TriangleSurface> surface;  // surface: read from `file` with the deck
+  std::array<double, 3> pivot{0, 0, 0};            // surface: the point it turns about (m)
   std::array<double, 3> move{0, 0, 0};             // translation at full load (m)
+  std::array<double, 3> rotation{0, 0, 0};         // fixed rotation vector (degrees)
+  std::array<double, 3> turn{0, 0, 0};             // rotation vector at full load (degrees)
   double friction = 0;  // Coulomb coefficient with the body (friction.hpp)
 };
 
@@ -45,6 +49,13 @@ struct SignedDistance {
   Eigen::Vector3d gradient = Eigen::Vector3d::Zero();  // unit where d is smooth
   Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();
 };
+
+// The point the obstacle turns about: a plane's point, the centre of a sphere, box or
+// cylinder, a surface's pivot.
+Eigen::Vector3d pivot(const ObstacleShape& obstacle);
+
+// The obstacle's orientation at load factor s: exp(s turn) exp(rotation).
+Eigen::Matrix3d orientation(const ObstacleShape& obstacle, double s);
 
 // The signed distance of point x from the obstacle at load factor s.
 SignedDistance signed_distance(const ObstacleShape& obstacle, const Eigen::Vector3d& x, double s);

@@ -48,6 +48,10 @@ ObstacleShape parse_obstacle(const DeckReader& r, const YAML::Node& node, const 
     require(node[name].IsDefined(), r, node, child_key(key, name),
             "type " + name_of(kObstacleTypeNames, o.type) + " needs `" + name + "`");
   };
+  require(o.friction == 0 || (o.turn[0] == 0 && o.turn[1] == 0 && o.turn[2] == 0), r,
+          node["turn"], child_key(key, "turn"),
+          "friction on a turning obstacle is not modelled (its contacts' anchors follow "
+          "`move` only): give `friction: 0` or no `turn`");
   switch (o.type) {
     case ObstacleType::plane:
       normalise(r, node["normal"], child_key(key, "normal"), o.normal);
@@ -145,6 +149,18 @@ const KeyTable<ObstacleShape>& obstacle_keys() {
       vector_key("move", &ObstacleShape::move, "`[0, 0, 0]`",
                  "a rigid translation (m) at full load, applied with the load factor as a "
                  "Dirichlet value is (a press, a plate brought down)"),
+      vector_key("rotation", &ObstacleShape::rotation, "`[0, 0, 0]`",
+                 "a fixed rotation of the shape as given, a rotation vector in degrees (the "
+                 "axis times the angle: `[0, 0, 30]` turns it 30 degrees about z), about its "
+                 "pivot: a plane's `point`, the `center` of a sphere, box or cylinder, a "
+                 "surface's `pivot` (a box need not be axis-aligned)"),
+      vector_key("turn", &ObstacleShape::turn, "`[0, 0, 0]`",
+                 "a rotation vector (degrees) at full load, applied with the load factor after "
+                 "`rotation`, about the pivot carried by `move` (a lever, a turning cam); not "
+                 "with `friction`"),
+      vector_key("pivot", &ObstacleShape::pivot, "`[0, 0, 0]`",
+                 "the point (m, after `scale`) a surface turns about")
+          .only(types_only({T::surface}, "surface")),
   };
   return keys;
 }

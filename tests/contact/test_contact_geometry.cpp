@@ -99,6 +99,45 @@ TEST(ObstacleDistance, GradientAndHessianAreItsDerivatives) {
   expect_derivatives(box(), V3(0.15, 0.05, 0.1), 1);  // inside
 }
 
+// A rotation is a change of frame: a box turned 90 degrees about z is the box with its x and
+// y edges swapped; a turn of 180 degrees at half load is a rotation of 90; a plane turned 90
+// degrees about x has its normal turned to -y; gradients and Hessians stay the derivatives.
+TEST(ObstacleDistance, RotatedShapesAreTheShapesInTurnedFrames) {
+  ObstacleShape turned = box(), swapped = box();
+  turned.rotation = {0, 0, 90};
+  swapped.size = {0.6, 1.0, 0.4};
+  ObstacleShape half = box();
+  half.turn = {0, 0, 180};
+  half.move = {0.2, 0, 0};  // at half load where the others are at full load
+  const V3 points[] = {V3(0.2, 0.1, 0.6), V3(0.9, 0.05, 0.5), V3(0.5, 0.7, 0.35),
+                       V3(0.15, 0.05, 0.1), V3(-0.6, -0.4, 0.3)};
+  for (const V3& x : points) {
+    const auto a = hs::signed_distance(turned, x, 1), b = hs::signed_distance(swapped, x, 1),
+               c = hs::signed_distance(half, x, 0.5);
+    EXPECT_NEAR(a.d, b.d, 1e-14) << x.transpose();
+    EXPECT_NEAR(c.d, b.d, 1e-14) << x.transpose();
+    EXPECT_LT((a.gradient - b.gradient).norm(), 1e-14) << x.transpose();
+    EXPECT_LT((a.hessian - b.hessian).norm(), 1e-12 * (1 + b.hessian.norm())) << x.transpose();
+  }
+  ObstacleShape floor;
+  floor.type = ObstacleType::plane;
+  floor.point = {0, 0, 0.1};
+  floor.rotation = {90, 0, 0};
+  const auto d = hs::signed_distance(floor, V3(0.3, -0.5, 0.1), 0);
+  EXPECT_NEAR(d.d, 0.5, 1e-15);
+  EXPECT_LT((d.gradient - V3(0, -1, 0)).norm(), 1e-15);
+  // Turned while it moves: a cylinder and a box at a load factor between 0 and 1.
+  ObstacleShape c = cylinder(), b = box();
+  c.rotation = {10, -20, 5};
+  c.turn = {0, 40, 0};
+  c.move = {0.1, 0, 0};
+  b.rotation = {0, 30, 0};
+  b.turn = {15, 0, 45};
+  expect_derivatives(c, V3(0.5, -0.3, 0.8), 0.6);
+  expect_derivatives(b, V3(0.9, 0.05, 0.5), 0.4);
+  expect_derivatives(b, V3(0.9, 0.45, 0.35), 0.8);
+}
+
 TEST(ContactBarrier, DerivativesAndLimits) {
   const double dhat = 2e-3, h = 1e-9;
   for (double d : {1e-5, 3e-4, 1e-3, 1.9e-3}) {

@@ -99,6 +99,21 @@ TEST(SurfaceDistance, ABoxOfTwelveTrianglesIsTheAnalyticBox) {
   // On the diagonal of a side, where two triangles meet flat: the plane's distance, no curve.
   const V3 over = center + 0.5 * move + V3(0.1 * size(0), -0.1 * size(1), 0.5 * size(2) + 0.05);
   EXPECT_EQ(hs::signed_distance(mesh, over, 0.5).hessian, Eigen::Matrix3d::Zero());
+  // Turned about its centre (the surface's pivot, the box's own), fixed and with the load.
+  hs::ObstacleShape turned_mesh = mesh, turned_box = box;
+  turned_mesh.pivot = {center(0), center(1), center(2)};
+  for (auto* o : {&turned_mesh, &turned_box}) {
+    o->rotation = {20, -35, 50};
+    o->turn = {0, 30, 10};
+  }
+  for (int k = 0; k < 500; ++k) {
+    const V3 x = center + 0.5 * move + 1.5 * V3(in(random), in(random), in(random));
+    const auto a = hs::signed_distance(turned_box, x, 0.5),
+               b = hs::signed_distance(turned_mesh, x, 0.5);
+    EXPECT_NEAR(b.d, a.d, 1e-13) << x.transpose();
+    EXPECT_LT((b.gradient - a.gradient).norm(), 1e-12) << x.transpose();
+    EXPECT_LT((b.hessian - a.hessian).norm(), 1e-11 * (1 + a.hessian.norm())) << x.transpose();
+  }
 }
 
 // An icosphere with one vertex pushed in to a third of the radius: a dent, not convex.
