@@ -48,8 +48,8 @@ ObstacleShape parse_obstacle(const DeckReader& r, const YAML::Node& node, const 
     require(node[name].IsDefined(), r, node, child_key(key, name),
             "type " + name_of(kObstacleTypeNames, o.type) + " needs `" + name + "`");
   };
-  require(o.friction == 0 || (o.turn[0] == 0 && o.turn[1] == 0 && o.turn[2] == 0), r,
-          node["turn"], child_key(key, "turn"),
+  require(o.friction == 0 || (o.turn[0] == 0 && o.turn[1] == 0 && o.turn[2] == 0), r, node["turn"],
+          child_key(key, "turn"),
           "friction on a turning obstacle is not modelled (its contacts' anchors follow "
           "`move` only): give `friction: 0` or no `turn`");
   switch (o.type) {
