@@ -1,12 +1,15 @@
 // Helpers of the MPI tests that write their own decks and run them: the world's rank and
-// size, a deck written into the test's folder, and rank 0's summary on every rank.
+// size, a deck written into the test's folder, rank 0's summary on every rank, and a whole
+// dataset of a run's .h5 file.
 #pragma once
 
+#include <hdf5.h>
 #include <mpi.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "mpi_test_folder.hpp"
 
@@ -40,6 +43,19 @@ inline nlohmann::json shared(const nlohmann::json& summary) {
   text.resize(n);
   MPI_Bcast(text.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
   return nlohmann::json::parse(text);
+}
+
+// A whole dataset of an .h5 file, as doubles (read by the calling rank alone).
+inline std::vector<double> read_dataset(const std::string& path, const std::string& name) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(set);
+  std::vector<double> v(H5Sget_simple_extent_npoints(space));
+  H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(space);
+  H5Dclose(set);
+  H5Fclose(file);
+  return v;
 }
 
 }  // namespace hs_test

@@ -6,7 +6,6 @@
 // on a ball balances its base, its weight and the ball in every state. On 2 ranks every
 // force is compared with the same deck run on one.
 #include <gtest/gtest.h>
-#include <hdf5.h>
 #include <mpi.h>
 
 #include <array>
@@ -128,24 +127,11 @@ TEST(ObstacleContact, ABlockRestingOnAFloorPutsItsWeightOnIt) {
   EXPECT_LT(gap, dhat);
 }
 
-// A whole dataset of an .h5 file.
-std::vector<double> read_h5(const std::string& path, const std::string& name) {
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(set);
-  std::vector<double> v(H5Sget_simple_extent_npoints(space));
-  H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  H5Sclose(space);
-  H5Dclose(set);
-  H5Fclose(file);
-  return v;
-}
-
 // The sum over the nodes of an output step's nodal_load (gravity and the cavity's pressure,
 // which sums to zero over its closed walls).
 std::array<double, 3> total_load(const std::string& h5, int step) {
   std::array<double, 3> total{0, 0, 0};
-  const auto load = read_h5(h5, "/step_" + std::to_string(step) + "/nodal_load");
+  const auto load = hs_test::read_dataset(h5, "/step_" + std::to_string(step) + "/nodal_load");
   for (size_t i = 0; i < load.size(); ++i) total[i % 3] += load[i];
   return total;
 }
@@ -233,9 +219,11 @@ TEST(ObstacleContact, ASlidingBlockDragsTheFloorWithMuTimesItsNormalForce) {
   // others carry nothing.
   if (world_rank() != 0) return;
   const std::string h5 = folder + "/slide.h5", step = "/step_7/";
-  const auto X = read_h5(h5, "/mesh/coordinates"), u = read_h5(h5, step + "displacement");
-  const auto gap = read_h5(h5, step + "contact_gap"), p = read_h5(h5, step + "contact_pressure");
-  const auto t = read_h5(h5, step + "friction_traction");
+  const auto X = hs_test::read_dataset(h5, "/mesh/coordinates"),
+             u = hs_test::read_dataset(h5, step + "displacement");
+  const auto gap = hs_test::read_dataset(h5, step + "contact_gap"),
+             p = hs_test::read_dataset(h5, step + "contact_pressure");
+  const auto t = hs_test::read_dataset(h5, step + "friction_traction");
   ASSERT_EQ(gap.size(), X.size() / 3);
   for (size_t n = 0; n < gap.size(); ++n) {
     EXPECT_NEAR(gap[n], X[3 * n + 2] + u[3 * n + 2] + 0.001, 1e-15) << n;
@@ -263,11 +251,12 @@ TEST(ObstacleContact, AStickingBlockStaysWhereItTouched) {
   EXPECT_LT(f[0], 0.5 * -f[2]);
   // The bottom's nodes' x displacements per output step, from the .h5.
   const std::string h5 = folder + "/stick.h5";
-  const std::vector<double> X = read_h5(h5, "/mesh/coordinates");
+  const std::vector<double> X = hs_test::read_dataset(h5, "/mesh/coordinates");
   std::vector<double> touched;  // each bottom node's x at the first step in contact
   for (size_t k = 0; k < rows.size(); ++k) {
     if (rows[k].at("contact_floor_z_N") == 0) continue;
-    const std::vector<double> u = read_h5(h5, "/step_" + std::to_string(k) + "/displacement");
+    const std::vector<double> u =
+        hs_test::read_dataset(h5, "/step_" + std::to_string(k) + "/displacement");
     size_t b = 0;
     for (size_t n = 0; 3 * n < X.size(); ++n) {
       if (std::abs(X[3 * n + 2]) > 1e-12) continue;

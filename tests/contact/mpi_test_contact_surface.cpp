@@ -6,7 +6,6 @@
 // to 1e-11 of its first residual or 1e-9 N: the runs' paths differ by round-off (on 2 ranks the
 // iterations and cutbacks differ), so only their converged answers are compared.
 #include <gtest/gtest.h>
-#include <hdf5.h>
 #include <mpi.h>
 
 #include <cmath>
@@ -23,18 +22,6 @@ namespace mpi_test_contact_surface {
 
 using Json = nlohmann::json;
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
-
-std::vector<double> read_h5(const std::string& path, const std::string& name) {
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(set);
-  std::vector<double> v(H5Sget_simple_extent_npoints(space));
-  H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  H5Sclose(space);
-  H5Dclose(set);
-  H5Fclose(file);
-  return v;
-}
 
 struct PressRun {
   Json summary;
@@ -60,7 +47,7 @@ PressRun press(const std::string& tag, const std::string& obstacle) {
   run.summary = hs_test::shared(
       hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder}), MPI_COMM_WORLD));
   if (hs_test::world_rank() == 0)
-    run.displacement = read_h5(folder + "/" + tag + ".h5", "/step_7/displacement");
+    run.displacement = hs_test::read_dataset(folder + "/" + tag + ".h5", "/step_7/displacement");
   return run;
 }
 

@@ -6,7 +6,6 @@
 // On 2 ranks every figure is compared with the same deck run on one (each node's force
 // counted by its owner alone).
 #include <gtest/gtest.h>
-#include <hdf5.h>
 #include <mpi.h>
 
 #include <array>
@@ -87,15 +86,8 @@ std::map<std::string, double> last_history_row(const std::string& folder) {
 // The sum over the nodes of the last step's nodal_load in the .h5.
 Force total_applied_load(const std::string& h5_path, int step) {
   Force total{0, 0, 0};
-  const hid_t file = H5Fopen(h5_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const std::string name = "/step_" + std::to_string(step) + "/nodal_load";
-  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(set);
-  std::vector<double> load(H5Sget_simple_extent_npoints(space));
-  H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, load.data());
-  H5Sclose(space);
-  H5Dclose(set);
-  H5Fclose(file);
+  const std::vector<double> load =
+      hs_test::read_dataset(h5_path, "/step_" + std::to_string(step) + "/nodal_load");
   for (size_t i = 0; i < load.size(); ++i) total[i % 3] += load[i];
   return total;
 }
