@@ -6,8 +6,8 @@
 namespace hs {
 namespace {
 
-const char* const kOwnOptions[] = {"--set",  "--targets", "--restart", "--check",
-                                   "--help", "--version", "--quiet",   "--verbose"};
+const char* const kOwnOptions[] = {"--set",     "--targets", "--restart", "--check", "--help",
+                                   "--version", "--quiet",   "--verbose", "--samples"};
 
 // A PETSc option is -name with a letter first; "-5" or "-1e3" is a (negative) value.
 bool is_petsc_option(const std::string& a) {
@@ -42,6 +42,9 @@ Arguments parse_arguments(int argc, const char* const* argv) {
   if (argc > 1 && std::strcmp(argv[1], "mesh") == 0) {
     args.mesh = true;
     first = 2;
+  } else if (argc > 1 && std::strcmp(argv[1], "reduce") == 0) {
+    args.reduce = true;
+    first = 2;
   }
   for (int i = first; i < argc; ++i) {
     const std::string a = argv[i];
@@ -52,6 +55,20 @@ Arguments parse_arguments(int argc, const char* const* argv) {
       if (v.find('=') == std::string::npos)
         throw UsageError("--set " + v + ": expected key=value, e.g. --set mesh.order=2");
       args.overrides.push_back(v);
+    } else if (args.reduce && a == "-o") {
+      if (i + 1 >= argc) throw UsageError("reduce: -o needs a value (-o MODEL.h5)");
+      args.reduce_output = argv[++i];
+    } else if (args.reduce && a == "--samples") {
+      const std::string v = value_of(i, a);
+      try {
+        size_t used = 0;
+        args.samples = std::stoi(v, &used);
+        if (used != v.size()) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw UsageError("--samples " + v + ": expected a whole number, e.g. --samples 17");
+      }
+      if (args.samples < 3 || args.samples > 1000)
+        throw UsageError("--samples " + v + ": between 3 and 1000 per actuator");
     } else if (a == "--targets") {
       args.targets = value_of(i, a);
     } else if (a == "--restart") {
@@ -96,6 +113,13 @@ Arguments parse_arguments(int argc, const char* const* argv) {
     throw UsageError("mesh: usage: hydrosoft mesh DECK.yaml OUT.h5 [--set key=value ...]");
   if (args.mesh && (args.check || !args.targets.empty() || !args.restart.empty()))
     throw UsageError("mesh: --check, --targets and --restart do not apply (it solves nothing)");
+  if (args.reduce && (args.deck.empty() || args.reduce_output.empty()))
+    throw UsageError("reduce: usage: hydrosoft reduce DECK.yaml -o MODEL.h5 [--samples N] "
+                     "[--set key=value ...]");
+  if (args.reduce && (args.check || !args.targets.empty() || !args.restart.empty()))
+    throw UsageError("reduce: --check, --targets and --restart do not apply (it trains a model)");
+  if (!args.reduce && args.samples)
+    throw UsageError("--samples: only for hydrosoft reduce");
   if (args.check && !args.restart.empty())
     throw UsageError("--check: --restart does not apply (it solves nothing)");
   return args;

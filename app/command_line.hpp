@@ -3,7 +3,8 @@
 // --help/-h, --version) nor a
 // PETSc option (-name, or -name value) is an error that names it; nothing is silently ignored.
 // `hydrosoft mesh DECK.yaml OUT.h5` (the word mesh first) meshes the deck's mesh once into a
-// hydrosoft mesh file that runs then read in parallel.
+// hydrosoft mesh file that runs then read in parallel. `hydrosoft reduce DECK -o MODEL.h5
+// [--samples N]` trains a reduced-order model of a control deck (docs/reduced_models.md).
 #pragma once
 
 #include <stdexcept>
@@ -23,6 +24,9 @@ struct Arguments {
   bool check = false;              // --check: validate the deck and its mesh, solve nothing
   bool mesh = false;               // hydrosoft mesh DECK OUT.h5: write the mesh, solve nothing
   std::string mesh_output;         // its OUT.h5
+  bool reduce = false;             // hydrosoft reduce DECK -o MODEL.h5: train a reduced model
+  std::string reduce_output;       // its MODEL.h5
+  int samples = 0;                 // --samples N (0: the default)
   std::vector<std::string> petsc;  // PETSc's arguments, in order (values included)
   std::vector<std::string> petsc_names;  // the PETSc options among them, e.g. "-snes_monitor"
 };

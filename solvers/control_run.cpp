@@ -70,6 +70,8 @@ ControlLoop::ControlLoop(const Config& config, Problem& problem, ConstraintSet& 
       controller_(config, problem, constraints, newton, effectors_),
       io_(std::move(io)),
       interactive_(config.control->targets_from_stdin) {
+  if (!config.control->reduced_model.empty())
+    reduced_ = std::make_unique<ReducedController>(config, problem, constraints, effectors_);
   if (!io_.input) io_.input = &std::cin;
   if (!io_.write_line)
     io_.write_line = [](const std::string& line) {
@@ -137,6 +139,9 @@ nlohmann::json ControlLoop::totals_state() const {
 }
 
 nlohmann::json ControlLoop::resume(const Restart& restart, Vec u) {
+  if (reduced_)
+    throw InputError("--restart: a run with control.reduced_model starts afresh (its answers "
+                     "take milliseconds; docs/reduced_models.md)");
   const nlohmann::json& p = restart.position();
   restart.read("displacement", problem_, u);
   restore_constraint_states(constraints_, p.at("constraints"));
@@ -165,6 +170,7 @@ nlohmann::json ControlLoop::resume(const Restart& restart, Vec u) {
 
 void ControlLoop::start(Vec u) {
   if (!resumed_) controller_.set_rest(u);
+  if (reduced_) reduced_->set_rest(u);
   for (const auto& part : ControlStepReport{}.parts())
     totals_.parts[part.first];  // even without steps
 }
@@ -191,7 +197,7 @@ ControlStepReport ControlLoop::take_steps(Vec u, const std::vector<ControlTarget
   Totals& t = totals_;
   ControlStepReport r;
   for (int k = 0; k < config_.control->steps_per_target; ++k) {
-    r = controller_.step(u, targets);
+    r = reduced_ ? reduced_->step(u, targets) : controller_.step(u, targets);
     if (!r.fallback.empty() && rank == 0)
       std::cerr << "hydrosoft: control: " << r.fallback << std::endl;
     newton_iterations_ += r.newton_iterations;
@@ -219,12 +225,13 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
   // equilibrium at the final actuation, not the last step's linear prediction (the same
   // when newton_finish is on). The one_step mode never waits for Newton: it reports the
   // prediction, and the next step's residual corrects it.
-  if (config_.control->free_solve == FreeSolve::newton) {
+  if (config_.control->free_solve == FreeSolve::newton && !reduced_) {
     controller_.settle(u, r);
     limit_point |= r.limit_point;
   }
   std::vector<double> equilibrium;
-  if (config_.control->free_solve == FreeSolve::one_step && config_.control->check_equilibrium)
+  if ((config_.control->free_solve == FreeSolve::one_step || reduced_) &&
+      config_.control->check_equilibrium)
     equilibrium = controller_.equilibrium_positions(u);
   if (io_.after_steps) io_.after_steps(u, line_number);
   check_finite(u, r, equilibrium);
@@ -257,6 +264,7 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
       j["correction_iterations"] = r.correction_iterations;
     }
     j["actuation"] = r.actuation;
+    if (!r.reduced.is_null()) j["reduced"] = r.reduced;
     j["saturated"] = r.saturated;
     j["limit_point"] = limit_point;
     if (config_.control->free_solve == FreeSolve::one_step) {
@@ -324,6 +332,7 @@ bool ControlLoop::reach_or_explain(Vec u, const std::vector<ControlTarget>& targ
   HS_PETSC(VecCopy(saved, u));
   constraints_.restore(states);
   controller_.recover();
+  if (reduced_) reduced_->recover(u);
   pending_ = nlohmann::json::array();
   ++session_.failed;
   const std::string text = "the control step failed (" + error +
@@ -438,6 +447,7 @@ nlohmann::json ControlLoop::summary() const {
     out["step_time_ms"]["split_median"][name] = percentile(v, 0.5);
   out["step_time_ms"]["steps"] = t.total.size();
   out["qp"] = {{"kkt_residual_max", t.kkt_max}, {"unsolved", t.unsolved}};
+  if (reduced_) out["reduced_model"] = reduced_->summary();
   if (config_.control->factor_threads > 0)
     out["background_factorization"] = {{"threads", config_.control->factor_threads},
                                        {"step_ms", t.total},

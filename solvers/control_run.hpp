@@ -18,6 +18,7 @@
 #include "solvers/interactive_io.hpp"
 #include "solvers/inverse_controller.hpp"
 #include "solvers/output/result_recorder.hpp"
+#include "solvers/reduced/reduced_controller.hpp"
 
 namespace hs {
 
@@ -126,6 +127,7 @@ class ControlLoop {
   int newton_iterations_ = 0;
   Effectors effectors_;
   InverseController controller_;
+  std::unique_ptr<ReducedController> reduced_;  // control.reduced_model
   InteractiveIo io_;
   Totals totals_;
   Session session_;

@@ -72,6 +72,9 @@ struct ControlStepReport {
   // instead of trusting an indefinite tangent (empty when nothing).
   int negative_pivots = -1;
   std::string fallback;
+  // A reduced model's answer (solvers/reduced/reduced_controller.hpp): whether the actuation
+  // lies in its training envelope, and its error estimate; null for the full model.
+  nlohmann::json reduced;
 };
 
 class InverseController {

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "control/qp.hpp"
+#include "control/actuation_qp.hpp"
 #include "solvers/inverse_controller.hpp"
 
 namespace hs {
@@ -48,59 +48,28 @@ Eigen::VectorXd InverseController::solve_actuation(const Eigen::MatrixXd& W,
                                                    const Eigen::MatrixXd& growth,
                                                    ControlStepReport& report) {
   const int n = num_actuators();
-  Eigen::MatrixXd H = W.transpose() * W;
-  const double scale = std::max(H.trace() / std::max(n, 1), 1e-300);
-  H += config_.control->regularization * scale * Eigen::MatrixXd::Identity(n, n);
-  const Eigen::VectorXd f = W.transpose() * delta;
-  std::vector<Eigen::RowVectorXd> rows;
-  std::vector<double> rhs;
-  std::vector<int> owner;  // actuator of each constraint row
-  auto bound = [&](const Eigen::RowVectorXd& row, double lower, int a) {
-    if (std::isfinite(lower) && lower > -1e299) {
-      rows.push_back(row);
-      rhs.push_back(lower);
-      owner.push_back(a);
-    }
-  };
   if (static_cast<int>(change_origin_.size()) != n) {
     change_origin_.resize(n);
     for (int a = 0; a < n; ++a)
       change_origin_[a] = constraints_[actuators_[a].constraint].multiplier();
   }
+  std::vector<ActuatorConfig> bounds;
+  std::vector<ActuatorPosition> at(n);
   for (int a = 0; a < n; ++a) {
-    const auto& b = actuators_[a].config;
-    const double lambda = constraints_[actuators_[a].constraint].multiplier();
-    const double origin = change_origin_[a];  // the change per step counts from there
-    PetscScalar free_growth = 0;              // the free step's volume change (linear)
+    const Constraint& c = constraints_[actuators_[a].constraint];
+    PetscScalar free_growth = 0;  // the free step's volume change (linear)
     HS_PETSC(VecDot(lin_.g[actuators_[a].constraint], free_step_, &free_growth));
-    const double grown =
-        constraints_[actuators_[a].constraint].measure() + free_growth - actuators_[a].rest_measure;
-    Eigen::RowVectorXd unit = Eigen::RowVectorXd::Zero(n);
-    unit(a) = 1;
-    bound(unit, b.min_multiplier - lambda, a);
-    bound(-unit, lambda - b.max_multiplier, a);
-    bound(unit, origin - b.max_multiplier_step - lambda, a);
-    bound(-unit, lambda - origin - b.max_multiplier_step, a);
-    bound(growth.row(a), b.min_measure_change - grown, a);
-    bound(-growth.row(a), grown - b.max_measure_change, a);
+    bounds.push_back(actuators_[a].config);
+    at[a] = {c.multiplier(), change_origin_[a],
+             c.measure() + free_growth - actuators_[a].rest_measure};
   }
-  Eigen::MatrixXd A(rows.size(), n);
-  Eigen::VectorXd bvec(rows.size());
-  for (size_t r = 0; r < rows.size(); ++r) {
-    A.row(r) = rows[r];
-    bvec(r) = rhs[r];
-  }
-  QpResult qp = solve_qp(H, f, A, bvec);
-  report.qp_solved = qp.solved;
-  report.qp_status = qp.status;
-  Eigen::VectorXd dl = Eigen::VectorXd::Zero(n);
-  if (qp.solved) {
-    dl = qp.x;
-    report.kkt_residual = qp.kkt_residual;
-  }
-  report.saturated.assign(n, false);
-  for (int r : qp.active) report.saturated[owner[r]] = true;
-  return dl;
+  const ActuationChange change =
+      solve_actuation_qp(W, delta, growth, bounds, at, config_.control->regularization);
+  report.qp_solved = change.solved;
+  report.qp_status = change.status;
+  report.kkt_residual = change.kkt_residual;
+  report.saturated = change.saturated;
+  return change.dl;
 }
 
 }  // namespace hs

@@ -162,6 +162,10 @@ class Problem {
   class LocalView;
 
   const AssemblyTimers& timers() const { return timers_; }
+  // Internal force (and tangent, K not null) of local tet e at local displacements ua (owned
+  // then ghost nodes, 3 each): one element's part of f_int, for the elements a reduced model
+  // samples. Not for a nodal-pressure body (its volumetric part is per node).
+  ElementOutput element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const;
   bool has_follower_loads() const { return !pressure_faces_.empty(); }
   // Pressure loads of the deck (open surfaces: not conservative, so their load stiffness is
   // not symmetric). A cavity's pressure on its closed walls is conservative (the potential
@@ -231,8 +235,6 @@ class Problem {
   // Collective: agrees on this rank's inverted element (-1: none) with the others, records
   // it and returns whether there is none.
   bool record_inverted(int64_t local_bad);
-  // Internal force (and tangent, K not null) of local tet e at local displacements ua.
-  ElementOutput element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const;
   // The tangent's entries by coordinates, in the order jacobian() fills their values: the
   // node-pair blocks (elements and faces summed into them), Dirichlet diagonals, registered
   // couplings.

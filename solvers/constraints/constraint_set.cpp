@@ -54,8 +54,7 @@ void ConstraintSet::freeze_weights(Vec u, double s) {
   for (auto& c : constraints_) c->freeze(u, s);
 }
 
-bool ConstraintSet::residual(Vec u, double s, Vec R, std::vector<double>& control) {
-  control.resize(constraints_.size());
+bool ConstraintSet::update(Vec u, double s) {
   collapsed_ = -1;
   const double t0 = MPI_Wtime();
   for (size_t k = 0; k < constraints_.size(); ++k) {
@@ -72,9 +71,22 @@ bool ConstraintSet::residual(Vec u, double s, Vec R, std::vector<double>& contro
     HS_PETSC(VecSet(loads_, 0.0));
     for (auto& c : constraints_) c->add_load(u, s, loads_);
   }
-  const bool ok = problem_.residual(u, s, R) && collapsed_ < 0;
+  return collapsed_ < 0;
+}
+
+bool ConstraintSet::residual(Vec u, double s, Vec R, std::vector<double>& control) {
+  control.resize(constraints_.size());
+  const bool in_domain = update(u, s);
+  const bool ok = problem_.residual(u, s, R) && in_domain;
   for (size_t k = 0; k < constraints_.size(); ++k) control[k] = constraints_[k]->control_residual();
   return ok;
+}
+
+bool ConstraintSet::loads(Vec u, double s, Vec f) {
+  if (!update(u, s)) return false;
+  problem_.cavity_pressure_load(u, f);
+  if (loads_) HS_PETSC(VecAXPY(f, 1.0, loads_));
+  return true;
 }
 
 bool ConstraintSet::linearize(Vec u, double s, Mat J, ConstraintLinearization& lin) {

@@ -52,6 +52,12 @@ class ConstraintSet {
   // R(u, lambda; s) and the controls c (size()). Returns false on an inverted element or a
   // constraint outside its domain (collapse_reason() then says why).
   bool residual(Vec u, double s, Vec R, std::vector<double>& c);
+  // The forces the constraints exert on the body at (u, lambda; s), with the sign of a load:
+  // their multipliers' (a cavity's pressure on its walls, a cable's tension) and their own
+  // loads (a liquid's weight), the part of R(u, lambda; s) they are; the measures updated. A
+  // reduced model evaluates them apart from the elements. False when a constraint left its
+  // domain (collapse_reason()).
+  bool loads(Vec u, double s, Vec f);
   // After a residual() that returned false: why, if a constraint left its domain; else "".
   std::string collapse_reason() const;
   // The largest load_jump() of its constraints (N).
@@ -90,6 +96,9 @@ class ConstraintSet {
   double volume_change() const;
 
  private:
+  // Before the constraints' forces are read at (u, s): each multiplier put where the residual
+  // finds it, the measures, the own loads; false when a constraint left its domain.
+  bool update(Vec u, double s);
   Problem& problem_;
   std::vector<std::unique_ptr<Constraint>> constraints_;
   VecHandle loads_;  // the constraints' own loads, the problem's extra load

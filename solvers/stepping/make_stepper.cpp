@@ -1,5 +1,6 @@
 #include <utility>
 
+#include "solvers/reduced/training_stepper.hpp"
 #include "solvers/stepping/control_stepper.hpp"
 #include "solvers/stepping/dynamic_states_stepper.hpp"
 #include "solvers/stepping/dynamic_stepper.hpp"
@@ -24,6 +25,9 @@ std::unique_ptr<Stepper> make_stepper(const StepperParts& p, InteractiveIo io) {
     case SteppingKind::control:
       return std::make_unique<ControlStepper>(p.config, p.problem, *p.constraints, *p.bordered,
                                               p.stats, *p.recorder, std::move(io));
+    case SteppingKind::reduce:
+      return std::make_unique<TrainingStepper>(p.config, p.problem, *p.constraints, *p.bordered,
+                                               p.stats, *p.recorder);
   }
   return nullptr;
 }

@@ -3,6 +3,7 @@
 namespace hs {
 
 SteppingKind stepping_kind_of(const Config& config) {
+  if (config.training) return SteppingKind::reduce;
   if (config.control) return SteppingKind::control;
   const bool dynamic = config.time.type == TimeType::dynamic;
   if (!config.cavities.empty() || !config.cables.empty() || !config.states.empty() || config.tip)
@@ -22,6 +23,8 @@ std::string stepping_kind_name(SteppingKind kind) {
       return "dynamic_states";
     case SteppingKind::control:
       return "control";
+    case SteppingKind::reduce:
+      return "reduce";
   }
   return "static";
 }

@@ -14,6 +14,7 @@ enum class SteppingKind {
   states,          // the deck's states, with cavities, cables or a tip (bordered Newton)
   dynamic_states,  // time steps with cavities, cables or a tip: the states as a schedule in time
   control,         // its states, then its target sets
+  reduce,          // a control deck's states, then the training of a reduced model
 };
 
 // A scene with cavities, cables, states, a tip or control runs its states (bordered Newton),
@@ -27,7 +28,7 @@ std::string stepping_kind_name(SteppingKind kind);
 // runs in a scene without them.
 inline bool has_constraints(SteppingKind kind) {
   return kind == SteppingKind::states || kind == SteppingKind::dynamic_states ||
-         kind == SteppingKind::control;
+         kind == SteppingKind::control || kind == SteppingKind::reduce;
 }
 
 }  // namespace hs

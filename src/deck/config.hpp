@@ -257,6 +257,9 @@ struct ControlConfig {
   // with the latest factorization, corrected by GMRES on the current tangent (0: in line).
   int factor_threads = 0;
   bool targets_from_stdin = false;  // `--targets -` on the command line (not a deck key)
+  // A reduced-order model (hydrosoft reduce) that answers the control steps in place of the
+  // full model (docs/reduced_models.md); "" for none. A path from the working directory.
+  std::string reduced_model;
 };
 
 // Contact of the body with rigid obstacles (docs/contact.md): which of its surfaces may touch,
@@ -266,6 +269,16 @@ struct ContactConfig {
   std::optional<double> distance;     // dhat (m): the gap at which the barrier starts
   std::optional<double> stiffness;    // kappa (Pa/m): the barrier's scale
   std::optional<double> slip;         // eps_v (m): friction's slip between stick and slide
+};
+
+// `hydrosoft reduce DECK -o MODEL.h5` (the command line's, not deck keys): the training of a
+// reduced-order model (docs/reduced_models.md).
+struct TrainingConfig {
+  std::string output;                 // the model file
+  int samples = 17;                   // per actuator, over its [min, max] range
+  double energy_tolerance = 1e-10;    // POD: the discarded fraction of the snapshots' energy
+  int max_modes = 40;
+  double ecsw_tolerance = 1e-4;       // ECSW: |C w - b| / |b| on the training snapshots
 };
 
 struct Config {
@@ -289,6 +302,7 @@ struct Config {
   std::vector<StateConfig> states;
   std::optional<TipConfig> tip;
   std::optional<ControlConfig> control;
+  std::optional<TrainingConfig> training;  // hydrosoft reduce (the command line)
   std::vector<ObstacleShape> obstacles;
   ContactConfig contact;
 };

@@ -340,9 +340,14 @@ const KeyTable<ControlConfig>& control_keys() {
           "equilibrium (within 0.1 mm on the finger decks). 0: the single linearisation of "
           "the paper (docs/control.md)"),
       bool_key("check_equilibrium", &ControlConfig::check_equilibrium,
-               "`one_step` only: after each target set, also solve for the equilibrium at its "
-               "pressures (on a copy, outside the step times) and report it as `equilibrium`, "
-               "`equilibrium_error_m`"),
+               "`one_step` or `reduced_model` only: after each target set, also solve the full "
+               "model for the equilibrium at its pressures (on a copy, outside the step times) "
+               "and report it as `equilibrium`, `equilibrium_error_m`"),
+      text_key("reduced_model", &ControlConfig::reduced_model, "file",
+               "a reduced-order model written by `hydrosoft reduce` for this deck's mesh and "
+               "physics (a path from the working directory): the control steps are solved in "
+               "its reduced space (docs/reduced_models.md); one rank")
+          .printed_when([](const ControlConfig& k) { return !k.reduced_model.empty(); }),
       integer_key("factor_threads", &ControlConfig::factor_threads, within(0, 64),
                   "`one_step` only: threads (on rank 0) that factor the tangent in the "
                   "background while the loop steps on; each step then corrects with the newest "

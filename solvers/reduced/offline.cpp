@@ -1,0 +1,73 @@
+#include "solvers/reduced/offline.hpp"
+
+#include <mpi.h>
+
+#include "common/error.hpp"
+#include "reduction/ecsw.hpp"
+#include "reduction/pod.hpp"
+
+namespace hs {
+namespace {
+
+// C of ECSW (reduction/ecsw.hpp): column e holds local tetrahedron e's projected internal
+// forces Phi_e^T f_e(Phi Phi^T u_s), stacked over the snapshots s. The snapshots are projected
+// first, so that the weights are fit on the states the reduced model can reach.
+Eigen::MatrixXd element_contributions(const Problem& problem, const Eigen::MatrixXd& phi,
+                                      const Eigen::MatrixXd& training) {
+  const Distribution& dist = problem.distribution();
+  const int k = static_cast<int>(phi.cols()), npe = dist.nodes_per_tet(), n = 3 * npe;
+  const int64_t tets = static_cast<int64_t>(dist.local_tets.size());
+  Eigen::MatrixXd C(k * training.cols(), tets);
+  double re[30];
+  Eigen::MatrixXd P(n, k);
+  for (Eigen::Index s = 0; s < training.cols(); ++s) {
+    const Eigen::VectorXd u = phi * (phi.transpose() * training.col(s));
+    for (int64_t e = 0; e < tets; ++e) {
+      const ElementOutput out = problem.element_force(e, u.data(), re, nullptr);
+      if (!out.valid)
+        throw SolveError("hydrosoft reduce: a projected snapshot inverts element " +
+                         std::to_string(dist.local_tets[e]) + "; more modes are needed");
+      for (int a = 0; a < npe; ++a)
+        P.middleRows(3 * a, 3) = phi.middleRows(3 * dist.tet_nodes[e * npe + a], 3);
+      C.block(s * k, e, k, 1) = P.transpose() * Eigen::Map<const Eigen::VectorXd>(re, n);
+    }
+  }
+  return C;
+}
+
+}  // namespace
+
+void build_reduced_model(const Problem& problem, const Eigen::MatrixXd& training,
+                         const TrainingConfig& settings, ReducedModel& model) {
+  const Distribution& dist = problem.distribution();
+  double t0 = MPI_Wtime();
+  const PodBasis pod = pod_basis(training, settings.energy_tolerance, settings.max_modes);
+  const Eigen::MatrixXd& phi = pod.modes;
+  model.basis.resize(phi.rows(), phi.cols());
+  for (int64_t n = 0; n < dist.num_local(); ++n)
+    model.basis.middleRows(3 * dist.old_of_local[n], 3) = phi.middleRows(3 * n, 3);
+  std::vector<double> sigma(pod.singular_values.data(),
+                            pod.singular_values.data() + pod.singular_values.size());
+  model.report["pod"] = {{"snapshots", training.cols()},
+                         {"modes", phi.cols()},
+                         {"energy_tolerance", settings.energy_tolerance},
+                         {"discarded_energy", pod.discarded_energy},
+                         {"singular_values", sigma},
+                         {"seconds", MPI_Wtime() - t0}};
+  t0 = MPI_Wtime();
+  const Eigen::MatrixXd C = element_contributions(problem, phi, training);
+  const Eigen::VectorXd b = C.rowwise().sum();
+  const EcswWeights w = ecsw_weights(C, b, settings.ecsw_tolerance);
+  if (w.elements.empty()) throw SolveError("hydrosoft reduce: ECSW kept no element");
+  model.elements.clear();
+  for (int e : w.elements) model.elements.push_back(dist.local_tets[e]);
+  model.weights = w.weights;
+  model.report["ecsw"] = {{"elements", w.elements.size()},
+                          {"of", dist.local_tets.size()},
+                          {"tolerance", settings.ecsw_tolerance},
+                          {"relative_residual", w.relative_residual},
+                          {"converged", w.converged},
+                          {"seconds", MPI_Wtime() - t0}};
+}
+
+}  // namespace hs

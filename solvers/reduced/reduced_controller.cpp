@@ -1,0 +1,194 @@
+#include "solvers/reduced/reduced_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.hpp"
+#include "control/actuation_qp.hpp"
+
+namespace hs {
+namespace {
+
+constexpr int kMaxPasses = 12;  // QP and Newton passes of one step
+// A pass whose actuation change moves no targeted effector by more than this (m, weighted as
+// in the QP) ends the step: far below any accuracy a reduced model has.
+constexpr double kEffectorStop = 1e-6;
+// A linear prediction whose residual exceeds this fraction of the forces is compared with the
+// nearest training sample.
+constexpr double kFarResidual = 1e-2;
+
+}  // namespace
+
+ReducedController::ReducedController(const Config& config, Problem& problem,
+                                     ConstraintSet& constraints, Effectors& effectors)
+    : config_(config),
+      constraints_(constraints),
+      effectors_(effectors),
+      path_(config.control->reduced_model) {
+  model_ = read_reduced_model(path_);
+  std::vector<Vec> rows;
+  for (int e = 0; e < effectors.size(); ++e)
+    for (int d = 0; d < 3; ++d) rows.push_back(effectors.row(e, d));
+  system_ = std::make_unique<ReducedSystem>(config, problem, constraints, model_, path_, rows);
+  for (const auto& a : config.control->actuators)
+    actuators_.push_back(constraints.find(a.constraint));
+  effector_rows_.resize(rows.size(), system_->size());
+  for (size_t r = 0; r < rows.size(); ++r) effector_rows_.row(r) = system_->project_row(rows[r]);
+  VecHandle zero(problem.create_vector());
+  reference_ = effectors.positions(zero);
+}
+
+void ReducedController::set_rest(Vec u) {
+  q_ = system_->project(u);
+  for (int c : actuators_) constraints_[c].hold_multiplier();
+  const ReducedSolve r = system_->solve(q_, u);
+  if (!r.converged)
+    throw SolveError("reduced model: no reduced equilibrium at the rest state (" + r.reason + ")");
+  rest_measure_.clear();
+  for (int c : actuators_) rest_measure_.push_back(constraints_[c].measure());
+  system_->place(q_, u, true);
+}
+
+void ReducedController::recover(Vec u) {
+  q_ = system_->project(u);
+  system_->solve(q_, u);
+  system_->place(q_, u, true);
+}
+
+ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget>& targets) {
+  ControlStepReport report;
+  const double t0 = MPI_Wtime();
+  const double elements0 = system_->element_seconds(), forces0 = system_->constraint_seconds();
+  const double fluid0 = constraints_.fluid_weight_seconds();
+  double qp_s = 0;
+  const int n = static_cast<int>(actuators_.size());
+  std::vector<ActuatorConfig> bounds = config_.control->actuators;
+  std::vector<ActuatorPosition> at(n);
+  for (int a = 0; a < n; ++a) {
+    constraints_[actuators_[a]].hold_multiplier();
+    at[a].origin = constraints_[actuators_[a]].multiplier();
+  }
+  Eigen::MatrixXd K, G;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    system_->linearize(q_, u, K, G, pass == 0);
+    Eigen::MatrixXd Ga(K.rows(), n);
+    for (int a = 0; a < n; ++a) Ga.col(a) = G.col(actuators_[a]);
+    const Eigen::MatrixXd dq = K.partialPivLu().solve(Ga);
+    const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) +
+                              effector_rows_ * q_;
+    std::vector<Eigen::RowVectorXd> w_rows;
+    std::vector<double> delta_rows;
+    for (const auto& t : targets) {
+      const int e = effectors_.index(t.effector);
+      const auto& ec = effectors_.config(e);
+      for (int d = 0; d < 3; ++d) {
+        if (!ec.directions[d]) continue;
+        w_rows.push_back(ec.weight * effector_rows_.row(3 * e + d) * dq);
+        delta_rows.push_back(ec.weight * (x(3 * e + d) - t.position[d]));
+      }
+    }
+    Eigen::MatrixXd W(w_rows.size(), n);
+    Eigen::VectorXd delta(w_rows.size());
+    for (size_t r = 0; r < w_rows.size(); ++r) {
+      W.row(r) = w_rows[r];
+      delta(r) = delta_rows[r];
+    }
+    const Eigen::MatrixXd growth = Ga.transpose() * dq;
+    for (int a = 0; a < n; ++a) {
+      const Constraint& c = constraints_[actuators_[a]];
+      at[a].multiplier = c.multiplier();
+      at[a].grown = c.measure() - rest_measure_[a];
+    }
+    const double q0 = MPI_Wtime();
+    const ActuationChange change =
+        solve_actuation_qp(W, delta, growth, bounds, at, config_.control->regularization);
+    qp_s += MPI_Wtime() - q0;
+    report.qp_solved = change.solved;
+    report.qp_status = change.status;
+    report.kkt_residual = change.kkt_residual;
+    report.saturated = change.saturated;
+    double scale = 0;
+    for (int a = 0; a < n; ++a) scale = std::max(scale, std::abs(at[a].multiplier));
+    if (!change.solved || change.dl.lpNorm<Eigen::Infinity>() <= 1e-9 * std::max(scale, 1.0))
+      break;
+    // The new actuation, and Newton from the linear prediction; a step Newton cannot take
+    // (a limit point of the pressure) is halved.
+    const Eigen::VectorXd q_start = q_;
+    Eigen::VectorXd dl = change.dl;
+    ReducedSolve solved;
+    for (int halving = 0; halving < 6; ++halving, dl *= 0.5) {
+      for (int a = 0; a < n; ++a)
+        constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier,
+                                              at[a].multiplier + dl(a));
+      // Newton starts from the linear prediction or, where the nonlinearity has taken that
+      // far off, from the nearest training sample: whichever balances better.
+      const Eigen::VectorXd predicted = q_start + dq * dl;
+      Eigen::VectorXd lambda(n);
+      for (int a = 0; a < n; ++a) lambda(a) = at[a].multiplier + dl(a);
+      const Eigen::VectorXd sampled = system_->nearest_training_state(lambda);
+      const double r_predicted = system_->residual_norm(predicted, u);
+      q_ = r_predicted > kFarResidual * system_->force_scale() &&
+                   system_->residual_norm(sampled, u) < r_predicted
+               ? sampled
+               : predicted;
+      solved = system_->solve(q_, u);
+      report.newton_iterations += solved.iterations;
+      if (solved.converged) break;
+    }
+    if (!solved.converged) {
+      for (int a = 0; a < n; ++a)
+        constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, at[a].multiplier);
+      q_ = q_start;
+      system_->solve(q_, u);
+      report.limit_point = true;
+      break;
+    }
+  }
+  ++steps_;
+  const std::vector<double> x = [&] {
+    const Eigen::VectorXd v =
+        Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) + effector_rows_ * q_;
+    return std::vector<double>(v.data(), v.data() + v.size());
+  }();
+  report.reached = x;
+  double error2 = 0;
+  for (const auto& t : targets) {
+    const int e = effectors_.index(t.effector);
+    for (int d = 0; d < 3; ++d)
+      if (effectors_.config(e).directions[d]) error2 += std::pow(x[3 * e + d] - t.position[d], 2);
+  }
+  report.error = std::sqrt(error2);
+  bool inside = true;
+  for (int a = 0; a < n; ++a) {
+    const double lambda = constraints_[actuators_[a]].multiplier();
+    report.actuation.push_back(lambda);
+    const double slack = 1e-9 * std::max(1.0, model_.upper[a] - model_.lower[a]);
+    inside &= lambda >= model_.lower[a] - slack && lambda <= model_.upper[a] + slack;
+  }
+  const double fluid = constraints_.fluid_weight_seconds() - fluid0;
+  const double evaluations =
+      system_->element_seconds() - elements0 + system_->constraint_seconds() - forces0;
+  report.fluid_weight_ms = 1e3 * fluid;
+  report.assembly_ms = 1e3 * (evaluations - fluid);
+  report.qp_ms = 1e3 * qp_s;
+  report.total_ms = 1e3 * (MPI_Wtime() - t0);
+  report.free_solve_ms = report.total_ms - report.assembly_ms - report.fluid_weight_ms - report.qp_ms;
+  const nlohmann::json& held = model_.report.at("held_back");
+  report.reduced = {{"in_envelope", inside},
+                    {"estimated_error_m", inside ? held.at("max_effector_error_m")
+                                                 : nlohmann::json(nullptr)}};
+  outside_ += !inside;
+  system_->place(q_, u, true);  // the whole field, for the output
+  return report;
+}
+
+nlohmann::json ReducedController::summary() const {
+  return {{"file", path_},
+          {"modes", system_->size()},
+          {"elements", model_.elements.size()},
+          {"sampled_dofs", system_->sampled_dofs()},
+          {"steps_outside_envelope", outside_},
+          {"training", model_.report}};
+}
+
+}  // namespace hs

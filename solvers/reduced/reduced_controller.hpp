@@ -1,0 +1,54 @@
+// The inverse controller on a reduced-order model (docs/reduced_models.md): the steps of the
+// full model's controller (solvers/inverse_controller.hpp) in the model's reduced space, where
+// a factorization is of a k x k matrix. Each step iterates, within the step's bounds:
+//   1. the reduced tangent K and the actuators' unit forces G at the equilibrium q;
+//   2. the compliance dq/dlambda = K^-1 G, the effectors' rows W and the volume growth;
+//   3. the QP of the full model (control/actuation_qp.hpp) for the actuation change dl;
+//   4. lambda += dl, and Newton in the reduced space from q + dq/dlambda dl,
+// until dl vanishes, so that every answer is the reduced model's equilibrium. The whole field
+// Phi q is placed in u after the step (outside its time), for the output.
+#pragma once
+
+#include <petscvec.h>
+
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "reduction/model_file.hpp"
+#include "solvers/effectors.hpp"
+#include "solvers/inverse_controller.hpp"
+#include "solvers/reduced/reduced_system.hpp"
+
+namespace hs {
+
+class ReducedController {
+ public:
+  // Reads and checks the deck's control.reduced_model (InputError naming the file).
+  ReducedController(const Config& config, Problem& problem, ConstraintSet& constraints,
+                    Effectors& effectors);
+
+  // The rest state: its reduced coordinates (u projected, then the reduced equilibrium at the
+  // rest actuation) and the actuators' rest measures.
+  void set_rest(Vec u);
+  ControlStepReport step(Vec u, const std::vector<ControlTarget>& targets);
+  // After a step that failed and u and the constraints were put back: q from u again.
+  void recover(Vec u);
+  // summary.json's `reduced_model`: the file, its sizes, its training errors.
+  nlohmann::json summary() const;
+
+ private:
+  const Config& config_;
+  ConstraintSet& constraints_;
+  Effectors& effectors_;
+  std::string path_;
+  ReducedModel model_;
+  std::unique_ptr<ReducedSystem> system_;
+  std::vector<int> actuators_;  // constraint of each actuator
+  std::vector<double> rest_measure_;
+  Eigen::VectorXd q_;
+  Eigen::MatrixXd effector_rows_;   // 3 per effector x k: x_e = reference + rows q
+  std::vector<double> reference_;   // the effectors' reference positions
+  int steps_ = 0, outside_ = 0;     // steps taken, answers outside the training envelope
+};
+
+}  // namespace hs

@@ -1,0 +1,284 @@
+#include "solvers/reduced/reduced_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "common/error.hpp"
+#include "solvers/reduced/model_fit.hpp"
+
+namespace hs {
+namespace {
+
+// Newton's test: |r| at most this fraction of the forces it balances.
+constexpr double kRelativeTolerance = 1e-10;
+constexpr int kMaxIterations = 25;
+
+// The local dofs where v is not zero.
+void add_support(Vec v, std::set<PetscInt>& dofs) {
+  PetscInt n = 0;
+  HS_PETSC(VecGetLocalSize(v, &n));
+  const PetscScalar* a = nullptr;
+  HS_PETSC(VecGetArrayRead(v, &a));
+  for (PetscInt i = 0; i < n; ++i)
+    if (a[i] != 0) dofs.insert(i);
+  HS_PETSC(VecRestoreArrayRead(v, &a));
+}
+
+}  // namespace
+
+ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintSet& constraints,
+                             const ReducedModel& model, const std::string& path,
+                             const std::vector<Vec>& rows)
+    : problem_(problem), constraints_(constraints) {
+  check_model_fits(config, problem, constraints, model, path);
+  const Distribution& dist = problem.distribution();
+  const int k = static_cast<int>(model.basis.cols());
+  const int64_t nodes = dist.num_local();
+  phi_.resize(3 * nodes, k);
+  for (int64_t n = 0; n < nodes; ++n)
+    phi_.middleRows(3 * n, 3) = model.basis.middleRows(3 * dist.old_of_local[n], 3);
+  // Each sampled tetrahedron by its local index (local_tets is ascending).
+  for (size_t i = 0; i < model.elements.size(); ++i) {
+    const auto it =
+        std::lower_bound(dist.local_tets.begin(), dist.local_tets.end(), model.elements[i]);
+    elements_.push_back(it - dist.local_tets.begin());
+    weights_.push_back(model.weights[i]);
+  }
+  const int npe = dist.nodes_per_tet();
+  std::set<PetscInt> dofs;
+  for (int64_t e : elements_) {
+    Eigen::MatrixXd rows_e(3 * npe, k);
+    for (int a = 0; a < npe; ++a) {
+      const int32_t node = dist.tet_nodes[e * npe + a];
+      rows_e.middleRows(3 * a, 3) = phi_.middleRows(3 * node, 3);
+      for (int d = 0; d < 3; ++d) dofs.insert(3 * node + d);
+    }
+    phi_element_.push_back(rows_e);
+  }
+  // The constraints' support: where their forces and loads act at rest, whole nodes.
+  work_ = VecHandle(problem.create_vector());
+  VecHandle u(problem.create_vector()), f(problem.create_vector());
+  std::set<PetscInt> touched;
+  if (!constraints.loads(u, 1.0, f))
+    throw InputError(path + ": the constraints have no forces on the undeformed body");
+  add_support(f, touched);
+  for (int c = 0; c < constraints.size(); ++c) {
+    constraints[c].forces(u, f);
+    add_support(f, touched);
+  }
+  for (Vec row : rows) add_support(row, touched);
+  for (PetscInt dof : touched)
+    for (int d = 0; d < 3; ++d) dofs.insert(3 * (dof / 3) + d);
+  sample_.assign(dofs.begin(), dofs.end());
+  phi_sample_.resize(sample_.size(), k);
+  for (size_t i = 0; i < sample_.size(); ++i) phi_sample_.row(i) = phi_.row(sample_[i]);
+  // The dead loads: external_load less the constraints' forces (at the same u, so the
+  // cavities' pressures and the liquid's weight cancel exactly).
+  VecHandle all(problem.create_vector());
+  constraints.loads(u, 1.0, f);
+  problem.external_load(u, 1.0, all);
+  HS_PETSC(VecAXPY(all, -1.0, f));
+  dead_ = project(all);
+  training_actuations_ = model.training_actuations;
+  training_states_ = model.training_states;
+  training_range_.resize(model.lower.size());
+  for (size_t a = 0; a < model.lower.size(); ++a)
+    training_range_(a) = std::max(model.upper[a] - model.lower[a], 1e-300);
+}
+
+Eigen::VectorXd ReducedSystem::nearest_training_state(const Eigen::VectorXd& lambda) const {
+  Eigen::Index best = 0;
+  double best_d2 = HUGE_VAL;
+  for (Eigen::Index s = 0; s < training_actuations_.rows(); ++s) {
+    const double d2 = ((training_actuations_.row(s).transpose() - lambda).array() /
+                       training_range_.array())
+                          .square()
+                          .sum();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = s;
+    }
+  }
+  return training_states_.row(best).transpose();
+}
+
+double ReducedSystem::residual_norm(const Eigen::VectorXd& q, Vec u) {
+  Eigen::VectorXd r;
+  return residual(q, u, r, nullptr) ? r.norm() : HUGE_VAL;
+}
+
+Eigen::VectorXd ReducedSystem::project(Vec u) const {
+  const PetscScalar* a = nullptr;
+  HS_PETSC(VecGetArrayRead(u, &a));
+  const Eigen::Map<const Eigen::VectorXd> v(a, phi_.rows());
+  Eigen::VectorXd q = phi_.transpose() * v;
+  HS_PETSC(VecRestoreArrayRead(u, &a));
+  return q;
+}
+
+Eigen::RowVectorXd ReducedSystem::project_row(Vec r) const { return project(r).transpose(); }
+
+void ReducedSystem::place(const Eigen::VectorXd& q, Vec u, bool everywhere) const {
+  PetscScalar* a = nullptr;
+  HS_PETSC(VecGetArray(u, &a));
+  if (everywhere) {
+    Eigen::Map<Eigen::VectorXd>(a, phi_.rows()) = phi_ * q;
+  } else {
+    const Eigen::VectorXd v = phi_sample_ * q;
+    for (size_t i = 0; i < sample_.size(); ++i) a[sample_[i]] = v(i);
+  }
+  HS_PETSC(VecRestoreArray(u, &a));
+}
+
+bool ReducedSystem::constraint_forces(Vec u, Eigen::VectorXd& p) {
+  const double t0 = MPI_Wtime();
+  const bool ok = constraints_.loads(u, 1.0, work_);
+  if (ok) p = project_sampled(work_);
+  constraint_s_ += MPI_Wtime() - t0;
+  return ok;
+}
+
+bool ReducedSystem::residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r,
+                             Eigen::MatrixXd* tangent, Eigen::VectorXd* forces) {
+  place(q, u, false);
+  const double t0 = MPI_Wtime();
+  const int k = size();
+  r = -dead_;
+  if (tangent) *tangent = Eigen::MatrixXd::Zero(k, k);
+  const PetscScalar* ua = nullptr;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  const int n = static_cast<int>(phi_element_.empty() ? 0 : phi_element_[0].rows());
+  double re[30], Ke[900];
+  bool valid = true;
+  for (size_t i = 0; i < elements_.size(); ++i) {
+    const ElementOutput out = problem_.element_force(elements_[i], ua, re, tangent ? Ke : nullptr);
+    valid &= out.valid;
+    const Eigen::MatrixXd& P = phi_element_[i];
+    r += weights_[i] * P.transpose() * Eigen::Map<const Eigen::VectorXd>(re, n);
+    if (tangent) {
+      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+          K(Ke, n, n);
+      *tangent += weights_[i] * P.transpose() * (K * P);
+    }
+  }
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  element_s_ += MPI_Wtime() - t0;
+  Eigen::VectorXd p;
+  if (!valid || !r.allFinite() || !constraint_forces(u, p)) return false;
+  r -= p;
+  force_scale_ = std::max({dead_.norm(), p.norm(), 1e-300});
+  if (forces) *forces = p;
+  return r.allFinite();
+}
+
+Eigen::MatrixXd ReducedSystem::unit_forces(Vec u) {
+  const double t0 = MPI_Wtime();
+  const int m = constraints_.size();
+  Eigen::MatrixXd G(size(), m);
+  for (int c = 0; c < m; ++c) {
+    constraints_[c].forces(u, work_);
+    G.col(c) = project_sampled(work_);
+  }
+  constraint_s_ += MPI_Wtime() - t0;
+  return G;
+}
+
+Eigen::VectorXd ReducedSystem::project_sampled(Vec v) const {
+  const PetscScalar* a = nullptr;
+  HS_PETSC(VecGetArrayRead(v, &a));
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(phi_.cols());
+  for (size_t i = 0; i < sample_.size(); ++i) p += a[sample_[i]] * phi_sample_.row(i).transpose();
+  HS_PETSC(VecRestoreArrayRead(v, &a));
+  return p;
+}
+
+Eigen::MatrixXd ReducedSystem::constraint_tangent(const Eigen::VectorXd& q, Vec u,
+                                                  Eigen::MatrixXd& G) {
+  const int k = size(), m = constraints_.size();
+  G = unit_forces(u);
+  // The liquid's weight w follows the volume, dw = (w / V) g^T du (the full model's tangent,
+  // solvers/constraints/hydraulic_cavity.hpp), read before the differences move u.
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(k, k);
+  for (int c = 0; c < m; ++c)
+    if (Vec w = constraints_[c].measure_load())
+      D += project_sampled(w) / constraints_[c].measure() * G.col(c).transpose();
+  const double h = 1e-7 * std::max(q.norm(), 1e-6);
+  for (int j = 0; j < k; ++j) {
+    Eigen::VectorXd qj = q;
+    qj(j) += h;
+    place(qj, u, false);
+    const Eigen::MatrixXd Gj = unit_forces(u);
+    for (int c = 0; c < m; ++c)
+      D.col(j) += constraints_[c].multiplier() * (Gj.col(c) - G.col(c)) / h;
+  }
+  place(q, u, false);
+  return D;
+}
+
+ReducedSolve ReducedSystem::solve(Eigen::VectorXd& q, Vec u) {
+  ReducedSolve out;
+  Eigen::VectorXd r, p;
+  Eigen::MatrixXd K;
+  if (!residual(q, u, r, &K, &p)) {
+    out.reason = "the starting configuration inverts an element or collapses a cavity";
+    return out;
+  }
+  double norm = r.norm();
+  for (;;) {
+    const double scale = std::max({dead_.norm(), p.norm(), 1e-300});
+    out.residual = norm / scale;
+    // A column method's weights jump as walls cross column centres: the residual cannot be
+    // asked to fall below that jump (projected, it is no larger: Phi's columns are unit).
+    if (norm <= std::max(kRelativeTolerance * scale, constraints_.load_jump())) {
+      out.converged = true;
+      return out;
+    }
+    if (out.iterations == kMaxIterations) {
+      out.reason = "no convergence in " + std::to_string(kMaxIterations) + " iterations";
+      return out;
+    }
+    // The constraints' tangent of an earlier configuration serves while Newton converges
+    // fast (it costs k evaluations of their forces); a slow start renews it.
+    if (constraint_tangent_.rows() != size() || out.iterations == 3) {
+      Eigen::MatrixXd G;
+      constraint_tangent_ = constraint_tangent(q, u, G);
+    }
+    const Eigen::VectorXd dq = (K - constraint_tangent_).partialPivLu().solve(-r);
+    ++out.iterations;
+    // Halve the step while it inverts an element or does not lower the residual.
+    Eigen::VectorXd q_new, r_new, p_new;
+    Eigen::MatrixXd K_new;
+    bool accepted = false;
+    double t = 1;
+    for (int halving = 0; halving < 12 && !accepted; ++halving, t *= 0.5) {
+      q_new = q + t * dq;
+      accepted = residual(q_new, u, r_new, &K_new, &p_new) && r_new.norm() < norm;
+    }
+    if (!accepted) {
+      place(q, u, false);
+      constraints_.loads(u, 1.0, work_);  // the constraints' measures back at q
+      out.reason = "the line search found no step that lowers the residual";
+      return out;
+    }
+    q = q_new;
+    r = r_new;
+    p = p_new;
+    K = K_new;
+    norm = r.norm();
+  }
+}
+
+void ReducedSystem::linearize(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& K,
+                              Eigen::MatrixXd& G, bool fresh) {
+  Eigen::VectorXd r;
+  if (!residual(q, u, r, &K))
+    throw SolveError("reduced model: the configuration to linearize at is outside the domain");
+  if (fresh || constraint_tangent_.rows() != size())
+    constraint_tangent_ = constraint_tangent(q, u, G);
+  else
+    G = unit_forces(u);
+  K -= constraint_tangent_;
+}
+
+}  // namespace hs

@@ -1,0 +1,107 @@
+// A reduced-order model on a run's problem (docs/reduced_models.md): the displacements
+// u = Phi q in the span of the model's POD basis Phi (k columns), and equation (1) of the paper
+// projected on it,
+//   r(q) = sum_{e in E} w_e Phi_e^T f_e(Phi_e q) - Phi^T f_dead - Phi^T f_c(Phi q, lambda) = 0,
+// the internal forces hyper-reduced (ECSW: the sampled elements E and their weights w), the
+// dead loads (gravity, tractions) projected once, and the constraints' forces f_c (the
+// cavities' pressures on their walls, the liquid's weight, the cables' tensions) evaluated by
+// the constraints themselves on the walls of the reconstructed body. Only the sampled dofs of u
+// are kept up to date (the sampled elements' nodes, the constraints' and the effectors'):
+// a reduced evaluation never touches the rest of the mesh. One rank.
+#pragma once
+
+#include <petscvec.h>
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "reduction/model_file.hpp"
+#include "solvers/constraints/constraint_set.hpp"
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+struct ReducedSolve {
+  bool converged = false;
+  int iterations = 0;
+  double residual = 0;  // |r| / its scale at the end
+  std::string reason;
+};
+
+class ReducedSystem {
+ public:
+  // Throws InputError naming `path` when the model does not belong to the run: another mesh
+  // (nodes, tetrahedra, order, coordinates), other physics, other actuators, a body this
+  // formulation cannot reduce (the nodal-pressure element, a deck's follower pressure load),
+  // more than one rank. `rows`: vectors whose support must be kept up to date too (the
+  // effectors' rows).
+  ReducedSystem(const Config& config, Problem& problem, ConstraintSet& constraints,
+                const ReducedModel& model, const std::string& path,
+                const std::vector<Vec>& rows);
+
+  int size() const { return static_cast<int>(phi_.cols()); }
+  int sampled_dofs() const { return static_cast<int>(sample_.size()); }
+  // q = Phi^T u (Phi's columns are orthonormal).
+  Eigen::VectorXd project(Vec u) const;
+  // r^T Phi for a vector r (an effector's row).
+  Eigen::RowVectorXd project_row(Vec r) const;
+  // u <- Phi q at the sampled dofs (every dof with `everywhere`).
+  void place(const Eigen::VectorXd& q, Vec u, bool everywhere) const;
+  // Newton in the reduced space at the constraints' current multipliers, from q (updated in
+  // place); u follows at the sampled dofs.
+  ReducedSolve solve(Eigen::VectorXd& q, Vec u);
+  // At q: the reduced tangent K = dr/dq and each constraint's unit forces Phi^T g_c (one
+  // column per constraint of the set). Leaves u at q. Without `fresh`, the constraints'
+  // stiffness of the last linearization or solve serves (it costs k evaluations of their
+  // forces; the elements' part is always exact).
+  void linearize(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& K, Eigen::MatrixXd& G,
+                 bool fresh = true);
+  // The reduced coordinates of the training sample nearest to the actuation `lambda` (the
+  // model's actuators; each one's distance scaled by its training range): where a solve far
+  // from the last equilibrium starts.
+  Eigen::VectorXd nearest_training_state(const Eigen::VectorXd& lambda) const;
+  // The size of the forces r balances (N): |Phi^T f_dead| and the constraints' at the last
+  // evaluation.
+  double force_scale() const { return force_scale_; }
+  // |r(q)| at the constraints' multipliers; infinity outside the domain.
+  double residual_norm(const Eigen::VectorXd& q, Vec u);
+  // Seconds spent in the elements and in the constraints' forces so far.
+  double element_seconds() const { return element_s_; }
+  double constraint_seconds() const { return constraint_s_; }
+
+ private:
+  // r(q) (false where an element inverts or a constraint leaves its domain); `tangent`: also
+  // the elements' part of dr/dq; `forces`: also the constraints' projected forces.
+  bool residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r, Eigen::MatrixXd* tangent,
+                Eigen::VectorXd* forces = nullptr);
+  // Phi_S^T f_c(u): the constraints' forces projected, or false.
+  bool constraint_forces(Vec u, Eigen::VectorXd& p);
+  // Phi_S^T v for a vector v whose support is sampled.
+  Eigen::VectorXd project_sampled(Vec v) const;
+  // Each constraint's unit forces Phi^T g_c at u (one column per constraint).
+  Eigen::MatrixXd unit_forces(Vec u);
+  // The constraints' part of dr/dq at q (minus sign included by the caller): sum_c lambda_c
+  // Phi^T (dg_c/du) Phi by forward differences of g_c along each mode (the walls' follower
+  // stiffness, a cable's turning), and a liquid's weight following the volume; G: the unit
+  // forces at q.
+  Eigen::MatrixXd constraint_tangent(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& G);
+
+  Problem& problem_;
+  ConstraintSet& constraints_;
+  Eigen::MatrixXd phi_;              // (3 N) x k, local dof order (one rank: all dofs)
+  std::vector<PetscInt> sample_;     // the sampled dofs, ascending
+  Eigen::MatrixXd phi_sample_;       // Phi's rows at the sampled dofs
+  std::vector<int64_t> elements_;    // local tetrahedra of the hyper-reduction
+  std::vector<double> weights_;
+  std::vector<Eigen::MatrixXd> phi_element_;  // Phi's rows at each element's dofs
+  Eigen::VectorXd dead_;             // Phi^T f_dead
+  VecHandle work_;
+  Eigen::MatrixXd training_actuations_, training_states_;
+  Eigen::VectorXd training_range_;
+  Eigen::MatrixXd constraint_tangent_;  // the last one, reused while Newton converges fast
+  double element_s_ = 0, constraint_s_ = 0;
+  double force_scale_ = 1;
+};
+
+}  // namespace hs

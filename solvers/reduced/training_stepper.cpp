@@ -1,0 +1,209 @@
+#include "solvers/reduced/training_stepper.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "solvers/reduced/model_fit.hpp"
+#include "solvers/reduced/offline.hpp"
+#include "solvers/reduced/reduced_system.hpp"
+
+namespace hs {
+namespace {
+
+Eigen::VectorXd values_of(Vec u) {
+  PetscInt n = 0;
+  HS_PETSC(VecGetLocalSize(u, &n));
+  const PetscScalar* a = nullptr;
+  HS_PETSC(VecGetArrayRead(u, &a));
+  Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(a, n);
+  HS_PETSC(VecRestoreArrayRead(u, &a));
+  return v;
+}
+
+}  // namespace
+
+TrainingStepper::TrainingStepper(const Config& config, Problem& problem,
+                                 ConstraintSet& constraints, BorderedNewton& newton,
+                                 SteppingStats& stats, const ResultRecorder& recorder)
+    : config_(config),
+      problem_(problem),
+      constraints_(constraints),
+      stats_(stats),
+      states_(config, problem, constraints, newton, stats, recorder),
+      effectors_(config, problem),
+      controller_(config, problem, constraints, newton, effectors_) {
+  check_reducible(config, problem, constraints);
+  const auto& actuators = config.control->actuators;
+  const int m = static_cast<int>(actuators.size()), n = config.training->samples;
+  if (n < 3) throw InputError(config.deck_path + ": hydrosoft reduce: --samples must be at least 3");
+  for (const auto& a : actuators)
+    if (a.min_multiplier < -1e299 || a.max_multiplier > 1e299 || a.min_multiplier >= a.max_multiplier)
+      throw InputError(config.deck_path + ": control.actuators '" + a.constraint +
+                       "': hydrosoft reduce samples each actuator between its min and max "
+                       "pressure (or tension): both bounds are needed, min < max");
+  // The grid, walked as a serpentine (each index runs back on every other pass of the next).
+  int64_t total = 1;
+  for (int a = 0; a < m; ++a) total *= n;
+  if (total > 100000)
+    throw InputError(config.deck_path + ": hydrosoft reduce: " + std::to_string(total) +
+                     " samples (--samples " + std::to_string(n) + " per actuator, " +
+                     std::to_string(m) + " actuators); at most 100000");
+  for (int64_t s = 0; s < total; ++s) {
+    std::vector<int> index(m);
+    int64_t rest = s;
+    for (int a = 0; a < m; ++a) {
+      index[a] = static_cast<int>(rest % n);
+      rest /= n;
+    }
+    for (int a = m - 2; a >= 0; --a)  // serpentine: reverse where the higher index is odd
+      if (index[a + 1] % 2 == 1) index[a] = n - 1 - index[a];
+    std::vector<double> lambda(m);
+    bool all_odd = true;
+    for (int a = 0; a < m; ++a) {
+      const auto& b = actuators[a];
+      lambda[a] = b.min_multiplier + (b.max_multiplier - b.min_multiplier) * index[a] / (n - 1);
+      all_odd &= index[a] % 2 == 1;
+    }
+    samples_.push_back(lambda);
+    held_back_.push_back(all_odd);
+  }
+}
+
+int TrainingStepper::planned_steps() const {
+  return phase() == 0 ? states_.planned_steps() : static_cast<int>(samples_.size());
+}
+
+void TrainingStepper::resume(const Restart&, Vec) {
+  throw InputError("--restart: hydrosoft reduce starts afresh");
+}
+
+std::optional<StepReport> TrainingStepper::advance(Vec u) {
+  if (!states_.done()) return states_.advance(u);
+  if (!started_) {
+    t_start_ = MPI_Wtime();
+    controller_.set_rest(u);
+    snapshots_.push_back(values_of(u));
+    positions_.push_back(effectors_.positions(u));
+    started_ = true;
+  }
+  const auto& actuators = config_.control->actuators;
+  const std::vector<double>& lambda = samples_[next_];
+  for (size_t a = 0; a < actuators.size(); ++a)
+    constraints_[constraints_.find(actuators[a].constraint)].prescribe(
+        Constraint::Control::multiplier, lambda[a]);
+  ControlStepReport r;
+  controller_.settle(u, r);  // throws SolveError when no equilibrium is found
+  iterations_ += r.newton_iterations;
+  if (r.limit_point)
+    throw SolveError("hydrosoft reduce: no equilibrium at sample " + std::to_string(next_ + 1) +
+                     " (a limit point of the pressure): narrow the actuators' ranges");
+  snapshots_.push_back(values_of(u));
+  positions_.push_back(effectors_.positions(u));
+  ++next_;
+  StepReport step;
+  step.index = static_cast<int>(next_);
+  std::ostringstream what;
+  what << "sample" << (held_back_[next_ - 1] ? " (held back)" : "");
+  for (double l : lambda) what << " " << l;
+  step.what = what.str();
+  step.time = static_cast<double>(states_.states().size()) + static_cast<double>(next_);
+  step.time_kind = "sample";
+  step.output = next_ == samples_.size();
+  if (next_ == samples_.size()) build(u);
+  return step;
+}
+
+void TrainingStepper::build(Vec u) {
+  const double t_snapshots = MPI_Wtime() - t_start_;
+  std::vector<int> train, check;
+  train.push_back(0);  // the rest state
+  for (size_t s = 0; s < samples_.size(); ++s) (held_back_[s] ? check : train).push_back(s + 1);
+  Eigen::MatrixXd training(snapshots_[0].size(), train.size());
+  for (size_t i = 0; i < train.size(); ++i) training.col(i) = snapshots_[train[i]];
+  ReducedModel model;
+  model.deck = config_.deck_name;
+  model.physics = reduced_physics(config_);
+  record_mesh(problem_, model);
+  for (const auto& a : config_.control->actuators) {
+    model.actuators.push_back(a.constraint);
+    model.lower.push_back(a.min_multiplier);
+    model.upper.push_back(a.max_multiplier);
+  }
+  build_reduced_model(problem_, training, *config_.training, model);
+  const Eigen::MatrixXd phi = [&] {  // the basis in local order again
+    Eigen::MatrixXd local(model.basis.rows(), model.basis.cols());
+    const Distribution& dist = problem_.distribution();
+    for (int64_t n = 0; n < dist.num_local(); ++n)
+      local.middleRows(3 * n, 3) = model.basis.middleRows(3 * dist.old_of_local[n], 3);
+    return local;
+  }();
+  model.training_actuations.resize(train.size() - 1, model.actuators.size());
+  model.training_states.resize(train.size() - 1, phi.cols());
+  for (size_t i = 1; i < train.size(); ++i) {
+    for (size_t a = 0; a < model.actuators.size(); ++a)
+      model.training_actuations(i - 1, a) = samples_[train[i] - 1][a];
+    model.training_states.row(i - 1) = (phi.transpose() * snapshots_[train[i]]).transpose();
+  }
+
+  // The held-back samples: the reduced equilibrium at each, from its nearest training
+  // neighbour's projection, against the full model's.
+  const double t_check = MPI_Wtime();
+  const std::vector<Constraint::State> saved = constraints_.snapshot();
+  std::vector<Vec> rows;
+  for (int e = 0; e < effectors_.size(); ++e)
+    for (int d = 0; d < 3; ++d) rows.push_back(effectors_.row(e, d));
+  model.report["held_back"] = {{"samples", check.size()}};
+  ReducedSystem system(config_, problem_, constraints_, model, config_.training->output, rows);
+  VecHandle x(problem_.create_vector());
+  double max_error = 0, sum_error = 0, max_field = 0;
+  for (int h : check) {
+    Eigen::VectorXd lambda(model.actuators.size());
+    for (size_t a = 0; a < model.actuators.size(); ++a) {
+      lambda(a) = samples_[h - 1][a];
+      constraints_[constraints_.find(model.actuators[a])].prescribe(
+          Constraint::Control::multiplier, lambda(a));
+    }
+    HS_PETSC(VecSet(x, 0.0));
+    Eigen::VectorXd q = system.nearest_training_state(lambda);
+    const ReducedSolve solved = system.solve(q, x);
+    if (!solved.converged)
+      throw SolveError("hydrosoft reduce: the reduced model found no equilibrium at held-back "
+                       "sample " + std::to_string(h) + " (" + solved.reason + ")");
+    system.place(q, x, true);
+    const std::vector<double> reduced = effectors_.positions(x);
+    double error = 0;
+    for (size_t i = 0; i + 2 < reduced.size(); i += 3) {
+      double d2 = 0;
+      for (int d = 0; d < 3; ++d) d2 += std::pow(reduced[i + d] - positions_[h][i + d], 2);
+      error = std::max(error, std::sqrt(d2));
+    }
+    const Eigen::VectorXd full = snapshots_[h];
+    max_error = std::max(max_error, error);
+    sum_error += error;
+    max_field = std::max(max_field, (values_of(x) - full).norm() / std::max(full.norm(), 1e-300));
+  }
+  constraints_.restore(saved);
+  model.report["held_back"] = {
+      {"samples", check.size()},
+      {"max_effector_error_m", max_error},
+      {"mean_effector_error_m", check.empty() ? 0.0 : sum_error / check.size()},
+      {"max_field_error", max_field},
+      {"seconds", MPI_Wtime() - t_check}};
+  model.report["samples"] = samples_.size();
+  model.report["training_samples"] = train.size() - 1;
+  model.report["snapshot_seconds"] = t_snapshots;
+  model.report["seconds"] = MPI_Wtime() - t_start_;
+  write_reduced_model(config_.training->output, model);
+  report_ = model.report;
+  report_["file"] = config_.training->output;
+  built_ = true;
+  (void)u;
+}
+
+void TrainingStepper::add_summary(nlohmann::json& summary) const {
+  states_.add_summary(summary);
+  summary["reduction"] = report_;
+}
+
+}  // namespace hs

@@ -1,0 +1,58 @@
+// `hydrosoft reduce DECK -o MODEL.h5` (docs/reduced_models.md): a control deck's states (the
+// rest state), then the full model's equilibrium at samples of the actuation space (phase 1,
+// one planned step and one progress line per snapshot), then the reduced model built from
+// them (offline.hpp), checked on the held-back samples and written. The samples are a grid
+// over every actuator's [min, max] range, walked so that each solve starts from a neighbour;
+// the points with every index odd (the midpoints between training samples) are held back.
+#pragma once
+
+#include <memory>
+
+#include "solvers/effectors.hpp"
+#include "solvers/inverse_controller.hpp"
+#include "solvers/stepping/states_stepper.hpp"
+
+namespace hs {
+
+class TrainingStepper : public Stepper {
+ public:
+  // Collective. Throws InputError naming the deck when it cannot be reduced.
+  TrainingStepper(const Config& config, Problem& problem, ConstraintSet& constraints,
+                  BorderedNewton& newton, SteppingStats& stats, const ResultRecorder& recorder);
+
+  int phase() const override { return states_.done() ? 1 : 0; }
+  int planned_steps() const override;
+  bool done() const override { return states_.done() && built_; }
+  std::optional<StepReport> advance(Vec u) override;
+
+  nlohmann::json position() const override { return states_.position(); }
+  NamedVecs checkpoint_fields(Vec u) const override { return states_.checkpoint_fields(u); }
+  void resume(const Restart& restart, Vec u) override;
+
+  int newton_iterations() const override { return stats_.newton_iterations + iterations_; }
+  // summary.json's `states` and `reduction` (the training's report).
+  void add_summary(nlohmann::json& summary) const override;
+
+ private:
+  // The model from the snapshots, its check on the held-back samples, the file.
+  void build(Vec u);
+
+  const Config& config_;
+  Problem& problem_;
+  ConstraintSet& constraints_;
+  const SteppingStats& stats_;
+  StatesStepper states_;
+  Effectors effectors_;
+  InverseController controller_;
+  std::vector<std::vector<double>> samples_;  // actuations, in the order solved
+  std::vector<bool> held_back_;
+  size_t next_ = 0;
+  std::vector<Eigen::VectorXd> snapshots_;      // local dofs: the rest state, then each sample
+  std::vector<std::vector<double>> positions_;  // the effectors' at each snapshot
+  int iterations_ = 0;
+  bool started_ = false, built_ = false;
+  double t_start_ = 0;
+  nlohmann::json report_;
+};
+
+}  // namespace hs
