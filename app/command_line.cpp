@@ -58,7 +58,8 @@ Arguments parse_arguments(int argc, const char* const* argv) {
     } else if (args.reduce && a == "-o") {
       if (i + 1 >= argc) throw UsageError("reduce: -o needs a value (-o MODEL.h5)");
       args.reduce_output = argv[++i];
-    } else if (args.reduce && a == "--samples") {
+    } else if (a == "--samples") {
+      if (!args.reduce) throw UsageError("--samples: only for hydrosoft reduce");
       const std::string v = value_of(i, a);
       try {
         size_t used = 0;
@@ -118,8 +119,6 @@ Arguments parse_arguments(int argc, const char* const* argv) {
                      "[--set key=value ...]");
   if (args.reduce && (args.check || !args.targets.empty() || !args.restart.empty()))
     throw UsageError("reduce: --check, --targets and --restart do not apply (it trains a model)");
-  if (!args.reduce && args.samples)
-    throw UsageError("--samples: only for hydrosoft reduce");
   if (args.check && !args.restart.empty())
     throw UsageError("--check: --restart does not apply (it solves nothing)");
   return args;

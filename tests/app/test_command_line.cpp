@@ -46,6 +46,28 @@ TEST(CommandLine, MeshWordWritesTheDecksMesh) {
   EXPECT_FALSE(parse({"deck.yaml"}).mesh);
 }
 
+TEST(CommandLine, ReduceWordTrainsAModel) {
+  const Arguments a = parse({"reduce", "deck.yaml", "-o", "m.h5", "--samples", "9", "--set",
+                             "mesh.parameters.h=0.1", "-ksp_type", "cg"});
+  EXPECT_TRUE(a.reduce);
+  EXPECT_EQ(a.deck, "deck.yaml");
+  EXPECT_EQ(a.reduce_output, "m.h5");
+  EXPECT_EQ(a.samples, 9);
+  EXPECT_EQ(a.petsc, (std::vector<std::string>{"-ksp_type", "cg"}));
+  EXPECT_EQ(parse({"reduce", "deck.yaml", "-o", "m.h5"}).samples, 0);  // the default
+  EXPECT_NE(error_of({"reduce", "deck.yaml"}).find("hydrosoft reduce DECK.yaml -o MODEL.h5"),
+            std::string::npos);
+  EXPECT_NE(error_of({"reduce", "deck.yaml", "-o"}).find("-o needs a value"), std::string::npos);
+  EXPECT_EQ(error_of({"reduce", "deck.yaml", "-o", "m.h5", "--samples", "2"}),
+            "--samples 2: between 3 and 1000 per actuator");
+  EXPECT_EQ(error_of({"reduce", "deck.yaml", "-o", "m.h5", "--samples", "9x"}),
+            "--samples 9x: expected a whole number, e.g. --samples 17");
+  EXPECT_NE(error_of({"reduce", "deck.yaml", "-o", "m.h5", "--targets", "-"}).find("trains a model"),
+            std::string::npos);
+  EXPECT_EQ(error_of({"deck.yaml", "--samples", "9"}), "--samples: only for hydrosoft reduce");
+  EXPECT_FALSE(parse({"deck.yaml"}).reduce);
+}
+
 TEST(CommandLine, QuietAndVerboseAreOursNotPetscs) {
   const Arguments q = parse({"deck.yaml", "-q", "-snes_monitor"});
   EXPECT_TRUE(q.quiet);

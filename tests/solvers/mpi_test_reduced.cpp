@@ -1,0 +1,152 @@
+// Reduced-order models (docs/reduced_models.md) on one rank: with the full basis and every
+// element the reduced equations are the full model's, so their solution is the full model's
+// to solver accuracy; a trained model answers targets within its stated error of the full
+// model's equilibrium; a model is refused by a run it does not belong to.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/error.hpp"
+#include "control_scene.hpp"
+#include "run_deck.hpp"
+#include "solvers/reduced/model_fit.hpp"
+#include "solvers/reduced/reduced_system.hpp"
+
+namespace {
+
+using hs_test::out_folder;
+
+const char* kDeck = "finger_pneumatic.yaml";
+
+hs::ActuatorConfig cavity_actuator() {
+  hs::ActuatorConfig a;
+  a.constraint = "cavity";
+  a.min_multiplier = 0;
+  a.max_multiplier = 30000;
+  return a;
+}
+
+double norm_of(Vec v) {
+  PetscReal n = 0;
+  VecNorm(v, NORM_2, &n);
+  return n;
+}
+
+TEST(ReducedSystem, WithTheFullBasisAndEveryElementSolvesTheFullModel) {
+  hs_test::ControlScene scene(kDeck, {0.085, 0.0, 0.0}, cavity_actuator(),
+                              {"mesh.parameters.h=0.01"});
+  hs::Problem& problem = *scene.problem;
+  const hs::Distribution& dist = problem.distribution();
+  hs::ReducedModel model;
+  hs::record_mesh(problem, model);
+  model.physics = hs::reduced_physics(scene.config);
+  model.actuators = {"cavity"};
+  model.lower = {0};
+  model.upper = {30000};
+  // The basis: one unit column per free dof (in mesh numbering), every element weighing 1.
+  std::vector<int64_t> free_dofs;
+  for (int64_t n = 0; n < dist.num_local(); ++n)
+    for (int d = 0; d < 3; ++d)
+      if (!problem.constrained(3 * n + d)) free_dofs.push_back(3 * dist.old_of_local[n] + d);
+  const int k = static_cast<int>(free_dofs.size());
+  model.basis = Eigen::MatrixXd::Zero(3 * model.nodes, k);
+  for (int j = 0; j < k; ++j) model.basis(free_dofs[j], j) = 1;
+  model.elements = dist.local_tets;
+  model.weights.assign(model.elements.size(), 1.0);
+  model.training_actuations = Eigen::MatrixXd::Zero(1, 1);
+  model.training_states = Eigen::MatrixXd::Zero(1, k);
+  model.report = {{"held_back", {{"max_effector_error_m", 0.0}}}};
+  hs::ReducedSystem reduced(scene.config, problem, *scene.cavities, model, "full basis", {});
+  EXPECT_EQ(reduced.size(), k);
+
+  const double p = 20000;
+  const hs::VecHandle full(problem.create_vector());
+  VecCopy(scene.rest, full);
+  for (int i = 1; i <= 4; ++i) scene.solve_at(full, p * i / 4);
+  (*scene.cavities)[0].prescribe(hs::Constraint::Control::multiplier, p);
+  const hs::VecHandle u(problem.create_vector());
+  Eigen::VectorXd q = reduced.project(scene.rest);
+  const hs::ReducedSolve solved = reduced.solve(q, u);
+  ASSERT_TRUE(solved.converged) << solved.reason;
+  reduced.place(q, u, true);
+  const hs::VecHandle diff(problem.create_vector());
+  VecWAXPY(diff, -1.0, full, u);
+  // Both Newton solves stop at ~1e-10 of the forces; the finger's stiffness turns that into
+  // ~1e-9 of its displacement.
+  EXPECT_LT(norm_of(diff), 1e-8 * norm_of(full)) << norm_of(diff) << " of " << norm_of(full);
+  // The full model's solution already balances the reduced equations.
+  q = reduced.project(full);
+  const hs::ReducedSolve at_full = reduced.solve(q, u);
+  EXPECT_TRUE(at_full.converged);
+  EXPECT_LE(at_full.iterations, 1);
+}
+
+// Trains the pneumatic finger's model (9 samples of 0-30 kPa, 364 nodes) and answers the
+// deck's own targets with it, each checked against the full model's equilibrium.
+class TrainedModel : public ::testing::Test {
+ protected:
+  static hs::Config deck(const std::vector<std::string>& given, const std::string& tag) {
+    std::vector<std::string> overrides = {"mesh.parameters.h=0.006"};  // the test's may change it
+    overrides.insert(overrides.end(), given.begin(), given.end());
+    overrides.push_back("output.progress=false");
+    overrides.push_back("output.folder=" + out_folder(tag));
+    return hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + kDeck, overrides);
+  }
+  static nlohmann::json train(const std::string& model) {
+    hs::Config config = deck({}, "train");
+    hs::TrainingConfig training;
+    training.output = model;
+    training.samples = 9;
+    config.training = training;
+    return hs::run_simulation(config, MPI_COMM_SELF);
+  }
+};
+
+TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
+  const std::string model = out_folder("finger.h5");
+  const nlohmann::json trained = train(model);
+  const nlohmann::json& r = trained.at("reduction");
+  EXPECT_EQ(r.at("samples"), 9);
+  EXPECT_EQ(r.at("held_back").at("samples"), 4);  // the midpoints between training samples
+  const double stated = r.at("held_back").at("max_effector_error_m");
+  EXPECT_GT(stated, 0);
+  EXPECT_LT(stated, 5e-4);
+  EXPECT_LT(r.at("ecsw").at("elements").get<int>(), r.at("ecsw").at("of").get<int>() / 20);
+
+  const nlohmann::json run = hs::run_simulation(
+      deck({"control.reduced_model=" + model, "control.check_equilibrium=true"}, "use"),
+      MPI_COMM_SELF);
+  ASSERT_EQ(run.at("targets").size(), 6u);
+  int met = 0;  // targets inside the finger's reach
+  for (const auto& t : run.at("targets")) {
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i) d2 += std::pow(t["reached"][i].get<double>() - t["equilibrium"][i].get<double>(), 2);
+    // The held-back samples' largest error, with the margin of a sample of four.
+    EXPECT_LE(std::sqrt(d2), 1.5 * stated) << t.dump();
+    EXPECT_TRUE(t.at("reduced").at("in_envelope"));
+    // A target inside the finger's reach (its pressure within the bounds) is met.
+    if (!t.at("saturated")[0].get<bool>()) {
+      EXPECT_LT(t.at("error_m").get<double>(), 1e-6);
+      ++met;
+    }
+  }
+  EXPECT_GE(met, 2);
+  EXPECT_EQ(run.at("reduced_model").at("modes"), r.at("pod").at("modes"));
+
+  auto refusal = [&](const std::vector<std::string>& overrides) {
+    std::vector<std::string> o = overrides;
+    o.push_back("control.reduced_model=" + model);
+    try {
+      hs::run_simulation(deck(o, "refused"), MPI_COMM_SELF);
+    } catch (const hs::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(refusal({"mesh.parameters.h=0.007"}).find("made for a mesh of"), std::string::npos);
+  EXPECT_NE(refusal({"materials[0].E=2.1e5"}).find("trained on other physics"),
+            std::string::npos);
+  EXPECT_NE(refusal({"materials[0].E=2.1e5"}).find(model), std::string::npos);
+}
+
+}  // namespace
