@@ -11,8 +11,8 @@ namespace {
 
 constexpr int kMaxPasses = 12;  // QP and Newton passes of one step
 // A pass whose actuation change moves no targeted effector by more than this (m, weighted as
-// in the QP) ends the step: far below any accuracy a reduced model has.
-constexpr double kEffectorStop = 1e-6;
+// in the QP) ends the step: 50 times below the accuracy asked of a reduced model (0.5 mm).
+constexpr double kEffectorStop = 1e-5;
 // A linear prediction whose residual exceeds this fraction of the forces is compared with the
 // nearest training sample.
 constexpr double kFarResidual = 1e-2;
@@ -70,7 +70,9 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
   }
   Eigen::MatrixXd K, G;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
-    system_->linearize(q_, u, K, G, pass == 0);
+    // The constraints' stiffness of an earlier linearization serves the QP's prediction (the
+    // answer is Newton's, whatever the prediction); Newton renews it when it converges slowly.
+    system_->linearize(q_, u, K, G, steps_ == 0 && pass == 0);
     Eigen::MatrixXd Ga(K.rows(), n);
     for (int a = 0; a < n; ++a) Ga.col(a) = G.col(actuators_[a]);
     const Eigen::MatrixXd dq = K.partialPivLu().solve(Ga);
