@@ -6,7 +6,7 @@
 namespace hs {
 namespace {
 
-const char* const kOwnOptions[] = {"--set",     "--targets", "--restart", "--check", "--help",
+const char* const kOwnOptions[] = {"--set",     "--targets", "--restart", "--check",  "--help",
                                    "--version", "--quiet",   "--verbose", "--samples"};
 
 // A PETSc option is -name with a letter first; "-5" or "-1e3" is a (negative) value.
@@ -115,8 +115,9 @@ Arguments parse_arguments(int argc, const char* const* argv) {
   if (args.mesh && (args.check || !args.targets.empty() || !args.restart.empty()))
     throw UsageError("mesh: --check, --targets and --restart do not apply (it solves nothing)");
   if (args.reduce && (args.deck.empty() || args.reduce_output.empty()))
-    throw UsageError("reduce: usage: hydrosoft reduce DECK.yaml -o MODEL.h5 [--samples N] "
-                     "[--set key=value ...]");
+    throw UsageError(
+        "reduce: usage: hydrosoft reduce DECK.yaml -o MODEL.h5 [--samples N] "
+        "[--set key=value ...]");
   if (args.reduce && (args.check || !args.targets.empty() || !args.restart.empty()))
     throw UsageError("reduce: --check, --targets and --restart do not apply (it trains a model)");
   if (args.check && !args.restart.empty())

@@ -140,8 +140,9 @@ nlohmann::json ControlLoop::totals_state() const {
 
 nlohmann::json ControlLoop::resume(const Restart& restart, Vec u) {
   if (reduced_)
-    throw InputError("--restart: a run with control.reduced_model starts afresh (its answers "
-                     "take milliseconds; docs/reduced_models.md)");
+    throw InputError(
+        "--restart: a run with control.reduced_model starts afresh (its answers "
+        "take milliseconds; docs/reduced_models.md)");
   const nlohmann::json& p = restart.position();
   restart.read("displacement", problem_, u);
   restore_constraint_states(constraints_, p.at("constraints"));

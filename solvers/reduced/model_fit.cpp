@@ -83,8 +83,7 @@ void check_model_fits(const Config& config, const Problem& problem,
                      "': materials, boundary, loads, cavities or cables differ)");
   std::vector<std::string> names;
   for (const auto& a : config.control->actuators) names.push_back(a.constraint);
-  if (names != model.actuators)
-    throw InputError(where + "trained for other actuators");
+  if (names != model.actuators) throw InputError(where + "trained for other actuators");
 }
 
 }  // namespace hs

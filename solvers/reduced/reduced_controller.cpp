@@ -76,8 +76,9 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     Eigen::MatrixXd Ga(K.rows(), n);
     for (int a = 0; a < n; ++a) Ga.col(a) = G.col(actuators_[a]);
     const Eigen::MatrixXd dq = K.partialPivLu().solve(Ga);
-    const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) +
-                              effector_rows_ * q_;
+    const Eigen::VectorXd x =
+        Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) +
+        effector_rows_ * q_;
     std::vector<Eigen::RowVectorXd> w_rows;
     std::vector<double> delta_rows;
     for (const auto& t : targets) {
@@ -111,8 +112,7 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     report.saturated = change.saturated;
     double scale = 0;
     for (int a = 0; a < n; ++a) scale = std::max(scale, std::abs(at[a].multiplier));
-    if (!change.solved || change.dl.lpNorm<Eigen::Infinity>() <= 1e-9 * std::max(scale, 1.0))
-      break;
+    if (!change.solved || change.dl.lpNorm<Eigen::Infinity>() <= 1e-9 * std::max(scale, 1.0)) break;
     // The new actuation, and Newton from the linear prediction; a step Newton cannot take
     // (a limit point of the pressure) is halved.
     const Eigen::VectorXd q_start = q_;
@@ -149,7 +149,8 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
   ++steps_;
   const std::vector<double> x = [&] {
     const Eigen::VectorXd v =
-        Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) + effector_rows_ * q_;
+        Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) +
+        effector_rows_ * q_;
     return std::vector<double>(v.data(), v.data() + v.size());
   }();
   report.reached = x;
@@ -174,11 +175,12 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
   report.assembly_ms = 1e3 * (evaluations - fluid);
   report.qp_ms = 1e3 * qp_s;
   report.total_ms = 1e3 * (MPI_Wtime() - t0);
-  report.free_solve_ms = report.total_ms - report.assembly_ms - report.fluid_weight_ms - report.qp_ms;
+  report.free_solve_ms =
+      report.total_ms - report.assembly_ms - report.fluid_weight_ms - report.qp_ms;
   const nlohmann::json& held = model_.report.at("held_back");
-  report.reduced = {{"in_envelope", inside},
-                    {"estimated_error_m", inside ? held.at("max_effector_error_m")
-                                                 : nlohmann::json(nullptr)}};
+  report.reduced = {
+      {"in_envelope", inside},
+      {"estimated_error_m", inside ? held.at("max_effector_error_m") : nlohmann::json(nullptr)}};
   outside_ += !inside;
   system_->place(q_, u, true);  // the whole field, for the output
   return report;

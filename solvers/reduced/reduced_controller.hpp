@@ -46,9 +46,9 @@ class ReducedController {
   std::vector<int> actuators_;  // constraint of each actuator
   std::vector<double> rest_measure_;
   Eigen::VectorXd q_;
-  Eigen::MatrixXd effector_rows_;   // 3 per effector x k: x_e = reference + rows q
-  std::vector<double> reference_;   // the effectors' reference positions
-  int steps_ = 0, outside_ = 0;     // steps taken, answers outside the training envelope
+  Eigen::MatrixXd effector_rows_;  // 3 per effector x k: x_e = reference + rows q
+  std::vector<double> reference_;  // the effectors' reference positions
+  int steps_ = 0, outside_ = 0;    // steps taken, answers outside the training envelope
 };
 
 }  // namespace hs

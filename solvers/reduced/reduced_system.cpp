@@ -91,10 +91,10 @@ Eigen::VectorXd ReducedSystem::nearest_training_state(const Eigen::VectorXd& lam
   Eigen::Index best = 0;
   double best_d2 = HUGE_VAL;
   for (Eigen::Index s = 0; s < training_actuations_.rows(); ++s) {
-    const double d2 = ((training_actuations_.row(s).transpose() - lambda).array() /
-                       training_range_.array())
-                          .square()
-                          .sum();
+    const double d2 =
+        ((training_actuations_.row(s).transpose() - lambda).array() / training_range_.array())
+            .square()
+            .sum();
     if (d2 < best_d2) {
       best_d2 = d2;
       best = s;

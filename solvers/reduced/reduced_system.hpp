@@ -37,8 +37,7 @@ class ReducedSystem {
   // more than one rank. `rows`: vectors whose support must be kept up to date too (the
   // effectors' rows).
   ReducedSystem(const Config& config, Problem& problem, ConstraintSet& constraints,
-                const ReducedModel& model, const std::string& path,
-                const std::vector<Vec>& rows);
+                const ReducedModel& model, const std::string& path, const std::vector<Vec>& rows);
 
   int size() const { return static_cast<int>(phi_.cols()); }
   int sampled_dofs() const { return static_cast<int>(sample_.size()); }
@@ -89,13 +88,13 @@ class ReducedSystem {
 
   Problem& problem_;
   ConstraintSet& constraints_;
-  Eigen::MatrixXd phi_;              // (3 N) x k, local dof order (one rank: all dofs)
-  std::vector<PetscInt> sample_;     // the sampled dofs, ascending
-  Eigen::MatrixXd phi_sample_;       // Phi's rows at the sampled dofs
-  std::vector<int64_t> elements_;    // local tetrahedra of the hyper-reduction
+  Eigen::MatrixXd phi_;            // (3 N) x k, local dof order (one rank: all dofs)
+  std::vector<PetscInt> sample_;   // the sampled dofs, ascending
+  Eigen::MatrixXd phi_sample_;     // Phi's rows at the sampled dofs
+  std::vector<int64_t> elements_;  // local tetrahedra of the hyper-reduction
   std::vector<double> weights_;
   std::vector<Eigen::MatrixXd> phi_element_;  // Phi's rows at each element's dofs
-  Eigen::VectorXd dead_;             // Phi^T f_dead
+  Eigen::VectorXd dead_;                      // Phi^T f_dead
   VecHandle work_;
   Eigen::MatrixXd training_actuations_, training_states_;
   Eigen::VectorXd training_range_;

@@ -23,9 +23,9 @@ Eigen::VectorXd values_of(Vec u) {
 
 }  // namespace
 
-TrainingStepper::TrainingStepper(const Config& config, Problem& problem,
-                                 ConstraintSet& constraints, BorderedNewton& newton,
-                                 SteppingStats& stats, const ResultRecorder& recorder)
+TrainingStepper::TrainingStepper(const Config& config, Problem& problem, ConstraintSet& constraints,
+                                 BorderedNewton& newton, SteppingStats& stats,
+                                 const ResultRecorder& recorder)
     : config_(config),
       problem_(problem),
       constraints_(constraints),
@@ -36,9 +36,11 @@ TrainingStepper::TrainingStepper(const Config& config, Problem& problem,
   check_reducible(config, problem, constraints);
   const auto& actuators = config.control->actuators;
   const int m = static_cast<int>(actuators.size()), n = config.training->samples;
-  if (n < 3) throw InputError(config.deck_path + ": hydrosoft reduce: --samples must be at least 3");
+  if (n < 3)
+    throw InputError(config.deck_path + ": hydrosoft reduce: --samples must be at least 3");
   for (const auto& a : actuators)
-    if (a.min_multiplier < -1e299 || a.max_multiplier > 1e299 || a.min_multiplier >= a.max_multiplier)
+    if (a.min_multiplier < -1e299 || a.max_multiplier > 1e299 ||
+        a.min_multiplier >= a.max_multiplier)
       throw InputError(config.deck_path + ": control.actuators '" + a.constraint +
                        "': hydrosoft reduce samples each actuator between its min and max "
                        "pressure (or tension): both bounds are needed, min < max");
@@ -161,15 +163,17 @@ void TrainingStepper::build(Vec u) {
     Eigen::VectorXd lambda(model.actuators.size());
     for (size_t a = 0; a < model.actuators.size(); ++a) {
       lambda(a) = samples_[h - 1][a];
-      constraints_[constraints_.find(model.actuators[a])].prescribe(
-          Constraint::Control::multiplier, lambda(a));
+      constraints_[constraints_.find(model.actuators[a])].prescribe(Constraint::Control::multiplier,
+                                                                    lambda(a));
     }
     HS_PETSC(VecSet(x, 0.0));
     Eigen::VectorXd q = system.nearest_training_state(lambda);
     const ReducedSolve solved = system.solve(q, x);
     if (!solved.converged)
-      throw SolveError("hydrosoft reduce: the reduced model found no equilibrium at held-back "
-                       "sample " + std::to_string(h) + " (" + solved.reason + ")");
+      throw SolveError(
+          "hydrosoft reduce: the reduced model found no equilibrium at held-back "
+          "sample " +
+          std::to_string(h) + " (" + solved.reason + ")");
     system.place(q, x, true);
     const std::vector<double> reduced = effectors_.positions(x);
     double error = 0;

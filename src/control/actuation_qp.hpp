@@ -21,7 +21,7 @@ struct ActuatorPosition {
 };
 
 struct ActuationChange {
-  Eigen::VectorXd dl;           // zero when the QP was not solved
+  Eigen::VectorXd dl;  // zero when the QP was not solved
   bool solved = false;
   std::string status;
   double kkt_residual = 0;

@@ -274,11 +274,11 @@ struct ContactConfig {
 // `hydrosoft reduce DECK -o MODEL.h5` (the command line's, not deck keys): the training of a
 // reduced-order model (docs/reduced_models.md).
 struct TrainingConfig {
-  std::string output;                 // the model file
-  int samples = 17;                   // per actuator, over its [min, max] range
-  double energy_tolerance = 1e-10;    // POD: the discarded fraction of the snapshots' energy
+  std::string output;               // the model file
+  int samples = 17;                 // per actuator, over its [min, max] range
+  double energy_tolerance = 1e-10;  // POD: the discarded fraction of the snapshots' energy
   int max_modes = 40;
-  double ecsw_tolerance = 1e-4;       // ECSW: |C w - b| / |b| on the training snapshots
+  double ecsw_tolerance = 1e-4;  // ECSW: |C w - b| / |b| on the training snapshots
 };
 
 struct Config {

@@ -29,9 +29,9 @@ EcswWeights ecsw_weights(const Eigen::MatrixXd& C, const Eigen::VectorXd& b, dou
     out.converged = true;
     return out;
   }
-  std::vector<int> passive;               // columns with a positive weight
+  std::vector<int> passive;  // columns with a positive weight
   std::vector<char> in_passive(n, 0);
-  Eigen::VectorXd w_passive;              // their weights, in the order of `passive`
+  Eigen::VectorXd w_passive;  // their weights, in the order of `passive`
   Eigen::VectorXd r = b;
   double r_norm = b_norm;
   const Eigen::VectorXd column_norms = C.colwise().norm();
@@ -107,7 +107,8 @@ EcswWeights ecsw_weights(const Eigen::MatrixXd& C, const Eigen::VectorXd& b, dou
   }
   std::vector<size_t> order(passive.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t c) { return passive[a] < passive[c]; });
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t c) { return passive[a] < passive[c]; });
   for (size_t i : order) {
     out.elements.push_back(passive[i]);
     out.weights.push_back(w_passive(i));

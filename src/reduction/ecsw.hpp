@@ -16,10 +16,10 @@
 namespace hs {
 
 struct EcswWeights {
-  std::vector<int> elements;   // the columns of C kept, ascending
-  std::vector<double> weights;  // > 0, one per element kept
+  std::vector<int> elements;     // the columns of C kept, ascending
+  std::vector<double> weights;   // > 0, one per element kept
   double relative_residual = 0;  // |C w - b| / |b| reached
-  bool converged = false;       // the tolerance was met (else: no column could lower it)
+  bool converged = false;        // the tolerance was met (else: no column could lower it)
 };
 
 // Throws std::invalid_argument when sizes disagree, data is not finite or the tolerance is

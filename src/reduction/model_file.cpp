@@ -109,8 +109,8 @@ void write_reduced_model(const std::string& path, const ReducedModel& m) {
     h5.write("/basis", basis, rows, k);
     h5.write("/elements", m.elements, m.elements.size(), 0);
     h5.write("/weights", m.weights, m.weights.size(), 0);
-    h5.write("/training_actuations", row_major(m.training_actuations),
-             m.training_actuations.rows(), m.training_actuations.cols());
+    h5.write("/training_actuations", row_major(m.training_actuations), m.training_actuations.rows(),
+             m.training_actuations.cols());
     h5.write("/training_states", row_major(m.training_states), m.training_states.rows(),
              m.training_states.cols());
     h5.close();
@@ -157,11 +157,11 @@ ReducedModel read_reduced_model(const std::string& path) {
   m.basis = from_row_major(basis, rows, k);
   if (!m.basis.allFinite()) r.fail("/basis holds a value that is not finite");
   const hsize_t actuators = m.actuators.size();
-  m.training_actuations = from_row_major(
-      r.read<double>("/training_actuations", H5T_NATIVE_DOUBLE, samples, actuators), samples,
-      actuators);
-  m.training_states = from_row_major(
-      r.read<double>("/training_states", H5T_NATIVE_DOUBLE, samples, k), samples, k);
+  m.training_actuations =
+      from_row_major(r.read<double>("/training_actuations", H5T_NATIVE_DOUBLE, samples, actuators),
+                     samples, actuators);
+  m.training_states =
+      from_row_major(r.read<double>("/training_states", H5T_NATIVE_DOUBLE, samples, k), samples, k);
   if (!m.training_actuations.allFinite() || !m.training_states.allFinite())
     r.fail("a training sample holds a value that is not finite");
   for (size_t e = 0; e < m.elements.size(); ++e) {

@@ -62,8 +62,9 @@ TEST(CommandLine, ReduceWordTrainsAModel) {
             "--samples 2: between 3 and 1000 per actuator");
   EXPECT_EQ(error_of({"reduce", "deck.yaml", "-o", "m.h5", "--samples", "9x"}),
             "--samples 9x: expected a whole number, e.g. --samples 17");
-  EXPECT_NE(error_of({"reduce", "deck.yaml", "-o", "m.h5", "--targets", "-"}).find("trains a model"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of({"reduce", "deck.yaml", "-o", "m.h5", "--targets", "-"}).find("trains a model"),
+      std::string::npos);
   EXPECT_EQ(error_of({"deck.yaml", "--samples", "9"}), "--samples: only for hydrosoft reduce");
   EXPECT_FALSE(parse({"deck.yaml"}).reduce);
 }

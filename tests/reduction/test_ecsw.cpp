@@ -21,8 +21,7 @@ TEST(EcswWeights, RecoversASparsePositiveSolution) {
   const EcswWeights e = ecsw_weights(C, b, 1e-12);
   ASSERT_TRUE(e.converged);
   ASSERT_EQ(e.elements, (std::vector<int>{5, 17, 80, 199}));
-  for (size_t i = 0; i < e.elements.size(); ++i)
-    EXPECT_NEAR(e.weights[i], w(e.elements[i]), 1e-10);
+  for (size_t i = 0; i < e.elements.size(); ++i) EXPECT_NEAR(e.weights[i], w(e.elements[i]), 1e-10);
   EXPECT_LE(e.relative_residual, 1e-12);
 }
 

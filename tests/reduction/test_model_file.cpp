@@ -35,8 +35,8 @@ ReducedModel small_model() {
 class ModelFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = std::filesystem::temp_directory_path() /
-              ("hs_model_file_" + std::to_string(::getpid()));
+    folder_ =
+        std::filesystem::temp_directory_path() / ("hs_model_file_" + std::to_string(::getpid()));
     std::filesystem::create_directories(folder_);
   }
   void TearDown() override { std::filesystem::remove_all(folder_); }

@@ -12,9 +12,10 @@ namespace {
 // S = U diag(sigma) V^T with orthonormal U (n x 4) and V (6 x 4) of a fixed seed.
 Eigen::MatrixXd known_snapshots(const Eigen::VectorXd& sigma, Eigen::MatrixXd& U) {
   std::srand(7);
-  U = Eigen::MatrixXd::Random(40, 4).householderQr().householderQ() * Eigen::MatrixXd::Identity(40, 4);
-  const Eigen::MatrixXd V =
-      Eigen::MatrixXd::Random(6, 4).householderQr().householderQ() * Eigen::MatrixXd::Identity(6, 4);
+  U = Eigen::MatrixXd::Random(40, 4).householderQr().householderQ() *
+      Eigen::MatrixXd::Identity(40, 4);
+  const Eigen::MatrixXd V = Eigen::MatrixXd::Random(6, 4).householderQr().householderQ() *
+                            Eigen::MatrixXd::Identity(6, 4);
   return U * sigma.asDiagonal() * V.transpose();
 }
 

@@ -120,7 +120,8 @@ TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
   int met = 0;  // targets inside the finger's reach
   for (const auto& t : run.at("targets")) {
     double d2 = 0;
-    for (int i = 0; i < 3; ++i) d2 += std::pow(t["reached"][i].get<double>() - t["equilibrium"][i].get<double>(), 2);
+    for (int i = 0; i < 3; ++i)
+      d2 += std::pow(t["reached"][i].get<double>() - t["equilibrium"][i].get<double>(), 2);
     // The held-back samples' largest error, with the margin of a sample of four.
     EXPECT_LE(std::sqrt(d2), 1.5 * stated) << t.dump();
     EXPECT_TRUE(t.at("reduced").at("in_envelope"));
@@ -144,8 +145,7 @@ TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
     return std::string("no error");
   };
   EXPECT_NE(refusal({"mesh.parameters.h=0.007"}).find("made for a mesh of"), std::string::npos);
-  EXPECT_NE(refusal({"materials[0].E=2.1e5"}).find("trained on other physics"),
-            std::string::npos);
+  EXPECT_NE(refusal({"materials[0].E=2.1e5"}).find("trained on other physics"), std::string::npos);
   EXPECT_NE(refusal({"materials[0].E=2.1e5"}).find(model), std::string::npos);
 }
 
