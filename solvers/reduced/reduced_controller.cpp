@@ -36,6 +36,10 @@ ReducedController::ReducedController(const Config& config, Problem& problem,
   for (size_t r = 0; r < rows.size(); ++r) effector_rows_.row(r) = system_->project_row(rows[r]);
   VecHandle zero(problem.create_vector());
   reference_ = effectors.positions(zero);
+  const Eigen::VectorXd reference =
+      Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size());
+  training_positions_ = (effector_rows_ * system_->training_states().transpose()).colwise() +
+                        reference;
 }
 
 void ReducedController::set_rest(Vec u) {
@@ -47,6 +51,55 @@ void ReducedController::set_rest(Vec u) {
   rest_measure_.clear();
   for (int c : actuators_) rest_measure_.push_back(constraints_[c].measure());
   system_->place(q_, u, true);
+}
+
+double ReducedController::target_distance(const Eigen::VectorXd& x,
+                                          const std::vector<ControlTarget>& targets) const {
+  double d2 = 0;
+  for (const auto& t : targets) {
+    const int e = effectors_.index(t.effector);
+    const auto& ec = effectors_.config(e);
+    for (int d = 0; d < 3; ++d)
+      if (ec.directions[d]) d2 += std::pow(ec.weight * (x(3 * e + d) - t.position[d]), 2);
+  }
+  return std::sqrt(d2);
+}
+
+void ReducedController::warm_start(Vec u, const std::vector<ControlTarget>& targets,
+                                   const std::vector<ActuatorPosition>& at,
+                                   ControlStepReport& report) {
+  const int n = static_cast<int>(actuators_.size());
+  const Eigen::VectorXd reference =
+      Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size());
+  double best = target_distance(reference + effector_rows_ * q_, targets);
+  Eigen::Index chosen = -1;
+  for (Eigen::Index s = 0; s < training_positions_.cols(); ++s) {
+    bool inside = true;  // within the step's change of the actuation
+    for (int a = 0; a < n; ++a)
+      inside &= std::abs(system_->training_actuations()(s, a) - at[a].origin) <=
+                config_.control->actuators[a].max_multiplier_step;
+    const double d = target_distance(training_positions_.col(s), targets);
+    if (inside && d < 0.5 * best) {
+      best = d;
+      chosen = s;
+    }
+  }
+  if (chosen < 0) return;
+  const Eigen::VectorXd q_start = q_;
+  std::vector<double> lambda_start(n);
+  for (int a = 0; a < n; ++a) {
+    Constraint& c = constraints_[actuators_[a]];
+    lambda_start[a] = c.multiplier();
+    c.prescribe(Constraint::Control::multiplier, system_->training_actuations()(chosen, a));
+  }
+  q_ = system_->training_states().row(chosen).transpose();
+  const ReducedSolve solved = system_->solve(q_, u);
+  report.newton_iterations += solved.iterations;
+  if (solved.converged) return;
+  for (int a = 0; a < n; ++a)  // no equilibrium found there: the step starts where it was
+    constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda_start[a]);
+  q_ = q_start;
+  system_->solve(q_, u);
 }
 
 void ReducedController::recover(Vec u) {
@@ -68,6 +121,7 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     constraints_[actuators_[a]].hold_multiplier();
     at[a].origin = constraints_[actuators_[a]].multiplier();
   }
+  warm_start(u, targets, at, report);
   Eigen::MatrixXd K, G;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     // The constraints' stiffness of an earlier linearization serves the QP's prediction (the

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "reduction/model_file.hpp"
+#include "control/actuation_qp.hpp"
 #include "solvers/effectors.hpp"
 #include "solvers/inverse_controller.hpp"
 #include "solvers/reduced/reduced_system.hpp"
@@ -37,6 +38,16 @@ class ReducedController {
   nlohmann::json summary() const;
 
  private:
+  // The weighted distance of effector positions x (3 per effector) from the targets.
+  double target_distance(const Eigen::VectorXd& x, const std::vector<ControlTarget>& targets) const;
+  // Where a step's passes start: the training sample whose effectors lie nearest the targets
+  // (within the step's change of the actuation), its equilibrium solved, when it is less than
+  // half as far from them as the current state. The QP's fixed point, and so the answer, does
+  // not depend on the start; a large step takes two or three passes from there instead of
+  // five or more along the way.
+  void warm_start(Vec u, const std::vector<ControlTarget>& targets,
+                  const std::vector<ActuatorPosition>& at, ControlStepReport& report);
+
   const Config& config_;
   ConstraintSet& constraints_;
   Effectors& effectors_;
@@ -48,6 +59,7 @@ class ReducedController {
   Eigen::VectorXd q_;
   Eigen::MatrixXd effector_rows_;  // 3 per effector x k: x_e = reference + rows q
   std::vector<double> reference_;  // the effectors' reference positions
+  Eigen::MatrixXd training_positions_;  // the effectors' at each training sample (columns)
   int steps_ = 0, outside_ = 0;    // steps taken, answers outside the training envelope
 };
 

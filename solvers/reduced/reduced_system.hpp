@@ -60,6 +60,9 @@ class ReducedSystem {
   // model's actuators; each one's distance scaled by its training range): where a solve far
   // from the last equilibrium starts.
   Eigen::VectorXd nearest_training_state(const Eigen::VectorXd& lambda) const;
+  // The training samples: actuations (one row each) and reduced coordinates.
+  const Eigen::MatrixXd& training_actuations() const { return training_actuations_; }
+  const Eigen::MatrixXd& training_states() const { return training_states_; }
   // The size of the forces r balances (N): |Phi^T f_dead| and the constraints' at the last
   // evaluation.
   double force_scale() const { return force_scale_; }
