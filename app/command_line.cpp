@@ -70,6 +70,19 @@ Arguments parse_arguments(int argc, const char* const* argv) {
       }
       if (args.samples < 3 || args.samples > 1000)
         throw UsageError("--samples " + v + ": between 3 and 1000 per actuator");
+    } else if (a == "--pod-tolerance" || a == "--ecsw-tolerance") {
+      if (!args.reduce) throw UsageError(a + ": only for hydrosoft reduce");
+      const std::string v = value_of(i, a);
+      double t = 0;
+      try {
+        size_t used = 0;
+        t = std::stod(v, &used);
+        if (used != v.size()) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw UsageError(a + " " + v + ": expected a number, e.g. " + a + " 1e-6");
+      }
+      if (!(t > 0 && t < 1)) throw UsageError(a + " " + v + ": between 0 and 1, both excluded");
+      (a == "--pod-tolerance" ? args.pod_tolerance : args.ecsw_tolerance) = t;
     } else if (a == "--targets") {
       args.targets = value_of(i, a);
     } else if (a == "--restart") {

@@ -4,7 +4,8 @@
 // PETSc option (-name, or -name value) is an error that names it; nothing is silently ignored.
 // `hydrosoft mesh DECK.yaml OUT.h5` (the word mesh first) meshes the deck's mesh once into a
 // hydrosoft mesh file that runs then read in parallel. `hydrosoft reduce DECK -o MODEL.h5
-// [--samples N]` trains a reduced-order model of a control deck (docs/reduced_models.md).
+// [--samples N] [--pod-tolerance E] [--ecsw-tolerance T]` trains a reduced-order model of a
+// control deck (docs/reduced_models.md).
 #pragma once
 
 #include <stdexcept>
@@ -27,6 +28,8 @@ struct Arguments {
   bool reduce = false;             // hydrosoft reduce DECK -o MODEL.h5: train a reduced model
   std::string reduce_output;       // its MODEL.h5
   int samples = 0;                 // --samples N (0: the default)
+  double pod_tolerance = 0;        // --pod-tolerance E (0: the default)
+  double ecsw_tolerance = 0;       // --ecsw-tolerance T (0: the default)
   std::vector<std::string> petsc;  // PETSc's arguments, in order (values included)
   std::vector<std::string> petsc_names;  // the PETSc options among them, e.g. "-snes_monitor"
 };

@@ -38,8 +38,8 @@ ReducedController::ReducedController(const Config& config, Problem& problem,
   reference_ = effectors.positions(zero);
   const Eigen::VectorXd reference =
       Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size());
-  training_positions_ = (effector_rows_ * system_->training_states().transpose()).colwise() +
-                        reference;
+  training_positions_ =
+      (effector_rows_ * system_->training_states().transpose()).colwise() + reference;
 }
 
 void ReducedController::set_rest(Vec u) {
@@ -124,8 +124,9 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
   warm_start(u, targets, at, report);
   Eigen::MatrixXd K, G;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
-    // The constraints' stiffness of an earlier linearization serves the QP's prediction (the
-    // answer is Newton's, whatever the prediction); Newton renews it when it converges slowly.
+    // The walls' stiffness per unit pressure of an earlier linearization serves the QP's
+    // prediction (the answer is Newton's, whatever the prediction); Newton renews it when it
+    // converges slowly.
     system_->linearize(q_, u, K, G, steps_ == 0 && pass == 0);
     Eigen::MatrixXd Ga(K.rows(), n);
     for (int a = 0; a < n; ++a) Ga.col(a) = G.col(actuators_[a]);
@@ -164,9 +165,8 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     report.qp_status = change.status;
     report.kkt_residual = change.kkt_residual;
     report.saturated = change.saturated;
-    double scale = 0;
-    for (int a = 0; a < n; ++a) scale = std::max(scale, std::abs(at[a].multiplier));
-    if (!change.solved || change.dl.lpNorm<Eigen::Infinity>() <= 1e-9 * std::max(scale, 1.0)) break;
+    // Done when the change would move no targeted effector by more than kEffectorStop.
+    if (!change.solved || (W * change.dl).lpNorm<Eigen::Infinity>() <= kEffectorStop) break;
     // The new actuation, and Newton from the linear prediction; a step Newton cannot take
     // (a limit point of the pressure) is halved.
     const Eigen::VectorXd q_start = q_;

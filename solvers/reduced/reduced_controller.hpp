@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "reduction/model_file.hpp"
 #include "control/actuation_qp.hpp"
+#include "reduction/model_file.hpp"
 #include "solvers/effectors.hpp"
 #include "solvers/inverse_controller.hpp"
 #include "solvers/reduced/reduced_system.hpp"
@@ -57,10 +57,10 @@ class ReducedController {
   std::vector<int> actuators_;  // constraint of each actuator
   std::vector<double> rest_measure_;
   Eigen::VectorXd q_;
-  Eigen::MatrixXd effector_rows_;  // 3 per effector x k: x_e = reference + rows q
-  std::vector<double> reference_;  // the effectors' reference positions
+  Eigen::MatrixXd effector_rows_;       // 3 per effector x k: x_e = reference + rows q
+  std::vector<double> reference_;       // the effectors' reference positions
   Eigen::MatrixXd training_positions_;  // the effectors' at each training sample (columns)
-  int steps_ = 0, outside_ = 0;    // steps taken, answers outside the training envelope
+  int steps_ = 0, outside_ = 0;         // steps taken, answers outside the training envelope
 };
 
 }  // namespace hs

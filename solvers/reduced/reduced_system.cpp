@@ -193,26 +193,32 @@ Eigen::VectorXd ReducedSystem::project_sampled(Vec v) const {
   return p;
 }
 
-Eigen::MatrixXd ReducedSystem::constraint_tangent(const Eigen::VectorXd& q, Vec u,
-                                                  Eigen::MatrixXd& G) {
+void ReducedSystem::refresh_stiffness(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& G) {
   const int k = size(), m = constraints_.size();
   G = unit_forces(u);
-  // The liquid's weight w follows the volume, dw = (w / V) g^T du (the full model's tangent,
-  // solvers/constraints/hydraulic_cavity.hpp), read before the differences move u.
-  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(k, k);
-  for (int c = 0; c < m; ++c)
-    if (Vec w = constraints_[c].measure_load())
-      D += project_sampled(w) / constraints_[c].measure() * G.col(c).transpose();
+  unit_stiffness_.assign(m, Eigen::MatrixXd(k, k));
   const double h = 1e-7 * std::max(q.norm(), 1e-6);
   for (int j = 0; j < k; ++j) {
     Eigen::VectorXd qj = q;
     qj(j) += h;
     place(qj, u, false);
     const Eigen::MatrixXd Gj = unit_forces(u);
-    for (int c = 0; c < m; ++c)
-      D.col(j) += constraints_[c].multiplier() * (Gj.col(c) - G.col(c)) / h;
+    for (int c = 0; c < m; ++c) unit_stiffness_[c].col(j) = (Gj.col(c) - G.col(c)) / h;
   }
   place(q, u, false);
+  unit_forces_ = G;
+}
+
+Eigen::MatrixXd ReducedSystem::constraint_tangent() const {
+  const int k = size(), m = constraints_.size();
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(k, k);
+  for (int c = 0; c < m; ++c) {
+    D += constraints_[c].multiplier() * unit_stiffness_[c];
+    // The liquid's weight w follows the volume, dw = (w / V) g^T du (the full model's tangent,
+    // solvers/constraints/hydraulic_cavity.hpp).
+    if (Vec w = constraints_[c].measure_load())
+      D += project_sampled(w) / constraints_[c].measure() * unit_forces_.col(c).transpose();
+  }
   return D;
 }
 
@@ -238,13 +244,13 @@ ReducedSolve ReducedSystem::solve(Eigen::VectorXd& q, Vec u) {
       out.reason = "no convergence in " + std::to_string(kMaxIterations) + " iterations";
       return out;
     }
-    // The constraints' tangent of an earlier configuration serves while Newton converges
-    // fast (it costs k evaluations of their forces); a slow start renews it.
-    if (constraint_tangent_.rows() != size() || out.iterations == 3) {
+    // The walls' stiffness per unit multiplier of an earlier configuration serves while
+    // Newton converges fast (it costs k evaluations of their forces); a slow start renews it.
+    if (unit_stiffness_.empty() || out.iterations == 3) {
       Eigen::MatrixXd G;
-      constraint_tangent_ = constraint_tangent(q, u, G);
+      refresh_stiffness(q, u, G);
     }
-    const Eigen::VectorXd dq = (K - constraint_tangent_).partialPivLu().solve(-r);
+    const Eigen::VectorXd dq = (K - constraint_tangent()).partialPivLu().solve(-r);
     ++out.iterations;
     // Halve the step while it inverts an element or does not lower the residual.
     Eigen::VectorXd q_new, r_new, p_new;
@@ -274,11 +280,13 @@ void ReducedSystem::linearize(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& 
   Eigen::VectorXd r;
   if (!residual(q, u, r, &K))
     throw SolveError("reduced model: the configuration to linearize at is outside the domain");
-  if (fresh || constraint_tangent_.rows() != size())
-    constraint_tangent_ = constraint_tangent(q, u, G);
-  else
+  if (fresh || unit_stiffness_.empty()) {
+    refresh_stiffness(q, u, G);
+  } else {
     G = unit_forces(u);
-  K -= constraint_tangent_;
+    unit_forces_ = G;
+  }
+  K -= constraint_tangent();
 }
 
 }  // namespace hs

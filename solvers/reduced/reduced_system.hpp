@@ -83,11 +83,13 @@ class ReducedSystem {
   Eigen::VectorXd project_sampled(Vec v) const;
   // Each constraint's unit forces Phi^T g_c at u (one column per constraint).
   Eigen::MatrixXd unit_forces(Vec u);
-  // The constraints' part of dr/dq at q (minus sign included by the caller): sum_c lambda_c
-  // Phi^T (dg_c/du) Phi by forward differences of g_c along each mode (the walls' follower
-  // stiffness, a cable's turning), and a liquid's weight following the volume; G: the unit
-  // forces at q.
-  Eigen::MatrixXd constraint_tangent(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& G);
+  // Each constraint's stiffness per unit multiplier, Phi^T (dg_c/du) Phi, by forward
+  // differences of g_c along each mode (the walls' follower stiffness, a cable's turning), and
+  // the unit forces G at q.
+  void refresh_stiffness(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& G);
+  // The constraints' part of dr/dq (the caller subtracts it): sum_c lambda_c of the current
+  // multipliers times its unit stiffness, and a liquid's weight following the volume.
+  Eigen::MatrixXd constraint_tangent() const;
 
   Problem& problem_;
   ConstraintSet& constraints_;
@@ -101,7 +103,9 @@ class ReducedSystem {
   VecHandle work_;
   Eigen::MatrixXd training_actuations_, training_states_;
   Eigen::VectorXd training_range_;
-  Eigen::MatrixXd constraint_tangent_;  // the last one, reused while Newton converges fast
+  // Per constraint, the last unit stiffness; the unit forces of the last linearization.
+  std::vector<Eigen::MatrixXd> unit_stiffness_;
+  Eigen::MatrixXd unit_forces_;
   double element_s_ = 0, constraint_s_ = 0;
   double force_scale_ = 1;
 };

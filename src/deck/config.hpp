@@ -278,7 +278,7 @@ struct TrainingConfig {
   int samples = 17;                 // per actuator, over its [min, max] range
   double energy_tolerance = 1e-10;  // POD: the discarded fraction of the snapshots' energy
   int max_modes = 40;
-  double ecsw_tolerance = 1e-6;       // ECSW: |C w - b| / |b| on the training snapshots
+  double ecsw_tolerance = 1e-6;  // ECSW: |C w - b| / |b| on the training snapshots
 };
 
 struct Config {

@@ -66,6 +66,14 @@ TEST(CommandLine, ReduceWordTrainsAModel) {
       error_of({"reduce", "deck.yaml", "-o", "m.h5", "--targets", "-"}).find("trains a model"),
       std::string::npos);
   EXPECT_EQ(error_of({"deck.yaml", "--samples", "9"}), "--samples: only for hydrosoft reduce");
+  const Arguments t = parse(
+      {"reduce", "d.yaml", "-o", "m.h5", "--pod-tolerance", "1e-8", "--ecsw-tolerance", "1e-5"});
+  EXPECT_EQ(t.pod_tolerance, 1e-8);
+  EXPECT_EQ(t.ecsw_tolerance, 1e-5);
+  EXPECT_EQ(error_of({"reduce", "d.yaml", "-o", "m.h5", "--ecsw-tolerance", "1"}),
+            "--ecsw-tolerance 1: between 0 and 1, both excluded");
+  EXPECT_EQ(error_of({"d.yaml", "--pod-tolerance", "1e-8"}),
+            "--pod-tolerance: only for hydrosoft reduce");
   EXPECT_FALSE(parse({"deck.yaml"}).reduce);
 }
 
