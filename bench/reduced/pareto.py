@@ -40,11 +40,20 @@ def main():
     for pod in a.pod.split(","):
         for ecsw in a.ecsw.split(","):
             model = f"{work}/m_{pod}_{ecsw}.h5"
-            subprocess.run([rs.EXE, "reduce", deck, "-o", model, "-q", "--pod-tolerance", pod,
-                            "--ecsw-tolerance", ecsw, "--set", f"output.folder={work}/t"] +
-                           rs.sets(base[:-1]), check=True, env=rs.ENV, stdout=subprocess.DEVNULL)
+            trained = subprocess.run(
+                [rs.EXE, "reduce", deck, "-o", model, "-q", "--pod-tolerance", pod,
+                 "--ecsw-tolerance", ecsw, "--set", f"output.folder={work}/t"] +
+                rs.sets(base[:-1]), env=rs.ENV, stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL)
+            if trained.returncode != 0:
+                print(f"{pod},{ecsw},training failed")
+                continue
             with open(f"{work}/t/summary.json") as f:
                 r = json.load(f)["reduction"]
+            if r["held_back"].get("unsolved", 0):
+                print(f"{pod},{ecsw},{r['pod']['modes']},{r['ecsw']['elements']},"
+                      f"unsolved at {r['held_back']['unsolved']} held-back samples")
+                continue
             reduced = base + [f"control.reduced_model={model}"]
             if zs is None:
                 probe = rs.answers(deck, reduced, ["0.09 0 -0.03", "0.09 0 0.01"], f"{work}/p")

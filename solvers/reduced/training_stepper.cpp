@@ -159,6 +159,7 @@ void TrainingStepper::build(Vec u) {
   ReducedSystem system(config_, problem_, constraints_, model, config_.training->output, rows);
   VecHandle x(problem_.create_vector());
   double max_error = 0, sum_error = 0, max_field = 0;
+  int unsolved = 0;
   for (int h : check) {
     Eigen::VectorXd lambda(model.actuators.size());
     for (size_t a = 0; a < model.actuators.size(); ++a) {
@@ -169,11 +170,10 @@ void TrainingStepper::build(Vec u) {
     HS_PETSC(VecSet(x, 0.0));
     Eigen::VectorXd q = system.nearest_training_state(lambda);
     const ReducedSolve solved = system.solve(q, x);
-    if (!solved.converged)
-      throw SolveError(
-          "hydrosoft reduce: the reduced model found no equilibrium at held-back "
-          "sample " +
-          std::to_string(h) + " (" + solved.reason + ")");
+    if (!solved.converged) {  // counted in the report: the model is too coarse there
+      ++unsolved;
+      continue;
+    }
     system.place(q, x, true);
     const std::vector<double> reduced = effectors_.positions(x);
     double error = 0;
@@ -191,7 +191,9 @@ void TrainingStepper::build(Vec u) {
   model.report["held_back"] = {
       {"samples", check.size()},
       {"max_effector_error_m", max_error},
-      {"mean_effector_error_m", check.empty() ? 0.0 : sum_error / check.size()},
+      {"mean_effector_error_m",
+       check.size() > static_cast<size_t>(unsolved) ? sum_error / (check.size() - unsolved) : 0.0},
+      {"unsolved", unsolved},
       {"max_field_error", max_field},
       {"seconds", MPI_Wtime() - t_check}};
   model.report["samples"] = samples_.size();
