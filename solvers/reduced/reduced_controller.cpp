@@ -108,6 +108,65 @@ void ReducedController::recover(Vec u) {
   system_->place(q_, u, true);
 }
 
+Eigen::VectorXd ReducedController::effector_positions() const {
+  return Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) +
+         effector_rows_ * q_;
+}
+
+void ReducedController::target_rows(const std::vector<ControlTarget>& targets,
+                                    const Eigen::MatrixXd& dq, Eigen::MatrixXd& W,
+                                    Eigen::VectorXd& delta) const {
+  const Eigen::VectorXd x = effector_positions();
+  std::vector<Eigen::RowVectorXd> rows;
+  std::vector<double> distances;
+  for (const auto& t : targets) {
+    const int e = effectors_.index(t.effector);
+    const auto& ec = effectors_.config(e);
+    for (int d = 0; d < 3; ++d) {
+      if (!ec.directions[d]) continue;
+      rows.push_back(ec.weight * effector_rows_.row(3 * e + d) * dq);
+      distances.push_back(ec.weight * (x(3 * e + d) - t.position[d]));
+    }
+  }
+  W.resize(rows.size(), dq.cols());
+  delta.resize(rows.size());
+  for (size_t r = 0; r < rows.size(); ++r) {
+    W.row(r) = rows[r];
+    delta(r) = distances[r];
+  }
+}
+
+bool ReducedController::move(Vec u, const std::vector<ActuatorPosition>& at,
+                             const Eigen::MatrixXd& dq, Eigen::VectorXd dl,
+                             ControlStepReport& report) {
+  const int n = static_cast<int>(actuators_.size());
+  const Eigen::VectorXd q_start = q_;
+  for (int halving = 0; halving < 6; ++halving, dl *= 0.5) {
+    Eigen::VectorXd lambda(n);
+    for (int a = 0; a < n; ++a) {
+      lambda(a) = at[a].multiplier + dl(a);
+      constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda(a));
+    }
+    // Newton starts from the linear prediction or, where the nonlinearity has taken that
+    // far off, from the nearest training sample: whichever balances better.
+    const Eigen::VectorXd predicted = q_start + dq * dl;
+    const Eigen::VectorXd sampled = system_->nearest_training_state(lambda);
+    const double r_predicted = system_->residual_norm(predicted, u);
+    q_ = r_predicted > kFarResidual * system_->force_scale() &&
+                 system_->residual_norm(sampled, u) < r_predicted
+             ? sampled
+             : predicted;
+    const ReducedSolve solved = system_->solve(q_, u);
+    report.newton_iterations += solved.iterations;
+    if (solved.converged) return true;
+  }
+  for (int a = 0; a < n; ++a)
+    constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, at[a].multiplier);
+  q_ = q_start;
+  system_->solve(q_, u);
+  return false;
+}
+
 ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget>& targets) {
   ControlStepReport report;
   const double t0 = MPI_Wtime();
@@ -115,14 +174,14 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
   const double fluid0 = constraints_.fluid_weight_seconds();
   double qp_s = 0;
   const int n = static_cast<int>(actuators_.size());
-  std::vector<ActuatorConfig> bounds = config_.control->actuators;
   std::vector<ActuatorPosition> at(n);
   for (int a = 0; a < n; ++a) {
     constraints_[actuators_[a]].hold_multiplier();
     at[a].origin = constraints_[actuators_[a]].multiplier();
   }
   warm_start(u, targets, at, report);
-  Eigen::MatrixXd K, G;
+  Eigen::MatrixXd K, G, W;
+  Eigen::VectorXd delta;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     // The walls' stiffness per unit pressure of an earlier linearization serves the QP's
     // prediction (the answer is Newton's, whatever the prediction); Newton renews it when it
@@ -131,27 +190,7 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     Eigen::MatrixXd Ga(K.rows(), n);
     for (int a = 0; a < n; ++a) Ga.col(a) = G.col(actuators_[a]);
     const Eigen::MatrixXd dq = K.partialPivLu().solve(Ga);
-    const Eigen::VectorXd x =
-        Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) +
-        effector_rows_ * q_;
-    std::vector<Eigen::RowVectorXd> w_rows;
-    std::vector<double> delta_rows;
-    for (const auto& t : targets) {
-      const int e = effectors_.index(t.effector);
-      const auto& ec = effectors_.config(e);
-      for (int d = 0; d < 3; ++d) {
-        if (!ec.directions[d]) continue;
-        w_rows.push_back(ec.weight * effector_rows_.row(3 * e + d) * dq);
-        delta_rows.push_back(ec.weight * (x(3 * e + d) - t.position[d]));
-      }
-    }
-    Eigen::MatrixXd W(w_rows.size(), n);
-    Eigen::VectorXd delta(w_rows.size());
-    for (size_t r = 0; r < w_rows.size(); ++r) {
-      W.row(r) = w_rows[r];
-      delta(r) = delta_rows[r];
-    }
-    const Eigen::MatrixXd growth = Ga.transpose() * dq;
+    target_rows(targets, dq, W, delta);
     for (int a = 0; a < n; ++a) {
       const Constraint& c = constraints_[actuators_[a]];
       at[a].multiplier = c.multiplier();
@@ -159,7 +198,8 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     }
     const double q0 = MPI_Wtime();
     const ActuationChange change =
-        solve_actuation_qp(W, delta, growth, bounds, at, config_.control->regularization);
+        solve_actuation_qp(W, delta, Ga.transpose() * dq, config_.control->actuators, at,
+                           config_.control->regularization);
     qp_s += MPI_Wtime() - q0;
     report.qp_solved = change.solved;
     report.qp_status = change.status;
@@ -167,52 +207,19 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     report.saturated = change.saturated;
     // Done when the change would move no targeted effector by more than kEffectorStop.
     if (!change.solved || (W * change.dl).lpNorm<Eigen::Infinity>() <= kEffectorStop) break;
-    // The new actuation, and Newton from the linear prediction; a step Newton cannot take
-    // (a limit point of the pressure) is halved.
-    const Eigen::VectorXd q_start = q_;
-    Eigen::VectorXd dl = change.dl;
-    ReducedSolve solved;
-    for (int halving = 0; halving < 6; ++halving, dl *= 0.5) {
-      for (int a = 0; a < n; ++a)
-        constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier,
-                                              at[a].multiplier + dl(a));
-      // Newton starts from the linear prediction or, where the nonlinearity has taken that
-      // far off, from the nearest training sample: whichever balances better.
-      const Eigen::VectorXd predicted = q_start + dq * dl;
-      Eigen::VectorXd lambda(n);
-      for (int a = 0; a < n; ++a) lambda(a) = at[a].multiplier + dl(a);
-      const Eigen::VectorXd sampled = system_->nearest_training_state(lambda);
-      const double r_predicted = system_->residual_norm(predicted, u);
-      q_ = r_predicted > kFarResidual * system_->force_scale() &&
-                   system_->residual_norm(sampled, u) < r_predicted
-               ? sampled
-               : predicted;
-      solved = system_->solve(q_, u);
-      report.newton_iterations += solved.iterations;
-      if (solved.converged) break;
-    }
-    if (!solved.converged) {
-      for (int a = 0; a < n; ++a)
-        constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, at[a].multiplier);
-      q_ = q_start;
-      system_->solve(q_, u);
+    if (!move(u, at, dq, change.dl, report)) {
       report.limit_point = true;
       break;
     }
   }
   ++steps_;
-  const std::vector<double> x = [&] {
-    const Eigen::VectorXd v =
-        Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) +
-        effector_rows_ * q_;
-    return std::vector<double>(v.data(), v.data() + v.size());
-  }();
-  report.reached = x;
+  const Eigen::VectorXd x = effector_positions();
+  report.reached.assign(x.data(), x.data() + x.size());
   double error2 = 0;
   for (const auto& t : targets) {
     const int e = effectors_.index(t.effector);
     for (int d = 0; d < 3; ++d)
-      if (effectors_.config(e).directions[d]) error2 += std::pow(x[3 * e + d] - t.position[d], 2);
+      if (effectors_.config(e).directions[d]) error2 += std::pow(x(3 * e + d) - t.position[d], 2);
   }
   report.error = std::sqrt(error2);
   bool inside = true;
@@ -222,6 +229,8 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     const double slack = 1e-9 * std::max(1.0, model_.upper[a] - model_.lower[a]);
     inside &= lambda >= model_.lower[a] - slack && lambda <= model_.upper[a] + slack;
   }
+  // The parts: the elements and the constraints' forces (assembly), the liquid's weight, the
+  // QP, and the rest (the reduced linear algebra) as the free solve.
   const double fluid = constraints_.fluid_weight_seconds() - fluid0;
   const double evaluations =
       system_->element_seconds() - elements0 + system_->constraint_seconds() - forces0;

@@ -38,6 +38,16 @@ class ReducedController {
   nlohmann::json summary() const;
 
  private:
+  // The effectors' positions at q (3 each).
+  Eigen::VectorXd effector_positions() const;
+  // The QP's rows: W, the targeted directions' weighted response to the actuation (through
+  // dq = dq/dlambda), and delta, their weighted distance from the targets.
+  void target_rows(const std::vector<ControlTarget>& targets, const Eigen::MatrixXd& dq,
+                   Eigen::MatrixXd& W, Eigen::VectorXd& delta) const;
+  // Newton at the actuation at + dl, dl halved while it finds no equilibrium (a limit point of
+  // the pressure); false (q and the actuation put back) when none is found.
+  bool move(Vec u, const std::vector<ActuatorPosition>& at, const Eigen::MatrixXd& dq,
+            Eigen::VectorXd dl, ControlStepReport& report);
   // The weighted distance of effector positions x (3 per effector) from the targets.
   double target_distance(const Eigen::VectorXd& x, const std::vector<ControlTarget>& targets) const;
   // Where a step's passes start: the training sample whose effectors lie nearest the targets

@@ -112,11 +112,11 @@ std::optional<StepReport> TrainingStepper::advance(Vec u) {
   step.time = static_cast<double>(states_.states().size()) + static_cast<double>(next_);
   step.time_kind = "sample";
   step.output = next_ == samples_.size();
-  if (next_ == samples_.size()) build(u);
+  if (next_ == samples_.size()) build();
   return step;
 }
 
-void TrainingStepper::build(Vec u) {
+void TrainingStepper::build() {
   const double t_snapshots = MPI_Wtime() - t_start_;
   std::vector<int> train, check;
   train.push_back(0);  // the rest state
@@ -204,7 +204,6 @@ void TrainingStepper::build(Vec u) {
   report_ = model.report;
   report_["file"] = config_.training->output;
   built_ = true;
-  (void)u;
 }
 
 void TrainingStepper::add_summary(nlohmann::json& summary) const {

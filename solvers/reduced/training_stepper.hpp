@@ -35,7 +35,7 @@ class TrainingStepper : public Stepper {
 
  private:
   // The model from the snapshots, its check on the held-back samples, the file.
-  void build(Vec u);
+  void build();
 
   const Config& config_;
   Problem& problem_;
