@@ -69,6 +69,11 @@ void ReducedController::warm_start(Vec u, const std::vector<ControlTarget>& targ
                                    const std::vector<ActuatorPosition>& at,
                                    ControlStepReport& report) {
   const int n = static_cast<int>(actuators_.size());
+  int directions = 0;  // with fewer than n, the answer depends on the start: none is chosen
+  for (const auto& t : targets)
+    for (int d = 0; d < 3; ++d)
+      directions += effectors_.config(effectors_.index(t.effector)).directions[d];
+  if (directions < n) return;
   const Eigen::VectorXd reference =
       Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size());
   double best = target_distance(reference + effector_rows_ * q_, targets);

@@ -52,9 +52,10 @@ class ReducedController {
   double target_distance(const Eigen::VectorXd& x, const std::vector<ControlTarget>& targets) const;
   // Where a step's passes start: the training sample whose effectors lie nearest the targets
   // (within the step's change of the actuation), its equilibrium solved, when it is less than
-  // half as far from them as the current state. The QP's fixed point, and so the answer, does
-  // not depend on the start; a large step takes two or three passes from there instead of
-  // five or more along the way.
+  // half as far from them as the current state. Only where the targets fix the actuation (at
+  // least as many targeted directions as actuators), so that the QP's fixed point, and the
+  // answer, do not depend on the start; a large step then takes two or three passes instead
+  // of five or more.
   void warm_start(Vec u, const std::vector<ControlTarget>& targets,
                   const std::vector<ActuatorPosition>& at, ControlStepReport& report);
 
