@@ -8,7 +8,7 @@ on the same targets, the seed paper's Fig. 5).
 
 Each folder is a run's output folder: summary.json (its "targets" list: "target",
 "reached", "error_m", "actuation", "saturated", "step", the output step after that target
-set) and <deck>.h5 (docs/output.md). The body's boundary surface is drawn as seen along
+set; null for a set not written, which gets no panel) and <deck>.h5 (docs/output.md). The body's boundary surface is drawn as seen along
 --view (y: the x-z plane, x to the right and z up; x: the y-z plane), the undeformed body
 in light grey behind it; the target is a red cross, the reached position a black dot,
 filled green when the target is met to 0.1 mm. Every panel has the same scale, with axes in
@@ -39,6 +39,8 @@ def load(folder):
         topo = dataset(f, path, "mesh/topology", lambda a: None).astype(np.int64)
         panels = []
         for t in summary["targets"]:
+            if t.get("step") is None:  # not written (output.every)
+                continue
             k = int(t["step"])
             u = dataset(f, path, f"step_{k}/displacement",
                         lambda a: None if a.shape == X.shape else "N x 3")

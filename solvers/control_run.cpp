@@ -293,10 +293,18 @@ std::string ControlLoop::progress_text() const {
 }
 
 void ControlLoop::answer(int step) {
+  if (pending_.empty()) {
+    auto& targets = totals_.targets;
+    for (size_t i = targets.size() - std::min(last_set_entries_, targets.size());
+         i < targets.size(); ++i)
+      targets[i]["step"] = step;
+    return;
+  }
   int rank = 0;
   MPI_Comm_rank(problem_.comm(), &rank);
+  last_set_entries_ = pending_.size();
   for (auto& j : pending_) {
-    j["step"] = step;
+    j["step"] = step >= 0 ? nlohmann::json(step) : nlohmann::json(nullptr);
     if (interactive_ && rank == 0) write_line(json_line({{"answer", j}, {"line", pending_line_}}));
     if (interactive_) j["line"] = pending_line_;
     totals_.targets.push_back(j);
@@ -358,7 +366,7 @@ void ControlLoop::check_finite(Vec u, const ControlStepReport& r,
     return true;
   };
   Problem::ElementFieldValues fields;
-  problem_.element_fields(u, fields);
+  problem_.element_fields(u, fields, false);
   int ok = finite(r.reached) && finite(r.actuation) && finite(equilibrium) &&
            std::isfinite(r.free_step_m) && finite(fields.von_mises) && finite(fields.J) &&
            finite(fields.stress) && finite(fields.strain);

@@ -44,8 +44,10 @@ class ControlLoop {
   bool next_set(Vec u);
   // The progress line's words for the last target set: its number and largest error.
   std::string progress_text() const;
-  // The last target set was written as output step `step`: its entries of `targets` take it,
-  // and in the interactive mode its answer goes out.
+  // The last target set is to be written as output step `step` (-1: not written): its
+  // entries of `targets` take it, and in the interactive mode its answer goes out. Called
+  // again for a set already answered (a set written at the end of the run, or when a signal
+  // stops it), it numbers the set's entries only.
   void answer(int step);
 
   // Checkpoints at a target-set boundary (a batch run only): the position, holding `states`
@@ -131,7 +133,8 @@ class ControlLoop {
   InteractiveIo io_;
   Totals totals_;
   Session session_;
-  nlohmann::json pending_ = nlohmann::json::array();  // the last set's entries, unwritten
+  nlohmann::json pending_ = nlohmann::json::array();  // the last set's entries, unanswered
+  size_t last_set_entries_ = 0;                        // the last answered set's in targets
   int pending_line_ = 0;                              // their input line (interactive)
   bool resumed_ = false, interactive_ = false;
   std::array<double, 3> body_low_{}, body_high_{};  // the mesh's bounding box (reference)

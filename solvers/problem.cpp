@@ -328,7 +328,7 @@ double Problem::residual_roundoff(Vec u) {
 
 void Problem::external_load(Vec u, double s, Vec f) { assemble_forces(u, s, 0.0, 1.0, f, nullptr); }
 
-void Problem::element_fields(Vec u, ElementFieldValues& v) const {
+void Problem::element_fields(Vec u, ElementFieldValues& v, bool principal) const {
   VecHandle uw;
   HS_PETSC(VecDuplicate(u_work_, uw.out()));
   LocalView view(u, uw);
@@ -338,8 +338,8 @@ void Problem::element_fields(Vec u, ElementFieldValues& v) const {
   v.J.resize(nt);
   v.stress.resize(9 * nt);
   v.strain.resize(9 * nt);
-  v.principal_stress.resize(3 * nt);
-  v.principal_strain.resize(3 * nt);
+  v.principal_stress.resize(principal ? 3 * nt : 0);
+  v.principal_strain.resize(principal ? 3 * nt : 0);
   if (nodal_) nodal_->update(ua, nullptr);
   double X[30], ue[30];
   for (size_t e = 0; e < nt; ++e) {
@@ -359,6 +359,7 @@ void Problem::element_fields(Vec u, ElementFieldValues& v) const {
         v.stress[9 * e + 3 * i + j] = f.stress(i, j);
         v.strain[9 * e + 3 * i + j] = f.strain(i, j);
       }
+    if (!principal) continue;
     const auto ps = principal_values(f.stress), pe = principal_values(f.strain);
     std::copy(ps.begin(), ps.end(), &v.principal_stress[3 * e]);
     std::copy(pe.begin(), pe.end(), &v.principal_strain[3 * e]);

@@ -137,11 +137,12 @@ class Problem {
 
   // Per local tetrahedron, at the centroid (fem/element.hpp's tet_fields): von Mises stress,
   // J, the Cauchy stress and the Green-Lagrange strain (9 values each, row-major) and their
-  // principal values (3 each, largest first).
+  // principal values (3 each, largest first; left empty without `principal`: finite
+  // tensors have finite ones, and they cost most of the pass).
   struct ElementFieldValues {
     std::vector<double> von_mises, J, stress, strain, principal_stress, principal_strain;
   };
-  void element_fields(Vec u, ElementFieldValues& values) const;
+  void element_fields(Vec u, ElementFieldValues& values, bool principal = true) const;
   // The nodal-pressure element's pressure per owned node on configuration u (positive in
   // compression, NodalPressure::owned_compression); empty without that element. Collective.
   std::vector<double> nodal_pressure(Vec u) const;

@@ -80,6 +80,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
       recorder.record(rest->time, run.u, rest->load_factor, rest->time_kind);
     }
     std::optional<Progress> progress;
+    std::optional<StepReport> unwritten;  // the last step taken, when not written
     for (int phase = -1; !stepper->done();) {
       if (stepper->phase() != phase) {  // the progress and the checkpoints count anew
         phase = stepper->phase();
@@ -97,9 +98,11 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
       }
       // A signal stops the run at this step boundary, the step written first.
       const int signal = interrupt_requested(comm);
+      unwritten = step;
       if (step->output || signal) {
+        stepper->number_output(recorder.written());
         recorder.record(step->time, run.u, step->load_factor, step->time_kind);
-        stepper->output_written(recorder.written() - 1);
+        unwritten.reset();
       }
       if (run.checkpoints->due(signal)) {
         nlohmann::json position = stepper->position();
@@ -108,6 +111,10 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
                                stepper->checkpoint_series());
       }
       if (signal) throw Interrupted(signal);
+    }
+    if (unwritten) {  // the last step always (an interactive run's end is not known ahead)
+      stepper->number_output(recorder.written());
+      recorder.record(unwritten->time, run.u, unwritten->load_factor, unwritten->time_kind);
     }
   } catch (SolveError& e) {
     // Every rank is here together (a failed solve, an inverted element, a refused step and a

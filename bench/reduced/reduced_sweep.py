@@ -2,7 +2,7 @@
 """A reduced model against the full model on the same `--targets -` lines (docs/reduced_models.md).
 
     /usr/bin/python3 bench/reduced/reduced_sweep.py [--deck input/finger_hydraulic.yaml]
-        [--h 0.00135] [--lines 40] [--repeats 3] [--samples 17] [--model FILE]
+        [--h 0.00135] [--lines 40] [--repeats 3] [--samples 17] [--model FILE] [--every N]
 
 Trains the deck's reduced model (`hydrosoft reduce`, timed; skipped with --model), then sends
 the same tip-height lines, in a fixed shuffled order, to the reduced model and to the full model
@@ -11,7 +11,8 @@ each answer is the equilibrium that meets its target. The lines span the middle 
 tip's range over the actuator's bounds (measured by the training's own samples), so that none
 is a training sample's position. Prints the training time, per model the medians over the
 repeats of the step time's mean, median and p95 (ms, the answers' step_ms) and of the client's
-round trip, the largest distance of a reduced answer from the full model's equilibrium at the
+round trip (which, back to back, includes writing the last line's output step: `--every N`
+writes every N-th, output.every), the largest distance of a reduced answer from the full model's equilibrium at the
 same actuation, and from the full model's own answer to the same line (mm).
 1 rank, OPENBLAS_NUM_THREADS=1.
 """
@@ -71,6 +72,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--samples", type=int, default=17)
     ap.add_argument("--model", default=None, help="a model already trained for this mesh")
+    ap.add_argument("--every", type=int, default=1, help="output.every of the reduced runs")
     ap.add_argument("--skip-full", action="store_true")
     ap.add_argument("--full-lines", type=int, default=1000, help="lines the full model answers")
     ap.add_argument("--full-steps", type=int, default=10, help="its control steps a line")
@@ -101,7 +103,7 @@ def main():
     reduced = base + [f"control.reduced_model={model}"]
     timing = []
     for rep in range(a.repeats):
-        ans = answers(a.deck, reduced, lines, f"{work}/reduced{rep}")
+        ans = answers(a.deck, reduced + [f"output.every={a.every}"], lines, f"{work}/reduced{rep}")
         timing.append(stats([x["answer"]["step_ms"] for x in ans]) +
                       stats([x["round_trip_ms"] for x in ans[1:]]))  # the first waits for set-up
     med = [statistics.median(r[i] for r in timing) for i in range(6)]

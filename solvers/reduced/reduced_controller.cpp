@@ -9,12 +9,12 @@
 namespace hs {
 namespace {
 
-constexpr int kMaxPasses = 12;  // QP and Newton passes of one step
+constexpr int kMaxStepIterations = 30;  // of one step
 // A pass whose actuation change moves no targeted effector by more than this (m, weighted as
 // in the QP) ends the step: 50 times below the accuracy asked of a reduced model (0.5 mm).
 constexpr double kEffectorStop = 1e-5;
-// A linear prediction whose residual exceeds this fraction of the forces is compared with the
-// nearest training sample.
+// A step may raise the residual up to this fraction of the forces (a large change of the
+// actuation from an equilibrium); beyond it, the step is shortened.
 constexpr double kFarResidual = 1e-2;
 
 }  // namespace
@@ -119,9 +119,10 @@ Eigen::VectorXd ReducedController::effector_positions() const {
 }
 
 void ReducedController::target_rows(const std::vector<ControlTarget>& targets,
-                                    const Eigen::MatrixXd& dq, Eigen::MatrixXd& W,
-                                    Eigen::VectorXd& delta) const {
-  const Eigen::VectorXd x = effector_positions();
+                                    const Eigen::VectorXd& q, const Eigen::MatrixXd& dq,
+                                    Eigen::MatrixXd& W, Eigen::VectorXd& delta) const {
+  const Eigen::VectorXd x =
+      Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) + effector_rows_ * q;
   std::vector<Eigen::RowVectorXd> rows;
   std::vector<double> distances;
   for (const auto& t : targets) {
@@ -141,34 +142,38 @@ void ReducedController::target_rows(const std::vector<ControlTarget>& targets,
   }
 }
 
-bool ReducedController::move(Vec u, const std::vector<ActuatorPosition>& at,
-                             const Eigen::MatrixXd& dq, Eigen::VectorXd dl,
-                             ControlStepReport& report) {
+bool ReducedController::move(Vec u, const Eigen::VectorXd& dq, const Eigen::VectorXd& dl,
+                             ReducedLinearization& L) {
   const int n = static_cast<int>(actuators_.size());
   const Eigen::VectorXd q_start = q_;
-  for (int halving = 0; halving < 6; ++halving, dl *= 0.5) {
-    Eigen::VectorXd lambda(n);
-    for (int a = 0; a < n; ++a) {
-      lambda(a) = at[a].multiplier + dl(a);
+  Eigen::VectorXd lambda_start(n);
+  for (int a = 0; a < n; ++a) lambda_start(a) = constraints_[actuators_[a]].multiplier();
+  // Far from equilibrium the linear step may land where the residual has grown: it is
+  // shortened until the residual stays below the larger of where it was and a small share of
+  // the forces; a first step that lands too far may start from the nearest training sample.
+  const double limit = std::max(L.r.norm(), kFarResidual * L.scale);
+  ReducedLinearization next;
+  double t = 1;
+  for (int halving = 0; halving < 8; ++halving, t *= 0.5) {
+    const Eigen::VectorXd lambda = lambda_start + t * dl;
+    for (int a = 0; a < n; ++a)
       constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda(a));
+    Eigen::VectorXd q = q_start + t * dq;
+    bool accepted = system_->linearize(q, u, next, false) && next.r.norm() <= limit;
+    if (!accepted && halving == 0) {
+      q = system_->nearest_training_state(lambda);
+      accepted = system_->linearize(q, u, next, false) && next.r.norm() <= limit;
     }
-    // Newton starts from the linear prediction or, where the nonlinearity has taken that
-    // far off, from the nearest training sample: whichever balances better.
-    const Eigen::VectorXd predicted = q_start + dq * dl;
-    const Eigen::VectorXd sampled = system_->nearest_training_state(lambda);
-    const double r_predicted = system_->residual_norm(predicted, u);
-    q_ = r_predicted > kFarResidual * system_->force_scale() &&
-                 system_->residual_norm(sampled, u) < r_predicted
-             ? sampled
-             : predicted;
-    const ReducedSolve solved = system_->solve(q_, u);
-    report.newton_iterations += solved.iterations;
-    if (solved.converged) return true;
+    if (accepted) {
+      q_ = q;
+      L = next;
+      return true;
+    }
   }
   for (int a = 0; a < n; ++a)
-    constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, at[a].multiplier);
+    constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda_start(a));
   q_ = q_start;
-  system_->solve(q_, u);
+  system_->linearize(q_, u, L, false);
   return false;
 }
 
@@ -185,17 +190,21 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     at[a].origin = constraints_[actuators_[a]].multiplier();
   }
   warm_start(u, targets, at, report);
-  Eigen::MatrixXd K, G, W;
+  // Newton on the equilibrium and the QP's optimality together: each iteration solves the QP
+  // on the equations linearized at (q, lambda), r + K dq - G dl = 0, and steps both.
+  ReducedLinearization L;
+  if (!system_->linearize(q_, u, L, steps_ == 0))
+    throw SolveError("reduced model: the step's start is outside the model's domain");
+  Eigen::MatrixXd W;
   Eigen::VectorXd delta;
-  for (int pass = 0; pass < kMaxPasses; ++pass) {
-    // The walls' stiffness per unit pressure of an earlier linearization serves the QP's
-    // prediction (the answer is Newton's, whatever the prediction); Newton renews it when it
-    // converges slowly.
-    system_->linearize(q_, u, K, G, steps_ == 0 && pass == 0);
-    Eigen::MatrixXd Ga(K.rows(), n);
-    for (int a = 0; a < n; ++a) Ga.col(a) = G.col(actuators_[a]);
-    const Eigen::MatrixXd dq = K.partialPivLu().solve(Ga);
-    target_rows(targets, dq, W, delta);
+  bool done = false;
+  for (int iteration = 0; iteration < kMaxStepIterations && !done; ++iteration) {
+    Eigen::MatrixXd Ga(L.K.rows(), n);
+    for (int a = 0; a < n; ++a) Ga.col(a) = L.G.col(actuators_[a]);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu = L.K.partialPivLu();
+    const Eigen::VectorXd free = lu.solve(-L.r);  // Newton's step at a fixed actuation
+    const Eigen::MatrixXd dq = lu.solve(Ga);      // the compliance dq/dlambda
+    target_rows(targets, q_ + free, dq, W, delta);
     for (int a = 0; a < n; ++a) {
       const Constraint& c = constraints_[actuators_[a]];
       at[a].multiplier = c.multiplier();
@@ -210,12 +219,23 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     report.qp_status = change.status;
     report.kkt_residual = change.kkt_residual;
     report.saturated = change.saturated;
-    // Done when the change would move no targeted effector by more than kEffectorStop.
-    if (!change.solved || (W * change.dl).lpNorm<Eigen::Infinity>() <= kEffectorStop) break;
-    if (!move(u, at, dq, change.dl, report)) {
+    if (!change.solved) break;
+    // Done at an equilibrium where the change would move no targeted effector by more than
+    // kEffectorStop.
+    done = system_->balanced(L) && (W * change.dl).lpNorm<Eigen::Infinity>() <= kEffectorStop;
+    if (done) break;
+    if (!move(u, free + dq * change.dl, change.dl, L)) {
       report.limit_point = true;
       break;
     }
+    ++report.newton_iterations;
+  }
+  if (!system_->balanced(L)) {  // the answer is an equilibrium at its actuation, always
+    const ReducedSolve solved = system_->solve(q_, u);
+    report.newton_iterations += solved.iterations;
+    if (!solved.converged)
+      throw SolveError("reduced model: no equilibrium at the step's actuation (" + solved.reason +
+                       ")");
   }
   ++steps_;
   const Eigen::VectorXd x = effector_positions();

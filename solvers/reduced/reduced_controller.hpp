@@ -1,12 +1,15 @@
 // The inverse controller on a reduced-order model (docs/reduced_models.md): the steps of the
 // full model's controller (solvers/inverse_controller.hpp) in the model's reduced space, where
-// a factorization is of a k x k matrix. Each step iterates, within the step's bounds:
-//   1. the reduced tangent K and the actuators' unit forces G at the equilibrium q;
-//   2. the compliance dq/dlambda = K^-1 G, the effectors' rows W and the volume growth;
+// a factorization is of a k x k matrix. Each step is Newton's method on the equilibrium and
+// the QP together, within the step's bounds:
+//   1. the equations linearized at (q, lambda): r + K dq - G dl = 0 (the actuators' unit
+//      forces G);
+//   2. Newton's step at fixed actuation -K^-1 r, the compliance dq/dlambda = K^-1 G, the
+//      effectors' rows W and the volume growth;
 //   3. the QP of the full model (control/actuation_qp.hpp) for the actuation change dl;
-//   4. lambda += dl, and Newton in the reduced space from q + dq/dlambda dl,
-// until dl vanishes, so that every answer is the reduced model's equilibrium. The whole field
-// Phi q is placed in u after the step (outside its time), for the output.
+//   4. q += -K^-1 r + K^-1 G dl, lambda += dl,
+// until r balances and dl vanishes, so that every answer is the reduced model's equilibrium.
+// The whole field Phi q is placed in u after the step (outside its time), for the output.
 #pragma once
 
 #include <petscvec.h>
@@ -41,13 +44,14 @@ class ReducedController {
   // The effectors' positions at q (3 each).
   Eigen::VectorXd effector_positions() const;
   // The QP's rows: W, the targeted directions' weighted response to the actuation (through
-  // dq = dq/dlambda), and delta, their weighted distance from the targets.
-  void target_rows(const std::vector<ControlTarget>& targets, const Eigen::MatrixXd& dq,
-                   Eigen::MatrixXd& W, Eigen::VectorXd& delta) const;
-  // Newton at the actuation at + dl, dl halved while it finds no equilibrium (a limit point of
-  // the pressure); false (q and the actuation put back) when none is found.
-  bool move(Vec u, const std::vector<ActuatorPosition>& at, const Eigen::MatrixXd& dq,
-            Eigen::VectorXd dl, ControlStepReport& report);
+  // dq = dq/dlambda), and delta, their weighted distance from the targets at the reduced
+  // coordinates q.
+  void target_rows(const std::vector<ControlTarget>& targets, const Eigen::VectorXd& q,
+                   const Eigen::MatrixXd& dq, Eigen::MatrixXd& W, Eigen::VectorXd& delta) const;
+  // The step q += dq, lambda += dl, shortened while it inverts an element or raises the
+  // residual too far; L then the equations linearized there. False (q and the actuation put
+  // back) when no length serves: a limit point of the pressure.
+  bool move(Vec u, const Eigen::VectorXd& dq, const Eigen::VectorXd& dl, ReducedLinearization& L);
   // The weighted distance of effector positions x (3 per effector) from the targets.
   double target_distance(const Eigen::VectorXd& x, const std::vector<ControlTarget>& targets) const;
   // Where a step's passes start: the training sample whose effectors lie nearest the targets

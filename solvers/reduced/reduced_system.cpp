@@ -207,6 +207,7 @@ void ReducedSystem::refresh_stiffness(const Eigen::VectorXd& q, Vec u, Eigen::Ma
   }
   place(q, u, false);
   unit_forces_ = G;
+  secant_ = Eigen::MatrixXd::Zero(k, k);
 }
 
 Eigen::MatrixXd ReducedSystem::constraint_tangent() const {
@@ -275,18 +276,41 @@ ReducedSolve ReducedSystem::solve(Eigen::VectorXd& q, Vec u) {
   }
 }
 
-void ReducedSystem::linearize(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& K,
-                              Eigen::MatrixXd& G, bool fresh) {
-  Eigen::VectorXd r;
-  if (!residual(q, u, r, &K))
-    throw SolveError("reduced model: the configuration to linearize at is outside the domain");
+std::vector<double> ReducedSystem::multipliers() const {
+  std::vector<double> lambda;
+  for (int c = 0; c < constraints_.size(); ++c) lambda.push_back(constraints_[c].multiplier());
+  return lambda;
+}
+
+bool ReducedSystem::balanced(const ReducedLinearization& L) const {
+  return L.r.norm() <= std::max(kRelativeTolerance * L.scale, constraints_.load_jump());
+}
+
+bool ReducedSystem::linearize(const Eigen::VectorXd& q, Vec u, ReducedLinearization& L,
+                              bool fresh) {
+  Eigen::VectorXd p;
+  if (!residual(q, u, L.r, &L.K, &p)) return false;
+  L.scale = force_scale_;
+  const std::vector<double> lambda = multipliers();
   if (fresh || unit_stiffness_.empty()) {
-    refresh_stiffness(q, u, G);
+    refresh_stiffness(q, u, L.G);
   } else {
-    G = unit_forces(u);
-    unit_forces_ = G;
+    L.G = unit_forces(u);
+    unit_forces_ = L.G;
+    // Broyden: the constraints' forces changed by y along s besides what the multipliers'
+    // change explains; the tangent is corrected to match that secant.
+    const Eigen::VectorXd s = q - last_.q;
+    if (s.squaredNorm() > 0) {
+      Eigen::VectorXd y = p - last_.p;
+      for (size_t c = 0; c < lambda.size(); ++c)
+        y -= (lambda[c] - last_.lambda[c]) * last_.G.col(c);
+      y -= (constraint_tangent() + secant_) * s;
+      secant_ += y * s.transpose() / s.squaredNorm();
+    }
   }
-  K -= constraint_tangent();
+  L.K -= constraint_tangent() + secant_;
+  last_ = {q, p, lambda, L.G};
+  return true;
 }
 
 }  // namespace hs

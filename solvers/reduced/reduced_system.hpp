@@ -29,6 +29,15 @@ struct ReducedSolve {
   std::string reason;
 };
 
+// The reduced equations linearized at q and the constraints' multipliers lambda:
+// r + K dq - G dlambda = 0 to first order.
+struct ReducedLinearization {
+  Eigen::VectorXd r;  // r(q)
+  Eigen::MatrixXd K;  // dr/dq
+  Eigen::MatrixXd G;  // Phi^T g_c, each constraint's unit forces (a column each)
+  double scale = 1;   // the forces r balances (N)
+};
+
 class ReducedSystem {
  public:
   // Throws InputError naming `path` when the model does not belong to the run: another mesh
@@ -50,12 +59,13 @@ class ReducedSystem {
   // Newton in the reduced space at the constraints' current multipliers, from q (updated in
   // place); u follows at the sampled dofs.
   ReducedSolve solve(Eigen::VectorXd& q, Vec u);
-  // At q: the reduced tangent K = dr/dq and each constraint's unit forces Phi^T g_c (one
-  // column per constraint of the set). Leaves u at q. Without `fresh`, the constraints'
-  // stiffness of the last linearization or solve serves (it costs k evaluations of their
-  // forces; the elements' part is always exact).
-  void linearize(const Eigen::VectorXd& q, Vec u, Eigen::MatrixXd& K, Eigen::MatrixXd& G,
-                 bool fresh = true);
+  // The equations linearized at q (false outside the domain). Leaves u at q. The elements'
+  // part of K is exact; the constraints' part (the walls' follower stiffness) comes, with
+  // `fresh`, from k evaluations of their forces and otherwise from the last such evaluation
+  // corrected by the secant of the last two linearizations (Broyden's update).
+  bool linearize(const Eigen::VectorXd& q, Vec u, ReducedLinearization& L, bool fresh);
+  // Whether r balances to Newton's tolerance (the column method's jump as its floor).
+  bool balanced(const ReducedLinearization& L) const;
   // The reduced coordinates of the training sample nearest to the actuation `lambda` (the
   // model's actuators; each one's distance scaled by its training range): where a solve far
   // from the last equilibrium starts.
@@ -90,6 +100,7 @@ class ReducedSystem {
   // The constraints' part of dr/dq (the caller subtracts it): sum_c lambda_c of the current
   // multipliers times its unit stiffness, and a liquid's weight following the volume.
   Eigen::MatrixXd constraint_tangent() const;
+  std::vector<double> multipliers() const;
 
   Problem& problem_;
   ConstraintSet& constraints_;
@@ -106,6 +117,14 @@ class ReducedSystem {
   // Per constraint, the last unit stiffness; the unit forces of the last linearization.
   std::vector<Eigen::MatrixXd> unit_stiffness_;
   Eigen::MatrixXd unit_forces_;
+  // Broyden's correction to constraint_tangent() and the last linearization's point: q, the
+  // constraints' projected forces, their multipliers and unit forces.
+  Eigen::MatrixXd secant_;
+  struct {
+    Eigen::VectorXd q, p;
+    std::vector<double> lambda;
+    Eigen::MatrixXd G;
+  } last_;
   double element_s_ = 0, constraint_s_ = 0;
   double force_scale_ = 1;
 };

@@ -8,6 +8,7 @@ ControlStepper::ControlStepper(const Config& config, Problem& problem, Constrain
                                BorderedNewton& newton, SteppingStats& stats,
                                const ResultRecorder& recorder, InteractiveIo io)
     : stats_(stats),
+      every_(config.output.every),
       states_(config, problem, constraints, newton, stats, recorder),
       loop_(config, problem, constraints, newton, std::move(io)) {}
 
@@ -27,11 +28,12 @@ std::optional<StepReport> ControlStepper::advance(Vec u) {
   if (loop_.planned_sets() > 0) step.what = loop_.progress_text();
   step.time = static_cast<double>(states_.states().size()) + loop_.sets_done();
   step.time_kind = "target_set";
-  step.output = true;
+  step.output = loop_.sets_done() % every_ == 0 || loop_.done();
+  if (!step.output) loop_.answer(-1);
   return step;
 }
 
-void ControlStepper::output_written(int step) {
+void ControlStepper::number_output(int step) {
   if (phase() == 1) loop_.answer(step);
 }
 

@@ -1,6 +1,7 @@
 // A control deck's stepping: its states (the rest state, StatesStepper), then its target sets
-// (ControlLoop, solvers/control_run.hpp), each one planned step of phase 1 written as one
-// output step. A checkpoint of either phase continues there.
+// (ControlLoop, solvers/control_run.hpp), each one planned step of phase 1, every
+// output.every-th (and the last) written as one output step. A checkpoint of either phase
+// continues there.
 #pragma once
 
 #include "solvers/control_run.hpp"
@@ -18,7 +19,7 @@ class ControlStepper : public Stepper {
   int planned_steps() const override;
   bool done() const override { return states_.done() && loop_.done(); }
   std::optional<StepReport> advance(Vec u) override;
-  void output_written(int step) override;
+  void number_output(int step) override;
 
   nlohmann::json position() const override;
   NamedVecs checkpoint_fields(Vec u) const override;
@@ -31,6 +32,7 @@ class ControlStepper : public Stepper {
 
  private:
   const SteppingStats& stats_;
+  int every_;  // output.every: target sets between output steps
   StatesStepper states_;
   ControlLoop loop_;
   bool started_ = false;  // the loop's rest state is set

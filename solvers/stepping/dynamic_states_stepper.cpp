@@ -103,7 +103,7 @@ void DynamicStatesStepper::end_state(Vec u, int n) {
   unnumbered_ = static_cast<int>(states_.size()) - 1;
 }
 
-void DynamicStatesStepper::output_written(int step) {
+void DynamicStatesStepper::number_output(int step) {
   if (unnumbered_ >= 0) states_[unnumbered_]["step"] = step;
   unnumbered_ = -1;
 }

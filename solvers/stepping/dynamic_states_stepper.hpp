@@ -36,7 +36,7 @@ class DynamicStatesStepper : public Stepper {
   bool done() const override { return n_ == nsteps_; }
   std::optional<StepReport> advance(Vec u) override;
   std::optional<StepReport> initial_output() const override;
-  void output_written(int step) override;
+  void number_output(int step) override;
 
   nlohmann::json position() const override;
   NamedVecs checkpoint_fields(Vec u) const override;
@@ -82,7 +82,7 @@ class DynamicStatesStepper : public Stepper {
   double kinetic_ = 0, stored_ = 0, work_loads_ = 0;
   std::vector<double> work_, lambda_, measure_;
   nlohmann::json states_ = nlohmann::json::array();
-  int unnumbered_ = -1;  // the entry of states_ whose output step comes with output_written
+  int unnumbered_ = -1;  // the entry of states_ whose output step comes with number_output
 };
 
 }  // namespace hs

@@ -46,8 +46,10 @@ class Stepper {
   // Takes the next planned step from u (cutbacks inside), or finds there is none: the end of
   // the interactive input, or the bookkeeping at the end of the last state (nullopt).
   virtual std::optional<StepReport> advance(Vec u) = 0;
-  // The driver wrote the step's output as output step `step` (the control loop names it).
-  virtual void output_written(int step) { (void)step; }
+  // The step just taken is about to be written as output step `step` (the states and the
+  // control loop name it). Called before the write, so that an interactive answer, which
+  // carries the number, goes out without waiting for the file.
+  virtual void number_output(int step) { (void)step; }
   // The output step of the start, before any step (a dynamic run's t = 0), if any.
   virtual std::optional<StepReport> initial_output() const { return std::nullopt; }
 

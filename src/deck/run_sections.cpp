@@ -184,7 +184,9 @@ const KeyTable<OutputConfig>& output_keys() {
           .defaults_to("`out/<deck name>`"),
       integer_key("every", &OutputConfig::every, at_least(1),
                   "write every n-th step (the last one always, and the step at which a signal "
-                  "stops the run)"),
+                  "stops the run); in a control run every n-th target set or `--targets -` "
+                  "line, the answers of the others with `step: null` (a client that needs no "
+                  "field of every line answers sooner: docs/control.md)"),
       bool_key("progress", &OutputConfig::progress,
                "a line per converged step on standard error: step k/n, load, time or state, "
                "Newton iterations, the cutbacks once there were any, elapsed and estimated time "

@@ -223,6 +223,32 @@ TEST(Interactive, AClosedStandardOutputEndsTheSessionAndKeepsItsSteps) {
   EXPECT_EQ(nlohmann::json::parse(file)["targets"][1]["line"], 3);
 }
 
+// output.every: 2 writes every second answered line and the last: the others' answers carry
+// `step: null`, the last line's answer goes out before the end of the input is known (null)
+// and summary.json numbers it when the run writes it at the end; the written steps hold the
+// same fields as with every line written.
+TEST(Interactive, OutputEveryWritesEveryNthLineAndTheLast) {
+  const std::string input =
+      "0.09 0 -0.012\nx\n0.09 0 -0.008\n0.09 0 -0.010\n0.09 0 -0.011\n0.09 0 -0.009\n";
+  std::vector<nlohmann::json> sparse, dense;
+  const nlohmann::json summary =
+      run_interactive(input, sparse, "every2", -1, {}, {"output.every=2"});
+  const nlohmann::json all = run_interactive(input, dense, "every1");
+  if (world_rank() != 0) return;
+  ASSERT_EQ(sparse.size(), 6u);
+  ASSERT_EQ(summary["targets"].size(), 5u);
+  // Every second of the state's 4 steps, then lines 3 and 5 (sets 2 and 4) and line 6.
+  EXPECT_EQ(summary["outputs"], 2 + 3);
+  const std::vector<nlohmann::json> steps = {nullptr, 2, nullptr, 3, 4};
+  for (size_t i = 0; i < steps.size(); ++i) {
+    EXPECT_EQ(summary["targets"][i]["step"], steps[i]) << i;
+    const nlohmann::json& answer = sparse[i < 1 ? 0 : i + 1]["answer"];
+    EXPECT_EQ(answer["step"], i == 4 ? nlohmann::json(nullptr) : steps[i]) << i;
+    EXPECT_EQ(answer["reached"], dense[i < 1 ? 0 : i + 1]["answer"]["reached"]) << i;
+  }
+  EXPECT_EQ(all["outputs"], 4 + 5);
+}
+
 // A NUL in a line: the error quotes the whole line with the NUL written out (before, the
 // message ended at the NUL). A subnormal coordinate is a number: the same answer as 0 (to
 // round-off; the finger's size is 0.09 m).
