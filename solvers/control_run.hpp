@@ -134,7 +134,7 @@ class ControlLoop {
   Totals totals_;
   Session session_;
   nlohmann::json pending_ = nlohmann::json::array();  // the last set's entries, unanswered
-  size_t last_set_entries_ = 0;                        // the last answered set's in targets
+  size_t last_set_entries_ = 0;                       // the last answered set's in targets
   int pending_line_ = 0;                              // their input line (interactive)
   bool resumed_ = false, interactive_ = false;
   std::array<double, 3> body_low_{}, body_high_{};  // the mesh's bounding box (reference)
