@@ -13,9 +13,9 @@ constexpr int kMaxStepIterations = 30;  // of one step
 // A pass whose actuation change moves no targeted effector by more than this (m, weighted as
 // in the QP) ends the step: 50 times below the accuracy asked of a reduced model (0.5 mm).
 constexpr double kEffectorStop = 1e-5;
-// A step may raise the residual up to this fraction of the forces (a large change of the
-// actuation from an equilibrium); beyond it, the step is shortened.
-constexpr double kFarResidual = 1e-2;
+// A step that leaves a residual above this fraction of the forces is solved to equilibrium
+// before the next iteration.
+constexpr double kFarResidual = 0.5;
 
 }  // namespace
 
@@ -43,6 +43,7 @@ ReducedController::ReducedController(const Config& config, Problem& problem,
 }
 
 void ReducedController::set_rest(Vec u) {
+  kept_.reset();
   q_ = system_->project(u);
   for (int c : actuators_) constraints_[c].hold_multiplier();
   const ReducedSolve r = system_->solve(q_, u);
@@ -65,18 +66,15 @@ double ReducedController::target_distance(const Eigen::VectorXd& x,
   return std::sqrt(d2);
 }
 
-void ReducedController::warm_start(Vec u, const std::vector<ControlTarget>& targets,
-                                   const std::vector<ActuatorPosition>& at,
-                                   ControlStepReport& report) {
+Eigen::Index ReducedController::training_start(const std::vector<ControlTarget>& targets,
+                                               const std::vector<ActuatorPosition>& at) const {
   const int n = static_cast<int>(actuators_.size());
   int directions = 0;  // with fewer than n, the answer depends on the start: none is chosen
   for (const auto& t : targets)
     for (int d = 0; d < 3; ++d)
       directions += effectors_.config(effectors_.index(t.effector)).directions[d];
-  if (directions < n) return;
-  const Eigen::VectorXd reference =
-      Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size());
-  double best = target_distance(reference + effector_rows_ * q_, targets);
+  if (directions < n) return -1;
+  double best = target_distance(effector_positions(), targets);
   Eigen::Index chosen = -1;
   for (Eigen::Index s = 0; s < training_positions_.cols(); ++s) {
     bool inside = true;  // within the step's change of the actuation
@@ -89,25 +87,34 @@ void ReducedController::warm_start(Vec u, const std::vector<ControlTarget>& targ
       chosen = s;
     }
   }
-  if (chosen < 0) return;
-  const Eigen::VectorXd q_start = q_;
-  std::vector<double> lambda_start(n);
-  for (int a = 0; a < n; ++a) {
-    Constraint& c = constraints_[actuators_[a]];
-    lambda_start[a] = c.multiplier();
-    c.prescribe(Constraint::Control::multiplier, system_->training_actuations()(chosen, a));
+  return chosen;
+}
+
+ReducedLinearization ReducedController::start(Vec u, const std::vector<ControlTarget>& targets,
+                                              const std::vector<ActuatorPosition>& at) {
+  const int n = static_cast<int>(actuators_.size());
+  const Eigen::Index chosen = training_start(targets, at);
+  ReducedLinearization L;
+  if (chosen >= 0) {
+    const Eigen::VectorXd q_start = q_;
+    for (int a = 0; a < n; ++a)
+      constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier,
+                                            system_->training_actuations()(chosen, a));
+    q_ = system_->training_states().row(chosen).transpose();
+    if (system_->linearize(q_, u, L, steps_ == 0)) return L;
+    for (int a = 0; a < n; ++a)  // outside the model's domain: the step starts where it was
+      constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, at[a].origin);
+    q_ = q_start;
+  } else if (kept_) {
+    return *kept_;
   }
-  q_ = system_->training_states().row(chosen).transpose();
-  const ReducedSolve solved = system_->solve(q_, u);
-  report.newton_iterations += solved.iterations;
-  if (solved.converged) return;
-  for (int a = 0; a < n; ++a)  // no equilibrium found there: the step starts where it was
-    constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda_start[a]);
-  q_ = q_start;
-  system_->solve(q_, u);
+  if (!system_->linearize(q_, u, L, steps_ == 0))
+    throw SolveError("reduced model: the step's start is outside the model's domain");
+  return L;
 }
 
 void ReducedController::recover(Vec u) {
+  kept_.reset();
   q_ = system_->project(u);
   system_->solve(q_, u);
   system_->place(q_, u, true);
@@ -143,28 +150,33 @@ void ReducedController::target_rows(const std::vector<ControlTarget>& targets,
 }
 
 bool ReducedController::move(Vec u, const Eigen::VectorXd& dq, const Eigen::VectorXd& dl,
-                             ReducedLinearization& L) {
+                             ReducedLinearization& L, ControlStepReport& report) {
   const int n = static_cast<int>(actuators_.size());
   const Eigen::VectorXd q_start = q_;
   Eigen::VectorXd lambda_start(n);
   for (int a = 0; a < n; ++a) lambda_start(a) = constraints_[actuators_[a]].multiplier();
-  // Far from equilibrium the linear step may land where the residual has grown: it is
-  // shortened until the residual stays below the larger of where it was and a small share of
-  // the forces; a first step that lands too far may start from the nearest training sample.
-  const double limit = std::max(L.r.norm(), kFarResidual * L.scale);
   ReducedLinearization next;
   double t = 1;
-  for (int halving = 0; halving < 8; ++halving, t *= 0.5) {
+  for (int halving = 0; halving < 6; ++halving, t *= 0.5) {
     const Eigen::VectorXd lambda = lambda_start + t * dl;
     for (int a = 0; a < n; ++a)
       constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda(a));
     Eigen::VectorXd q = q_start + t * dq;
-    bool accepted = system_->linearize(q, u, next, false) && next.r.norm() <= limit;
-    if (!accepted && halving == 0) {
-      q = system_->nearest_training_state(lambda);
-      accepted = system_->linearize(q, u, next, false) && next.r.norm() <= limit;
+    const bool valid = system_->linearize(q, u, next, false);
+    // A step that lands near equilibrium goes on as one Newton iteration; one that lands far
+    // off (a large change of the actuation: the finger stiffens as it inflates) is first
+    // solved to equilibrium at its actuation, from there or from the nearest training sample.
+    if (valid &&
+        next.r.norm() <= std::max(L.r.norm(), kFarResidual * std::max(L.scale, next.scale))) {
+      q_ = q;
+      L = next;
+      return true;
     }
-    if (accepted) {
+    const Eigen::VectorXd sampled = system_->nearest_training_state(lambda);
+    if (!valid || system_->residual_norm(sampled, u) < next.r.norm()) q = sampled;
+    const ReducedSolve solved = system_->solve(q, u);
+    report.newton_iterations += solved.iterations;
+    if (solved.converged && system_->linearize(q, u, next, false)) {
       q_ = q;
       L = next;
       return true;
@@ -189,12 +201,10 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     constraints_[actuators_[a]].hold_multiplier();
     at[a].origin = constraints_[actuators_[a]].multiplier();
   }
-  warm_start(u, targets, at, report);
   // Newton on the equilibrium and the QP's optimality together: each iteration solves the QP
   // on the equations linearized at (q, lambda), r + K dq - G dl = 0, and steps both.
-  ReducedLinearization L;
-  if (!system_->linearize(q_, u, L, steps_ == 0))
-    throw SolveError("reduced model: the step's start is outside the model's domain");
+  ReducedLinearization L = start(u, targets, at);
+  kept_.reset();
   Eigen::MatrixXd W;
   Eigen::VectorXd delta;
   bool done = false;
@@ -224,13 +234,15 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     // kEffectorStop.
     done = system_->balanced(L) && (W * change.dl).lpNorm<Eigen::Infinity>() <= kEffectorStop;
     if (done) break;
-    if (!move(u, free + dq * change.dl, change.dl, L)) {
+    if (!move(u, free + dq * change.dl, change.dl, L, report)) {
       report.limit_point = true;
       break;
     }
     ++report.newton_iterations;
   }
-  if (!system_->balanced(L)) {  // the answer is an equilibrium at its actuation, always
+  if (system_->balanced(L)) {
+    kept_ = L;
+  } else {  // the answer is an equilibrium at its actuation, always
     const ReducedSolve solved = system_->solve(q_, u);
     report.newton_iterations += solved.iterations;
     if (!solved.converged)

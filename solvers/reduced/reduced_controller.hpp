@@ -15,6 +15,7 @@
 #include <petscvec.h>
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
 #include "control/actuation_qp.hpp"
@@ -48,21 +49,24 @@ class ReducedController {
   // coordinates q.
   void target_rows(const std::vector<ControlTarget>& targets, const Eigen::VectorXd& q,
                    const Eigen::MatrixXd& dq, Eigen::MatrixXd& W, Eigen::VectorXd& delta) const;
-  // The step q += dq, lambda += dl, shortened while it inverts an element or raises the
-  // residual too far; L then the equations linearized there. False (q and the actuation put
-  // back) when no length serves: a limit point of the pressure.
-  bool move(Vec u, const Eigen::VectorXd& dq, const Eigen::VectorXd& dl, ReducedLinearization& L);
+  // The step q += dq, lambda += dl; L then the equations linearized there. Where it lands
+  // far from equilibrium, Newton solves the equilibrium at that actuation first; dl is halved
+  // while none is found. False (q and the actuation put back) when no length serves: a limit
+  // point of the pressure.
+  bool move(Vec u, const Eigen::VectorXd& dq, const Eigen::VectorXd& dl, ReducedLinearization& L,
+            ControlStepReport& report);
   // The weighted distance of effector positions x (3 per effector) from the targets.
   double target_distance(const Eigen::VectorXd& x, const std::vector<ControlTarget>& targets) const;
-  // Where a step's passes start: the training sample whose effectors lie nearest the targets
-  // (within the step's change of the actuation), its equilibrium solved, when it is less than
-  // half as far from them as the current state. Only where the targets fix the actuation (at
-  // least as many targeted directions as actuators), so that the QP's fixed point, and the
-  // answer, do not depend on the start; a large step then takes two or three passes instead
-  // of five or more.
-  void warm_start(Vec u, const std::vector<ControlTarget>& targets,
-                  const std::vector<ActuatorPosition>& at, ControlStepReport& report);
-
+  // The training sample whose effectors lie nearest the targets (within the step's change of
+  // the actuation), when it is less than half as far from them as the current state; -1 for
+  // none. Only where the targets fix the actuation (at least as many targeted directions as
+  // actuators), so that the QP's fixed point, and the answer, do not depend on the start.
+  Eigen::Index training_start(const std::vector<ControlTarget>& targets,
+                              const std::vector<ActuatorPosition>& at) const;
+  // Where a step's Newton starts, linearized: that training sample (q and the actuation
+  // there), or where the last step ended (its last linearization, kept).
+  ReducedLinearization start(Vec u, const std::vector<ControlTarget>& targets,
+                             const std::vector<ActuatorPosition>& at);
   const Config& config_;
   ConstraintSet& constraints_;
   Effectors& effectors_;
@@ -72,10 +76,11 @@ class ReducedController {
   std::vector<int> actuators_;  // constraint of each actuator
   std::vector<double> rest_measure_;
   Eigen::VectorXd q_;
-  Eigen::MatrixXd effector_rows_;       // 3 per effector x k: x_e = reference + rows q
-  std::vector<double> reference_;       // the effectors' reference positions
-  Eigen::MatrixXd training_positions_;  // the effectors' at each training sample (columns)
-  int steps_ = 0, outside_ = 0;         // steps taken, answers outside the training envelope
+  Eigen::MatrixXd effector_rows_;             // 3 per effector x k: x_e = reference + rows q
+  std::vector<double> reference_;             // the effectors' reference positions
+  Eigen::MatrixXd training_positions_;        // the effectors' at each training sample (columns)
+  std::optional<ReducedLinearization> kept_;  // at q_ and the actuation, the last step's end
+  int steps_ = 0, outside_ = 0;               // steps taken, answers outside the training envelope
 };
 
 }  // namespace hs

@@ -63,6 +63,12 @@ ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintS
   if (!constraints.loads(u, 1.0, f))
     throw InputError(path + ": the constraints have no forces on the undeformed body");
   add_support(f, touched);
+  // The dead loads: external_load less the constraints' forces (at the same u, so the
+  // cavities' pressures and the liquid's weight cancel exactly).
+  VecHandle all(problem.create_vector());
+  problem.external_load(u, 1.0, all);
+  HS_PETSC(VecAXPY(all, -1.0, f));
+  dead_ = project(all);
   for (int c = 0; c < constraints.size(); ++c) {
     constraints[c].forces(u, f);
     add_support(f, touched);
@@ -73,13 +79,6 @@ ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintS
   sample_.assign(dofs.begin(), dofs.end());
   phi_sample_.resize(sample_.size(), k);
   for (size_t i = 0; i < sample_.size(); ++i) phi_sample_.row(i) = phi_.row(sample_[i]);
-  // The dead loads: external_load less the constraints' forces (at the same u, so the
-  // cavities' pressures and the liquid's weight cancel exactly).
-  VecHandle all(problem.create_vector());
-  constraints.loads(u, 1.0, f);
-  problem.external_load(u, 1.0, all);
-  HS_PETSC(VecAXPY(all, -1.0, f));
-  dead_ = project(all);
   training_actuations_ = model.training_actuations;
   training_states_ = model.training_states;
   training_range_.resize(model.lower.size());

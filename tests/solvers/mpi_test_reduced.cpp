@@ -146,7 +146,7 @@ TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
     const nlohmann::json &a = far["targets"][i], &b = run["targets"][i];
     for (int d = 0; d < 3; ++d)
       EXPECT_NEAR(a["reached"][d].get<double>(), b["reached"][d].get<double>(), 1e-5) << i;
-    if (!a.at("saturated")[0].get<bool>()) EXPECT_LT(a.at("error_m").get<double>(), 1e-6);
+    if (!a.at("saturated")[0].get<bool>()) EXPECT_LT(a.at("error_m").get<double>(), 1e-5);
   }
 
   auto refusal = [&](const std::vector<std::string>& overrides) {
