@@ -6,8 +6,8 @@
 namespace hs {
 namespace {
 
-const char* const kOwnOptions[] = {"--set",     "--targets", "--restart", "--check",  "--help",
-                                   "--version", "--quiet",   "--verbose", "--samples"};
+const char* const kOwnOptions[] = {"--set",     "--targets", "--restart", "--check",   "--help",
+                                   "--version", "--quiet",   "--verbose", "--samples", "--design"};
 
 // A PETSc option is -name with a letter first; "-5" or "-1e3" is a (negative) value.
 bool is_petsc_option(const std::string& a) {
@@ -69,7 +69,12 @@ Arguments parse_arguments(int argc, const char* const* argv) {
         throw UsageError("--samples " + v + ": expected a whole number, e.g. --samples 17");
       }
       if (args.samples < 3 || args.samples > 1000)
-        throw UsageError("--samples " + v + ": between 3 and 1000 per actuator");
+        throw UsageError("--samples " + v + ": between 3 and 1000");
+    } else if (a == "--design") {
+      if (!args.reduce) throw UsageError("--design: only for hydrosoft reduce");
+      args.design = value_of(i, a);
+      if (args.design != "grid" && args.design != "halton")
+        throw UsageError("--design " + args.design + ": grid or halton");
     } else if (a == "--pod-tolerance" || a == "--ecsw-tolerance") {
       if (!args.reduce) throw UsageError(a + ": only for hydrosoft reduce");
       const std::string v = value_of(i, a);
@@ -129,7 +134,7 @@ Arguments parse_arguments(int argc, const char* const* argv) {
     throw UsageError("mesh: --check, --targets and --restart do not apply (it solves nothing)");
   if (args.reduce && (args.deck.empty() || args.reduce_output.empty()))
     throw UsageError(
-        "reduce: usage: hydrosoft reduce DECK.yaml -o MODEL.h5 [--samples N] "
+        "reduce: usage: hydrosoft reduce DECK.yaml -o MODEL.h5 [--samples N] [--design D] "
         "[--set key=value ...]");
   if (args.reduce && (args.check || !args.targets.empty() || !args.restart.empty()))
     throw UsageError("reduce: --check, --targets and --restart do not apply (it trains a model)");

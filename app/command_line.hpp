@@ -28,6 +28,7 @@ struct Arguments {
   bool reduce = false;             // hydrosoft reduce DECK -o MODEL.h5: train a reduced model
   std::string reduce_output;       // its MODEL.h5
   int samples = 0;                 // --samples N (0: the default)
+  std::string design;              // --design grid|halton (empty: grid)
   double pod_tolerance = 0;        // --pod-tolerance E (0: the default)
   double ecsw_tolerance = 0;       // --ecsw-tolerance T (0: the default)
   std::vector<std::string> petsc;  // PETSc's arguments, in order (values included)

@@ -48,15 +48,17 @@ const char* usage =
     "                 [PETSc options]\n"
     "       hydrosoft --check DECK.yaml [--set key=value ...]\n"
     "       hydrosoft mesh DECK.yaml OUT.h5 [--set key=value ...]\n"
-    "       hydrosoft reduce DECK.yaml -o MODEL.h5 [--samples N] [--pod-tolerance E]\n"
-    "                 [--ecsw-tolerance T] [--set key=value ...]\n"
+    "       hydrosoft reduce DECK.yaml -o MODEL.h5 [--samples N] [--design grid|halton]\n"
+    "                 [--pod-tolerance E] [--ecsw-tolerance T] [--set key=value ...]\n"
     "       hydrosoft --version | --help\n"
     "  --check           validate the deck, load or mesh its mesh, check its groups, print the\n"
     "                    resolved configuration and the mesh's statistics; solve nothing\n"
     "  mesh              mesh (or read) the deck's mesh once and write it to OUT.h5, which a\n"
     "                    deck names as mesh.file and every rank of a run reads its part of\n"
     "  reduce            train a reduced-order model of a control deck: the full model at N\n"
-    "                    samples of each actuator's range (--samples, default 17), POD (the\n"
+    "                    samples of each actuator's range (--samples, default 17; with\n"
+    "                    --design halton, for three actuators or more, N in all: the box's\n"
+    "                    corners and a Halton sequence), POD (the\n"
     "                    discarded energy, default 1e-10) and ECSW (the relative force error\n"
     "                    on the training samples, default 1e-6), checked on the held-back\n"
     "                    samples; a run then answers with it\n"
@@ -298,6 +300,7 @@ int main(int argc, char** argv) {
       hs::TrainingConfig training;
       training.output = args.reduce_output;
       if (args.samples) training.samples = args.samples;
+      if (args.design == "halton") training.design = hs::TrainingDesignKind::halton;
       if (args.pod_tolerance > 0) training.energy_tolerance = args.pod_tolerance;
       if (args.ecsw_tolerance > 0) training.ecsw_tolerance = args.ecsw_tolerance;
       config.training = training;

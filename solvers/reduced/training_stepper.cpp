@@ -1,9 +1,11 @@
 #include "solvers/reduced/training_stepper.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "common/error.hpp"
+#include "reduction/design.hpp"
 #include "solvers/reduced/model_fit.hpp"
 #include "solvers/reduced/offline.hpp"
 #include "solvers/reduced/reduced_system.hpp"
@@ -44,36 +46,51 @@ TrainingStepper::TrainingStepper(const Config& config, Problem& problem, Constra
       throw InputError(config.deck_path + ": control.actuators '" + a.constraint +
                        "': hydrosoft reduce samples each actuator between its min and max "
                        "pressure (or tension): both bounds are needed, min < max");
-  // The grid, walked as a serpentine (each index runs back on every other pass of the next).
-  int64_t total = 1;
-  for (int a = 0; a < m; ++a) total *= n;
-  if (total > 100000)
-    throw InputError(config.deck_path + ": hydrosoft reduce: " + std::to_string(total) +
-                     " samples (--samples " + std::to_string(n) + " per actuator, " +
-                     std::to_string(m) + " actuators); at most 100000");
-  for (int64_t s = 0; s < total; ++s) {
-    std::vector<int> index(m);
-    int64_t rest = s;
-    for (int a = 0; a < m; ++a) {
-      index[a] = static_cast<int>(rest % n);
-      rest /= n;
-    }
-    for (int a = m - 2; a >= 0; --a)  // serpentine: reverse where the higher index is odd
-      if (index[a + 1] % 2 == 1) index[a] = n - 1 - index[a];
-    std::vector<double> lambda(m);
-    bool all_odd = true;
-    for (int a = 0; a < m; ++a) {
-      const auto& b = actuators[a];
-      lambda[a] = b.min_multiplier + (b.max_multiplier - b.min_multiplier) * index[a] / (n - 1);
-      all_odd &= index[a] % 2 == 1;
-    }
-    samples_.push_back(lambda);
-    held_back_.push_back(all_odd);
+  if (config.training->design == TrainingDesignKind::grid) {
+    int64_t total = 1;
+    for (int a = 0; a < m; ++a) total *= n;
+    if (total > 100000)
+      throw InputError(config.deck_path + ": hydrosoft reduce: " + std::to_string(total) +
+                       " samples (--samples " + std::to_string(n) + " per actuator, " +
+                       std::to_string(m) + " actuators); at most 100000 (--design halton " +
+                       "takes --samples in all)");
+    planned_samples_ = static_cast<size_t>(total);
+  } else {
+    if (m > 10 || n < (1 << m) + 4)
+      throw InputError(
+          config.deck_path + ": hydrosoft reduce --design halton: " + std::to_string(m) +
+          " actuators need --samples of at least " + std::to_string((1 << std::min(m, 10)) + 4) +
+          " (the 2^m corners of their box and 4 more)" + (m > 10 ? "; at most 10 actuators" : ""));
+    planned_samples_ = static_cast<size_t>(n);
   }
 }
 
+void TrainingStepper::plan() {
+  const auto& actuators = config_.control->actuators;
+  const int m = static_cast<int>(actuators.size()), n = config_.training->samples;
+  std::vector<double> rest(m);  // the rest actuation in the unit box
+  for (int a = 0; a < m; ++a) {
+    const auto& b = actuators[a];
+    const double lambda = constraints_[constraints_.find(b.constraint)].multiplier();
+    rest[a] =
+        std::clamp((lambda - b.min_multiplier) / (b.max_multiplier - b.min_multiplier), 0.0, 1.0);
+  }
+  const TrainingDesign design = config_.training->design == TrainingDesignKind::grid
+                                    ? grid_design(m, n)
+                                    : halton_design(m, n, rest);
+  for (const auto& x : design.points) {
+    std::vector<double> lambda(m);
+    for (int a = 0; a < m; ++a) {
+      const auto& b = actuators[a];
+      lambda[a] = b.min_multiplier + (b.max_multiplier - b.min_multiplier) * x[a];
+    }
+    samples_.push_back(lambda);
+  }
+  held_back_ = design.held_back;
+}
+
 int TrainingStepper::planned_steps() const {
-  return phase() == 0 ? states_.planned_steps() : static_cast<int>(samples_.size());
+  return phase() == 0 ? states_.planned_steps() : static_cast<int>(planned_samples_);
 }
 
 void TrainingStepper::resume(const Restart&, Vec) {
@@ -84,6 +101,7 @@ std::optional<StepReport> TrainingStepper::advance(Vec u) {
   if (!states_.done()) return states_.advance(u);
   if (!started_) {
     t_start_ = MPI_Wtime();
+    plan();
     controller_.set_rest(u);
     snapshots_.push_back(values_of(u));
     positions_.push_back(effectors_.positions(u));

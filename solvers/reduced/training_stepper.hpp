@@ -1,9 +1,10 @@
 // `hydrosoft reduce DECK -o MODEL.h5` (docs/reduced_models.md): a control deck's states (the
 // rest state), then the full model's equilibrium at samples of the actuation space (phase 1,
 // one planned step and one progress line per snapshot), then the reduced model built from
-// them (offline.hpp), checked on the held-back samples and written. The samples are a grid
-// over every actuator's [min, max] range, walked so that each solve starts from a neighbour;
-// the points with every index odd (the midpoints between training samples) are held back.
+// them (offline.hpp), checked on the held-back samples and written. The samples are a design
+// over every actuator's [min, max] range (reduction/design.hpp: a grid, or a space-filling
+// design for many actuators), walked so that each solve starts from a neighbour, some of them
+// held back.
 #pragma once
 
 #include <memory>
@@ -44,7 +45,11 @@ class TrainingStepper : public Stepper {
   StatesStepper states_;
   Effectors effectors_;
   InverseController controller_;
-  std::vector<std::vector<double>> samples_;  // actuations, in the order solved
+  // The design's samples (actuations, in the order solved), made when the rest state is
+  // known (where a space-filling design's walk starts).
+  void plan();
+  size_t planned_samples_ = 0;
+  std::vector<std::vector<double>> samples_;
   std::vector<bool> held_back_;
   size_t next_ = 0;
   std::vector<Eigen::VectorXd> snapshots_;      // local dofs: the rest state, then each sample

@@ -273,9 +273,12 @@ struct ContactConfig {
 
 // `hydrosoft reduce DECK -o MODEL.h5` (the command line's, not deck keys): the training of a
 // reduced-order model (docs/reduced_models.md).
+enum class TrainingDesignKind { grid, halton };
+
 struct TrainingConfig {
-  std::string output;               // the model file
-  int samples = 17;                 // per actuator, over its [min, max] range
+  std::string output;  // the model file
+  TrainingDesignKind design = TrainingDesignKind::grid;
+  int samples = 17;                 // grid: per actuator, over its [min, max] range; halton: in all
   double energy_tolerance = 1e-10;  // POD: the discarded fraction of the snapshots' energy
   int max_modes = 40;
   double ecsw_tolerance = 1e-6;  // ECSW: |C w - b| / |b| on the training snapshots

@@ -59,7 +59,7 @@ TEST(CommandLine, ReduceWordTrainsAModel) {
             std::string::npos);
   EXPECT_NE(error_of({"reduce", "deck.yaml", "-o"}).find("-o needs a value"), std::string::npos);
   EXPECT_EQ(error_of({"reduce", "deck.yaml", "-o", "m.h5", "--samples", "2"}),
-            "--samples 2: between 3 and 1000 per actuator");
+            "--samples 2: between 3 and 1000");
   EXPECT_EQ(error_of({"reduce", "deck.yaml", "-o", "m.h5", "--samples", "9x"}),
             "--samples 9x: expected a whole number, e.g. --samples 17");
   EXPECT_NE(
@@ -75,6 +75,10 @@ TEST(CommandLine, ReduceWordTrainsAModel) {
   EXPECT_EQ(error_of({"d.yaml", "--pod-tolerance", "1e-8"}),
             "--pod-tolerance: only for hydrosoft reduce");
   EXPECT_FALSE(parse({"deck.yaml"}).reduce);
+  EXPECT_EQ(parse({"reduce", "d.yaml", "-o", "m.h5", "--design", "halton"}).design, "halton");
+  EXPECT_EQ(error_of({"reduce", "d.yaml", "-o", "m.h5", "--design", "sobol"}),
+            "--design sobol: grid or halton");
+  EXPECT_EQ(error_of({"d.yaml", "--design", "grid"}), "--design: only for hydrosoft reduce");
 }
 
 TEST(CommandLine, QuietAndVerboseAreOursNotPetscs) {

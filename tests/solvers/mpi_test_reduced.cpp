@@ -92,11 +92,13 @@ class TrainedModel : public ::testing::Test {
     overrides.push_back("output.folder=" + out_folder(tag));
     return hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + kDeck, overrides);
   }
-  static nlohmann::json train(const std::string& model) {
+  static nlohmann::json train(const std::string& model,
+                              hs::TrainingDesignKind design = hs::TrainingDesignKind::grid) {
     hs::Config config = deck({}, "train");
     hs::TrainingConfig training;
     training.output = model;
     training.samples = 9;
+    training.design = design;
     config.training = training;
     return hs::run_simulation(config, MPI_COMM_SELF);
   }
@@ -148,6 +150,15 @@ TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
       EXPECT_NEAR(a["reached"][d].get<double>(), b["reached"][d].get<double>(), 1e-5) << i;
     if (!a.at("saturated")[0].get<bool>()) EXPECT_LT(a.at("error_m").get<double>(), 1e-5);
   }
+
+  // The space-filling design (for many actuators; here one): the two ends and seven points of
+  // the van der Corput sequence, the 4th held back, a model as accurate.
+  const nlohmann::json halton =
+      train(out_folder("halton.h5"), hs::TrainingDesignKind::halton).at("reduction");
+  EXPECT_EQ(halton.at("samples"), 9);
+  EXPECT_EQ(halton.at("held_back").at("samples"), 1);
+  EXPECT_EQ(halton.at("held_back").at("unsolved"), 0);
+  EXPECT_LT(halton.at("held_back").at("max_effector_error_m").get<double>(), 5e-4);
 
   auto refusal = [&](const std::vector<std::string>& overrides) {
     std::vector<std::string> o = overrides;
