@@ -10,8 +10,9 @@ namespace hs {
 namespace {
 
 constexpr int kMaxStepIterations = 30;  // of one step
-// A pass whose actuation change moves no targeted effector by more than this (m, weighted as
-// in the QP) ends the step: 50 times below the accuracy asked of a reduced model (0.5 mm).
+// An iteration at equilibrium whose actuation change moves no targeted effector by more than
+// this (m, weighted as in the QP) ends the step: 50 times below the accuracy asked of a
+// reduced model (0.5 mm).
 constexpr double kEffectorStop = 1e-5;
 // A step that leaves a residual above this fraction of the forces is solved to equilibrium
 // before the next iteration.
