@@ -75,7 +75,7 @@ Eigen::Index ReducedController::training_start(const std::vector<ControlTarget>&
     for (int d = 0; d < 3; ++d)
       directions += effectors_.config(effectors_.index(t.effector)).directions[d];
   if (directions < n) return -1;
-  double best = target_distance(effector_positions(), targets);
+  double best = target_distance(effector_positions(q_), targets);
   Eigen::Index chosen = -1;
   for (Eigen::Index s = 0; s < training_positions_.cols(); ++s) {
     bool inside = true;  // within the step's change of the actuation
@@ -121,16 +121,15 @@ void ReducedController::recover(Vec u) {
   system_->place(q_, u, true);
 }
 
-Eigen::VectorXd ReducedController::effector_positions() const {
+Eigen::VectorXd ReducedController::effector_positions(const Eigen::VectorXd& q) const {
   return Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) +
-         effector_rows_ * q_;
+         effector_rows_ * q;
 }
 
 void ReducedController::target_rows(const std::vector<ControlTarget>& targets,
                                     const Eigen::VectorXd& q, const Eigen::MatrixXd& dq,
                                     Eigen::MatrixXd& W, Eigen::VectorXd& delta) const {
-  const Eigen::VectorXd x =
-      Eigen::Map<const Eigen::VectorXd>(reference_.data(), reference_.size()) + effector_rows_ * q;
+  const Eigen::VectorXd x = effector_positions(q);
   std::vector<Eigen::RowVectorXd> rows;
   std::vector<double> distances;
   for (const auto& t : targets) {
@@ -251,7 +250,7 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
                        ")");
   }
   ++steps_;
-  const Eigen::VectorXd x = effector_positions();
+  const Eigen::VectorXd x = effector_positions(q_);
   report.reached.assign(x.data(), x.data() + x.size());
   double error2 = 0;
   for (const auto& t : targets) {

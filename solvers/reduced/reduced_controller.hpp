@@ -42,8 +42,8 @@ class ReducedController {
   nlohmann::json summary() const;
 
  private:
-  // The effectors' positions at q (3 each).
-  Eigen::VectorXd effector_positions() const;
+  // The effectors' positions at reduced coordinates q (3 each).
+  Eigen::VectorXd effector_positions(const Eigen::VectorXd& q) const;
   // The QP's rows: W, the targeted directions' weighted response to the actuation (through
   // dq = dq/dlambda), and delta, their weighted distance from the targets at the reduced
   // coordinates q.

@@ -291,23 +291,24 @@ bool ReducedSystem::linearize(const Eigen::VectorXd& q, Vec u, ReducedLinearizat
   if (!residual(q, u, L.r, &L.K, &p)) return false;
   L.scale = force_scale_;
   const std::vector<double> lambda = multipliers();
-  if (fresh || unit_stiffness_.empty()) {
+  const bool refresh = fresh || unit_stiffness_.empty();
+  if (refresh) {
     refresh_stiffness(q, u, L.G);
   } else {
     L.G = unit_forces(u);
     unit_forces_ = L.G;
+  }
+  const Eigen::MatrixXd D = constraint_tangent();
+  const Eigen::VectorXd s = q - last_.q;
+  if (!refresh && s.squaredNorm() > 0) {
     // Broyden: the constraints' forces changed by y along s besides what the multipliers'
     // change explains; the tangent is corrected to match that secant.
-    const Eigen::VectorXd s = q - last_.q;
-    if (s.squaredNorm() > 0) {
-      Eigen::VectorXd y = p - last_.p;
-      for (size_t c = 0; c < lambda.size(); ++c)
-        y -= (lambda[c] - last_.lambda[c]) * last_.G.col(c);
-      y -= (constraint_tangent() + secant_) * s;
-      secant_ += y * s.transpose() / s.squaredNorm();
-    }
+    Eigen::VectorXd y = p - last_.p;
+    for (size_t c = 0; c < lambda.size(); ++c) y -= (lambda[c] - last_.lambda[c]) * last_.G.col(c);
+    y -= (D + secant_) * s;
+    secant_ += y * s.transpose() / s.squaredNorm();
   }
-  L.K -= constraint_tangent() + secant_;
+  L.K -= D + secant_;
   last_ = {q, p, lambda, L.G};
   return true;
 }
