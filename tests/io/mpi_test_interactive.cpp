@@ -244,7 +244,11 @@ TEST(Interactive, OutputEveryWritesEveryNthLineAndTheLast) {
     EXPECT_EQ(summary["targets"][i]["step"], steps[i]) << i;
     const nlohmann::json& answer = sparse[i < 1 ? 0 : i + 1]["answer"];
     EXPECT_EQ(answer["step"], i == 4 ? nlohmann::json(nullptr) : steps[i]) << i;
-    EXPECT_EQ(answer["reached"], dense[i < 1 ? 0 : i + 1]["answer"]["reached"]) << i;
+    // The same answers, to round-off: two runs on 2 ranks need not sum in the same order.
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(answer["reached"][d].get<double>(),
+                  dense[i < 1 ? 0 : i + 1]["answer"]["reached"][d].get<double>(), 1e-12)
+          << i;
   }
   EXPECT_EQ(all["outputs"], 4 + 5);
 }
