@@ -17,6 +17,10 @@ constexpr double kEffectorStop = 1e-5;
 // A step that leaves a residual above this fraction of the forces is solved to equilibrium
 // before the next iteration.
 constexpr double kFarResidual = 0.5;
+// After this many iterations of one step every move is solved to equilibrium (QP, then
+// Newton: slower, but the iterations can no longer cycle through loose linearizations, as
+// they did near a soft finger's limit point, 1-2 mm short of reachable targets).
+constexpr int kLooseIterations = 10;
 
 }  // namespace
 
@@ -150,7 +154,7 @@ void ReducedController::target_rows(const std::vector<ControlTarget>& targets,
 }
 
 bool ReducedController::move(Vec u, const Eigen::VectorXd& dq, const Eigen::VectorXd& dl,
-                             ReducedLinearization& L, ControlStepReport& report) {
+                             ReducedLinearization& L, ControlStepReport& report, double far) {
   const int n = static_cast<int>(actuators_.size());
   const Eigen::VectorXd q_start = q_;
   Eigen::VectorXd lambda_start(n);
@@ -166,8 +170,7 @@ bool ReducedController::move(Vec u, const Eigen::VectorXd& dq, const Eigen::Vect
     // A step that lands near equilibrium goes on as one Newton iteration; one that lands far
     // off (a large change of the actuation: the finger stiffens as it inflates) is first
     // solved to equilibrium at its actuation, from there or from the nearest training sample.
-    if (valid &&
-        next.r.norm() <= std::max(L.r.norm(), kFarResidual * std::max(L.scale, next.scale))) {
+    if (valid && next.r.norm() <= std::max(L.r.norm(), far * std::max(L.scale, next.scale))) {
       q_ = q;
       L = next;
       return true;
@@ -234,7 +237,8 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
     // kEffectorStop.
     done = system_->balanced(L) && (W * change.dl).lpNorm<Eigen::Infinity>() <= kEffectorStop;
     if (done) break;
-    if (!move(u, free + dq * change.dl, change.dl, L, report)) {
+    if (!move(u, free + dq * change.dl, change.dl, L, report,
+              iteration < kLooseIterations ? kFarResidual : 0.0)) {
       report.limit_point = true;
       break;
     }

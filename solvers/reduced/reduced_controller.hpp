@@ -50,11 +50,12 @@ class ReducedController {
   void target_rows(const std::vector<ControlTarget>& targets, const Eigen::VectorXd& q,
                    const Eigen::MatrixXd& dq, Eigen::MatrixXd& W, Eigen::VectorXd& delta) const;
   // The step q += dq, lambda += dl; L then the equations linearized there. Where it lands
-  // far from equilibrium, Newton solves the equilibrium at that actuation first; dl is halved
+  // with a residual above `far` times the forces (and above the last one), Newton solves the
+  // equilibrium at that actuation first; dl is halved
   // while none is found. False (q and the actuation put back) when no length serves: a limit
   // point of the pressure.
   bool move(Vec u, const Eigen::VectorXd& dq, const Eigen::VectorXd& dl, ReducedLinearization& L,
-            ControlStepReport& report);
+            ControlStepReport& report, double far);
   // The weighted distance of effector positions x (3 per effector) from the targets.
   double target_distance(const Eigen::VectorXd& x, const std::vector<ControlTarget>& targets) const;
   // The training sample whose effectors lie nearest the targets (within the step's change of

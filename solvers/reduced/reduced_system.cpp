@@ -79,6 +79,7 @@ ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintS
   sample_.assign(dofs.begin(), dofs.end());
   phi_sample_.resize(sample_.size(), k);
   for (size_t i = 0; i < sample_.size(); ++i) phi_sample_.row(i) = phi_.row(sample_[i]);
+  for (const std::string& name : model.actuators) actuators_.push_back(constraints.find(name));
   training_actuations_ = model.training_actuations;
   training_states_ = model.training_states;
   training_range_.resize(model.lower.size());
@@ -86,7 +87,7 @@ ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintS
     training_range_(a) = std::max(model.upper[a] - model.lower[a], 1e-300);
 }
 
-Eigen::VectorXd ReducedSystem::nearest_training_state(const Eigen::VectorXd& lambda) const {
+Eigen::Index ReducedSystem::nearest_training_sample(const Eigen::VectorXd& lambda) const {
   Eigen::Index best = 0;
   double best_d2 = HUGE_VAL;
   for (Eigen::Index s = 0; s < training_actuations_.rows(); ++s) {
@@ -99,7 +100,7 @@ Eigen::VectorXd ReducedSystem::nearest_training_state(const Eigen::VectorXd& lam
       best = s;
     }
   }
-  return training_states_.row(best).transpose();
+  return best;
 }
 
 double ReducedSystem::residual_norm(const Eigen::VectorXd& q, Vec u) {
@@ -273,6 +274,32 @@ ReducedSolve ReducedSystem::solve(Eigen::VectorXd& q, Vec u) {
     K = K_new;
     norm = r.norm();
   }
+}
+
+ReducedSolve ReducedSystem::solve_at(const Eigen::VectorXd& lambda, Eigen::VectorXd& q, Vec u) {
+  const Eigen::Index sample = nearest_training_sample(lambda);
+  const Eigen::VectorXd from = training_actuations_.row(sample).transpose();
+  ReducedSolve out;
+  for (int parts = 1; parts <= 8; parts *= 2) {
+    q = training_states_.row(sample).transpose();
+    out = ReducedSolve{};
+    for (int i = 1; i <= parts && (i == 1 || out.converged); ++i) {
+      prescribe(from + (lambda - from) * (static_cast<double>(i) / parts));
+      const ReducedSolve part = solve(q, u);
+      out.converged = part.converged;
+      out.iterations += part.iterations;
+      out.residual = part.residual;
+      out.reason = part.reason;
+    }
+    if (out.converged) return out;
+  }
+  out.reason += " (also in 8 steps of the actuation from the nearest training sample)";
+  return out;
+}
+
+void ReducedSystem::prescribe(const Eigen::VectorXd& lambda) {
+  for (size_t a = 0; a < actuators_.size(); ++a)
+    constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda(a));
 }
 
 std::vector<double> ReducedSystem::multipliers() const {

@@ -59,6 +59,11 @@ class ReducedSystem {
   // Newton in the reduced space at the constraints' current multipliers, from q (updated in
   // place); u follows at the sampled dofs.
   ReducedSolve solve(Eigen::VectorXd& q, Vec u);
+  // Newton at the actuation `lambda` (the model's actuators, in order; set on them here) from
+  // the nearest training sample into q; where that fails, the actuation is stepped from the
+  // sample's to lambda in 2, then 4, then 8 equal parts. Near a limit point of the actuation
+  // the reduced Newton, like the full one, converges slowly from afar.
+  ReducedSolve solve_at(const Eigen::VectorXd& lambda, Eigen::VectorXd& q, Vec u);
   // The equations linearized at q (false outside the domain). Leaves u at q. The elements'
   // part of K is exact; the constraints' part (the walls' follower stiffness) comes, with
   // `fresh`, from k evaluations of their forces and otherwise from the last such evaluation
@@ -69,7 +74,10 @@ class ReducedSystem {
   // The reduced coordinates of the training sample nearest to the actuation `lambda` (the
   // model's actuators; each one's distance scaled by its training range): where a solve far
   // from the last equilibrium starts.
-  Eigen::VectorXd nearest_training_state(const Eigen::VectorXd& lambda) const;
+  Eigen::VectorXd nearest_training_state(const Eigen::VectorXd& lambda) const {
+    return training_states_.row(nearest_training_sample(lambda)).transpose();
+  }
+  Eigen::Index nearest_training_sample(const Eigen::VectorXd& lambda) const;
   // The training samples: actuations (one row each) and reduced coordinates.
   const Eigen::MatrixXd& training_actuations() const { return training_actuations_; }
   const Eigen::MatrixXd& training_states() const { return training_states_; }
@@ -101,6 +109,7 @@ class ReducedSystem {
   // multipliers times its unit stiffness, and a liquid's weight following the volume.
   Eigen::MatrixXd constraint_tangent() const;
   std::vector<double> multipliers() const;
+  void prescribe(const Eigen::VectorXd& lambda);  // the model's actuators' multipliers
 
   Problem& problem_;
   ConstraintSet& constraints_;
@@ -112,6 +121,7 @@ class ReducedSystem {
   std::vector<Eigen::MatrixXd> phi_element_;  // Phi's rows at each element's dofs
   Eigen::VectorXd dead_;                      // Phi^T f_dead
   VecHandle work_;
+  std::vector<int> actuators_;  // the model's actuators, indices into constraints_
   Eigen::MatrixXd training_actuations_, training_states_;
   Eigen::VectorXd training_range_;
   // Per constraint, the last unit stiffness; the unit forces of the last linearization.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -177,19 +178,14 @@ void TrainingStepper::build() {
   ReducedSystem system(config_, problem_, constraints_, model, config_.training->output, rows);
   VecHandle x(problem_.create_vector());
   double max_error = 0, sum_error = 0, max_field = 0;
-  int unsolved = 0;
+  nlohmann::json unsolved = nlohmann::json::array();
   for (int h : check) {
-    Eigen::VectorXd lambda(model.actuators.size());
-    for (size_t a = 0; a < model.actuators.size(); ++a) {
-      lambda(a) = samples_[h - 1][a];
-      constraints_[constraints_.find(model.actuators[a])].prescribe(Constraint::Control::multiplier,
-                                                                    lambda(a));
-    }
+    const Eigen::VectorXd lambda =
+        Eigen::Map<const Eigen::VectorXd>(samples_[h - 1].data(), model.actuators.size());
     HS_PETSC(VecSet(x, 0.0));
-    Eigen::VectorXd q = system.nearest_training_state(lambda);
-    const ReducedSolve solved = system.solve(q, x);
-    if (!solved.converged) {  // counted in the report: the model is too coarse there
-      ++unsolved;
+    Eigen::VectorXd q;
+    if (!system.solve_at(lambda, q, x).converged) {  // the model is too coarse there
+      unsolved.push_back(samples_[h - 1]);
       continue;
     }
     system.place(q, x, true);
@@ -206,14 +202,25 @@ void TrainingStepper::build() {
     max_field = std::max(max_field, (values_of(x) - full).norm() / std::max(full.norm(), 1e-300));
   }
   constraints_.restore(saved);
+  // An unsolved sample leaves the error near it unknown: no error is stated then (every
+  // answer's estimate is null), rather than the solved samples' smaller one.
+  const size_t solved = check.size() - unsolved.size();
+  const auto stated = [&](double value) {
+    return unsolved.empty() ? nlohmann::json(value) : nlohmann::json(nullptr);
+  };
   model.report["held_back"] = {
       {"samples", check.size()},
-      {"max_effector_error_m", max_error},
-      {"mean_effector_error_m",
-       check.size() > static_cast<size_t>(unsolved) ? sum_error / (check.size() - unsolved) : 0.0},
-      {"unsolved", unsolved},
-      {"max_field_error", max_field},
+      {"max_effector_error_m", stated(max_error)},
+      {"mean_effector_error_m", stated(solved > 0 ? sum_error / solved : 0.0)},
+      {"max_field_error", stated(max_field)},
+      {"unsolved", unsolved.size()},
+      {"unsolved_actuations", unsolved},
       {"seconds", MPI_Wtime() - t_check}};
+  if (!unsolved.empty())  // training runs on one rank
+    std::cerr << "hydrosoft: warning: the reduced model found no equilibrium at " << unsolved.size()
+              << " of its " << check.size() << " held-back samples (actuations " << unsolved.dump()
+              << "), so it states no error: train with more --samples, or narrow the actuators' "
+                 "ranges away from there\n";
   model.report["samples"] = samples_.size();
   model.report["training_samples"] = train.size() - 1;
   model.report["snapshot_seconds"] = t_snapshots;

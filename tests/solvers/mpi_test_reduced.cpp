@@ -104,6 +104,48 @@ class TrainedModel : public ::testing::Test {
   }
 };
 
+// A softer hydraulic finger (E 100 kPa, nu 0.4) trained up to 15 kPa, where the full Newton
+// too needs 25 iterations: from its nearest training sample the reduced Newton stalls at the
+// held-back 13.1 kPa (8 % of the forces left after 25 iterations), and is solved there by
+// stepping the actuation from the sample's. Every held-back sample solved, the error stated.
+TEST(ReducedModel, ASoftFingerNearItsLimitPointIsTrainedAndDriven) {
+  hs::Config config =
+      hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/finger_hydraulic.yaml",
+                     {"mesh.parameters.h=0.004", "materials[0].E=1e5", "materials[0].nu=0.4",
+                      "control.actuators[0].max_pressure=15000", "output.progress=false",
+                      "output.folder=" + out_folder("soft")});
+  hs::TrainingConfig training;
+  training.output = out_folder("soft.h5");
+  training.samples = 9;
+  config.training = training;
+  const nlohmann::json held =
+      hs::run_simulation(config, MPI_COMM_SELF).at("reduction").at("held_back");
+  EXPECT_EQ(held.at("samples"), 4);
+  EXPECT_EQ(held.at("unsolved"), 0) << held.dump();
+  ASSERT_TRUE(held.at("max_effector_error_m").is_number()) << held.dump();
+  const double stated = held.at("max_effector_error_m");
+  EXPECT_LT(stated, 5e-5);  // 0.013 mm measured
+
+  // From 15 kPa (the first target is out of reach above) to a tip height the full model
+  // meets at 13.6 kPa: the step's iterations, on linearizations left loose near the limit
+  // point, cycled between 7.8 and 15 kPa and ended 1.3 mm short; now the target is met.
+  hs::Config use = config;
+  use.training.reset();
+  use.control->reduced_model = out_folder("soft.h5");
+  use.control->check_equilibrium = true;
+  use.control->targets = {{{"tip", {0.09, 0, -0.01011}}}, {{"tip", {0.09, 0, -0.02377}}}};
+  const nlohmann::json run = hs::run_simulation(use, MPI_COMM_SELF);
+  const nlohmann::json& t = run.at("targets").at(1);
+  EXPECT_FALSE(t.at("saturated")[0].get<bool>());
+  EXPECT_LT(t.at("error_m").get<double>(), 1e-5) << t.dump();
+  double d2 = 0;
+  for (int i = 0; i < 3; ++i)
+    d2 += std::pow(t["reached"][i].get<double>() - t["equilibrium"][i].get<double>(), 2);
+  // 1.5 times the stated error measured here: the held-back sample at 13.1 kPa does not see
+  // the larger error nearer 15 kPa.
+  EXPECT_LT(std::sqrt(d2), 2 * stated);
+}
+
 TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
   const std::string model = out_folder("finger.h5");
   const nlohmann::json trained = train(model);
