@@ -24,6 +24,7 @@ case $SCOPE in
   *) echo "usage: $0 [slice|full]" >&2 && exit 2 ;;
 esac
 echo "test_sanitized.sh: $SCOPE; serial test programs built whole: $CONCERNS"
+SECONDS=0
 bash scripts/install_deps.sh
 BUILD_DIR=${SANITIZE_BUILD_DIR:-build-sanitize}
 # -O1, not Release's -O3: the sanitizers' instrumentation made -O3 compile 3.3 times as long
@@ -33,6 +34,7 @@ cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DHYDROSOFT_SANITIZE=addre
   -DHYDROSOFT_SANITIZE_EXCEPT="$EXCEPT" -DFLUIDWEIGHT_CUDA=OFF -DHYDROSOFT_TEST_SCOPE="$TESTS" \
   -DHYDROSOFT_SLICE_CONCERNS="$CONCERNS"
 cmake --build "$BUILD_DIR" -j "$(nproc)" --target "$TARGET"
+built=$SECONDS
 BUILD_DIR=$(cd "$BUILD_DIR" && pwd)
 SOURCE_DIR=$PWD
 
@@ -85,4 +87,5 @@ if compgen -G "$REPORTS/*" > /dev/null; then
   for f in "$REPORTS"/*; do echo "== $f" && cat "$f"; done
   failed=1
 fi
+echo "test_sanitized.sh: installs and build ${built} s, tests $((SECONDS - built)) s"
 exit $failed
