@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "reduction/ecsw.hpp"
 #include "reduction/pod.hpp"
 
@@ -77,18 +79,27 @@ void build_reduced_model(const Problem& problem, const Eigen::MatrixXd& training
   const Eigen::MatrixXd snapshots = ecsw_snapshots(training, phi.cols());
   const Eigen::MatrixXd C = element_contributions(problem, phi, snapshots);
   const Eigen::VectorXd b = C.rowwise().sum();
-  const EcswWeights w = ecsw_weights(C, b, settings.ecsw_tolerance);
+  const EcswWeights w =
+      ecsw_weights(C, b, settings.ecsw_tolerance, [] { return interrupt_signal() != 0; });
+  if (w.interrupted) throw Interrupted(interrupt_signal());
   if (w.elements.empty()) throw SolveError("hydrosoft reduce: ECSW kept no element");
+  if (!w.converged)  // training runs on one rank
+    std::cerr << "hydrosoft: warning: ECSW's tolerance " << settings.ecsw_tolerance
+              << " was not met (" << w.reason << "): the model keeps " << w.elements.size()
+              << " elements at a relative residual of " << w.relative_residual
+              << ", and the held-back samples measure its error; --ecsw-tolerance chooses\n";
   model.elements.clear();
   for (int e : w.elements) model.elements.push_back(dist.local_tets[e]);
   model.weights = w.weights;
-  model.report["ecsw"] = {{"elements", w.elements.size()},
-                          {"of", dist.local_tets.size()},
-                          {"snapshots", snapshots.cols()},
-                          {"tolerance", settings.ecsw_tolerance},
-                          {"relative_residual", w.relative_residual},
-                          {"converged", w.converged},
-                          {"seconds", MPI_Wtime() - t0}};
+  model.report["ecsw"] = {
+      {"elements", w.elements.size()},
+      {"of", dist.local_tets.size()},
+      {"snapshots", snapshots.cols()},
+      {"tolerance", settings.ecsw_tolerance},
+      {"relative_residual", w.relative_residual},
+      {"converged", w.converged},
+      {"reason", w.converged ? nlohmann::json(nullptr) : nlohmann::json(w.reason)},
+      {"seconds", MPI_Wtime() - t0}};
 }
 
 }  // namespace hs

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "reduction/design.hpp"
 #include "solvers/reduced/model_fit.hpp"
 #include "solvers/reduced/offline.hpp"
@@ -180,6 +181,7 @@ void TrainingStepper::build() {
   double max_error = 0, sum_error = 0, max_field = 0;
   nlohmann::json unsolved = nlohmann::json::array();
   for (int h : check) {
+    if (const int signal = interrupt_signal()) throw Interrupted(signal);
     const Eigen::VectorXd lambda =
         Eigen::Map<const Eigen::VectorXd>(samples_[h - 1].data(), model.actuators.size());
     HS_PETSC(VecSet(x, 0.0));

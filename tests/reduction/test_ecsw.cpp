@@ -47,6 +47,35 @@ TEST(EcswWeights, StopsAtTheToleranceWithPositiveWeights) {
   EXPECT_LE(fine.elements.size(), 30u);  // a basic solution: at most one column per row
 }
 
+// Random positive columns: the residual falls slowly until about one element a row, and a
+// tight tolerance stops the fit at the most elements it keeps, a quarter of the rows or 256.
+TEST(EcswWeights, StopsAtTheMostElementsItKeepsAndWhenInterrupted) {
+  std::srand(5);
+  const Eigen::MatrixXd C = Eigen::MatrixXd::Random(400, 3000).cwiseAbs();
+  const Eigen::VectorXd b = C * Eigen::VectorXd::Ones(3000);
+  const EcswWeights e = ecsw_weights(C, b, 1e-9);
+  EXPECT_FALSE(e.converged);
+  EXPECT_FALSE(e.interrupted);
+  EXPECT_EQ(e.elements.size(), 256u);
+  EXPECT_NE(e.reason.find("stopped at 256 elements"), std::string::npos) << e.reason;
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(3000);
+  for (size_t i = 0; i < e.elements.size(); ++i) {
+    EXPECT_GT(e.weights[i], 0);
+    w(e.elements[i]) = e.weights[i];
+  }
+  EXPECT_NEAR((C * w - b).norm() / b.norm(), e.relative_residual, 1e-12);
+  EXPECT_GT(e.relative_residual, 1e-9);
+  // 1,100 rows: a quarter of them.
+  const Eigen::MatrixXd tall = Eigen::MatrixXd::Random(1100, 2000).cwiseAbs();
+  EXPECT_EQ(ecsw_weights(tall, tall * Eigen::VectorXd::Ones(2000), 1e-9).elements.size(), 275u);
+
+  int asked = 0;
+  const EcswWeights stopped = ecsw_weights(C, b, 1e-9, [&] { return ++asked > 5; });
+  EXPECT_TRUE(stopped.interrupted);
+  EXPECT_FALSE(stopped.converged);
+  EXPECT_LE(stopped.elements.size(), 5u);
+}
+
 TEST(EcswWeights, RefusesWhatItCannotUse) {
   const Eigen::MatrixXd C = Eigen::MatrixXd::Ones(4, 3);
   EXPECT_THROW(ecsw_weights(C, Eigen::VectorXd::Ones(5), 1e-3), std::invalid_argument);
