@@ -232,7 +232,7 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
   }
   std::vector<double> equilibrium;
   if ((config_.control->free_solve == FreeSolve::one_step || reduced_) &&
-      config_.control->check_equilibrium)
+      config_.control->check_equilibrium && totals_.sets % config_.control->check_every == 0)
     equilibrium = controller_.equilibrium_positions(u);
   if (io_.after_steps) io_.after_steps(u, line_number);
   check_finite(u, r, equilibrium);

@@ -253,6 +253,7 @@ struct ControlConfig {
   // one_step: after each target set, also solve for the equilibrium at its actuation (on a
   // copy, outside the step times) and report its error: the prediction's real accuracy.
   bool check_equilibrium = false;
+  int check_every = 1;  // with check_equilibrium: the first target set and every N-th after it
   // one_step: threads that factor the tangent in the background while the loop steps on
   // with the latest factorization, corrected by GMRES on the current tangent (0: in line).
   int factor_threads = 0;

@@ -343,6 +343,11 @@ const KeyTable<ControlConfig>& control_keys() {
                "`one_step` or `reduced_model` only: after each target set, also solve the full "
                "model for the equilibrium at its pressures (on a copy, outside the step times) "
                "and report it as `equilibrium`, `equilibrium_error_m`"),
+      integer_key("check_every", &ControlConfig::check_every, at_least(1),
+                  "with `check_equilibrium`: the check on the first target set and every N-th "
+                  "after it (sets 1, N + 1, 2 N + 1, ...; the others' answers have no "
+                  "`equilibrium`): a full solve costs many reduced or one_step answers")
+          .printed_when([](const ControlConfig& k) { return k.check_equilibrium; }),
       text_key("reduced_model", &ControlConfig::reduced_model, "file",
                "a reduced-order model written by `hydrosoft reduce` for this deck's mesh and "
                "physics (a path from the working directory): the control steps are solved in "
@@ -376,6 +381,8 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node, const C
             node["one_step_tolerance"], "control.one_step_tolerance",
             "needs free_solve: one_step (Newton converges every free configuration)");
   }
+  require(control.check_every == 1 || control.check_equilibrium, r, node["check_every"],
+          "control.check_every", "needs check_equilibrium: true");
   return control;
 }
 

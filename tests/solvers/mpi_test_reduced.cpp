@@ -178,6 +178,19 @@ TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
   EXPECT_GE(met, 2);
   EXPECT_EQ(run.at("reduced_model").at("modes"), r.at("pod").at("modes"));
 
+  // The full-model check on the first set and every 4th after it: the same equilibria there,
+  // none elsewhere.
+  const nlohmann::json sampled =
+      hs::run_simulation(deck({"control.reduced_model=" + model, "control.check_equilibrium=true",
+                               "control.check_every=4"},
+                              "every4"),
+                         MPI_COMM_SELF);
+  for (size_t i = 0; i < 6; ++i) {
+    const nlohmann::json& t = sampled.at("targets")[i];
+    EXPECT_EQ(t.contains("equilibrium"), i % 4 == 0) << i;
+    if (t.contains("equilibrium")) EXPECT_EQ(t["equilibrium"], run["targets"][i]["equilibrium"]);
+  }
+
   // Without a per-step pressure limit each target is one step, most of them far from the
   // last equilibrium: the same answers, to the stopping rule's 10 um.
   const nlohmann::json far =
