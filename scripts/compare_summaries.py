@@ -25,7 +25,7 @@ Exit status 1 on any difference (or a deck present on one side only), 0 otherwis
 
 Ignored keys (at any depth), being timings or the environment of the run rather than its
 results:
-    time_s, step_time_ms, step_ms, memory_mb, elements_per_second  timings and memory
+    time_s, step_time_ms, step_ms, answer_ms, memory_mb, elements_per_second  timings and memory
     deck, output                                                    paths of the deck and output
     ranks, host, date, version, seconds, wall                       environment of the run
 and any key ending in _seconds or _ms. The key `time` is kept: in summary.json it is the
@@ -38,7 +38,7 @@ import sys
 from pathlib import Path
 
 IGNORED_KEYS = {
-    "time_s", "step_time_ms", "step_ms", "memory_mb", "elements_per_second",
+    "time_s", "step_time_ms", "step_ms", "answer_ms", "memory_mb", "elements_per_second",
     "deck", "output",
     "ranks", "host", "date", "version", "seconds", "wall",
 }

@@ -48,9 +48,10 @@ class Answer:
 
     effector, target (m), reached (m, the equilibrium at the final actuation), error_m (over
     the steered directions), actuation (Pa or N per actuator), saturated (per actuator: a
-    bound active), limit_point, step (the output step in the run's .h5), step_ms (the control
-    steps' time), round_trip_ms (sent to read, as the client saw it), line (its input line),
-    raw (the JSON object as hydrosoft wrote it).
+    bound active), limit_point, step (the output step in the run's .h5), step_ms (the last
+    control step's time), answer_ms (all the target set's steps: the time the line waited
+    for its answer inside hydrosoft), round_trip_ms (sent to read, as the client saw it),
+    line (its input line), raw (the JSON object as hydrosoft wrote it).
     """
 
     def __init__(self, raw, line, round_trip_ms):
@@ -66,6 +67,7 @@ class Answer:
         self.limit_point = bool(raw.get("limit_point", False))
         self.step = raw.get("step")
         self.step_ms = raw.get("step_ms")
+        self.answer_ms = raw.get("answer_ms")
 
     def __repr__(self):
         return ("Answer(%s: target %s, reached %s, error %.3g mm)"

@@ -187,6 +187,8 @@ TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
                          MPI_COMM_SELF);
   for (size_t i = 0; i < 6; ++i) {
     const nlohmann::json& t = sampled.at("targets")[i];
+    // Ten steps a set: the answer waits for all of them, not the last alone.
+    EXPECT_GE(t.at("answer_ms").get<double>(), t.at("step_ms").get<double>()) << i;
     EXPECT_EQ(t.contains("equilibrium"), i % 4 == 0) << i;
     if (t.contains("equilibrium")) EXPECT_EQ(t["equilibrium"], run["targets"][i]["equilibrium"]);
   }
