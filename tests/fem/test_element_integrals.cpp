@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <random>
 
 #include "element_fixtures.hpp"
 #include "fem/element.hpp"
@@ -217,6 +218,27 @@ TEST(Fields, UniaxialStretchStressAndPrincipalValues) {
   EXPECT_NEAR(pe[0], (l * l - 1) / 2, 1e-15);
   EXPECT_NEAR(pe[1], 0, 1e-15);
   EXPECT_NEAR(pe[2], 0, 1e-15);
+}
+
+// Principal values of Q diag(l) Q^T for random rotations Q and scales, the two upper values
+// from far apart to equal: each within 1e-12 of the largest, largest first (the closed form
+// alone lost 1e-8 at equal values).
+TEST(Fields, PrincipalValuesAreTheEigenvaluesAtEveryGap) {
+  std::mt19937 random(7);
+  std::normal_distribution<double> normal;
+  for (double gap : {0.5, 1e-2, 1.1e-3, 0.9e-3, 1e-6, 1e-10, 0.0})
+    for (int k = 0; k < 200; ++k) {
+      Mat3 m;
+      for (int i = 0; i < 9; ++i) m(i / 3, i % 3) = normal(random);
+      const Mat3 Q = Eigen::HouseholderQR<Mat3>(m).householderQ();
+      const double scale = std::pow(10.0, k % 13 - 6);
+      const Eigen::Vector3d l(1 + gap, 1, -0.5);
+      Mat3 A = scale * Q * l.asDiagonal() * Q.transpose();
+      A = 0.5 * (A + A.transpose());
+      const auto p = principal_values(A);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(p[i], scale * l[i], 1e-12 * scale) << "gap " << gap << " case " << k;
+    }
 }
 
 TEST(Fields, LinearElasticStressIsLameOfTheSmallStrain) {
