@@ -59,9 +59,10 @@ class ReducedSystem {
   // Newton in the reduced space at the constraints' current multipliers, from q (updated in
   // place); u follows at the sampled dofs.
   ReducedSolve solve(Eigen::VectorXd& q, Vec u);
-  // Newton at the actuation `lambda` (the model's actuators, in order; set on them here) from
-  // the nearest training sample into q; where that fails, the actuation is stepped from the
-  // sample's to lambda in 2, then 4, then 8 equal parts. Near a limit point of the actuation
+  // Newton at the actuation `lambda` (the model's actuators, in order; set on them here, or
+  // left at the last part tried where it fails) from the nearest training sample into q;
+  // where that fails, the actuation is stepped from the sample's to lambda in 2, then 4, then
+  // 8 equal parts. Near a limit point of the actuation
   // the reduced Newton, like the full one, converges slowly from afar.
   ReducedSolve solve_at(const Eigen::VectorXd& lambda, Eigen::VectorXd& q, Vec u);
   // The equations linearized at q (false outside the domain). Leaves u at q. The elements'
