@@ -59,11 +59,11 @@ class ReducedSystem {
   // Newton in the reduced space at the constraints' current multipliers, from q (updated in
   // place); u follows at the sampled dofs.
   ReducedSolve solve(Eigen::VectorXd& q, Vec u);
-  // Newton at the actuation `lambda` (the model's actuators, in order; set on them here, or
-  // left at the last part tried where it fails) from the nearest training sample into q;
-  // where that fails, the actuation is stepped from the sample's to lambda in 2, then 4, then
-  // 8 equal parts. Near a limit point of the actuation
-  // the reduced Newton, like the full one, converges slowly from afar.
+  // Newton at the actuation `lambda` (the model's actuators, in order) from the nearest
+  // training sample into q; where that fails, the actuation is stepped from the sample's to
+  // lambda in 2, then 4, then 8 equal parts: near a limit point of the actuation the reduced
+  // Newton, like the full one, converges slowly from afar. The actuators are left at lambda,
+  // or at the last part tried where every attempt fails.
   ReducedSolve solve_at(const Eigen::VectorXd& lambda, Eigen::VectorXd& q, Vec u);
   // The equations linearized at q (false outside the domain). Leaves u at q. The elements'
   // part of K is exact; the constraints' part (the walls' follower stiffness) comes, with
