@@ -126,6 +126,18 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   return result;
 }
 
+bool BorderedNewton::newton_step(Vec u, double s, Vec du, std::vector<double>& dmultipliers) {
+  std::vector<double> c;
+  if (!constraints_.residual(u, s, R_, c) || !constraints_.linearize(u, s, J_, lin_)) return false;
+  HS_PETSC(KSPSetOperators(ksp_, J_, J_));
+  if (!system_.solve(ksp_, R_, lin_)) return false;
+  system_.factor_dense(lin_);
+  const Eigen::VectorXd zeta = system_.solve_dense(system_.residual_rhs(lin_, c));
+  system_.step(zeta, du);
+  dmultipliers.assign(zeta.data(), zeta.data() + constraints_.size());
+  return true;
+}
+
 // Full Newton steps, halved only where the trial leaves the domain (an inverted element, a
 // cavity volume <= 0, a value that is not finite). No descent test on |R|: a bending
 // structure's first step from rest overshoots the residual by orders of magnitude (the spurious

@@ -37,6 +37,7 @@ class BorderedNewton : public NonlinearSolver {
   // it sets the residual tolerance 1e-9 F.
   void set_load_norm(double norm) { load_norm_ = norm; }
   double solve_seconds() const override { return solve_s_; }
+  bool newton_step(Vec u, double s, Vec du, std::vector<double>& dmultipliers) override;
   double constraint_seconds() const { return constraint_s_; }
   // The tangent's kind it was made for: the inverse controller's KSP takes the same preset.
   TangentKind tangent() const { return tangent_; }

@@ -44,6 +44,7 @@ class CavityWeight {
   double measured_volume() const { return volume_; }
   double seconds() const { return seconds_; }
   const char* device() const;
+  int owner() const { return owner_; }
 
  private:
   MPI_Comm comm_;

@@ -100,6 +100,11 @@ class Constraint {
   virtual double load_jump() const { return 0; }
   // The fluid-weight module's work for it, or nullptr where no liquid weighs.
   virtual const FluidWeightUse* fluid_weight() const { return nullptr; }
+  // Where its own load is an approximation (a liquid's weight by the column method): puts the
+  // exact load in its place (on) or the approximation back (off), for the estimate of the
+  // approximation's error (solvers/stepping/load_model_error.hpp). Collective. False where its
+  // load is exact already, or it has none.
+  virtual bool use_exact_load(bool /*on*/) { return false; }
 
   // The control equation's value, linearisation and scale (for convergence tests).
   double control_residual() const;

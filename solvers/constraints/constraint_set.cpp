@@ -50,6 +50,21 @@ void ConstraintSet::restore(const std::vector<Constraint::State>& states) {
   for (size_t k = 0; k < constraints_.size(); ++k) constraints_[k]->restore(states[k]);
 }
 
+ConstraintSet::Point ConstraintSet::point() const {
+  Point p{snapshot(), VecHandle()};
+  if (loads_) {
+    HS_PETSC(VecDuplicate(loads_, p.loads.out()));
+    HS_PETSC(VecCopy(loads_, p.loads));
+  }
+  return p;
+}
+
+void ConstraintSet::return_to(const Point& point) {
+  restore(point.states);
+  for (auto& c : constraints_) c->apply_multiplier(problem_);
+  if (loads_) HS_PETSC(VecCopy(point.loads, loads_));
+}
+
 void ConstraintSet::freeze_weights(Vec u, double s) {
   for (auto& c : constraints_) c->freeze(u, s);
 }

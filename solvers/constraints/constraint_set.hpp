@@ -48,6 +48,15 @@ class ConstraintSet {
   // Every constraint's state, and the same put back.
   std::vector<Constraint::State> snapshot() const;
   void restore(const std::vector<Constraint::State>& states);
+  // A point of the equations to come back to after residuals elsewhere: every constraint's
+  // state and the own loads (a liquid's weight) as the last residual left them. Put back, the
+  // multipliers are also where the residual finds them (a cavity's pressure on its walls).
+  struct Point {
+    std::vector<Constraint::State> states;
+    VecHandle loads;
+  };
+  Point point() const;
+  void return_to(const Point& point);
 
   // R(u, lambda; s) and the controls c (size()). Returns false on an inverted element or a
   // constraint outside its domain (collapse_reason() then says why).

@@ -29,12 +29,18 @@ class HydraulicCavity : public Cavity {
   // Frozen, the weights are w V / v_c within a step: smooth.
   double load_jump() const override { return weight_ && !frozen_ ? weight_->column_weight() : 0.0; }
   const FluidWeightUse* fluid_weight() const override { return weight_ ? &use_ : nullptr; }
+  // A column method's weight against the closed form (the liquid's pressure on every wall).
+  bool use_exact_load(bool on) override;
   nlohmann::json report() const override;
 
  private:
   std::unique_ptr<CavityWeight> weight_;  // liquid with density > 0 under gravity only
-  VecHandle W_;                           // its nodal weights (current)
-  VecHandle frozen_;                      // linearized: weights at the start of the step
+  std::unique_ptr<CavityWeight> exact_;   // the closed form, made for use_exact_load only
+  VecHandle W_kept_;                      // W_ while the closed form is in its place
+  bool exact_on_ = false;
+  std::array<double, 3> gravity_{};
+  VecHandle W_;       // its nodal weights (current)
+  VecHandle frozen_;  // linearized: weights at the start of the step
   double frozen_volume_ = 0;
   FluidWeightUse use_;
 };

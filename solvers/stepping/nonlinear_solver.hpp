@@ -7,6 +7,7 @@
 #include <petscvec.h>
 
 #include <string>
+#include <vector>
 
 namespace hs {
 
@@ -27,6 +28,13 @@ class NonlinearSolver {
   virtual NewtonResult solve(Vec u, double s) = 0;
   // Seconds in the solves' own linear algebra (assembly not counted).
   virtual double solve_seconds() const = 0;
+  // One Newton step from u at s, not taken: du and the multipliers' changes (the first-order
+  // change of the solution were the equations' loads those of the residual at u). Collective.
+  // False where this solver has none to give or its linear solve failed.
+  virtual bool newton_step(Vec /*u*/, double /*s*/, Vec /*du*/,
+                           std::vector<double>& /*dmultipliers*/) {
+    return false;
+  }
 };
 
 }  // namespace hs

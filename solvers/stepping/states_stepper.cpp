@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "solvers/stepping/load_model_error.hpp"
 #include "solvers/tip_orientation.hpp"
 
 namespace hs {
@@ -92,9 +93,15 @@ void StatesStepper::end_state(Vec u) {
   // Its output step in this run's .h5 (null: written by the run restarted from).
   const nlohmann::json step =
       recorder_.written() > 0 ? nlohmann::json(recorder_.written() - 1) : nullptr;
-  states_.push_back(state_entry(config_, problem_, constraints_, u, plan.name,
-                                static_cast<double>(k_ + 1), step,
-                                plan.load_factor(plan.taus.back())));
+  const double s = plan.load_factor(plan.taus.back());
+  nlohmann::json entry = state_entry(config_, problem_, constraints_, u, plan.name,
+                                     static_cast<double>(k_ + 1), step, s);
+  if (auto error = load_model_error(config_, problem_, constraints_, solver_, u, s, plan.name,
+                                    rest_change_)) {
+    entry["load_model_error"] = std::move(error->report);
+    if (plan.first) rest_change_ = std::move(error->measure_change);
+  }
+  states_.push_back(std::move(entry));
 }
 
 nlohmann::json state_entry(const Config& config, Problem& problem, ConstraintSet& constraints,
@@ -127,11 +134,10 @@ nlohmann::json state_entry(const Config& config, Problem& problem, ConstraintSet
 
 nlohmann::json StatesStepper::position() const {
   const StatePlan& plan = plans_[k_];
-  const nlohmann::json stepper = {{"ramps", plan.ramps_json(constraints_)},
-                                  {"tau", predictor_.parameter()},
-                                  {"tau_last", predictor_.previous_parameter()},
-                                  {"has_last", predictor_.has_previous()},
-                                  {"lambda_last", predictor_.previous_multipliers()}};
+  const nlohmann::json stepper = {
+      {"ramps", plan.ramps_json(constraints_)},           {"tau", predictor_.parameter()},
+      {"tau_last", predictor_.previous_parameter()},      {"has_last", predictor_.has_previous()},
+      {"lambda_last", predictor_.previous_multipliers()}, {"rest_change", rest_change_}};
   return {{"state", k_},
           {"increment", i_},
           {"state_time", static_cast<double>(k_) + plan.taus[i_ - 1]},
@@ -159,6 +165,7 @@ void StatesStepper::resume(const Restart& restart, Vec u) {
   plans_[k0].resume_ramps(stepper.at("ramps"), constraints_);
   predictor_.resume(stepper.at("tau"), stepper.at("tau_last"), stepper.at("has_last"),
                     stepper.at("lambda_last").get<std::vector<double>>());
+  rest_change_ = stepper.value("rest_change", std::vector<double>{});
   states_ = p.at("states");
   for (auto& state : states_) state["step"] = nullptr;  // in the earlier run's .h5
   for (size_t k = 0; k < k0; ++k) done_ += static_cast<int>(plans_[k].taus.size());

@@ -58,6 +58,8 @@ class StatesStepper : public Stepper {
   bool begun_ = false;        // the current state's ramps are fixed
   SecantPredictor predictor_;
   nlohmann::json states_ = nlohmann::json::array();
+  // The first state's change of every measure by an exact load (load_model_error.hpp).
+  std::vector<double> rest_change_;
 };
 
 // A state's entry of summary.json's `states` at its end, on u (collective): its name, time

@@ -3,7 +3,7 @@
 // derivative of the cavity volume; a volume-controlled inflation reaches its volume; the
 // work of the pressure equals the stored energy it creates; the liquid's total weight is
 // rho g times the column volume, the distributed weights equal a serial computation of the
-// fluid-weight module on the gathered surface, and the column method and the closed-form
+// fluid-weight module on the gathered surface, the column method and the closed-form
 // hydrostatic pressure give the same resultant and moment.
 #include <gtest/gtest.h>
 #include <petscsnes.h>
@@ -417,6 +417,61 @@ TEST(Cavities, ColumnHeadIsTheClosedFormsVerticalLoad) {
   const double head_error = largest_y(head), paper_error = largest_y(paper);
   EXPECT_LT(head_error, 0.05 * scale);
   EXPECT_GT(paper_error, 3 * head_error);
+}
+
+// The column method's error as the run estimates it (a few Newton steps with the closed form
+// from each converged state) is the difference the closed form's own run makes, state by state:
+// the rest volume at zero pressure, then the pressure at the added volume (counted from that
+// rest volume), or the volume at a prescribed pressure; and the tip's inclination each time.
+TEST(Cavities, ColumnMethodsEstimatedErrorIsTheClosedFormRunsDifference) {
+  const std::string exact = "cavities[0].fluid_weight={method: hydrostatic}";
+  const std::string at_pressure = "states[1].cavities={cavity: {pressure: 7900}}";
+  const auto by_volume = run("cylinder_water.yaml", {}, "estimate_volume");
+  const auto by_volume_exact = run("cylinder_water.yaml", {exact}, "estimate_volume_exact");
+  const auto by_pressure = run("cylinder_water.yaml", {at_pressure}, "estimate_pressure");
+  const auto by_pressure_exact =
+      run("cylinder_water.yaml", {at_pressure, exact}, "estimate_pressure_exact");
+  auto cavity = [](const nlohmann::json& summary, int k, const char* key) {
+    return summary["states"][k]["cavities"][0][key].get<double>();
+  };
+  auto inclination = [](const nlohmann::json& summary, int k) {
+    return summary["states"][k]["tip"]["inclination_deg"].get<double>();
+  };
+  auto estimate = [](const nlohmann::json& summary, int k) {
+    const auto& e = summary["states"][k]["load_model_error"];
+    EXPECT_TRUE(e["estimated"].get<bool>());
+    EXPECT_FALSE(e["warning"].get<bool>());  // 1.4 % at most on this cylinder
+    return e;
+  };
+  for (const auto* s : {&by_volume_exact, &by_pressure_exact})
+    for (int k : {0, 1}) EXPECT_FALSE((*s)["states"][k].contains("load_model_error"));
+
+  // Each estimate against the difference of the two runs (which is 0.36 ml, 86 Pa, 0.57 ml,
+  // 0.05-0.13 deg: well above the runs' tolerances).
+  auto expect_close = [](double estimated, double difference, double share) {
+    EXPECT_NEAR(estimated, difference, share * std::abs(difference));
+  };
+  const auto rest = estimate(by_volume, 0);
+  expect_close(rest["cavities"][0]["volume_ml"].get<double>(),
+               1e6 * (cavity(by_volume_exact, 0, "volume") - cavity(by_volume, 0, "volume")), 0.01);
+  expect_close(rest["tip"]["inclination_deg"].get<double>(),
+               inclination(by_volume_exact, 0) - inclination(by_volume, 0), 0.03);
+  const auto inflated = estimate(by_volume, 1);
+  expect_close(inflated["cavities"][0]["pressure_Pa"].get<double>(),
+               cavity(by_volume_exact, 1, "pressure") - cavity(by_volume, 1, "pressure"), 0.01);
+  expect_close(inflated["tip"]["inclination_deg"].get<double>(),
+               inclination(by_volume_exact, 1) - inclination(by_volume, 1), 0.03);
+  const auto pressed = estimate(by_pressure, 1);
+  expect_close(pressed["cavities"][0]["volume_ml"].get<double>(),
+               1e6 * (cavity(by_pressure_exact, 1, "volume") - cavity(by_pressure, 1, "volume")),
+               0.01);
+  const double added = cavity(by_pressure, 1, "volume") - cavity(by_pressure, 0, "volume"),
+               added_exact =
+                   cavity(by_pressure_exact, 1, "volume") - cavity(by_pressure_exact, 0, "volume");
+  expect_close(pressed["cavities"][0]["added_volume_ml"].get<double>(), 1e6 * (added_exact - added),
+               0.01);
+  expect_close(pressed["tip"]["inclination_deg"].get<double>(),
+               inclination(by_pressure_exact, 1) - inclination(by_pressure, 1), 0.03);
 }
 
 // u = (R - I) X: a rigid rotation by 30 deg turns the tip face's mean normal by 30 deg. About
