@@ -97,7 +97,7 @@ std::optional<LoadModelError> load_model_error(const Config& config, Problem& pr
   }
   report["newton_steps"] = steps;
   report["remaining"] = remaining;
-  report["seconds"] = MPI_Wtime() - t0;
+  report["time_s"] = MPI_Wtime() - t0;
   for (int k = 0; k < constraints.size(); ++k)
     error.measure_change.push_back(constraints[k].measure_at(v) - constraints[k].measure());
 

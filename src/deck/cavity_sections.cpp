@@ -169,7 +169,8 @@ const KeyTable<FluidWeightConfig>& fluid_weight_keys() {
                "(leaves out the head above each section: wrong where chambers stack, "
                "docs/cavities.md); `column_head`: the same columns with ρ g d on every floor and "
                "ceiling (leaves out the side walls; cpu only). With either column method a "
-               "static run estimates, at the end of each state, what the closed form would "
+               "static run without `control` estimates, at the end of each state, what the closed "
+               "form would "
                "change (summary.json's `load_model_error`) and warns past 2 %"),
       // N^2 columns, each with its own hits: 8192^2 is 6.7e7 columns, past any cavity's need
       // (200-1000 resolve the meshes of docs/fluidweight.md) and within memory.
