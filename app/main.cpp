@@ -35,6 +35,7 @@
 #include "mesh/mesh_statistics.hpp"
 #include "mesh/rigid_motions.hpp"
 #include "run_report.hpp"
+#include "solvers/blas_threads.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/simulation.hpp"
 #include "solvers/solver_options.hpp"
@@ -270,6 +271,7 @@ int main(int argc, char** argv) {
     io.write_line = [answers](const std::string& line) { return write_answer_line(answers, line); };
   }
   hs::use_one_scotch_thread();
+  const std::string blas_threads = hs::limit_blas_threads();
   int pargc = static_cast<int>(petsc_args.size());
   petsc_args.push_back(nullptr);
   char** pargv = petsc_args.data();
@@ -322,7 +324,9 @@ int main(int argc, char** argv) {
     // resolved configuration and the summary go to standard error.
     std::ostream& report = targets.empty() ? std::cout : std::cerr;
     if (rank == 0)
-      report << "# hydrosoft: resolved configuration\n" << hs::format_config(config) << std::endl;
+      report << "# hydrosoft: resolved configuration\n"
+             << hs::format_config(config) << "# BLAS threads per rank: " << blas_threads << "\n"
+             << std::endl;
     // SIGTERM or SIGINT now stops the run at a step boundary, keeping what converged (set
     // after PetscInitialize, whose own SIGTERM handler it replaces; --check and mesh keep the
     // default: they have nothing to keep).

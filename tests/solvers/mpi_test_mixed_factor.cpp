@@ -1,7 +1,9 @@
 // The nodal-pressure tangent solved through its mixed system (solvers/mixed_factor.hpp), on 1
 // and 2 ranks: the same solutions as MUMPS on the assembled tangent, one right-hand side or
 // several at once, with the inertia of a time step, and its count of negative eigenvalues
-// against a matrix whose inertia is known by hand.
+// against a matrix whose inertia is known by hand; and the one BLAS thread a rank its dense
+// fronts run on unless the user chose otherwise.
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <petscksp.h>
 
@@ -11,6 +13,7 @@
 
 #include "deck/deck.hpp"
 #include "materials/registry.hpp"
+#include "solvers/blas_threads.hpp"
 #include "solvers/distributed_mesh.hpp"
 #include "solvers/mixed_factor.hpp"
 #include "solvers/multi_solve.hpp"
@@ -191,6 +194,33 @@ TEST(MixedFactor, RefusesATangentWithoutNodalPressures) {
   const PetscErrorCode code = KSPSetUp(ksp);
   PetscPopErrorHandler();
   EXPECT_EQ(code, PETSC_ERR_ARG_WRONG);
+}
+
+// OpenBLAS at several threads is set to one where no variable says how many; where one
+// does, it is left as that says.
+TEST(BlasThreads, OneOpenBlasThreadUnlessTheUserChose) {
+  using Get = int (*)();
+  using Set = void (*)(int);
+  const auto get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  const auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (!get || !set) GTEST_SKIP() << "the BLAS is not OpenBLAS";
+  const char* names[] = {"OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS"};
+  std::vector<std::pair<std::string, std::string>> saved;
+  for (const char* name : names)
+    if (const char* value = std::getenv(name)) saved.emplace_back(name, value);
+  for (const char* name : names) unsetenv(name);
+
+  setenv("OMP_NUM_THREADS", "2", 1);
+  set(2);
+  const int before = get();  // 2, or fewer on a machine of one core
+  EXPECT_EQ(hs::limit_blas_threads(), "as OMP_NUM_THREADS=2 sets them");
+  EXPECT_EQ(get(), before);
+  unsetenv("OMP_NUM_THREADS");
+  EXPECT_EQ(hs::limit_blas_threads().rfind("1 (OpenBLAS", 0), 0u);
+  EXPECT_EQ(get(), 1);
+
+  for (const auto& [name, value] : saved) setenv(name.c_str(), value.c_str(), 1);
+  set(1);
 }
 
 }  // namespace mpi_test_mixed_factor
