@@ -233,7 +233,9 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
   }
   // The time the line waited for its answer: every step of the set (a reduced model's first
   // step does nearly all the work) and the newton mode's settling, not the check or output.
-  const double answer_ms = 1e3 * (MPI_Wtime() - t0);
+  // The slowest rank's, as step_ms: every rank's answers are the same (a checkpoint keeps them).
+  double answer_ms = 1e3 * (MPI_Wtime() - t0);
+  MPI_Allreduce(MPI_IN_PLACE, &answer_ms, 1, MPI_DOUBLE, MPI_MAX, problem_.comm());
   std::vector<double> equilibrium;
   if ((config_.control->free_solve == FreeSolve::one_step || reduced_) &&
       config_.control->check_equilibrium && totals_.sets % config_.control->check_every == 0)

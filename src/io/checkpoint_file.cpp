@@ -23,9 +23,14 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::js
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const std::string tmp = path + ".tmp";
+  // Rank 0's text on every rank: HDF5 writes an attribute collectively, and one whose length
+  // differs between ranks (a timing measured on each) leaves them waiting on each other in
+  // the file's close, for ever.
+  std::string text = state.dump();
+  broadcast_string(text, 0, comm);
   // What the file takes at most, reserved before HDF5 writes (rank 0's count decides).
   int64_t bytes = 8 * rows.nodes * (1 + 3 * static_cast<int64_t>(fields.size())) +
-                  static_cast<int64_t>(state.dump().size()) +
+                  static_cast<int64_t>(text.size()) +
                   Hdf5File::metadata_allowance(8 + 2 * static_cast<int64_t>(fields.size()) +
                                                2 * static_cast<int64_t>(series.size()));
   for (const auto& named : series) bytes += 8 * static_cast<int64_t>(named.second.size());
@@ -35,7 +40,7 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::js
       Hdf5File h5(tmp, Hdf5File::Mode::CreateLargeAttributes, comm, bytes);
       h5.set_attribute("/", "format", std::string(kCheckpointFormat));
       h5.set_attribute("/", "version", kVersion);
-      h5.set_attribute("/", "state", state.dump());
+      h5.set_attribute("/", "state", text);
       h5.write_rows("/node_ids", rows.node_ids, rows.nodes, 0, rows.first);
       h5.create_group("/fields");
       for (const auto& [name, values] : fields)

@@ -1,7 +1,7 @@
 // checkpoint.h5 written by every rank and read back (src/io/checkpoint_file.hpp): a state of
 // over 200 KB of JSON (a long control run's results so far: past the 64 KB that HDF5's original
-// format allows an attribute), the rows of a field by node id, and a series; and a checkpoint
-// that finds no room.
+// format allows an attribute), the rows of a field by node id, and a series; a state that
+// differs between ranks; and a checkpoint that finds no room.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -51,6 +51,24 @@ TEST(CheckpointFile, AStateOfHundredsOfKilobytesAndTheRowsOfEveryRank) {
     for (int c = 0; c < 3; ++c) EXPECT_EQ(u[3 * r + c], 10.0 * ids[r] + c);
   }
   EXPECT_EQ(file.series("energy"), (std::vector<double>{1.5, 2.5}));
+}
+
+// A state whose text differs between ranks (a time each rank measured itself, with a number
+// of digits of its own) is written as rank 0's, and every rank returns. Before, the attribute's
+// lengths differed and the ranks waited on each other in HDF5's close for ever.
+TEST(CheckpointFile, AStateThatDiffersBetweenRanksIsRankZerosAndWritten) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const nlohmann::json state = {{"answer_ms", rank == 0 ? 12.5 : 123.456789012345}};
+  hs::CheckpointRows rows;
+  rows.nodes = size;  // one node per rank
+  rows.first = rank;
+  rows.node_ids = {rank};
+  const std::string path = (hs_test::test_folder() / "differing.h5").string();
+  hs::write_checkpoint(path, MPI_COMM_WORLD, state, rows, {}, {});
+  const hs::CheckpointFile file(path);
+  EXPECT_EQ(file.state()["answer_ms"].get<double>(), 12.5);
 }
 
 // A checkpoint that finds no room (a file size limit here, a full disk in a run) stops every
