@@ -274,6 +274,12 @@ void check_states(const Fields& f, const json& p, const Config& config) {
   if (!lambdas.empty())
     f.numbers(stepper, "position.stepper", "lambda_last", constraints,
               "this deck's cavities and cables");
+  // The first state's change of each measure by an exact load (load_model_error.hpp): none, or
+  // one per constraint; absent from checkpoints written before it.
+  if (stepper.contains("rest_change") &&
+      !f.array(stepper, "position.stepper", "rest_change").empty())
+    f.numbers(stepper, "position.stepper", "rest_change", constraints,
+              "this deck's cavities and cables");
   check_constraints(f, p, "position", "constraints", config);
   f.objects(p, "position", "states", k, "the states done before");
 }

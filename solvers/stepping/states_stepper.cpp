@@ -96,16 +96,14 @@ void StatesStepper::end_state(Vec u) {
   const double s = plan.load_factor(plan.taus.back());
   nlohmann::json entry = state_entry(config_, problem_, constraints_, u, plan.name,
                                      static_cast<double>(k_ + 1), step, s);
-  // A control deck's states only bring it to its targets' start: its answers are what it is
-  // run for, and an interactive session's first answer would wait for the estimate.
-  if (config_.control) {
-    states_.push_back(std::move(entry));
-    return;
-  }
-  if (auto error = load_model_error(config_, problem_, constraints_, solver_, u, s, plan.name,
-                                    rest_change_)) {
-    entry["load_model_error"] = std::move(error->report);
-    if (plan.first) rest_change_ = std::move(error->measure_change);
+  // Not in a control deck: its states only bring it to its targets' start, its answers are
+  // what it is run for, and an interactive session's first answer would wait for it.
+  const auto error = config_.control ? std::nullopt
+                                     : load_model_error(config_, problem_, constraints_, solver_, u,
+                                                        s, plan.name, rest_change_);
+  if (error) {
+    entry["load_model_error"] = error->report;
+    if (plan.first) rest_change_ = error->measure_change;
   }
   states_.push_back(std::move(entry));
 }
