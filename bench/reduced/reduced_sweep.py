@@ -3,6 +3,7 @@
 
     /usr/bin/python3 bench/reduced/reduced_sweep.py [--deck input/finger_hydraulic.yaml]
         [--h 0.00135] [--lines 40] [--repeats 3] [--samples 17] [--model FILE] [--every N]
+        [--pod-tolerance T] [--skip-full]
 
 Trains the deck's reduced model (`hydrosoft reduce`, timed; skipped with --model), then sends
 the same tip-height lines, in a fixed shuffled order, to the reduced model and to the full model
@@ -13,7 +14,8 @@ is a training sample's position. Prints the training time, per model the medians
 repeats of the step time's mean, median and p95 (ms, the answers' step_ms) and of the client's
 round trip (which, back to back, includes writing the last line's output step: `--every N`
 writes every N-th, output.every), the largest distance of a reduced answer from the full model's equilibrium at the
-same actuation, and from the full model's own answer to the same line (mm).
+same actuation, and from the full model's own answer to the same line (mm); each with the
+error indicator off and on, and the error each answer stated against its actual error.
 1 rank, OPENBLAS_NUM_THREADS=1.
 """
 import argparse
@@ -72,6 +74,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--samples", type=int, default=17)
     ap.add_argument("--model", default=None, help="a model already trained for this mesh")
+    ap.add_argument("--pod-tolerance", default=None, help="the training's POD tolerance")
     ap.add_argument("--every", type=int, default=1, help="output.every of the reduced runs")
     ap.add_argument("--skip-full", action="store_true")
     ap.add_argument("--full-lines", type=int, default=1000, help="lines the full model answers")
@@ -83,8 +86,9 @@ def main():
     model = a.model or os.path.join(work, "model.h5")
     if not a.model:
         t0 = time.perf_counter()
+        pod = [] if a.pod_tolerance is None else ["--pod-tolerance", a.pod_tolerance]
         subprocess.run([EXE, "reduce", a.deck, "-o", model, "-q", "--samples", str(a.samples),
-                        "--set", f"output.folder={work}/train"] + sets(base[:1]),
+                        "--set", f"output.folder={work}/train"] + pod + sets(base[:1]),
                        check=True, env=ENV, stdout=subprocess.DEVNULL)
         print(f"training: {time.perf_counter() - t0:.1f} s")
         with open(f"{work}/train/summary.json") as f:
@@ -101,21 +105,33 @@ def main():
     random.Random(1).shuffle(zs)
     lines = [f"0.09 0 {z:.6f}" for z in zs]
     reduced = base + [f"control.reduced_model={model}"]
-    timing = []
-    for rep in range(a.repeats):
-        ans = answers(a.deck, reduced + [f"output.every={a.every}"], lines, f"{work}/reduced{rep}")
-        timing.append(stats([x["answer"]["step_ms"] for x in ans]) +
-                      stats([x["round_trip_ms"] for x in ans[1:]]))  # the first waits for set-up
-    med = [statistics.median(r[i] for r in timing) for i in range(6)]
-    print(f"reduced: step ms mean {med[0]:.2f} median {med[1]:.2f} p95 {med[2]:.2f}; "
-          f"round trip (output step included) mean {med[3]:.2f} median {med[4]:.2f} "
-          f"p95 {med[5]:.2f}")
-    # The model's error: the full model's equilibrium at each answer's actuation.
-    checked = answers(a.deck, reduced + ["control.check_equilibrium=true"], lines,
-                      f"{work}/checked")
+    for indicator in ("false", "true"):  # the same lines without, then with, the indicator
+        timing = []
+        for rep in range(a.repeats):
+            ans = answers(a.deck, reduced + [f"output.every={a.every}",
+                                             f"control.error_indicator={indicator}"],
+                          lines, f"{work}/reduced{rep}")
+            timing.append(stats([x["answer"]["step_ms"] for x in ans]) +
+                          stats([x["round_trip_ms"] for x in ans[1:]]))  # [0] waits for set-up
+        med = [statistics.median(r[i] for r in timing) for i in range(6)]
+        print(f"reduced, error_indicator {indicator}: step ms mean {med[0]:.2f} median "
+              f"{med[1]:.2f} p95 {med[2]:.2f}; round trip (output step included) mean "
+              f"{med[3]:.2f} median {med[4]:.2f} p95 {med[5]:.2f}")
+    # The model's error: the full model's equilibrium at each answer's actuation, against the
+    # error each answer stated.
+    checked = answers(a.deck, reduced + ["control.check_equilibrium=true",
+                                         "control.error_indicator=true"], lines, f"{work}/checked")
     d = [dist(x["answer"]["reached"], x["answer"]["equilibrium"]) for x in checked]
     print(f"reduced answer vs the full equilibrium at its actuation: max {1e3 * max(d):.3f} mm, "
           f"mean {1e3 * statistics.mean(d):.3f} mm over {len(d)} lines")
+    for key in ("held_back_error_m", "indicator_m", "estimated_error_m"):
+        stated = [x["answer"]["reduced"][key] for x in checked]
+        ratios = [e / s for e, s in zip(d, stated) if s]
+        if ratios:
+            print(f"  {key}: max {1e3 * max(s for s in stated if s):.4f} mm; actual / it min "
+                  f"{min(ratios):.2f} median {statistics.median(ratios):.2f} max "
+                  f"{max(ratios):.2f}; actual above it on {sum(r > 1 for r in ratios)} of "
+                  f"{len(ratios)} lines")
     if a.skip_full:
         return
     # The full model's own answers (default newton mode, steps until the target is met).

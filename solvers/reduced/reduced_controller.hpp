@@ -22,6 +22,7 @@
 #include "reduction/model_file.hpp"
 #include "solvers/effectors.hpp"
 #include "solvers/inverse_controller.hpp"
+#include "solvers/reduced/error_indicator.hpp"
 #include "solvers/reduced/reduced_system.hpp"
 
 namespace hs {
@@ -42,6 +43,10 @@ class ReducedController {
   nlohmann::json summary() const;
 
  private:
+  // An answer's `reduced`: whether its actuation lies in the training envelope, and its
+  // stated error there: the residual indicator times the training's calibration
+  // (error_indicator.hpp), or the held-back samples' largest error. u: the answer's field.
+  nlohmann::json error_statement(Vec u, bool inside);
   // The effectors' positions at reduced coordinates q (3 each).
   Eigen::VectorXd effector_positions(const Eigen::VectorXd& q) const;
   // The QP's rows: W, the targeted directions' weighted response to the actuation (through
@@ -74,6 +79,8 @@ class ReducedController {
   std::string path_;
   ReducedModel model_;
   std::unique_ptr<ReducedSystem> system_;
+  std::unique_ptr<ResidualErrorIndicator> indicator_;  // null with control.error_indicator off
+  double indicator_s_ = 0;
   std::vector<int> actuators_;  // constraint of each actuator
   std::vector<double> rest_measure_;
   Eigen::VectorXd q_;

@@ -8,6 +8,7 @@
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "reduction/design.hpp"
+#include "solvers/reduced/error_indicator.hpp"
 #include "solvers/reduced/model_fit.hpp"
 #include "solvers/reduced/offline.hpp"
 #include "solvers/reduced/reduced_system.hpp"
@@ -177,8 +178,14 @@ void TrainingStepper::build() {
     for (int d = 0; d < 3; ++d) rows.push_back(effectors_.row(e, d));
   model.report["held_back"] = {{"samples", check.size()}};
   ReducedSystem system(config_, problem_, constraints_, model, config_.training->output, rows);
+  std::vector<int> actuators;
+  for (const std::string& name : model.actuators) actuators.push_back(constraints_.find(name));
+  ResidualErrorIndicator indicator(problem_, constraints_, system, actuators, rows);
   VecHandle x(problem_.create_vector());
   double max_error = 0, sum_error = 0, max_field = 0;
+  // The residual indicator's calibration: the largest ratio of a sample's error to its
+  // indicator, and the smallest (how far the indicator overstates).
+  double ratio_max = 0, ratio_min = HUGE_VAL;
   nlohmann::json unsolved = nlohmann::json::array();
   for (int h : check) {
     if (const int signal = interrupt_signal()) throw Interrupted(signal);
@@ -198,6 +205,14 @@ void TrainingStepper::build() {
       for (int d = 0; d < 3; ++d) d2 += std::pow(reduced[i + d] - positions_[h][i + d], 2);
       error = std::max(error, std::sqrt(d2));
     }
+    Eigen::VectorXd dx;
+    if (indicator.estimate(x, lambda, dx)) {
+      const double estimate = ResidualErrorIndicator::largest_move(dx);
+      if (estimate > 0) {
+        ratio_max = std::max(ratio_max, error / estimate);
+        ratio_min = std::min(ratio_min, error / estimate);
+      }
+    }
     const Eigen::VectorXd full = snapshots_[h];
     max_error = std::max(max_error, error);
     sum_error += error;
@@ -215,6 +230,9 @@ void TrainingStepper::build() {
       {"max_effector_error_m", stated(max_error)},
       {"mean_effector_error_m", stated(solved > 0 ? sum_error / solved : 0.0)},
       {"max_field_error", stated(max_field)},
+      {"indicator_ratio_max", ratio_max > 0 ? stated(ratio_max) : nlohmann::json(nullptr)},
+      {"indicator_ratio_min", ratio_max > 0 ? stated(ratio_min) : nlohmann::json(nullptr)},
+      {"indicator_setup_seconds", indicator.setup_seconds()},
       {"unsolved", unsolved.size()},
       {"unsolved_actuations", unsolved},
       {"seconds", MPI_Wtime() - t_check}};

@@ -261,6 +261,9 @@ struct ControlConfig {
   // A reduced-order model (hydrosoft reduce) that answers the control steps in place of the
   // full model (docs/reduced_models.md); "" for none. A path from the working directory.
   std::string reduced_model;
+  // With a reduced model: each answer's error also estimated from the full model's residual at
+  // the answer (solvers/reduced/error_indicator.hpp); off, the held-back samples' largest error.
+  bool error_indicator = false;
 };
 
 // Contact of the body with rigid obstacles (docs/contact.md): which of its surfaces may touch,

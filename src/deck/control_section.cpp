@@ -353,6 +353,13 @@ const KeyTable<ControlConfig>& control_keys() {
                "physics (a path from the working directory): the control steps are solved in "
                "its reduced space (docs/reduced_models.md); one rank")
           .printed_when([](const ControlConfig& k) { return !k.reduced_model.empty(); }),
+      bool_key("error_indicator", &ControlConfig::error_indicator,
+               "with `reduced_model`: each answer also estimates its error from the full "
+               "model's residual at the answer, weighted by the effectors' influence functions "
+               "at the nearest training sample and calibrated by the training, and states the "
+               "larger of that and the held-back error (one full residual an answer; "
+               "docs/reduced_models.md, \"Each answer's error\")")
+          .printed_when([](const ControlConfig& k) { return !k.reduced_model.empty(); }),
       integer_key("factor_threads", &ControlConfig::factor_threads, within(0, 64),
                   "`one_step` only: threads (on rank 0) that factor the tangent in the "
                   "background while the loop steps on; each step then corrects with the newest "
@@ -381,6 +388,8 @@ ControlConfig parse_control(const DeckReader& r, const YAML::Node& node, const C
             node["one_step_tolerance"], "control.one_step_tolerance",
             "needs free_solve: one_step (Newton converges every free configuration)");
   }
+  require(!control.error_indicator || !control.reduced_model.empty(), r, node["error_indicator"],
+          "control.error_indicator", "needs reduced_model");
   require(control.check_every == 1 || control.check_equilibrium, r, node["check_every"],
           "control.check_every", "needs check_equilibrium: true");
   return control;

@@ -573,6 +573,7 @@ TEST_F(DeckErrors, ControlKeysAndTypes) {
        "expected true or false, got 'maybe'"},
       {control_with("  free_solve: fast\n"), "control.free_solve", "'fast'"},
       {control_with("  check_every: 4\n"), "control.check_every", "needs check_equilibrium: true"},
+      {control_with("  error_indicator: true\n"), "control.error_indicator", "needs reduced_model"},
       {control_with("  check_equilibrium: true\n  check_every: 0\n"), "control.check_every",
        "must be >= 1, got 0"},
       {control_with("  targets: {tip: [0, 0, 0]}\n"), "control.targets",

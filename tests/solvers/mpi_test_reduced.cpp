@@ -9,6 +9,7 @@
 #include "common/error.hpp"
 #include "control_scene.hpp"
 #include "run_deck.hpp"
+#include "solvers/reduced/error_indicator.hpp"
 #include "solvers/reduced/model_fit.hpp"
 #include "solvers/reduced/reduced_system.hpp"
 
@@ -79,6 +80,69 @@ TEST(ReducedSystem, WithTheFullBasisAndEveryElementSolvesTheFullModel) {
   const hs::ReducedSolve at_full = reduced.solve(q, u);
   EXPECT_TRUE(at_full.converged);
   EXPECT_LE(at_full.iterations, 1);
+}
+
+// The error indicator (solvers/reduced/error_indicator.hpp) at a training sample's own state
+// uses the exact tangent there: for a state displaced from that equilibrium by eps times its
+// own displacement, the indicator is the Newton step back, -eps times the effector's
+// displacement, to second order in eps; at the equilibrium itself, nothing.
+TEST(ReducedSystem, ResidualIndicatorIsTheNewtonStepBackToEquilibrium) {
+  hs_test::ControlScene scene(kDeck, {0.085, 0.0, 0.0}, cavity_actuator(),
+                              {"mesh.parameters.h=0.01"});
+  hs::Problem& problem = *scene.problem;
+  const hs::Distribution& dist = problem.distribution();
+  const double p = 20000;
+  const hs::VecHandle full(problem.create_vector());
+  VecCopy(scene.rest, full);
+  for (int i = 1; i <= 4; ++i) scene.solve_at(full, p * i / 4);
+  hs::ReducedModel model;
+  hs::record_mesh(problem, model);
+  model.physics = hs::reduced_physics(scene.config);
+  model.actuators = {"cavity"};
+  model.lower = {0};
+  model.upper = {30000};
+  // One mode, the equilibrium itself (mesh numbering), normalized; its one training sample.
+  const PetscScalar* a = nullptr;
+  VecGetArrayRead(full, &a);
+  model.basis = Eigen::MatrixXd::Zero(3 * model.nodes, 1);
+  for (int64_t n = 0; n < dist.num_local(); ++n)
+    for (int d = 0; d < 3; ++d) model.basis(3 * dist.old_of_local[n] + d, 0) = a[3 * n + d];
+  VecRestoreArrayRead(full, &a);
+  const double length = model.basis.norm();
+  model.basis /= length;
+  model.elements = dist.local_tets;
+  model.weights.assign(model.elements.size(), 1.0);
+  model.training_actuations = Eigen::MatrixXd::Constant(1, 1, p);
+  model.training_states = Eigen::MatrixXd::Constant(1, 1, length);
+  model.report = {{"held_back", {{"max_effector_error_m", 0.0}}}};
+  std::vector<Vec> rows;
+  for (int d = 0; d < 3; ++d) rows.push_back(scene.effectors->row(0, d));
+  hs::ReducedSystem reduced(scene.config, problem, *scene.cavities, model, "one mode", rows);
+  (*scene.cavities)[0].prescribe(hs::Constraint::Control::multiplier, p);
+  hs::ResidualErrorIndicator indicator(problem, *scene.cavities, reduced, {0}, rows);
+
+  Eigen::Vector3d moved;  // the effector's displacement at the equilibrium
+  for (int d = 0; d < 3; ++d) VecDot(rows[d], full, &moved(d));
+  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(1, p);
+  const hs::VecHandle u(problem.create_vector());
+  Eigen::VectorXd dx;
+  VecCopy(full, u);
+  ASSERT_TRUE(indicator.estimate(u, lambda, dx));
+  EXPECT_LT(dx.norm(), 1e-7 * moved.norm()) << dx.transpose();  // Newton's own tolerance
+  std::vector<double> misses;                                   // |dx + eps moved| at eps and 2 eps
+  for (double eps : {1e-3, 2e-3}) {
+    VecCopy(full, u);
+    VecScale(u, 1 + eps);
+    ASSERT_TRUE(indicator.estimate(u, lambda, dx));
+    misses.push_back((dx + eps * moved).norm());
+    // The first-order term: within a few eps of the step itself (3.4 eps measured).
+    EXPECT_LT(misses.back(), 10 * eps * eps * moved.norm())
+        << eps << ": " << dx.transpose() << " against " << -eps * moved.transpose();
+    EXPECT_NEAR(hs::ResidualErrorIndicator::largest_move(dx), eps * moved.norm(),
+                10 * eps * eps * moved.norm());
+  }
+  // What it misses is of second order: four times as much at twice the displacement.
+  EXPECT_NEAR(misses[1] / misses[0], 4.0, 0.2);
 }
 
 // Trains the pneumatic finger's model (9 samples of 0-30 kPa, 364 nodes) and answers the
@@ -155,11 +219,14 @@ TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
   const double stated = r.at("held_back").at("max_effector_error_m");
   EXPECT_GT(stated, 0);
   EXPECT_LT(stated, 5e-4);
+  EXPECT_GT(r.at("held_back").at("indicator_ratio_max").get<double>(), 0);
   EXPECT_LT(r.at("ecsw").at("elements").get<int>(), r.at("ecsw").at("of").get<int>() / 20);
 
-  const nlohmann::json run = hs::run_simulation(
-      deck({"control.reduced_model=" + model, "control.check_equilibrium=true"}, "use"),
-      MPI_COMM_SELF);
+  const nlohmann::json run =
+      hs::run_simulation(deck({"control.reduced_model=" + model, "control.check_equilibrium=true",
+                               "control.error_indicator=true"},
+                              "use"),
+                         MPI_COMM_SELF);
   ASSERT_EQ(run.at("targets").size(), 6u);
   int met = 0;  // targets inside the finger's reach
   for (const auto& t : run.at("targets")) {
@@ -169,6 +236,13 @@ TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
     // The held-back samples' largest error, with the margin of a sample of four.
     EXPECT_LE(std::sqrt(d2), 1.5 * stated) << t.dump();
     EXPECT_TRUE(t.at("reduced").at("in_envelope"));
+    // The larger of the held-back error and the residual indicator, calibrated by the
+    // held-back samples' largest ratio (at least 1).
+    const nlohmann::json& said = t.at("reduced");
+    ASSERT_TRUE(said.at("indicator_m").is_number()) << said.dump();
+    EXPECT_GE(said.at("estimated_error_m").get<double>(), said.at("indicator_m").get<double>());
+    EXPECT_GE(said.at("estimated_error_m").get<double>(), stated);
+    EXPECT_EQ(said.at("held_back_error_m"), stated);
     // A target inside the finger's reach (its pressure within the bounds) is met.
     if (!t.at("saturated")[0].get<bool>()) {
       EXPECT_LT(t.at("error_m").get<double>(), 1e-6);
