@@ -24,9 +24,6 @@ void check_options(const Options& o) {
   if (!(o.alpha > 0.0) || !std::isfinite(o.alpha)) fail("alpha must be finite and > 0");
   if (o.threads < 0) fail("threads must be >= 0");
   if (o.tile != 0 && o.tile != 8 && o.tile != 16) fail("tile must be 0 (auto), 8 or 16");
-  if (o.method == Method::column_head && o.implementation == Implementation::cuda)
-    fail(
-        "method column_head runs on the CPU only (the CUDA kernels are the paper's column method)");
 }
 
 // Without the overflow of the squares: a sum of forces near 1e154 N still has its length.

@@ -119,6 +119,33 @@ TEST_P(CudaKernels, BatchAndMovingVertices) {
   for (double ms : replays) EXPECT_GT(ms, 0.0);
 }
 
+// column_head: each section's floor and the ceiling above it both carry the head from the
+// liquid's top (resolve.cuh), against the CPU reference's; stacked chambers (the E shape's
+// arms, the comb's teeth) are where it differs from the paper's method.
+TEST_P(CudaKernels, ColumnHeadMatchesReference) {
+  SKIP_WITHOUT_GPU();
+  const Variant v = GetParam();
+  const std::vector<std::pair<std::string, SurfaceMesh>> cases = {
+      {"E shape", transformed(e_shape(), rotation({1, 1, 0}, 0.3))},
+      {"comb of 9", comb(9)},
+      {"standing torus", transformed(fw::shapes::torus(1, 0.25, 64, 24), rotation({1, 0, 0}, 1.3))},
+      {"inward torus", flipped(fw::shapes::torus(1, 0.4, 40, 16))}};
+  for (const auto& [label, mesh] : cases) {
+    for (int n : {31, 200}) {
+      Options ref_options = options(fw::Implementation::cpu_reference, n);
+      ref_options.method = fw::Method::column_head;
+      Options gpu_options = cuda_options(v, n);
+      gpu_options.method = fw::Method::column_head;
+      const Result ref = fw::compute(mesh, ref_options);
+      const Result paper = fw::compute(mesh, options(fw::Implementation::cpu_reference, n));
+      // The case loads ceilings at all: the head's forces are not the paper's.
+      EXPECT_GT(force_difference(paper, ref), 1e-3) << label;
+      expect_matches_reference(fw::compute(mesh, gpu_options), ref, v.precision,
+                               label + " column_head grid " + std::to_string(n));
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     AllKernels, CudaKernels,
     testing::Values(Variant{fw::Kernel::leveraging, fw::Precision::float64},

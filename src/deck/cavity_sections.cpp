@@ -34,11 +34,12 @@ FluidWeightConfig parse_fluid_weight(const DeckReader& r, const YAML::Node& node
                                      const std::string& key, const Config& c) {
   FluidWeightConfig w;
   read_keys(r, node, key, fluid_weight_keys(), w, c);
-  // Only the column method has CUDA kernels (cuda/, docs/fluidweight.md).
-  if (w.device == WeightDevice::cuda && w.method != WeightMethod::column)
+  // The column methods run on the GPU (cuda/, docs/fluidweight.md); the closed form, a loop
+  // over the wall's triangles, runs on the cpu within the assembly.
+  if (w.device == WeightDevice::cuda && w.method == WeightMethod::hydrostatic)
     r.fail(child_key(key, "device"), node["device"],
-           "cuda is only used by method column (method is " +
-               name_of(kWeightMethodNames, w.method) + ", which runs on the cpu)");
+           "cuda is only used by the column methods (method is hydrostatic, which runs on the "
+           "cpu)");
   return w;
 }
 
@@ -168,7 +169,7 @@ const KeyTable<FluidWeightConfig>& fluid_weight_keys() {
                "column method (docs/fluidweight.md), each vertical column's weight on its floor "
                "(leaves out the head above each section: wrong where chambers stack, "
                "docs/cavities.md); `column_head`: the same columns with ρ g d on every floor and "
-               "ceiling (leaves out the side walls; cpu only). With either column method a "
+               "ceiling (leaves out the side walls). With either column method a "
                "static run without `control` estimates, at the end of each state, what the closed "
                "form would "
                "change (summary.json's `load_model_error`) and warns past 2 %"),
@@ -185,7 +186,7 @@ const KeyTable<FluidWeightConfig>& fluid_weight_keys() {
                  },
                  "`column`, `column_head`"}),
       enum_key("device", &FluidWeightConfig::device, kWeightDeviceNames,
-               "`cpu` or `cuda` (`cuda` with `column` only)"),
+               "`cpu` or `cuda` (`cuda` with the column methods only)"),
       enum_key("coupling", &FluidWeightConfig::coupling, kWeightCouplingNames,
                "`converged`: the weight is recomputed on every Newton iterate; `linearized`: its "
                "distribution is frozen at the start of each step and scaled with the volume"),

@@ -392,10 +392,8 @@ TEST_F(DeckErrors, CavityKeysOfOtherKinds) {
       {cavity("group: c, kind: hydraulic, fluid_weight: {grid: 100}"),  // the default
        "cavities[0].fluid_weight.grid", "only used by the column methods (method is hydrostatic)"},
       {cavity("group: c, kind: hydraulic, fluid_weight: {method: hydrostatic, device: cuda}"),
-       "cavities[0].fluid_weight.device", "cuda is only used by method column"},
-      {cavity("group: c, kind: hydraulic, fluid_weight: {method: column_head, device: cuda}"),
        "cavities[0].fluid_weight.device",
-       "cuda is only used by method column (method is column_head, which runs on the cpu)"},
+       "cuda is only used by the column methods (method is hydrostatic, which runs on the cpu)"},
       {cavity("group: c, pressure: 100, added_volume: 1e-6"), "cavities[0]",
        "give either pressure or added_volume, not both"},
   });

@@ -98,7 +98,7 @@ class Backend : public DeviceBackend {
     big_count_.reserve(1);
     big_list_.reserve(num_triangles_);
     kernel_ = options_.kernel;
-    if (options_.method == Method::column && kernel_ == Kernel::automatic) {
+    if (columns() && kernel_ == Kernel::automatic) {
       kernel_ = automatic_column_kernel(cavities, frame_, n);
     }
     // Every column kernel assumes each cavity's orientation (+1 at first, then the sign the
@@ -110,7 +110,7 @@ class Backend : public DeviceBackend {
       parity_ = 0;
     }
     tiled_.set_cavities(tiled(), num_cavities_, num_triangles_, column_capacity_);
-    if (options_.method == Method::column && !tiled() && !fused()) {
+    if (columns() && !tiled() && !fused()) {
       column_count_.reserve(static_cast<size_t>(num_cavities_) * n * n, true);
       reserve_columns();
     }
@@ -201,13 +201,15 @@ class Backend : public DeviceBackend {
     }
   }
 
-  bool fused() const { return options_.method == Method::column && kernel_ == Kernel::fused; }
-  bool tiled() const { return options_.method == Method::column && kernel_ == Kernel::tiled; }
+  // Either column method: the same kernels, column_head's sections also loading ceilings.
+  bool columns() const { return options_.method != Method::hydrostatic; }
+  bool fused() const { return columns() && kernel_ == Kernel::fused; }
+  bool tiled() const { return columns() && kernel_ == Kernel::tiled; }
 
   // Step 2 takes each cavity's orientation from orientation_ (checked after the call) rather
   // than from reduce_kernel's signed volume: every column kernel (the signed volume's gathers
   // of three corners a triangle were the longest part of reduce_kernel, on every call's path).
-  bool assumed_orientation() const { return options_.method == Method::column; }
+  bool assumed_orientation() const { return columns(); }
 
   // Alternate calls replay two graphs: the fused kernel's two sets of accumulators, or the tiled
   // kernel's two tile orders (one read by the call's tiles, the other written for the next).
@@ -288,6 +290,7 @@ class Backend : public DeviceBackend {
     b.n = options_.grid;
     const auto& g = options_.gravity;
     b.rho_g = options_.rho * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    b.head = options_.method == Method::column_head;
     b.jobs = jobs_.get();
     b.cavity_job_begin = job_begin_.get();
     b.num_jobs = num_jobs_;

@@ -112,6 +112,7 @@ struct Batch {
   Frame frame;
   int n;         // columns per side
   double rho_g;  // rho |g|
+  int head;      // column_head: each floor and ceiling carries the head above it (resolve.cuh)
   // Reduction.
   const ReduceJob* jobs;
   const int* cavity_job_begin;  // jobs of cavity c: [begin[c], begin[c + 1])

@@ -1,6 +1,8 @@
 // Step 5 on the GPU, shared by column_kernel (hits in global memory) and tile_kernel (hits in
 // shared memory): sort a column's hits, pair the k-th floor with the k-th ceiling, give each
-// section's weight to its floor triangle's nodes by barycentric coordinates.
+// section's weight to its floor triangle's nodes by barycentric coordinates. With the head
+// (column_head, docs/fluidweight.md), the floor carries rho |g| w d (top - z_floor) and the
+// ceiling -rho |g| w d (top - z_ceiling): the same net, as column_reference.cpp.
 #pragma once
 
 #include "device_common.cuh"
@@ -116,20 +118,34 @@ __device__ inline void resolve_column(const Batch<Real>& b, ColumnHits<Real> h, 
   int rounds = __reduce_max_sync(kFullMask, sections);
   const int px = column_centre(i, grid.sub_bits), py = column_centre(j, grid.sub_bits);
   const Real weight_per_height = static_cast<Real>(b.rho_g * grid.cell_area);
+  const Real top = static_cast<Real>(grid.u1 - grid.u0);
+  // A triangle's nodal weights at the column for a load `height` times weight_per_height.
+  auto spread = [&](const FloorAtColumn& f, Real height, int v[3], Real w[3]) {
+    Real scale = weight_per_height * height / static_cast<Real>(f.e[0] + f.e[1] + f.e[2]);
+    for (int k = 0; k < 3; ++k) {
+      v[k] = f.vertex[k];
+      w[k] = scale * static_cast<Real>(f.e[k]);
+    }
+  };
   for (int r = 0; r < rounds; ++r) {
     bool active = r < sections;
     int key = 0, v[3] = {0, 0, 0};
     Real w[3] = {0, 0, 0};
+    Real z_floor = 0, z_ceiling = 0;
     if (active) {
-      Real height = h.z[(floors + r) * h.stride] - h.z[r * h.stride];
-      sum_heights += height;
+      z_floor = h.z[r * h.stride];
+      z_ceiling = h.z[(floors + r) * h.stride];
+      sum_heights += z_ceiling - z_floor;
       FloorAtColumn f = floor_of(~h.tag[r * h.stride], px, py);
-      Real scale = weight_per_height * height / static_cast<Real>(f.e[0] + f.e[1] + f.e[2]);
       key = f.key;
-      for (int k = 0; k < 3; ++k) {
-        v[k] = f.vertex[k];
-        w[k] = scale * static_cast<Real>(f.e[k]);
-      }
+      spread(f, b.head ? top - z_floor : z_ceiling - z_floor, v, w);
+    }
+    add_section(b, active, key, v, w);
+    if (!b.head) continue;  // the same for the whole warp
+    if (active) {
+      FloorAtColumn c = floor_of(h.tag[(floors + r) * h.stride], px, py);
+      key = c.key;
+      spread(c, z_ceiling - top, v, w);
     }
     add_section(b, active, key, v, w);
   }
