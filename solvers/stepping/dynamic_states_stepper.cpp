@@ -6,6 +6,7 @@
 
 #include "common/deck_reader.hpp"
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "deck/cavity_sections.hpp"
 #include "solvers/stepping/states_stepper.hpp"
 
@@ -24,7 +25,8 @@ DynamicStatesStepper::DynamicStatesStepper(const Config& config, Problem& proble
       ends_(state_time_steps(config.states, config.time.dt)),
       nsteps_(static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9))),
       integrator_(config, problem) {
-  for (VecHandle* v : {&R_, &Mv_, &f_loads_, &f_loads_new_, &u_old_, &scratch_, &g_})
+  for (VecHandle* v :
+       {&R_, &Mv_, &f_loads_, &f_loads_new_, &f_loads_start_, &u_old_, &u_start_, &scratch_, &g_})
     *v = VecHandle(problem.create_vector());
   const int m = constraints.size();
   work_.assign(m, 0.0);
@@ -48,10 +50,10 @@ std::optional<StepReport> DynamicStatesStepper::initial_output() const {
   return rest;
 }
 
-double DynamicStatesStepper::fraction_at(int n) const {
+double DynamicStatesStepper::fraction_at(double n) const {
   const int64_t end = ends_[k_], begin = k_ == 0 ? 0 : ends_[k_ - 1];
-  if (n >= end) return 1.0;  // reached, and held after the last state
-  return static_cast<double>(n - begin) / static_cast<double>(end - begin);
+  if (n >= static_cast<double>(end)) return 1.0;  // reached, and held after the last state
+  return (n - static_cast<double>(begin)) / static_cast<double>(end - begin);
 }
 
 void DynamicStatesStepper::other_loads(Vec u, double s, Vec f) {
@@ -118,29 +120,81 @@ std::optional<StepReport> DynamicStatesStepper::advance(Vec u) {
     plans_[k_].begin(constraints_, config_.deck_path);
   }
   const StatePlan& plan = plans_[k_];
-  const double tau = fraction_at(n);
-  const double s = plan.load_factor(tau);
-  plan.set_targets(constraints_, tau);
-  HS_PETSC(VecCopy(u, u_old_));
-  problem_.apply_dirichlet(u, s);
-  if (constraints_.linearized()) constraints_.freeze_weights(u, s);
-  // The step solves c M (u - u_pred) + f_int(u) - f_ext(u, lambda) = 0 with the constraints'
-  // controls (time_integrator.hpp).
+  // A step whose solve fails is taken again from its start in 2, 4, ... equal sub-steps, the
+  // schedule's values ramped over them, at most time.max_cutbacks halvings.
+  HS_PETSC(VecCopy(u, u_start_));
+  HS_PETSC(VecCopy(f_loads_, f_loads_start_));
+  integrator_.save();
+  const ConstraintSet::Point constraints_start = constraints_.point();
+  const double s_start = s_, work_loads_start = work_loads_;
+  const std::vector<double> work_start = work_, lambda_start = lambda_, measure_start = measure_;
+  for (int halvings = 0;; ++halvings) {
+    const std::string failure = take_substeps(u, n, 1 << halvings);
+    if (failure.empty()) break;
+    if (halvings == config_.time.max_cutbacks) {
+      char where[200];
+      std::snprintf(where, sizeof where, "time %s s, state '%s'", format_number(n * dt).c_str(),
+                    plan.name.c_str());
+      fail_step(problem_, n, where,
+                failure + " after " + std::to_string(halvings) +
+                    " halvings of the time step (time.max_cutbacks)");
+    }
+    ++stats_.cutbacks;
+    HS_PETSC(VecCopy(u_start_, u));
+    HS_PETSC(VecCopy(f_loads_start_, f_loads_));
+    integrator_.restore();
+    constraints_.return_to(constraints_start);
+    s_ = s_start;
+    work_loads_ = work_loads_start;
+    work_ = work_start;
+    lambda_ = lambda_start;
+    measure_ = measure_start;
+  }
+  balance(u);
+  n_ = n;
+  StepReport step;
+  step.index = n;
+  step.time = n * dt;
+  step.load_factor = s_;
+  step.what = "time " + format_number(step.time) + " s, state " + plan.name;
+  step.output = done() || (n % config_.output.every) == 0;
+  if (n == ends_[k_]) {
+    end_state(u, n);
+    step.output = true;  // a state's end is an output step
+  }
+  return step;
+}
+
+std::string DynamicStatesStepper::take_substeps(Vec u, int n, int pieces) {
+  const StatePlan& plan = plans_[k_];
+  const double h = config_.time.dt / pieces;
+  // Each solve: c M (u - u_pred) + f_int(u) - f_ext(u, lambda) = 0 with the constraints'
+  // controls at its end (time_integrator.hpp).
   const TimeIntegrator::Scope inertia(integrator_);
-  integrator_.predict(u_old_);
-  const NewtonResult r = solver_.solve(u, s);
-  stats_.newton_iterations += r.iterations;
-  stats_.linear_iterations += r.linear_iterations;
-  char where[200];
-  std::snprintf(where, sizeof where, "time %s s, state '%s'", format_number(n * dt).c_str(),
-                plan.name.c_str());
-  if (!r.converged)
-    fail_step(problem_, n, where, newton_failure(r) + plan.failure_note(constraints_));
-  ++stats_.steps;
-  s_ = s;
-  integrator_.update(u);
-  // The work of this step, by the trapezoidal rule: the loads' forces over du, the
-  // multipliers over dq. The solver's last residual was at u: the constraints hold its values.
+  for (int k = 1; k <= pieces; ++k) {
+    if (pieces > 1) stop_if_interrupted(problem_.comm());  // up to 2^max_cutbacks solves
+    const double tau = fraction_at(n - 1 + static_cast<double>(k) / pieces);
+    const double s = plan.load_factor(tau);
+    plan.set_targets(constraints_, tau);
+    HS_PETSC(VecCopy(u, u_old_));
+    problem_.apply_dirichlet(u, s);
+    if (constraints_.linearized()) constraints_.freeze_weights(u, s);
+    integrator_.predict(u_old_, h);
+    const NewtonResult r = solver_.solve(u, s);
+    stats_.newton_iterations += r.iterations;
+    stats_.linear_iterations += r.linear_iterations;
+    if (!r.converged) return newton_failure(r) + plan.failure_note(constraints_);
+    ++stats_.steps;
+    s_ = s;
+    integrator_.update(u, h);
+    add_work(u, s);
+  }
+  return "";
+}
+
+void DynamicStatesStepper::add_work(Vec u, double s) {
+  // By the trapezoidal rule: the loads' forces over du, the multipliers over dq. The solver's
+  // last residual was at u: the constraints hold its values. u_old_: the solve's start.
   other_loads(u, s, f_loads_new_);
   HS_PETSC(VecAYPX(u_old_, -1.0, u));  // du
   double fdu_old = 0, fdu_new = 0;
@@ -154,19 +208,6 @@ std::optional<StepReport> DynamicStatesStepper::advance(Vec u) {
     lambda_[c] = lambda;
     measure_[c] = q;
   }
-  balance(u);
-  n_ = n;
-  StepReport step;
-  step.index = n;
-  step.time = n * dt;
-  step.load_factor = s;
-  step.what = "time " + format_number(step.time) + " s, state " + plan.name;
-  step.output = done() || (n % config_.output.every) == 0;
-  if (n == ends_[k_]) {
-    end_state(u, n);
-    step.output = true;  // a state's end is an output step
-  }
-  return step;
 }
 
 void DynamicStatesStepper::add_history(HistorySources& sources) const {

@@ -4,8 +4,9 @@
 // controls, a later state's cavity targets) are reached at the time step of its `time`,
 // ramped linearly from the previous state's, and held after the last state. Every time step
 // is one solve of the bordered Newton (displacements and multipliers) with the inertia term
-// c M (u - u_pred) in the residual and the tangent, from rest: u(0) = the Dirichlet values,
-// v(0) = 0, M a(0) = f_ext - f_int(u(0)) with the schedule's values at t = 0.
+// c M (u - u_pred) in the residual and the tangent (a step whose solve fails is taken again
+// in 2, 4, ... sub-steps, up to time.max_cutbacks halvings), from rest: u(0) = the Dirichlet
+// values, v(0) = 0, M a(0) = f_ext - f_int(u(0)) with the schedule's values at t = 0.
 //
 // The energy balance after every step goes to stats.energy: kinetic + stored - work of the
 // loads - work of the constraints' multipliers. The loads' work is the trapezoidal rule on
@@ -50,9 +51,14 @@ class DynamicStatesStepper : public Stepper {
   void add_summary(nlohmann::json& summary) const override;
 
  private:
-  // The fraction of the current state's ramp at time step n (1 once its time is reached, and
-  // after the last state).
-  double fraction_at(int n) const;
+  // The fraction of the current state's ramp at time step n, a fraction of a step between
+  // (1 once its time is reached, and after the last state).
+  double fraction_at(double n) const;
+  // Step n in `pieces` equal sub-steps from u (updated), the work of each added; "" or why a
+  // solve failed.
+  std::string take_substeps(Vec u, int n, int pieces);
+  // The work of the solve from u_old_ to u at load factor s (the energy balance's).
+  void add_work(Vec u, double s);
   // The initial acceleration and the start of the energy balance.
   void start(Vec u);
   // The loads' nodal forces on u at load factor s less the constraints' lambda g (assembled,
@@ -76,7 +82,7 @@ class DynamicStatesStepper : public Stepper {
   bool started_ = false;
   double s_ = 0;  // the load factor of the last step (of t = 0 before the first)
   TimeIntegrator integrator_;
-  VecHandle R_, Mv_, f_loads_, f_loads_new_, u_old_, scratch_, g_;
+  VecHandle R_, Mv_, f_loads_, f_loads_new_, f_loads_start_, u_old_, u_start_, scratch_, g_;
   // The energy balance: the last step's kinetic and stored energy, the work of the loads and of
   // each constraint so far, and the constraints' multipliers and measures at the last step.
   double kinetic_ = 0, stored_ = 0, work_loads_ = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/deck_reader.hpp"
+#include "common/interrupt.hpp"
 
 namespace hs {
 
@@ -15,7 +16,8 @@ DynamicStepper::DynamicStepper(const Config& config, Problem& problem, Nonlinear
       stats_(stats),
       nsteps_(static_cast<int>(std::ceil(config.time.end_time / config.time.dt - 1e-9))),
       integrator_(config, problem) {
-  for (VecHandle* v : {&R_, &Mv_, &f_ext_, &scratch_}) *v = VecHandle(problem.create_vector());
+  for (VecHandle* v : {&R_, &Mv_, &f_ext_, &scratch_, &u_start_})
+    *v = VecHandle(problem.create_vector());
 }
 
 std::optional<StepReport> DynamicStepper::initial_output() const {
@@ -50,14 +52,22 @@ std::optional<StepReport> DynamicStepper::advance(Vec u) {
   if (!started_) start(u);
   const double dt = config_.time.dt;
   const int n = n_ + 1;
-  const TimeIntegrator::Scope inertia(integrator_);
-  integrator_.predict(u);
-  const NewtonResult r = solver_.solve(u, 1.0);
-  stats_.newton_iterations += r.iterations;
-  stats_.linear_iterations += r.linear_iterations;
-  if (!r.converged) fail_step(problem_, n, "time " + std::to_string(n * dt), newton_failure(r));
-  ++stats_.steps;
-  integrator_.update(u);
+  HS_PETSC(VecCopy(u, u_start_));
+  integrator_.save();
+  // A step whose solve fails is taken again from its start in 2, 4, ... equal sub-steps, at
+  // most time.max_cutbacks halvings: the shorter step's inertia term stiffens the tangent
+  // (c = 1 / (beta h^2)) and its predictor starts nearer the solution.
+  for (int halvings = 0;; ++halvings) {
+    const std::string failure = take_substeps(u, dt, 1 << halvings);
+    if (failure.empty()) break;
+    if (halvings == config_.time.max_cutbacks)
+      fail_step(problem_, n, "time " + format_number(n * dt) + " s",
+                failure + " after " + std::to_string(halvings) +
+                    " halvings of the time step (time.max_cutbacks)");
+    ++stats_.cutbacks;
+    HS_PETSC(VecCopy(u_start_, u));
+    integrator_.restore();
+  }
   stats_.energy.push_back(total_energy(u));
   n_ = n;
   StepReport step;
@@ -66,6 +76,22 @@ std::optional<StepReport> DynamicStepper::advance(Vec u) {
   step.what = "time " + format_number(step.time) + " s";
   step.output = done() || (n % config_.output.every) == 0;
   return step;
+}
+
+std::string DynamicStepper::take_substeps(Vec u, double dt, int pieces) {
+  const double h = dt / pieces;
+  const TimeIntegrator::Scope inertia(integrator_);
+  for (int k = 0; k < pieces; ++k) {
+    if (pieces > 1) stop_if_interrupted(problem_.comm());  // up to 2^max_cutbacks solves
+    integrator_.predict(u, h);
+    const NewtonResult r = solver_.solve(u, 1.0);
+    stats_.newton_iterations += r.iterations;
+    stats_.linear_iterations += r.linear_iterations;
+    if (!r.converged) return newton_failure(r);
+    ++stats_.steps;
+    integrator_.update(u, h);
+  }
+  return "";
 }
 
 nlohmann::json DynamicStepper::position() const {

@@ -1,8 +1,9 @@
 // Implicit dynamics at full load (Newmark, backward Euler): from rest, u(0) = the Dirichlet
 // values, v(0) = 0 and M a(0) = f_ext - f_int(u(0)); one planned step per time step of
-// time.dt up to time.end_time. After each step the total energy (kinetic + stored - work of the
-// external load) goes to stats.energy: Newmark's trapezoidal rule conserves it for linear
-// elasticity under dead loads, backward Euler dissipates it.
+// time.dt up to time.end_time, a step whose solve fails taken again in shorter ones. After each
+// step the total energy (kinetic + stored - work of the external load) goes to stats.energy:
+// Newmark's trapezoidal rule conserves it for linear elasticity under dead loads, backward Euler
+// dissipates it.
 #pragma once
 
 #include "solvers/petsc_handle.hpp"
@@ -33,6 +34,8 @@ class DynamicStepper : public Stepper {
   // The initial acceleration and energy, before the first step of a run from rest.
   void start(Vec u);
   double total_energy(Vec u);
+  // `pieces` equal steps of dt / pieces from u (updated); "" or why a solve failed.
+  std::string take_substeps(Vec u, double dt, int pieces);
 
   const Config& config_;
   Problem& problem_;
@@ -42,7 +45,7 @@ class DynamicStepper : public Stepper {
   int n_ = 0;  // time steps done
   bool started_ = false;
   TimeIntegrator integrator_;
-  VecHandle R_, Mv_, f_ext_, scratch_;
+  VecHandle R_, Mv_, f_ext_, scratch_, u_start_;
 };
 
 }  // namespace hs

@@ -15,7 +15,7 @@ TimeIntegrator::TimeIntegrator(const Config& config, Problem& problem)
     const OptionsScope scope(options.database());
     inertia_.M = MatHandle(problem.create_mass_matrix());
   }
-  for (VecHandle* v : {&v_, &a_, &a_new_, &inertia_.u_pred})
+  for (VecHandle* v : {&v_, &a_, &a_new_, &v_saved_, &a_saved_, &inertia_.u_pred})
     *v = VecHandle(problem.create_vector());  // zeroed: v(0) = 0
 }
 
@@ -38,18 +38,18 @@ void TimeIntegrator::start(Vec R) {
   HS_PETSC(VecScale(a_, -1.0));
 }
 
-void TimeIntegrator::predict(Vec u) {
+void TimeIntegrator::predict(Vec u, double dt) {
   const TimeConfig& time = config_.time;
   const bool newmark = time.integrator == Integrator::newmark;
-  const double dt = time.dt, beta = time.newmark_beta;
+  const double beta = time.newmark_beta;
   HS_PETSC(VecWAXPY(inertia_.u_pred, dt, v_, u));
   if (newmark) HS_PETSC(VecAXPY(inertia_.u_pred, dt * dt * (0.5 - beta), a_));
   inertia_.c = newmark ? 1 / (beta * dt * dt) : 1 / (dt * dt);
 }
 
-void TimeIntegrator::update(Vec u) {
+void TimeIntegrator::update(Vec u, double dt) {
   const TimeConfig& time = config_.time;
-  const double dt = time.dt, gamma = time.newmark_gamma;
+  const double gamma = time.newmark_gamma;
   HS_PETSC(VecWAXPY(a_new_, -1.0, inertia_.u_pred, u));
   HS_PETSC(VecScale(a_new_, inertia_.c));
   if (time.integrator == Integrator::newmark) {
@@ -59,6 +59,16 @@ void TimeIntegrator::update(Vec u) {
     HS_PETSC(VecAXPY(v_, dt, a_new_));
   }
   HS_PETSC(VecCopy(a_new_, a_));
+}
+
+void TimeIntegrator::save() {
+  HS_PETSC(VecCopy(v_, v_saved_));
+  HS_PETSC(VecCopy(a_, a_saved_));
+}
+
+void TimeIntegrator::restore() {
+  HS_PETSC(VecCopy(v_saved_, v_));
+  HS_PETSC(VecCopy(a_saved_, a_));
 }
 
 }  // namespace hs

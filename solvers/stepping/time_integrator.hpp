@@ -20,10 +20,14 @@ class TimeIntegrator {
   // a(0) = -M^-1 R (R the residual f_int - f_ext of the start): CG on the mass matrix, its
   // solver set here (no preset, only the options with its prefix).
   void start(Vec R);
-  // u_pred and c from the configuration u at the step's start.
-  void predict(Vec u);
-  // a and v from the step's solution u.
-  void update(Vec u);
+  // u_pred and c from the configuration u at the start of a step of length dt.
+  void predict(Vec u, double dt);
+  // a and v from the solution u of that step.
+  void update(Vec u, double dt);
+  // v and a kept, and put back: a time step whose solve failed is taken again from its start
+  // in shorter steps (its cutbacks).
+  void save();
+  void restore();
 
   // While it lives, the problem carries the inertia term (the step's solve), and it lets go of
   // it on every way out (a failed step leaves by an exception).
@@ -46,7 +50,7 @@ class TimeIntegrator {
   const Config& config_;
   Problem& problem_;
   InertiaTerm inertia_;
-  VecHandle v_, a_, a_new_;
+  VecHandle v_, a_, a_new_, v_saved_, a_saved_;
 };
 
 }  // namespace hs

@@ -74,8 +74,8 @@ const KeyTable<TimeConfig>& time_keys() {
           "after 8 × `max_cutbacks` failed solves in all, or when its increment would fall below "
           "2^-40 of the step or stop changing the load factor, and a run after 16 converged "
           "solves per planned step (at least 256) (docs/reliability.md, \"Load stepping always "
-          "ends\")")
-          .only(not_dynamic()),
+          "ends\"). A dynamic run takes a time step whose solve fails again in 2, 4, ... equal "
+          "sub-steps, at most 2^`max_cutbacks`"),
       number_key("dt", &TimeConfig::dt, above(0),
                  "time step (s), at most `end_time` and at least `end_time` / 1e7")
           .only(dynamic_only())

@@ -37,12 +37,12 @@ struct Trace {
   }
 };
 
-// Runs kBody + text as deck `name` on comm: MPI_COMM_WORLD, or MPI_COMM_SELF on rank 0 alone
+// Runs body + text as deck `name` on comm: MPI_COMM_WORLD, or MPI_COMM_SELF on rank 0 alone
 // (the others wait).
 inline Trace simulate(const std::string& name, const std::string& text,
-                      MPI_Comm comm = MPI_COMM_WORLD) {
+                      MPI_Comm comm = MPI_COMM_WORLD, const std::string& body = kBody) {
   const std::string folder = (test_folder() / (name + "_out")).string();
-  const std::string path = write_deck(name + ".yaml", kBody + text);
+  const std::string path = write_deck(name + ".yaml", body + text);
   nlohmann::json result;
   if (comm == MPI_COMM_WORLD || world_rank() == 0) {
     const nlohmann::json summary = hs::run_simulation(
