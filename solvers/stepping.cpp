@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -15,6 +16,12 @@ std::vector<double> load_schedule(const TimeConfig& time) {
   std::vector<double> s(time.steps);
   for (int k = 0; k < time.steps; ++k) s[k] = static_cast<double>(k + 1) / time.steps;
   return s;
+}
+
+std::string format_time(double seconds) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.12g", seconds);
+  return buffer;
 }
 
 std::string newton_failure(const NewtonResult& r) {

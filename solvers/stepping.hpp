@@ -60,6 +60,10 @@ void advance_with_cutback(
 // "Newton did not converge (REASON, residual R after N iterations)".
 std::string newton_failure(const NewtonResult& r);
 
+// A time step's time for people (progress lines, errors): 12 significant digits, so that
+// step 3 of 0.1 s reads 0.3 s, not n dt's 0.30000000000000004.
+std::string format_time(double seconds);
+
 // Throws SolveError "step STEP (WHERE): WHY", naming the inverted element if there is one.
 [[noreturn]] void fail_step(const Problem& problem, int step, const std::string& where,
                             const std::string& why);

@@ -133,7 +133,7 @@ std::optional<StepReport> DynamicStatesStepper::advance(Vec u) {
     if (failure.empty()) break;
     if (halvings == config_.time.max_cutbacks) {
       char where[200];
-      std::snprintf(where, sizeof where, "time %s s, state '%s'", format_number(n * dt).c_str(),
+      std::snprintf(where, sizeof where, "time %s s, state '%s'", format_time(n * dt).c_str(),
                     plan.name.c_str());
       fail_step(problem_, n, where,
                 failure + " after " + std::to_string(halvings) +
@@ -156,7 +156,7 @@ std::optional<StepReport> DynamicStatesStepper::advance(Vec u) {
   step.index = n;
   step.time = n * dt;
   step.load_factor = s_;
-  step.what = "time " + format_number(step.time) + " s, state " + plan.name;
+  step.what = "time " + format_time(step.time) + " s, state " + plan.name;
   step.output = done() || (n % config_.output.every) == 0;
   if (n == ends_[k_]) {
     end_state(u, n);

@@ -61,7 +61,7 @@ std::optional<StepReport> DynamicStepper::advance(Vec u) {
     const std::string failure = take_substeps(u, dt, 1 << halvings);
     if (failure.empty()) break;
     if (halvings == config_.time.max_cutbacks)
-      fail_step(problem_, n, "time " + format_number(n * dt) + " s",
+      fail_step(problem_, n, "time " + format_time(n * dt) + " s",
                 failure + " after " + std::to_string(halvings) +
                     " halvings of the time step (time.max_cutbacks)");
     ++stats_.cutbacks;
@@ -73,7 +73,7 @@ std::optional<StepReport> DynamicStepper::advance(Vec u) {
   StepReport step;
   step.index = n;
   step.time = n * dt;
-  step.what = "time " + format_number(step.time) + " s";
+  step.what = "time " + format_time(step.time) + " s";
   step.output = done() || (n % config_.output.every) == 0;
   return step;
 }
