@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "common/error.hpp"
 #include "solvers/multi_solve.hpp"
@@ -148,11 +149,19 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // kept one, else with the free configuration converged by Newton (a step from a state far
   // from equilibrium can overshoot even with a fresh tangent). The failed attempt's time
   // counts in the step's total.
-  if (one_step && !problem_.orientation_preserved(u)) {
+  // So is one that had to be shortened at an obstacle, with the free configuration converged:
+  // the barrier's stiffness grows without bound there, and from a state away from
+  // equilibrium the shortened step's answers lay up to 2 mm from the equilibrium at their
+  // pressure on the finger pressing a ball (docs/contact.md).
+  if (one_step && (shortened_at_obstacle_ || !problem_.orientation_preserved(u))) {
     HS_PETSC(VecCopy(step_start_, u));
     constraints_.set_multipliers(step_start_pressures_);
-    (fresh ? retake_converged_ : force_refactor_) = true;
+    (fresh || shortened_at_obstacle_ ? retake_converged_ : force_refactor_) = true;
+    const std::string why = shortened_at_obstacle_ ? report.fallback : "";
     ControlStepReport again = step(u, targets);
+    if (!why.empty())
+      again.fallback = why + "; taken again with the free configuration converged by Newton" +
+                       (again.fallback.empty() ? "" : "; " + again.fallback);
     again.total_ms += 1e3 * max_over_ranks(MPI_Wtime() - clock.start, problem_.comm());
     return again;
   }
@@ -192,11 +201,9 @@ double InverseController::start_residual(Vec u, bool one_step, std::vector<doubl
     stale_failed = true;
   }
   if (!ok) throw SolveError("control step: an element is inverted at the free configuration");
-  if (one_step) {
-    if (!step_start_) HS_PETSC(VecDuplicate(u, step_start_.out()));
-    HS_PETSC(VecCopy(u, step_start_));
-    step_start_pressures_ = constraints_.multipliers();
-  }
+  if (!step_start_) HS_PETSC(VecDuplicate(u, step_start_.out()));
+  HS_PETSC(VecCopy(u, step_start_));
+  step_start_pressures_ = constraints_.multipliers();
   return r_norm;
 }
 
@@ -289,6 +296,7 @@ void InverseController::correct(Vec u, const Eigen::VectorXd& dl, ControlStepRep
   for (int c = 0; c < m; ++c) lambda[c] += dlambda(c);
   constraints_.set_multipliers(lambda);
   for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+  keep_outside_obstacles(u, report);
   if (config_.control->newton_finish) {
     problem_.apply_dirichlet(u, 1.0);
     const NewtonResult r = newton_.solve(u, 1.0);
@@ -299,6 +307,27 @@ void InverseController::correct(Vec u, const Eigen::VectorXd& dl, ControlStepRep
   } else {
     for (int c = 0; c < m; ++c) constraints_[c].update_measure(u);
   }
+}
+
+void InverseController::keep_outside_obstacles(Vec u, ControlStepReport& report) {
+  shortened_at_obstacle_ = false;
+  if (!problem_.contact()) return;
+  if (!contact_move_) HS_PETSC(VecDuplicate(u, contact_move_.out()));
+  HS_PETSC(VecWAXPY(contact_move_, -1.0, step_start_, u));
+  const double alpha = problem_.contact_step_limit(step_start_, contact_move_, 1.0);
+  if (!(alpha < 1)) return;
+  HS_PETSC(VecWAXPY(u, alpha, contact_move_, step_start_));
+  std::vector<double> lambda = constraints_.multipliers();
+  for (size_t c = 0; c < lambda.size(); ++c)
+    lambda[c] = step_start_pressures_[c] + alpha * (lambda[c] - step_start_pressures_[c]);
+  constraints_.set_multipliers(lambda);
+  for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+  shortened_at_obstacle_ = true;
+  char note[160];
+  std::snprintf(note, sizeof note,
+                "the step was shortened to %.3g of its length: it carried a node into an obstacle",
+                alpha);
+  report.fallback += (report.fallback.empty() ? "" : "; ") + std::string(note);
 }
 
 void InverseController::finish_report(Vec u, const std::vector<ControlTarget>& targets,

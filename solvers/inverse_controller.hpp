@@ -155,6 +155,12 @@ class InverseController {
                                   const Eigen::MatrixXd& growth, ControlStepReport& report);
   // Step 4: u and the multipliers corrected by dl (and Newton at the new actuation).
   void correct(Vec u, const Eigen::VectorXd& dl, ControlStepReport& report);
+  // A linearised step (the free step and the correction) can carry a contact node into an
+  // obstacle, where the barrier is infinite and no later residual can be evaluated: such a
+  // step is shortened as Newton's are (Problem::contact_step_limit: a tenth of each gap kept),
+  // the displacements and the multipliers together, from where it linearised, and the answer
+  // says so in `fallback`.
+  void keep_outside_obstacles(Vec u, ControlStepReport& report);
   void finish_report(Vec u, const std::vector<ControlTarget>& targets, const StepClock& clock,
                      ControlStepReport& report);
   // Solves the step's right-hand sides with ksp (adding its iterations to *iterations) and
@@ -175,6 +181,7 @@ class InverseController {
   VecArray response_;  // per actuator
   ConstraintLinearization lin_;
   VecHandle R_, free_step_;  // residual, the free step
+  VecHandle contact_move_;   // a step's move from its start (keep_outside_obstacles)
   // The elimination and the responses of the last factorization (kept for
   // control.refactor_every steps).
   BorderedSystem system_;
@@ -188,9 +195,10 @@ class InverseController {
   // The last one_step correction inverted an element: take the step again with a fresh
   // factorization, or (if it had one) with the free configuration converged.
   bool force_refactor_ = false, retake_converged_ = false;
+  bool shortened_at_obstacle_ = false;  // by the last keep_outside_obstacles
   int steps_since_factorization_ = 0;
   double residual_at_factorization_ = 0;  // |R| at the start of that step
-  VecHandle step_start_;                  // one_step: u and pressures at the last step's start
+  VecHandle step_start_;  // u and pressures where the last step linearised (its start)
   std::vector<double> step_start_pressures_;
   VecHandle last_free_;  // the last free equilibrium and its pressures
   std::vector<double> last_pressures_;

@@ -45,13 +45,18 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     system_.solve_residual(step_ksp_, R_);
     const std::vector<double> x0 = effectors_.positions(u);
     const std::vector<double> at_answer = constraints_.multipliers();
+    HS_PETSC(VecCopy(u, before));
     take_free_step(u, controls);
-    if (!problem_.orientation_preserved(u)) {  // the answer stays the correction before it
-      HS_PETSC(VecAXPY(u, -1.0, free_step_));
+    const bool inverted = !problem_.orientation_preserved(u);
+    // A free step into an obstacle (where the barrier is infinite) is not taken either.
+    const bool enters = !inverted && problem_.contact_step_limit(before, free_step_, 1.0) < 1;
+    if (inverted || enters) {  // the answer stays the correction before it
+      HS_PETSC(VecCopy(before, u));
       constraints_.set_multipliers(at_answer);
       for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
-      report.fallback += std::string(report.fallback.empty() ? "" : "; ") +
-                         "the free step after the correction inverted an element: not taken";
+      report.fallback +=
+          std::string(report.fallback.empty() ? "" : "; ") + "the free step after the correction " +
+          (inverted ? "inverted an element" : "carried a node into an obstacle") + ": not taken";
       break;
     }
     for (int c = 0; c < constraints_.size(); ++c) constraints_[c].update_measure(u);
@@ -100,6 +105,18 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     compliance_rows(u, targets, W, delta, growth);
     const Eigen::VectorXd dl = solve_actuation(W, delta, growth, report);
     correct(u, dl, report);
+    if (shortened_at_obstacle_) {  // linearisations no longer serve: Newton at the pressures
+      for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+      const NewtonResult r = solve_free(u, report);
+      if (!r.converged)
+        throw SolveError(
+            "control step: no equilibrium at the actuation after a step shortened "
+            "at an obstacle (" +
+            r.reason + ")");
+      report.fallback += "; the answer is the equilibrium at its actuation, converged by Newton";
+      report.free_step_m = 0;
+      break;
+    }
     if (!problem_.orientation_preserved(u)) {
       HS_PETSC(VecCopy(before, u));
       constraints_.set_multipliers(pressures);
