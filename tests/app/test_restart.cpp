@@ -245,7 +245,13 @@ TEST(RestartRefused, ATamperedCheckpointNamesTheFieldBeforeAnyWork) {
        {"constraint", [](auto& s) { s["position"]["constraints"][0]["name"] = "other"; },
         "position.constraints[0].name: is 'other', this deck's is 'cavity'"},
        {"ramps", [](auto& s) { s["position"]["stepper"].erase("ramps"); },
-        "position.stepper.ramps: missing"}});
+        "position.stepper.ramps: missing"},
+       {"rest change",
+        [](auto& s) {
+          s["position"]["stepper"]["rest_change"] = nlohmann::json{1e-6, 2e-6, 3e-6};
+        },
+        "position.stepper.rest_change: must have 1 entries (this deck's cavities and cables), "
+        "has 3"}});
   const std::string dynamic = (tmp.path() / "dynamic").string();
   Case shorter = kDynamic;
   shorter.args += " --set time.end_time=1.0";
