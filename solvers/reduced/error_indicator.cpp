@@ -8,20 +8,6 @@
 #include "solvers/petsc_check.hpp"
 
 namespace hs {
-namespace {
-
-Eigen::VectorXd dof_values(Vec v) {
-  PetscInt n = 0;
-  HS_PETSC(VecGetLocalSize(v, &n));
-  const PetscScalar* a = nullptr;
-  HS_PETSC(VecGetArrayRead(v, &a));
-  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(a, n);
-  HS_PETSC(VecRestoreArrayRead(v, &a));
-  return x;
-}
-
-}  // namespace
-
 ResidualErrorIndicator::ResidualErrorIndicator(Problem& problem, ConstraintSet& constraints,
                                                const ReducedSystem& system,
                                                const std::vector<int>& actuators,
@@ -54,7 +40,7 @@ ResidualErrorIndicator::ResidualErrorIndicator(Problem& problem, ConstraintSet& 
       throw SolveError("reduced model: the full tangent at training sample " +
                        std::to_string(s + 1) + " cannot be evaluated (the error indicator)");
     HS_PETSC(KSPSetOperators(ksp, J, J));
-    Eigen::MatrixXd influence(dof_values(u).size(), static_cast<Eigen::Index>(rows.size()));
+    Eigen::MatrixXd influence(system.dofs(), static_cast<Eigen::Index>(rows.size()));
     for (size_t r = 0; r < rows.size(); ++r) {
       HS_PETSC(KSPSolveTranspose(ksp, rows[r], z));
       KSPConvergedReason reason;
@@ -62,7 +48,7 @@ ResidualErrorIndicator::ResidualErrorIndicator(Problem& problem, ConstraintSet& 
       if (reason < 0)
         throw SolveError("reduced model: the full tangent at training sample " +
                          std::to_string(s + 1) + " cannot be factored (the error indicator)");
-      influence.col(static_cast<Eigen::Index>(r)) = dof_values(z);
+      influence.col(static_cast<Eigen::Index>(r)) = local_values(z);
     }
     influence_.push_back(std::move(influence));
   }
@@ -76,7 +62,7 @@ bool ResidualErrorIndicator::estimate(Vec u, const Eigen::VectorXd& lambda, Eige
   const bool ok = constraints_.residual(u, 1.0, residual_, controls);
   constraints_.return_to(kept);
   if (!ok) return false;
-  dx = -influence_[system_.nearest_training_sample(lambda)].transpose() * dof_values(residual_);
+  dx = -influence_[system_.nearest_training_sample(lambda)].transpose() * local_values(residual_);
   return true;
 }
 

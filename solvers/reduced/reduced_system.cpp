@@ -27,6 +27,16 @@ void add_support(Vec v, std::set<PetscInt>& dofs) {
 
 }  // namespace
 
+Eigen::VectorXd local_values(Vec v) {
+  PetscInt n = 0;
+  HS_PETSC(VecGetLocalSize(v, &n));
+  const PetscScalar* a = nullptr;
+  HS_PETSC(VecGetArrayRead(v, &a));
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(a, n);
+  HS_PETSC(VecRestoreArrayRead(v, &a));
+  return x;
+}
+
 ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintSet& constraints,
                              const ReducedModel& model, const std::string& path,
                              const std::vector<Vec>& rows)

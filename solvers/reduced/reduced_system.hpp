@@ -38,6 +38,9 @@ struct ReducedLinearization {
   double scale = 1;   // the forces r balances (N)
 };
 
+// A vector's local values (one rank: every dof), copied.
+Eigen::VectorXd local_values(Vec v);
+
 class ReducedSystem {
  public:
   // Throws InputError naming `path` when the model does not belong to the run: another mesh
@@ -49,6 +52,7 @@ class ReducedSystem {
                 const ReducedModel& model, const std::string& path, const std::vector<Vec>& rows);
 
   int size() const { return static_cast<int>(phi_.cols()); }
+  Eigen::Index dofs() const { return phi_.rows(); }  // the full model's (local: all)
   int sampled_dofs() const { return static_cast<int>(sample_.size()); }
   // q = Phi^T u (Phi's columns are orthonormal).
   Eigen::VectorXd project(Vec u) const;

@@ -14,20 +14,6 @@
 #include "solvers/reduced/reduced_system.hpp"
 
 namespace hs {
-namespace {
-
-Eigen::VectorXd values_of(Vec u) {
-  PetscInt n = 0;
-  HS_PETSC(VecGetLocalSize(u, &n));
-  const PetscScalar* a = nullptr;
-  HS_PETSC(VecGetArrayRead(u, &a));
-  Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(a, n);
-  HS_PETSC(VecRestoreArrayRead(u, &a));
-  return v;
-}
-
-}  // namespace
-
 TrainingStepper::TrainingStepper(const Config& config, Problem& problem, ConstraintSet& constraints,
                                  BorderedNewton& newton, SteppingStats& stats,
                                  const ResultRecorder& recorder)
@@ -106,7 +92,7 @@ std::optional<StepReport> TrainingStepper::advance(Vec u) {
     t_start_ = MPI_Wtime();
     plan();
     controller_.set_rest(u);
-    snapshots_.push_back(values_of(u));
+    snapshots_.push_back(local_values(u));
     positions_.push_back(effectors_.positions(u));
     started_ = true;
   }
@@ -121,7 +107,7 @@ std::optional<StepReport> TrainingStepper::advance(Vec u) {
   if (r.limit_point)
     throw SolveError("hydrosoft reduce: no equilibrium at sample " + std::to_string(next_ + 1) +
                      " (a limit point of the pressure): narrow the actuators' ranges");
-  snapshots_.push_back(values_of(u));
+  snapshots_.push_back(local_values(u));
   positions_.push_back(effectors_.positions(u));
   ++next_;
   StepReport step;
@@ -216,7 +202,8 @@ void TrainingStepper::build() {
     const Eigen::VectorXd full = snapshots_[h];
     max_error = std::max(max_error, error);
     sum_error += error;
-    max_field = std::max(max_field, (values_of(x) - full).norm() / std::max(full.norm(), 1e-300));
+    max_field =
+        std::max(max_field, (local_values(x) - full).norm() / std::max(full.norm(), 1e-300));
   }
   constraints_.restore(saved);
   // An unsolved sample leaves the error near it unknown: no error is stated then (every

@@ -63,6 +63,30 @@ std::array<double, 3> obstacle_force(const Json& summary, int o) {
   return {f[0].get<double>(), f[1].get<double>(), f[2].get<double>()};
 }
 
+// The finger of input/finger_press.yaml (E 200 kPa, nu 0.45) above a ball of radius 10 mm at
+// height ball_z, its tip height steered by its pressure (0-30 kPa, at most max_change a step);
+// `control` adds the control section's targets and modes.
+std::string finger_on_ball_deck(double ball_z, double max_change, const std::string& control) {
+  return "mesh:\n  file: " + kSource +
+         "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004, ez: 0.003}\n"
+         "materials:\n"
+         "  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}\n"
+         "boundary:\n  - {group: base}\n"
+         "loads: {gravity: [0, 0, -9.81]}\n"
+         "cavities:\n  - {group: cavity, kind: pneumatic}\n"
+         "obstacles:\n"
+         "  - {name: ball, type: sphere, center: [0.07, 0, " +
+         std::to_string(ball_z) +
+         "], radius: 0.01}\n"
+         "contact: {surfaces: [outer, tip]}\n"
+         "states:\n  - {name: rest, steps: 4}\n"
+         "control:\n"
+         "  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
+         "  actuators:\n"
+         "    - {cavity: cavity, min_pressure: 0, max_pressure: 30000, max_pressure_change: " +
+         std::to_string(max_change) + "}\n" + control;
+}
+
 std::string block_deck(const std::string& rest) {
   return "mesh:\n  file: " + kSource +
          "/meshes/block.geo\n  order: 1\n  parameters: {H: 0.1, h: 0.03}\n" + rest;
@@ -304,26 +328,11 @@ TEST(ObstacleContact, TheControllerSteersAFingerThatTouchesABall) {
   // controller's compliance includes the barrier. A target above the ball is reached; one
   // below the ball's top cannot be, and the pressure saturates at its bound with the finger
   // held on the ball.
-  const std::string deck = write_deck(
-      "control.yaml",
-      "mesh:\n  file: " + kSource +
-          "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004, ez: 0.003}\n"
-          "materials:\n"
-          "  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}\n"
-          "boundary:\n  - {group: base}\n"
-          "loads: {gravity: [0, 0, -9.81]}\n"
-          "cavities:\n  - {group: cavity, kind: pneumatic}\n"
-          "obstacles:\n"
-          "  - {name: ball, type: sphere, center: [0.07, 0, -0.0185], radius: 0.01}\n"
-          "contact: {surfaces: [outer, tip]}\n"
-          "states:\n  - {name: rest, steps: 4}\n"
-          "control:\n"
-          "  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
-          "  actuators:\n"
-          "    - {cavity: cavity, min_pressure: 0, max_pressure: 30000, "
-          "max_pressure_change: 5000}\n"
-          "  targets:\n    - {tip: [0.09, 0.0, -0.002]}\n    - {tip: [0.09, 0.0, -0.004]}\n"
-          "  steps_per_target: 5\n");
+  const std::string deck =
+      write_deck("control.yaml",
+                 finger_on_ball_deck(-0.0185, 5000,
+                                     "  targets:\n    - {tip: [0.09, 0.0, -0.002]}\n"
+                                     "    - {tip: [0.09, 0.0, -0.004]}\n  steps_per_target: 5\n"));
   const Json s = run(deck, "control");
   const auto& targets = s["targets"];
   ASSERT_EQ(targets.size(), 2u);
@@ -356,25 +365,10 @@ TEST(ObstacleContact, TheRealTimeModeAnswersEveryTargetAsTheFingerPressesTheBall
   for (double z : {-0.002, -0.0045, -0.0015, -0.006, -0.002, -0.005, -0.004, -0.0055})
     targets += "    - {tip: [0.09, 0.0, " + std::to_string(z) + "]}\n";
   const std::string deck = write_deck(
-      "realtime.yaml",
-      "mesh:\n  file: " + kSource +
-          "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004, ez: 0.003}\n"
-          "materials:\n"
-          "  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}\n"
-          "boundary:\n  - {group: base}\n"
-          "loads: {gravity: [0, 0, -9.81]}\n"
-          "cavities:\n  - {group: cavity, kind: pneumatic}\n"
-          "obstacles:\n"
-          "  - {name: ball, type: sphere, center: [0.07, 0, -0.0205], radius: 0.01}\n"
-          "contact: {surfaces: [outer, tip]}\n"
-          "states:\n  - {name: rest, steps: 4}\n"
-          "control:\n"
-          "  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
-          "  actuators:\n"
-          "    - {cavity: cavity, min_pressure: 0, max_pressure: 30000, "
-          "max_pressure_change: 10000}\n"
-          "  targets:\n" +
-          targets + "  steps_per_target: 1\n  free_solve: one_step\n  check_equilibrium: true\n");
+      "realtime.yaml", finger_on_ball_deck(-0.0205, 10000,
+                                           "  targets:\n" + targets +
+                                               "  steps_per_target: 1\n  free_solve: one_step\n"
+                                               "  check_equilibrium: true\n"));
   const Json s = run(deck, "realtime");
   const auto& answers = s["targets"];
   ASSERT_EQ(answers.size(), 8u);
