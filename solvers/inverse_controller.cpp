@@ -86,25 +86,11 @@ bool InverseController::factor_responses(KSP ksp, int* iterations) {
 
 ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget>& targets) {
   ControlStepReport report;
-  const auto& timers = problem_.timers();
   StepClock clock;
-  clock.start = MPI_Wtime();
-  clock.assembly0 = timers.residual_s + timers.jacobian_s;
-  clock.fluid0 = constraints_.fluid_weight_seconds();
-
   // Step 1: the free configuration at the current actuation, converged by Newton; in the
   // one_step mode it is the first Newton step of step 2's linearisation instead.
   const bool one_step = config_.control->free_solve == FreeSolve::one_step && !retake_converged_;
-  for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
-  if (!one_step) {
-    const NewtonResult free = solve_free(u, report);
-    if (!free.converged)
-      throw SolveError("control step: the free configuration did not converge (" + free.reason +
-                       ", residual " + std::to_string(free.residual_norm) + ")");
-  }
-  clock.free = MPI_Wtime();
-  clock.free_overhead = timers.residual_s + timers.jacobian_s - clock.assembly0 +
-                        constraints_.fluid_weight_seconds() - clock.fluid0;
+  converge_free(u, one_step, report, clock);
 
   // Step 2: one linearisation, one factorization, and the response to each actuator; the
   // free step from there.
@@ -118,15 +104,11 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   // The step is taken again with the free configuration converged by Newton (which walks the
   // pressures and stops at a limit point), and the answer says so.
   if (one_step && report.negative_pivots > 0) {
-    const int negative = report.negative_pivots;
     retake_converged_ = true;
-    ControlStepReport again = step(u, targets);
-    again.fallback = "the tangent had " + std::to_string(negative) +
-                     " negative pivots (not positive definite): the free configuration was "
-                     "converged by Newton" +
-                     (again.fallback.empty() ? std::string() : "; " + again.fallback);
-    again.total_ms += 1e3 * max_over_ranks(MPI_Wtime() - clock.start, problem_.comm());
-    return again;
+    return retake(u, targets, clock.start,
+                  "the tangent had " + std::to_string(report.negative_pivots) +
+                      " negative pivots (not positive definite): the free configuration was "
+                      "converged by Newton");
   }
   if (!one_step && report.negative_pivots > 0)
     report.fallback = "the tangent at the free equilibrium has " +
@@ -157,13 +139,11 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     HS_PETSC(VecCopy(step_start_, u));
     constraints_.set_multipliers(step_start_pressures_);
     (fresh || shortened_at_obstacle_ ? retake_converged_ : force_refactor_) = true;
-    const std::string why = shortened_at_obstacle_ ? report.fallback : "";
-    ControlStepReport again = step(u, targets);
-    if (!why.empty())
-      again.fallback = why + "; taken again with the free configuration converged by Newton" +
-                       (again.fallback.empty() ? "" : "; " + again.fallback);
-    again.total_ms += 1e3 * max_over_ranks(MPI_Wtime() - clock.start, problem_.comm());
-    return again;
+    return retake(u, targets, clock.start,
+                  shortened_at_obstacle_
+                      ? report.fallback +
+                            "; taken again with the free configuration converged by Newton"
+                      : "");
   }
   force_refactor_ = retake_converged_ = false;
   // Refined when every step factors (a kept factorization is for speed, and its chord step
@@ -173,6 +153,34 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     refine(u, targets, report);
   finish_report(u, targets, clock, report);
   return report;
+}
+
+void InverseController::converge_free(Vec u, bool one_step, ControlStepReport& report,
+                                      StepClock& clock) {
+  const auto& timers = problem_.timers();
+  clock.start = MPI_Wtime();
+  clock.assembly0 = timers.residual_s + timers.jacobian_s;
+  clock.fluid0 = constraints_.fluid_weight_seconds();
+  for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+  if (!one_step) {
+    const NewtonResult free = solve_free(u, report);
+    if (!free.converged)
+      throw SolveError("control step: the free configuration did not converge (" + free.reason +
+                       ", residual " + std::to_string(free.residual_norm) + ")");
+  }
+  clock.free = MPI_Wtime();
+  clock.free_overhead = timers.residual_s + timers.jacobian_s - clock.assembly0 +
+                        constraints_.fluid_weight_seconds() - clock.fluid0;
+}
+
+// The step taken again from u (the caller has set how); `why`, where not empty, leads the
+// answer's fallback, and the failed attempt's time counts in its total.
+ControlStepReport InverseController::retake(Vec u, const std::vector<ControlTarget>& targets,
+                                            double started, const std::string& why) {
+  ControlStepReport again = step(u, targets);
+  if (!why.empty()) again.fallback = why + (again.fallback.empty() ? "" : "; " + again.fallback);
+  again.total_ms += 1e3 * max_over_ranks(MPI_Wtime() - started, problem_.comm());
+  return again;
 }
 
 // With control.refactor_every N > 1 (one_step only) the tangent, its factorization and the

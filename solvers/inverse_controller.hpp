@@ -131,6 +131,11 @@ class InverseController {
   };
 
   NewtonResult solve_free(Vec u, ControlStepReport& report);
+  // Step 1 (the clock started): the actuators' multipliers held, and the free configuration
+  // converged unless the step is one_step's.
+  void converge_free(Vec u, bool one_step, ControlStepReport& report, StepClock& clock);
+  ControlStepReport retake(Vec u, const std::vector<ControlTarget>& targets, double started,
+                           const std::string& why);
   // The residual R_ (and the controls) at the start of step 2, gone back to the last step's
   // start when a correction with a kept factorization overshot (stale_failed); its norm.
   double start_residual(Vec u, bool one_step, std::vector<double>& controls, bool& stale_failed);

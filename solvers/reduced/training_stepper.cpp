@@ -155,8 +155,20 @@ void TrainingStepper::build() {
     model.training_states.row(i - 1) = (phi.transpose() * snapshots_[train[i]]).transpose();
   }
 
-  // The held-back samples: the reduced equilibrium at each, from its nearest training
-  // neighbour's projection, against the full model's.
+  check_held_back(check, model);
+  model.report["samples"] = samples_.size();
+  model.report["training_samples"] = train.size() - 1;
+  model.report["snapshot_seconds"] = t_snapshots;
+  model.report["seconds"] = MPI_Wtime() - t_start_;
+  write_reduced_model(config_.training->output, model);
+  report_ = model.report;
+  report_["file"] = config_.training->output;
+  built_ = true;
+}
+
+// The held-back samples: the reduced equilibrium at each, from its nearest training
+// neighbour's projection, against the full model's; the errors go to model.report.
+void TrainingStepper::check_held_back(const std::vector<int>& check, ReducedModel& model) {
   const double t_check = MPI_Wtime();
   const std::vector<Constraint::State> saved = constraints_.snapshot();
   std::vector<Vec> rows;
@@ -228,14 +240,6 @@ void TrainingStepper::build() {
               << " of its " << check.size() << " held-back samples (actuations " << unsolved.dump()
               << "), so it states no error: train with more --samples, or narrow the actuators' "
                  "ranges away from there\n";
-  model.report["samples"] = samples_.size();
-  model.report["training_samples"] = train.size() - 1;
-  model.report["snapshot_seconds"] = t_snapshots;
-  model.report["seconds"] = MPI_Wtime() - t_start_;
-  write_reduced_model(config_.training->output, model);
-  report_ = model.report;
-  report_["file"] = config_.training->output;
-  built_ = true;
 }
 
 void TrainingStepper::add_summary(nlohmann::json& summary) const {

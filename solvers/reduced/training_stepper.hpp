@@ -15,6 +15,8 @@
 
 namespace hs {
 
+struct ReducedModel;
+
 class TrainingStepper : public Stepper {
  public:
   // Collective. Throws InputError naming the deck when it cannot be reduced.
@@ -37,6 +39,7 @@ class TrainingStepper : public Stepper {
  private:
   // The model from the snapshots, its check on the held-back samples, the file.
   void build();
+  void check_held_back(const std::vector<int>& check, ReducedModel& model);
 
   const Config& config_;
   Problem& problem_;
