@@ -139,11 +139,11 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
     HS_PETSC(VecCopy(step_start_, u));
     constraints_.set_multipliers(step_start_pressures_);
     (fresh || shortened_at_obstacle_ ? retake_converged_ : force_refactor_) = true;
-    return retake(u, targets, clock.start,
-                  shortened_at_obstacle_
-                      ? report.fallback +
-                            "; taken again with the free configuration converged by Newton"
-                      : "");
+    return retake(
+        u, targets, clock.start,
+        shortened_at_obstacle_
+            ? report.fallback + "; taken again with the free configuration converged by Newton"
+            : "");
   }
   force_refactor_ = retake_converged_ = false;
   // Refined when every step factors (a kept factorization is for speed, and its chord step

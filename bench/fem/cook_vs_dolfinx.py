@@ -72,28 +72,8 @@ from dolfinx import fem, mesh
 from dolfinx.fem.petsc import LinearProblem
 from dolfinx.io import gmshio
 E, NU, TRACTION, T = %(E)r, %(NU)r, %(TRACTION)r, %(T)r
-def read_msh(path):
-    """Nodes and 4-node tetrahedra of a gmsh 4.1 ASCII file (what hydrosoft reads)."""
-    lines = iter(open(path).read().split("\n"))
-    tags, x, tets = [], [], []
-    for line in lines:
-        if line == "$Nodes":
-            blocks = int(next(lines).split()[0])
-            for _ in range(blocks):
-                n = int(next(lines).split()[3])
-                tags += [int(next(lines)) for _ in range(n)]
-                x += [[float(c) for c in next(lines).split()] for _ in range(n)]
-        elif line == "$Elements":
-            blocks = int(next(lines).split()[0])
-            for _ in range(blocks):
-                _, _, kind, n = (int(c) for c in next(lines).split())
-                rows = [[int(c) for c in next(lines).split()[1:]] for _ in range(n)]
-                if kind == 4:
-                    tets += rows
-    index = {t: i for i, t in enumerate(tags)}
-    return np.array([[index[t] for t in tet] for tet in tets], dtype=np.int64), np.array(x)
-
-
+sys.path.insert(0, %(bench)r)
+from msh_reader import read_msh
 cells, points = read_msh(sys.argv[1])
 domain = mesh.create_mesh(MPI.COMM_WORLD, cells, points,
                           ufl.Mesh(ufl.VectorElement("Lagrange", ufl.tetrahedron, 1)))
@@ -128,7 +108,8 @@ at = np.where(np.isclose(x[:, 0], 48.0) & np.isclose(x[:, 1], 60.0))[0]
 uy = float(np.mean(uh.x.array.reshape(-1, 3)[at, 1]))
 print(json.dumps({"unknowns": W.dofmap.index_map.size_global * W.dofmap.index_map_bs, "uy": uy,
                   "solve_s": solve_s, "wall_s": time.perf_counter() - start}))
-''' % {"E": E, "NU": NU, "TRACTION": TRACTION, "T": T}
+''' % {"E": E, "NU": NU, "TRACTION": TRACTION, "T": T,
+     "bench": os.path.dirname(os.path.abspath(__file__))}
 
 
 def run_dolfinx(msh, folder):
