@@ -53,6 +53,14 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     element_laws_.push_back(nodal ? std::make_shared<WithoutVolumetricTerm>(m.law) : m.law);
     any_nodal |= nodal;
   }
+  bool any_fbar_term = false;
+  for (const auto& m : materials_) {
+    const bool split = m.element == ElementFormulation::fbar && !m.law->small_strain() &&
+                       m.law->has_volumetric_term();
+    fbar_rest_laws_.push_back(split ? std::make_shared<WithoutVolumetricTerm>(m.law) : nullptr);
+    any_fbar_term |= split;
+  }
+  if (any_fbar_term) fbar_linearization_.resize(nt);
   if (any_nodal) {          // every rank: the materials are the deck's
     int small_strain = -1;  // of the nodal-pressure materials: one kind of volume change
     for (const auto& m : materials_) {
@@ -126,6 +134,36 @@ ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r
   if (m.element == ElementFormulation::fbar)
     return tet_internal_force_fbar(dist_.order, X, ue, law, r, K);
   return tet_internal_force(dist_.order, X, ue, law, r, K);
+}
+
+ElementOutput Problem::element_tangent(int64_t e, const PetscScalar* ua, double* r, double* K) {
+  const WithoutVolumetricTerm* rest =
+      fbar_linearization_.empty() ? nullptr : fbar_rest_laws_[dist_.tet_volume[e]].get();
+  if (!rest) return element_force(e, ua, r, K);
+  const int n = 3 * npe_;
+  double X[30], ue[30];
+  element_coordinates(e, X);
+  element_displacement(ua, e, ue);
+  FbarLinearization& lin = fbar_linearization_[e];
+  FbarNewtonPressure p;
+  p.rest = rest;
+  p.k = rest->removed_modulus();
+  p.exact = !lin.valid;
+  if (lin.valid) {
+    double g_u = 0;
+    for (int k = 0; k < n; ++k) g_u += lin.g[k] * ue[k];
+    p.q = p.k * (lin.c0 + g_u);
+  }
+  const ElementOutput out = tet_internal_force_fbar(dist_.order, X, ue, p, r, K);
+  lin.valid = out.valid;
+  if (out.valid) {
+    lin.c0 = p.ln_Jbar;
+    for (int k = 0; k < n; ++k) {
+      lin.g[k] = p.g[k];
+      lin.c0 -= p.g[k] * ue[k];
+    }
+  }
+  return out;
 }
 
 void Problem::element_displacement(const PetscScalar* u_local, int64_t e, double* u) const {
@@ -230,7 +268,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
     if (nodal_) nodal_->linearize(ua);
     double re[30], K[900];
     for (size_t e = 0; e < dist_.local_tets.size(); ++e) {
-      const ElementOutput out = element_force(e, ua, re, K);
+      const ElementOutput out = element_tangent(e, ua, re, K);
       if (!out.valid && bad < 0) bad = dist_.local_tets[e];
       pairs_->add_tet(static_cast<int64_t>(e), K, value);
     }

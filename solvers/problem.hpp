@@ -19,6 +19,7 @@
 #include "deck/config.hpp"
 #include "fem/element.hpp"
 #include "materials/material.hpp"
+#include "materials/volumetric_term.hpp"
 #include "mesh/distribution.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/dof_map.hpp"
@@ -236,6 +237,10 @@ class Problem {
   // Collective: agrees on this rank's inverted element (-1: none) with the others, records
   // it and returns whether there is none.
   bool record_inverted(int64_t local_bad);
+  // Newton's tangent of local tet e: element_force's, but for an F-bar element of a law with
+  // the volumetric term, whose pressure is Newton's own, linearised from the previous
+  // tangent's point (docs/formulation.md); the point is kept for the next one.
+  ElementOutput element_tangent(int64_t e, const PetscScalar* ua, double* r, double* K);
   // The tangent's entries by coordinates, in the order jacobian() fills their values: the
   // node-pair blocks (elements and faces summed into them), Dirichlet diagonals, registered
   // couplings.
@@ -252,6 +257,16 @@ class Problem {
   // its volumetric term, which nodal_ integrates per node).
   std::vector<std::shared_ptr<const MaterialLaw>> element_laws_;
   std::unique_ptr<NodalPressure> nodal_;      // when a material runs the nodal-pressure element
+  // Per mesh volume group: an F-bar material's law less its volumetric term (null for others
+  // and for small-strain laws); per local tet, where any is, the previous tangent's point of
+  // the term: ln Jbar(u0) - g . u0 and g = b(u0) / Jbar(u0), valid when there was one.
+  struct FbarLinearization {
+    bool valid = false;
+    double c0 = 0;
+    std::array<double, 30> g{};
+  };
+  std::vector<std::shared_ptr<const WithoutVolumetricTerm>> fbar_rest_laws_;
+  std::vector<FbarLinearization> fbar_linearization_;
   std::unique_ptr<ObstacleContact> contact_;  // with obstacles
   DofMap dofs_;
   const std::vector<double>& X_;         // reference coordinates of local nodes

@@ -58,6 +58,24 @@ double p1_volume_change(const P1Geometry& g, const double* u, double* grad, doub
 ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
                                       const MaterialLaw& m, double* r, double* K);
 
+// Newton's own pressure in an F-bar element's tangent (docs/formulation.md): the law split
+// into `rest` (the law less its volumetric term, WithoutVolumetricTerm) at Fbar and the term
+// k/2 (ln Jbar)^2 on the element's volume ratio, the residual exact, and in the tangent the
+// Kirchhoff pressure q in place of k ln Jbar(u): V [(k - q) / Jbar^2 b b^T + q / Jbar
+// d2Jbar/du2] for the term's V k [(1 - ln Jbar) / Jbar^2 b b^T + ln Jbar / Jbar d2Jbar/du2],
+// b = dJbar/du. Newton's q is k (ln Jbar(u0) + b(u0) . (u - u0) / Jbar(u0)), u0 the previous
+// tangent's point; the kernel returns ln Jbar and b / Jbar at u for the next one.
+struct FbarNewtonPressure {
+  const MaterialLaw* rest = nullptr;
+  double k = 0;
+  bool exact = true;  // q = k ln Jbar(u): the exact tangent (the first, or after an inversion)
+  double q = 0;
+  double ln_Jbar = 0;    // out
+  double g[30] = {};     // out: b / Jbar, 3 per node
+};
+ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
+                                      FbarNewtonPressure& p, double* r, double* K);
+
 // Consistent nodal body force f_a = int rho g N_a dV (reference configuration).
 void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,
                     double* f);

@@ -22,6 +22,7 @@
 #include "fem/element_kernels.hpp"
 #include "fem/element_tables.hpp"
 #include "materials/tensor.hpp"
+#include "materials/volumetric_term.hpp"
 
 namespace hs {
 namespace {
@@ -58,9 +59,11 @@ ElementOutput inverted_element(double* r, double* K) {
   return {false, std::numeric_limits<double>::infinity()};
 }
 
+// `newton`: the split law and Newton's pressure (element.hpp, FbarNewtonPressure); m is then
+// the law less its volumetric term.
 template <int NPE>
 ElementOutput fbar_internal_force(const double* X, const double* u, const MaterialLaw& m, double* r,
-                                  double* K) {
+                                  double* K, FbarNewtonPressure* newton = nullptr) {
   constexpr int n = 3 * NPE;
   const auto& t = tet_tables<NPE>(fbar_degree<NPE>());
   const int nq = static_cast<int>(t.weights.size());
@@ -125,7 +128,18 @@ ElementOutput fbar_internal_force(const double* X, const double* u, const Materi
     c.noalias() += Eigen::Map<const Mat3>(cq.data()).transpose() * p.G;
     D += p.W * (fbar.dot(s.A * fbar) - 6.0 * tau) / (9.0 * Jbar * Jbar);
   }
-  const double S1 = T / Jbar;  // dPi/dJbar
+  double S1 = T / Jbar;  // dPi/dJbar
+  double S1_tangent = S1;
+  if (newton) {  // the volumetric term V k/2 (ln Jbar)^2, a function of Jbar alone
+    const VolumetricValues vol = volumetric_function(newton->k, Jbar_minus_one);
+    const double q = newton->exact ? std::log1p(Jbar_minus_one) * newton->k : newton->q;
+    out.energy += V * vol.U;
+    S1 += V * vol.dU;
+    S1_tangent += V * q / Jbar;
+    D += V * (newton->k - q) / (Jbar * Jbar);
+    newton->ln_Jbar = std::log1p(Jbar_minus_one);
+    Eigen::Map<NodeMatrix<NPE>>(newton->g) = b / Jbar;
+  }
   R.noalias() += S1 * b;
   Eigen::Map<NodeMatrix<NPE>> r_out(r);
   r_out = R;
@@ -134,7 +148,7 @@ ElementOutput fbar_internal_force(const double* X, const double* u, const Materi
   // The per-point parts, with S1 d2Jbar/dF_q^2 = S1 (W_q/V) J_q (m m^T - D) added to each.
   for (int q = 0; q < nq; ++q) {
     const FbarPoint<NPE>& p = pts[q];
-    const double a = S1 * p.W * (1.0 + p.J_minus_one) / V;
+    const double a = S1_tangent * p.W * (1.0 + p.J_minus_one) / V;
     tensor::add_outer(Tq[q], a, p.FinvT, p.FinvT);
     tensor::add_il_kj(Tq[q], -a, p.FinvT, p.FinvT);
     add_stiffness<NPE>(Tq[q], p.G, 1.0, K);
@@ -243,6 +257,12 @@ ElementFields fbar_fields(const double* X, const double* u, const MaterialLaw& m
 
 ElementFields tet_fields_fbar(int order, const double* X, const double* u, const MaterialLaw& m) {
   return tet_num_nodes(order) == 4 ? fbar_fields<4>(X, u, m) : fbar_fields<10>(X, u, m);
+}
+
+ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
+                                      FbarNewtonPressure& p, double* r, double* K) {
+  return tet_num_nodes(order) == 4 ? fbar_internal_force<4>(X, u, *p.rest, r, K, &p)
+                                   : fbar_internal_force<10>(X, u, *p.rest, r, K, &p);
 }
 
 ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,

@@ -14,6 +14,7 @@
 #include "element_fixtures.hpp"
 #include "fem/element.hpp"
 #include "materials/registry.hpp"
+#include "materials/volumetric_term.hpp"
 
 namespace hs {
 namespace {
@@ -180,6 +181,55 @@ TEST(FbarElement, OnP1IsTheDisplacementElement) {
     for (int k = 0; k < 12; ++k) EXPECT_NEAR(r[k], r1[k], 1e-12 * max_abs(r)) << model;
     for (int k = 0; k < 144; ++k) EXPECT_NEAR(K[k], K1[k], 1e-12 * max_abs(K)) << model;
   }
+}
+
+// Newton's own pressure in the F-bar element's tangent (element.hpp, FbarNewtonPressure), for
+// every finite-strain law with the volumetric term, at nu = 0.4999 on the curved P2 element:
+// with the exact pressure the split law gives the plain element's energy, force and tangent;
+// with the pressure linearised from a point u0 the force stays exact and the tangent differs
+// from the exact one by O(|u - u0|^2) (a quarter when the distance halves).
+TEST(FbarElement, NewtonsPressureTangentIsExactAtItsPointAndSecondOrderAway) {
+  const std::vector<double> X = distorted_tet(2);
+  const std::vector<double> u0 = random_vector(30, 0.1, 5);
+  const std::vector<double> du = random_vector(30, 0.02, 6);
+  int laws = 0;
+  for (const std::string& model : material_fixtures::all_law_names()) {
+    const auto law = material_fixtures::make_law(model, elastic_constants_from_E_nu(1.0, 0.4999));
+    if (!law->has_volumetric_term() || law->small_strain()) continue;
+    ++laws;
+    const WithoutVolumetricTerm rest(law);
+    FbarNewtonPressure p;
+    p.rest = &rest;
+    p.k = law->volumetric_modulus();
+    std::vector<double> r(30), K(900), r1(30), K1(900);
+    const ElementOutput a = tet_internal_force_fbar(2, X.data(), u0.data(), *law, r.data(), K.data());
+    const ElementOutput b = tet_internal_force_fbar(2, X.data(), u0.data(), p, r1.data(), K1.data());
+    EXPECT_NEAR(a.energy, b.energy, 1e-10 * std::abs(a.energy)) << model;
+    for (int k = 0; k < 30; ++k) EXPECT_NEAR(r[k], r1[k], 1e-9 * max_abs(r)) << model;
+    for (int k = 0; k < 900; ++k) EXPECT_NEAR(K[k], K1[k], 1e-9 * max_abs(K)) << model;
+    const double ln_Jbar0 = p.ln_Jbar;
+    const std::vector<double> g0(p.g, p.g + 30);
+    double gap[2];
+    for (int halving = 0; halving < 2; ++halving) {
+      std::vector<double> u = u0;
+      double g_du = 0;
+      for (int k = 0; k < 30; ++k) {
+        u[k] += du[k] / (1 << halving);
+        g_du += g0[k] * du[k] / (1 << halving);
+      }
+      p.exact = false;
+      p.q = p.k * (ln_Jbar0 + g_du);
+      tet_internal_force_fbar(2, X.data(), u.data(), p, r1.data(), K1.data());
+      tet_internal_force_fbar(2, X.data(), u.data(), *law, r.data(), K.data());
+      for (int k = 0; k < 30; ++k) EXPECT_NEAR(r[k], r1[k], 1e-9 * max_abs(r)) << model;
+      std::vector<double> diff(900);
+      for (int k = 0; k < 900; ++k) diff[k] = K1[k] - K[k];
+      gap[halving] = max_abs(diff) / max_abs(K);
+    }
+    EXPECT_GT(gap[0], 1e-8) << model;  // the pressures differ: the tangents do
+    EXPECT_NEAR(gap[1] / gap[0], 0.25, 0.05) << model;
+  }
+  EXPECT_GE(laws, 4);
 }
 
 // The assembly's P1 path reads the reference geometry kept per element: it must give the
