@@ -202,8 +202,10 @@ TEST(FbarElement, NewtonsPressureTangentIsExactAtItsPointAndSecondOrderAway) {
     p.rest = &rest;
     p.k = law->volumetric_modulus();
     std::vector<double> r(30), K(900), r1(30), K1(900);
-    const ElementOutput a = tet_internal_force_fbar(2, X.data(), u0.data(), *law, r.data(), K.data());
-    const ElementOutput b = tet_internal_force_fbar(2, X.data(), u0.data(), p, r1.data(), K1.data());
+    const ElementOutput a =
+        tet_internal_force_fbar(2, X.data(), u0.data(), *law, r.data(), K.data());
+    const ElementOutput b =
+        tet_internal_force_fbar(2, X.data(), u0.data(), p, r1.data(), K1.data());
     EXPECT_NEAR(a.energy, b.energy, 1e-10 * std::abs(a.energy)) << model;
     for (int k = 0; k < 30; ++k) EXPECT_NEAR(r[k], r1[k], 1e-9 * max_abs(r)) << model;
     for (int k = 0; k < 900; ++k) EXPECT_NEAR(K[k], K1[k], 1e-9 * max_abs(K)) << model;
