@@ -256,7 +256,7 @@ class Problem {
   // Per mesh volume group: the law its elements integrate (a nodal-pressure material's less
   // its volumetric term, which nodal_ integrates per node).
   std::vector<std::shared_ptr<const MaterialLaw>> element_laws_;
-  std::unique_ptr<NodalPressure> nodal_;      // when a material runs the nodal-pressure element
+  std::unique_ptr<NodalPressure> nodal_;  // when a material runs the nodal-pressure element
   // Per mesh volume group: an F-bar material's law less its volumetric term (null for others
   // and for small-strain laws); per local tet, where any is, the previous tangent's point of
   // the term: ln Jbar(u0) - g . u0 and g = b(u0) / Jbar(u0), valid when there was one.

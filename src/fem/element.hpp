@@ -70,8 +70,8 @@ struct FbarNewtonPressure {
   double k = 0;
   bool exact = true;  // q = k ln Jbar(u): the exact tangent (the first, or after an inversion)
   double q = 0;
-  double ln_Jbar = 0;    // out
-  double g[30] = {};     // out: b / Jbar, 3 per node
+  double ln_Jbar = 0;  // out
+  double g[30] = {};   // out: b / Jbar, 3 per node
 };
 ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
                                       FbarNewtonPressure& p, double* r, double* K);
