@@ -57,6 +57,8 @@ class NodalPressure {
   // point (the first call, and small-strain bodies, take those of u), and this point kept for
   // the next call. Collective.
   void linearize(const PetscScalar* u_local);
+  // The next linearize() takes the pressures of its own point: the exact tangent.
+  void forget_linearization() { linearized_ = false; }
   // Adds pbar_e dv_e/du to r and, with the tangent's pressures (those of update() until
   // linearize()), pbar_e d2v_e/du2 to K (K may be nullptr) of local tet e.
   void add_element(int64_t e, const double* ue, double* r, double* K) const;

@@ -304,6 +304,11 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
   return ok;
 }
 
+void Problem::exact_next_tangent() {
+  if (nodal_) nodal_->forget_linearization();
+  for (FbarLinearization& lin : fbar_linearization_) lin.valid = false;
+}
+
 void Problem::internal_force(Vec u, Vec f, double* energy) {
   assemble_forces(u, 0.0, 1.0, 0.0, f, energy);
 }

@@ -71,7 +71,13 @@ class Problem {
   // value is not finite; inverted_element() then names one such element on every rank (its
   // mesh index, the highest of them), and is -1 after an evaluation that found none.
   bool residual(Vec u, double s, Vec R);
+  // Newton's tangent: the volumetric pressure of nodal-pressure and F-bar bodies is linearised
+  // from the previous tangent's point (docs/formulation.md), so that it is J itself at that
+  // point and within O(|u - u0|^2) of it elsewhere.
   bool jacobian(Vec u, double s, Mat J);
+  // The next jacobian() is J itself at its point, whatever the previous one's: for uses of
+  // the tangent other than Newton's step (the reduced model's error indicator).
+  void exact_next_tangent();
   int64_t inverted_element() const { return inverted_element_; }
   // The obstacle a node of the body was found on or inside by the last residual (its index in
   // the deck's list, over all ranks), or -1: the barrier refuses such a configuration as an

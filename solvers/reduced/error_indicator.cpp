@@ -35,6 +35,7 @@ ResidualErrorIndicator::ResidualErrorIndicator(Problem& problem, ConstraintSet& 
       constraints[actuators[a]].prescribe(Constraint::Control::multiplier,
                                           actuations(s, static_cast<Eigen::Index>(a)));
     system.place(states.row(s).transpose(), u, true);
+    problem.exact_next_tangent();  // J at the sample, not Newton's from the last one
     if (!constraints.residual(u, 1.0, residual_, controls) ||
         !constraints.linearize(u, 1.0, J, lin))
       throw SolveError("reduced model: the full tangent at training sample " +
