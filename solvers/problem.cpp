@@ -45,16 +45,13 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     tet_body_force(dist.order, X.data(), m.density, config.gravity, &body_force_[e * 3 * npe_]);
     if (dist.order == 1) p1_geometry_.push_back(tet_p1_geometry(X.data()));
   }
-  bool any_nodal = false;
+  bool any_nodal = false, any_fbar_term = false;
   for (const auto& m : materials_) {
     const bool nodal = m.element == ElementFormulation::nodal_pressure;
     if (nodal && dist.order != 1)
       throw InputError("material group '" + m.group + "': nodal_pressure needs a P1 mesh");
     element_laws_.push_back(nodal ? std::make_shared<WithoutVolumetricTerm>(m.law) : m.law);
     any_nodal |= nodal;
-  }
-  bool any_fbar_term = false;
-  for (const auto& m : materials_) {
     const bool split = m.element == ElementFormulation::fbar && !m.law->small_strain() &&
                        m.law->has_volumetric_term();
     fbar_rest_laws_.push_back(split ? std::make_shared<WithoutVolumetricTerm>(m.law) : nullptr);

@@ -25,7 +25,7 @@ import sys
 import tempfile
 import time
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from same_mesh import REPO, run_deck_on_msh
 
 
 def mesh(h, folder):
@@ -42,23 +42,8 @@ def mpirun(ranks):
 
 
 def run_hydrosoft(msh, folder, ranks, overrides):
-    """input/compressed_block.yaml with its mesh block pointing at the .msh."""
-    out = os.path.join(folder, "hs")
-    with open(os.path.join(REPO, "input", "compressed_block.yaml")) as f:
-        lines = f.read().splitlines()
-    start, end = lines.index("mesh:"), lines.index("materials:")
-    deck = os.path.join(folder, "compressed_block.yaml")
-    with open(deck, "w") as f:
-        f.write("\n".join(lines[:start] + [f"mesh: {{file: {msh}}}"] + lines[end:]) + "\n")
-    cmd = mpirun(ranks) + [os.path.join(REPO, "build", "bin", "hydrosoft"), deck, "-q",
-                           "--set", f"output.folder={out}"]
-    for o in overrides:
-        cmd += ["--set", o]
-    start = time.perf_counter()
-    subprocess.run(cmd, check=True, capture_output=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
-    wall = time.perf_counter() - start
-    with open(os.path.join(out, "summary.json")) as f:
-        s = json.load(f)
+    s, out, wall = run_deck_on_msh("compressed_block", msh, folder, launcher=mpirun(ranks),
+                                   overrides=overrides)
     import h5py
     import numpy as np
     with h5py.File(os.path.join(out, "compressed_block.h5"), "r") as f:
@@ -79,7 +64,7 @@ import dolfinx.fem.petsc
 MU, LAM, TRACTION = 80.194e6, 4.00889806e11, 320e6  # Pa: input/compressed_block.yaml
 LEVELS = [0.25, 0.5, 0.75, 1.0]
 sys.path.insert(0, BENCH)
-from msh_reader import read_msh
+from same_mesh import read_msh
 cells, points = read_msh(sys.argv[1])
 substeps = 4  # load steps per level: Newton from the last level's solution
 domain = mesh.create_mesh(MPI.COMM_WORLD, cells, points, ufl.Mesh(ufl.VectorElement("Lagrange", ufl.tetrahedron, 1)))

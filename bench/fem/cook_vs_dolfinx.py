@@ -25,7 +25,7 @@ import sys
 import tempfile
 import time
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from same_mesh import REPO, run_deck_on_msh
 E, NU, TRACTION, REFERENCE, T = 250.0, 0.4999, 6.25, 7.771, 1.0
 
 
@@ -38,20 +38,8 @@ def mesh(h, folder):
 
 
 def run_hydrosoft(msh, folder):
-    """input/cook_membrane.yaml with its mesh block pointing at the .msh (P1, no parameters)."""
-    out = os.path.join(folder, "hs")
-    with open(os.path.join(REPO, "input", "cook_membrane.yaml")) as f:
-        lines = f.read().splitlines()
-    start, end = lines.index("mesh:"), lines.index("materials:")
-    deck = os.path.join(folder, "cook_membrane.yaml")
-    with open(deck, "w") as f:
-        f.write("\n".join(lines[:start] + [f"mesh: {{file: {msh}, order: 1}}"] + lines[end:]) + "\n")
-    cmd = [os.path.join(REPO, "build", "bin", "hydrosoft"), deck, "-q", "--set", f"output.folder={out}"]
-    start = time.perf_counter()
-    subprocess.run(cmd, check=True, capture_output=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
-    wall = time.perf_counter() - start
-    with open(os.path.join(out, "summary.json")) as f:
-        s = json.load(f)
+    """input/cook_membrane.yaml on the .msh (P1, no parameters)."""
+    s, out, wall = run_deck_on_msh("cook_membrane", msh, folder, mesh_keys=", order: 1")
     import h5py
     import numpy as np
     with h5py.File(os.path.join(out, "cook_membrane.h5"), "r") as f:
@@ -73,7 +61,7 @@ from dolfinx.fem.petsc import LinearProblem
 from dolfinx.io import gmshio
 E, NU, TRACTION, T = %(E)r, %(NU)r, %(TRACTION)r, %(T)r
 sys.path.insert(0, %(bench)r)
-from msh_reader import read_msh
+from same_mesh import read_msh
 cells, points = read_msh(sys.argv[1])
 domain = mesh.create_mesh(MPI.COMM_WORLD, cells, points,
                           ufl.Mesh(ufl.VectorElement("Lagrange", ufl.tetrahedron, 1)))

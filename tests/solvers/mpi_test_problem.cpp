@@ -231,8 +231,14 @@ TEST_P(NodalPressureTest, HomogeneousDeformationIsReproducedExactly) {
 // tangent, and from a point eps away it differs from it by O(eps^2) (the linearisation of
 // ln J is right to first order): halving eps divides the difference by 4. After
 // exact_next_tangent() it is the exact tangent from any point.
-void check_newton_tangent(Fixture& f) {
-  const auto& law = *f.config.materials[0].law;
+void check_newton_tangent(const std::string& law_name, hs::ElementFormulation element) {
+  Fixture f({element == hs::ElementFormulation::fbar ? "mesh.order=2" : "mesh.order=1"});
+  f.config.pressures.clear();
+  auto& material = f.config.materials[0];
+  material.law =
+      hs::material_fixtures::make_law(law_name, hs::elastic_constants_from_E_nu(1e6, 0.4999));
+  material.element = element;
+  const auto& law = *material.law;
   hs::Problem exact(f.config, f.dist, PETSC_COMM_WORLD);
   const hs::VecHandle u(exact.create_vector()), v(exact.create_vector()), u0(exact.create_vector());
   fill_random(u, 0.01, 7);
@@ -267,25 +273,13 @@ void check_newton_tangent(Fixture& f) {
 }
 
 TEST_P(NodalPressureTest, TangentFromThePreviousPointIsRightToSecondOrder) {
-  Fixture f({"mesh.order=1"});
-  f.config.pressures.clear();
-  auto& material = f.config.materials[0];
-  material.law =
-      hs::material_fixtures::make_law(GetParam(), hs::elastic_constants_from_E_nu(1e6, 0.4999));
-  material.element = hs::ElementFormulation::nodal_pressure;
-  check_newton_tangent(f);
+  check_newton_tangent(GetParam(), hs::ElementFormulation::nodal_pressure);
 }
 
 class FbarNewtonTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FbarNewtonTest, TangentFromThePreviousPointIsRightToSecondOrder) {
-  Fixture f({"mesh.order=2"});
-  f.config.pressures.clear();
-  auto& material = f.config.materials[0];
-  material.law =
-      hs::material_fixtures::make_law(GetParam(), hs::elastic_constants_from_E_nu(1e6, 0.4999));
-  material.element = hs::ElementFormulation::fbar;
-  check_newton_tangent(f);
+  check_newton_tangent(GetParam(), hs::ElementFormulation::fbar);
 }
 
 INSTANTIATE_TEST_SUITE_P(Laws, FbarNewtonTest,
