@@ -10,11 +10,10 @@ namespace hs {
 namespace {
 
 struct MixedFactor {
-  KSP solve = nullptr;                    // preonly + MUMPS, or the mixed_ KSP, on the system
+  KSP solve = nullptr;                    // preonly + MUMPS on the mixed system
   Vec b = nullptr, x = nullptr;           // the mixed system's right-hand side and solution
   PetscInt negative_pressure_pivots = 0;  // negative entries of -D^-1, all ranks
   char factor[16] = "cholesky";
-  bool factored = true;  // -pc_mixed_solve factor (MUMPS) or ksp (the solver of mixed_ options)
 };
 
 PetscErrorCode destroy(PC pc) {
@@ -30,19 +29,13 @@ PetscErrorCode destroy(PC pc) {
 PetscErrorCode set_from_options(PC pc, PetscOptionItems* PetscOptionsObject) {
   auto* m = static_cast<MixedFactor*>(pc->data);
   const char* kinds[] = {"cholesky", "lu"};
-  const char* solves[] = {"factor", "ksp"};
-  PetscInt kind = std::strcmp(m->factor, "lu") == 0, solve = !m->factored;
+  PetscInt kind = std::strcmp(m->factor, "lu") == 0;
   PetscOptionsHeadBegin(PetscOptionsObject, "hs_mixed: the nodal-pressure tangent's mixed system");
-  PetscCall(PetscOptionsEList("-pc_mixed_solve",
-                              "factor the mixed system (MUMPS), or apply the KSP and PC of the "
-                              "options prefixed mixed_ (the gamg preset's: a Schur fieldsplit)",
-                              "hs_mixed", solves, 2, solves[solve], &solve, nullptr));
   PetscCall(PetscOptionsEList("-pc_mixed_factor_type",
                               "L D L^T of the symmetric system or LU of a non-symmetric one",
                               "hs_mixed", kinds, 2, kinds[kind], &kind, nullptr));
   PetscOptionsHeadEnd();
   std::strcpy(m->factor, kinds[kind]);
-  m->factored = solve == 0;
   return 0;
 }
 
@@ -63,36 +56,6 @@ PetscErrorCode count_negative_pressure_pivots(Mat A, PetscInt displacement_rows,
   return 0;
 }
 
-// The solver of the mixed_ options. For a Schur fieldsplit, its two splits: "u", each rank's
-// displacement rows (blocks of 3, with the tangent's rigid-body modes as GAMG's near null
-// space), and "p", its pressure rows; and, unless the options choose another, the Schur
-// complement preconditioned by the problem's diagonal (kMixedSchurKey).
-PetscErrorCode set_up_ksp(KSP ksp, Mat A, Mat tangent, PetscInt displacement_rows) {
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPSetFromOptions(ksp));
-  PC pc;
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscBool fieldsplit;
-  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fieldsplit));
-  if (!fieldsplit) return 0;
-  MPI_Comm comm = PetscObjectComm((PetscObject)A);
-  PetscInt first, last;
-  PetscCall(MatGetOwnershipRange(A, &first, &last));
-  IS u, p;
-  PetscCall(ISCreateStride(comm, displacement_rows, first, 1, &u));
-  PetscCall(ISSetBlockSize(u, 3));
-  PetscCall(
-      ISCreateStride(comm, last - first - displacement_rows, first + displacement_rows, 1, &p));
-  MatNullSpace modes = nullptr;
-  PetscCall(MatGetNearNullSpace(tangent, &modes));
-  if (modes) PetscCall(PetscObjectCompose((PetscObject)u, "nearnullspace", (PetscObject)modes));
-  PetscCall(PCFieldSplitSetIS(pc, "u", u));
-  PetscCall(PCFieldSplitSetIS(pc, "p", p));
-  PetscCall(ISDestroy(&u));
-  PetscCall(ISDestroy(&p));
-  return 0;
-}
-
 PetscErrorCode set_up(PC pc) {
   auto* m = static_cast<MixedFactor*>(pc->data);
   PetscObject composed = nullptr;
@@ -102,8 +65,6 @@ PetscErrorCode set_up(PC pc) {
             "pc_type hs_mixed needs the tangent of a body with nodal pressures (formulation "
             "nodal_pressure); use pc_type cholesky or lu");
   Mat A = (Mat)composed;
-  PetscInt rows;
-  PetscCall(MatGetLocalSize(pc->pmat, &rows, nullptr));
   if (!m->solve) {
     PetscCall(KSPCreate(PetscObjectComm((PetscObject)pc), &m->solve));
     PetscOptions options;
@@ -112,41 +73,24 @@ PetscErrorCode set_up(PC pc) {
     const char* prefix = nullptr;  // MUMPS's options (-mat_mumps_icntl_14, ...) are the PC's
     PetscCall(PCGetOptionsPrefix(pc, &prefix));
     PetscCall(KSPSetOptionsPrefix(m->solve, prefix));
+    PetscCall(KSPSetType(m->solve, KSPPREONLY));
+    PC factor;
+    PetscCall(KSPGetPC(m->solve, &factor));
+    PetscCall(PCSetType(factor, std::strcmp(m->factor, "lu") == 0 ? PCLU : PCCHOLESKY));
+    PetscCall(PCFactorSetMatSolverType(factor, MATSOLVERMUMPS));
     PetscCall(KSPSetErrorIfNotConverged(m->solve, PETSC_FALSE));
-    if (m->factored) {
-      PetscCall(KSPSetType(m->solve, KSPPREONLY));
-      PC factor;
-      PetscCall(KSPGetPC(m->solve, &factor));
-      PetscCall(PCSetType(factor, std::strcmp(m->factor, "lu") == 0 ? PCLU : PCCHOLESKY));
-      PetscCall(PCFactorSetMatSolverType(factor, MATSOLVERMUMPS));
-    } else {
-      PetscCall(KSPAppendOptionsPrefix(m->solve, "mixed_"));
-      PetscCall(set_up_ksp(m->solve, A, pc->pmat, rows));
-    }
     PetscCall(MatCreateVecs(A, &m->x, &m->b));
   }
   PetscCall(KSPSetOperators(m->solve, A, A));
-  if (!m->factored) {
-    PC inner;
-    PetscCall(KSPGetPC(m->solve, &inner));
-    PetscBool fieldsplit;
-    PetscCall(PetscObjectTypeCompare((PetscObject)inner, PCFIELDSPLIT, &fieldsplit));
-    PCFieldSplitSchurPreType schur_pre = PC_FIELDSPLIT_SCHUR_PRE_SELFP;
-    Mat given;
-    if (fieldsplit) PetscCall(PCFieldSplitGetSchurPre(inner, &schur_pre, &given));
-    if (schur_pre == PC_FIELDSPLIT_SCHUR_PRE_USER) {
-      PetscObject schur = nullptr;
-      PetscCall(PetscObjectQuery((PetscObject)A, kMixedSchurKey, &schur));
-      PetscCall(PCFieldSplitSetSchurPre(inner, PC_FIELDSPLIT_SCHUR_PRE_USER, (Mat)schur));
-    }
-  }
   PetscCall(KSPSetUp(m->solve));
-  PC inner;
-  PetscCall(KSPGetPC(m->solve, &inner));
+  PC factor;
+  PetscCall(KSPGetPC(m->solve, &factor));
   PCFailedReason failed;
-  PetscCall(PCGetFailedReasonRank(inner, &failed));
+  PetscCall(PCGetFailedReasonRank(factor, &failed));
   pc->failedreason = pc->failedreasonrank = failed;
-  if (m->factored) PetscCall(count_negative_pressure_pivots(A, rows, &m->negative_pressure_pivots));
+  PetscInt rows;
+  PetscCall(MatGetLocalSize(pc->pmat, &rows, nullptr));
+  PetscCall(count_negative_pressure_pivots(A, rows, &m->negative_pressure_pivots));
   return 0;
 }
 
@@ -178,19 +122,6 @@ PetscErrorCode apply(PC pc, Vec b, Vec x) {
 // X = J^-1 B, column by column at once (the controller's compliance): B padded as in apply.
 PetscErrorCode mat_apply(PC pc, Mat B, Mat X) {
   auto* m = static_cast<MixedFactor*>(pc->data);
-  if (!m->factored) {
-    PetscInt k;
-    PetscCall(MatGetSize(B, nullptr, &k));
-    for (PetscInt j = 0; j < k; ++j) {
-      Vec b, x;
-      PetscCall(MatDenseGetColumnVecRead(B, j, &b));
-      PetscCall(MatDenseGetColumnVecWrite(X, j, &x));
-      PetscCall(apply(pc, b, x));
-      PetscCall(MatDenseRestoreColumnVecWrite(X, j, &x));
-      PetscCall(MatDenseRestoreColumnVecRead(B, j, &b));
-    }
-    return 0;
-  }
   PetscInt n, k, n_mixed;
   PetscCall(MatGetLocalSize(B, &n, nullptr));
   PetscCall(MatGetSize(B, nullptr, &k));
@@ -232,9 +163,7 @@ PetscErrorCode view(PC pc, PetscViewer viewer) {
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
   if (!ascii) return 0;
   PetscCall(PetscViewerASCIIPrintf(
-      viewer,
-      "  the tangent solved through its mixed system (displacements, nodal pressures), %s\n",
-      m->factored ? "factored" : "by the mixed_ solver"));
+      viewer, "  the tangent solved through its mixed system (displacements, nodal pressures)\n"));
   if (!m->solve) return 0;
   PetscCall(PetscViewerASCIIPushTab(viewer));
   PetscCall(KSPView(m->solve, viewer));
@@ -266,7 +195,7 @@ int mixed_factor_negative_pivots(PC pc) {
   PetscObjectTypeCompare((PetscObject)pc, kMixedFactorType, &mixed);
   if (!mixed) return -1;
   auto* m = static_cast<MixedFactor*>(pc->data);
-  if (!m->solve || !m->factored) return -1;
+  if (!m->solve) return -1;
   PC factor;
   Mat F;
   KSPGetPC(m->solve, &factor);

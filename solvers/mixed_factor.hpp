@@ -12,10 +12,6 @@
 // applies it: with KSPPREONLY it is J's direct solve. The system is the matrix the problem
 // composes on the tangent (kMixedTangentKey), filled with every tangent; its rows on each
 // rank are the rank's displacement rows, then its nodes' pressure rows.
-// With -pc_mixed_solve ksp it applies instead the KSP and PC of the options prefixed mixed_
-// (the gamg preset: one application of a Schur fieldsplit, GAMG on K and the pressure's
-// Schur complement preconditioned by -(D^-1 + V / mu)): a preconditioner of J whose quality
-// does not depend on the bulk modulus, for the outer Krylov solve of J.
 #pragma once
 
 #include <petscksp.h>
@@ -25,9 +21,6 @@ namespace hs {
 inline constexpr const char* kMixedFactorType = "hs_mixed";
 // The name under which the problem composes the mixed system on the tangent's matrix.
 inline constexpr const char* kMixedTangentKey = "hs_mixed_tangent";
-// The name under which the problem composes, on the mixed system, the diagonal preconditioner of
-// its pressure Schur complement (NodalPressure::fill_schur_preconditioner).
-inline constexpr const char* kMixedSchurKey = "hs_mixed_schur";
 
 // Makes `hs_mixed` a preconditioner type PETSc knows (once; after PetscInitialize).
 void register_mixed_factor();

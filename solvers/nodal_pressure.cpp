@@ -10,8 +10,8 @@
 namespace hs {
 
 NodalPressure::NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
-                             std::vector<double> modulus, const std::vector<double>& shear,
-                             bool small_strain, const DofMap& dofs, MPI_Comm comm)
+                             std::vector<double> modulus, bool small_strain, const DofMap& dofs,
+                             MPI_Comm comm)
     : dist_(dist),
       geometry_(geometry),
       modulus_(std::move(modulus)),
@@ -23,19 +23,16 @@ NodalPressure::NodalPressure(const Distribution& dist, const std::vector<P1Geome
                           static_cast<PetscInt>(ghosts.size()), ghosts.data(), patch_sum_.out()));
   V_.assign(nl, 0.0);
   kV_.assign(nl, 0.0);
-  muV_.assign(nl, 0.0);
   for (size_t e = 0; e < modulus_.size(); ++e) {
     if (!takes_part(e)) continue;
     for (int a = 0; a < 4; ++a) {
       const int32_t n = dist.tet_nodes[4 * e + a];
       V_[n] += geometry_[e].volume / 4;
       kV_[n] += modulus_[e] * geometry_[e].volume / 4;
-      muV_[n] += shear[e] * geometry_[e].volume / 4;
     }
   }
   sum_over_patches(V_);
   sum_over_patches(kV_);
-  sum_over_patches(muV_);
   dof_index_.resize(3 * nl);
   for (int32_t n = 0; n < nl; ++n) dofs.indices(&n, 1, &dof_index_[3 * n]);
   dv_.assign(nl, 0.0);
@@ -208,7 +205,6 @@ void NodalPressure::make_coupling() {
       for (int b = 0; b < 4; ++b)
         for (int i = 0; i < 3; ++i) {
           gr.push_back(static_cast<PetscInt>(dist_.local_nodes[dist_.tet_nodes[4 * e + a]]));
-          g_local_rows_.push_back(dist_.tet_nodes[4 * e + a]);
           gc.push_back(dof_index_[3 * dist_.tet_nodes[4 * e + b] + i]);
         }
   }
@@ -303,49 +299,12 @@ void NodalPressure::mixed_entries(std::vector<PetscInt>& rows, std::vector<Petsc
   }
 }
 
-double NodalPressure::pressure_scale(int64_t a) const {
-  return muV_[a] > 0 ? muV_[a] / V_[a] / std::cbrt(V_[a]) : 1.0;
-}
-
 void NodalPressure::fill_mixed(PetscScalar* values) const {
-  for (int twice = 0; twice < 2; ++twice)
-    for (size_t k = 0; k < g_values_.size(); ++k)
-      *values++ = g_values_[k] * pressure_scale(g_local_rows_[k]);
+  values = std::copy(g_values_.begin(), g_values_.end(), values);
+  values = std::copy(g_values_.begin(), g_values_.end(), values);
   // c_a is 0 only at nodes of no nodal-pressure body (V_a = 0, G's row empty), or of an
   // inverted patch, whose tangent is refused.
-  for (int64_t a = 0; a < dist_.num_owned(); ++a)
-    *values++ = c_[a] != 0 ? -pressure_scale(a) * pressure_scale(a) / c_[a] : -1.0;
-}
-
-Mat NodalPressure::schur_preconditioner(Vec k_diagonal) const {
-  VecHandle scale, column;
-  HS_PETSC(MatCreateVecs(G_, column.out(), scale.out()));
-  PetscScalar* x;
-  HS_PETSC(VecGetArray(scale, &x));
-  for (int64_t a = 0; a < dist_.num_owned(); ++a) x[a] = pressure_scale(a);
-  HS_PETSC(VecRestoreArray(scale, &x));
-  HS_PETSC(VecCopy(k_diagonal, column));
-  HS_PETSC(VecAbs(column));
-  HS_PETSC(VecSqrtAbs(column));
-  HS_PETSC(VecReciprocal(column));
-  MatHandle Gs, P;
-  HS_PETSC(MatDuplicate(G_, MAT_COPY_VALUES, Gs.out()));
-  HS_PETSC(MatDiagonalScale(Gs, scale, column));
-  HS_PETSC(MatMatTransposeMult(Gs, Gs, MAT_INITIAL_MATRIX, PETSC_DEFAULT, P.out()));
-  HS_PETSC(VecGetArray(scale, &x));
-  for (int64_t a = 0; a < dist_.num_owned(); ++a)
-    x[a] = c_[a] != 0 ? pressure_scale(a) * pressure_scale(a) / c_[a] : 1.0;
-  HS_PETSC(VecRestoreArray(scale, &x));
-  HS_PETSC(MatSetOption(P, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-  HS_PETSC(MatDiagonalSet(P, scale, ADD_VALUES));
-  return P.release();
-}
-
-void NodalPressure::fill_schur_preconditioner(PetscScalar* values) const {
-  for (int64_t a = 0; a < dist_.num_owned(); ++a)
-    values[a] = c_[a] != 0 && muV_[a] > 0 ? -pressure_scale(a) * pressure_scale(a) *
-                                                (1.0 / c_[a] + V_[a] * V_[a] / muV_[a])
-                                          : -1.0;
+  for (int64_t a = 0; a < dist_.num_owned(); ++a) *values++ = c_[a] != 0 ? -1.0 / c_[a] : -1.0;
 }
 
 }  // namespace hs

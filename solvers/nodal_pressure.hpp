@@ -39,13 +39,11 @@ namespace hs {
 
 class NodalPressure {
  public:
-  // modulus[e]: k_e of local tet e (< 0: the element is not a nodal-pressure one); shear[e]:
-  // its shear modulus mu_e (the scale of the pressure's Schur complement); small_strain: the
-  // laws are of small strains (U1 = (J - 1)^2 / 2 on the linearised volume change, the linear
-  // elastic body's averaged nodal dilatation). Collective.
+  // modulus[e]: k_e of local tet e (< 0: the element is not a nodal-pressure one); small_strain:
+  // the laws are of small strains (U1 = (J - 1)^2 / 2 on the linearised volume change, the
+  // linear elastic body's averaged nodal dilatation). Collective.
   NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
-                std::vector<double> modulus, const std::vector<double>& shear, bool small_strain,
-                const DofMap& dofs, MPI_Comm comm);
+                std::vector<double> modulus, bool small_strain, const DofMap& dofs, MPI_Comm comm);
 
   // From the local displacements (3 per local node, owned then ghosts): the volume ratios
   // and pressures of all local nodes. Collective. False if a patch's volume is not positive
@@ -94,13 +92,6 @@ class NodalPressure {
   // Their values for the last fill_coupling: g_a, g_a again, -1 / c_a (-1 at a node of no
   // nodal-pressure body, whose G row is empty).
   void fill_mixed(PetscScalar* values) const;
-  // The owned nodes' diagonal of the pressure Schur complement's preconditioner,
-  // -(1/c_a + V_a / mu_a): the pressure block less the nodal-volume mass scaled by the patch's
-  // shear modulus, spectrally equivalent to -D^-1 - G K^-1 G^T whatever k (-1 at a node of no
-  // nodal-pressure body).
-  void fill_schur_preconditioner(PetscScalar* values) const;
-  // s G diag(K)^-1 G^T s + s^2 D^-1, positive: -S with K by its diagonal, the pressures scaled.
-  Mat schur_preconditioner(Vec k_diagonal) const;
 
  private:
   // The sums over patches of per-local-node values (each rank's elements' shares), complete
@@ -113,9 +104,9 @@ class NodalPressure {
   const std::vector<P1Geometry>& geometry_;
   std::vector<double> modulus_;  // per local tet
   bool small_strain_;
-  std::vector<double> V_, kV_, muV_;  // per local node
-  std::vector<double> dv_, p_, c_;    // per local node, at the last update
-  std::vector<double> tangent_p_;     // per local node: the tangent's pressures
+  std::vector<double> V_, kV_;      // per local node
+  std::vector<double> dv_, p_, c_;  // per local node, at the last update
+  std::vector<double> tangent_p_;   // per local node: the tangent's pressures
   // The previous tangent's point: local displacements, per node ln J_a and v_a, per local tet
   // dv_e/du (12 each).
   bool linearized_ = false;
@@ -124,8 +115,6 @@ class NodalPressure {
   VecHandle patch_sum_;              // ghosted, one value per node
   MatHandle G_, D_, coupling_;       // the g_a by rows, diag(c_a), G^T D G
   std::vector<PetscScalar> g_values_;
-  double pressure_scale(int64_t a) const;
-  std::vector<int32_t> g_local_rows_;
   std::vector<PetscInt> g_rows_, g_cols_;                // G's entries: global node, global dof
   std::vector<PetscInt> coupling_rows_, coupling_cols_;  // its entries, in fill order
   std::vector<PetscInt> coupling_row_sizes_;             // per owned row

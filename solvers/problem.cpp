@@ -68,14 +68,12 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
                          "cannot share nodes; give one of them formulation: displacement");
       small_strain = m.law->small_strain();
     }
-    std::vector<double> modulus(nt, -1.0), shear(nt, 0.0);
+    std::vector<double> modulus(nt, -1.0);
     for (size_t e = 0; e < nt; ++e) {
       const auto& m = materials_[dist.tet_volume[e]];
-      if (m.element != ElementFormulation::nodal_pressure) continue;
-      modulus[e] = m.law->volumetric_modulus();
-      shear[e] = m.law->elastic_constants().mu;
+      if (m.element == ElementFormulation::nodal_pressure) modulus[e] = m.law->volumetric_modulus();
     }
-    nodal_ = std::make_unique<NodalPressure>(dist, p1_geometry_, std::move(modulus), shear,
+    nodal_ = std::make_unique<NodalPressure>(dist, p1_geometry_, std::move(modulus),
                                              small_strain == 1, dofs_, comm);
   }
 

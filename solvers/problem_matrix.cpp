@@ -110,22 +110,6 @@ void Problem::fill_mixed_matrix(Mat mixed) {
   }
   nodal_->fill_mixed(mixed_values_.data() + tangent);
   HS_PETSC(MatSetValuesCOO(mixed, mixed_values_.data(), INSERT_VALUES));
-
-  VecHandle all, k_diagonal;
-  HS_PETSC(MatCreateVecs(mixed, all.out(), nullptr));
-  HS_PETSC(MatGetDiagonal(mixed, all));
-  HS_PETSC(VecCreateMPI(comm_, 3 * static_cast<PetscInt>(dist_.num_owned()), PETSC_DETERMINE,
-                        k_diagonal.out()));
-  const PetscScalar* from;
-  PetscScalar* to;
-  HS_PETSC(VecGetArrayRead(all, &from));
-  HS_PETSC(VecGetArray(k_diagonal, &to));
-  std::copy(from, from + 3 * dist_.num_owned(), to);
-  HS_PETSC(VecRestoreArray(k_diagonal, &to));
-  HS_PETSC(VecRestoreArrayRead(all, &from));
-  MatHandle schur(nodal_->schur_preconditioner(k_diagonal));
-  HS_PETSC(PetscObjectCompose(reinterpret_cast<PetscObject>(mixed), kMixedSchurKey,
-                              reinterpret_cast<PetscObject>(schur.get())));
 }
 
 Mat Problem::create_pattern_matrix() {

@@ -152,30 +152,6 @@ std::map<std::string, std::string> preset_options(SolverPreset preset, TangentKi
       options["pc_gamg_threshold"] = "0.01";
       options["mg_levels_ksp_type"] = "chebyshev";
       options["mg_levels_pc_type"] = "jacobi";
-      // A nodal-pressure body: GAMG on its tangent J = K + G^T D G meets the bulk modulus in
-      // D (about a thousand iterations a Newton step at nu 0.4999). Its mixed system is
-      // preconditioned instead by the Schur factorization [K G^T; G -D^-1] = L diag(K, S) L^T,
-      // GAMG on K (the law less its stiff term: of the shear modulus' scale) and S = -D^-1 -
-      // G K^-1 G^T by its spectral equivalent -(D^-1 + V / mu), diagonal; applied once, it is
-      // a fixed symmetric operator, definite on J's rows (solvers/mixed_factor.hpp).
-      if (tangent.nodal_pressure) {
-        register_mixed_factor();
-        for (const char* level : {"pc_gamg_threshold", "mg_levels_ksp_type", "mg_levels_pc_type"})
-          options[std::string("mixed_fieldsplit_u_") + level] = options[level];
-        for (const char* level : {"pc_gamg_threshold", "mg_levels_ksp_type", "mg_levels_pc_type"})
-          options.erase(level);
-        options["pc_type"] = kMixedFactorType;
-        options["pc_mixed_solve"] = "ksp";
-        options["mixed_ksp_type"] = "preonly";
-        options["mixed_pc_type"] = "fieldsplit";
-        options["mixed_pc_fieldsplit_type"] = "schur";
-        options["mixed_pc_fieldsplit_schur_fact_type"] = "full";
-        options["mixed_pc_fieldsplit_schur_precondition"] = "user";
-        options["mixed_fieldsplit_u_ksp_type"] = "preonly";
-        options["mixed_fieldsplit_u_pc_type"] = "gamg";
-        options["mixed_fieldsplit_p_ksp_type"] = "preonly";
-        options["mixed_fieldsplit_p_pc_type"] = "jacobi";
-      }
       break;
   }
   return options;
