@@ -15,7 +15,8 @@
 #   cat /tmp/p .device-carry/part_a[b-z] | xz -dc | tar x -C /tmp/b && . /tmp/b/env.sh
 # and then `mpirun -np N hydrosoft /tmp/b/proj/input/DECK.yaml` as here.
 # The reference BLAS and LAPACK stand in for OpenBLAS (35 MB less): MUMPS's dense kernels are
-# slower with them, so time GAMG, the assembly and the GPU with a bundle, not MUMPS.
+# slower with them, so time GAMG, the assembly and the GPU with such a bundle, not MUMPS;
+# HYDROSOFT_BUNDLE_BLAS=openblas packs OpenBLAS instead (one part more).
 set -euo pipefail
 if [[ $# -lt 2 ]]; then
   echo "usage: $0 BUILD_DIR OUT_DIR [NAME ...]" >&2
@@ -60,8 +61,13 @@ add_binary "$(readlink -f /usr/bin/mpirun)"
 add_binary "$(command -v orted)"
 mv "$stage/bin/orterun" "$stage/bin/mpirun" 2>/dev/null || true
 ln -sf mpirun "$stage/bin/mpiexec"  # the machine may have an mpiexec of its own, of another Open MPI
-cp -L /usr/lib/x86_64-linux-gnu/blas/libblas.so.3 /usr/lib/x86_64-linux-gnu/lapack/liblapack.so.3 \
-  "$stage/lib/"
+if [[ ${HYDROSOFT_BUNDLE_BLAS:-reference} == openblas ]]; then  # for runs that time MUMPS
+  openblas=/usr/lib/x86_64-linux-gnu/openblas-pthread
+  cp -L "$openblas/libblas.so.3" "$openblas/liblapack.so.3" "$openblas/libopenblas.so.0" "$stage/lib/"
+else
+  cp -L /usr/lib/x86_64-linux-gnu/blas/libblas.so.3 /usr/lib/x86_64-linux-gnu/lapack/liblapack.so.3 \
+    "$stage/lib/"
+fi
 
 # Open MPI finds its plugins, help texts and settings through OPAL_* (env.sh); transports for
 # networks the machine has none of are left out.
