@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/interrupt.hpp"
+#include "solvers/incompressibility.hpp"
 #include "solvers/residual_test.hpp"
 
 namespace hs {
@@ -44,6 +45,14 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   problem_.begin_solve();
   const auto& timers = problem_.timers();
   const double assembly_before = timers.residual_s + timers.jacobian_s;
+  const NewtonResult result = solve_keeping_volumes(problem_, u, [&] { return solve_once(u, s); });
+  if (result.converged) problem_.accept_state(u, s);
+  const double assembly = timers.residual_s + timers.jacobian_s - assembly_before;
+  solve_s_ += MPI_Wtime() - t0 - assembly;
+  return result;
+}
+
+NewtonResult BorderedNewton::solve_once(Vec u, double s) {
   const int m = constraints_.size();
   NewtonResult result;
   std::vector<double> c, g_norm(m, 0.0);
@@ -120,9 +129,6 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
 
     if (!take_step(u, s, zeta, lambda, c, r_norm, result.reason)) break;
   }
-  if (result.converged) problem_.accept_state(u, s);
-  const double assembly = timers.residual_s + timers.jacobian_s - assembly_before;
-  solve_s_ += MPI_Wtime() - t0 - assembly;
   return result;
 }
 

@@ -44,6 +44,9 @@ class BorderedNewton : public NonlinearSolver {
   KSP ksp() const { return ksp_; }
 
  private:
+  // The Newton iterations at the volume multipliers as they are (solvers/incompressibility.hpp
+  // repeats them for exactly incompressible bodies).
+  NewtonResult solve_once(Vec u, double s);
   // Moves u and the multipliers (lambda) along the step du_, zeta, halved where a trial leaves
   // the domain; c and r_norm become the new point's. False, with the reason, when no step is
   // left (the cavities are then put back at u).

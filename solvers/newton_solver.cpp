@@ -1,6 +1,7 @@
 #include "solvers/newton_solver.hpp"
 
 #include "common/error.hpp"
+#include "solvers/incompressibility.hpp"
 
 namespace hs {
 namespace {
@@ -136,6 +137,12 @@ void NewtonSolver::scale_absolute_tolerance(double load_norm) {
 NewtonResult NewtonSolver::solve(Vec u, double s) {
   load_ = s;
   problem_.begin_solve();
+  const NewtonResult r = solve_keeping_volumes(problem_, u, [&] { return solve_once(u); });
+  if (r.converged) problem_.accept_state(u, s);
+  return r;
+}
+
+NewtonResult NewtonSolver::solve_once(Vec u) {
   // With obstacles, unless the deck or command line chose: a line search on the residual's
   // norm (l2) for static steps, where full Newton steps cycle on the barrier's and friction's
   // stiff convex energy (a sticking block: 227 iterations and 9 cutbacks against 62 and 3);
@@ -176,7 +183,6 @@ NewtonResult NewtonSolver::solve(Vec u, double s) {
     r.converged = false;
     r.reason = "the solution inverts an element";
   }
-  if (r.converged) problem_.accept_state(u, s);
   return r;
 }
 

@@ -34,6 +34,9 @@ class NewtonSolver : public NonlinearSolver {
   SNES snes() const { return snes_; }
 
  private:
+  // SNES at the volume multipliers as they are (solvers/incompressibility.hpp repeats it for
+  // exactly incompressible bodies).
+  NewtonResult solve_once(Vec u);
   static PetscErrorCode form_residual(SNES, Vec u, Vec R, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec u, Mat J, Mat P, void* ctx);
   static PetscErrorCode form_objective(SNES, Vec u, PetscReal* energy, void* ctx);

@@ -10,8 +10,8 @@
 namespace hs {
 
 NodalPressure::NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
-                             std::vector<double> modulus, bool small_strain, const DofMap& dofs,
-                             MPI_Comm comm)
+                             std::vector<double> modulus, const std::vector<char>& incompressible,
+                             bool small_strain, const DofMap& dofs, MPI_Comm comm)
     : dist_(dist),
       geometry_(geometry),
       modulus_(std::move(modulus)),
@@ -31,8 +31,22 @@ NodalPressure::NodalPressure(const Distribution& dist, const std::vector<P1Geome
       kV_[n] += modulus_[e] * geometry_[e].volume / 4;
     }
   }
+  std::vector<double> compressible(nl, 0.0);  // per node: its patch's compressible volume
+  for (size_t e = 0; e < modulus_.size(); ++e)
+    if (takes_part(e) && !incompressible[e])
+      for (int a = 0; a < 4; ++a) compressible[dist.tet_nodes[4 * e + a]] += geometry_[e].volume;
   sum_over_patches(V_);
   sum_over_patches(kV_);
+  sum_over_patches(compressible);
+  lambda_.assign(nl, 0.0);
+  multiplied_.assign(nl, 0);
+  int any = 0;
+  for (int64_t n = 0; n < nl; ++n) {
+    multiplied_[n] = V_[n] > 0 && compressible[n] == 0;
+    any |= multiplied_[n];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, comm);
+  has_multipliers_ = any;
   dof_index_.resize(3 * nl);
   for (int32_t n = 0; n < nl; ++n) dofs.indices(&n, 1, &dof_index_[3 * n]);
   dv_.assign(nl, 0.0);
@@ -89,6 +103,11 @@ bool NodalPressure::update(const PetscScalar* u_local, int64_t* bad_tet) {
     const VolumetricValues U1 = volumetric_function(1.0, J_minus_one, small_strain_);
     p_[n] = kV_[n] * U1.dU / V_[n];
     c_[n] = kV_[n] * U1.d2U / (V_[n] * V_[n]);
+    if (lambda_[n] != 0) {  // + lambda_a M(J_a): M' = 1/J, M'' = -1/J^2 (1 and 0, small strains)
+      const double dM = small_strain_ ? 1.0 : 1.0 / (1.0 + J_minus_one);
+      p_[n] += lambda_[n] * dM;
+      if (!small_strain_) c_[n] -= lambda_[n] * dM * dM / V_[n];
+    }
   }
   tangent_p_ = p_;
   if (!ok && bad_tet)
@@ -134,8 +153,9 @@ void NodalPressure::linearize(const PetscScalar* u_local) {
       if (!(V_[n] > 0)) continue;
       const double lnJ = lnJ_lin_[n] + dv_lin[n] / v_lin_[n];
       const double J = 1.0 + dv_[n] / V_[n], kbar = kV_[n] / V_[n];
-      tangent_p_[n] = kbar * lnJ / J;
-      c_[n] = kbar * (1.0 - lnJ) / (V_[n] * J * J);
+      const double q = lambda_[n] + kbar * lnJ;
+      tangent_p_[n] = q / J;
+      c_[n] = (kbar - q) / (V_[n] * J * J);
     }
   }
   linearized_ = true;
@@ -184,7 +204,35 @@ void NodalPressure::add_element_scale(int64_t e, const double* ue, double* K) co
 double NodalPressure::owned_energy() const {
   double sum = 0;
   for (int64_t n = 0; n < dist_.num_owned(); ++n)
-    if (V_[n] > 0) sum += kV_[n] * volumetric_function(1.0, dv_[n] / V_[n], small_strain_).U;
+    if (V_[n] > 0)
+      sum += kV_[n] * volumetric_function(1.0, dv_[n] / V_[n], small_strain_).U +
+             V_[n] * lambda_[n] * volume_measure(n);
+  return sum;
+}
+
+double NodalPressure::volume_measure(size_t n) const {
+  return small_strain_ ? dv_[n] / V_[n] : std::log1p(dv_[n] / V_[n]);
+}
+
+double NodalPressure::largest_volume_change() const {
+  double largest = 0;
+  for (int64_t n = 0; n < dist_.num_owned(); ++n)
+    if (multiplied_[n]) largest = std::max(largest, std::abs(volume_measure(n)));
+  MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return largest;
+}
+
+std::vector<double> NodalPressure::multiplier_raise() const {
+  std::vector<double> raise(V_.size(), 0.0);
+  for (size_t n = 0; n < V_.size(); ++n)
+    if (multiplied_[n]) raise[n] = kV_[n] / V_[n] * volume_measure(n);
+  return raise;
+}
+
+double NodalPressure::owned_dot(const std::vector<double>& a, const std::vector<double>& b) const {
+  double sum = 0;
+  for (int64_t n = 0; n < dist_.num_owned(); ++n) sum += a[n] * b[n];
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
   return sum;
 }
 

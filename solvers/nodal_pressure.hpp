@@ -23,6 +23,12 @@
 // at u. The residual is the same; the tangents differ away from equilibrium only. A full step
 // that overshoots the nearly rigid volume makes kbar ln J(u) huge and q not: Newton's
 // iterations stop growing with k (docs/formulation.md).
+// Exactly incompressible materials (nu = 0.5) add a multiplier lambda_a per node whose patch is
+// all theirs (an augmented Lagrangian, Simo and Taylor 1991): the patch energy becomes
+//   V_a [lambda_a M(J_a) + kbar_a M(J_a)^2 / 2],   M = ln J (J - 1 for small strains),
+// kbar_a the penalty (materials/elastic_constants.hpp); each solve is repeated with
+// lambda_a += kbar_a M(J_a) until every such patch keeps its volume
+// (solvers/incompressibility.hpp).
 #pragma once
 
 #include <petscmat.h>
@@ -39,11 +45,26 @@ namespace hs {
 
 class NodalPressure {
  public:
-  // modulus[e]: k_e of local tet e (< 0: the element is not a nodal-pressure one); small_strain:
+  // modulus[e]: k_e of local tet e (< 0: the element is not a nodal-pressure one);
+  // incompressible[e]: its material has nu = 0.5 (k_e is then the penalty); small_strain:
   // the laws are of small strains (U1 = (J - 1)^2 / 2 on the linearised volume change, the
   // linear elastic body's averaged nodal dilatation). Collective.
   NodalPressure(const Distribution& dist, const std::vector<P1Geometry>& geometry,
-                std::vector<double> modulus, bool small_strain, const DofMap& dofs, MPI_Comm comm);
+                std::vector<double> modulus, const std::vector<char>& incompressible,
+                bool small_strain, const DofMap& dofs, MPI_Comm comm);
+
+  // The volume multipliers (nodes whose patch is all of incompressible elements).
+  bool has_multipliers() const { return has_multipliers_; }
+  // Over all ranks, the largest |M(J_a)| of those nodes at the last update. Collective.
+  double largest_volume_change() const;
+  // Per local node, kbar_a M(J_a) at the last update where a has a multiplier, else 0: the
+  // multipliers' raise (an augmented Lagrangian's update lambda += kbar M).
+  std::vector<double> multiplier_raise() const;
+  // sum over the owned nodes of a_n b_n, over all ranks. Collective.
+  double owned_dot(const std::vector<double>& a, const std::vector<double>& b) const;
+  // Per local node, to put back after a failed solve.
+  const std::vector<double>& multipliers() const { return lambda_; }
+  void set_multipliers(const std::vector<double>& lambda) { lambda_ = lambda; }
 
   // From the local displacements (3 per local node, owned then ghosts): the volume ratios
   // and pressures of all local nodes. Collective. False if a patch's volume is not positive
@@ -99,12 +120,17 @@ class NodalPressure {
   void sum_over_patches(std::vector<double>& local_values);
   // G, D and the pattern of G^T D G (MatPtAP's symbolic product), once.
   void make_coupling();
+  // M(J_a) of local node n at the last update: ln J_a (J_a - 1 for small strains).
+  double volume_measure(size_t n) const;
 
   const Distribution& dist_;
   const std::vector<P1Geometry>& geometry_;
   std::vector<double> modulus_;  // per local tet
   bool small_strain_;
-  std::vector<double> V_, kV_;      // per local node
+  std::vector<double> V_, kV_;    // per local node
+  std::vector<double> lambda_;    // per local node: the volume multiplier (0 where none)
+  std::vector<char> multiplied_;  // per local node: its patch is all incompressible
+  bool has_multipliers_ = false;
   std::vector<double> dv_, p_, c_;  // per local node, at the last update
   std::vector<double> tangent_p_;   // per local node: the tangent's pressures
   // The previous tangent's point: local displacements, per node ln J_a and v_a, per local tet

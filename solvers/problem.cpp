@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "fem/element.hpp"
+#include "materials/elastic_constants.hpp"
 #include "materials/volumetric_term.hpp"
 #include "solvers/mixed_factor.hpp"
 
@@ -69,11 +70,14 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
       small_strain = m.law->small_strain();
     }
     std::vector<double> modulus(nt, -1.0);
+    std::vector<char> incompressible(nt, 0);
     for (size_t e = 0; e < nt; ++e) {
       const auto& m = materials_[dist.tet_volume[e]];
-      if (m.element == ElementFormulation::nodal_pressure) modulus[e] = m.law->volumetric_modulus();
+      if (m.element != ElementFormulation::nodal_pressure) continue;
+      modulus[e] = m.law->volumetric_modulus();
+      incompressible[e] = hs::incompressible(m.law->elastic_constants());
     }
-    nodal_ = std::make_unique<NodalPressure>(dist, p1_geometry_, std::move(modulus),
+    nodal_ = std::make_unique<NodalPressure>(dist, p1_geometry_, std::move(modulus), incompressible,
                                              small_strain == 1, dofs_, comm);
   }
 
@@ -413,6 +417,30 @@ std::vector<double> Problem::nodal_pressure(Vec u) const {
   LocalView view(u, uw);
   nodal_->update(view.values(), nullptr);
   return nodal_->owned_compression();
+}
+
+void Problem::volume_multiplier_field(Vec field) const {
+  const std::vector<double>& lambda = nodal_->multipliers();
+  PetscScalar* a;
+  HS_PETSC(VecGetArray(field, &a));
+  for (int64_t n = 0; n < dist_.num_owned(); ++n) {
+    a[3 * n] = lambda[n];
+    a[3 * n + 1] = a[3 * n + 2] = 0;
+  }
+  HS_PETSC(VecRestoreArray(field, &a));
+}
+
+void Problem::set_volume_multipliers(Vec field) {
+  LocalView view(field, u_work_);
+  std::vector<double> lambda(dist_.num_local());
+  for (int64_t n = 0; n < dist_.num_local(); ++n) lambda[n] = view.values()[3 * n];
+  nodal_->set_multipliers(lambda);
+}
+
+double Problem::largest_volume_change(Vec u) {
+  LocalView view(u, u_work_);
+  nodal_->update(view.values(), nullptr);
+  return nodal_->largest_volume_change();
 }
 
 std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {

@@ -11,6 +11,7 @@
 #include <petscmat.h>
 #include <petscvec.h>
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <memory>
@@ -43,6 +44,9 @@ struct AssemblyTimers {
   int residual_calls = 0, jacobian_calls = 0;
 };
 
+// The checkpoint's field of the volume multipliers (Problem::volume_multiplier_field).
+inline constexpr char kVolumeMultiplierField[] = "volume_multipliers";
+
 class Problem {
  public:
   // `exact` (may be empty) gives the values of Dirichlet conditions marked exact.
@@ -63,6 +67,40 @@ class Problem {
   Mat create_matrix(bool mixed = false);
   Mat create_mass_matrix();
   bool has_nodal_pressure() const { return nodal_ != nullptr; }
+  // Exactly incompressible bodies (nu = 0.5): the volume multipliers of the nodal-pressure
+  // element (solvers/nodal_pressure.hpp), raised by solvers/incompressibility.hpp.
+  bool has_volume_multipliers() const { return nodal_ && nodal_->has_multipliers(); }
+  // The largest |ln J_a| of their patches on u, over all ranks. Collective.
+  double largest_volume_change(Vec u);
+  // The volume multipliers' raise kbar_a ln J_a on u (after largest_volume_change(u)); the
+  // dot product of two such vectors over the owned nodes (NodalPressure).
+  std::vector<double> volume_multiplier_raise() const { return nodal_->multiplier_raise(); }
+  double owned_node_dot(const std::vector<double>& a, const std::vector<double>& b) const {
+    return nodal_->owned_dot(a, b);
+  }
+  std::vector<double> volume_multipliers() const {
+    return nodal_ ? nodal_->multipliers() : std::vector<double>();
+  }
+  void set_volume_multipliers(const std::vector<double>& lambda) {
+    if (nodal_) nodal_->set_multipliers(lambda);
+  }
+  // The multipliers as a nodal field for the checkpoint (first component; the others 0), and
+  // back from one (collective: the ghosts are updated from their owners).
+  void volume_multiplier_field(Vec field) const;
+  void set_volume_multipliers(Vec field);
+  // What keeping the volumes took, over the run's converged solves (summary.json's
+  // `incompressibility`).
+  struct VolumeKeeping {
+    int solves = 0, raises = 0, most_raises = 0;
+    double last_change = 0;  // the largest |ln J_a| the last solve left
+  };
+  const VolumeKeeping& volume_keeping() const { return volume_keeping_; }
+  void record_volumes_kept(double change, int raises) {
+    ++volume_keeping_.solves;
+    volume_keeping_.raises += raises;
+    volume_keeping_.most_raises = std::max(volume_keeping_.most_raises, raises);
+    volume_keeping_.last_change = change;
+  }
 
   // Sets the Dirichlet dofs of u to their prescribed values at load factor s.
   void apply_dirichlet(Vec u, double s) const { dofs_.apply(u, s); }
@@ -263,6 +301,7 @@ class Problem {
   // its volumetric term, which nodal_ integrates per node).
   std::vector<std::shared_ptr<const MaterialLaw>> element_laws_;
   std::unique_ptr<NodalPressure> nodal_;  // when a material runs the nodal-pressure element
+  VolumeKeeping volume_keeping_;
   // Per mesh volume group: an F-bar material's law less its volumetric term (null for others
   // and for small-strain laws); per local tet, where any is, the previous tangent's point of
   // the term: ln Jbar(u0) - g . u0 and g = b(u0) / Jbar(u0), valid when there was one.

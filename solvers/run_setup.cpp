@@ -9,6 +9,7 @@
 #include "deck/deck.hpp"
 #include "deck/exact_section.hpp"
 #include "mesh/rigid_motions.hpp"
+#include "solvers/incompressibility.hpp"
 #include "solvers/run_output.hpp"
 #include "solvers/verification/reference_check.hpp"
 
@@ -105,6 +106,14 @@ nlohmann::json RunSetup::summary() {
                                     {"model", m.law->name()},
                                     {"formulation", name_of(kElementFormulationNames, m.element)},
                                     {"formulation_reason", m.formulation_reason}});
+  if (problem->has_volume_multipliers()) {
+    const auto& k = problem->volume_keeping();
+    summary["incompressibility"] = {{"volume_tolerance", kVolumeTolerance},
+                                    {"last_volume_change", k.last_change},
+                                    {"solves", k.solves},
+                                    {"multiplier_raises", k.raises},
+                                    {"most_raises_in_a_solve", k.most_raises}};
+  }
   summary["steps"] = stats.steps;
   summary["cutbacks"] = stats.cutbacks;
   summary["newton_iterations"] = stats.newton_iterations;

@@ -75,6 +75,11 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     stop_if_interrupted(comm);
     if (run.restart) {
       stepper->resume(*run.restart, run.u);
+      if (problem.has_volume_multipliers()) {
+        const VecHandle lambda(problem.create_vector());
+        run.restart->read(kVolumeMultiplierField, problem, lambda);
+        problem.set_volume_multipliers(lambda);
+      }
       if (verifies) history = run.restart->position().at("verification");
     } else if (const auto rest = stepper->initial_output()) {
       recorder.record(rest->time, run.u, rest->load_factor, rest->time_kind);
@@ -107,8 +112,13 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
       if (run.checkpoints->due(signal)) {
         nlohmann::json position = stepper->position();
         if (verifies) position["verification"] = history;
-        run.checkpoints->write(position, stepper->checkpoint_fields(run.u),
-                               stepper->checkpoint_series());
+        NamedVecs fields = stepper->checkpoint_fields(run.u);
+        const VecHandle lambda(problem.create_vector());
+        if (problem.has_volume_multipliers()) {
+          problem.volume_multiplier_field(lambda);
+          fields.emplace_back(kVolumeMultiplierField, lambda);
+        }
+        run.checkpoints->write(position, fields, stepper->checkpoint_series());
       }
       if (signal) throw Interrupted(signal);
     }

@@ -33,7 +33,7 @@ inline constexpr const char* kSolverPrefixes[] = {kNewtonPrefix,  kBorderedPrefi
                                                   kControlPrefix, kCorrectionPrefix,
                                                   kMassPrefix,    kPartitionPrefix};
 // hydrosoft's options that no object's prefix begins (read with get_unprefixed_bool).
-inline constexpr const char* kUnprefixedOptions[] = {"hs_near_null_space"};
+inline constexpr const char* kUnprefixedOptions[] = {"hs_near_null_space", "hs_volume_monitor"};
 
 // What the preset needs to know of the tangent: symmetric (L D L^T, CG or MINRES), positive
 // definite (CG), and with a nodal-pressure body (MUMPS factors its mixed system,

@@ -12,7 +12,7 @@ namespace hs {
 // Parses and validates a deck. `overrides` are "dotted.key=value" strings from the
 // command line (e.g. "mesh.order=2", "mesh.parameters.h=0.05") applied before validation.
 // Throws InputError naming the file, the key and the reason: unknown keys, wrong types,
-// missing required keys, non-physical values (E <= 0, nu outside (-1, 0.5), density < 0, ...).
+// missing required keys, non-physical values (E <= 0, nu outside (-1, 0.5], density < 0, ...).
 Config parse_deck(const std::string& path, const std::vector<std::string>& overrides = {});
 
 // Throws InputError if a group named by the deck is missing from the mesh or has no

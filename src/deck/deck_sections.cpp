@@ -42,7 +42,7 @@ MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const
   const FormulationChoice choice = choose_formulation(m.formulation, m.law->elastic_constants().nu,
                                                       c.mesh.order, m.law->has_volumetric_term());
   if (!choice.error.empty())
-    r.fail(child_key(key, "formulation"), node["formulation"], choice.error);
+    r.fail(child_key(key, choice.error_key), node[choice.error_key], choice.error);
   m.element = choice.formulation;
   m.formulation_reason = choice.reason;
   m.formulation_warning = choice.warning;
@@ -146,8 +146,9 @@ const KeyTable<MaterialConfig>& material_keys() {
                "the element: `fbar` (locking-free for nearly incompressible bodies on P2 "
                "meshes), `nodal_pressure` (the same on P1 meshes, for laws with a (ln J)^2 "
                "volumetric term), `displacement`, or `auto`: at nu >= 0.49 `fbar` on P2 and "
-               "`nodal_pressure` on P1 where the law allows, else `displacement` "
-               "(docs/formulation.md); the element that runs is printed beside the material"),
+               "`nodal_pressure` on P1 where the law allows, else `displacement`; at nu = 0.5 "
+               "`nodal_pressure` with volume multipliers (P1 only) (docs/formulation.md); the "
+               "element that runs is printed beside the material"),
   };
   return keys;
 }

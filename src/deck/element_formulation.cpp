@@ -14,6 +14,38 @@ std::string p1_locking_error(double nu) {
   return "86 %";
 }
 
+// nu = 0.5: the nodal-pressure element with its volume multipliers, the one element that
+// carries them.
+FormulationChoice choose_incompressible(ElementFormulation asked, int order,
+                                        bool law_has_volumetric_term) {
+  FormulationChoice c;
+  c.formulation = ElementFormulation::nodal_pressure;
+  c.reason = std::string(asked == ElementFormulation::automatic ? "auto: " : "asked, ") +
+             "nu = 0.5 (incompressible) on P" + std::to_string(order) +
+             ": nodal pressure with volume multipliers";
+  if (order != 1) {
+    c.error_key = "nu";
+    c.error =
+        "0.5 (exact incompressibility) is built on P1 meshes only, by the nodal-pressure "
+        "element's volume multipliers; on mesh.order: 2, nu 0.4999 runs the F-bar element "
+        "(within 0.1 % of the incompressible sphere, docs/stiff_cases.md)";
+  } else if (!law_has_volumetric_term) {
+    c.error_key = "nu";
+    c.error =
+        "0.5 (exact incompressibility) needs a law with a volumetric term (neo_hookean, "
+        "mooney_rivlin, yeoh, gent, linear_elastic): its multipliers keep the nodal-pressure "
+        "element's volumes";
+  } else if (asked != ElementFormulation::automatic &&
+             asked != ElementFormulation::nodal_pressure) {
+    c.error = std::string(
+                  "nu = 0.5 (exact incompressibility) runs on the nodal-pressure "
+                  "element only (formulation: auto or nodal_pressure); the ") +
+              (asked == ElementFormulation::fbar ? "F-bar" : "displacement") +
+              " element has no volume multipliers";
+  }
+  return c;
+}
+
 }  // namespace
 
 FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order,
@@ -23,6 +55,7 @@ FormulationChoice choose_formulation(ElementFormulation asked, double nu, int or
                          format_number(kNearlyIncompressibleNu) + " on P" + std::to_string(order);
   FormulationChoice c;
   const bool automatic = asked == ElementFormulation::automatic;
+  if (nu == 0.5) return choose_incompressible(asked, order, law_has_volumetric_term);
   c.reason = (automatic ? "auto: " : "asked, ") + at;
   if (asked == ElementFormulation::fbar) {
     if (order == 1)

@@ -20,10 +20,12 @@ struct FormulationChoice {
   std::string reason;   // e.g. "auto: nu = 0.4999 >= 0.49 on P2"
   std::string warning;  // empty, or what a locking element costs here
   std::string error;    // empty, or why the asked formulation cannot run (an input error)
+  std::string error_key = "formulation";  // the material's key the error names
 };
 
 // `asked` as the deck gives it (automatic included), Poisson's ratio nu of the material's
-// small-strain constants, the mesh's element order (1 or 2), and whether the law's energy has
+// small-strain constants (0.5: incompressible, only on the nodal-pressure element, whose
+// volume multipliers keep it), the mesh's element order (1 or 2), and whether the law's energy has
 // the volumetric term k/2 (ln J)^2 that the nodal-pressure element integrates per node.
 FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order,
                                      bool law_has_volumetric_term);

@@ -7,7 +7,8 @@ ElasticConstants elastic_constants_from_E_nu(double E, double nu) {
   c.E = E;
   c.nu = nu;
   c.mu = c.E / (2 * (1 + c.nu));
-  c.lambda = c.E * c.nu / ((1 + c.nu) * (1 - 2 * c.nu));
+  c.lambda =
+      c.nu == 0.5 ? kIncompressiblePenalty * c.mu : c.E * c.nu / ((1 + c.nu) * (1 - 2 * c.nu));
   return c;
 }
 
@@ -16,7 +17,7 @@ ElasticConstants elastic_constants_from_mu_nu(double mu, double nu) {
   c.mu = mu;
   c.nu = nu;
   c.E = 2 * c.mu * (1 + c.nu);
-  c.lambda = 2 * c.mu * c.nu / (1 - 2 * c.nu);
+  c.lambda = c.nu == 0.5 ? kIncompressiblePenalty * c.mu : 2 * c.mu * c.nu / (1 - 2 * c.nu);
   return c;
 }
 
@@ -30,15 +31,9 @@ ElasticConstants elastic_constants_from_lame(double mu, double lambda) {
 }
 
 Limit poisson_ratio_limit() {
-  return {"in (-1, 0.5)", [](double nu) {
-            if (nu > -1 && nu < 0.5) return std::string();
-            std::string problem = "must lie in (-1, 0.5), got " + format_number(nu);
-            if (nu == 0.5)
-              problem +=
-                  ": exact incompressibility (the pressure as a multiplier) is not built; nu "
-                  "0.4999 with the locking-free elements of formulation: auto comes within "
-                  "0.1 % of the incompressible sphere's closed form (docs/stiff_cases.md)";
-            return problem;
+  return {"in (-1, 0.5]", [](double nu) {
+            if (nu > -1 && nu <= 0.5) return std::string();
+            return "must lie in (-1, 0.5] (0.5: incompressible), got " + format_number(nu);
           }};
 }
 
@@ -62,10 +57,15 @@ ElasticConstants resolve_elastic_constants(const DeckReader& r, const YAML::Node
 }
 
 bool given_as_E_nu(const ElasticConstants& c) {
-  return c.mu == c.E / (2 * (1 + c.nu)) && c.lambda == c.E * c.nu / ((1 + c.nu) * (1 - 2 * c.nu));
+  const ElasticConstants engineering = elastic_constants_from_E_nu(c.E, c.nu);
+  return c.mu == engineering.mu && c.lambda == engineering.lambda;
 }
 
 std::string ElasticLaw::derived_values() const {
+  if (constants_.nu == 0.5)
+    return "mu = " + format_number(constants_.mu) +
+           ", incompressible: lambda = " + format_number(constants_.lambda) +
+           " as the penalty of the volume multipliers";
   return given_as_E_nu(constants_)
              ? "mu = " + format_number(constants_.mu) +
                    ", lambda = " + format_number(constants_.lambda)

@@ -20,11 +20,17 @@ namespace hs {
 // converted back, may differ in the last bit, so the given one is printed.
 bool given_as_E_nu(const ElasticConstants& c);
 
-// The Poisson ratio's bound: in (-1, 0.5), 0.5 being incompressible.
+// nu = 0.5, exact incompressibility: the laws take lambda = kIncompressiblePenalty mu, the
+// penalty of the augmented Lagrangian whose multipliers keep every patch's volume
+// (solvers/nodal_pressure.hpp, docs/formulation.md "Exactly incompressible bodies").
+inline constexpr double kIncompressiblePenalty = 5000;
+inline bool incompressible(const ElasticConstants& c) { return c.nu == 0.5; }
+
+// The Poisson ratio's bound: in (-1, 0.5], 0.5 being incompressible.
 Limit poisson_ratio_limit();
 
 // The keys E, nu, mu, lambda of a law whose parameters S are ElasticConstants or derive from
-// them: each read as given (E, mu > 0; nu in (-1, 0.5)), printed as the pair the deck gave.
+// them: each read as given (E, mu > 0; nu in (-1, 0.5]), printed as the pair the deck gave.
 // resolve_elastic_constants then checks the pair and derives the other.
 template <class S>
 LawKeyTable<S> elastic_constant_keys() {
@@ -35,9 +41,8 @@ LawKeyTable<S> elastic_constant_keys() {
           .defaults_to("required without `mu`, `lambda`")
           .printed_when(engineering),
       LawKeys::number_key<S>("nu", &S::nu, poisson_ratio_limit(),
-                             "Poisson's ratio, with `E` (0.5, exact incompressibility, is not "
-                             "built: 0.4999 with `formulation: auto` comes within 0.1 % of it, "
-                             "docs/stiff_cases.md)")
+                             "Poisson's ratio, with `E`; 0.5 is exact incompressibility (P1 "
+                             "meshes, docs/formulation.md)")
           .defaults_to("required without `mu`, `lambda`")
           .printed_when(engineering),
       LawKeys::number_key<S>("mu", &S::mu, above(0), "Lamé's shear modulus μ (Pa), with `lambda`")
@@ -57,7 +62,8 @@ ElasticConstants resolve_elastic_constants(const DeckReader& r, const YAML::Node
                                            const std::string& key, const ElasticConstants& read);
 
 // The pair (E, nu) given, (mu, lambda) derived:
-//   mu = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu)).
+//   mu = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu))  (kIncompressiblePenalty mu at
+//   nu = 0.5).
 ElasticConstants elastic_constants_from_E_nu(double E, double nu);
 // mu and nu given (a law whose shear modulus is its own parameter), E and lambda derived:
 //   E = 2 mu (1 + nu),  lambda = 2 mu nu / (1 - 2 nu).

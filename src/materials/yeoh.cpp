@@ -76,7 +76,8 @@ const LawKeyTable<YeohParameters>& YeohLaw::keys() {
           "the second coefficient (Pa), of either sign as published fits have them"),
       LawKeys::number_key<P>("C3", &P::C3, any_number(), "the third coefficient (Pa), as `C2`"),
       LawKeys::number_key<P>("nu", &P::nu, poisson_ratio_limit(),
-                             "Poisson's ratio: the bulk modulus κ = 2μ (1 + ν) / (3 (1 − 2ν))")
+                             "Poisson's ratio: the bulk modulus κ = 2μ (1 + ν) / (3 (1 − 2ν)); "
+                             "0.5 is exact incompressibility (P1 meshes, docs/formulation.md)")
           .needed(),
   };
   return keys;

@@ -24,6 +24,7 @@ const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
 struct Case {
   std::string name, deck, args;
+  double tolerance = 1e-8;  // of the restarted run's displacement against the uninterrupted
 };
 
 std::ostream& operator<<(std::ostream& out, const Case& c) { return out << c.name; }
@@ -36,6 +37,11 @@ const Case kDynamic{"dynamic", "cantilever_dynamic",
                     "--set mesh.order=1 --set time.dt=0.1 --set time.end_time=2.0 "
                     "--set output.every=1"};
 const Case kStates{"states", "cylinder_water", "--set states[1].steps=20"};
+// Incompressible silicone (nu = 0.5): the volume multipliers are part of the state. Without
+// them the restart would rebuild them, to 1.4e-9 of the uninterrupted run; with them it
+// repeats its arithmetic (1e-14).
+const Case kIncompressible{"incompressible", "cylinder_air",
+                           "--set materials[0].nu=0.5 --set states[1].steps=20", 1e-12};
 // The water cylinder in dynamics: its weight ramps in, then 3 kPa, over 25 time steps.
 const Case kDynamicStates{"dynamic_states", "cylinder_water",
                           "--set 'time={type: dynamic, dt: 0.002, end_time: 0.05}' "
@@ -76,7 +82,7 @@ TEST_P(Restart, AfterSigkillOrSigtermEndsAsAnUninterruptedRunOn1And2Ranks) {
   EXPECT_EQ(once.time, expected.time);
   const double d1 = relative_difference(expected.u, once.u);
   EXPECT_GE(d1, 0);
-  EXPECT_LT(d1, 1e-8);
+  EXPECT_LT(d1, c.tolerance);
   const auto summary = nlohmann::json::parse(text_of(run_folder + "/summary.json"));
   EXPECT_EQ(summary["status"], "ok");
   EXPECT_EQ(summary["restarted_from"]["folder"], run_folder + ".partial");
@@ -101,13 +107,14 @@ TEST_P(Restart, AfterSigkillOrSigtermEndsAsAnUninterruptedRunOn1And2Ranks) {
   EXPECT_EQ(twice.time, expected.time);
   const double d2 = relative_difference(expected.u, twice.u);
   EXPECT_GE(d2, 0);
-  EXPECT_LT(d2, 1e-8);
+  EXPECT_LT(d2, c.tolerance);
   std::cout << "[ restart  ] " << c.name << ": 1 rank after SIGKILL " << d1
             << ", 2 ranks after SIGTERM " << d2 << " (max |du| / max |u|)" << std::endl;
 }
 
 INSTANTIATE_TEST_SUITE_P(Decks, Restart,
-                         ::testing::Values(kStatic, kDynamic, kStates, kDynamicStates),
+                         ::testing::Values(kStatic, kDynamic, kStates, kDynamicStates,
+                                           kIncompressible),
                          [](const auto& info) { return info.param.name; });
 
 TEST(RestartRefused, ACheckpointOfAnotherDeckOrOtherValues) {

@@ -136,12 +136,19 @@ TEST_F(DeckErrors, NonPhysicalValues) {
   expect_errors({
       {material("E: 0, nu: 0.3"), "materials[0].E", "must be > 0, got 0"},
       {material("E: -5, nu: 0.3"), "materials[0].E", "must be > 0, got -5"},
-      // nu = 0.5 is told what comes nearest; another value outside the range is not.
-      {material("E: 1, nu: 0.5"), "materials[0].nu",
-       "must lie in (-1, 0.5), got 0.5: exact incompressibility (the pressure as a multiplier) "
-       "is not built; nu 0.4999 with the locking-free elements of formulation: auto comes "
-       "within 0.1 % of the incompressible sphere's closed form (docs/stiff_cases.md)"},
-      {material("E: 1, nu: -1"), "materials[0].nu", "must lie in (-1, 0.5), got -1"},
+      {material("E: 1, nu: 0.51"), "materials[0].nu",
+       "must lie in (-1, 0.5] (0.5: incompressible), got 0.51"},
+      {material("E: 1, nu: -1"), "materials[0].nu",
+       "must lie in (-1, 0.5] (0.5: incompressible), got -1"},
+      // nu = 0.5 runs on the one element with volume multipliers: P1, a volumetric term.
+      {"mesh: {file: body.geo, order: 2}\n" + material("E: 1, nu: 0.5").substr(kMesh.size()),
+       "materials[0].nu", "0.5 (exact incompressibility) is built on P1 meshes only"},
+      {kMesh + "materials:\n  - {group: body, model: saint_venant_kirchhoff, E: 1, nu: 0.5}\n",
+       "materials[0].nu", "0.5 (exact incompressibility) needs a law with a volumetric term"},
+      {material("E: 1, nu: 0.5, formulation: displacement"), "materials[0].formulation",
+       "nu = 0.5 (exact incompressibility) runs on the nodal-pressure element only "
+       "(formulation: auto or nodal_pressure); the displacement element has no volume "
+       "multipliers"},
       {material("mu: 0, lambda: 1"), "materials[0].mu", "must be > 0, got 0"},
       {material("mu: 3, lambda: -2"), "materials[0].lambda",
        "gives bulk modulus lambda + 2 mu / 3 = 0, must be > 0"},
@@ -724,7 +731,9 @@ TEST_F(DeckErrors, ErrorsGiveTheLineOfTheKey) {
       tmp.write("lines.yaml", kMesh +
                                   "materials:\n  - group: body\n"
                                   "    model: neo_hookean\n    E: 1\n    nu: 0.7\n");
-  EXPECT_EQ(error_of(path), path + ": materials[0].nu: must lie in (-1, 0.5), got 0.7 (line 6)");
+  EXPECT_EQ(
+      error_of(path),
+      path + ": materials[0].nu: must lie in (-1, 0.5] (0.5: incompressible), got 0.7 (line 6)");
 }
 
 // The obstacles and contact sections (docs/contact.md).

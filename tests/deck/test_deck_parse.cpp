@@ -766,7 +766,8 @@ materials:
       {"mesh.order=[1, 2", "the value is not valid YAML"},
       // Well-formed overrides whose result fails validation name the override as well.
       {"mesh.ordr=2", "mesh.ordr: unknown key (did you mean 'order'?"},
-      {"materials[0].nu=0.5", "materials[0].nu: must lie in (-1, 0.5), got 0.5"},
+      {"materials[0].nu=0.6",
+       "materials[0].nu: must lie in (-1, 0.5] (0.5: incompressible), got 0.6"},
       {"mesh.order=two", "mesh.order: expected an integer, got 'two'"},
   };
   for (const auto& c : cases) {

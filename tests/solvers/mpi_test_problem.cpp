@@ -127,14 +127,26 @@ INSTANTIATE_TEST_SUITE_P(
 // volumetric term, at nu = 0.49 (kappa/mu = 50).
 class NodalPressureTest : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) {
+// Volume multipliers of an incompressible body (solvers/nodal_pressure.hpp) as a solve
+// leaves them: any values, the same on every rank for a node (from its global index).
+void set_volume_multipliers(hs::Problem& problem, const hs::Distribution& dist, double scale) {
+  ASSERT_TRUE(problem.has_volume_multipliers());
+  std::vector<double> lambda(dist.num_local());
+  for (int64_t n = 0; n < dist.num_local(); ++n)
+    lambda[n] = scale * (static_cast<double>((dist.local_nodes[n] * 7919) % 1000) / 1000 - 0.3);
+  problem.set_volume_multipliers(lambda);
+}
+
+// The residual is the gradient of the energy and the tangent its Hessian, at nu 0.49 and at
+// nu = 0.5 with volume multipliers of the order of the shear modulus.
+void check_derivatives(const std::string& law, double nu) {
   Fixture f({"mesh.order=1", "materials[0].density=1000"});
   f.config.pressures.clear();  // a potential: the energy check below
   auto& material = f.config.materials[0];
-  material.law =
-      hs::material_fixtures::make_law(GetParam(), hs::elastic_constants_from_E_nu(1e6, 0.49));
+  material.law = hs::material_fixtures::make_law(law, hs::elastic_constants_from_E_nu(1e6, nu));
   material.element = hs::ElementFormulation::nodal_pressure;
   hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
+  if (nu == 0.5) set_volume_multipliers(problem, f.dist, 3e5);
   const hs::VecHandle u(problem.create_vector()), v(problem.create_vector());
   fill_random(u, 0.01, 5);
   fill_random(v, 1.0, 6);
@@ -146,7 +158,7 @@ TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) {
   const TangentCheck c = check_tangent(problem, J, u, v, s);
   ASSERT_GE(c.error, 0) << "a residual failed";
   const PetscReal ref = c.size;
-  EXPECT_LT(c.error, 1e-6 * ref) << GetParam();
+  EXPECT_LT(c.error, 1e-6 * ref) << law;
   EXPECT_GT(ref, 0);
 
   hs::VecHandle R, up, um;
@@ -161,7 +173,7 @@ TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) {
   double Ep = 0, Em = 0;
   ASSERT_TRUE(problem.potential_energy(up, s, &Ep));
   ASSERT_TRUE(problem.potential_energy(um, s, &Em));
-  EXPECT_NEAR((Ep - Em) / (2 * eps), slope, 1e-6 * std::abs(slope)) << GetParam();
+  EXPECT_NEAR((Ep - Em) / (2 * eps), slope, 1e-6 * std::abs(slope)) << law;
 
   // The tangent is symmetric (the element has an energy) and wider than the displacement
   // element's: a node couples to its neighbours' neighbours.
@@ -175,6 +187,12 @@ TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) {
   MatGetInfo(J, MAT_GLOBAL_SUM, &wide);
   MatGetInfo(J0, MAT_GLOBAL_SUM, &narrow);
   EXPECT_GT(wide.nz_used, 1.5 * narrow.nz_used);
+}
+
+TEST_P(NodalPressureTest, TangentAndResidualAreDerivatives) { check_derivatives(GetParam(), 0.49); }
+
+TEST_P(NodalPressureTest, WithVolumeMultipliersTangentAndResidualAreDerivatives) {
+  check_derivatives(GetParam(), 0.5);
 }
 
 // The pressure patch test: a homogeneous deformation u = A X on the distorted mesh of the
@@ -231,15 +249,18 @@ TEST_P(NodalPressureTest, HomogeneousDeformationIsReproducedExactly) {
 // tangent, and from a point eps away it differs from it by O(eps^2) (the linearisation of
 // ln J is right to first order): halving eps divides the difference by 4. After
 // exact_next_tangent() it is the exact tangent from any point.
-void check_newton_tangent(const std::string& law_name, hs::ElementFormulation element) {
+// With `incompressible`, nu = 0.5 and volume multipliers in the pressures.
+void check_newton_tangent(const std::string& law_name, hs::ElementFormulation element,
+                          bool incompressible = false) {
   Fixture f({element == hs::ElementFormulation::fbar ? "mesh.order=2" : "mesh.order=1"});
   f.config.pressures.clear();
   auto& material = f.config.materials[0];
-  material.law =
-      hs::material_fixtures::make_law(law_name, hs::elastic_constants_from_E_nu(1e6, 0.4999));
+  material.law = hs::material_fixtures::make_law(
+      law_name, hs::elastic_constants_from_E_nu(1e6, incompressible ? 0.5 : 0.4999));
   material.element = element;
   const auto& law = *material.law;
   hs::Problem exact(f.config, f.dist, PETSC_COMM_WORLD);
+  if (incompressible) set_volume_multipliers(exact, f.dist, 3e5);
   const hs::VecHandle u(exact.create_vector()), v(exact.create_vector()), u0(exact.create_vector());
   fill_random(u, 0.01, 7);
   fill_random(v, 0.01, 8);
@@ -251,6 +272,7 @@ void check_newton_tangent(const std::string& law_name, hs::ElementFormulation el
   MatNorm(K, NORM_FROBENIUS, &size);
   auto difference = [&](double eps, bool forget) {
     hs::Problem problem(f.config, f.dist, PETSC_COMM_WORLD);
+    if (incompressible) set_volume_multipliers(problem, f.dist, 3e5);
     const hs::MatHandle J(problem.create_matrix());
     VecWAXPY(u0, -eps, v, u);
     EXPECT_TRUE(problem.jacobian(u0, 1.0, J));
@@ -274,6 +296,10 @@ void check_newton_tangent(const std::string& law_name, hs::ElementFormulation el
 
 TEST_P(NodalPressureTest, TangentFromThePreviousPointIsRightToSecondOrder) {
   check_newton_tangent(GetParam(), hs::ElementFormulation::nodal_pressure);
+}
+
+TEST_P(NodalPressureTest, WithVolumeMultipliersTangentFromThePreviousPointIsRightToSecondOrder) {
+  check_newton_tangent(GetParam(), hs::ElementFormulation::nodal_pressure, true);
 }
 
 class FbarNewtonTest : public ::testing::TestWithParam<std::string> {};

@@ -1,0 +1,29 @@
+// Exactly incompressible bodies (nu = 0.5) by an augmented Lagrangian (docs/formulation.md,
+// "Exactly incompressible bodies"): the nodal-pressure element keeps a multiplier per patch on
+// top of a penalty bulk modulus (solvers/nodal_pressure.hpp); each solve is repeated with the
+// multipliers raised, lambda_a += kbar_a ln J_a, until no patch's volume changes by more than
+// kVolumeTolerance. Both Newton solvers solve through it, so every stepper and the controller
+// get it; a body without such a material solves once, as before.
+#pragma once
+
+#include <functional>
+
+#include "solvers/problem.hpp"
+#include "solvers/stepping/nonlinear_solver.hpp"
+
+namespace hs {
+
+// The largest |ln J_a| of a patch that a converged solve leaves: the volume kept to 1e-8 of
+// itself, where the penalty alone (kappa = 5000 mu) leaves about 1e-4 at p/mu = 0.5.
+inline constexpr double kVolumeTolerance = 1e-8;
+// Raises before a solve is given up (each one divides the volume change by about
+// kappa / mu on a well-posed body; docs/formulation.md has the measured counts).
+inline constexpr int kMaxMultiplierRaises = 20;
+
+// `solve` (a Newton solve at the multipliers as they are, from u) repeated until the volumes
+// are kept; its iterations summed. On failure the multipliers are put back as they were, so
+// a cut-back step starts from them again. Collective.
+NewtonResult solve_keeping_volumes(Problem& problem, Vec u,
+                                   const std::function<NewtonResult()>& solve);
+
+}  // namespace hs
