@@ -30,8 +30,8 @@ std::vector<double> mixed_multipliers(const Problem& problem,
   Eigen::MatrixXd A(m, m);
   Eigen::VectorXd b(m);
   for (size_t i = 0; i < m; ++i) {
-    b(i) = problem.owned_node_dot(dF[i], raise.back());
-    for (size_t j = 0; j <= i; ++j) A(i, j) = A(j, i) = problem.owned_node_dot(dF[i], dF[j]);
+    b(i) = problem.multiplier_dot(dF[i], raise.back());
+    for (size_t j = 0; j <= i; ++j) A(i, j) = A(j, i) = problem.multiplier_dot(dF[i], dF[j]);
   }
   const Eigen::VectorXd gamma = A.completeOrthogonalDecomposition().solve(b);
   for (size_t i = 0; i < m; ++i)

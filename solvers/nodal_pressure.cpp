@@ -153,9 +153,8 @@ void NodalPressure::linearize(const PetscScalar* u_local) {
       if (!(V_[n] > 0)) continue;
       const double lnJ = lnJ_lin_[n] + dv_lin[n] / v_lin_[n];
       const double J = 1.0 + dv_[n] / V_[n], kbar = kV_[n] / V_[n];
-      const double q = lambda_[n] + kbar * lnJ;
-      tangent_p_[n] = q / J;
-      c_[n] = (kbar - q) / (V_[n] * J * J);
+      tangent_p_[n] = (lambda_[n] + kbar * lnJ) / J;
+      c_[n] = (kbar * (1.0 - lnJ) - lambda_[n]) / (V_[n] * J * J);
     }
   }
   linearized_ = true;
@@ -227,13 +226,6 @@ std::vector<double> NodalPressure::multiplier_raise() const {
   for (size_t n = 0; n < V_.size(); ++n)
     if (multiplied_[n]) raise[n] = kV_[n] / V_[n] * volume_measure(n);
   return raise;
-}
-
-double NodalPressure::owned_dot(const std::vector<double>& a, const std::vector<double>& b) const {
-  double sum = 0;
-  for (int64_t n = 0; n < dist_.num_owned(); ++n) sum += a[n] * b[n];
-  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
-  return sum;
 }
 
 void NodalPressure::coupling_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) {

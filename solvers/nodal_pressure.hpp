@@ -60,8 +60,6 @@ class NodalPressure {
   // Per local node, kbar_a M(J_a) at the last update where a has a multiplier, else 0: the
   // multipliers' raise (an augmented Lagrangian's update lambda += kbar M).
   std::vector<double> multiplier_raise() const;
-  // sum over the owned nodes of a_n b_n, over all ranks. Collective.
-  double owned_dot(const std::vector<double>& a, const std::vector<double>& b) const;
   // Per local node, to put back after a failed solve.
   const std::vector<double>& multipliers() const { return lambda_; }
   void set_multipliers(const std::vector<double>& lambda) { lambda_ = lambda; }

@@ -59,6 +59,18 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     any_fbar_term |= split;
   }
   if (any_fbar_term) fbar_linearization_.resize(nt);
+  for (const auto& m : materials_)  // the same on every rank: the deck's materials
+    has_volume_multipliers_ |=
+        m.element == ElementFormulation::fbar && hs::incompressible(m.law->elastic_constants());
+  if (has_volume_multipliers_) {  // exactly incompressible F-bar elements
+    fbar_incompressible_.assign(nt, 0);
+    fbar_lambda_.assign(nt, 0.0);
+    fbar_ln_Jbar_.assign(nt, 0.0);
+    for (size_t e = 0; e < nt; ++e)
+      fbar_incompressible_[e] =
+          materials_[dist.tet_volume[e]].element == ElementFormulation::fbar &&
+          hs::incompressible(materials_[dist.tet_volume[e]].law->elastic_constants());
+  }
   if (any_nodal) {          // every rank: the materials are the deck's
     int small_strain = -1;  // of the nodal-pressure materials: one kind of volume change
     for (const auto& m : materials_) {
@@ -79,6 +91,7 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     }
     nodal_ = std::make_unique<NodalPressure>(dist, p1_geometry_, std::move(modulus), incompressible,
                                              small_strain == 1, dofs_, comm);
+    has_volume_multipliers_ |= nodal_->has_multipliers();
   }
 
   for (const auto& pc : config.pressures) {
@@ -132,6 +145,13 @@ ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r
     return out;
   }
   element_coordinates(e, X);
+  if (m.element == ElementFormulation::fbar && !fbar_lambda_.empty() && fbar_lambda_[e] != 0) {
+    FbarNewtonPressure p;  // the law split, its term with the element's volume multiplier
+    p.rest = fbar_rest_laws_[dist_.tet_volume[e]].get();
+    p.k = fbar_rest_laws_[dist_.tet_volume[e]]->removed_modulus();
+    p.lambda = fbar_lambda_[e];
+    return tet_internal_force_fbar(dist_.order, X, ue, p, r, K);
+  }
   if (m.element == ElementFormulation::fbar)
     return tet_internal_force_fbar(dist_.order, X, ue, law, r, K);
   return tet_internal_force(dist_.order, X, ue, law, r, K);
@@ -149,6 +169,7 @@ ElementOutput Problem::element_tangent(int64_t e, const PetscScalar* ua, double*
   FbarNewtonPressure p;
   p.rest = rest;
   p.k = rest->removed_modulus();
+  p.lambda = fbar_lambda_.empty() ? 0.0 : fbar_lambda_[e];
   p.exact = !lin.valid;
   if (lin.valid) {
     double g_u = 0;
@@ -417,30 +438,6 @@ std::vector<double> Problem::nodal_pressure(Vec u) const {
   LocalView view(u, uw);
   nodal_->update(view.values(), nullptr);
   return nodal_->owned_compression();
-}
-
-void Problem::volume_multiplier_field(Vec field) const {
-  const std::vector<double>& lambda = nodal_->multipliers();
-  PetscScalar* a;
-  HS_PETSC(VecGetArray(field, &a));
-  for (int64_t n = 0; n < dist_.num_owned(); ++n) {
-    a[3 * n] = lambda[n];
-    a[3 * n + 1] = a[3 * n + 2] = 0;
-  }
-  HS_PETSC(VecRestoreArray(field, &a));
-}
-
-void Problem::set_volume_multipliers(Vec field) {
-  LocalView view(field, u_work_);
-  std::vector<double> lambda(dist_.num_local());
-  for (int64_t n = 0; n < dist_.num_local(); ++n) lambda[n] = view.values()[3 * n];
-  nodal_->set_multipliers(lambda);
-}
-
-double Problem::largest_volume_change(Vec u) {
-  LocalView view(u, u_work_);
-  nodal_->update(view.values(), nullptr);
-  return nodal_->largest_volume_change();
 }
 
 std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {

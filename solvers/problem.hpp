@@ -68,24 +68,23 @@ class Problem {
   Mat create_mass_matrix();
   bool has_nodal_pressure() const { return nodal_ != nullptr; }
   // Exactly incompressible bodies (nu = 0.5): the volume multipliers of the nodal-pressure
-  // element (solvers/nodal_pressure.hpp), raised by solvers/incompressibility.hpp.
-  bool has_volume_multipliers() const { return nodal_ && nodal_->has_multipliers(); }
-  // The largest |ln J_a| of their patches on u, over all ranks. Collective.
+  // element's patches (solvers/nodal_pressure.hpp) and of the F-bar elements, raised by
+  // solvers/incompressibility.hpp (solvers/problem_multipliers.cpp).
+  bool has_volume_multipliers() const { return has_volume_multipliers_; }
+  // The largest |ln J| of a patch or element that has a multiplier, on u, over all ranks.
+  // Collective.
   double largest_volume_change(Vec u);
-  // The volume multipliers' raise kbar_a ln J_a on u (after largest_volume_change(u)); the
-  // dot product of two such vectors over the owned nodes (NodalPressure).
-  std::vector<double> volume_multiplier_raise() const { return nodal_->multiplier_raise(); }
-  double owned_node_dot(const std::vector<double>& a, const std::vector<double>& b) const {
-    return nodal_->owned_dot(a, b);
-  }
-  std::vector<double> volume_multipliers() const {
-    return nodal_ ? nodal_->multipliers() : std::vector<double>();
-  }
-  void set_volume_multipliers(const std::vector<double>& lambda) {
-    if (nodal_) nodal_->set_multipliers(lambda);
-  }
-  // The multipliers as a nodal field for the checkpoint (first component; the others 0), and
-  // back from one (collective: the ghosts are updated from their owners).
+  // The multipliers' raise k ln J of each (after largest_volume_change(u)), in the order of
+  // volume_multipliers(): the patches' (local nodes), then the F-bar elements' (local tets).
+  std::vector<double> volume_multiplier_raise() const;
+  std::vector<double> volume_multipliers() const;
+  void set_volume_multipliers(const std::vector<double>& lambda);
+  // sum of a_i b_i over the multipliers this rank owns, over all ranks. Collective.
+  double multiplier_dot(const std::vector<double>& a, const std::vector<double>& b) const;
+  // The patches' multipliers as a nodal field for the checkpoint (first component; the others
+  // 0), and back from one (collective: the ghosts are updated from their owners). The F-bar
+  // elements' are not kept: a restart raises them again.
+  bool has_nodal_volume_multipliers() const { return nodal_ && nodal_->has_multipliers(); }
   void volume_multiplier_field(Vec field) const;
   void set_volume_multipliers(Vec field);
   // What keeping the volumes took, over the run's converged solves (summary.json's
@@ -312,6 +311,11 @@ class Problem {
   };
   std::vector<std::shared_ptr<const WithoutVolumetricTerm>> fbar_rest_laws_;
   std::vector<FbarLinearization> fbar_linearization_;
+  // Exactly incompressible F-bar elements: per local tet, whether, the multiplier, and ln Jbar
+  // at the last largest_volume_change (empty without such a material).
+  std::vector<char> fbar_incompressible_;
+  std::vector<double> fbar_lambda_, fbar_ln_Jbar_;
+  bool has_volume_multipliers_ = false;
   std::unique_ptr<ObstacleContact> contact_;  // with obstacles
   DofMap dofs_;
   const std::vector<double>& X_;         // reference coordinates of local nodes

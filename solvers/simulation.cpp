@@ -75,7 +75,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
     stop_if_interrupted(comm);
     if (run.restart) {
       stepper->resume(*run.restart, run.u);
-      if (problem.has_volume_multipliers()) {
+      if (problem.has_nodal_volume_multipliers()) {
         const VecHandle lambda(problem.create_vector());
         run.restart->read(kVolumeMultiplierField, problem, lambda);
         problem.set_volume_multipliers(lambda);
@@ -114,7 +114,7 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
         if (verifies) position["verification"] = history;
         NamedVecs fields = stepper->checkpoint_fields(run.u);
         const VecHandle lambda(problem.create_vector());
-        if (problem.has_volume_multipliers()) {
+        if (problem.has_nodal_volume_multipliers()) {
           problem.volume_multiplier_field(lambda);
           fields.emplace_back(kVolumeMultiplierField, lambda);
         }

@@ -19,6 +19,9 @@ std::string unreducible(const Config& config, const Problem& problem,
     return "the nodal-pressure element (a material at nu >= 0.49 on P1) couples the elements "
            "of a patch, which element sampling cannot reduce; set the material's formulation "
            "to displacement or fbar";
+  if (problem.has_volume_multipliers())
+    return "an exactly incompressible material (nu = 0.5) keeps its volumes by multipliers "
+           "that the reduced model does not carry; give it nu 0.4999 (within 0.1 % of it)";
   if (problem.has_open_surface_pressure())
     return "a deck's follower pressure load (loads.pressure) is not reduced; cavities are";
   if (!config.obstacles.empty()) return "contact with obstacles is not reduced";

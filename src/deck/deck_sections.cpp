@@ -39,8 +39,9 @@ MaterialConfig parse_material(const DeckReader& r, const YAML::Node& node, const
     const std::string model = r.text(required(r, node, key, k.name), child_key(key, k.name));
     m.law = parse_material_law(r, node, key, model, deck_keys);
   }
-  const FormulationChoice choice = choose_formulation(m.formulation, m.law->elastic_constants().nu,
-                                                      c.mesh.order, m.law->has_volumetric_term());
+  const FormulationChoice choice =
+      choose_formulation(m.formulation, m.law->elastic_constants().nu, c.mesh.order,
+                         m.law->has_volumetric_term(), m.law->small_strain());
   if (!choice.error.empty())
     r.fail(child_key(key, choice.error_key), node[choice.error_key], choice.error);
   m.element = choice.formulation;
@@ -147,7 +148,7 @@ const KeyTable<MaterialConfig>& material_keys() {
                "meshes), `nodal_pressure` (the same on P1 meshes, for laws with a (ln J)^2 "
                "volumetric term), `displacement`, or `auto`: at nu >= 0.49 `fbar` on P2 and "
                "`nodal_pressure` on P1 where the law allows, else `displacement`; at nu = 0.5 "
-               "`nodal_pressure` with volume multipliers (P1 only) (docs/formulation.md); the "
+               "the same elements with volume multipliers (docs/formulation.md); the "
                "element that runs is printed beside the material"),
   };
   return keys;

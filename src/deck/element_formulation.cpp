@@ -14,34 +14,31 @@ std::string p1_locking_error(double nu) {
   return "86 %";
 }
 
-// nu = 0.5: the nodal-pressure element with its volume multipliers, the one element that
-// carries them.
+// nu = 0.5: the two locking-free elements carry volume multipliers (nodal pressure per patch on
+// P1, F-bar per element on P2), on the law's volumetric term; the displacement element none.
 FormulationChoice choose_incompressible(ElementFormulation asked, int order,
-                                        bool law_has_volumetric_term) {
+                                        bool law_has_volumetric_term, bool law_small_strain) {
   FormulationChoice c;
-  c.formulation = ElementFormulation::nodal_pressure;
+  c.formulation = order == 1 ? ElementFormulation::nodal_pressure : ElementFormulation::fbar;
   c.reason = std::string(asked == ElementFormulation::automatic ? "auto: " : "asked, ") +
-             "nu = 0.5 (incompressible) on P" + std::to_string(order) +
-             ": nodal pressure with volume multipliers";
-  if (order != 1) {
+             "nu = 0.5 (incompressible) on P" + std::to_string(order) + ": " +
+             (order == 1 ? "nodal pressure" : "F-bar") + " with volume multipliers";
+  if (!law_has_volumetric_term || (order == 2 && law_small_strain)) {
     c.error_key = "nu";
-    c.error =
-        "0.5 (exact incompressibility) is built on P1 meshes only, by the nodal-pressure "
-        "element's volume multipliers; on mesh.order: 2, nu 0.4999 runs the F-bar element "
-        "(within 0.1 % of the incompressible sphere, docs/stiff_cases.md)";
-  } else if (!law_has_volumetric_term) {
-    c.error_key = "nu";
-    c.error =
-        "0.5 (exact incompressibility) needs a law with a volumetric term (neo_hookean, "
-        "mooney_rivlin, yeoh, gent, linear_elastic): its multipliers keep the nodal-pressure "
-        "element's volumes";
-  } else if (asked != ElementFormulation::automatic &&
-             asked != ElementFormulation::nodal_pressure) {
-    c.error = std::string(
-                  "nu = 0.5 (exact incompressibility) runs on the nodal-pressure "
-                  "element only (formulation: auto or nodal_pressure); the ") +
-              (asked == ElementFormulation::fbar ? "F-bar" : "displacement") +
-              " element has no volume multipliers";
+    c.error = order == 1 ? "0.5 (exact incompressibility) needs a law with a volumetric term "
+                           "(neo_hookean, mooney_rivlin, yeoh, gent, linear_elastic): its "
+                           "multipliers keep the nodal-pressure element's volumes"
+                         : "0.5 (exact incompressibility) on P2 needs a finite-strain law with a "
+                           "volumetric term (neo_hookean, mooney_rivlin, yeoh, gent): its "
+                           "multipliers keep the F-bar element's volumes; linear_elastic takes "
+                           "nu = 0.5 on P1 meshes";
+  } else if (asked != ElementFormulation::automatic && asked != c.formulation) {
+    c.error = std::string("nu = 0.5 (exact incompressibility) runs on the ") +
+              (order == 1 ? "nodal-pressure element on P1 meshes (formulation: auto or "
+                            "nodal_pressure)"
+                          : "F-bar element on P2 meshes (formulation: auto or fbar)") +
+              "; the " + name_of(kElementFormulationNames, asked) +
+              " element has no volume multipliers there";
   }
   return c;
 }
@@ -49,13 +46,14 @@ FormulationChoice choose_incompressible(ElementFormulation asked, int order,
 }  // namespace
 
 FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order,
-                                     bool law_has_volumetric_term) {
+                                     bool law_has_volumetric_term, bool law_small_strain) {
   const bool nearly_incompressible = nu >= kNearlyIncompressibleNu;
   const std::string at = "nu = " + format_number(nu) + (nearly_incompressible ? " >= " : " < ") +
                          format_number(kNearlyIncompressibleNu) + " on P" + std::to_string(order);
   FormulationChoice c;
   const bool automatic = asked == ElementFormulation::automatic;
-  if (nu == 0.5) return choose_incompressible(asked, order, law_has_volumetric_term);
+  if (nu == 0.5)
+    return choose_incompressible(asked, order, law_has_volumetric_term, law_small_strain);
   c.reason = (automatic ? "auto: " : "asked, ") + at;
   if (asked == ElementFormulation::fbar) {
     if (order == 1)

@@ -24,10 +24,11 @@ struct FormulationChoice {
 };
 
 // `asked` as the deck gives it (automatic included), Poisson's ratio nu of the material's
-// small-strain constants (0.5: incompressible, only on the nodal-pressure element, whose
-// volume multipliers keep it), the mesh's element order (1 or 2), and whether the law's energy has
+// small-strain constants (0.5: incompressible, on the nodal-pressure element on P1 and the F-bar
+// element of a finite-strain law on P2, whose volume multipliers keep it), the mesh's element
+// order (1 or 2), and whether the law's energy has
 // the volumetric term k/2 (ln J)^2 that the nodal-pressure element integrates per node.
 FormulationChoice choose_formulation(ElementFormulation asked, double nu, int order,
-                                     bool law_has_volumetric_term);
+                                     bool law_has_volumetric_term, bool law_small_strain);
 
 }  // namespace hs

@@ -65,9 +65,12 @@ ElementOutput tet_internal_force_fbar(int order, const double* X, const double* 
 // d2Jbar/du2] for the term's V k [(1 - ln Jbar) / Jbar^2 b b^T + ln Jbar / Jbar d2Jbar/du2],
 // b = dJbar/du. Newton's q is k (ln Jbar(u0) + b(u0) . (u - u0) / Jbar(u0)), u0 the previous
 // tangent's point; the kernel returns ln Jbar and b / Jbar at u for the next one.
+// An exactly incompressible element (nu = 0.5) adds its volume multiplier's V lambda ln Jbar
+// (solvers/incompressibility.hpp): lambda joins both pressures.
 struct FbarNewtonPressure {
   const MaterialLaw* rest = nullptr;
   double k = 0;
+  double lambda = 0;  // the element's volume multiplier
   bool exact = true;  // q = k ln Jbar(u): the exact tangent (the first, or after an inversion)
   double q = 0;
   double ln_Jbar = 0;  // out

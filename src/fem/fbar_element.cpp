@@ -130,14 +130,15 @@ ElementOutput fbar_internal_force(const double* X, const double* u, const Materi
   }
   double S1 = T / Jbar;  // dPi/dJbar
   double S1_tangent = S1;
-  if (newton) {  // the volumetric term V k/2 (ln Jbar)^2, a function of Jbar alone
+  if (newton) {  // the volumetric term V [lambda ln Jbar + k/2 (ln Jbar)^2], of Jbar alone
     const VolumetricValues vol = volumetric_function(newton->k, Jbar_minus_one);
-    const double q = newton->exact ? std::log1p(Jbar_minus_one) * newton->k : newton->q;
-    out.energy += V * vol.U;
-    S1 += V * vol.dU;
+    const double ln_Jbar = std::log1p(Jbar_minus_one);
+    const double q = newton->lambda + (newton->exact ? ln_Jbar * newton->k : newton->q);
+    out.energy += V * (vol.U + newton->lambda * ln_Jbar);
+    S1 += V * (vol.dU + newton->lambda / Jbar);
     S1_tangent += V * q / Jbar;
     D += V * (newton->k - q) / (Jbar * Jbar);
-    newton->ln_Jbar = std::log1p(Jbar_minus_one);
+    newton->ln_Jbar = ln_Jbar;
     Eigen::Map<NodeMatrix<NPE>>(newton->g) = b / Jbar;
   }
   R.noalias() += S1 * b;

@@ -140,15 +140,16 @@ TEST_F(DeckErrors, NonPhysicalValues) {
        "must lie in (-1, 0.5] (0.5: incompressible), got 0.51"},
       {material("E: 1, nu: -1"), "materials[0].nu",
        "must lie in (-1, 0.5] (0.5: incompressible), got -1"},
-      // nu = 0.5 runs on the one element with volume multipliers: P1, a volumetric term.
-      {"mesh: {file: body.geo, order: 2}\n" + material("E: 1, nu: 0.5").substr(kMesh.size()),
-       "materials[0].nu", "0.5 (exact incompressibility) is built on P1 meshes only"},
+      // nu = 0.5 runs on the elements with volume multipliers, on the law's volumetric term.
+      {"mesh: {file: body.geo, order: 2}\n"
+       "materials:\n  - {group: body, model: linear_elastic, E: 1, nu: 0.5}\n",
+       "materials[0].nu", "0.5 (exact incompressibility) on P2 needs a finite-strain law"},
       {kMesh + "materials:\n  - {group: body, model: saint_venant_kirchhoff, E: 1, nu: 0.5}\n",
        "materials[0].nu", "0.5 (exact incompressibility) needs a law with a volumetric term"},
       {material("E: 1, nu: 0.5, formulation: displacement"), "materials[0].formulation",
-       "nu = 0.5 (exact incompressibility) runs on the nodal-pressure element only "
+       "nu = 0.5 (exact incompressibility) runs on the nodal-pressure element on P1 meshes "
        "(formulation: auto or nodal_pressure); the displacement element has no volume "
-       "multipliers"},
+       "multipliers there"},
       {material("mu: 0, lambda: 1"), "materials[0].mu", "must be > 0, got 0"},
       {material("mu: 3, lambda: -2"), "materials[0].lambda",
        "gives bulk modulus lambda + 2 mu / 3 = 0, must be > 0"},

@@ -129,11 +129,15 @@ class NodalPressureTest : public ::testing::TestWithParam<std::string> {};
 
 // Volume multipliers of an incompressible body (solvers/nodal_pressure.hpp) as a solve
 // leaves them: any values, the same on every rank for a node (from its global index).
+// Patches' multipliers by node id, then F-bar elements' by element id.
 void set_volume_multipliers(hs::Problem& problem, const hs::Distribution& dist, double scale) {
   ASSERT_TRUE(problem.has_volume_multipliers());
-  std::vector<double> lambda(dist.num_local());
-  for (int64_t n = 0; n < dist.num_local(); ++n)
-    lambda[n] = scale * (static_cast<double>((dist.local_nodes[n] * 7919) % 1000) / 1000 - 0.3);
+  std::vector<double> lambda = problem.volume_multipliers();
+  const size_t nodal = problem.has_nodal_volume_multipliers() ? dist.num_local() : 0;
+  for (size_t k = 0; k < lambda.size(); ++k) {
+    const int64_t id = k < nodal ? dist.local_nodes[k] : dist.local_tets[k - nodal];
+    lambda[k] = scale * (static_cast<double>((id * 7919) % 1000) / 1000 - 0.3);
+  }
   problem.set_volume_multipliers(lambda);
 }
 
@@ -306,6 +310,10 @@ class FbarNewtonTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FbarNewtonTest, TangentFromThePreviousPointIsRightToSecondOrder) {
   check_newton_tangent(GetParam(), hs::ElementFormulation::fbar);
+}
+
+TEST_P(FbarNewtonTest, WithVolumeMultipliersTangentFromThePreviousPointIsRightToSecondOrder) {
+  check_newton_tangent(GetParam(), hs::ElementFormulation::fbar, true);
 }
 
 INSTANTIATE_TEST_SUITE_P(Laws, FbarNewtonTest,

@@ -142,10 +142,46 @@ TEST(StiffCases, IncompressibleSphereIsThePenaltyFamilysLimit) {
   EXPECT_LT(std::abs(p5 - p), 0.2 * std::abs(p4 - p));
 }
 
+// The same on P2 (h = 0.5, 1,665 dofs): F-bar with a multiplier per element keeps every
+// element's volume to 1e-8 in one or two raises a solve (P2 with one constraint per element
+// holds its pressure modes firmly), its pressure within 0.53 % of the incompressible closed form
+// at every step (the mesh's error, nu 0.4999's to 4e-5).
+TEST(StiffCases, IncompressibleSphereOnP2) {
+  std::vector<std::string> sphere = {"materials[0].nu=0.5", "mesh.parameters.h=0.5",
+                                     "exact.parameters.stretch=1.2", "time.steps=4"};
+  auto pressures = [](const nlohmann::json& s) {
+    std::vector<double> p(4, 0.0), error(4, 0.0);
+    if (!s.is_null())
+      for (int k = 0; k < 4; ++k) {
+        p[k] = s["verification"]["steps"][k]["pressure_over_mu"].get<double>();
+        error[k] = s["verification"]["steps"][k]["pressure_relative_error"].get<double>();
+      }
+    MPI_Bcast(p.data(), 4, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    MPI_Bcast(error.data(), 4, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    return std::make_pair(p, error);
+  };
+  const auto exact = run("neo_hookean_sphere.yaml", sphere, out_folder("p2_05"));
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) EXPECT_EQ(exact["materials"][0]["formulation"], "fbar");
+  EXPECT_LE(shared(exact, "incompressibility", "last_volume_change"), 1e-8);
+  EXPECT_LE(shared(exact, "incompressibility", "most_raises_in_a_solve"), 3);
+  sphere[0] = "materials[0].nu=0.4999";
+  const auto [p4, e4] = pressures(run("neo_hookean_sphere.yaml", sphere, out_folder("p2_4")));
+  const auto [p, error] = pressures(exact);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_GT(error[k], 0.0);
+    EXPECT_LT(error[k], 0.0055);
+    EXPECT_LT(std::abs(p4[k] - p[k]), 2e-4 * p[k]);
+  }
+}
+
 // Newton on a nodal-pressure body does not feel nu (its tangent takes the pressure as a
 // condensed unknown, solvers/nodal_pressure.hpp): the paper's cylinder inflated by 15 ml (P1,
 // 1,164 dofs) takes 79 iterations at nu 0.4999 where the displacement element takes 40 at nu
-// 0.45 (the exact tangent took 202, with 4 cutbacks).
+// 0.45 (the exact tangent took 202, with 4 cutbacks). The count moves with round-off: the rest
+// state's last step sits near a cutback, and a change in the last bit of the patches' tangent
+// coefficient once took the 2-rank run from 88 iterations to 120 (a second cutback there).
 TEST(StiffCases, NewtonOnNodalPressureBodiesDoesNotFeelNu) {
   auto iterations = [](const nlohmann::json& s) {
     int n = s.is_null() ? 0 : s["newton_iterations"].get<int>();
