@@ -16,7 +16,7 @@
 namespace hs {
 
 Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
-                 ExactDirichlet exact)
+                 ExactDirichlet exact, const ForceDensity& body_force)
     : comm_(comm),
       dist_(dist),
       npe_(dist.nodes_per_tet()),
@@ -43,7 +43,13 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
   for (size_t e = 0; e < nt; ++e) {
     element_coordinates(e, X.data());
     const auto& m = materials_[dist.tet_volume[e]];
-    tet_body_force(dist.order, X.data(), m.density, config.gravity, &body_force_[e * 3 * npe_]);
+    double* f = &body_force_[e * 3 * npe_];
+    tet_body_force(dist.order, X.data(), m.density, config.gravity, f);
+    if (body_force) {
+      std::vector<double> field(3 * npe_);
+      tet_body_force(dist.order, X.data(), body_force, field.data());
+      for (int k = 0; k < 3 * npe_; ++k) f[k] += field[k];
+    }
     if (dist.order == 1) p1_geometry_.push_back(tet_p1_geometry(X.data()));
   }
   bool any_nodal = false, any_fbar_term = false;
@@ -417,6 +423,8 @@ void Problem::element_fields(Vec u, ElementFieldValues& v, bool principal) const
                           : tet_fields(dist_.order, X, ue, law);
     if (nodal_ && nodal_->takes_part(e))  // the volumetric stress of the element's nodes
       f.stress += nodal_->element_pressure(e) * Mat3::Identity();
+    if (!fbar_lambda_.empty() && fbar_incompressible_[e])  // V lambda ln Jbar's Cauchy stress
+      f.stress += fbar_lambda_[e] / f.J * Mat3::Identity();
     v.von_mises[e] = f.von_mises;
     v.J[e] = f.J;
     for (int i = 0; i < 3; ++i)

@@ -49,8 +49,10 @@ inline constexpr char kVolumeMultiplierField[] = "volume_multipliers";
 
 class Problem {
  public:
-  // `exact` (may be empty) gives the values of Dirichlet conditions marked exact.
-  Problem(const Config& config, const Distribution& dist, MPI_Comm comm, ExactDirichlet exact = {});
+  // `exact` (may be empty) gives the values of Dirichlet conditions marked exact; `body_force`
+  // (may be empty) a body force field added to gravity's (a manufactured solution's).
+  Problem(const Config& config, const Distribution& dist, MPI_Comm comm, ExactDirichlet exact = {},
+          const ForceDensity& body_force = {});
   ~Problem();
   Problem(const Problem&) = delete;
   Problem& operator=(const Problem&) = delete;

@@ -67,7 +67,10 @@ void RunSetup::load_mesh() {
   // Every rank knows all the groups of its nodes, ghosts included, so each conflict is seen.
   check_boundary_conflicts(config, dist.node_groups, dist.x, dist.num_owned(), exact_dirichlet,
                            comm);
-  problem = std::make_unique<Problem>(config, dist, comm, exact_dirichlet);
+  ForceDensity body_force;
+  if (exact && exact->has_body_force())
+    body_force = [e = exact.get()](const std::array<double, 3>& X) { return e->body_force(X); };
+  problem = std::make_unique<Problem>(config, dist, comm, exact_dirichlet, body_force);
   if (restart) restart->check_mesh(*problem);
 }
 

@@ -38,6 +38,11 @@ nlohmann::json final_summary(RunSetup& run, const Stepper& stepper, const nlohma
         displacement_error(*run.problem, run.u, *run.exact, stepper.final_load_factor());
     summary["error"]["l2_relative"] = e.l2_relative;
     summary["error"]["l2_absolute"] = e.l2_absolute;
+    if (run.exact->has_pressure()) {
+      const ErrorNorms p = pressure_error(*run.problem, run.u, *run.exact);
+      summary["error"]["pressure_l2_relative"] = p.l2_relative;
+      summary["error"]["pressure_l2_absolute"] = p.l2_absolute;
+    }
   }
   if (!history.empty()) {
     summary["verification"] = history.back();

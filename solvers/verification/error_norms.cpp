@@ -57,4 +57,54 @@ ErrorNorms displacement_error(const Problem& problem, Vec u, const ExactSolution
   return r;
 }
 
+namespace {
+
+// sum over the local elements and the rule's points of w |det J| f(e, X), over all ranks.
+template <class F>
+double integrate(const Problem& problem, const TetQuadrature& rule, F f) {
+  const Distribution& dist = problem.distribution();
+  const int order = dist.order, npe = dist.nodes_per_tet();
+  double N[10], dN[30], sum = 0;
+  for (size_t e = 0; e < dist.local_tets.size(); ++e) {
+    const int32_t* nodes = &dist.tet_nodes[e * npe];
+    for (size_t q = 0; q < rule.points.size(); ++q) {
+      tet_shape(order, rule.points[q], N, dN);
+      Eigen::Vector3d X = Eigen::Vector3d::Zero();
+      Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+      for (int a = 0; a < npe; ++a) {
+        const Eigen::Vector3d Xa(problem.reference_coordinate(nodes[a], 0),
+                                 problem.reference_coordinate(nodes[a], 1),
+                                 problem.reference_coordinate(nodes[a], 2));
+        X += N[a] * Xa;
+        J += Xa * Eigen::RowVector3d(dN[3 * a], dN[3 * a + 1], dN[3 * a + 2]);
+      }
+      sum += rule.weights[q] * std::abs(J.determinant()) * f(e, std::array<double, 3>{X[0], X[1], X[2]});
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, problem.comm());
+  return sum;
+}
+
+}  // namespace
+
+ErrorNorms pressure_error(const Problem& problem, Vec u, const ExactSolution& exact) {
+  Problem::ElementFieldValues fields;
+  problem.element_fields(u, fields, false);
+  const auto ph = [&](size_t e) {
+    const double* S = &fields.stress[9 * e];
+    return -(S[0] + S[4] + S[8]) / 3;
+  };
+  const TetQuadrature& rule = tet_quadrature(2 * (problem.distribution().order + 1));
+  const double err2 = integrate(problem, rule, [&](size_t e, const std::array<double, 3>& X) {
+    return std::pow(ph(e) - exact.pressure(X), 2);
+  });
+  const double norm2 = integrate(problem, rule, [&](size_t, const std::array<double, 3>& X) {
+    return std::pow(exact.pressure(X), 2);
+  });
+  ErrorNorms r;
+  r.l2_absolute = std::sqrt(err2);
+  r.l2_relative = norm2 > 0 ? std::sqrt(err2 / norm2) : r.l2_absolute;
+  return r;
+}
+
 }  // namespace hs

@@ -19,6 +19,11 @@ struct ErrorNorms {
 // Integrated element by element with a quadrature rule of degree 2 order + 2, summed over ranks.
 ErrorNorms displacement_error(const Problem& problem, Vec u, const ExactSolution& exact, double s);
 
+// The error of the elements' pressure -tr(sigma)/3 (the stress written per element, constant
+// in each) against the exact solution's (ExactSolution::pressure), integrated as
+// displacement_error. Collective.
+ErrorNorms pressure_error(const Problem& problem, Vec u, const ExactSolution& exact);
+
 // The exact solution's verification quantities at load factor s (ExactSolution::verification),
 // from the measures it asks for taken on u; a null object when it asks for none.
 nlohmann::json verification_quantities(const ExactSolution& exact, Problem& problem, Vec u,

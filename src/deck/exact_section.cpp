@@ -71,7 +71,7 @@ std::unique_ptr<const ExactSolution> make_exact_solution(const Config& c) {
   ExactSetting setting;
   for (const auto& m : c.materials) {
     const ElasticConstants& k = m.law->elastic_constants();
-    setting.materials.push_back({m.group, k.E, k.nu, k.mu, k.lambda, m.density});
+    setting.materials.push_back({m.group, k.E, k.nu, k.mu, k.lambda, m.density, m.law->name()});
   }
   setting.gravity = c.gravity;
   try {

@@ -65,16 +65,17 @@ ElementOutput internal_force(const double* X, const double* u, const MaterialLaw
   });
 }
 
-template <int NPE>
-void body_force(const double* X, double rho, const std::array<double, 3>& g, double* f) {
-  const auto& t = tet_tables<NPE>(degrees<NPE>().body);
+// f_a = int b(X) N_a dV with the rule of `degree`; b(X) a force per unit reference volume.
+template <int NPE, class Density>
+void body_force(const double* X, int degree, const Density& b, double* f) {
+  const auto& t = tet_tables<NPE>(degree);
   const NodeMatrix<NPE> Xm = Eigen::Map<const NodeMatrix<NPE>>(X);
-  const Eigen::Vector3d rho_g = rho * Eigen::Vector3d(g[0], g[1], g[2]);
   NodeMatrix<NPE> Fm = NodeMatrix<NPE>::Zero();
   for (size_t q = 0; q < t.weights.size(); ++q) {
     Mat3 J;
     const double wdV = t.weights[q] * reference_jacobian<NPE>(Xm, t.dN[q], J);
-    Fm.noalias() += wdV * rho_g * t.N[q].transpose();
+    const Eigen::Vector3d Xq = Xm * t.N[q];
+    Fm.noalias() += wdV * b(Xq) * t.N[q].transpose();
   }
   Eigen::Map<NodeMatrix<NPE>> f_out(f);
   f_out = Fm;
@@ -179,7 +180,19 @@ ElementOutput tet_internal_force(int order, const double* X, const double* u, co
 
 void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,
                     double* f) {
-  tet_num_nodes(order) == 4 ? body_force<4>(X, rho, g, f) : body_force<10>(X, rho, g, f);
+  const Eigen::Vector3d rho_g = rho * Eigen::Vector3d(g[0], g[1], g[2]);
+  const auto b = [&](const Eigen::Vector3d&) { return rho_g; };
+  tet_num_nodes(order) == 4 ? body_force<4>(X, kP1Degrees.body, b, f)
+                            : body_force<10>(X, kP2Degrees.body, b, f);
+}
+
+void tet_body_force(int order, const double* X, const ForceDensity& density, double* f) {
+  const auto b = [&](const Eigen::Vector3d& Xq) {
+    const auto v = density({Xq[0], Xq[1], Xq[2]});
+    return Eigen::Vector3d(v[0], v[1], v[2]);
+  };
+  const int degree = 2 * order + 4;  // a smooth field: the error far below the element's
+  tet_num_nodes(order) == 4 ? body_force<4>(X, degree, b, f) : body_force<10>(X, degree, b, f);
 }
 
 void tet_mass(int order, const double* X, double rho, double* M) {

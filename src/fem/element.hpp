@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 
 #include "materials/material.hpp"
 
@@ -82,6 +83,10 @@ ElementOutput tet_internal_force_fbar(int order, const double* X, const double* 
 // Consistent nodal body force f_a = int rho g N_a dV (reference configuration).
 void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,
                     double* f);
+// The same for a force per unit reference volume that varies in space (a manufactured
+// solution's), integrated by a rule of degree 2 order + 4.
+using ForceDensity = std::function<std::array<double, 3>(const std::array<double, 3>& X)>;
+void tet_body_force(int order, const double* X, const ForceDensity& density, double* f);
 
 // Consistent mass matrix M_ab = int rho N_a N_b dV, returned as (3 npe)^2 with 3x3 identity blocks.
 void tet_mass(int order, const double* X, double rho, double* M);

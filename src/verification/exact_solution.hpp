@@ -21,6 +21,7 @@ using ExactParameterMap = std::map<std::string, double>;
 struct ExactMaterial {
   std::string group;
   double E = 0, nu = 0, mu = 0, lambda = 0, density = 0;
+  std::string model;  // the law's name (materials[].model)
 };
 struct ExactSetting {
   std::vector<ExactMaterial> materials;
@@ -56,6 +57,18 @@ class ExactSolution {
 
   // The displacement at reference point X under load factor s.
   virtual std::array<double, 3> displacement(const std::array<double, 3>& X, double s) const = 0;
+
+  // A manufactured solution's body force per unit reference volume at full load, which the
+  // run adds to the deck's loads (scaled by the load factor, as gravity is); none by default.
+  virtual bool has_body_force() const { return false; }
+  virtual std::array<double, 3> body_force(const std::array<double, 3>& /*X*/) const {
+    return {0, 0, 0};
+  }
+
+  // The mean stress -tr(sigma)/3 at full load, for solutions that give it: the run then
+  // reports the error of the elements' pressure too (solvers/verification/error_norms.hpp).
+  virtual bool has_pressure() const { return false; }
+  virtual double pressure(const std::array<double, 3>& /*X*/) const { return 0; }
 
   // The measures the run takes after each load step, and the verification quantities made
   // of them (measured in the order of measures()) at load factor s; none by default.

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "fem/quadrature.hpp"
 #include "verification/cantilever_gravity.hpp"
 #include "verification/lame_sphere.hpp"
 #include "verification/neo_hookean_sphere.hpp"
@@ -17,9 +18,10 @@ namespace {
 using Vec3 = std::array<double, 3>;
 using Mat3 = std::array<Vec3, 3>;
 
-ExactMaterial material(const std::string& group, double E, double nu, double density = 0) {
+ExactMaterial material(const std::string& group, double E, double nu, double density = 0,
+                       const std::string& model = "linear_elastic") {
   const double mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-  return {group, E, nu, mu, lambda, density};
+  return {group, E, nu, mu, lambda, density, model};
 }
 
 std::unique_ptr<const ExactSolution> make(const std::string& name,
@@ -174,6 +176,54 @@ TEST(ExactSolutions, NeoHookeanSphereIsIncompressibleAndReachesItsStretch) {
   EXPECT_NEAR(u->verification({radial}, 1)["pressure_relative_error"].get<double>(), 0, 1e-14);
 }
 
+double determinant(const Mat3& F) {
+  return F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) -
+         F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
+         F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
+}
+
+TEST(ExactSolutions, TwistedBlockIsIsochoricAtRestOnItsFacesAndLoadedInside) {
+  const double H = 2, mu = 1;  // E = 3 at nu = 0.5
+  const auto u = make("twisted_block", {{"H", H}, {"twist", 0.6}, {"q", 1}},
+                      {{material("body", 3, 0.5, 0, "neo_hookean")}, {0, 0, 0}});
+  // det F = 1 by differences of the displacement, inside and outside the inscribed cylinder.
+  for (const Vec3& X : {Vec3{1.0, 1.0, 0.7}, Vec3{0.6, 1.3, 1.1}, Vec3{1.4, 0.5, 1.6},
+                        Vec3{0.1, 0.1, 1.0}}) {
+    Mat3 F = gradient(*u, X, 1, 1e-6);
+    for (int i = 0; i < 3; ++i) F[i][i] += 1;
+    EXPECT_NEAR(determinant(F), 1, 1e-8) << X[0] << " " << X[1] << " " << X[2];
+  }
+  EXPECT_GT(std::abs(u->displacement({1.3, 1.0, 1.0}, 1)[1]), 0.1);  // it does twist
+  // On every face: no displacement, F = I, and no stress (the mean stress is 0).
+  for (const Vec3& X : {Vec3{0, 1.0, 0.8}, Vec3{H, 0.7, 1.2}, Vec3{1.1, 0, 0.5}, Vec3{0.9, H, 1.5},
+                        Vec3{1.0, 1.2, 0}, Vec3{0.8, 1.1, H}}) {
+    const Mat3 G = gradient(*u, X, 1, 1e-6);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(u->displacement(X, 1)[i], 0, 1e-15);
+      for (int j = 0; j < 3; ++j) EXPECT_NEAR(G[i][j], 0, 1e-9);
+    }
+    EXPECT_NEAR(u->pressure(X), 0, 1e-12 * mu);
+  }
+  // Every face free of traction: the body force's resultant int B dV = -int P N dA vanishes
+  // (a tensor Gauss rule, 16 points a direction), while B itself is of order mu / H.
+  std::vector<double> xi, w;
+  gauss_jacobi(16, 0, xi, w);
+  Vec3 resultant{}, magnitude{};
+  for (size_t i = 0; i < xi.size(); ++i)
+    for (size_t j = 0; j < xi.size(); ++j)
+      for (size_t k = 0; k < xi.size(); ++k) {
+        const Vec3 B = u->body_force({H * xi[i], H * xi[j], H * xi[k]});
+        for (int c = 0; c < 3; ++c) {
+          resultant[c] += w[i] * w[j] * w[k] * H * H * H * B[c];
+          magnitude[c] += w[i] * w[j] * w[k] * H * H * H * std::abs(B[c]);
+        }
+      }
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_GT(magnitude[c], 0.1 * mu * H * H) << c;
+    EXPECT_LT(std::abs(resultant[c]), 1e-6 * magnitude[c]) << c;
+  }
+}
+
 TEST(ExactSolutions, CantileverMeetsTheBeamBoundaryConditions) {
   // Euler-Bernoulli: w(0) = w'(0) = 0 at the clamp, no moment (w'') and no shear (w''') at the
   // free end, and the tip deflection q L^4 / (8 E I).
@@ -224,9 +274,9 @@ TEST(ExactRegistry, UnknownNameListsTheNames) {
   const std::string message = error_of([] { exact_solution_type("sphere"); }, "exact.type");
   EXPECT_NE(message.find("unknown exact solution 'sphere'"), std::string::npos) << message;
   for (const char* name : {"lame_sphere", "cantilever_gravity", "hydrostatic_block",
-                           "neo_hookean_sphere", "bimaterial_bar"})
+                           "neo_hookean_sphere", "bimaterial_bar", "twisted_block"})
     EXPECT_NE(message.find(name), std::string::npos) << name << " in " << message;
-  EXPECT_EQ(exact_solution_names().size(), 5u);
+  EXPECT_EQ(exact_solution_names().size(), 6u);
 }
 
 TEST(ExactRegistry, ParametersAreCheckedByNameAndValue) {
@@ -304,6 +354,24 @@ TEST(ExactReference, ParametersThatPassTheirChecksButOverflowAreFound) {
       non_finite_reference(
           *make("neo_hookean_sphere", {{"A", 1}, {"B", 2}, {"stretch", -0.5}}, rubber), nodes),
       "");
+}
+
+TEST(ExactRegistry, TwistedBlockNeedsAnIncompressibleNeoHookeanBody) {
+  const ExactParameterMap p = {{"H", 1}, {"twist", 0.5}, {"q", 1}};
+  EXPECT_NE(error_of(
+                [&] {
+                  make("twisted_block", p, {{material("body", 3, 0.4999, 0, "neo_hookean")}, {}});
+                },
+                "materials")
+                .find("exactly incompressible: it needs nu = 0.5"),
+            std::string::npos);
+  EXPECT_NE(error_of(
+                [&] {
+                  make("twisted_block", p, {{material("body", 3, 0.5, 0, "mooney_rivlin")}, {}});
+                },
+                "materials")
+                .find("a solution of the neo_hookean law, got 'mooney_rivlin'"),
+            std::string::npos);
 }
 
 }  // namespace
