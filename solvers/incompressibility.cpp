@@ -3,6 +3,7 @@
 #include <petscsys.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cstdio>
 #include <deque>
 
@@ -51,6 +52,8 @@ NewtonResult solve_keeping_volumes(Problem& problem, Vec u,
   HS_PETSC(PetscOptionsHasName(nullptr, nullptr, "-hs_volume_monitor", &monitor));
   NewtonResult total;
   double previous_change = 0;
+  double penalty = kFbarPenaltyStart;
+  problem.scale_fbar_penalty(penalty);
   for (int raises = 0;; ++raises) {
     const NewtonResult r = solve();
     total.iterations += r.iterations;
@@ -65,6 +68,7 @@ NewtonResult solve_keeping_volumes(Problem& problem, Vec u,
                       "  volume multipliers: %d raises, |ln J| <= %.3e (%d Newton iterations)\n",
                       raises, change, r.iterations));
     if (change <= kVolumeTolerance) {
+      problem.scale_fbar_penalty(1);
       problem.record_volumes_kept(change, raises);
       total.converged = true;
       return total;
@@ -82,6 +86,7 @@ NewtonResult solve_keeping_volumes(Problem& problem, Vec u,
       lambda.clear();
       raise.clear();
     }
+    const bool slow_raise = raises > 0 && change > kSlowRaise * previous_change;
     previous_change = change;
     lambda.push_back(problem.volume_multipliers());
     raise.push_back(problem.volume_multiplier_raise());
@@ -89,9 +94,17 @@ NewtonResult solve_keeping_volumes(Problem& problem, Vec u,
       lambda.pop_front();
       raise.pop_front();
     }
-    problem.set_volume_multipliers(mixed_multipliers(problem, lambda, raise));
+    const std::vector<double> next = mixed_multipliers(problem, lambda, raise);
+    if (slow_raise && penalty < 1) {  // the raise after it is made with the new one
+      penalty = std::min(kPenaltyGrowth * penalty, 1.0);
+      problem.scale_fbar_penalty(penalty);
+      lambda.clear();
+      raise.clear();
+    }
+    problem.set_volume_multipliers(next);
   }
   problem.set_volume_multipliers(start);
+  problem.scale_fbar_penalty(1);
   return total;
 }
 

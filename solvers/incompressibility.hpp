@@ -20,6 +20,17 @@ inline constexpr double kVolumeTolerance = 1e-8;
 // kappa / mu on a well-posed body; docs/formulation.md has the measured counts).
 inline constexpr int kMaxMultiplierRaises = 20;
 
+// The F-bar element's penalty grows within a solve (docs/formulation.md, "Exactly
+// incompressible bodies"): each solve starts at kFbarPenaltyStart of the law's
+// (kIncompressiblePenalty mu), soft enough that Newton's steps on thin walls do not invert
+// the nearly rigid volume, and a raise that divides the volume change by less than
+// 1 / kSlowRaise multiplies it by kPenaltyGrowth, up to the law's, at which it is left for
+// every other use of the tangent (the controller's compliance). The nodal-pressure element
+// keeps its law's penalty: its raises contract by only about 5 at it.
+inline constexpr double kFbarPenaltyStart = 0.01;
+inline constexpr double kPenaltyGrowth = 10;
+inline constexpr double kSlowRaise = 0.25;
+
 // `solve` (a Newton solve at the multipliers as they are, from u) repeated until the volumes
 // are kept; its iterations summed. On failure the multipliers are put back as they were, so
 // a cut-back step starts from them again. Collective.

@@ -62,6 +62,7 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
     const bool split = m.element == ElementFormulation::fbar && !m.law->small_strain() &&
                        m.law->has_volumetric_term();
     fbar_rest_laws_.push_back(split ? std::make_shared<WithoutVolumetricTerm>(m.law) : nullptr);
+    fbar_modulus_.push_back(split ? fbar_rest_laws_.back()->removed_modulus() : 0.0);
     any_fbar_term |= split;
   }
   if (any_fbar_term) fbar_linearization_.resize(nt);
@@ -151,11 +152,8 @@ ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r
     return out;
   }
   element_coordinates(e, X);
-  if (m.element == ElementFormulation::fbar && !fbar_lambda_.empty() && fbar_lambda_[e] != 0) {
-    FbarNewtonPressure p;  // the law split, its term with the element's volume multiplier
-    p.rest = fbar_rest_laws_[dist_.tet_volume[e]].get();
-    p.k = fbar_rest_laws_[dist_.tet_volume[e]]->removed_modulus();
-    p.lambda = fbar_lambda_[e];
+  if (fbar_incompressible(e)) {  // the law split, its term with the element's volume multiplier
+    FbarNewtonPressure p = fbar_pressure(e);
     return tet_internal_force_fbar(dist_.order, X, ue, p, r, K);
   }
   if (m.element == ElementFormulation::fbar)
@@ -172,10 +170,7 @@ ElementOutput Problem::element_tangent(int64_t e, const PetscScalar* ua, double*
   element_coordinates(e, X);
   element_displacement(ua, e, ue);
   FbarLinearization& lin = fbar_linearization_[e];
-  FbarNewtonPressure p;
-  p.rest = rest;
-  p.k = rest->removed_modulus();
-  p.lambda = fbar_lambda_.empty() ? 0.0 : fbar_lambda_[e];
+  FbarNewtonPressure p = fbar_pressure(e);
   p.exact = !lin.valid;
   if (lin.valid) {
     double g_u = 0;
@@ -192,6 +187,15 @@ ElementOutput Problem::element_tangent(int64_t e, const PetscScalar* ua, double*
     }
   }
   return out;
+}
+
+FbarNewtonPressure Problem::fbar_pressure(int64_t e) const {
+  const int v = dist_.tet_volume[e];
+  FbarNewtonPressure p;
+  p.rest = fbar_rest_laws_[v].get();
+  p.k = fbar_modulus_[v];
+  p.lambda = fbar_lambda_.empty() ? 0.0 : fbar_lambda_[e];
+  return p;
 }
 
 void Problem::element_displacement(const PetscScalar* u_local, int64_t e, double* u) const {
@@ -418,13 +422,18 @@ void Problem::element_fields(Vec u, ElementFieldValues& v, bool principal) const
     element_displacement(ua, e, ue);
     const auto& m = materials_[dist_.tet_volume[e]];
     const MaterialLaw& law = *element_laws_[dist_.tet_volume[e]];
+    const bool split = fbar_incompressible(e);  // the rest law and the term's own stress
     ElementFields f = m.element == ElementFormulation::fbar
-                          ? tet_fields_fbar(dist_.order, X, ue, law)
+                          ? tet_fields_fbar(dist_.order, X, ue,
+                                            split ? *fbar_rest_laws_[dist_.tet_volume[e]] : law)
                           : tet_fields(dist_.order, X, ue, law);
     if (nodal_ && nodal_->takes_part(e))  // the volumetric stress of the element's nodes
       f.stress += nodal_->element_pressure(e) * Mat3::Identity();
-    if (!fbar_lambda_.empty() && fbar_incompressible_[e])  // V lambda ln Jbar's Cauchy stress
-      f.stress += fbar_lambda_[e] / f.J * Mat3::Identity();
+    if (split) {  // V (lambda ln Jbar + k/2 (ln Jbar)^2): the Cauchy stress (lambda + k ln Jbar) /
+                  // Jbar
+      const FbarNewtonPressure p = fbar_pressure(e);
+      f.stress += (p.lambda + p.k * std::log(f.J)) / f.J * Mat3::Identity();
+    }
     v.von_mises[e] = f.von_mises;
     v.J[e] = f.J;
     for (int i = 0; i < 3; ++i)

@@ -81,6 +81,9 @@ class Problem {
   std::vector<double> volume_multiplier_raise() const;
   std::vector<double> volume_multipliers() const;
   void set_volume_multipliers(const std::vector<double>& lambda);
+  // The penalty of exactly incompressible F-bar elements: `scale` times their law's (1 until
+  // set; the nodal-pressure element keeps its law's).
+  void scale_fbar_penalty(double scale);
   // sum of a_i b_i over the multipliers this rank owns, over all ranks. Collective.
   double multiplier_dot(const std::vector<double>& a, const std::vector<double>& b) const;
   // The patches' multipliers as a nodal field for the checkpoint (first component; the others
@@ -312,11 +315,21 @@ class Problem {
     std::array<double, 30> g{};
   };
   std::vector<std::shared_ptr<const WithoutVolumetricTerm>> fbar_rest_laws_;
+  // Per mesh volume group: the modulus k of the split term k/2 (ln Jbar)^2, the law's own but
+  // for exactly incompressible materials, whose penalty F-bar takes lower
+  // (kFbarIncompressiblePenalty, docs/formulation.md).
+  std::vector<double> fbar_modulus_;
   std::vector<FbarLinearization> fbar_linearization_;
   // Exactly incompressible F-bar elements: per local tet, whether, the multiplier, and ln Jbar
   // at the last largest_volume_change (empty without such a material).
   std::vector<char> fbar_incompressible_;
   std::vector<double> fbar_lambda_, fbar_ln_Jbar_;
+  bool fbar_incompressible(int64_t e) const {
+    return !fbar_incompressible_.empty() && fbar_incompressible_[e];
+  }
+  // The split term of F-bar element e (a split material's): its rest law, modulus and
+  // multiplier.
+  FbarNewtonPressure fbar_pressure(int64_t e) const;
   bool has_volume_multipliers_ = false;
   std::unique_ptr<ObstacleContact> contact_;  // with obstacles
   DofMap dofs_;

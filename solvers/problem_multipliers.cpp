@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "materials/elastic_constants.hpp"
 #include "solvers/problem.hpp"
 
 namespace hs {
@@ -29,10 +30,7 @@ double Problem::largest_volume_change(Vec u) {
     if (!fbar_incompressible_[e]) continue;
     element_coordinates(e, X);
     element_displacement(view.values(), e, ue);
-    FbarNewtonPressure p;
-    p.rest = fbar_rest_laws_[dist_.tet_volume[e]].get();
-    p.k = fbar_rest_laws_[dist_.tet_volume[e]]->removed_modulus();
-    p.lambda = fbar_lambda_[e];
+    FbarNewtonPressure p = fbar_pressure(e);
     tet_internal_force_fbar(dist_.order, X, ue, p, r, nullptr);
     fbar_ln_Jbar_[e] = p.ln_Jbar;
     local = std::max(local, std::abs(p.ln_Jbar));
@@ -45,9 +43,8 @@ std::vector<double> Problem::volume_multiplier_raise() const {
   std::vector<double> raise =
       has_nodal_volume_multipliers() ? nodal_->multiplier_raise() : std::vector<double>();
   for (size_t e = 0; e < fbar_lambda_.size(); ++e)
-    raise.push_back(fbar_incompressible_[e]
-                        ? fbar_rest_laws_[dist_.tet_volume[e]]->removed_modulus() * fbar_ln_Jbar_[e]
-                        : 0.0);
+    raise.push_back(fbar_incompressible_[e] ? fbar_modulus_[dist_.tet_volume[e]] * fbar_ln_Jbar_[e]
+                                            : 0.0);
   return raise;
 }
 
@@ -62,6 +59,12 @@ void Problem::set_volume_multipliers(const std::vector<double>& lambda) {
   const size_t n = nodal_count(has_nodal_volume_multipliers(), dist_);
   if (n) nodal_->set_multipliers(std::vector<double>(lambda.begin(), lambda.begin() + n));
   std::copy(lambda.begin() + n, lambda.end(), fbar_lambda_.begin());
+}
+
+void Problem::scale_fbar_penalty(double scale) {
+  for (size_t v = 0; v < materials_.size(); ++v)
+    if (fbar_rest_laws_[v] && hs::incompressible(materials_[v].law->elastic_constants()))
+      fbar_modulus_[v] = scale * fbar_rest_laws_[v]->removed_modulus();
 }
 
 double Problem::multiplier_dot(const std::vector<double>& a, const std::vector<double>& b) const {

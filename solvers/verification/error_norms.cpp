@@ -78,7 +78,8 @@ double integrate(const Problem& problem, const TetQuadrature& rule, F f) {
         X += N[a] * Xa;
         J += Xa * Eigen::RowVector3d(dN[3 * a], dN[3 * a + 1], dN[3 * a + 2]);
       }
-      sum += rule.weights[q] * std::abs(J.determinant()) * f(e, std::array<double, 3>{X[0], X[1], X[2]});
+      sum += rule.weights[q] * std::abs(J.determinant()) *
+             f(e, std::array<double, 3>{X[0], X[1], X[2]});
     }
   }
   MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, problem.comm());

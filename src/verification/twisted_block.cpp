@@ -98,15 +98,18 @@ void check(const ExactParameters& p) { p.positive("H"); }
 std::unique_ptr<ExactSolution> make(const ExactParameters& p, const ExactSetting& setting) {
   const ExactMaterial& m = only_material(setting, "twisted_block");
   if (m.model != "neo_hookean")
-    throw ExactInputError("materials", "twisted_block is a solution of the neo_hookean law, got '" +
-                                           m.model + "'");
+    throw ExactInputError(
+        "materials", "twisted_block is a solution of the neo_hookean law, got '" + m.model + "'");
   if (m.nu != 0.5)
-    throw ExactInputError("materials", "twisted_block is exactly incompressible: it needs nu = 0.5");
+    throw ExactInputError("materials",
+                          "twisted_block is exactly incompressible: it needs nu = 0.5");
   return std::make_unique<TwistedBlock>(p["H"], p["twist"], p["q"], m.mu);
 }
 
 }  // namespace
 
-ExactSolutionType twisted_block_type() { return {"twisted_block", {"H", "twist", "q"}, check, make}; }
+ExactSolutionType twisted_block_type() {
+  return {"twisted_block", {"H", "twist", "q"}, check, make};
+}
 
 }  // namespace hs

@@ -143,9 +143,10 @@ TEST(StiffCases, IncompressibleSphereIsThePenaltyFamilysLimit) {
 }
 
 // The same on P2 (h = 0.5, 1,665 dofs): F-bar with a multiplier per element keeps every
-// element's volume to 1e-8 in one or two raises a solve (P2 with one constraint per element
-// holds its pressure modes firmly), its pressure within 0.53 % of the incompressible closed form
-// at every step (the mesh's error, nu 0.4999's to 4e-5).
+// element's volume to 1e-8 in at most five raises a solve (its penalty starts at a hundredth of
+// the law's and grows; at the law's a raise contracts by about 250), its pressure within
+// 0.53 % of the incompressible closed form at every step (the mesh's error, nu 0.4999's to
+// 4e-5).
 TEST(StiffCases, IncompressibleSphereOnP2) {
   std::vector<std::string> sphere = {"materials[0].nu=0.5", "mesh.parameters.h=0.5",
                                      "exact.parameters.stretch=1.2", "time.steps=4"};
@@ -165,7 +166,7 @@ TEST(StiffCases, IncompressibleSphereOnP2) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (rank == 0) EXPECT_EQ(exact["materials"][0]["formulation"], "fbar");
   EXPECT_LE(shared(exact, "incompressibility", "last_volume_change"), 1e-8);
-  EXPECT_LE(shared(exact, "incompressibility", "most_raises_in_a_solve"), 3);
+  EXPECT_LE(shared(exact, "incompressibility", "most_raises_in_a_solve"), 6);
   sphere[0] = "materials[0].nu=0.4999";
   const auto [p4, e4] = pressures(run("neo_hookean_sphere.yaml", sphere, out_folder("p2_4")));
   const auto [p, error] = pressures(exact);

@@ -187,8 +187,8 @@ TEST(ExactSolutions, TwistedBlockIsIsochoricAtRestOnItsFacesAndLoadedInside) {
   const auto u = make("twisted_block", {{"H", H}, {"twist", 0.6}, {"q", 1}},
                       {{material("body", 3, 0.5, 0, "neo_hookean")}, {0, 0, 0}});
   // det F = 1 by differences of the displacement, inside and outside the inscribed cylinder.
-  for (const Vec3& X : {Vec3{1.0, 1.0, 0.7}, Vec3{0.6, 1.3, 1.1}, Vec3{1.4, 0.5, 1.6},
-                        Vec3{0.1, 0.1, 1.0}}) {
+  for (const Vec3& X :
+       {Vec3{1.0, 1.0, 0.7}, Vec3{0.6, 1.3, 1.1}, Vec3{1.4, 0.5, 1.6}, Vec3{0.1, 0.1, 1.0}}) {
     Mat3 F = gradient(*u, X, 1, 1e-6);
     for (int i = 0; i < 3; ++i) F[i][i] += 1;
     EXPECT_NEAR(determinant(F), 1, 1e-8) << X[0] << " " << X[1] << " " << X[2];
