@@ -2,7 +2,8 @@
 // forward run reaches with a known pressure is reached to 0.1 mm with that pressure, by the
 // pneumatic and by the hydraulic cylinder (the liquid's weight acting through the unified
 // constraint); a target beyond the pressure bound ends on the forward run at the bound, with
-// the actuator marked saturated. Each solver object takes its own options (its prefix) and
+// the actuator marked saturated; so does the pneumatic cylinder of an exactly incompressible
+// silicone. Each solver object takes its own options (its prefix) and
 // the shared ones, and its MUMPS factor takes them too.
 #include <gtest/gtest.h>
 #include <petscsnes.h>
@@ -19,8 +20,9 @@ namespace mpi_test_control {
 
 // A cylinder with its cavity as the actuator, the effector at the centre of the free end.
 struct Scene : hs_test::ControlScene {
-  Scene(const std::string& deck, double max_pressure)
-      : ControlScene(deck, {0.0, 0.0, -0.15}, actuator(max_pressure)) {}
+  Scene(const std::string& deck, double max_pressure,
+        const std::vector<std::string>& overrides = {})
+      : ControlScene(deck, {0.0, 0.0, -0.15}, actuator(max_pressure), overrides) {}
   static hs::ActuatorConfig actuator(double max_pressure) {
     hs::ActuatorConfig a;
     a.constraint = "cavity";
@@ -30,8 +32,8 @@ struct Scene : hs_test::ControlScene {
 };
 
 void expect_reaches(const std::string& deck, const std::string& free_solve = "newton",
-                    int refactor_every = 1) {
-  Scene s(deck, 1e300);
+                    int refactor_every = 1, const std::vector<std::string>& overrides = {}) {
+  Scene s(deck, 1e300, overrides);
   s.config.control->free_solve = hs::enum_of<hs::FreeSolve>(hs::kFreeSolveNames, free_solve);
   s.config.control->refactor_every = refactor_every;
   const double p = 3000;
@@ -51,6 +53,13 @@ void expect_reaches(const std::string& deck, const std::string& free_solve = "ne
 TEST(Control, PneumaticCylinderReachesAForwardRunsTarget) { expect_reaches("cylinder_air.yaml"); }
 
 TEST(Control, HydraulicCylinderReachesAForwardRunsTarget) { expect_reaches("cylinder_water.yaml"); }
+
+TEST(Control, ExactlyIncompressibleCylinderReachesAForwardRunsTarget) {
+  // nu = 0.5 on P1 and P2: the controller's equilibrium solves keep every patch's (element's)
+  // volume through their multipliers, as the forward run's do.
+  expect_reaches("cylinder_air.yaml", "newton", 1, {"materials[0].nu=0.5"});
+  expect_reaches("cylinder_air.yaml", "newton", 1, {"materials[0].nu=0.5", "mesh.order=2"});
+}
 
 TEST(Control, OneLinearisationPerStepReachesTheTargetToo) {
   // The paper's real-time step (one assembly and factorization for the free motion and the
