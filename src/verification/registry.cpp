@@ -8,6 +8,7 @@
 #include "verification/hydrostatic_block.hpp"
 #include "verification/lame_sphere.hpp"
 #include "verification/neo_hookean_sphere.hpp"
+#include "verification/stretched_block.hpp"
 #include "verification/twisted_block.hpp"
 
 namespace hs {
@@ -17,6 +18,7 @@ const std::vector<ExactSolutionType>& exact_solution_types() {
   static const std::vector<ExactSolutionType> types = {
       lame_sphere_type(),        cantilever_gravity_type(), hydrostatic_block_type(),
       neo_hookean_sphere_type(), bimaterial_bar_type(),     twisted_block_type(),
+      stretched_block_type(),
   };
   return types;
 }

@@ -11,6 +11,7 @@
 #include "verification/lame_sphere.hpp"
 #include "verification/neo_hookean_sphere.hpp"
 #include "verification/registry.hpp"
+#include "verification/stretched_block.hpp"
 
 namespace hs {
 namespace {
@@ -224,6 +225,30 @@ TEST(ExactSolutions, TwistedBlockIsIsochoricAtRestOnItsFacesAndLoadedInside) {
   }
 }
 
+TEST(ExactSolutions, StretchedBlockIsIsochoricAndCarriesItsTraction) {
+  // mu (l - 1/l^2) = t: l = 1 at rest, the golden-ratio root at t = mu (l^3 - l^2 - 1 = 0 is
+  // solved by 1.465571...), below 1 under a push.
+  EXPECT_EQ(incompressible_uniaxial_stretch(0), 1.0);
+  EXPECT_NEAR(incompressible_uniaxial_stretch(1), 1.4655712318767680, 1e-14);
+  EXPECT_LT(incompressible_uniaxial_stretch(-0.5), 1.0);
+  const double mu = 2, t = 3;  // E = 6 at nu = 0.5
+  const auto u = make("stretched_block", {{"t", t}},
+                      {{material("body", 6, 0.5, 0, "neo_hookean")}, {0, 0, 0}});
+  for (double s : {0.5, 1.0}) {
+    Mat3 F = gradient(*u, {0.3, 0.7, 0.4}, s);
+    for (int i = 0; i < 3; ++i) F[i][i] += 1;
+    EXPECT_NEAR(determinant(F), 1, 1e-9) << s;
+    // The sides free, sigma_xx = mu (F_xx^2 - 1) + q = 0, gives q; then P_zz =
+    // mu (F_zz - 1 / F_zz) + q / F_zz is the traction s t.
+    const double q = -mu * (F[0][0] * F[0][0] - 1);
+    EXPECT_NEAR(mu * (F[2][2] - 1 / F[2][2]) + q / F[2][2], s * t, 1e-8) << s;
+  }
+  // The pressure -sigma_zz / 3, sigma_zz = P_zz F_zz at full load.
+  const double l = incompressible_uniaxial_stretch(t / mu);
+  EXPECT_NEAR(u->pressure({0.1, 0.2, 0.3}), -t * l / 3, 1e-12);
+  EXPECT_EQ(u->pressure({0.1, 0.2, 0.3}), u->pressure({0.9, 0.5, 0.8}));
+}
+
 TEST(ExactSolutions, CantileverMeetsTheBeamBoundaryConditions) {
   // Euler-Bernoulli: w(0) = w'(0) = 0 at the clamp, no moment (w'') and no shear (w''') at the
   // free end, and the tip deflection q L^4 / (8 E I).
@@ -273,10 +298,11 @@ std::string error_of(F f, const std::string& key) {
 TEST(ExactRegistry, UnknownNameListsTheNames) {
   const std::string message = error_of([] { exact_solution_type("sphere"); }, "exact.type");
   EXPECT_NE(message.find("unknown exact solution 'sphere'"), std::string::npos) << message;
-  for (const char* name : {"lame_sphere", "cantilever_gravity", "hydrostatic_block",
-                           "neo_hookean_sphere", "bimaterial_bar", "twisted_block"})
+  for (const char* name :
+       {"lame_sphere", "cantilever_gravity", "hydrostatic_block", "neo_hookean_sphere",
+        "bimaterial_bar", "twisted_block", "stretched_block"})
     EXPECT_NE(message.find(name), std::string::npos) << name << " in " << message;
-  EXPECT_EQ(exact_solution_names().size(), 6u);
+  EXPECT_EQ(exact_solution_names().size(), 7u);
 }
 
 TEST(ExactRegistry, ParametersAreCheckedByNameAndValue) {
