@@ -33,6 +33,17 @@ const ExactMaterial& only_material(const ExactSetting& setting, const std::strin
   return setting.materials[0];
 }
 
+const ExactMaterial& only_incompressible_neo_hookean(const ExactSetting& setting,
+                                                     const std::string& solution) {
+  const ExactMaterial& m = only_material(setting, solution);
+  if (m.model != "neo_hookean")
+    throw ExactInputError(
+        "materials", solution + " is a solution of the neo_hookean law, got '" + m.model + "'");
+  if (m.nu != 0.5)
+    throw ExactInputError("materials", solution + " is exactly incompressible: it needs nu = 0.5");
+  return m;
+}
+
 const ExactMaterial& material_of(const ExactSetting& setting, const std::string& group,
                                  const std::string& solution) {
   for (const auto& m : setting.materials)

@@ -99,6 +99,9 @@ class ExactParameters {
 // The only material of the deck, or ExactInputError naming `solution` when there are
 // several; the material of `group`, or ExactInputError.
 const ExactMaterial& only_material(const ExactSetting& setting, const std::string& solution);
+// only_material, which must be neo_hookean of nu = 0.5, or ExactInputError naming `solution`.
+const ExactMaterial& only_incompressible_neo_hookean(const ExactSetting& setting,
+                                                     const std::string& solution);
 const ExactMaterial& material_of(const ExactSetting& setting, const std::string& group,
                                  const std::string& solution);
 

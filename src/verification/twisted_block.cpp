@@ -96,13 +96,7 @@ class TwistedBlock : public ExactSolution {
 void check(const ExactParameters& p) { p.positive("H"); }
 
 std::unique_ptr<ExactSolution> make(const ExactParameters& p, const ExactSetting& setting) {
-  const ExactMaterial& m = only_material(setting, "twisted_block");
-  if (m.model != "neo_hookean")
-    throw ExactInputError(
-        "materials", "twisted_block is a solution of the neo_hookean law, got '" + m.model + "'");
-  if (m.nu != 0.5)
-    throw ExactInputError("materials",
-                          "twisted_block is exactly incompressible: it needs nu = 0.5");
+  const ExactMaterial& m = only_incompressible_neo_hookean(setting, "twisted_block");
   return std::make_unique<TwistedBlock>(p["H"], p["twist"], p["q"], m.mu);
 }
 
