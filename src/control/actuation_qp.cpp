@@ -18,12 +18,14 @@ ActuationChange solve_actuation_qp(const Eigen::MatrixXd& W, const Eigen::Vector
   const Eigen::VectorXd f = W.transpose() * delta;
   std::vector<Eigen::RowVectorXd> rows;
   std::vector<double> rhs;
-  std::vector<int> owner;  // actuator of each constraint row
-  auto bound = [&](const Eigen::RowVectorXd& row, double lower, int a) {
+  std::vector<int> owner;    // actuator of each constraint row
+  std::vector<double> sign;  // a bound on the actuator's change alone: its sign; else 0
+  auto bound = [&](const Eigen::RowVectorXd& row, double lower, int a, double on_change = 0) {
     if (std::isfinite(lower) && lower > -1e299) {
       rows.push_back(row);
       rhs.push_back(lower);
       owner.push_back(a);
+      sign.push_back(on_change);
     }
   };
   for (int a = 0; a < n; ++a) {
@@ -31,10 +33,10 @@ ActuationChange solve_actuation_qp(const Eigen::MatrixXd& W, const Eigen::Vector
     const double lambda = at[a].multiplier, origin = at[a].origin, grown = at[a].grown;
     Eigen::RowVectorXd unit = Eigen::RowVectorXd::Zero(n);
     unit(a) = 1;
-    bound(unit, b.min_multiplier - lambda, a);
-    bound(-unit, lambda - b.max_multiplier, a);
-    bound(unit, origin - b.max_multiplier_step - lambda, a);
-    bound(-unit, lambda - origin - b.max_multiplier_step, a);
+    bound(unit, b.min_multiplier - lambda, a, 1);
+    bound(-unit, lambda - b.max_multiplier, a, -1);
+    bound(unit, origin - b.max_multiplier_step - lambda, a, 1);
+    bound(-unit, lambda - origin - b.max_multiplier_step, a, -1);
     bound(growth.row(a), b.min_measure_change - grown, a);
     bound(-growth.row(a), grown - b.max_measure_change, a);
   }
@@ -52,6 +54,10 @@ ActuationChange solve_actuation_qp(const Eigen::MatrixXd& W, const Eigen::Vector
   if (qp.solved) {
     out.dl = qp.x;
     out.kkt_residual = qp.kkt_residual;
+    // An actuator at a bound of its own is put on it exactly: the QP meets an active row to
+    // its tolerance, which left a pressure bound of 0 as 1e-11 Pa in every later report.
+    for (int r : qp.active)
+      if (sign[r] != 0) out.dl(owner[r]) = sign[r] * rhs[r];
   }
   out.saturated.assign(n, false);
   for (int r : qp.active) out.saturated[owner[r]] = true;
