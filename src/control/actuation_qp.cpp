@@ -54,10 +54,13 @@ ActuationChange solve_actuation_qp(const Eigen::MatrixXd& W, const Eigen::Vector
   if (qp.solved) {
     out.dl = qp.x;
     out.kkt_residual = qp.kkt_residual;
-    // An actuator at a bound of its own is put on it exactly: the QP meets an active row to
-    // its tolerance, which left a pressure bound of 0 as 1e-11 Pa in every later report.
+    // An actuator at a bound of its own is put on it exactly, and one past it by less than
+    // the QP's tolerance (which leaves such a row inactive) is put back on it: the QP meets
+    // its rows to round-off, which left a pressure bound of 0 as 1e-11 Pa in the reports.
     for (int r : qp.active)
       if (sign[r] != 0) out.dl(owner[r]) = sign[r] * rhs[r];
+    for (size_t r = 0; r < rows.size(); ++r)
+      if (sign[r] != 0 && sign[r] * out.dl(owner[r]) < rhs[r]) out.dl(owner[r]) = sign[r] * rhs[r];
   }
   out.saturated.assign(n, false);
   for (int r : qp.active) out.saturated[owner[r]] = true;

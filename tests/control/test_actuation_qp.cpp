@@ -46,4 +46,20 @@ TEST(ActuationQp, AnActuatorStoppedByItsBoundIsExactlyOnIt) {
   EXPECT_EQ(exact, bounded);
 }
 
+TEST(ActuationQp, AnActuatorPastItsBoundByRoundOffIsPutBackOnIt) {
+  // The targets ask for 2e-12 Pa below the bound of 0 (a few units in the last place of
+  // 2,000 Pa): within the QP's tolerance, so no row is active, and the pressure must still
+  // not end below 0.
+  Eigen::MatrixXd W(1, 1);
+  W << 1e-6;
+  const double now = 2000, wanted = -now - 2e-12;
+  const Eigen::VectorXd delta = -W * Eigen::VectorXd::Constant(1, wanted);
+  std::vector<hs::ActuatorConfig> bounds(1);
+  bounds[0].min_multiplier = 0;
+  const hs::ActuationChange c =
+      hs::solve_actuation_qp(W, delta, Eigen::MatrixXd::Zero(1, 1), bounds, {{now, now, 0}}, 0.0);
+  ASSERT_TRUE(c.solved) << c.status;
+  EXPECT_EQ(now + c.dl(0), 0.0);
+}
+
 }  // namespace
