@@ -23,9 +23,8 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 
-from same_mesh import REPO, run_deck_on_msh
+from same_mesh import REPO, mpirun, run_deck_on_msh, run_dolfinx_script
 
 
 def mesh(h, folder):
@@ -34,11 +33,6 @@ def mesh(h, folder):
     subprocess.run(["gmsh", "-3", "-setnumber", "h", str(1e-3 * h), "-format", "msh4", "-o", path,
                     os.path.join(REPO, "meshes", "compressed_block.geo")], check=True, capture_output=True)
     return path
-
-
-def mpirun(ranks):
-    flags = ["mpirun", "--oversubscribe", "-np", str(ranks)]
-    return flags + (["--allow-run-as-root"] if os.geteuid() == 0 else [])
 
 
 def run_hydrosoft(msh, folder, ranks, overrides):
@@ -119,16 +113,7 @@ if MPI.COMM_WORLD.rank == 0:
 
 
 def run_dolfinx(msh, folder, ranks):
-    script = os.path.join(folder, "block_dolfinx.py")
-    with open(script, "w") as f:
-        f.write(DOLFINX.replace("BENCH", repr(os.path.dirname(os.path.abspath(__file__)))))
-    start = time.perf_counter()
-    r = subprocess.run(mpirun(ranks) + ["/usr/bin/python3", script, msh], capture_output=True,
-                       text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
-    if r.returncode != 0:
-        sys.exit(f"dolfinx failed on {msh}:\n{r.stderr[-3000:]}")
-    result = [json.loads(line) for line in r.stdout.splitlines() if line.startswith("{")][0]
-    result["wall_s"] = time.perf_counter() - start  # the interpreter's start and imports included
+    result = run_dolfinx_script(DOLFINX, "block_dolfinx", msh, folder, ranks)
     result["cutbacks"] = 0
     return result
 

@@ -4,11 +4,35 @@ dolfinx 0.5's own reader needs the gmsh Python module)."""
 import json
 import os
 import subprocess
+import sys
 import time
 
 import numpy as np
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def mpirun(ranks):
+    """The launcher for `ranks` MPI ranks (as root, with --allow-run-as-root)."""
+    flags = ["mpirun", "--oversubscribe", "-np", str(ranks)]
+    return flags + (["--allow-run-as-root"] if os.geteuid() == 0 else [])
+
+
+def run_dolfinx_script(source, name, msh, folder, ranks):
+    """The dolfinx program `source` written to FOLDER/NAME.py (its BENCH replaced by this
+    folder, for same_mesh's read_msh) and run on MSH under mpirun; its one JSON line, with
+    `wall_s` the whole process (the interpreter's start and imports included)."""
+    script = os.path.join(folder, name + ".py")
+    with open(script, "w") as f:
+        f.write(source.replace("BENCH", repr(os.path.dirname(os.path.abspath(__file__)))))
+    start = time.perf_counter()
+    r = subprocess.run(mpirun(ranks) + ["/usr/bin/python3", script, msh], capture_output=True,
+                       text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+    if r.returncode != 0:
+        sys.exit(f"dolfinx failed on {msh}:\n{r.stderr[-3000:]}")
+    result = [json.loads(line) for line in r.stdout.splitlines() if line.startswith("{")][0]
+    result["wall_s"] = time.perf_counter() - start
+    return result
 
 
 def run_deck_on_msh(deck, msh, folder, mesh_keys="", launcher=(), overrides=()):

@@ -25,9 +25,8 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 
-from same_mesh import REPO, run_deck_on_msh
+from same_mesh import REPO, mpirun, run_deck_on_msh, run_dolfinx_script
 
 MU, TWIST, Q0 = 1e5, 0.5, 1.0  # input/twisted_block.yaml: E = 3e5 at nu = 0.5, twist, q
 
@@ -37,11 +36,6 @@ def mesh(h, folder):
     subprocess.run(["gmsh", "-3", "-setnumber", "h", str(h), "-format", "msh4", "-o", path,
                     os.path.join(REPO, "meshes", "block.geo")], check=True, capture_output=True)
     return path
-
-
-def mpirun(ranks):
-    flags = ["mpirun", "--oversubscribe", "-np", str(ranks)]
-    return flags + (["--allow-run-as-root"] if os.geteuid() == 0 else [])
 
 
 def run_hydrosoft(msh, folder, ranks, overrides):
@@ -124,17 +118,7 @@ if MPI.COMM_WORLD.rank == 0:
 
 
 def run_dolfinx(msh, folder, ranks):
-    script = os.path.join(folder, "twist_dolfinx.py")
-    with open(script, "w") as f:
-        f.write(DOLFINX.replace("BENCH", repr(os.path.dirname(os.path.abspath(__file__))))
-                .replace("PARAMETERS", repr((MU, TWIST, Q0))))
-    start = time.perf_counter()
-    r = subprocess.run(mpirun(ranks) + ["/usr/bin/python3", script, msh], capture_output=True,
-                       text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
-    if r.returncode != 0:
-        sys.exit(f"dolfinx failed on {msh}:\n{r.stderr[-3000:]}")
-    result = [json.loads(line) for line in r.stdout.splitlines() if line.startswith("{")][0]
-    result["wall_s"] = time.perf_counter() - start  # the interpreter's start and imports included
+    result = run_dolfinx_script(DOLFINX.replace("PARAMETERS", repr((MU, TWIST, Q0))), "twist_dolfinx", msh, folder, ranks)
     return result
 
 
