@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <unordered_map>
 
 #include "common/error.hpp"
@@ -83,7 +84,7 @@ void Checkpointer::start_count() {
 }
 
 void Checkpointer::write(nlohmann::json position, const NamedVecs& fields,
-                         const NamedValues& series) {
+                         const NamedValues& series, const NamedValues& element_fields) {
   const Distribution& dist = problem_.distribution();
   int size = 1;
   MPI_Comm_size(comm_, &size);
@@ -109,7 +110,14 @@ void Checkpointer::write(nlohmann::json position, const NamedVecs& fields,
   rows.node_ids.assign(dist.old_of_local.begin(), dist.old_of_local.begin() + dist.num_owned());
   NamedValues values;
   for (const auto& [name, v] : fields) values.emplace_back(name, owned_values(problem_, v));
-  write_checkpoint(path_, comm_, state, rows, values, series);
+  if (!element_fields.empty()) {  // each tetrahedron is on one rank
+    rows.elements = dist.num_global_tets;
+    const int64_t count = static_cast<int64_t>(dist.local_tets.size());
+    MPI_Exscan(&count, &rows.first_element, 1, MPI_INT64_T, MPI_SUM, comm_);
+    if (dist.rank == 0) rows.first_element = 0;
+    rows.element_ids = dist.local_tets;
+  }
+  write_checkpoint(path_, comm_, state, rows, values, series, element_fields);
   ++written_;
   steps_since_ = 0;
   if (config_.output.checkpoint->minutes > 0) last_time_ = wall_minutes(comm_);
@@ -163,71 +171,113 @@ void Restart::check_mesh(const Problem& problem) const {
   if (!reason.empty()) throw InputError("--restart: " + file_->path() + ": " + reason);
 }
 
-void Restart::read(const std::string& name, const Problem& problem, Vec v) const {
-  const Distribution& dist = problem.distribution();
+namespace {
+
+// A file's rows placed by id: each rank reads a block of the n rows (`ids` and `values`, up to
+// 3 values a row, read a block [begin, end)) and sends each row to the rank that keeps the
+// ids of its block (a directory by id); each rank then asks the directory for the ids it
+// wants and gets their rows back, `width` values each, in the order of `wanted`. `found`
+// says which the file has. Collective; InputError on every rank for an id out of range.
+struct IdRow {
+  int64_t id;
+  double value[3];
+};
+
+std::vector<double> rows_by_id(int64_t n, int width, const std::string& noun,
+                               const std::function<std::vector<int64_t>(int64_t, int64_t)>& ids,
+                               const std::function<std::vector<double>(int64_t, int64_t)>& values,
+                               const std::vector<int64_t>& wanted, const std::string& path,
+                               std::vector<char>& found, MPI_Comm comm) {
   int rank = 0, size = 1;
-  MPI_Comm_rank(comm_, &rank);
-  MPI_Comm_size(comm_, &size);
-  const int64_t n = file_->nodes();
-  // 1. Each rank reads a block of the file's rows and sends each row to the rank that keeps
-  //    the ids of its block (a directory by node id).
-  struct Row {
-    int64_t id;
-    double value[3];
-  };
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
   std::string error;
   const int64_t begin = block_begin(n, rank, size), end = block_begin(n, rank + 1, size);
-  std::vector<std::vector<Row>> to_directory(size);
+  std::vector<std::vector<IdRow>> to_directory(size);
   try {
-    const auto ids = file_->node_ids(begin, end);
-    const auto values = file_->field(name, begin, end);
-    for (size_t i = 0; i < ids.size(); ++i) {
-      if (ids[i] < 0 || ids[i] >= n) {
+    const auto id = ids(begin, end);
+    const auto value = values(begin, end);
+    for (size_t i = 0; i < id.size(); ++i) {
+      if (id[i] < 0 || id[i] >= n) {
         error =
-            "--restart: " + file_->path() + ": node id " + std::to_string(ids[i]) + " out of range";
+            "--restart: " + path + ": " + noun + " id " + std::to_string(id[i]) + " out of range";
         break;
       }
-      to_directory[block_owner(n, ids[i], size)].push_back(
-          {ids[i], {values[3 * i], values[3 * i + 1], values[3 * i + 2]}});
+      IdRow row{id[i], {0, 0, 0}};
+      for (int c = 0; c < width; ++c) row.value[c] = value[width * i + c];
+      to_directory[block_owner(n, id[i], size)].push_back(row);
     }
   } catch (const InputError& e) {
     error = e.what();
   }
-  throw_together<InputError>(error, comm_);
-  const std::vector<Row> kept = all_to_all(to_directory, comm_);
-  std::vector<Row> directory(end - begin, Row{-1, {0, 0, 0}});
-  for (const Row& row : kept) directory[row.id - begin] = row;
-  // 2. Each rank asks the directory for its owned nodes' rows and gets them back.
+  throw_together<InputError>(error, comm);
+  const std::vector<IdRow> kept = all_to_all(to_directory, comm);
+  std::vector<IdRow> directory(end - begin, IdRow{-1, {0, 0, 0}});
+  for (const IdRow& row : kept) directory[row.id - begin] = row;
   std::vector<std::vector<int64_t>> asks(size);
-  for (int64_t i = 0; i < dist.num_owned(); ++i)
-    asks[block_owner(n, dist.old_of_local[i], size)].push_back(dist.old_of_local[i]);
+  for (const int64_t id : wanted) asks[block_owner(n, id, size)].push_back(id);
   std::vector<int64_t> from;
-  const std::vector<int64_t> asked = all_to_all(asks, comm_, &from);
-  std::vector<std::vector<Row>> answers(size);
+  const std::vector<int64_t> asked = all_to_all(asks, comm, &from);
+  std::vector<std::vector<IdRow>> answers(size);
   size_t next = 0;
   for (int r = 0; r < size; ++r)
     for (int64_t k = 0; k < from[r]; ++k, ++next)
       answers[r].push_back(directory[asked[next] - begin]);
-  const std::vector<Row> answered = all_to_all(answers, comm_);
-  std::unordered_map<int64_t, int64_t> local_of;
-  for (int64_t i = 0; i < dist.num_owned(); ++i) local_of[dist.old_of_local[i]] = i;
+  const std::vector<IdRow> answered = all_to_all(answers, comm);
+  std::unordered_map<int64_t, size_t> index_of;
+  for (size_t i = 0; i < wanted.size(); ++i) index_of[wanted[i]] = i;
+  std::vector<double> out(width * wanted.size(), 0.0);
+  found.assign(wanted.size(), 0);
+  for (const IdRow& row : answered) {
+    const auto it = index_of.find(row.id);
+    if (it == index_of.end()) continue;  // a row the file lacks (id -1)
+    for (int c = 0; c < width; ++c) out[width * it->second + c] = row.value[c];
+    found[it->second] = 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+void Restart::read(const std::string& name, const Problem& problem, Vec v) const {
+  const Distribution& dist = problem.distribution();
+  const std::vector<int64_t> wanted(dist.old_of_local.begin(),
+                                    dist.old_of_local.begin() + dist.num_owned());
+  std::vector<char> found;
+  const std::vector<double> rows = rows_by_id(
+      file_->nodes(), 3, "node", [&](int64_t b, int64_t e) { return file_->node_ids(b, e); },
+      [&](int64_t b, int64_t e) { return file_->field(name, b, e); }, wanted, file_->path(), found,
+      comm_);
   PetscScalar* a;
   HS_PETSC(VecGetArray(v, &a));
-  int64_t placed = 0;
-  for (const Row& row : answered) {
-    const auto it = local_of.find(row.id);
-    if (it == local_of.end()) continue;  // a node the file lacks (id -1)
-    for (int c = 0; c < 3; ++c) a[3 * it->second + c] = row.value[c];
-    ++placed;
-  }
+  for (size_t i = 0; i < 3 * wanted.size(); ++i) a[i] = rows[i];
   HS_PETSC(VecRestoreArray(v, &a));
   HS_PETSC(VecGhostUpdateBegin(v, INSERT_VALUES, SCATTER_FORWARD));
   HS_PETSC(VecGhostUpdateEnd(v, INSERT_VALUES, SCATTER_FORWARD));
-  throw_together<InputError>(placed == dist.num_owned()
+  throw_together<InputError>(std::count(found.begin(), found.end(), 1) == dist.num_owned()
                                  ? std::string()
                                  : "--restart: " + file_->path() + ": /fields/" + name +
                                        " lacks some of this mesh's nodes",
                              comm_);
+}
+
+std::vector<double> Restart::read_elements(const std::string& name, const Problem& problem) const {
+  const Distribution& dist = problem.distribution();
+  int has = file_->has_element_field(name) && file_->elements() == dist.num_global_tets;
+  MPI_Allreduce(MPI_IN_PLACE, &has, 1, MPI_INT, MPI_MIN, comm_);
+  if (!has) return {};
+  std::vector<char> found;
+  const std::vector<double> values = rows_by_id(
+      file_->elements(), 1, "element",
+      [&](int64_t b, int64_t e) { return file_->element_ids(b, e); },
+      [&](int64_t b, int64_t e) { return file_->element_field(name, b, e); }, dist.local_tets,
+      file_->path(), found, comm_);
+  throw_together<InputError>(std::count(found.begin(), found.end(), 0) == 0
+                                 ? std::string()
+                                 : "--restart: " + file_->path() + ": /element_fields/" + name +
+                                       " lacks some of this mesh's elements",
+                             comm_);
+  return values;
 }
 
 void Restart::restore(SteppingStats& stats) const {

@@ -50,8 +50,10 @@ class Checkpointer {
   // Counts the steps (and minutes) from here: the control loop counts target sets.
   void start_count();
   // Collective: writes <folder>/checkpoint.h5 (atomically) with `position`, the run's
-  // header (sizes, fingerprint, stats) and the owned rows of `fields`; series: rank 0's.
-  void write(nlohmann::json position, const NamedVecs& fields, const NamedValues& series = {});
+  // header (sizes, fingerprint, stats) and the owned rows of `fields`; series: rank 0's;
+  // element_fields: a value per local tetrahedron (in the order of the distribution's).
+  void write(nlohmann::json position, const NamedVecs& fields, const NamedValues& series = {},
+             const NamedValues& element_fields = {});
   int written() const { return written_; }
 
  private:
@@ -79,6 +81,9 @@ class Restart {
   const nlohmann::json& position() const { return file_->state().at("position"); }
   // Collective: this rank's owned rows of a field, placed by node id.
   void read(const std::string& name, const Problem& problem, Vec v) const;
+  // Collective: a value per local tetrahedron of an element field, placed by element id; empty
+  // where the checkpoint has no such field (one of an older run).
+  std::vector<double> read_elements(const std::string& name, const Problem& problem) const;
   std::vector<double> series(const std::string& name) const { return file_->series(name); }
   // The step counts of the run so far.
   void restore(SteppingStats& stats) const;

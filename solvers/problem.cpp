@@ -67,8 +67,9 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
   }
   if (any_fbar_term) fbar_linearization_.resize(nt);
   for (const auto& m : materials_)  // the same on every rank: the deck's materials
-    has_volume_multipliers_ |=
+    has_fbar_multipliers_ |=
         m.element == ElementFormulation::fbar && hs::incompressible(m.law->elastic_constants());
+  has_volume_multipliers_ = has_fbar_multipliers_;
   if (has_volume_multipliers_) {  // exactly incompressible F-bar elements
     fbar_incompressible_.assign(nt, 0);
     fbar_lambda_.assign(nt, 0.0);

@@ -46,6 +46,8 @@ struct AssemblyTimers {
 
 // The checkpoint's field of the volume multipliers (Problem::volume_multiplier_field).
 inline constexpr char kVolumeMultiplierField[] = "volume_multipliers";
+// The checkpoint's element field of the F-bar elements' volume multipliers.
+inline constexpr char kFbarMultiplierField[] = "fbar_volume_multipliers";
 
 class Problem {
  public:
@@ -87,11 +89,14 @@ class Problem {
   // sum of a_i b_i over the multipliers this rank owns, over all ranks. Collective.
   double multiplier_dot(const std::vector<double>& a, const std::vector<double>& b) const;
   // The patches' multipliers as a nodal field for the checkpoint (first component; the others
-  // 0), and back from one (collective: the ghosts are updated from their owners). The F-bar
-  // elements' are not kept: a restart raises them again.
+  // 0), and back from one (collective: the ghosts are updated from their owners); the F-bar
+  // elements', a value per local tet (empty without them), and back.
   bool has_nodal_volume_multipliers() const { return nodal_ && nodal_->has_multipliers(); }
   void volume_multiplier_field(Vec field) const;
   void set_volume_multipliers(Vec field);
+  bool has_fbar_volume_multipliers() const { return has_fbar_multipliers_; }  // on every rank
+  const std::vector<double>& fbar_volume_multipliers() const { return fbar_lambda_; }
+  void set_fbar_volume_multipliers(const std::vector<double>& lambda) { fbar_lambda_ = lambda; }
   // What keeping the volumes took, over the run's converged solves (summary.json's
   // `incompressibility`).
   struct VolumeKeeping {
@@ -331,6 +336,7 @@ class Problem {
   // multiplier.
   FbarNewtonPressure fbar_pressure(int64_t e) const;
   bool has_volume_multipliers_ = false;
+  bool has_fbar_multipliers_ = false;         // the deck's materials: the same on every rank
   std::unique_ptr<ObstacleContact> contact_;  // with obstacles
   DofMap dofs_;
   const std::vector<double>& X_;         // reference coordinates of local nodes

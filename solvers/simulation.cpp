@@ -85,6 +85,12 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
         run.restart->read(kVolumeMultiplierField, problem, lambda);
         problem.set_volume_multipliers(lambda);
       }
+      if (problem.has_fbar_volume_multipliers()) {
+        // A checkpoint of an older run has none: the solves raise them again.
+        const std::vector<double> lambda =
+            run.restart->read_elements(kFbarMultiplierField, problem);
+        if (!lambda.empty()) problem.set_fbar_volume_multipliers(lambda);
+      }
       if (verifies) history = run.restart->position().at("verification");
     } else if (const auto rest = stepper->initial_output()) {
       recorder.record(rest->time, run.u, rest->load_factor, rest->time_kind);
@@ -123,7 +129,10 @@ nlohmann::json run_simulation(const Config& config, MPI_Comm comm, InteractiveIo
           problem.volume_multiplier_field(lambda);
           fields.emplace_back(kVolumeMultiplierField, lambda);
         }
-        run.checkpoints->write(position, fields, stepper->checkpoint_series());
+        NamedValues element_fields;
+        if (problem.has_fbar_volume_multipliers())
+          element_fields.emplace_back(kFbarMultiplierField, problem.fbar_volume_multipliers());
+        run.checkpoints->write(position, fields, stepper->checkpoint_series(), element_fields);
       }
       if (signal) throw Interrupted(signal);
     }

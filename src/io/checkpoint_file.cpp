@@ -19,7 +19,7 @@ constexpr int kVersion = 1;
 
 void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::json& state,
                       const CheckpointRows& rows, const NamedValues& fields,
-                      const NamedValues& series) {
+                      const NamedValues& series, const NamedValues& element_fields) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const std::string tmp = path + ".tmp";
@@ -34,6 +34,9 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::js
                   Hdf5File::metadata_allowance(8 + 2 * static_cast<int64_t>(fields.size()) +
                                                2 * static_cast<int64_t>(series.size()));
   for (const auto& named : series) bytes += 8 * static_cast<int64_t>(named.second.size());
+  if (!element_fields.empty())
+    bytes += 8 * rows.elements * (1 + static_cast<int64_t>(element_fields.size())) +
+             Hdf5File::metadata_allowance(2 + 2 * static_cast<int64_t>(element_fields.size()));
   try {
     {
       // A control run's state holds its results so far: often more than 64 KB.
@@ -50,6 +53,12 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::js
         int64_t count = static_cast<int64_t>(values.size());
         MPI_Bcast(&count, 1, MPI_INT64_T, 0, comm);
         h5.write_rows("/series/" + name, values, count, 0, 0);
+      }
+      if (!element_fields.empty()) {
+        h5.write_rows("/element_ids", rows.element_ids, rows.elements, 0, rows.first_element);
+        h5.create_group("/element_fields");
+        for (const auto& [name, values] : element_fields)
+          h5.write_rows("/element_fields/" + name, values, rows.elements, 0, rows.first_element);
       }
       h5.close();
     }
@@ -97,6 +106,13 @@ CheckpointFile::CheckpointFile(const std::string& path) : path_(path) {
   if (H5Sget_simple_extent_ndims(space.id) != 1) fail("/node_ids is not a list");
   H5Sget_simple_extent_dims(space.id, dims, nullptr);
   nodes_ = static_cast<int64_t>(dims[0]);
+  if (H5Lexists(file_.id, "/element_ids", H5P_DEFAULT) > 0) {
+    Hdf5Handle elements{H5Dopen2(file_.id, "/element_ids", H5P_DEFAULT), H5Dclose};
+    Hdf5Handle element_space{H5Dget_space(elements.id), H5Sclose};
+    if (H5Sget_simple_extent_ndims(element_space.id) != 1) fail("/element_ids is not a list");
+    H5Sget_simple_extent_dims(element_space.id, dims, nullptr);
+    elements_ = static_cast<int64_t>(dims[0]);
+  }
 }
 
 void CheckpointFile::fail(const std::string& reason) const {
@@ -133,6 +149,20 @@ std::vector<int64_t> CheckpointFile::node_ids(int64_t begin, int64_t end) const 
 std::vector<double> CheckpointFile::field(const std::string& name, int64_t begin,
                                           int64_t end) const {
   return rows<double>("/fields/" + name, H5T_NATIVE_DOUBLE, begin, end, 3);
+}
+
+bool CheckpointFile::has_element_field(const std::string& name) const {
+  return elements_ > 0 && H5Lexists(file_.id, "/element_fields", H5P_DEFAULT) > 0 &&
+         H5Lexists(file_.id, ("/element_fields/" + name).c_str(), H5P_DEFAULT) > 0;
+}
+
+std::vector<int64_t> CheckpointFile::element_ids(int64_t begin, int64_t end) const {
+  return rows<int64_t>("/element_ids", H5T_NATIVE_INT64, begin, end, 0);
+}
+
+std::vector<double> CheckpointFile::element_field(const std::string& name, int64_t begin,
+                                                  int64_t end) const {
+  return rows<double>("/element_fields/" + name, H5T_NATIVE_DOUBLE, begin, end, 0);
 }
 
 std::vector<double> CheckpointFile::series(const std::string& name) const {

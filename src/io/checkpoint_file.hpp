@@ -5,9 +5,12 @@
 //   /node_ids        N int64: each row's node number in the mesh file
 //   /fields/<name>   N x 3 float64 (displacement, velocity, ...), rows as /node_ids
 //   /series/<name>   K float64: per-step scalars of the run so far (a dynamic run's energies)
+//   /element_ids     M int64: each element row's tetrahedron number in the mesh file, and
+//   /element_fields/<name>  M float64 (an F-bar element's volume multiplier), where a run has
+//     such fields
 // Rows are in the writing run's solver numbering; a reader on any number of ranks places
-// them by node id. The file is written whole or not at all: into "<path>.tmp", renamed over
-// <path> once closed, so a run killed while writing leaves the previous checkpoint intact.
+// them by node (element) id. The file is written whole or not at all: into "<path>.tmp", renamed
+// over <path> once closed, so a run killed while writing leaves the previous checkpoint intact.
 #pragma once
 
 #include <hdf5.h>
@@ -23,20 +26,25 @@
 
 namespace hs {
 
-// One rank's rows: [first, first + node_ids.size()) of `nodes`.
+// One rank's rows: [first, first + node_ids.size()) of `nodes`, and of the element fields'
+// [first_element, first_element + element_ids.size()) of `elements`.
 struct CheckpointRows {
   int64_t nodes = 0, first = 0;
   std::vector<int64_t> node_ids;
+  int64_t elements = 0, first_element = 0;
+  std::vector<int64_t> element_ids;
 };
 
 using NamedValues = std::vector<std::pair<std::string, std::vector<double>>>;
 
-// Collective. fields: 3 values per row of this rank; series: rank 0's values (others empty).
+// Collective. fields: 3 values per row of this rank; series: rank 0's values (others empty);
+// element_fields: 1 value per element row of this rank (the element rows are written with
+// them only).
 // When it cannot be written (a full disk), throws SolveError on every rank naming the file and
 // the reason, with the unfinished .tmp removed and the previous checkpoint left whole.
 void write_checkpoint(const std::string& path, MPI_Comm comm, const nlohmann::json& state,
                       const CheckpointRows& rows, const NamedValues& fields,
-                      const NamedValues& series);
+                      const NamedValues& series, const NamedValues& element_fields = {});
 
 // Reading, each rank on its own (no collective calls). The file stays open for the object's
 // life, so it can still be read after its folder was removed (an open file outlives its name).
@@ -54,6 +62,11 @@ class CheckpointFile {
   std::vector<int64_t> node_ids(int64_t begin, int64_t end) const;
   std::vector<double> field(const std::string& name, int64_t begin, int64_t end) const;
   std::vector<double> series(const std::string& name) const;  // empty if it is missing
+  // The element rows (0 where the file has none), their ids and one field's values.
+  int64_t elements() const { return elements_; }
+  bool has_element_field(const std::string& name) const;
+  std::vector<int64_t> element_ids(int64_t begin, int64_t end) const;
+  std::vector<double> element_field(const std::string& name, int64_t begin, int64_t end) const;
 
  private:
   [[noreturn]] void fail(const std::string& reason) const;
@@ -65,7 +78,7 @@ class CheckpointFile {
   // HDF5 print "infinite loop closing library" at the process's end).
   Hdf5Handle file_{-1, H5Fclose};
   nlohmann::json state_;
-  int64_t nodes_ = 0;
+  int64_t nodes_ = 0, elements_ = 0;
 };
 
 }  // namespace hs

@@ -1,6 +1,7 @@
 // checkpoint.h5 written by every rank and read back (src/io/checkpoint_file.hpp): a state of
 // over 200 KB of JSON (a long control run's results so far: past the 64 KB that HDF5's original
-// format allows an attribute), the rows of a field by node id, and a series; a state that
+// format allows an attribute), the rows of a field by node id, a series and an element field
+// by element id; a state that
 // differs between ranks; and a checkpoint that finds no room.
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -34,11 +35,19 @@ TEST(CheckpointFile, AStateOfHundredsOfKilobytesAndTheRowsOfEveryRank) {
     rows.node_ids.push_back(id);
     for (int c = 0; c < 3; ++c) values.push_back(10.0 * id + c);
   }
+  // Elements: rank r has r + 1 of them, numbered backwards in the file too.
+  rows.elements = size * (size + 1) / 2;
+  rows.first_element = rank * (rank + 1) / 2;
+  std::vector<double> multipliers;
+  for (int64_t i = 0; i <= rank; ++i) {
+    rows.element_ids.push_back(rows.elements - 1 - (rows.first_element + i));
+    multipliers.push_back(-0.5 * rows.element_ids.back());
+  }
   const std::string path = (hs_test::test_folder() / "checkpoint.h5").string();
   const std::vector<double> energy =
       rank == 0 ? std::vector<double>{1.5, 2.5} : std::vector<double>{};
   hs::write_checkpoint(path, MPI_COMM_WORLD, state, rows, {{"displacement", values}},
-                       {{"energy", energy}});
+                       {{"energy", energy}}, {{"lambda", multipliers}});
 
   const hs::CheckpointFile file(path);
   EXPECT_EQ(file.state(), state);
@@ -51,6 +60,15 @@ TEST(CheckpointFile, AStateOfHundredsOfKilobytesAndTheRowsOfEveryRank) {
     for (int c = 0; c < 3; ++c) EXPECT_EQ(u[3 * r + c], 10.0 * ids[r] + c);
   }
   EXPECT_EQ(file.series("energy"), (std::vector<double>{1.5, 2.5}));
+  ASSERT_EQ(file.elements(), rows.elements);
+  EXPECT_TRUE(file.has_element_field("lambda"));
+  EXPECT_FALSE(file.has_element_field("pressure"));
+  const auto element_ids = file.element_ids(0, rows.elements);
+  const auto lambda = file.element_field("lambda", 0, rows.elements);
+  for (int64_t r = 0; r < rows.elements; ++r) {
+    EXPECT_EQ(element_ids[r], rows.elements - 1 - r);
+    EXPECT_EQ(lambda[r], -0.5 * element_ids[r]);
+  }
 }
 
 // A state whose text differs between ranks (a time each rank measured itself, with a number
