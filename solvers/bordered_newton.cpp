@@ -38,6 +38,7 @@ BorderedNewton::BorderedNewton(Problem& problem, ConstraintSet& constraints,
   atol_ = options_.get_real("snes_atol", -1);
   rtol_ = options_.get_real("snes_rtol", rtol_);
   monitor_ = options_.get_bool("monitor", options_.get_unprefixed_bool("hs_newton_monitor", false));
+  volume_monitor_ = options_.get_unprefixed_bool("hs_volume_monitor", false);
 }
 
 NewtonResult BorderedNewton::solve(Vec u, double s) {
@@ -45,7 +46,8 @@ NewtonResult BorderedNewton::solve(Vec u, double s) {
   problem_.begin_solve();
   const auto& timers = problem_.timers();
   const double assembly_before = timers.residual_s + timers.jacobian_s;
-  const NewtonResult result = solve_keeping_volumes(problem_, u, [&] { return solve_once(u, s); });
+  const NewtonResult result = solve_keeping_volumes(
+      problem_, u, [&] { return solve_once(u, s); }, volume_monitor_);
   if (result.converged) problem_.accept_state(u, s);
   const double assembly = timers.residual_s + timers.jacobian_s - assembly_before;
   solve_s_ += MPI_Wtime() - t0 - assembly;

@@ -66,6 +66,7 @@ class BorderedNewton : public NonlinearSolver {
   int max_it_ = 30;
   double atol_ = -1, rtol_ = 1e-8;  // atol < 0: 1e-9 of the force scale
   bool monitor_ = false;            // -hs_bordered_monitor: one line per iteration
+  bool volume_monitor_ = false;     // -hs_volume_monitor: a line per raise of the multipliers
 };
 
 }  // namespace hs

@@ -44,12 +44,10 @@ std::vector<double> mixed_multipliers(const Problem& problem,
 }  // namespace
 
 NewtonResult solve_keeping_volumes(Problem& problem, Vec u,
-                                   const std::function<NewtonResult()>& solve) {
+                                   const std::function<NewtonResult()>& solve, bool monitor) {
   if (!problem.has_volume_multipliers()) return solve();
   const std::vector<double> start = problem.volume_multipliers();
   std::deque<std::vector<double>> lambda, raise;
-  PetscBool monitor = PETSC_FALSE;
-  HS_PETSC(PetscOptionsHasName(nullptr, nullptr, "-hs_volume_monitor", &monitor));
   NewtonResult total;
   double previous_change = 0;
   double penalty = kFbarPenaltyStart;

@@ -33,8 +33,9 @@ inline constexpr double kSlowRaise = 0.25;
 
 // `solve` (a Newton solve at the multipliers as they are, from u) repeated until the volumes
 // are kept; its iterations summed. On failure the multipliers are put back as they were, so
-// a cut-back step starts from them again. Collective.
+// a cut-back step starts from them again. monitor: a line per raise (the solver's option
+// hs_volume_monitor, from the deck or the command line). Collective.
 NewtonResult solve_keeping_volumes(Problem& problem, Vec u,
-                                   const std::function<NewtonResult()>& solve);
+                                   const std::function<NewtonResult()>& solve, bool monitor);
 
 }  // namespace hs

@@ -24,6 +24,7 @@ NewtonSolver::NewtonSolver(Problem& problem, const SolverConfig& solver, Tangent
   const OptionsScope scope(options_.database());  // the matrix's options too (-mat_view)
   J_ = MatHandle(problem.create_matrix(options_.factors_mixed()));
   R_ = VecHandle(problem.create_vector());
+  volume_monitor_ = options_.get_unprefixed_bool("hs_volume_monitor", false);
   if (!options_.get_unprefixed_bool("hs_near_null_space", true))
     HS_PETSC(MatSetNearNullSpace(J_, nullptr));
   HS_PETSC(SNESCreate(problem.comm(), snes_.out()));
@@ -137,7 +138,8 @@ void NewtonSolver::scale_absolute_tolerance(double load_norm) {
 NewtonResult NewtonSolver::solve(Vec u, double s) {
   load_ = s;
   problem_.begin_solve();
-  const NewtonResult r = solve_keeping_volumes(problem_, u, [&] { return solve_once(u); });
+  const NewtonResult r = solve_keeping_volumes(
+      problem_, u, [&] { return solve_once(u); }, volume_monitor_);
   if (r.converged) problem_.accept_state(u, s);
   return r;
 }

@@ -59,6 +59,7 @@ class NewtonSolver : public NonlinearSolver {
   double roundoff_ = -1;         // the floor it converged at, -1 when it converged otherwise
   bool atol_scaled_ = false;     // by a load (scale_absolute_tolerance)
   bool contact_search_ = false;  // the line search is chosen per solve (obstacles)
+  bool volume_monitor_ = false;  // -hs_volume_monitor: a line per raise of the multipliers
 };
 
 }  // namespace hs

@@ -212,6 +212,30 @@ TEST(SolverOptions, AMisspeltPrefixStopsTheRunNamingTheOption) {
   }
 }
 
+// hs_volume_monitor prints a line per Newton solve at the multipliers of a body at nu = 0.5:
+// the summary's solves and raises. The deck's option was accepted and then read by nothing.
+TEST(SolverOptions, TheVolumeMonitorIsReadFromTheDeckAndFromTheCommandLine) {
+  const TempFolder dir;
+  const std::string deck = std::string(HYDROSOFT_SOURCE_DIR) + "/input/stretched_block.yaml";
+  const std::string out = (dir.path() / "out").string(), log = (dir.path() / "log.txt").string();
+  const std::string run =
+      std::string(HYDROSOFT_EXE) + " " + deck + " -q --set output.folder=" + out + " --set ";
+  for (const std::string& option : {"solver.petsc_options.hs_volume_monitor=true",
+                                    "output.progress=false -hs_volume_monitor"}) {
+    SCOPED_TRACE(option);
+    fs::remove_all(out);
+    ASSERT_EQ(hs::testing::run(run + option + " > " + log + " 2>&1"), 0) << text_of(log);
+    const std::string text = text_of(log);
+    int lines = 0;
+    for (size_t at = text.find("  volume multipliers: "); at != std::string::npos;
+         at = text.find("  volume multipliers: ", at + 1))
+      ++lines;
+    const auto kept = nlohmann::json::parse(text_of(out + "/summary.json"))["incompressibility"];
+    EXPECT_GT(kept["multiplier_raises"].get<int>(), 0);
+    EXPECT_EQ(lines, kept["solves"].get<int>() + kept["multiplier_raises"].get<int>()) << text;
+  }
+}
+
 // A .geo whose shell command hides in a file it merges (any name: gmsh reads an unknown one as
 // a script) or in the options file beside it: the command ran under a normal run, `--check`,
 // `hydrosoft mesh` and 2 ranks, with the deck's mesh parameters.
