@@ -79,6 +79,8 @@ struct FbarNewtonPressure {
 };
 ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
                                       FbarNewtonPressure& p, double* r, double* K);
+// Jbar - 1 of an F-bar element (finite strain), by the same rule and arithmetic as its forces.
+double tet_volume_ratio_minus_one_fbar(int order, const double* X, const double* u);
 
 // Consistent nodal body force f_a = int rho g N_a dV (reference configuration).
 void tet_body_force(int order, const double* X, double rho, const std::array<double, 3>& g,

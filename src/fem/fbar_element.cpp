@@ -260,6 +260,14 @@ ElementFields tet_fields_fbar(int order, const double* X, const double* u, const
   return tet_num_nodes(order) == 4 ? fbar_fields<4>(X, u, m) : fbar_fields<10>(X, u, m);
 }
 
+double tet_volume_ratio_minus_one_fbar(int order, const double* X, const double* u) {
+  if (tet_num_nodes(order) == 4)
+    return volume_ratio_minus_one<4>(Eigen::Map<const NodeMatrix<4>>(X),
+                                     Eigen::Map<const NodeMatrix<4>>(u), false);
+  return volume_ratio_minus_one<10>(Eigen::Map<const NodeMatrix<10>>(X),
+                                    Eigen::Map<const NodeMatrix<10>>(u), false);
+}
+
 ElementOutput tet_internal_force_fbar(int order, const double* X, const double* u,
                                       FbarNewtonPressure& p, double* r, double* K) {
   return tet_num_nodes(order) == 4 ? fbar_internal_force<4>(X, u, *p.rest, r, K, &p)

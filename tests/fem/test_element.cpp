@@ -234,6 +234,33 @@ TEST(FbarElement, NewtonsPressureTangentIsExactAtItsPointAndSecondOrderAway) {
   EXPECT_GE(laws, 4);
 }
 
+// The volume ratio the multipliers' raises read (solvers/problem_multipliers.cpp): det F of a
+// homogeneous deformation, and on a curved element with any displacement the kernel's own.
+TEST(FbarElement, VolumeRatioIsDetFOfAHomogeneousDeformationAndTheKernels) {
+  const std::vector<double> straight = distorted_tet(2, 0.0);
+  const Eigen::Matrix3d H = Eigen::Map<const Eigen::Matrix3d>(random_vector(9, 0.2, 3).data());
+  std::vector<double> affine(30);
+  for (int a = 0; a < 10; ++a) {
+    const Eigen::Vector3d moved = H * Eigen::Map<const Eigen::Vector3d>(&straight[3 * a]);
+    for (int d = 0; d < 3; ++d) affine[3 * a + d] = moved(d);
+  }
+  EXPECT_NEAR(1 + tet_volume_ratio_minus_one_fbar(2, straight.data(), affine.data()),
+              (Eigen::Matrix3d::Identity() + H).determinant(), 1e-14);
+
+  const std::vector<double> X = distorted_tet(2);
+  const std::vector<double> u = random_vector(30, 0.1, 7);
+  const auto law =
+      material_fixtures::make_law("neo_hookean", elastic_constants_from_E_nu(1.0, 0.5));
+  const WithoutVolumetricTerm rest(law);
+  FbarNewtonPressure p;
+  p.rest = &rest;
+  p.k = law->volumetric_modulus();
+  std::vector<double> r(30);
+  tet_internal_force_fbar(2, X.data(), u.data(), p, r.data(), nullptr);
+  EXPECT_GT(std::abs(p.ln_Jbar), 1e-3);  // the displacement changes the volume
+  EXPECT_EQ(std::log1p(tet_volume_ratio_minus_one_fbar(2, X.data(), u.data())), p.ln_Jbar);
+}
+
 // An exactly incompressible element's volume multiplier (nu = 0.5) adds V lambda ln Jbar to the
 // energy: its force is that energy's derivative and its tangent the force's, for every
 // finite-strain law with the term.
