@@ -144,6 +144,22 @@ NewtonResult NewtonSolver::solve(Vec u, double s) {
   return r;
 }
 
+bool NewtonSolver::newton_step(Vec u, double s, Vec du, std::vector<double>& dmultipliers) {
+  dmultipliers.clear();
+  if (!problem_.residual(u, s, R_) || !problem_.jacobian(u, s, J_)) return false;
+  KSP ksp;
+  HS_PETSC(SNESGetKSP(snes_, &ksp));
+  HS_PETSC(KSPSetOperators(ksp, J_, J_));
+  {
+    const OptionsScope scope(options_.database());  // MUMPS's factor, GAMG's levels
+    HS_PETSC(KSPSolve(ksp, R_, du));
+  }
+  KSPConvergedReason reason;
+  HS_PETSC(KSPGetConvergedReason(ksp, &reason));
+  HS_PETSC(VecScale(du, -1.0));
+  return reason > 0;
+}
+
 NewtonResult NewtonSolver::solve_once(Vec u) {
   // With obstacles, unless the deck or command line chose: a line search on the residual's
   // norm (l2) for static steps, where full Newton steps cycle on the barrier's and friction's

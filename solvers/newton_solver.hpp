@@ -31,6 +31,9 @@ class NewtonSolver : public NonlinearSolver {
   // (time steps, small load increments): its floor is round-off, not the load.
   void scale_absolute_tolerance(double load_norm);
   double solve_seconds() const override { return solve_s_; }  // SNESSolve minus assembly
+  // du = -J(u)^-1 R(u; s) by the SNES's own linear solver; false on an inverted element or a
+  // failed linear solve.
+  bool newton_step(Vec u, double s, Vec du, std::vector<double>& dmultipliers) override;
   SNES snes() const { return snes_; }
 
  private:

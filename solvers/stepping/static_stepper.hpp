@@ -12,6 +12,16 @@
 
 namespace hs {
 
+// Where the prescribed boundary moves from load factor s_from to s and no earlier converged
+// state gives a secant (the first increment, and its cut-back retries): u (converged at
+// s_from) moved by the tangent's prediction, the boundary's jump and the interior's
+// first-order response to it and to the loads' increment (Euler's predictor), so that the
+// first residual is not taken on elements next to the boundary strained by the whole jump
+// (in a nearly incompressible body, nu 0.4999, a pressure of hundreds of mu and a first
+// Newton step that inverts an element). False, u unchanged, where the boundary does not move,
+// the step cannot be taken or the prediction inverts an element. Collective.
+bool predict_by_tangent(Problem& problem, NonlinearSolver& solver, Vec u, double s_from, double s);
+
 class StaticStepper : public Stepper {
  public:
   StaticStepper(const Config& config, Problem& problem, NonlinearSolver& solver,
