@@ -1,7 +1,9 @@
 // Time and load stepping: Newmark conserves the total energy of a linear elastic body under
 // a dead load (a conservation law the scheme must satisfy to round-off); backward Euler
 // dissipates it; a quasi-static schedule that unloads ends on the exact solution of its
-// last load factor. The cutback of a load step always ends, whatever its solves do.
+// last load factor. The cutback of a load step always ends, whatever its solves do. The
+// tangent predictor of a prescribed boundary motion is a linear body's exact solution and
+// second-order on a finite-strain one.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -11,10 +13,13 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "control_scene.hpp"
 #include "deck/deck.hpp"
 #include "run_deck.hpp"
+#include "solvers/newton_solver.hpp"
 #include "solvers/simulation.hpp"
 #include "solvers/stepping.hpp"
+#include "solvers/stepping/static_stepper.hpp"
 
 namespace {
 namespace mpi_test_stepping {
@@ -53,6 +58,74 @@ TEST(Stepping, QuasiStaticScheduleUnloads) {
           {"time.type=quasi_static", "time.steps=2", "time.schedule=[1.0, 0.25]"}, "schedule");
   EXPECT_EQ(s["steps"].get<int>(), 2);
   EXPECT_LT(s["error"]["l2_relative"].get<double>(), 1e-8);
+}
+
+// The unit block (input/stretched_block.yaml's mesh: x0, y0 and the bottom held normally) with
+// its top face moved up by `lift` at full load, no load else.
+std::vector<std::string> lifted_block(double lift, const std::string& material) {
+  return {
+      "boundary=[{group: x0, components: [x]}, {group: y0, components: [y]}, "
+      "{group: bottom, components: [z]}, {group: top, components: [z], value: [0, 0, " +
+          std::to_string(lift) + "]}]",
+      "loads={}", "exact={type: none}", material};
+}
+
+// |R| of the equations at s, at u.
+double residual_norm(hs::Problem& problem, Vec u, double s) {
+  const hs::VecHandle R(problem.create_vector());
+  EXPECT_TRUE(problem.residual(u, s, R));
+  PetscReal norm = 0;
+  VecNorm(R, NORM_2, &norm);
+  return norm;
+}
+
+// Uniaxial stress of a linear elastic block: the prediction from rest is the solution, u =
+// (-nu e x, -nu e y, e z), which P1 elements represent exactly.
+TEST(TangentPredictor, IsTheSolutionOfALinearBody) {
+  const double e = 0.01, nu = 0.3;
+  hs_test::DeckProblem f("stretched_block.yaml",
+                         lifted_block(e,
+                                      "materials=[{group: body, model: linear_elastic, "
+                                      "E: 1.0e6, nu: 0.3, density: 0}]"));
+  hs::Problem& problem = *f.problem;
+  hs::NewtonSolver newton(problem, f.config.solver, hs::TangentKind{});
+  const hs::VecHandle u(problem.create_vector());
+  ASSERT_TRUE(hs::predict_by_tangent(problem, newton, u, 0.0, 1.0));
+  const hs::Distribution& dist = problem.distribution();
+  const PetscScalar* a;
+  VecGetArrayRead(u, &a);
+  double largest = 0;
+  for (int64_t n = 0; n < dist.num_owned(); ++n) {
+    const double* X = &dist.x[3 * n];
+    const double exact[3] = {-nu * e * X[0], -nu * e * X[1], e * X[2]};
+    for (int d = 0; d < 3; ++d) largest = std::max(largest, std::abs(a[3 * n + d] - exact[d]));
+  }
+  VecRestoreArrayRead(u, &a);
+  MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  EXPECT_LT(largest, 1e-9 * e);
+  // Nothing to predict where the boundary stays.
+  EXPECT_FALSE(hs::predict_by_tangent(problem, newton, u, 1.0, 1.0));
+}
+
+// A neo-Hookean block at nu 0.4999 on P2 (F-bar) stretched from rest: the prediction's
+// residual is second order in the increment, and far below the residual of the boundary's
+// jump alone (what the first Newton step started from before).
+TEST(TangentPredictor, IsSecondOrderOnANearlyIncompressibleBody) {
+  std::vector<std::string> overrides = lifted_block(0.4, "materials[0].nu=0.4999");
+  overrides.push_back("mesh.order=2");
+  hs_test::DeckProblem f("stretched_block.yaml", overrides);
+  hs::Problem& problem = *f.problem;
+  hs::NewtonSolver newton(problem, f.config.solver, hs::TangentKind{});
+  double predicted[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const double s = 0.1 / (1 << k);
+    const hs::VecHandle u(problem.create_vector()), jumped(problem.create_vector());
+    problem.apply_dirichlet(jumped, s);
+    ASSERT_TRUE(hs::predict_by_tangent(problem, newton, u, 0.0, s));
+    predicted[k] = residual_norm(problem, u, s);
+    EXPECT_LT(predicted[k], 1e-2 * residual_norm(problem, jumped, s)) << s;
+  }
+  EXPECT_NEAR(predicted[0] / predicted[1], 4.0, 1.0);
 }
 
 // A step whose solve converges within `radius` of the last converged parameter, the radius
