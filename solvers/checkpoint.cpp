@@ -177,13 +177,15 @@ namespace {
 // 3 values a row, read a block [begin, end)) and sends each row to the rank that keeps the
 // ids of its block (a directory by id); each rank then asks the directory for the ids it
 // wants and gets their rows back, `width` values each, in the order of `wanted`. `found`
-// says which the file has. Collective; InputError on every rank for an id out of range.
+// says which the file has. Collective; InputError on every rank, naming the dataset, for an
+// id out of range or a value that is not finite (a damaged or edited file).
 struct IdRow {
   int64_t id;
   double value[3];
 };
 
 std::vector<double> rows_by_id(int64_t n, int width, const std::string& noun,
+                               const std::string& dataset,
                                const std::function<std::vector<int64_t>(int64_t, int64_t)>& ids,
                                const std::function<std::vector<double>(int64_t, int64_t)>& values,
                                const std::vector<int64_t>& wanted, const std::string& path,
@@ -205,6 +207,11 @@ std::vector<double> rows_by_id(int64_t n, int width, const std::string& noun,
       }
       IdRow row{id[i], {0, 0, 0}};
       for (int c = 0; c < width; ++c) row.value[c] = value[width * i + c];
+      if (!std::isfinite(row.value[0] + row.value[1] + row.value[2])) {
+        error = "--restart: " + path + ": " + dataset + ": " + noun + " " + std::to_string(id[i]) +
+                " holds a value that is not a finite number";
+        break;
+      }
       to_directory[block_owner(n, id[i], size)].push_back(row);
     }
   } catch (const InputError& e) {
@@ -245,7 +252,8 @@ void Restart::read(const std::string& name, const Problem& problem, Vec v) const
                                     dist.old_of_local.begin() + dist.num_owned());
   std::vector<char> found;
   const std::vector<double> rows = rows_by_id(
-      file_->nodes(), 3, "node", [&](int64_t b, int64_t e) { return file_->node_ids(b, e); },
+      file_->nodes(), 3, "node", "/fields/" + name,
+      [&](int64_t b, int64_t e) { return file_->node_ids(b, e); },
       [&](int64_t b, int64_t e) { return file_->field(name, b, e); }, wanted, file_->path(), found,
       comm_);
   PetscScalar* a;
@@ -268,7 +276,7 @@ std::vector<double> Restart::read_elements(const std::string& name, const Proble
   if (!has) return {};
   std::vector<char> found;
   const std::vector<double> values = rows_by_id(
-      file_->elements(), 1, "element",
+      file_->elements(), 1, "element", "/element_fields/" + name,
       [&](int64_t b, int64_t e) { return file_->element_ids(b, e); },
       [&](int64_t b, int64_t e) { return file_->element_field(name, b, e); }, dist.local_tets,
       file_->path(), found, comm_);

@@ -8,6 +8,7 @@
 #include <hdf5.h>
 #include <signal.h>
 
+#include <cmath>
 #include <functional>
 #include <nlohmann/json.hpp>
 
@@ -285,6 +286,43 @@ TEST(RestartRefused, ATamperedCheckpointNamesTheFieldBeforeAnyWork) {
        {"ramps", [](auto& s) { s["position"].erase("ramps"); }, "position.ramps: missing"},
        {"work", [](auto& s) { s["position"]["work"] = nlohmann::json::array(); },
         "position.work: must have 1 entries (this deck's cavities and cables), has 0"}});
+}
+
+// A field value that is not a number (a damaged or edited file) is refused before any work,
+// naming the dataset and the node. Before, the run took the NaN in and cut its first step back
+// eight times, to "element 655 is inverted".
+TEST(RestartRefused, AFieldValueThatIsNotANumberNamesTheNodeBeforeAnyWork) {
+  TempFolder tmp;
+  const std::string err = (tmp.path() / "err").string(), out = (tmp.path() / "out").string();
+  Case few = kStatic;
+  few.args += " --set time.steps=4";
+  const std::string folder = (tmp.path() / "static").string();
+  ASSERT_EQ(run(command(few, folder, kCheckpoints, err)), 0) << text_of(err);  // at step 3
+  const std::string path = folder + "/checkpoint.h5";
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const hid_t ids = H5Dopen2(file, "/node_ids", H5P_DEFAULT);
+  const hid_t set = H5Dopen2(file, "/fields/displacement", H5P_DEFAULT);
+  const hid_t space = H5Dget_space(set);
+  std::vector<double> u(H5Sget_simple_extent_npoints(space));  // N x 3
+  std::vector<int64_t> node(u.size() / 3);
+  ASSERT_GE(H5Dread(ids, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, node.data()), 0);
+  ASSERT_GE(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, u.data()), 0);
+  u[3 * 7 + 1] = std::nan("");
+  const int64_t id = node[7];
+  ASSERT_GE(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, u.data()), 0);
+  H5Sclose(space);
+  H5Dclose(set);
+  H5Dclose(ids);
+  H5Fclose(file);
+  EXPECT_EQ(run(command(few, out, "--restart " + folder, err)), 2);
+  EXPECT_NE(
+      text_of(err).find("hydrosoft: error: --restart: " + path + ": /fields/displacement: node " +
+                        std::to_string(id) + " holds a value that is not a finite number"),
+      std::string::npos)
+      << text_of(err);
+  for (const char* suffix : {"", ".partial", ".failed", ".lock"})
+    EXPECT_FALSE(fs::exists(out + suffix)) << suffix;
 }
 
 }  // namespace test_restart
