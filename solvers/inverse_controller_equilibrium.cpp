@@ -96,6 +96,7 @@ void InverseController::settle(Vec u, ControlStepReport& report) {
 std::vector<double> InverseController::equilibrium_positions(Vec u) {
   // The controller's state is the one at u: what the check changes is put back.
   const std::vector<Constraint::State> at_u = constraints_.snapshot();
+  Problem::TangentMemory tangent_at_u = problem_.tangent_memory();
   VecHandle x;
   HS_PETSC(VecDuplicate(u, x.out()));
   HS_PETSC(VecCopy(u, x));
@@ -105,6 +106,7 @@ std::vector<double> InverseController::equilibrium_positions(Vec u) {
   const std::vector<double> positions = effectors_.positions(x);
   x.reset();
   constraints_.restore(at_u);
+  problem_.restore_tangent_memory(std::move(tangent_at_u));
   if (!r.converged || report.limit_point)
     throw SolveError(
         "control: the equilibrium check found no equilibrium at the current "

@@ -133,10 +133,10 @@ void NodalPressure::linearize(const PetscScalar* u_local) {
     if (V_[n] > 0 && !(1.0 + dv_[n] / V_[n] > 0)) valid = 0;
   MPI_Allreduce(MPI_IN_PLACE, &valid, 1, MPI_INT, MPI_MIN, comm_);
   if (!valid) {
-    linearized_ = false;
+    lin_.valid = false;
     return;
   }
-  if (linearized_) {
+  if (lin_.valid) {
     std::vector<double> dv_lin(nl, 0.0);  // g_a(u0) . (u - u0), summed over the patches
     for (size_t e = 0; e < modulus_.size(); ++e) {
       if (!takes_part(e)) continue;
@@ -144,34 +144,34 @@ void NodalPressure::linearize(const PetscScalar* u_local) {
       for (int a = 0; a < 4; ++a) {
         const int32_t n = dist_.tet_nodes[4 * e + a];
         for (int d = 0; d < 3; ++d)
-          change += grad_lin_[12 * e + 3 * a + d] * (u_local[3 * n + d] - u_lin_[3 * n + d]);
+          change += lin_.grad[12 * e + 3 * a + d] * (u_local[3 * n + d] - lin_.u[3 * n + d]);
       }
       for (int a = 0; a < 4; ++a) dv_lin[dist_.tet_nodes[4 * e + a]] += change / 4;
     }
     sum_over_patches(dv_lin);
     for (size_t n = 0; n < nl; ++n) {
       if (!(V_[n] > 0)) continue;
-      const double lnJ = lnJ_lin_[n] + dv_lin[n] / v_lin_[n];
+      const double lnJ = lin_.lnJ[n] + dv_lin[n] / lin_.v[n];
       const double J = 1.0 + dv_[n] / V_[n], kbar = kV_[n] / V_[n];
       tangent_p_[n] = (lambda_[n] + kbar * lnJ) / J;
       c_[n] = (kbar * (1.0 - lnJ) - lambda_[n]) / (V_[n] * J * J);
     }
   }
-  linearized_ = true;
-  u_lin_.assign(u_local, u_local + 3 * nl);
-  lnJ_lin_.assign(nl, 0.0);
-  v_lin_.assign(nl, 0.0);
+  lin_.valid = true;
+  lin_.u.assign(u_local, u_local + 3 * nl);
+  lin_.lnJ.assign(nl, 0.0);
+  lin_.v.assign(nl, 0.0);
   for (size_t n = 0; n < nl; ++n)
     if (V_[n] > 0) {
-      lnJ_lin_[n] = std::log1p(dv_[n] / V_[n]);
-      v_lin_[n] = V_[n] + dv_[n];
+      lin_.lnJ[n] = std::log1p(dv_[n] / V_[n]);
+      lin_.v[n] = V_[n] + dv_[n];
     }
-  grad_lin_.assign(12 * modulus_.size(), 0.0);
+  lin_.grad.assign(12 * modulus_.size(), 0.0);
   double ue[12];
   for (size_t e = 0; e < modulus_.size(); ++e) {
     if (!takes_part(e)) continue;
     element_displacement(dist_, u_local, e, ue);
-    p1_volume_change(geometry_[e], ue, &grad_lin_[12 * e], nullptr);
+    p1_volume_change(geometry_[e], ue, &lin_.grad[12 * e], nullptr);
   }
 }
 

@@ -77,7 +77,16 @@ class NodalPressure {
   // the next call. Collective.
   void linearize(const PetscScalar* u_local);
   // The next linearize() takes the pressures of its own point: the exact tangent.
-  void forget_linearization() { linearized_ = false; }
+  void forget_linearization() { lin_.valid = false; }
+  // The previous tangent's point: local displacements, per node ln J_a and v_a, per local tet
+  // dv_e/du (12 each). Copied out and put back around a solve that is not the caller's next
+  // Newton step (the controller's equilibrium check).
+  struct Linearization {
+    bool valid = false;
+    std::vector<double> u, lnJ, v, grad;
+  };
+  const Linearization& linearization() const { return lin_; }
+  void set_linearization(Linearization lin) { lin_ = std::move(lin); }
   // Adds pbar_e dv_e/du to r and, with the tangent's pressures (those of update() until
   // linearize()), pbar_e d2v_e/du2 to K (K may be nullptr) of local tet e.
   void add_element(int64_t e, const double* ue, double* r, double* K) const;
@@ -131,10 +140,7 @@ class NodalPressure {
   bool has_multipliers_ = false;
   std::vector<double> dv_, p_, c_;  // per local node, at the last update
   std::vector<double> tangent_p_;   // per local node: the tangent's pressures
-  // The previous tangent's point: local displacements, per node ln J_a and v_a, per local tet
-  // dv_e/du (12 each).
-  bool linearized_ = false;
-  std::vector<double> u_lin_, lnJ_lin_, v_lin_, grad_lin_;
+  Linearization lin_;
   std::vector<PetscInt> dof_index_;  // per local node: 3 global dof indices (-1 constrained)
   VecHandle patch_sum_;              // ghosted, one value per node
   MatHandle G_, D_, coupling_;       // the g_a by rows, diag(c_a), G^T D G

@@ -342,6 +342,18 @@ void Problem::exact_next_tangent() {
   for (FbarLinearization& lin : fbar_linearization_) lin.valid = false;
 }
 
+Problem::TangentMemory Problem::tangent_memory() const {
+  TangentMemory memory;
+  if (nodal_) memory.nodal = nodal_->linearization();
+  memory.fbar = fbar_linearization_;
+  return memory;
+}
+
+void Problem::restore_tangent_memory(TangentMemory memory) {
+  if (nodal_) nodal_->set_linearization(std::move(memory.nodal));
+  fbar_linearization_ = std::move(memory.fbar);
+}
+
 void Problem::internal_force(Vec u, Vec f, double* energy) {
   assemble_forces(u, 0.0, 1.0, 0.0, f, energy);
 }

@@ -125,6 +125,21 @@ class Problem {
   // The next jacobian() is J itself at its point, whatever the previous one's: for uses of
   // the tangent other than Newton's step (the reduced model's error indicator).
   void exact_next_tangent();
+  // That memory, copied out and put back around a solve that is not the caller's next step
+  // (the controller's equilibrium check): its Newton iterates would otherwise be the point the
+  // caller's next tangent is linearised from. Collective.
+  // Per local tet of an F-bar material: ln Jbar(u0) - g . u0 and g = b(u0) / Jbar(u0).
+  struct FbarLinearization {
+    bool valid = false;
+    double c0 = 0;
+    std::array<double, 30> g{};
+  };
+  struct TangentMemory {
+    NodalPressure::Linearization nodal;
+    std::vector<FbarLinearization> fbar;
+  };
+  TangentMemory tangent_memory() const;
+  void restore_tangent_memory(TangentMemory memory);
   int64_t inverted_element() const { return inverted_element_; }
   // The obstacle a node of the body was found on or inside by the last residual (its index in
   // the deck's list, over all ranks), or -1: the barrier refuses such a configuration as an
@@ -313,12 +328,7 @@ class Problem {
   VolumeKeeping volume_keeping_;
   // Per mesh volume group: an F-bar material's law less its volumetric term (null for others
   // and for small-strain laws); per local tet, where any is, the previous tangent's point of
-  // the term: ln Jbar(u0) - g . u0 and g = b(u0) / Jbar(u0), valid when there was one.
-  struct FbarLinearization {
-    bool valid = false;
-    double c0 = 0;
-    std::array<double, 30> g{};
-  };
+  // the term (FbarLinearization).
   std::vector<std::shared_ptr<const WithoutVolumetricTerm>> fbar_rest_laws_;
   // Per mesh volume group: the modulus k of the split term k/2 (ln Jbar)^2, the law's own but
   // for exactly incompressible materials, whose penalty F-bar takes lower

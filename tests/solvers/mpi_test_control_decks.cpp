@@ -118,6 +118,37 @@ TEST(ControlDecks, KeptFactorizationTracksWithoutInvertingTheBody) {
   }
 }
 
+TEST(ControlDecks, TheEquilibriumCheckLeavesASiliconeFingersAnswersAsTheyAre) {
+  // The hydraulic finger of Dragon Skin 10 at nu 0.4995 (the nodal-pressure element) in the
+  // paper's single linearisation a step, up a sweep of tip heights. Its tangent's pressures are
+  // linearised from the previous tangent's point; the check's Newton solve must not become that
+  // point (it did: the next step's pressures were extrapolated from the check's equilibrium
+  // past a prediction whose volumes the linear step had not kept, and the actuation
+  // alternated 5, 0, 5, 0 kPa). The check answers what the run without it answers.
+  const std::vector<std::string> o = {
+      "materials[0].E=2.6e5",
+      "materials[0].nu=0.4995",
+      "control.free_solve=one_step",
+      "control.one_step_tolerance=0",
+      "control.steps_per_target=1",
+      "control.targets=[{tip: [0.09, 0, -0.0138]}, {tip: [0.09, 0, -0.0136]}, "
+      "{tip: [0.09, 0, -0.0134]}, {tip: [0.09, 0, -0.0132]}]"};
+  std::vector<std::string> checked = o;
+  checked.push_back("control.check_equilibrium=true");
+  const auto plain = run_deck("finger_hydraulic.yaml", o, "finger_silicone_plain");
+  const auto with_check = run_deck("finger_hydraulic.yaml", checked, "finger_silicone_checked");
+  ASSERT_EQ(with_check["targets"].size(), 4u);
+  expect_same_targets(plain, with_check);
+  for (int k = 1; k < 4; ++k)  // up the sweep, the pressure rises
+    EXPECT_GT(with_check["targets"][k]["actuation"][0].get<double>(),
+              with_check["targets"][k - 1]["actuation"][0].get<double>())
+        << k;
+  // Once the 5 kPa jumps from rest are behind it, each answer's equilibrium meets its target
+  // (measured 0.001 and 0.011 mm).
+  for (int k = 2; k < 4; ++k)
+    EXPECT_LT(with_check["targets"][k]["equilibrium_error_m"].get<double>(), 5e-5) << k;
+}
+
 TEST(ControlDecks, PendulumExtendsContractsAndBends) {
   // Four actuators, three steered directions: extend, contract, bend to +x, and a target
   // beyond the bounds.
