@@ -29,9 +29,12 @@ constexpr int kMaxRefinements = 4;
 // answer is that free configuration. While the free step moved the targeted effectors by more
 // than the tolerance (free_step_m; made with the factorization of before the pressure change it
 // underestimates the distance to equilibrium, 3-10 times on the fingers), the step is taken
-// again from there with a fresh factorization (chord steps with the step's old one did not
-// converge after a jump of 5 kPa on the hydraulic finger), its pressure change still counted
-// from the step's start.
+// again from the correction with a fresh factorization (chord steps with the step's old one did
+// not converge after a jump of 5 kPa on the hydraulic finger), its pressure change still counted
+// from the step's start. From the correction, not from the free step's end: that chord step,
+// made from a residual whose nodal pressures carry the linear step's volume error times k,
+// leaves a nearly incompressible body where a fresh tangent has negative pivots (3 to 11 on
+// the silicone finger, none at the correction; docs/control.md, "At silicone's nu").
 void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
                                ControlStepReport& report) {
   const double tolerance = config_.control->one_step_tolerance;
@@ -70,9 +73,12 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     }
     report.free_step_m = std::sqrt(moved2);
     if (report.free_step_m <= tolerance || pass == kMaxRefinements) break;
-    // Again from here, freshly linearised.
+    // Again from the correction, freshly linearised.
     ++report.refinements;
-    HS_PETSC(VecCopy(u, before));
+    HS_PETSC(VecCopy(before, u));
+    constraints_.set_multipliers(at_answer);
+    for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+    for (int c = 0; c < constraints_.size(); ++c) constraints_[c].update_measure(u);
     const std::vector<double> pressures = constraints_.multipliers();
     StepClock clock;
     bool stale_failed = false;
