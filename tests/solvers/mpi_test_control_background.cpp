@@ -89,7 +89,7 @@ TEST(ControlBackground, ConcurrentLoopGivesTheSequentialActuation) {
 // one-linearisation answers fell short of their equilibria on this softening body (up to 7 mm
 // at 35 kPa) and the actuation went the wrong way (30, 35, then 30 kPa). Now every answer is
 // within 0.1 mm of the equilibrium at its actuation (docs/control.md states it), the actuation
-// rises at every target, and an indefinite tangent met on the way is said in the answer.
+// rises at every target, and the last two targets are met.
 TEST(ControlBackground, MonotoneTargetsGiveAMonotoneActuation) {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
@@ -110,7 +110,6 @@ TEST(ControlBackground, MonotoneTargetsGiveAMonotoneActuation) {
   const auto& t = summary["targets"];
   ASSERT_EQ(t.size(), z.size());
   double last = 0;
-  bool said = false;
   for (size_t k = 0; k < z.size(); ++k) {
     const double p = t[k]["actuation"][0];
     EXPECT_GE(p, last - 1e-6) << k;         // never back
@@ -120,11 +119,13 @@ TEST(ControlBackground, MonotoneTargetsGiveAMonotoneActuation) {
     double d2 = 0;
     for (int d = 0; d < 3; ++d) d2 += std::pow(reached[d] - equilibrium[d], 2);
     EXPECT_LT(std::sqrt(d2), 1e-4) << k;
-    said |= t[k].contains("fallback");
+    // Refined from each correction, no pass met an indefinite tangent (taken from the chord
+    // steps' ends, three did, and their answers were Newton's: -5 mm was then left 3.4 mm off).
+    EXPECT_EQ(t[k].value("fallback", "").find("converged by Newton"), std::string::npos) << k;
     last = p;
   }
-  EXPECT_TRUE(said);  // the tangent turns indefinite near the limit point: said, not hidden
-  EXPECT_LT(t[z.size() - 1]["equilibrium_error_m"].get<double>(), 1e-4);  // -3 mm reached
+  for (size_t k = z.size() - 2; k < z.size(); ++k)  // -4 and -3 mm reached
+    EXPECT_LT(t[k]["equilibrium_error_m"].get<double>(), 1e-4) << k;
 }
 
 TEST(ControlBackground, FailedBackgroundFactorizationFallsBackInLine) {
