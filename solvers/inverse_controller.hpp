@@ -145,8 +145,9 @@ class InverseController {
                      ControlStepReport& report, StepClock& clock);
   bool correct_in_background(bool stale_failed, ControlStepReport& report, StepClock& clock);
   // one_step: a free step from the step's correction (a residual, one solve with the step's
-  // solver), and the step taken again from there with a fresh factorization while that free
-  // step moves the targeted effectors by more than control.one_step_tolerance.
+  // solver), and the step taken again from the correction with a fresh factorization while
+  // that free step moves the targeted effectors by more than control.one_step_tolerance (or
+  // inverts an element).
   void refine(Vec u, const std::vector<ControlTarget>& targets, ControlStepReport& report);
   // The negative pivots of ksp_'s factorization (MUMPS L D L^T), -1 when not known.
   int negative_pivots() const;

@@ -335,7 +335,7 @@ const KeyTable<ControlConfig>& control_keys() {
           "`one_step` with `refactor_every: 1` (m): each step ends with a free step from its "
           "correction (one residual, one solve with the step's factorization), and while "
           "that free step moves the targeted effectors by more than this the step is "
-          "taken again from there with a fresh factorization (at most 4 times); the "
+          "taken again from the correction with a fresh factorization (at most 4 times); the "
           "answers' `free_step_m` is that free step, a lower bound of their distance from "
           "equilibrium (within 0.1 mm on the finger decks). 0: the single linearisation of "
           "the paper (docs/control.md)"),
