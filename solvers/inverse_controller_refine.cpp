@@ -43,13 +43,19 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
   if (tolerance <= 0 || !step_ksp_) return;
   VecHandle before;
   HS_PETSC(VecDuplicate(u, before.out()));
+  std::vector<double> at_answer;  // the correction's pressures
+  const auto back_to_correction = [&] {
+    HS_PETSC(VecCopy(before, u));
+    constraints_.set_multipliers(at_answer);
+    for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+  };
   for (int pass = 0;; ++pass) {
     std::vector<double> controls;
     problem_.apply_dirichlet(u, 1.0);
     if (!constraints_.residual(u, 1.0, R_, controls)) break;  // checked: cannot be inverted
     system_.solve_residual(step_ksp_, R_);
     const std::vector<double> x0 = effectors_.positions(u);
-    const std::vector<double> at_answer = constraints_.multipliers();
+    at_answer = constraints_.multipliers();
     HS_PETSC(VecCopy(u, before));
     take_free_step(u, controls);
     const bool inverted = !problem_.orientation_preserved(u);
@@ -62,9 +68,7 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     // 0.8 mm from equilibrium where the correction was within 0.15 mm (docs/contact.md).
     const bool again = inverted && !problem_.contact() && pass < kMaxRefinements;
     if (enters || (inverted && !again)) {  // the answer: the correction
-      HS_PETSC(VecCopy(before, u));
-      constraints_.set_multipliers(at_answer);
-      for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+      back_to_correction();
       report.fallback +=
           std::string(report.fallback.empty() ? "" : "; ") + "the free step after the correction " +
           (inverted ? "inverted an element" : "carried a node into an obstacle") + ": not taken";
@@ -91,9 +95,7 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     if (problem_.contact()) {
       HS_PETSC(VecCopy(u, before));
     } else {
-      HS_PETSC(VecCopy(before, u));
-      constraints_.set_multipliers(at_answer);
-      for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+      back_to_correction();
       for (int c = 0; c < constraints_.size(); ++c) constraints_[c].update_measure(u);
     }
     const std::vector<double> pressures = constraints_.multipliers();

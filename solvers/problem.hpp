@@ -125,10 +125,11 @@ class Problem {
   // The next jacobian() is J itself at its point, whatever the previous one's: for uses of
   // the tangent other than Newton's step (the reduced model's error indicator).
   void exact_next_tangent();
-  // That memory, copied out and put back around a solve that is not the caller's next step
-  // (the controller's equilibrium check): its Newton iterates would otherwise be the point the
-  // caller's next tangent is linearised from. Collective.
-  // Per local tet of an F-bar material: ln Jbar(u0) - g . u0 and g = b(u0) / Jbar(u0).
+  // The tangent's memory of the previous tangent's point (jacobian(), above), copied out and
+  // put back around a solve that is not the caller's next step (the controller's equilibrium
+  // check): its Newton iterates would otherwise be the point the caller's next tangent is
+  // linearised from. Local to each rank. Per local tet of an F-bar material: ln Jbar(u0) -
+  // g . u0 and g = b(u0) / Jbar(u0); the nodal pressures' is NodalPressure::Linearization.
   struct FbarLinearization {
     bool valid = false;
     double c0 = 0;
