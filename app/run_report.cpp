@@ -38,6 +38,13 @@ std::string millimetres(const Json& point) {
   return s;
 }
 
+// A contact force (N), marked as such in a column of millimetres.
+std::string newtons(const Json& force) {
+  std::string s;
+  for (const auto& c : force) s += (s.empty() ? "" : ", ") + format("%.4g", c.get<double>());
+  return s + " N";
+}
+
 // Rows of cells, each column padded to its widest cell, two spaces apart.
 std::string table(const std::vector<std::vector<std::string>>& rows) {
   std::vector<size_t> width;
@@ -111,6 +118,12 @@ std::string cables_table(const Json& states) {
 std::string targets_table(const Json& targets) {
   std::vector<std::vector<std::string>> rows = {
       {"target (mm)", "reached (mm)", "error (mm)", "actuation (Pa or N)"}};
+  // A contact-force effector's rows are forces, marked N.
+  for (const auto& t : targets)
+    if (t.contains("error_N")) {
+      rows[0] = {"target (mm or N)", "reached (mm or N)", "error (mm or N)", "actuation (Pa or N)"};
+      break;
+    }
   // Each actuator's scale over the targets: pressures (Pa) and forces (N) share the column.
   std::vector<double> largest;
   for (const auto& t : targets) {
@@ -126,6 +139,13 @@ std::string targets_table(const Json& targets) {
     size_t k = 0;
     for (const auto& a : t.value("actuation", Json::array()))
       actuation += (actuation.empty() ? "" : ", ") + cell("%.4g", a.get<double>(), largest[k++]);
+    if (t.contains("error_N")) {
+      rows.push_back({newtons(t.value("target", Json::array())),
+                      newtons(t.value("reached", Json::array())),
+                      t["error_N"].is_number() ? format("%.3g N", t["error_N"].get<double>()) : "-",
+                      actuation});
+      continue;
+    }
     rows.push_back(
         {millimetres(t.value("target", Json::array())),
          millimetres(t.value("reached", Json::array())),

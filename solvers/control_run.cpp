@@ -100,6 +100,8 @@ ControlLoop::ControlLoop(const Config& config, Problem& problem, ConstraintSet& 
 }
 
 void ControlLoop::check_reach(const ControlTarget& target) const {
+  const int e = effectors_.index(target.effector);
+  if (e >= 0 && effectors_.is_force(e)) return;  // a force: any value can be asked
   const std::string problem = target_reach_problem(target.position, body_low_, body_high_);
   if (!problem.empty()) throw InputError(problem);
 }
@@ -119,7 +121,8 @@ void ControlLoop::add_history(Vec u, HistoryRow& row) const {
   const std::vector<double> x = effectors_.positions(u);
   for (int e = 0; e < effectors_.size(); ++e)
     for (int d = 0; d < 3; ++d)
-      row.add("effector_" + effectors_.name(e) + "_" + "xyz"[d] + "_m", x[3 * e + d]);
+      row.add("effector_" + effectors_.name(e) + "_" + "xyz"[d] + "_" + effectors_.unit(e),
+              x[3 * e + d]);
   for (const auto& actuator : config_.control->actuators) {
     const Constraint& c = constraints_[constraints_.find(actuator.constraint)];
     row.add("actuator_" + c.name() + "_" + c.units().multiplier, c.multiplier());
@@ -260,10 +263,12 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
     j["effector"] = target.effector;
     j["target"] = target.position;
     j["reached"] = {r.reached[3 * e], r.reached[3 * e + 1], r.reached[3 * e + 2]};
-    j["error_m"] = error_of(r.reached, e, target);
+    // In the effector's unit: a contact force's error in N.
+    const std::string unit = effectors_.unit(e);
+    j["error_" + unit] = error_of(r.reached, e, target);
     if (!equilibrium.empty()) {
       j["equilibrium"] = {equilibrium[3 * e], equilibrium[3 * e + 1], equilibrium[3 * e + 2]};
-      j["equilibrium_error_m"] = error_of(equilibrium, e, target);
+      j["equilibrium_error_" + unit] = error_of(equilibrium, e, target);
     }
     j["step_ms"] = r.total_ms;
     j["answer_ms"] = answer_ms;
@@ -278,6 +283,7 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
     if (config_.control->free_solve == FreeSolve::one_step) {
       j["refinements"] = r.refinements;
       j["free_step_m"] = r.free_step_m;
+      if (effectors_.is_force(e)) j["free_step_N"] = r.free_step_N;
     }
     if (r.negative_pivots >= 0) j["negative_pivots"] = r.negative_pivots;
     if (!contact.is_null()) j["contact"] = contact;
@@ -291,11 +297,18 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
 }
 
 std::string ControlLoop::progress_text() const {
-  double worst = 0;  // over the set's effectors
-  for (const auto& entry : pending_) worst = std::max(worst, entry["error_m"].get<double>());
-  char what[64];
-  std::snprintf(what, sizeof what, "target set %zu  error %.3f mm",
-                static_cast<size_t>(totals_.sets), 1e3 * worst);
+  double worst_m = 0, worst_N = 0;  // over the set's effectors
+  for (const auto& entry : pending_) {
+    worst_m = std::max(worst_m, entry.value("error_m", 0.0));
+    worst_N = std::max(worst_N, entry.value("error_N", 0.0));
+  }
+  bool forces = false, positions = false;
+  for (const auto& entry : pending_) (entry.contains("error_N") ? forces : positions) = true;
+  char what[96];
+  int n = std::snprintf(what, sizeof what, "target set %zu", static_cast<size_t>(totals_.sets));
+  if (positions || !forces)
+    n += std::snprintf(what + n, sizeof what - n, "  error %.3f mm", 1e3 * worst_m);
+  if (forces) std::snprintf(what + n, sizeof what - n, "  force error %.3g N", worst_N);
   return what;
 }
 

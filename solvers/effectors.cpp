@@ -1,6 +1,7 @@
 #include "solvers/effectors.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 #include "common/error.hpp"
@@ -94,12 +95,35 @@ MaterialPoint group_point(const Problem& problem, const std::string& group) {
   return p;
 }
 
-Effectors::Effectors(const Config& config, Problem& problem) {
+Effectors::Effectors(const Config& config, Problem& problem) : problem_(problem) {
   if (!config.control) return;
   const MeshGroups& groups = problem.distribution().groups;
   for (const auto& e : config.control->effectors) {
     MaterialPoint p;
     const std::string where = config.deck_path + ": control.effectors '" + e.name + "'";
+    names_.push_back(e.name);
+    configs_.push_back(e);
+    obstacle_.push_back(-1);
+    only_.emplace_back();
+    approach_gap_.push_back(0);
+    if (!e.obstacle.empty()) {  // the deck parser checked the names
+      for (size_t o = 0; o < config.obstacles.size(); ++o)
+        if (config.obstacles[o].name == e.obstacle) obstacle_.back() = static_cast<int>(o);
+      if (obstacle_.back() < 0 || !problem.contact())
+        throw InputError(where + ": obstacle '" + e.obstacle + "' is not in contact with the body");
+      const Distribution& dist = problem.distribution();
+      if (!e.surfaces.empty()) only_.back().assign(dist.x.size() / 3, 0);
+      for (const auto& group : e.surfaces) {
+        const auto it = dist.faces.find(group);
+        if (it != dist.faces.end())
+          for (int32_t n : it->second) only_.back()[n] = 1;
+      }
+      for (int d = 0; d < 3; ++d) {
+        reference_.push_back(0);
+        rows_.push_back(problem.create_vector());
+      }
+      continue;
+    }
     if (!e.point.empty()) {
       auto it = groups.group_nodes.find(e.point);
       if (it == groups.group_nodes.end() || it->second != 1)
@@ -113,8 +137,6 @@ Effectors::Effectors(const Config& config, Problem& problem) {
                        std::to_string(e.position[1]) + ", " + std::to_string(e.position[2]) +
                        ") lies outside the mesh");
     }
-    names_.push_back(e.name);
-    configs_.push_back(e);
     for (int d = 0; d < 3; ++d) reference_.push_back(p.X[d]);
     append_point_rows(problem, p.nodes, p.N, rows_);
   }
@@ -140,14 +162,32 @@ int Effectors::index(const std::string& name) const {
   return -1;
 }
 
+const std::vector<char>* Effectors::only(size_t e) const {
+  return only_[e].empty() ? nullptr : &only_[e];
+}
+
 std::vector<double> Effectors::positions(Vec u) const {
   std::vector<double> x(reference_);
-  for (size_t r = 0; r < rows_.size(); ++r) {
-    PetscScalar dot = 0;
-    HS_PETSC(VecDot(rows_[r], u, &dot));
-    x[r] += dot;
+  for (size_t e = 0; e < names_.size(); ++e) {
+    if (is_force(e)) {  // the obstacles stand where the load factor 1 puts them
+      const std::array<double, 3> f = problem_.contact_force(u, 1.0, obstacle_[e], only(e));
+      std::copy(f.begin(), f.end(), &x[3 * e]);
+      continue;
+    }
+    for (int d = 0; d < 3; ++d) {
+      PetscScalar dot = 0;
+      HS_PETSC(VecDot(rows_[3 * e + d], u, &dot));
+      x[3 * e + d] += dot;
+    }
   }
   return x;
+}
+
+void Effectors::linearize(Vec u) {
+  for (size_t e = 0; e < names_.size(); ++e)
+    if (is_force(e))
+      approach_gap_[e] =
+          problem_.contact_force_rows(u, 1.0, obstacle_[e], only(e), &rows_.data()[3 * e]);
 }
 
 }  // namespace hs

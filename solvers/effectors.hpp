@@ -3,6 +3,10 @@
 // x_e(u) = sum_a N_a(xi_e) (X_a + u_a) is linear in the displacements. Each controlled
 // direction d of effector e is one row of J_e: a distributed vector with N_a at the dofs
 // (a, d), zero on Dirichlet dofs, so that J_e du = row . du.
+// Or the contact force the body exerts on an obstacle, F_o(u) = sum over the contact nodes of
+// the barrier's force (ObstacleContact; or those of some contact surfaces only, one finger's),
+// which is not linear: its rows are dF_o/du at the configuration last given to linearize(),
+// the per-obstacle barrier Hessians.
 #pragma once
 
 #include <petscvec.h>
@@ -53,14 +57,32 @@ class Effectors {
   int index(const std::string& name) const;  // -1 if unknown
   const std::string& name(int e) const { return names_[e]; }
   const EffectorConfig& config(int e) const { return configs_[e]; }
-  // Current positions on configuration u (3 per effector, every rank).
+  // Whether effector e is an obstacle's contact force (N) rather than a position (m).
+  bool is_force(int e) const { return obstacle_[e] >= 0; }
+  // The unit of effector e's values: "m" or "N".
+  const char* unit(int e) const { return is_force(e) ? "N" : "m"; }
+  // Current positions (contact forces for force effectors) on configuration u (3 per
+  // effector, every rank). Collective.
   std::vector<double> positions(Vec u) const;
+  // The force effectors' rows at configuration u (positions' rows do not change).
+  // Collective.
+  void linearize(Vec u);
+  // After linearize: 0 when force effector e's nodes touch its obstacle, else the gap of the
+  // nearest one, whose rows are then a unit spring across it (Problem::contact_force_rows).
+  double approach_gap(int e) const { return approach_gap_[e]; }
   // Row of J_e for effector e, direction d.
   Vec row(int e, int d) const { return rows_[3 * e + d]; }
 
  private:
+  const std::vector<char>* only(size_t e) const;  // null: every contact node
+
+  Problem& problem_;
   std::vector<std::string> names_;
   std::vector<EffectorConfig> configs_;
+  std::vector<int> obstacle_;  // per effector: the obstacle's index, -1 for a position
+  // Per effector with `surfaces`: its contact nodes (per local node), else empty.
+  std::vector<std::vector<char>> only_;
+  std::vector<double> approach_gap_;
   std::vector<double> reference_;  // 3 per effector
   VecArray rows_;                  // 3 per effector
 };

@@ -63,10 +63,11 @@ struct ControlStepReport {
   // point of the pressure: no equilibrium there) and stayed at the last one reached.
   bool limit_point = false;
   // one_step: the passes taken again with a fresh factorization (control.one_step_tolerance),
-  // and how far the last free step from a correction moved the targeted effectors (m): a lower
-  // bound of the answer's distance from its equilibrium (docs/control.md).
+  // and how far the last free step from a correction moved the targeted effectors (m), and
+  // changed the targeted contact forces (N): a lower bound of the answer's distance from its
+  // equilibrium (docs/control.md).
   int refinements = 0;
-  double free_step_m = 0;
+  double free_step_m = 0, free_step_N = 0;
   // Negative pivots of the in-line L D L^T factorization the step used (MUMPS; -1 when not
   // known: another solver, or no in-line factorization this step), and what the step did
   // instead of trusting an indefinite tangent (empty when nothing).

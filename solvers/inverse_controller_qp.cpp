@@ -14,6 +14,7 @@ void InverseController::compliance_rows(Vec u, const std::vector<ControlTarget>&
                                         Eigen::MatrixXd& W, Eigen::VectorXd& delta,
                                         Eigen::MatrixXd& growth) {
   const int n = num_actuators();
+  effectors_.linearize(u);  // the contact forces' rows at x_free
   const std::vector<double> x_free = effectors_.positions(u);
   std::vector<double> rows_delta;
   std::vector<std::vector<double>> rows_W;
@@ -21,11 +22,21 @@ void InverseController::compliance_rows(Vec u, const std::vector<ControlTarget>&
   for (const auto& t : targets) {
     const int e = effectors_.index(t.effector);
     const auto& ec = effectors_.config(e);
+    // A force effector out of contact closes its gap: its rows are a unit spring across the
+    // nearest node's gap, scaled so that closing the gap gives the force asked for (the real
+    // rows take over once it touches: docs/control.md).
+    double scale = ec.weight;
+    if (effectors_.is_force(e) && effectors_.approach_gap(e) > 0) {
+      double asked2 = 0;
+      for (int d = 0; d < 3; ++d)
+        if (ec.directions[d]) asked2 += t.position[d] * t.position[d];
+      scale *= std::sqrt(asked2) / effectors_.approach_gap(e);
+    }
     for (int d = 0; d < 3; ++d) {
       if (!ec.directions[d]) continue;
       HS_PETSC(VecMDot(effectors_.row(e, d), n, response_.data(), wdots.data()));
       std::vector<double> r(n);
-      for (int a = 0; a < n; ++a) r[a] = ec.weight * wdots[a];
+      for (int a = 0; a < n; ++a) r[a] = scale * wdots[a];
       rows_W.push_back(r);
       rows_delta.push_back(ec.weight * (x_free[3 * e + d] - t.position[d]));
     }

@@ -77,15 +77,17 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     if (!inverted) {
       for (int c = 0; c < constraints_.size(); ++c) constraints_[c].update_measure(u);
       const std::vector<double> x1 = effectors_.positions(u);
-      double moved2 = 0;
+      double moved2[2] = {0, 0};  // positions (m), contact forces (N)
       for (const auto& t : targets) {
         const int e = effectors_.index(t.effector);
         for (int d = 0; d < 3; ++d)
           if (effectors_.config(e).directions[d])
-            moved2 += std::pow(x1[3 * e + d] - x0[3 * e + d], 2);
+            moved2[effectors_.is_force(e)] += std::pow(x1[3 * e + d] - x0[3 * e + d], 2);
       }
-      report.free_step_m = std::sqrt(moved2);
-      if (report.free_step_m <= tolerance || pass == kMaxRefinements) break;
+      report.free_step_m = std::sqrt(moved2[0]);
+      report.free_step_N = std::sqrt(moved2[1]);
+      if (std::max(report.free_step_m, report.free_step_N) <= tolerance || pass == kMaxRefinements)
+        break;
     }
     // Again, freshly linearised: from the correction, or beside obstacles from the chord step's
     // end (above: from the correction, the finger pressing the ball was answered 0.8 mm from
@@ -121,7 +123,7 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
             "control step: no equilibrium at the actuation after an indefinite "
             "tangent (" +
             r.reason + ")");
-      report.free_step_m = 0;
+      report.free_step_m = report.free_step_N = 0;
       break;
     }
     take_free_step(u, controls);
@@ -139,7 +141,7 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
             "at an obstacle (" +
             r.reason + ")");
       report.fallback += "; the answer is the equilibrium at its actuation, converged by Newton";
-      report.free_step_m = 0;
+      report.free_step_m = report.free_step_N = 0;
       break;
     }
     if (!problem_.orientation_preserved(u)) {

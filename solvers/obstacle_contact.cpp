@@ -183,6 +183,44 @@ void ObstacleContact::add_tangent(const double* u, double s, const NodePairBlock
   }
 }
 
+Eigen::Vector3d ObstacleContact::force_on(const double* u, double s, int o,
+                                          const std::vector<char>* only) const {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const int32_t n = nodes_[i];
+    if (only && !(*only)[n]) continue;
+    f += node_contact(obstacles_, position(u, n), s, area_[i], barrier_, false).force[o];
+  }
+  return f;
+}
+
+void ObstacleContact::force_rows(const double* u, double s, int o, const std::vector<char>* only,
+                                 double* const rows[3]) const {
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const int32_t n = nodes_[i];
+    if (only && !(*only)[n]) continue;
+    const NodeContact c = node_contact(obstacles_, position(u, n), s, area_[i], barrier_, false);
+    for (int d = 0; d < 3; ++d)
+      for (int j = 0; j < 3; ++j) rows[d][3 * n + j] = c.stiffness[o](d, j);
+  }
+}
+
+ObstacleContact::Nearest ObstacleContact::nearest(const double* u, double s, int o,
+                                                  const std::vector<char>* only) const {
+  Nearest best;
+  best.gap = std::numeric_limits<double>::max();
+  for (int32_t n : nodes_) {
+    if (only && !(*only)[n]) continue;
+    const SignedDistance sd = signed_distance(obstacles_[o], position(u, n), s);
+    if (sd.d < best.gap) {
+      best.node = n;
+      best.gap = sd.d;
+      best.normal = sd.gradient;
+    }
+  }
+  return best;
+}
+
 double ObstacleContact::step_limit(const double* u, const double* du, double s) const {
   double alpha = 1;
   for (int32_t n : nodes_) {

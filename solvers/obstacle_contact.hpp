@@ -37,6 +37,22 @@ class ObstacleContact {
   // every contact node at least a tenth of its gap outside every obstacle (step_bound of
   // contact/obstacle.hpp). On this rank.
   double step_limit(const double* u, const double* du, double s) const;
+  // The force the body's contact nodes exert on obstacle o (friction left out), those with
+  // only[n] set where `only` (per local node) is given; on this rank.
+  Eigen::Vector3d force_on(const double* u, double s, int o, const std::vector<char>* only) const;
+  // Its derivative with respect to the displacements, as three rows (d F_o,x / du, ...):
+  // rows[d] holds the owned values, 3 per node, set at those contact nodes (the exact
+  // per-obstacle Hessians) and untouched elsewhere. On this rank.
+  void force_rows(const double* u, double s, int o, const std::vector<char>* only,
+                  double* const rows[3]) const;
+  // Of those contact nodes, the one nearest to obstacle o: its local number (-1 when this
+  // rank has none), its gap and the obstacle's outward normal there. On this rank.
+  struct Nearest {
+    int32_t node = -1;
+    double gap = 0;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  };
+  Nearest nearest(const double* u, double s, int o, const std::vector<char>* only) const;
   // The index of an obstacle a node was found inside by the last add_forces on this rank,
   // or -1.
   int inside() const { return inside_; }

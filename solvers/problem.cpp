@@ -507,6 +507,58 @@ ObstacleContact::Totals Problem::contact_totals(Vec u, double s) const {
   return contact_->totals(view.values(), s);
 }
 
+std::array<double, 3> Problem::contact_force(Vec u, double s, int o,
+                                             const std::vector<char>* only) const {
+  std::array<double, 3> f{0, 0, 0};
+  if (contact_) {
+    VecHandle uw;
+    HS_PETSC(VecDuplicate(u_work_, uw.out()));
+    LocalView view(u, uw);
+    const Eigen::Vector3d here = contact_->force_on(view.values(), s, o, only);
+    for (int d = 0; d < 3; ++d) f[d] = here(d);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, f.data(), 3, MPI_DOUBLE, MPI_SUM, comm_);
+  return f;
+}
+
+double Problem::contact_force_rows(Vec u, double s, int o, const std::vector<char>* only,
+                                   Vec rows[3]) const {
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
+  LocalView view(u, uw);
+  double* r[3];
+  for (int d = 0; d < 3; ++d) {
+    HS_PETSC(VecSet(rows[d], 0.0));
+    HS_PETSC(VecGetArray(rows[d], &r[d]));
+  }
+  double touching = 0;  // the largest row entry: zero when no node is within reach
+  if (contact_) {
+    contact_->force_rows(view.values(), s, o, only, r);
+    for (int d = 0; d < 3; ++d)
+      for (int64_t k = 0; k < 3 * dist_.num_owned(); ++k)
+        touching = std::max(touching, std::abs(r[d][k]));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &touching, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  double gap = 0;
+  if (contact_ && touching == 0) {
+    const ObstacleContact::Nearest near = contact_->nearest(view.values(), s, o, only);
+    struct {
+      double gap;
+      int rank;
+    } best{near.node >= 0 ? near.gap : std::numeric_limits<double>::max(), dist_.rank};
+    MPI_Allreduce(MPI_IN_PLACE, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
+    gap = best.gap;
+    if (best.rank == dist_.rank && near.node >= 0)
+      for (int d = 0; d < 3; ++d)
+        for (int j = 0; j < 3; ++j) r[d][3 * near.node + j] = near.normal(d) * near.normal(j);
+  }
+  for (int d = 0; d < 3; ++d) {
+    HS_PETSC(VecRestoreArray(rows[d], &r[d]));
+    zero_constrained(rows[d]);
+  }
+  return gap;
+}
+
 double Problem::contact_step_limit(Vec u, Vec du, double s) const {
   if (!contact_) return 1;
   const PetscScalar *ua, *da;

@@ -162,6 +162,18 @@ class Problem {
   // Per obstacle, the force the body exerts on it and its touching area, on u at load
   // factor s. Collective; empty without obstacles.
   ObstacleContact::Totals contact_totals(Vec u, double s) const;
+  // The force on obstacle o of the contact nodes where only[n] is set (per local node; all
+  // without `only`), over all ranks, and its derivative with respect to u as three
+  // distributed rows, zero on Dirichlet dofs (ObstacleContact::force_on, force_rows).
+  // Collective; without obstacles zero.
+  std::array<double, 3> contact_force(Vec u, double s, int o,
+                                      const std::vector<char>* only = nullptr) const;
+  // Where none of those nodes is within the barrier's reach (the force and its rows are
+  // zero), the rows are n n^T at the nearest of them instead (n the obstacle's normal there:
+  // a unit spring across its gap, for a force target to close the gap; docs/control.md), and
+  // the return value is that gap; else 0.
+  double contact_force_rows(Vec u, double s, int o, const std::vector<char>* only,
+                            Vec rows[3]) const;
   // The largest fraction <= 1 of the step du from u (at load factor s) that keeps every
   // contact node outside the obstacles (ObstacleContact::step_limit), over all ranks; 1
   // without obstacles. Collective.

@@ -47,7 +47,8 @@ class Answer:
     """One answered target: where the effector should go and where it went.
 
     effector, target (m), reached (m, the equilibrium at the final actuation), error_m (over
-    the steered directions), actuation (Pa or N per actuator), saturated (per actuator: a
+    the steered directions; for a contact-force effector target and reached are forces in N,
+    error_m is None and error_N its error), actuation (Pa or N per actuator), saturated (per actuator: a
     bound active), limit_point, step (the output step in the run's .h5), step_ms (the last
     control step's time), answer_ms (all the target set's steps: the time the line waited
     for its answer inside hydrosoft), round_trip_ms (sent to read, as the client saw it),
@@ -61,7 +62,8 @@ class Answer:
         self.effector = raw["effector"]
         self.target = np.array(raw["target"], dtype=float)
         self.reached = np.array(raw["reached"], dtype=float)
-        self.error_m = raw["error_m"]
+        self.error_m = raw.get("error_m")
+        self.error_N = raw.get("error_N")
         self.actuation = np.array(raw["actuation"], dtype=float)
         self.saturated = list(raw.get("saturated", []))
         self.limit_point = bool(raw.get("limit_point", False))
@@ -70,6 +72,9 @@ class Answer:
         self.answer_ms = raw.get("answer_ms")
 
     def __repr__(self):
+        if self.error_m is None:
+            return ("Answer(%s: target %s N, reached %s N, error %.3g N)"
+                    % (self.effector, self.target, self.reached, self.error_N))
         return ("Answer(%s: target %s, reached %s, error %.3g mm)"
                 % (self.effector, self.target, self.reached, 1e3 * self.error_m))
 

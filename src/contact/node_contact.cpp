@@ -8,6 +8,7 @@ NodeContact node_contact(const std::vector<ObstacleShape>& obstacles, const Eige
                          double s, double area, const ContactBarrier& barrier, bool project) {
   NodeContact out;
   out.force.assign(obstacles.size(), Eigen::Vector3d::Zero());
+  out.stiffness.assign(obstacles.size(), Eigen::Matrix3d::Zero());
   out.active.assign(obstacles.size(), 0);
   const double scale = barrier.stiffness * area;
   for (size_t o = 0; o < obstacles.size(); ++o) {
@@ -23,8 +24,9 @@ NodeContact node_contact(const std::vector<ObstacleShape>& obstacles, const Eige
     out.force[o] = scale * b.slope * sd.gradient;
     out.active[o] = 1;
     out.gradient += out.force[o];
-    out.hessian +=
+    out.stiffness[o] =
         scale * (b.curvature * sd.gradient * sd.gradient.transpose() + b.slope * sd.hessian);
+    out.hessian += out.stiffness[o];
   }
   if (project && !out.hessian.isZero(0)) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(out.hessian);

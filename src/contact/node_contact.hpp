@@ -25,8 +25,10 @@ struct NodeContact {
   double energy = 0;
   Eigen::Vector3d gradient = Eigen::Vector3d::Zero();  // dE/dx, per obstacle summed
   Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();
-  // Per obstacle: dE/dx (the force the node exerts on it) and whether d < dhat.
+  // Per obstacle: dE/dx (the force the node exerts on it), its exact derivative d(dE/dx)/dx
+  // (never projected: the linearisation of a contact-force effector) and whether d < dhat.
   std::vector<Eigen::Vector3d> force;
+  std::vector<Eigen::Matrix3d> stiffness;
   std::vector<char> active;
 };
 

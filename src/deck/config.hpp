@@ -212,7 +212,13 @@ struct TipConfig {
 struct EffectorConfig {
   std::string name;   // unique; target sets name it
   std::string point;  // a point physical group with one node, or empty: `position` is used
-  std::array<double, 3> position{0, 0, 0};           // a material point, in reference coordinates
+  std::array<double, 3> position{0, 0, 0};  // a material point, in reference coordinates
+  // Or an obstacle's name: the effector is then the contact force the body exerts on it (N),
+  // and its targets are forces.
+  std::string obstacle;
+  // With `obstacle`: only the force of the contact nodes on these surface groups of
+  // contact.surfaces (one finger of a gripper); empty: all of them.
+  std::vector<std::string> surfaces;
   std::array<bool, 3> directions{true, true, true};  // which of x, y, z are controlled
   double weight = 1;                                 // > 0, on its squared error
 };

@@ -15,11 +15,29 @@ EffectorConfig parse_effector(const DeckReader& r, const YAML::Node& node, const
                               const Config& c) {
   EffectorConfig e;
   read_keys(r, node, key, effector_keys(), e, c);
-  // A mesh node or a material point inside an element: one of them, not both.
-  if (!node["point"] == !node["position"])
+  // A mesh node, a material point inside an element or an obstacle's contact force: one.
+  if (!node["point"] + !node["position"] + !node["obstacle"] != 2)
     r.fail(key, node,
-           "give exactly one of point (a point group with one node) or position (a material "
-           "point, in reference coordinates)");
+           "give exactly one of point (a point group with one node), position (a material "
+           "point, in reference coordinates) or obstacle (the contact force on it)");
+  if (!e.obstacle.empty()) {
+    std::vector<std::string> names;
+    for (const auto& o : c.obstacles) names.push_back(o.name);
+    if (names.empty())
+      r.fail(child_key(key, "obstacle"), node["obstacle"],
+             "the deck has no obstacles (a contact-force effector needs one)");
+    if (std::find(names.begin(), names.end(), e.obstacle) == names.end())
+      r.fail(child_key(key, "obstacle"), node["obstacle"],
+             "no obstacle named '" + e.obstacle + "' (did you mean '" + nearest(e.obstacle, names) +
+                 "'? obstacles: " + join(names) + ")");
+  }
+  if (!e.surfaces.empty() && e.obstacle.empty())
+    r.fail(child_key(key, "surfaces"), node["surfaces"], "needs obstacle (a contact force)");
+  const auto& contact = c.contact.surfaces;
+  for (size_t i = 0; i < e.surfaces.size(); ++i)
+    if (std::find(contact.begin(), contact.end(), e.surfaces[i]) == contact.end())
+      r.fail(item_key(child_key(key, "surfaces"), i), node["surfaces"][i],
+             "'" + e.surfaces[i] + "' is not one of contact.surfaces (" + join(contact) + ")");
   return e;
 }
 
@@ -182,22 +200,48 @@ const KeyTable<EffectorConfig>& effector_keys() {
       text_key("point", &EffectorConfig::point, "name",
                "a physical point group of the mesh with exactly one node (checked once the mesh "
                "is loaded), e.g. `effector` of `meshes/finger.geo`; the effector is that node")
-          .defaults_to("required (or `position`)")
+          .defaults_to("required (or `position`, `obstacle`)")
           .printed_when([](const EffectorConfig& e) { return !e.point.empty(); }),
       custom_key<EffectorConfig>(
-          "position", "3 numbers", "required (or `point`)",
+          "position", "3 numbers", "required (or `point`, `obstacle`)",
           "a point of the undeformed body, in reference coordinates (m); the solver finds the "
           "element that holds it (a point outside the mesh is an error then). Give exactly one "
-          "of `point` and `position`.",
+          "of `point`, `position` and `obstacle`.",
           [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
              const Config&) { e.position = r.vector3(n, key); },
           [](YAML::Emitter& out, const EffectorConfig& e, const Config&) {
             write_numbers(out, e.position.data(), 3);
           })
-          .printed_when([](const EffectorConfig& e) { return e.point.empty(); }),
+          .printed_when(
+              [](const EffectorConfig& e) { return e.point.empty() && e.obstacle.empty(); }),
+      text_key("obstacle", &EffectorConfig::obstacle, "name",
+               "an obstacle of `obstacles` (docs/contact.md): the effector is then the contact "
+               "force the body exerts on it (N, summary.json's contact force), and its targets "
+               "are forces, e.g. `{press: [0, 0, -0.2]}` to press it down with 0.2 N. Its row "
+               "in the controller is that force's derivative at each step's free "
+               "configuration (through the compliance, which includes the barrier)")
+          .defaults_to("required (or `point`, `position`)")
+          .printed_when([](const EffectorConfig& e) { return !e.obstacle.empty(); }),
+      custom_key<EffectorConfig>(
+          "surfaces", "list of names", "all of `contact.surfaces`",
+          "with `obstacle`: the force of these contact surfaces only (each one of "
+          "`contact.surfaces`), e.g. one finger's skin, so that each finger of a gripper has its "
+          "own grasp force; where the surfaces share nodes each node counts once",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
+             const Config&) {
+            r.check_list(n, key);
+            require(n.size() > 0, r, n, key, "at least one surface group is required");
+            for (size_t i = 0; i < n.size(); ++i)
+              e.surfaces.push_back(r.text(n[i], item_key(key, i)));
+          },
+          [](YAML::Emitter& out, const EffectorConfig& e, const Config&) {
+            out << YAML::Flow << e.surfaces;
+          })
+          .printed_when([](const EffectorConfig& e) { return !e.surfaces.empty(); }),
       custom_key<EffectorConfig>(
           "directions", "list of `x`, `y`, `z`", "`[x, y, z]`",
-          "the components of the effector's position that are steered; the others are free "
+          "the components of the effector's position (or force) that are steered; the others are "
+          "free "
           "(non-empty, no repeats)",
           [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
              const Config&) { e.directions = read_axes(r, n, key, "direction"); },
@@ -292,7 +336,8 @@ const KeyTable<ControlConfig>& control_keys() {
       custom_key<ControlConfig>(
           "targets", "list of maps effector: 3 numbers", "none",
           "target sets, reached one after the other: each maps effector names to the position "
-          "(m) the effector should reach, e.g. `{tip: [0.09, 0, -0.01]}`. A set names at least "
+          "(m) the effector should reach, e.g. `{tip: [0.09, 0, -0.01]}` (a contact-force "
+          "effector's: the force, N). A set names at least "
           "one effector, each at most once. Without `targets` the run has none from the deck: "
           "`--targets -` on the command line reads them from standard input (docs/control.md); "
           "that switch is not a deck key.",

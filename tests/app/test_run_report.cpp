@@ -105,6 +105,23 @@ TEST(RunReport, TargetsGiveMillimetresAndTheError) {
   EXPECT_NE(report.find("2.176e+04"), std::string::npos) << report;
 }
 
+// A contact-force effector's target and reach are forces: printed in N, marked as such.
+TEST(RunReport, ContactForceTargetsGiveNewtons) {
+  const Json summary = Json::parse(R"({
+    "steps": 2, "newton_iterations": 9, "ranks": 1, "time_s": {"total": 0.5},
+    "targets": [{"target": [0.09, 0.0, -0.012], "reached": [0.08997, -0.0004, -0.012],
+                 "error_m": 2.5e-4, "actuation": [21759.1]},
+                {"target": [0, -0.06, 0], "reached": [0.004566, -0.0599, -0.005119],
+                 "error_N": 1e-4, "actuation": [21759.1]}]})");
+  const std::string report = hs::run_report(summary);
+  EXPECT_NE(report.find("target (mm or N)"), std::string::npos) << report;
+  EXPECT_NE(report.find("90.00, 0.00, -12.00"), std::string::npos) << report;
+  const auto force = words_of_line(report, "-0.06", "-0.0599");
+  ASSERT_FALSE(force.empty()) << report;
+  EXPECT_EQ(force[3], "N") << report;  // the target
+  EXPECT_NE(report.find("0.004566, -0.0599, -0.005119 N  0.0001 N"), std::string::npos) << report;
+}
+
 // A value within 1e-10 of its column's largest magnitude is round-off of zero: printed as 0 in
 // the column's format, never as "1.455e-11" Pa beside 2.2e4 Pa or "-0.000" kPa. Each actuator
 // is its own column (Pa and N share the cell), and a column of small values alone keeps them.

@@ -65,8 +65,10 @@ std::array<double, 3> obstacle_force(const Json& summary, int o) {
 
 // The finger of input/finger_press.yaml (E 200 kPa, nu 0.45) above a ball of radius 10 mm at
 // height ball_z, its tip height steered by its pressure (0-30 kPa, at most max_change a step);
-// `control` adds the control section's targets and modes.
-std::string finger_on_ball_deck(double ball_z, double max_change, const std::string& control) {
+// `control` adds the control section's targets and modes, `press` a contact-force effector
+// of that name on the ball.
+std::string finger_on_ball_deck(double ball_z, double max_change, const std::string& control,
+                                const std::string& press = "") {
   return "mesh:\n  file: " + kSource +
          "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004, ez: 0.003}\n"
          "materials:\n"
@@ -81,7 +83,8 @@ std::string finger_on_ball_deck(double ball_z, double max_change, const std::str
          "contact: {surfaces: [outer, tip]}\n"
          "states:\n  - {name: rest, steps: 4}\n"
          "control:\n"
-         "  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
+         "  effectors:\n    - {name: tip, point: effector, directions: [z]}\n" +
+         (press.empty() ? "" : "    - {name: " + press + ", obstacle: ball, directions: [z]}\n") +
          "  actuators:\n"
          "    - {cavity: cavity, min_pressure: 0, max_pressure: 30000, max_pressure_change: " +
          std::to_string(max_change) + "}\n" + control;
@@ -383,6 +386,65 @@ TEST(ObstacleContact, TheRealTimeModeAnswersEveryTargetAsTheFingerPressesTheBall
   EXPECT_NEAR(answers[7]["reached"][2].get<double>(), answers[7]["equilibrium"][2].get<double>(),
               1e-5);
   EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
+}
+
+TEST(ObstacleContact, TheControllerPressesTheBallWithTheForceAskedFor) {
+  // "Press this object with 0.17 N": a contact-force effector, its row the force's derivative
+  // (the barrier's per-obstacle Hessians) through the compliance. The finger rests on the
+  // ball with 0.124 N under its weight; 0.17 N and then 0.14 N are asked for. What it reached
+  // is the force on the ball, and the base's reaction and the body's weight balance it: the
+  // clamp measures the same force independently of the barrier's sums.
+  const std::string folder = (hs_test::test_folder() / "press").string();
+  const std::string deck = write_deck(
+      "press.yaml", finger_on_ball_deck(-0.0185, 10000,
+                                        "  targets:\n    - {press: [0, 0, -0.17]}\n"
+                                        "    - {press: [0, 0, -0.14]}\n  steps_per_target: 4\n",
+                                        "press"));
+  const Json s = run(deck, "press");
+  const auto& targets = s["targets"];
+  ASSERT_EQ(targets.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    const double asked = k == 0 ? -0.17 : -0.14;
+    EXPECT_NEAR(targets[k]["reached"][2].get<double>(), asked, 1e-5) << targets[k].dump();
+    EXPECT_LT(targets[k]["error_N"].get<double>(), 1e-5);
+    EXPECT_FALSE(targets[k].contains("error_m"));
+    EXPECT_NEAR(targets[k]["contact"]["obstacles"][0]["force_N"][2].get<double>(),
+                targets[k]["reached"][2].get<double>(), 1e-12);
+    EXPECT_FALSE(targets[k]["saturated"][0].get<bool>());
+  }
+  // Pressing harder took more pressure.
+  EXPECT_GT(targets[0]["actuation"][0].get<double>(), targets[1]["actuation"][0].get<double>());
+  const auto f = obstacle_force(s, 0);
+  const auto& base = s["reactions_N"]["base"];
+  const auto load = total_load(folder + "/press.h5", targets[1]["step"].get<int>());
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(base[d].get<double>() + load[d] - f[d], 0, 1e-7 * std::abs(f[2])) << d;
+  EXPECT_NEAR(f[2], -0.14, 1e-5);
+  EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
+}
+
+TEST(ObstacleContact, TheRealTimeModePressesTheBallWithTheForceAskedFor) {
+  // The same force targets in the real-time step (one step a target, refined), up and down:
+  // every answer is the equilibrium of its pressure and presses with the force asked for.
+  std::string targets;
+  for (double f : {-0.135, -0.15, -0.14, -0.16})
+    targets += "    - {press: [0, 0, " + std::to_string(f) + "]}\n";
+  const std::string deck =
+      write_deck("press_realtime.yaml",
+                 finger_on_ball_deck(-0.0185, 10000,
+                                     "  targets:\n" + targets +
+                                         "  steps_per_target: 1\n  free_solve: one_step\n"
+                                         "  check_equilibrium: true\n",
+                                     "press"));
+  const Json s = run(deck, "press_realtime");
+  const auto& answers = s["targets"];
+  ASSERT_EQ(answers.size(), 4u);
+  for (const auto& t : answers) {
+    const double asked = t["target"][2].get<double>();
+    EXPECT_NEAR(t["equilibrium"][2].get<double>(), asked, 2e-4) << t.dump();
+    EXPECT_NEAR(t["reached"][2].get<double>(), asked, 2e-4) << t.dump();
+    EXPECT_TRUE(t.contains("equilibrium_error_N"));
+  }
 }
 
 TEST(ObstacleContact, ADroppedBlockLandsAndBackwardEulerTakesItsEnergy) {

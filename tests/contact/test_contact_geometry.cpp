@@ -183,11 +183,23 @@ TEST(NodeContact, ForceAndHessianAreTheEnergysDerivatives) {
     for (int j = 0; j < 3; ++j)
       EXPECT_NEAR(c.hessian(j, i), (p.gradient(j) - m.gradient(j)) / (2 * h),
                   1e-5 * c.hessian.norm());
+    // Each obstacle's stiffness is the derivative of the force on that obstacle alone (a
+    // contact-force effector's row).
+    for (size_t o = 0; o < obstacles.size(); ++o)
+      for (int j = 0; j < 3; ++j)
+        EXPECT_NEAR(c.stiffness[o](j, i), (p.force[o](j) - m.force[o](j)) / (2 * h),
+                    1e-5 * c.stiffness[o].norm())
+            << "obstacle " << o;
   }
-  // The per-obstacle forces sum to the gradient.
+  // The per-obstacle forces sum to the gradient, their stiffnesses to the Hessian.
   V3 sum = V3::Zero();
-  for (const auto& f : c.force) sum += f;
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  for (size_t o = 0; o < obstacles.size(); ++o) {
+    sum += c.force[o];
+    stiffness += c.stiffness[o];
+  }
   EXPECT_LT((sum - c.gradient).norm(), 1e-14 * c.gradient.norm());
+  EXPECT_LT((stiffness - c.hessian).norm(), 1e-14 * c.hessian.norm());
 }
 
 TEST(NodeContact, ProjectionKeepsADefiniteHessianAndClampsAnIndefiniteOne) {

@@ -600,8 +600,12 @@ TEST_F(DeckErrors, ControlKeysAndTypes) {
 TEST_F(DeckErrors, ControlEffectors) {
   expect_errors({
       {effector("point: effector, position: [0.09, 0, 0]"), "control.effectors[0]",
-       "give exactly one of point (a point group with one node) or position (a material point, "
-       "in reference coordinates)"},
+       "give exactly one of point (a point group with one node), position (a material point, "
+       "in reference coordinates) or obstacle (the contact force on it)"},
+      {effector("point: effector, obstacle: ball"), "control.effectors[0]",
+       "give exactly one of point"},
+      {effector("obstacle: ball"), "control.effectors[0].obstacle",
+       "the deck has no obstacles (a contact-force effector needs one)"},
       {effector("weight: 2"), "control.effectors[0]", "give exactly one of point"},
       {effector("point: \"\""), "control.effectors[0].point", "must not be empty"},
       {control("[{name: tip, point: a}, {name: tip, position: [0, 0, 0]}]", kActuator),
@@ -741,6 +745,15 @@ TEST_F(DeckErrors, ErrorsGiveTheLineOfTheKey) {
 std::string obstacles(const std::string& entry, const std::string& contact = "{surfaces: [skin]}") {
   return kMesh + kMaterials + "boundary: [{group: base}]\nobstacles:\n  - " + entry +
          "\ncontact: " + contact + "\n";
+}
+
+TEST_F(DeckErrors, AContactForceEffectorNamesAnObstacleOfTheDeck) {
+  const std::string deck =
+      obstacles("{name: ball, type: sphere, center: [0, 0, -1], radius: 0.5}") +
+      "cavities:\n  - {group: c}\ncontrol:\n  effectors: [{name: press, obstacle: bal}]\n"
+      "  actuators: [{cavity: c}]\n";
+  expect_errors({{deck, "control.effectors[0].obstacle",
+                  "no obstacle named 'bal' (did you mean 'ball'? obstacles: ball)"}});
 }
 
 TEST_F(DeckErrors, ObstaclesAndContact) {
