@@ -447,6 +447,78 @@ TEST(ObstacleContact, TheRealTimeModePressesTheBallWithTheForceAskedFor) {
   }
 }
 
+// Each finger's grasp force: the y component of its skin's force on the ball.
+double grasp(const Json& answer) { return answer["reached"][1].get<double>(); }
+
+TEST(ObstacleContact, TheGripperGraspsTheBallWithTheForceAskedOfEachFinger) {
+  // input/gripper_grasp.yaml: two silicone fingers (nodal-pressure element) start 0.5 mm from
+  // the ball, close on it (the force rows are a spring across the gap until they touch) and
+  // press with 0.04, then 0.08 N each, then 0.06 and 0.03 N. The two fingers' forces are sums
+  // over disjoint surfaces: together they are the ball's force, and the palm's reaction
+  // balances it with the weight.
+  const std::string folder = (hs_test::test_folder() / "gripper").string();
+  const Json s = run(kSource + "/input/gripper_grasp.yaml", "gripper");
+  const auto& answers = s["targets"];
+  ASSERT_EQ(answers.size(), 6u);
+  for (const auto& t : answers) {
+    EXPECT_NEAR(grasp(t), t["target"][1].get<double>(), 1e-6) << t.dump();
+    EXPECT_EQ(t["effector"] == "grip_left", grasp(t) < 0) << t.dump();
+  }
+  const auto ball = obstacle_force(s, 0);
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(answers[4]["reached"][d].get<double>() + answers[5]["reached"][d].get<double>(),
+                ball[d], 1e-12)
+        << d;
+  EXPECT_NEAR(ball[1], -0.03, 1e-6);
+  const auto& base = s["reactions_N"]["base"];
+  const auto load = total_load(folder + "/gripper_grasp.h5", answers[5]["step"].get<int>());
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(base[d].get<double>() + load[d] - ball[d], 0, 1e-7 * std::abs(load[0])) << d;
+  // Asked to press harder, each finger took more pressure.
+  EXPECT_GT(answers[2]["actuation"][0].get<double>(), answers[0]["actuation"][0].get<double>());
+  EXPECT_GT(answers[2]["actuation"][1].get<double>(), answers[0]["actuation"][1].get<double>());
+  EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
+}
+
+TEST(ObstacleContact, TheRealTimeGripperAnswersWithEquilibria) {
+  // The same gripper in the real-time step, one step a target: closing on the ball (the
+  // first line) its correction's free step meets the ball and the answer is the equilibrium
+  // at its pressures, converged by Newton; in contact, refined from the correction (the chord
+  // step's end had 5-49 negative pivots on this body), each answer is the equilibrium that
+  // presses with the force asked for (from the third line on: the second, 20 kPa further,
+  // still met the ball).
+  std::string targets;
+  for (double f : {0.04, 0.06, 0.05, 0.07})
+    targets += "    - {grip_left: [0, " + std::to_string(-f) + ", 0], grip_right: [0, " +
+               std::to_string(f) + ", 0]}\n";
+  std::ifstream shipped(kSource + "/input/gripper_grasp.yaml");
+  std::stringstream text;
+  text << shipped.rdbuf();
+  std::string scene = text.str();
+  scene = scene.substr(0, scene.find("\ncontrol:\n") + 1);
+  scene.replace(scene.find("../meshes/"), 10, kSource + "/meshes/");
+  const std::string deck = write_deck(
+      "gripper_realtime.yaml",
+      scene +
+          "control:\n  effectors:\n"
+          "    - {name: grip_left, obstacle: ball, surfaces: [skin_left], directions: [y]}\n"
+          "    - {name: grip_right, obstacle: ball, surfaces: [skin_right], directions: [y]}\n"
+          "  actuators:\n"
+          "    - {cavity: cavity_left, min_pressure: 0, max_pressure: 40000}\n"
+          "    - {cavity: cavity_right, min_pressure: 0, max_pressure: 40000}\n"
+          "  targets:\n" +
+          targets + "  steps_per_target: 1\n  free_solve: one_step\n  check_equilibrium: true\n");
+  const Json s = run(deck, "gripper_realtime");
+  const auto& answers = s["targets"];
+  ASSERT_EQ(answers.size(), 8u);
+  for (const auto& t : answers) {
+    EXPECT_NEAR(grasp(t), t["equilibrium"][1].get<double>(), 1e-6) << t.dump();
+    if (!t.contains("fallback"))  // refined: the force asked for
+      EXPECT_NEAR(grasp(t), t["target"][1].get<double>(), 1e-5) << t.dump();
+  }
+  for (size_t k = 4; k < 8; ++k) EXPECT_FALSE(answers[k].contains("fallback")) << k;
+}
+
 TEST(ObstacleContact, ADroppedBlockLandsAndBackwardEulerTakesItsEnergy) {
   // A free block 2 mm above a floor falls, hits it and bounces (time steps of 2 ms, full
   // Newton steps shortened before any node reaches the floor). Backward Euler only dissipates:
