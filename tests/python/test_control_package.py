@@ -5,7 +5,7 @@ answers are those summary.json records, 2 ranks answer as 1, a scene that cannot
 says why, a killed scene is kept as failed on 1 and 2 ranks, a target of 2 numbers is refused
 and the scene goes on, a temporary output folder is removed when the scene ends (closed,
 an error in its block, stopped, or its interpreter's exit), and an output folder whose path
-holds ' #' is written there.
+holds ' #' is written there; a contact-force effector's answer is a force.
 
     HYDROSOFT=build/bin/hydrosoft /usr/bin/python3 tests/python/test_control_package.py
 """
@@ -68,6 +68,20 @@ class ControlPackage(unittest.TestCase):
             np.testing.assert_array_equal(answer.reached, entry["reached"])
             np.testing.assert_array_equal(answer.actuation, entry["actuation"])
             self.assertEqual(answer.line, entry["line"])
+
+    def test_a_grasp_force_is_answered_in_newtons(self):
+        # A contact-force effector of input/gripper_grasp.yaml (coarse): the left finger
+        # closes on the ball and presses it with 0.04 N; its answer is a force.
+        deck = os.path.join(ROOT, "input", "gripper_grasp.yaml")
+        with self.scene("grasp", deck=deck, overrides=COARSE) as scene:
+            grasp = scene.reach([0.0, -0.04, 0.0], effector="grip_left")
+        self.assertIsNone(grasp.error_m)
+        self.assertLess(grasp.error_N, 1e-5)
+        self.assertAlmostEqual(grasp.error_N, abs(grasp.reached[1] + 0.04), delta=1e-15)
+        self.assertIn(" N", repr(grasp))
+        ball = grasp.raw["contact"]["obstacles"][0]["force_N"]
+        np.testing.assert_array_equal(grasp.reached, ball)  # the right finger is away
+        self.assertEqual(grasp.actuation[1], 0.0)
 
     def test_two_ranks_answer_as_one(self):
         with self.scene("np1") as one:
