@@ -75,23 +75,23 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     // A chord step that inverts an element says as little about the distance to equilibrium as
     // one that moves far: a fresh pass follows, while there is one (the PneuNet of silicone on
     // P2 F-bar: its chord steps inverted an element at 9 of 13 lines). Not beside obstacles,
-    // whose barrier a fresh pass from there met in its own chord step, leaving the answer
-    // 0.8 mm from equilibrium where the correction was within 0.15 mm (docs/contact.md).
+    // whose barrier a fresh pass from there met in its own chord step (the finger on the ball
+    // was answered 0.8 mm from equilibrium; docs/contact.md).
     const bool again = inverted && !problem_.contact() && pass < kMaxRefinements;
-    // Beside obstacles on a nearly incompressible body (the nodal-pressure element) the
-    // correction can lie far from its equilibrium: on the silicone gripper of
-    // input/gripper_grasp.yaml one pressed the ball with 0.27 N where its equilibrium gave
-    // 0.012 N. Its equilibrium is the answer there.
-    if (enters && problem_.has_nodal_pressure()) {
+    // Beside obstacles such a correction can lie far from its equilibrium, where the contact
+    // it linearised opened or closed: on the silicone gripper of input/gripper_grasp.yaml one
+    // pressed the ball with 0.27 N where its equilibrium gave 0.012 N; a finger landing on a
+    // ball from above was answered 6.6 mm from its equilibrium. Its equilibrium is the answer.
+    if (problem_.contact() && (enters || inverted)) {
       back_to_correction();
-      equilibrium_answer("the free step after the correction carried a node into an obstacle");
+      equilibrium_answer(std::string("the free step after the correction ") +
+                         (inverted ? "inverted an element" : "carried a node into an obstacle"));
       break;
     }
-    if (enters || (inverted && !again)) {  // the answer: the correction
+    if (inverted && !again) {  // the answer: the correction
       back_to_correction();
-      report.fallback +=
-          std::string(report.fallback.empty() ? "" : "; ") + "the free step after the correction " +
-          (inverted ? "inverted an element" : "carried a node into an obstacle") + ": not taken";
+      report.fallback += std::string(report.fallback.empty() ? "" : "; ") +
+                         "the free step after the correction inverted an element: not taken";
       break;
     }
     if (!inverted) {
