@@ -752,8 +752,19 @@ TEST_F(DeckErrors, AContactForceEffectorNamesAnObstacleOfTheDeck) {
       obstacles("{name: ball, type: sphere, center: [0, 0, -1], radius: 0.5}") +
       "cavities:\n  - {group: c}\ncontrol:\n  effectors: [{name: press, obstacle: bal}]\n"
       "  actuators: [{cavity: c}]\n";
-  expect_errors({{deck, "control.effectors[0].obstacle",
-                  "no obstacle named 'bal' (did you mean 'ball'? obstacles: ball)"}});
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string d = deck;
+    d.replace(d.find(from), from.size(), to);
+    return d;
+  };
+  expect_errors({
+      {deck, "control.effectors[0].obstacle",
+       "no obstacle named 'bal' (did you mean 'ball'? obstacles: ball)"},
+      {with("obstacle: bal", "obstacle: ball, surfaces: [skim]"),
+       "control.effectors[0].surfaces[0]", "'skim' is not one of contact.surfaces (skin)"},
+      {with("obstacle: bal", "position: [0, 0, 0], surfaces: [skin]"),
+       "control.effectors[0].surfaces", "needs obstacle (a contact force)"},
+  });
 }
 
 TEST_F(DeckErrors, ObstaclesAndContact) {
