@@ -3,13 +3,16 @@
 // gap where the barrier's pressure is that force per area; a block resting on a floor puts
 // its weight on it; a sphere, a cylinder and a box pressed into a clamped block push on it
 // with the clamp's reaction, no node of the body reaching them; the shipped finger pressing
-// on a ball balances its base, its weight and the ball in every state. On 2 ranks every
-// force is compared with the same deck run on one.
+// on a ball balances its base, its weight and the ball in every state; a block on an incline
+// sticks below tan(theta) = mu and slides above it with its closed-form acceleration; the
+// controller presses with the contact force asked for. On 2 ranks every force is compared
+// with the same deck run on one.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -293,6 +296,69 @@ TEST(ObstacleContact, AStickingBlockStaysWhereItTouched) {
     }
   }
   EXPECT_GT(touched.size(), 10u);
+}
+
+// A free block (1 kg) on a floor with friction mu = 0.5, gravity tilted by theta (the
+// incline), in implicit dynamics: its bottom starts half a dhat above the floor.
+std::string block_on_incline(double theta_deg) {
+  const double theta = theta_deg * M_PI / 180, g = 9.81;
+  char gravity[80];
+  std::snprintf(gravity, sizeof gravity, "[%.17g, 0, %.17g]", g * std::sin(theta),
+                -g * std::cos(theta));
+  return block_deck(
+      "materials:\n"
+      "  - {group: body, model: neo_hookean, E: 1.0e6, nu: 0.3, density: 1000}\n"
+      "loads: {gravity: " +
+      std::string(gravity) +
+      "}\n"
+      "obstacles:\n"
+      "  - {name: floor, type: plane, point: [0, 0, -5.0e-5], normal: [0, 0, 1], friction: 0.5}\n"
+      "contact: {surfaces: [bottom], distance: 1.0e-4}\n"
+      "time: {type: dynamic, dt: 0.01, end_time: 0.2, integrator: backward_euler}\n");
+}
+
+// The block's mean x displacement per output step, from the .h5 (rank 0).
+std::vector<double> mean_x(const std::string& h5, size_t steps) {
+  std::vector<double> x;
+  for (size_t k = 0; k < steps; ++k) {
+    const auto u = hs_test::read_dataset(h5, "/step_" + std::to_string(k) + "/displacement");
+    double sum = 0;
+    for (size_t n = 0; 3 * n < u.size(); ++n) sum += u[3 * n];
+    x.push_back(sum / (u.size() / 3));
+  }
+  return x;
+}
+
+TEST(ObstacleContact, ABlockOnAnInclineSticksBelowMuAndSlidesAboveWithItsAcceleration) {
+  // tan 20 deg = 0.36 < mu: the block comes to rest and friction holds m g sin(theta);
+  // tan 35 deg = 0.70 > mu: it slides with a = g (sin(theta) - mu cos(theta)) and friction is
+  // mu times the normal force m g cos(theta).
+  const double g = 9.81, mu = 0.5, m = 1000 * 0.1 * 0.1 * 0.1, dt = 0.01;
+  for (double theta_deg : {20.0, 35.0}) {
+    const std::string tag = "incline" + std::to_string(static_cast<int>(theta_deg));
+    const std::string folder = (hs_test::test_folder() / tag).string();
+    run(write_deck(tag + ".yaml", block_on_incline(theta_deg)), tag);
+    const double theta = theta_deg * M_PI / 180;
+    const auto rows = history(folder);
+    ASSERT_EQ(rows.size(), 21u);
+    const auto& end = rows.back();
+    EXPECT_NEAR(-end.at("contact_floor_z_N"), m * g * std::cos(theta), 1e-6) << tag;
+    const bool slides = theta_deg > 30;
+    EXPECT_NEAR(end.at("contact_floor_x_N"),
+                slides ? mu * m * g * std::cos(theta) : m * g * std::sin(theta), 1e-6)
+        << tag;
+    if (world_rank() != 0) continue;
+    const auto x = mean_x(folder + "/" + tag + ".h5", rows.size());
+    const size_t n = x.size();
+    const double a = (x[n - 1] - 2 * x[n - 2] + x[n - 3]) / (dt * dt);
+    if (slides) {
+      EXPECT_NEAR(a, g * (std::sin(theta) - mu * std::cos(theta)), 1e-5) << tag;
+      EXPECT_GT(x[n - 1], 0.03) << tag;
+    } else {
+      EXPECT_NEAR(x[n - 1], x[n - 6], 1e-9) << tag;  // at rest
+      EXPECT_LT(x[n - 1], 1e-4) << tag;              // the shear's and eps_v's creep
+    }
+  }
 }
 
 TEST(ObstacleContact, AnObstacleThatStartsInsideTheBodyIsRefusedBeforeAnyWork) {
