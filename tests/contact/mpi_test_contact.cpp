@@ -35,16 +35,16 @@ using hs_test::world_size;
 using hs_test::write_deck;
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
-// The run on every rank; on 2 ranks, its obstacle forces also against rank 0's run alone.
-Json run(const std::string& deck, const std::string& tag) {
+// The run on every rank (with the deck's keys overridden by `sets`); on 2 ranks, its obstacle
+// forces also against rank 0's run alone.
+Json run(const std::string& deck, const std::string& tag, std::vector<std::string> sets = {}) {
   const std::string folder = (hs_test::test_folder() / tag).string();
-  const Json all =
-      shared(hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder}), MPI_COMM_WORLD));
+  sets.push_back("output.folder=" + folder);
+  const Json all = shared(hs::run_simulation(hs::parse_deck(deck, sets), MPI_COMM_WORLD));
   if (world_size() > 1) {
     Json one;
-    if (world_rank() == 0)
-      one = hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder + "_one"}),
-                               MPI_COMM_SELF);
+    sets.back() = "output.folder=" + folder + "_one";
+    if (world_rank() == 0) one = hs::run_simulation(hs::parse_deck(deck, sets), MPI_COMM_SELF);
     one = shared(one);
     const auto& a = all["contact"]["obstacles"];
     const auto& b = one["contact"]["obstacles"];
@@ -298,25 +298,6 @@ TEST(ObstacleContact, AStickingBlockStaysWhereItTouched) {
   EXPECT_GT(touched.size(), 10u);
 }
 
-// A free block (1 kg) on a floor with friction mu = 0.5, gravity tilted by theta (the
-// incline), in implicit dynamics: its bottom starts half a dhat above the floor.
-std::string block_on_incline(double theta_deg) {
-  const double theta = theta_deg * M_PI / 180, g = 9.81;
-  char gravity[80];
-  std::snprintf(gravity, sizeof gravity, "[%.17g, 0, %.17g]", g * std::sin(theta),
-                -g * std::cos(theta));
-  return block_deck(
-      "materials:\n"
-      "  - {group: body, model: neo_hookean, E: 1.0e6, nu: 0.3, density: 1000}\n"
-      "loads: {gravity: " +
-      std::string(gravity) +
-      "}\n"
-      "obstacles:\n"
-      "  - {name: floor, type: plane, point: [0, 0, -5.0e-5], normal: [0, 0, 1], friction: 0.5}\n"
-      "contact: {surfaces: [bottom], distance: 1.0e-4}\n"
-      "time: {type: dynamic, dt: 0.01, end_time: 0.2, integrator: backward_euler}\n");
-}
-
 // The block's mean x displacement per output step, from the .h5 (rank 0).
 std::vector<double> mean_x(const std::string& h5, size_t steps) {
   std::vector<double> x;
@@ -330,25 +311,29 @@ std::vector<double> mean_x(const std::string& h5, size_t steps) {
 }
 
 TEST(ObstacleContact, ABlockOnAnInclineSticksBelowMuAndSlidesAboveWithItsAcceleration) {
-  // tan 20 deg = 0.36 < mu: the block comes to rest and friction holds m g sin(theta);
-  // tan 35 deg = 0.70 > mu: it slides with a = g (sin(theta) - mu cos(theta)) and friction is
-  // mu times the normal force m g cos(theta).
+  // input/block_on_incline.yaml: a free 1 kg block on a floor with mu = 0.5, gravity tilted by
+  // theta (the incline), in implicit dynamics. tan 35 deg = 0.70 > mu (the deck): it slides
+  // with a = g (sin(theta) - mu cos(theta)) and friction is mu times the normal force
+  // m g cos(theta); tan 20 deg = 0.36 < mu: it comes to rest and friction holds m g sin(theta).
   const double g = 9.81, mu = 0.5, m = 1000 * 0.1 * 0.1 * 0.1, dt = 0.01;
   for (double theta_deg : {20.0, 35.0}) {
-    const std::string tag = "incline" + std::to_string(static_cast<int>(theta_deg));
+    const std::string tag = "block_on_incline" + std::to_string(static_cast<int>(theta_deg));
     const std::string folder = (hs_test::test_folder() / tag).string();
-    run(write_deck(tag + ".yaml", block_on_incline(theta_deg)), tag);
     const double theta = theta_deg * M_PI / 180;
+    char gravity[80];
+    std::snprintf(gravity, sizeof gravity, "loads.gravity=[%.17g, 0, %.17g]", g * std::sin(theta),
+                  -g * std::cos(theta));
+    run(kSource + "/input/block_on_incline.yaml", tag, {gravity});
     const auto rows = history(folder);
     ASSERT_EQ(rows.size(), 21u);
     const auto& end = rows.back();
-    EXPECT_NEAR(-end.at("contact_floor_z_N"), m * g * std::cos(theta), 1e-6) << tag;
+    EXPECT_NEAR(-end.at("contact_incline_z_N"), m * g * std::cos(theta), 1e-6) << tag;
     const bool slides = theta_deg > 30;
-    EXPECT_NEAR(end.at("contact_floor_x_N"),
+    EXPECT_NEAR(end.at("contact_incline_x_N"),
                 slides ? mu * m * g * std::cos(theta) : m * g * std::sin(theta), 1e-6)
         << tag;
     if (world_rank() != 0) continue;
-    const auto x = mean_x(folder + "/" + tag + ".h5", rows.size());
+    const auto x = mean_x(folder + "/block_on_incline.h5", rows.size());
     const size_t n = x.size();
     const double a = (x[n - 1] - 2 * x[n - 2] + x[n - 3]) / (dt * dt);
     if (slides) {
