@@ -346,6 +346,43 @@ TEST(ObstacleContact, ABlockOnAnInclineSticksBelowMuAndSlidesAboveWithItsAcceler
   }
 }
 
+TEST(ObstacleContact, ABallPressedOnAPlaneHasHertzsPressure) {
+  // input/hertz_contact.yaml: a quarter of an elastic hemisphere (R 10 mm, E 100 kPa, nu 0.3)
+  // pressed on a plane. Its contact pressure field against Hertz's p0 sqrt(1 - r^2 / a^2) for
+  // the force the plane takes, a = (3 F R / (4 E*))^(1/3): within 3 % of p0 at the pole and on
+  // rings of the ball's surface (mean over the ring's nodes); the barrier's distance (10 um,
+  // a tenth of the indentation) keeps the computed pressure 1-3 % low, 1 % with 4 um.
+  const std::string folder = (hs_test::test_folder() / "hertz").string();
+  const Json s = run(kSource + "/input/hertz_contact.yaml", "hertz");
+  const double R = 0.01, E_star = 1e5 / (1 - 0.3 * 0.3);
+  const double quarter = -obstacle_force(s, 0)[2];
+  EXPECT_NEAR(s["reactions_N"]["top"][2].get<double>(), -quarter, 1e-8 * quarter);
+  const double F = 4 * quarter, a = std::cbrt(3 * F * R / (4 * E_star));
+  const double p0 = 3 * F / (2 * M_PI * a * a);
+  EXPECT_GT(a, 0.001);  // several elements across the contact (hc = 0.1 mm)
+  if (world_rank() != 0) return;
+  const std::string h5 = folder + "/hertz_contact.h5";
+  const auto X = hs_test::read_dataset(h5, "/mesh/coordinates");
+  const int last = s["outputs"].get<int>() - 1;
+  const auto p = hs_test::read_dataset(h5, "/step_" + std::to_string(last) + "/contact_pressure");
+  for (double ring : {0.0, 0.2, 0.4, 0.6, 0.8, 0.9}) {
+    double sum = 0;
+    int count = 0;
+    for (size_t n = 0; n < p.size(); ++n) {
+      const double r = std::hypot(X[3 * n], X[3 * n + 1]);
+      const double from_centre = std::hypot(r, X[3 * n + 2]);
+      if (std::abs(from_centre - R) > 1e-6 * R || std::abs(r - ring * a) > 0.08 * a) continue;
+      sum += p[n];
+      ++count;
+    }
+    ASSERT_GT(count, 0) << ring;
+    EXPECT_NEAR(sum / count / p0, std::sqrt(1 - ring * ring), 0.03) << "r = " << ring << " a";
+  }
+  // Beyond the contact radius and its barrier's reach, nothing.
+  for (size_t n = 0; n < p.size(); ++n)
+    if (std::hypot(X[3 * n], X[3 * n + 1]) > 1.3 * a) EXPECT_EQ(p[n], 0) << n;
+}
+
 TEST(ObstacleContact, AnObstacleThatStartsInsideTheBodyIsRefusedBeforeAnyWork) {
   // A ball whose bottom is 5 mm below the block's top face: named, with how deep the body's
   // surface reaches into it and where, on every rank.
