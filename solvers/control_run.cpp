@@ -173,6 +173,10 @@ nlohmann::json ControlLoop::resume(const Restart& restart, Vec u) {
 }
 
 void ControlLoop::start(Vec u) {
+  // Friction's lag is the rest state's until the first answer, then each answer's: the
+  // controller's trial and check solves do not move it (docs/contact.md, "Friction").
+  problem_.take_friction_lag(u, 1.0);
+  problem_.hold_friction_lag(true);
   if (!resumed_) controller_.set_rest(u);
   if (reduced_) reduced_->set_rest(u);
   for (const auto& part : ControlStepReport{}.parts())
@@ -202,6 +206,7 @@ ControlStepReport ControlLoop::take_steps(Vec u, const std::vector<ControlTarget
   ControlStepReport r;
   for (int k = 0; k < config_.control->steps_per_target; ++k) {
     r = reduced_ ? reduced_->step(u, targets) : controller_.step(u, targets);
+    problem_.take_friction_lag(u, 1.0);  // each step's end the next one's start
     if (!r.fallback.empty() && rank == 0)
       std::cerr << "hydrosoft: control: " << r.fallback << std::endl;
     newton_iterations_ += r.newton_iterations;

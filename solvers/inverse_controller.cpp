@@ -159,6 +159,7 @@ void InverseController::converge_free(Vec u, bool one_step, ControlStepReport& r
                                       StepClock& clock) {
   const auto& timers = problem_.timers();
   clock.start = MPI_Wtime();
+  problem_.begin_solve();  // friction lagged from the last answer (a one_step step has no Newton)
   clock.assembly0 = timers.residual_s + timers.jacobian_s;
   clock.fluid0 = constraints_.fluid_weight_seconds();
   for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();

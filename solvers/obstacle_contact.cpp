@@ -189,7 +189,7 @@ Eigen::Vector3d ObstacleContact::force_on(const double* u, double s, int o,
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const int32_t n = nodes_[i];
     if (only && !(*only)[n]) continue;
-    f += node_contact(obstacles_, position(u, n), s, area_[i], barrier_, false).force[o];
+    f += evaluate(i, position(u, n), s, false).force[o];
   }
   return f;
 }
@@ -199,7 +199,7 @@ void ObstacleContact::force_rows(const double* u, double s, int o, const std::ve
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const int32_t n = nodes_[i];
     if (only && !(*only)[n]) continue;
-    const NodeContact c = node_contact(obstacles_, position(u, n), s, area_[i], barrier_, false);
+    const NodeContact c = evaluate(i, position(u, n), s, false);
     for (int d = 0; d < 3; ++d)
       for (int j = 0; j < 3; ++j) rows[d][3 * n + j] = c.stiffness[o](d, j);
   }

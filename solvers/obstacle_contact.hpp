@@ -37,8 +37,8 @@ class ObstacleContact {
   // every contact node at least a tenth of its gap outside every obstacle (step_bound of
   // contact/obstacle.hpp). On this rank.
   double step_limit(const double* u, const double* du, double s) const;
-  // The force the body's contact nodes exert on obstacle o (friction left out), those with
-  // only[n] set where `only` (per local node) is given; on this rank.
+  // The force the body's contact nodes exert on obstacle o (with friction, as totals()),
+  // those with only[n] set where `only` (per local node) is given; on this rank.
   Eigen::Vector3d force_on(const double* u, double s, int o, const std::vector<char>* only) const;
   // Its derivative with respect to the displacements, as three rows (d F_o,x / du, ...):
   // rows[d] holds the owned values, 3 per node, set at those contact nodes (the exact

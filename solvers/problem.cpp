@@ -488,6 +488,12 @@ std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {
 }
 
 void Problem::accept_state(Vec u, double s) {
+  if (!contact_ || !contact_->has_friction() || friction_lag_held_) return;
+  LocalView view(u, u_work_);
+  contact_->accept(view.values(), s);
+}
+
+void Problem::take_friction_lag(Vec u, double s) {
   if (!contact_ || !contact_->has_friction()) return;
   LocalView view(u, u_work_);
   contact_->accept(view.values(), s);

@@ -157,6 +157,11 @@ class Problem {
   void begin_solve() {
     if (contact_) contact_->begin_step();
   }
+  // While held, accept_state does nothing: the control loop holds friction's lag over its
+  // solves (trial and check solves included) and accepts each answered state with
+  // take_friction_lag (collective), which the next begin_solve() makes the lag.
+  void hold_friction_lag(bool held) { friction_lag_held_ = held; }
+  void take_friction_lag(Vec u, double s);
   // Contact with the deck's obstacles (null without them).
   const ObstacleContact* contact() const { return contact_.get(); }
   // Per obstacle, the force the body exerts on it and its touching area, on u at load
@@ -361,6 +366,7 @@ class Problem {
   bool has_volume_multipliers_ = false;
   bool has_fbar_multipliers_ = false;         // the deck's materials: the same on every rank
   std::unique_ptr<ObstacleContact> contact_;  // with obstacles
+  bool friction_lag_held_ = false;
   DofMap dofs_;
   const std::vector<double>& X_;         // reference coordinates of local nodes
   std::vector<double> body_force_;       // per local tet: npe*3, at full load

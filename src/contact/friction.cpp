@@ -60,7 +60,9 @@ void add_friction(const std::vector<ObstacleShape>& obstacles, const FrictionLag
     out.energy += scale * f0;
     out.gradient += force;
     out.force[o] += force;
-    out.hessian += scale * (f1_over_y * P + g * w * w.transpose());
+    const Eigen::Matrix3d stiffness = scale * (f1_over_y * P + g * w * w.transpose());
+    out.stiffness[o] += stiffness;
+    out.hessian += stiffness;
   }
 }
 

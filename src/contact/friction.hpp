@@ -35,7 +35,8 @@ FrictionLag friction_lag(const std::vector<ObstacleShape>& obstacles, const Eige
                          const FrictionLag& previous);
 
 // Adds the friction's energy, gradient and Hessian at x, load factor s, to `out` (and each
-// obstacle's friction force to out.force), with slip eps_v.
+// obstacle's friction force and its derivative to out.force and out.stiffness), with slip
+// eps_v.
 void add_friction(const std::vector<ObstacleShape>& obstacles, const FrictionLag& lag,
                   const Eigen::Vector3d& x, double s, double eps_v, NodeContact& out);
 

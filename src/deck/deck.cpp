@@ -94,8 +94,8 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
     r.fail("contact",
            "required with obstacles: contact.surfaces names the body's surface "
            "groups that may touch them");
-  // Friction's lag (the step's start positions and normal forces) is neither saved in a
-  // checkpoint nor kept apart from the controller's trial solves.
+  // Friction's lag (the step's start positions and normal forces) is not saved in a
+  // checkpoint.
   for (size_t i = 0; i < c.obstacles.size(); ++i) {
     if (c.obstacles[i].friction == 0) continue;
     const YAML::Node node = root["obstacles"][i]["friction"];
@@ -104,7 +104,6 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
       r.fail(key, node,
              "friction is not supported with output.checkpoint (its lagged state "
              "is not saved, so a restart would not continue the same run)");
-    if (c.control) r.fail(key, node, "friction is not supported with control (docs/contact.md)");
   }
   for (size_t i = 0; i < c.dirichlet.size(); ++i)
     if (c.dirichlet[i].exact && !c.exact.type)

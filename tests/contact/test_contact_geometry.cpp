@@ -254,6 +254,7 @@ TEST(Friction, ForceAndHessianAreTheEnergysDerivativesStickingAndSliding) {
     auto at = [&](const V3& y) {
       hs::NodeContact c;
       c.force.assign(1, V3::Zero());
+      c.stiffness.assign(1, Eigen::Matrix3d::Zero());
       hs::add_friction({floor}, lag, y, s, eps, c);
       return c;
     };
@@ -269,6 +270,9 @@ TEST(Friction, ForceAndHessianAreTheEnergysDerivativesStickingAndSliding) {
         EXPECT_NEAR(c.hessian(j, i), (p.gradient(j) - m.gradient(j)) / (2 * h),
                     1e-5 * c.hessian.norm());
     }
+    // One obstacle: its force and stiffness are the whole gradient and Hessian.
+    EXPECT_EQ(c.force[0], c.gradient);
+    EXPECT_EQ(c.stiffness[0], c.hessian);
     EXPECT_NEAR(c.gradient.dot(V3(0, 0, 1)), 0, 1e-14);  // tangential
     if (slip > eps) {
       EXPECT_NEAR(c.gradient.norm(), 0.4 * lambda, 1e-12 * lambda);

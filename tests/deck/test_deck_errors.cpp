@@ -815,9 +815,6 @@ TEST_F(DeckErrors, ObstaclesAndContact) {
       {obstacles("{name: floor, type: plane, friction: 0.5}") +
            "output: {checkpoint: {every: 1}}\n",
        "obstacles[0].friction", "friction is not supported with output.checkpoint"},
-      {control(kTip, kActuator) +
-           "obstacles:\n  - {name: floor, type: plane, friction: 0.5}\ncontact: {surfaces: [c]}\n",
-       "obstacles[0].friction", "friction is not supported with control"},
   });
 }
 
