@@ -173,8 +173,9 @@ nlohmann::json ControlLoop::resume(const Restart& restart, Vec u) {
 }
 
 void ControlLoop::start(Vec u) {
-  // Friction's lag is the rest state's until the first answer, then each answer's: the
-  // controller's trial and check solves do not move it (docs/contact.md, "Friction").
+  // Friction's lag is the rest state's until the first control step ends, then each step's
+  // end: the controller's trial and check solves do not move it (docs/contact.md,
+  // "Friction").
   problem_.take_friction_lag(u, 1.0);
   problem_.hold_friction_lag(true);
   if (!resumed_) controller_.set_rest(u);
