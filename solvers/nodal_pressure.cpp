@@ -175,6 +175,34 @@ void NodalPressure::linearize(const PetscScalar* u_local) {
   }
 }
 
+bool NodalPressure::patch_term(int32_t n, const std::vector<int64_t>& elements,
+                               const PetscScalar* ua, PatchTerm& term, double* grad,
+                               double* hess) const {
+  double ue[12], change = 0;
+  for (size_t i = 0; i < elements.size(); ++i) {
+    element_displacement(dist_, ua, static_cast<size_t>(elements[i]), ue);
+    change += p1_volume_change(geometry_[elements[i]], ue, grad + 12 * i,
+                               hess ? hess + 144 * i : nullptr, small_strain_) /
+              4;
+  }
+  if (!(V_[n] > 0)) return false;
+  const double J_minus_one = change / V_[n];
+  if (!small_strain_ && !(1.0 + J_minus_one > 0)) return false;
+  const VolumetricValues U1 = volumetric_function(1.0, J_minus_one, small_strain_);
+  term.energy = kV_[n] * U1.U;
+  term.p = kV_[n] * U1.dU / V_[n];
+  term.c = kV_[n] * U1.d2U / (V_[n] * V_[n]);
+  return std::isfinite(term.p) && std::isfinite(term.c);
+}
+
+std::vector<std::vector<int64_t>> NodalPressure::patch_elements() const {
+  std::vector<std::vector<int64_t>> patches(V_.size());
+  for (size_t e = 0; e < modulus_.size(); ++e)
+    if (takes_part(e))
+      for (int a = 0; a < 4; ++a) patches[dist_.tet_nodes[4 * e + a]].push_back(e);
+  return patches;
+}
+
 double NodalPressure::element_pressure(int64_t e) const {
   double sum = 0;
   for (int a = 0; a < 4; ++a) sum += p_[dist_.tet_nodes[4 * e + a]];

@@ -102,6 +102,21 @@ class NodalPressure {
   // scale of the round-off of its nodal forces (Problem::residual_roundoff).
   void add_element_scale(int64_t e, const double* ue, double* K) const;
 
+  // One node's patch term alone, for a reduced model that samples patches rather than
+  // assembling them (one rank; solvers/reduced/reduced_system.hpp). `elements`: the patch's
+  // tets (patch_elements()[n]); at local displacements ua its energy kV_a U1(J_a), pressure
+  // p_a = kV_a U1'(J_a) / V_a and stiffness c_a = kV_a U1''(J_a) / V_a^2, and per element
+  // dv_e/du (12 values in `grad`) and, with `hess`, d2v_e/du2 (144): the term's force is
+  // p_a sum_e dv_e/du / 4, its tangent c_a g_a g_a^T + p_a sum_e d2v_e/du2 / 4. False where
+  // the patch inverts. Not for a patch with a volume multiplier (nu = 0.5).
+  struct PatchTerm {
+    double energy = 0, p = 0, c = 0;
+  };
+  bool patch_term(int32_t n, const std::vector<int64_t>& elements, const PetscScalar* ua,
+                  PatchTerm& term, double* grad, double* hess) const;
+  // Per local node, the nodal-pressure tets around it (empty at a node of no such body).
+  std::vector<std::vector<int64_t>> patch_elements() const;
+
   // The patch coupling's entries (owned rows, global dof indices), appended to rows/cols in
   // the order fill_coupling writes their values. Collective.
   void coupling_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols);

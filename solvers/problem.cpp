@@ -142,14 +142,15 @@ void Problem::element_coordinates(int64_t e, double* X) const {
     for (int d = 0; d < 3; ++d) X[3 * a + d] = X_[3 * nodes[a] + d];
 }
 
-ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const {
+ElementOutput Problem::element_force(int64_t e, const PetscScalar* ua, double* r, double* K,
+                                     bool patch_share) const {
   double X[30], ue[30];
   element_displacement(ua, e, ue);
   const auto& m = materials_[dist_.tet_volume[e]];
   const MaterialLaw& law = *element_laws_[dist_.tet_volume[e]];
   if (!p1_geometry_.empty()) {
     const ElementOutput out = tet_internal_force_p1(p1_geometry_[e], ue, law, r, K);
-    if (nodal_ && nodal_->takes_part(e)) nodal_->add_element(e, ue, r, K);
+    if (patch_share && nodal_ && nodal_->takes_part(e)) nodal_->add_element(e, ue, r, K);
     return out;
   }
   element_coordinates(e, X);

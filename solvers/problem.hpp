@@ -251,9 +251,14 @@ class Problem {
 
   const AssemblyTimers& timers() const { return timers_; }
   // Internal force (and tangent, K not null) of local tet e at local displacements ua (owned
-  // then ghost nodes, 3 each): one element's part of f_int, for the elements a reduced model
-  // samples. Not for a nodal-pressure body (its volumetric part is per node).
-  ElementOutput element_force(int64_t e, const PetscScalar* ua, double* r, double* K) const;
+  // then ghost nodes, 3 each): one element's part of f_int. In a nodal-pressure body that
+  // part includes, with `patch_share`, the element's share of its nodes' patch terms at the
+  // last assembly's pressures; a reduced model samples elements without it and the patch
+  // terms apart (nodal_pressure()->patch_term).
+  ElementOutput element_force(int64_t e, const PetscScalar* ua, double* r, double* K,
+                              bool patch_share = true) const;
+  // The nodal-pressure element's patch terms (null without a nodal-pressure body).
+  const NodalPressure* nodal_pressure() const { return nodal_.get(); }
   bool has_follower_loads() const { return !pressure_faces_.empty(); }
   // Pressure loads of the deck (open surfaces: not conservative, so their load stiffness is
   // not symmetric). A cavity's pressure on its closed walls is conservative (the potential

@@ -3,7 +3,7 @@
 
     /usr/bin/python3 bench/reduced/reduced_sweep.py [--deck input/finger_hydraulic.yaml]
         [--h 0.00135] [--lines 40] [--repeats 3] [--samples 17] [--model FILE] [--every N]
-        [--pod-tolerance T] [--skip-full]
+        [--pod-tolerance T] [--skip-full] [--set KEY=VALUE ...]
 
 Trains the deck's reduced model (`hydrosoft reduce`, timed; skipped with --model), then sends
 the same tip-height lines, in a fixed shuffled order, to the reduced model and to the full model
@@ -79,22 +79,27 @@ def main():
     ap.add_argument("--skip-full", action="store_true")
     ap.add_argument("--full-lines", type=int, default=1000, help="lines the full model answers")
     ap.add_argument("--full-steps", type=int, default=10, help="its control steps a line")
+    ap.add_argument("--set", action="append", default=[],
+                    help="a deck override for every run (training too), e.g. materials[0].nu=0.4995")
     a = ap.parse_args()
     work = tempfile.mkdtemp(prefix="reduced_sweep_")
-    base = [] if a.h is None else [f"mesh.parameters.h={a.h}"]
+    base = ([] if a.h is None else [f"mesh.parameters.h={a.h}"]) + a.set
+    trained = list(base)
     base.append("control.actuators[0].max_pressure_change=1e9")
     model = a.model or os.path.join(work, "model.h5")
     if not a.model:
         t0 = time.perf_counter()
         pod = [] if a.pod_tolerance is None else ["--pod-tolerance", a.pod_tolerance]
         subprocess.run([EXE, "reduce", a.deck, "-o", model, "-q", "--samples", str(a.samples),
-                        "--set", f"output.folder={work}/train"] + pod + sets(base[:1]),
+                        "--set", f"output.folder={work}/train"] + pod + sets(trained),
                        check=True, env=ENV, stdout=subprocess.DEVNULL)
         print(f"training: {time.perf_counter() - t0:.1f} s")
         with open(f"{work}/train/summary.json") as f:
             r = json.load(f)["reduction"]
+        patches = (f", patches {r['ecsw']['patches']} of {r['ecsw']['of_patches']}"
+                   if r['ecsw'].get('patches') else "")
         print(f"  modes {r['pod']['modes']}, elements {r['ecsw']['elements']} of "
-              f"{r['ecsw']['of']}, held-back effector error max "
+              f"{r['ecsw']['of']}{patches}, held-back effector error max "
               f"{1e3 * r['held_back']['max_effector_error_m']:.3f} mm")
     # The tip's range: the full model at the bounds, from the training summary's states.
     probe = answers(a.deck, base + [f"control.reduced_model={model}"], ["0.09 0 -0.03", "0.09 0 0.01"],

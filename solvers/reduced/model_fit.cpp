@@ -15,10 +15,6 @@ std::string unreducible(const Config& config, const Problem& problem,
     return "a reduced model runs on one rank (this run has " +
            std::to_string(problem.distribution().size) + ")";
   if (!config.control) return "a reduced model needs a control section (its actuators)";
-  if (problem.has_nodal_pressure())
-    return "the nodal-pressure element (a material at nu >= 0.49 on P1) couples the elements "
-           "of a patch, which element sampling cannot reduce; set the material's formulation "
-           "to displacement or fbar";
   if (problem.has_volume_multipliers())
     return "an exactly incompressible material (nu = 0.5) keeps its volumes by multipliers "
            "that the reduced model does not carry; give it nu 0.4999 (within 0.1 % of it)";

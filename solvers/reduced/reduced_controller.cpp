@@ -328,6 +328,7 @@ nlohmann::json ReducedController::summary() const {
   return {{"file", path_},
           {"modes", system_->size()},
           {"elements", model_.elements.size()},
+          {"patches", model_.patches.size()},
           {"sampled_dofs", system_->sampled_dofs()},
           {"steps_outside_envelope", outside_},
           {"error_indicator", indicator_

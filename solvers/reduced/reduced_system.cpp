@@ -66,6 +66,38 @@ ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintS
     }
     phi_element_.push_back(rows_e);
   }
+  nodal_ = problem.nodal_pressure();
+  if (!model.patches.empty()) {
+    if (!nodal_)
+      throw InputError(path +
+                       ": the model samples node patches, and this run's body has no "
+                       "nodal-pressure element");
+    std::vector<int32_t> local_of(model.nodes, -1);  // one rank: every node is local
+    for (int64_t n = 0; n < nodes; ++n) local_of[dist.old_of_local[n]] = static_cast<int32_t>(n);
+    const std::vector<std::vector<int64_t>> around = nodal_->patch_elements();
+    for (size_t i = 0; i < model.patches.size(); ++i) {
+      SampledPatch patch{local_of[model.patches[i]], model.patch_weights[i], {}, {}, {}};
+      patch.elements = around[patch.node];
+      if (patch.elements.empty())
+        throw InputError(path + ": node " + std::to_string(model.patches[i]) +
+                         " has no nodal-pressure patch in this run");
+      std::vector<int32_t> nodes;
+      for (int64_t e : patch.elements)
+        for (int a = 0; a < 4; ++a) {
+          const int32_t node = dist.tet_nodes[e * 4 + a];
+          const auto at = std::find(nodes.begin(), nodes.end(), node);
+          patch.slots.push_back(static_cast<int>(at - nodes.begin()));
+          if (at == nodes.end()) nodes.push_back(node);
+        }
+      patch.phi.resize(3 * static_cast<Eigen::Index>(nodes.size()), k);
+      for (size_t j = 0; j < nodes.size(); ++j) {
+        patch.phi.middleRows(3 * static_cast<Eigen::Index>(j), 3) =
+            phi_.middleRows(3 * nodes[j], 3);
+        for (int d = 0; d < 3; ++d) dofs.insert(3 * nodes[j] + d);
+      }
+      patches_.push_back(std::move(patch));
+    }
+  }
   // The constraints' support: where their forces and loads act at rest, whole nodes.
   work_ = VecHandle(problem.create_vector());
   VecHandle u(problem.create_vector()), f(problem.create_vector());
@@ -162,7 +194,8 @@ bool ReducedSystem::residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r
   double re[30], Ke[900];
   bool valid = true;
   for (size_t i = 0; i < elements_.size(); ++i) {
-    const ElementOutput out = problem_.element_force(elements_[i], ua, re, tangent ? Ke : nullptr);
+    const ElementOutput out =
+        problem_.element_force(elements_[i], ua, re, tangent ? Ke : nullptr, false);
     valid &= out.valid;
     const Eigen::MatrixXd& P = phi_element_[i];
     r += weights_[i] * P.transpose() * Eigen::Map<const Eigen::VectorXd>(re, n);
@@ -172,6 +205,7 @@ bool ReducedSystem::residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r
       *tangent += weights_[i] * P.transpose() * (K * P);
     }
   }
+  valid = valid && add_patches(ua, r, tangent);
   HS_PETSC(VecRestoreArrayRead(u, &ua));
   element_s_ += MPI_Wtime() - t0;
   Eigen::VectorXd p;
@@ -180,6 +214,41 @@ bool ReducedSystem::residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r
   force_scale_ = std::max({dead_.norm(), p.norm(), 1e-300});
   if (forces) *forces = p;
   return r.allFinite();
+}
+
+bool ReducedSystem::add_patches(const PetscScalar* ua, Eigen::VectorXd& r, Eigen::MatrixXd* K) {
+  std::vector<double> grad, hess;
+  for (const SampledPatch& patch : patches_) {
+    const size_t m = patch.elements.size();
+    grad.resize(12 * m);
+    hess.resize(K ? 144 * m : 0);
+    NodalPressure::PatchTerm term;
+    if (!nodal_->patch_term(patch.node, patch.elements, ua, term, grad.data(),
+                            K ? hess.data() : nullptr))
+      return false;
+    // g_a = sum_e dv_e/du / 4 and, with K, sum_e d2v_e/du2 / 4 on the patch's dofs.
+    const Eigen::Index n = patch.phi.rows();
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+    Eigen::MatrixXd H = K ? Eigen::MatrixXd::Zero(n, n) : Eigen::MatrixXd();
+    for (size_t j = 0; j < m; ++j)
+      for (int a = 0; a < 4; ++a) {
+        const Eigen::Index ia = 3 * patch.slots[4 * j + a];
+        for (int d = 0; d < 3; ++d) g(ia + d) += grad[12 * j + 3 * a + d] / 4;
+        if (!K) continue;
+        for (int b = 0; b < 4; ++b) {
+          const Eigen::Index ib = 3 * patch.slots[4 * j + b];
+          for (int d = 0; d < 3; ++d)
+            for (int c = 0; c < 3; ++c)
+              H(ia + d, ib + c) += hess[144 * j + 12 * (3 * a + d) + 3 * b + c] / 4;
+        }
+      }
+    const Eigen::VectorXd Pg = patch.phi.transpose() * g;  // Phi^T g_a
+    r += patch.weight * term.p * Pg;
+    if (K)
+      *K += patch.weight *
+            (term.c * Pg * Pg.transpose() + term.p * patch.phi.transpose() * (H * patch.phi));
+  }
+  return true;
 }
 
 Eigen::MatrixXd ReducedSystem::unit_forces(Vec u) {

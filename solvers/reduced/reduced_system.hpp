@@ -2,7 +2,8 @@
 // u = Phi q in the span of the model's POD basis Phi (k columns), and equation (1) of the paper
 // projected on it,
 //   r(q) = sum_{e in E} w_e Phi_e^T f_e(Phi_e q) - Phi^T f_dead - Phi^T f_c(Phi q, lambda) = 0,
-// the internal forces hyper-reduced (ECSW: the sampled elements E and their weights w), the
+// the internal forces hyper-reduced (ECSW: the sampled elements E and their weights w; a
+// nodal-pressure body's volumetric term by sampled node patches and their weights), the
 // dead loads (gravity, tractions) projected once, and the constraints' forces f_c (the
 // cavities' pressures on their walls, the liquid's weight, the cables' tensions) evaluated by
 // the constraints themselves on the walls of the reconstructed body. Only the sampled dofs of u
@@ -96,6 +97,9 @@ class ReducedSystem {
   double constraint_seconds() const { return constraint_s_; }
 
  private:
+  // Adds the sampled patches' weighted terms (a nodal-pressure body) to r and the tangent K
+  // (may be null), at local displacements ua. False where a patch inverts.
+  bool add_patches(const PetscScalar* ua, Eigen::VectorXd& r, Eigen::MatrixXd* K);
   // r(q) (false where an element inverts or a constraint leaves its domain); `tangent`: also
   // the elements' part of dr/dq; `forces`: also the constraints' projected forces.
   bool residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r, Eigen::MatrixXd* tangent,
@@ -124,7 +128,16 @@ class ReducedSystem {
   std::vector<int64_t> elements_;  // local tetrahedra of the hyper-reduction
   std::vector<double> weights_;
   std::vector<Eigen::MatrixXd> phi_element_;  // Phi's rows at each element's dofs
-  Eigen::VectorXd dead_;                      // Phi^T f_dead
+  struct SampledPatch {
+    int32_t node;  // local
+    double weight;
+    std::vector<int64_t> elements;  // the patch's local tets
+    std::vector<int> slots;         // per element's vertex, its node's place in the patch's
+    Eigen::MatrixXd phi;            // Phi's rows at the patch's nodes' dofs
+  };
+  std::vector<SampledPatch> patches_;
+  const NodalPressure* nodal_ = nullptr;
+  Eigen::VectorXd dead_;  // Phi^T f_dead
   VecHandle work_;
   std::vector<int> actuators_;  // the model's actuators, indices into constraints_
   Eigen::MatrixXd training_actuations_, training_states_;

@@ -96,6 +96,7 @@ void write_reduced_model(const std::string& path, const ReducedModel& m) {
                          {"upper", m.upper},
                          {"modes", m.basis.cols()},
                          {"elements", m.elements.size()},
+                         {"patches", m.patches.size()},
                          {"training_samples", m.training_states.rows()},
                          {"report", m.report}};
   const std::string tmp = path + ".tmp";
@@ -109,6 +110,10 @@ void write_reduced_model(const std::string& path, const ReducedModel& m) {
     h5.write("/basis", basis, rows, k);
     h5.write("/elements", m.elements, m.elements.size(), 0);
     h5.write("/weights", m.weights, m.weights.size(), 0);
+    if (!m.patches.empty()) {
+      h5.write("/patches", m.patches, m.patches.size(), 0);
+      h5.write("/patch_weights", m.patch_weights, m.patch_weights.size(), 0);
+    }
     h5.write("/training_actuations", row_major(m.training_actuations), m.training_actuations.rows(),
              m.training_actuations.cols());
     h5.write("/training_states", row_major(m.training_states), m.training_states.rows(),
@@ -126,7 +131,7 @@ ReducedModel read_reduced_model(const std::string& path) {
   if (r.text("format") != kFormat) r.fail("not a hydrosoft reduced model");
   nlohmann::json info;
   ReducedModel m;
-  int64_t k = 0, elements = 0, samples = 0;
+  int64_t k = 0, elements = 0, patches = 0, samples = 0;
   try {
     info = nlohmann::json::parse(r.text("model"));
     m.nodes = info.at("nodes");
@@ -140,20 +145,25 @@ ReducedModel read_reduced_model(const std::string& path) {
     m.upper = info.at("upper").get<std::vector<double>>();
     k = info.at("modes");
     elements = info.at("elements");
+    patches = info.value("patches", int64_t{0});
     samples = info.at("training_samples");
     m.report = info.at("report");
   } catch (const std::exception&) {
     r.fail("its model attribute is not the JSON a reduced model writes");
   }
-  if (m.nodes < 4 || m.tets < 1 || elements < 1 || elements > m.tets || samples < 1 ||
-      samples > 1000000 || (m.order != 1 && m.order != 2) || k < 1 || k > 10000 ||
-      m.actuators.empty() || m.lower.size() != m.actuators.size() ||
-      m.upper.size() != m.actuators.size())
+  if (m.nodes < 4 || m.tets < 1 || elements < 0 || elements > m.tets || patches < 0 ||
+      patches > m.nodes || elements + patches < 1 || samples < 1 || samples > 1000000 ||
+      (m.order != 1 && m.order != 2) || k < 1 || k > 10000 || m.actuators.empty() ||
+      m.lower.size() != m.actuators.size() || m.upper.size() != m.actuators.size())
     r.fail("its model attribute holds sizes no model has");
   const hsize_t rows = 3 * static_cast<hsize_t>(m.nodes);
   const std::vector<double> basis = r.read<double>("/basis", H5T_NATIVE_DOUBLE, rows, k);
   m.elements = r.read<int64_t>("/elements", H5T_NATIVE_INT64, elements, 0);
   m.weights = r.read<double>("/weights", H5T_NATIVE_DOUBLE, elements, 0);
+  if (patches > 0) {
+    m.patches = r.read<int64_t>("/patches", H5T_NATIVE_INT64, patches, 0);
+    m.patch_weights = r.read<double>("/patch_weights", H5T_NATIVE_DOUBLE, patches, 0);
+  }
   m.basis = from_row_major(basis, rows, k);
   if (!m.basis.allFinite()) r.fail("/basis holds a value that is not finite");
   const hsize_t actuators = m.actuators.size();
@@ -170,6 +180,13 @@ ReducedModel read_reduced_model(const std::string& path) {
     if (!(std::isfinite(m.weights[e]) && m.weights[e] > 0))
       r.fail("/weights: the weight of element " + std::to_string(m.elements[e]) +
              " is not a positive number");
+  }
+  for (size_t p = 0; p < m.patches.size(); ++p) {
+    if (m.patches[p] < 0 || m.patches[p] >= m.nodes)
+      r.fail("/patches: " + std::to_string(m.patches[p]) + " is not a node of the mesh");
+    if (!(std::isfinite(m.patch_weights[p]) && m.patch_weights[p] > 0))
+      r.fail("/patch_weights: the weight of node " + std::to_string(m.patches[p]) +
+             "'s patch is not a positive number");
   }
   for (size_t a = 0; a < m.lower.size(); ++a)
     if (!(std::isfinite(m.lower[a]) && std::isfinite(m.upper[a]) && m.lower[a] <= m.upper[a]))

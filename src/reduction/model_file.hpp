@@ -5,6 +5,9 @@
 //   /basis      (3 N) x k float64: the POD modes, row 3 n + d for dof d of mesh node n
 //   /elements   E int64: the hyper-reduction's tetrahedra (numbers in the mesh file)
 //   /weights    E float64: their ECSW weights (> 0)
+//   /patches    P int64: the hyper-reduction's node patches (mesh node numbers), where the
+//               body runs the nodal-pressure element: each node's volumetric term
+//   /patch_weights  P float64: their ECSW weights (> 0)
 //   /training_actuations  S x m float64: the training samples' actuations
 //   /training_states      S x k float64: their snapshots' reduced coordinates (Phi^T u)
 // The file is written whole or not at all: into "<path>.tmp", renamed once closed.
@@ -34,6 +37,8 @@ struct ReducedModel {
   Eigen::MatrixXd basis;
   std::vector<int64_t> elements;
   std::vector<double> weights;
+  std::vector<int64_t> patches;  // nodes
+  std::vector<double> patch_weights;
   // The training samples: each one's actuation (m) and reduced coordinates (k), where a
   // reduced Newton far from the last answer starts.
   Eigen::MatrixXd training_actuations, training_states;

@@ -26,6 +26,8 @@ ReducedModel small_model() {
   m.basis = Eigen::MatrixXd::Random(15, 2);
   m.elements = {1};
   m.weights = {2.5};
+  m.patches = {0, 4};  // nodes whose nodal-pressure patch terms are sampled
+  m.patch_weights = {1.5, 0.5};
   m.training_actuations = Eigen::MatrixXd::Constant(3, 1, 7.0);
   m.training_states = Eigen::MatrixXd::Random(3, 2);
   m.report = {{"held_back", {{"max_effector_error_m", 1e-4}}}};
@@ -68,9 +70,17 @@ TEST_F(ModelFile, ReadsBackWhatItWrote) {
   EXPECT_EQ(r.basis, m.basis);  // exact: doubles stored as doubles
   EXPECT_EQ(r.elements, m.elements);
   EXPECT_EQ(r.weights, m.weights);
+  EXPECT_EQ(r.patches, m.patches);
+  EXPECT_EQ(r.patch_weights, m.patch_weights);
   EXPECT_EQ(r.training_actuations, m.training_actuations);
   EXPECT_EQ(r.training_states, m.training_states);
   EXPECT_EQ(r.report, m.report);
+  // A model of a body without the nodal-pressure element samples no patch.
+  ReducedModel elements_only = small_model();
+  elements_only.patches.clear();
+  elements_only.patch_weights.clear();
+  write_reduced_model(path("e.h5"), elements_only);
+  EXPECT_TRUE(read_reduced_model(path("e.h5")).patches.empty());
 }
 
 TEST_F(ModelFile, RefusesWhatIsNotAModel) {
@@ -96,6 +106,12 @@ TEST_F(ModelFile, RefusesContentsNoModelHas) {
   m = small_model();
   m.elements = {2};  // of 2 tetrahedra: 0 and 1
   EXPECT_NE(refusal(m).find("is not a tetrahedron of the mesh"), std::string::npos);
+  m = small_model();
+  m.patches = {0, 5};  // of 5 nodes: 0 to 4
+  EXPECT_NE(refusal(m).find("/patches: 5 is not a node of the mesh"), std::string::npos);
+  m = small_model();
+  m.patch_weights = {1.5, 0};
+  EXPECT_NE(refusal(m).find("/patch_weights: the weight of node 4's patch"), std::string::npos);
   m = small_model();
   m.basis(3, 1) = std::nan("");
   EXPECT_NE(refusal(m).find("/basis holds a value that is not finite"), std::string::npos);
