@@ -19,6 +19,14 @@ void Cable::forces(Vec u, Vec g) const {
   problem_.zero_constrained(g);
 }
 
+void Cable::mark_reads(Vec marks) const {
+  for (size_t i = 0; i < path_.points(); ++i)
+    for (PetscInt dof : path_.dofs(i))
+      if (dof >= 0) HS_PETSC(VecSetValue(marks, dof, 1.0, INSERT_VALUES));
+  HS_PETSC(VecAssemblyBegin(marks));
+  HS_PETSC(VecAssemblyEnd(marks));
+}
+
 void Cable::add_load(Vec u, double /*s*/, Vec load) {
   path_.pull_direction(u, pull_);
   HS_PETSC(VecAXPY(load, multiplier(), pull_));

@@ -23,6 +23,8 @@ class Cable : public Constraint {
   Units units() const override { return {"N", "m"}; }
   double measure_at(Vec u) const override;
   void forces(Vec u, Vec g) const override;
+  // Every dof of the points' elements: a straight path's inner points carry no force at rest.
+  void mark_reads(Vec marks) const override;
   // Its tension acts on its points as a load: lambda g.
   bool adds_load() const override { return true; }
   void add_load(Vec u, double s, Vec load) override;

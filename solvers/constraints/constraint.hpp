@@ -76,6 +76,10 @@ class Constraint {
   // The forces of a unit multiplier (J^T), Dirichlet rows zero; for a frictionless actuator
   // g = dq/du. Collective.
   virtual void forces(Vec u, Vec g) const = 0;
+  // Sets to 1 in `marks` the dofs whose displacement q and g read, where g at rest can be
+  // zero on some of them (a reduced model keeps exactly these up to date). The default marks
+  // none: a cavity's unit forces at rest act on every wall node. Collective.
+  virtual void mark_reads(Vec /*marks*/) const {}
   // Puts lambda's forces where the residual finds them: a cavity's walls carry it as a
   // follower pressure of the problem. Called before every residual.
   virtual void apply_multiplier(Problem&) {}

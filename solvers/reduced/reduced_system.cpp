@@ -114,6 +114,9 @@ ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintS
   for (int c = 0; c < constraints.size(); ++c) {
     constraints[c].forces(u, f);
     add_support(f, touched);
+    HS_PETSC(VecZeroEntries(f));
+    constraints[c].mark_reads(f);
+    add_support(f, touched);
   }
   for (Vec row : rows) add_support(row, touched);
   for (PetscInt dof : touched)
