@@ -167,19 +167,8 @@ const KeyTable<ObstacleShape>& obstacle_keys() {
 
 const KeyTable<ContactConfig>& contact_keys() {
   static const KeyTable<ContactConfig> keys = {
-      custom_key<ContactConfig>(
-          "surfaces", "list of names", "required",
-          "surface groups of the body whose nodes may touch the obstacles",
-          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
-             const Config&) {
-            r.check_list(n, key);
-            require(n.size() > 0, r, n, key, "at least one surface group is required");
-            for (size_t i = 0; i < n.size(); ++i)
-              s.surfaces.push_back(r.text(n[i], item_key(key, i)));
-          },
-          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
-            out << YAML::Flow << s.surfaces;
-          })
+      names_key<ContactConfig>("surfaces", &ContactConfig::surfaces, "required",
+                               "surface groups of the body whose nodes may touch the obstacles")
           .needed(),
       positive_key("distance", &ContactConfig::distance, "1e-3 of the mesh's bounding-box diagonal",
                    "dhat (m): the gap below which the barrier pushes; a node never comes closer "

@@ -222,21 +222,11 @@ const KeyTable<EffectorConfig>& effector_keys() {
                "configuration (through the compliance, which includes the barrier)")
           .defaults_to("required (or `point`, `position`)")
           .printed_when([](const EffectorConfig& e) { return !e.obstacle.empty(); }),
-      custom_key<EffectorConfig>(
-          "surfaces", "list of names", "all of `contact.surfaces`",
+      names_key<EffectorConfig>(
+          "surfaces", &EffectorConfig::surfaces, "all of `contact.surfaces`",
           "with `obstacle`: the force of these contact surfaces only (each one of "
           "`contact.surfaces`), e.g. one finger's skin, so that each finger of a gripper has its "
-          "own grasp force; where the surfaces share nodes each node counts once",
-          [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
-             const Config&) {
-            r.check_list(n, key);
-            require(n.size() > 0, r, n, key, "at least one surface group is required");
-            for (size_t i = 0; i < n.size(); ++i)
-              e.surfaces.push_back(r.text(n[i], item_key(key, i)));
-          },
-          [](YAML::Emitter& out, const EffectorConfig& e, const Config&) {
-            out << YAML::Flow << e.surfaces;
-          })
+          "own grasp force; where the surfaces share nodes each node counts once")
           .printed_when([](const EffectorConfig& e) { return !e.surfaces.empty(); }),
       custom_key<EffectorConfig>(
           "directions", "list of `x`, `y`, `z`", "`[x, y, z]`",

@@ -103,6 +103,24 @@ DeckKey<S> enum_key(std::string name, Enum S::*member, const std::vector<std::st
   return k;
 }
 
+// A non-empty list of surface group names, printed as a flow list.
+template <class S>
+DeckKey<S> names_key(std::string name, std::vector<std::string> S::*member,
+                     std::string default_value, std::string meaning) {
+  DeckKey<S> k =
+      new_key<S>(std::move(name), "list of names", std::move(default_value), std::move(meaning));
+  k.read = [member](const DeckReader& r, const YAML::Node& n, const std::string& key, S& s,
+                    const Config&) {
+    r.check_list(n, key);
+    require(n.size() > 0, r, n, key, "at least one surface group is required");
+    for (size_t i = 0; i < n.size(); ++i) (s.*member).push_back(r.text(n[i], item_key(key, i)));
+  };
+  k.write = [member](YAML::Emitter& out, const S& s, const Config&) {
+    out << YAML::Flow << s.*member;
+  };
+  return k;
+}
+
 // The key tables that docs/decks.md shows, each by the name that marks it there
 // (<!-- keys:NAME --> ... <!-- /keys -->).
 struct DeckKeyTable {
