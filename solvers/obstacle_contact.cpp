@@ -172,6 +172,15 @@ bool ObstacleContact::add_forces(const double* u, double s, double a, double* r,
   return inside_ < 0;
 }
 
+bool ObstacleContact::node_terms(const double* u, double s, std::vector<NodeContact>& terms) const {
+  terms.resize(nodes_.size());
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    terms[i] = evaluate(i, position(u, nodes_[i]), s, false);
+    if (!terms[i].valid) return false;
+  }
+  return true;
+}
+
 void ObstacleContact::add_tangent(const double* u, double s, const NodePairBlocks& pairs,
                                   double* values) const {
   for (size_t i = 0; i < nodes_.size(); ++i) {

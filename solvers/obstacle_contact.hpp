@@ -31,6 +31,10 @@ class ObstacleContact {
   // r += a dE/du at the owned contact nodes (u, r: the local forms); the energy of those
   // nodes in *energy. False when a node is on or inside an obstacle (inside() names it).
   bool add_forces(const double* u, double s, double a, double* r, double* energy);
+  // Each owned contact node's barrier at u (its exact Hessian), in nodes()'s order: for a
+  // reduced model, which projects them itself. False when a node is on or inside an obstacle.
+  bool node_terms(const double* u, double s, std::vector<NodeContact>& terms) const;
+  const std::vector<int32_t>& nodes() const { return nodes_; }
   // The barrier's Hessians into the tangent's node-pair blocks.
   void add_tangent(const double* u, double s, const NodePairBlocks& pairs, double* values) const;
   // The largest fraction alpha <= 1 of a step du (owned values, 3 per node, as u) that keeps

@@ -20,7 +20,13 @@ std::string unreducible(const Config& config, const Problem& problem,
            "that the reduced model does not carry; give it nu 0.4999 (within 0.1 % of it)";
   if (problem.has_open_surface_pressure())
     return "a deck's follower pressure load (loads.pressure) is not reduced; cavities are";
-  if (!config.obstacles.empty()) return "contact with obstacles is not reduced";
+  if (const ObstacleContact* contact = problem.contact(); contact && contact->has_friction())
+    return "contact with friction is not reduced (its lag is a state of the path)";
+  for (const auto& e : config.control->effectors)
+    if (!e.obstacle.empty())
+      return "effector '" + e.name +
+             "' is a contact force, which the reduced model does not "
+             "answer (positions only)";
   for (int c = 0; c < constraints.size(); ++c) {
     bool driven = false;
     for (const auto& a : config.control->actuators) driven |= a.constraint == constraints[c].name();

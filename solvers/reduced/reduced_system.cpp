@@ -98,6 +98,12 @@ ReducedSystem::ReducedSystem(const Config& config, Problem& problem, ConstraintS
       patches_.push_back(std::move(patch));
     }
   }
+  contact_ = problem.contact();
+  if (contact_)
+    for (int32_t node : contact_->nodes()) {
+      phi_contact_.push_back(phi_.middleRows(3 * node, 3));
+      for (int d = 0; d < 3; ++d) dofs.insert(3 * node + d);
+    }
   // The constraints' support: where their forces and loads act at rest, whole nodes.
   work_ = VecHandle(problem.create_vector());
   VecHandle u(problem.create_vector()), f(problem.create_vector());
@@ -208,7 +214,7 @@ bool ReducedSystem::residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r
       *tangent += weights_[i] * P.transpose() * (K * P);
     }
   }
-  valid = valid && add_patches(ua, r, tangent);
+  valid = valid && add_patches(ua, r, tangent) && add_contact(ua, r, tangent);
   HS_PETSC(VecRestoreArrayRead(u, &ua));
   element_s_ += MPI_Wtime() - t0;
   Eigen::VectorXd p;
@@ -217,6 +223,18 @@ bool ReducedSystem::residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r
   force_scale_ = std::max({dead_.norm(), p.norm(), 1e-300});
   if (forces) *forces = p;
   return r.allFinite();
+}
+
+bool ReducedSystem::add_contact(const PetscScalar* ua, Eigen::VectorXd& r, Eigen::MatrixXd* K) {
+  if (!contact_) return true;
+  if (!contact_->node_terms(ua, 1.0, contact_terms_)) return false;
+  for (size_t i = 0; i < contact_terms_.size(); ++i) {
+    const NodeContact& c = contact_terms_[i];
+    if (c.gradient.isZero(0)) continue;  // farther than dhat from every obstacle
+    r += phi_contact_[i].transpose() * c.gradient;
+    if (K) *K += phi_contact_[i].transpose() * (c.hessian * phi_contact_[i]);
+  }
+  return true;
 }
 
 bool ReducedSystem::add_patches(const PetscScalar* ua, Eigen::VectorXd& r, Eigen::MatrixXd* K) {

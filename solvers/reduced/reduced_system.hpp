@@ -4,6 +4,7 @@
 //   r(q) = sum_{e in E} w_e Phi_e^T f_e(Phi_e q) - Phi^T f_dead - Phi^T f_c(Phi q, lambda) = 0,
 // the internal forces hyper-reduced (ECSW: the sampled elements E and their weights w; a
 // nodal-pressure body's volumetric term by sampled node patches and their weights), the
+// obstacles' barrier at every contact node,
 // dead loads (gravity, tractions) projected once, and the constraints' forces f_c (the
 // cavities' pressures on their walls, the liquid's weight, the cables' tensions) evaluated by
 // the constraints themselves on the walls of the reconstructed body. Only the sampled dofs of u
@@ -97,6 +98,9 @@ class ReducedSystem {
   double constraint_seconds() const { return constraint_s_; }
 
  private:
+  // Adds the contact nodes' barrier forces and (K not null) Hessians at ua. False where a
+  // node is on or inside an obstacle.
+  bool add_contact(const PetscScalar* ua, Eigen::VectorXd& r, Eigen::MatrixXd* K);
   // Adds the sampled patches' weighted terms (a nodal-pressure body) to r and the tangent K
   // (may be null), at local displacements ua. False where a patch inverts.
   bool add_patches(const PetscScalar* ua, Eigen::VectorXd& r, Eigen::MatrixXd* K);
@@ -137,6 +141,12 @@ class ReducedSystem {
   };
   std::vector<SampledPatch> patches_;
   const NodalPressure* nodal_ = nullptr;
+  // Contact with obstacles: every contact node's barrier, evaluated on the reconstructed
+  // surface (no sampling: a node's term is cheap and only the nodes near an obstacle carry
+  // one), with Phi's rows at each node.
+  const ObstacleContact* contact_ = nullptr;
+  std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> phi_contact_;
+  std::vector<NodeContact> contact_terms_;
   Eigen::VectorXd dead_;  // Phi^T f_dead
   VecHandle work_;
   std::vector<int> actuators_;  // the model's actuators, indices into constraints_

@@ -299,6 +299,57 @@ TEST(ReducedModel, ACableFingerKeepsItsCablesPointsUpToDate) {
   EXPECT_LT(held.at("max_effector_error_m").get<double>(), 5e-5);
 }
 
+// The pneumatic finger resting under its weight on a ball (the barrier at every contact
+// node of the reconstructed skin), its tip steered up off the ball and down onto it again:
+// every held-back pressure solved, each answer within the stated error of the full model's
+// equilibrium at its pressure, the contact open and closed as the full model's.
+TEST(ReducedModel, AFingerOnABallIsTrainedAndLiftedOffAndOntoIt) {
+  auto deck = [](std::vector<std::string> more, const std::string& tag) {
+    std::vector<std::string> o = {
+        "mesh.parameters.h=0.004",
+        "obstacles=[{name: ball, type: sphere, center: [0.07, 0, -0.026], radius: 0.01}]",
+        "contact={surfaces: [outer, tip]}",
+        "control.targets=[{tip: [0.09, 0, -0.009]}, {tip: [0.09, 0, -0.002]}, "
+        "{tip: [0.09, 0, -0.0015]}, {tip: [0.09, 0, -0.010]}]",
+        "control.steps_per_target=1",
+        "control.actuators[0].max_pressure_change=1e9",
+        "output.progress=false",
+        "output.folder=" + out_folder(tag)};
+    o.insert(o.end(), more.begin(), more.end());
+    return hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + kDeck, o);
+  };
+  const std::string model = out_folder("ball.h5");
+  hs::Config config = deck({}, "ball_train");
+  hs::TrainingConfig training;
+  training.output = model;
+  training.samples = 17;
+  config.training = training;
+  const nlohmann::json held =
+      hs::run_simulation(config, MPI_COMM_SELF).at("reduction").at("held_back");
+  EXPECT_EQ(held.at("unsolved"), 0) << held.dump();
+  ASSERT_TRUE(held.at("max_effector_error_m").is_number()) << held.dump();
+  const double stated = held.at("max_effector_error_m");
+  EXPECT_LT(stated, 5e-4);
+
+  const nlohmann::json run = hs::run_simulation(
+      deck({"control.reduced_model=" + model, "control.check_equilibrium=true"}, "ball_use"),
+      MPI_COMM_SELF);
+  const auto& answers = run.at("targets");
+  ASSERT_EQ(answers.size(), 4u);
+  for (const auto& t : answers) {
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i)
+      d2 += std::pow(t["reached"][i].get<double>() - t["equilibrium"][i].get<double>(), 2);
+    EXPECT_LE(std::sqrt(d2), 1.5 * stated) << t.dump();
+  }
+  auto pressing = [&](int k) {
+    return answers[k]["contact"]["obstacles"][0]["force_N"][2].get<double>() < 0;
+  };
+  EXPECT_TRUE(pressing(0));   // on the ball
+  EXPECT_FALSE(pressing(2));  // lifted off it
+  EXPECT_TRUE(pressing(3));   // landed on it again
+}
+
 TEST_F(TrainedModel, AnswersWithinItsStatedErrorAndTrainsOnlyForItsOwnRun) {
   const std::string model = out_folder("finger.h5");
   const nlohmann::json trained = train(model);
