@@ -85,7 +85,8 @@ def main():
     work = tempfile.mkdtemp(prefix="reduced_sweep_")
     base = ([] if a.h is None else [f"mesh.parameters.h={a.h}"]) + a.set
     trained = list(base)
-    base.append("control.actuators[0].max_pressure_change=1e9")
+    change = "max_force_change" if "cable" in os.path.basename(a.deck) else "max_pressure_change"
+    base.append(f"control.actuators[0].{change}=1e9")
     model = a.model or os.path.join(work, "model.h5")
     if not a.model:
         t0 = time.perf_counter()
