@@ -631,6 +631,27 @@ TEST(ObstacleContact, TheGripperGraspsTheBallWithTheForceAskedOfEachFinger) {
   EXPECT_GT(s["contact"]["min_gap_m"].get<double>(), 0);
 }
 
+TEST(ObstacleContact, TheGripperLetsGoWhenAskedForNoForceAndGraspsAgain) {
+  // A grasp force of zero: each finger backs off until its skin presses on the ball with
+  // none (the barrier's force fades at the edge of its range, dhat), then grasps again.
+  const Json s = run(kSource + "/input/gripper_grasp.yaml", "gripper_let_go",
+                     {"control.targets=[{grip_left: [0, -0.04, 0], grip_right: [0, 0.04, 0]}, "
+                      "{grip_left: [0, 0, 0], grip_right: [0, 0, 0]}, "
+                      "{grip_left: [0, -0.04, 0], grip_right: [0, 0.04, 0]}]"});
+  const auto& answers = s["targets"];
+  ASSERT_EQ(answers.size(), 6u);
+  for (const auto& t : answers) EXPECT_NEAR(grasp(t), t["target"][1].get<double>(), 1e-6);
+  for (int finger = 0; finger < 2; ++finger) {
+    // Let go: less pressure than the grasp, and the same grasp again after it.
+    const double grasping = answers[finger]["actuation"][finger].get<double>();
+    EXPECT_LT(answers[2 + finger]["actuation"][finger].get<double>(), 0.5 * grasping);
+    EXPECT_NEAR(answers[4 + finger]["actuation"][finger].get<double>(), grasping, 1e-3 * grasping);
+  }
+  // Let go, the ball carries less than a micronewton.
+  const auto& released = answers[2]["contact"]["obstacles"][0]["force_N"];
+  for (int d = 0; d < 3; ++d) EXPECT_LT(std::abs(released[d].get<double>()), 1e-6) << d;
+}
+
 TEST(ObstacleContact, TheRealTimeGripperAnswersWithEquilibria) {
   // The same gripper in the real-time step, one step a target: closing on the ball (the
   // first line) its correction's free step meets the ball and the answer is the equilibrium
