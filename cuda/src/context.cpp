@@ -118,6 +118,8 @@ const std::vector<Result>& Context::compute() {
       detail::GridParams grid = detail::grid_for(views[c], m.frame, o.grid, volumes[c]);
       if (o.method == Method::hydrostatic) {
         detail::hydrostatic(views[c], m.frame, grid, rho_g, m.outputs[c]);
+      } else if (o.method == Method::column_head && o.implementation == Implementation::cpu_fast) {
+        detail::column_head_rows(views[c], m.frame, grid, rho_g, m.outputs[c]);
       } else {
         detail::column_reference(views[c], m.frame, grid, rho_g, o.method == Method::column_head,
                                  m.outputs[c]);

@@ -44,6 +44,11 @@ struct CavityOutput {
 void column_reference(const CavityView& cavity, const Frame& frame, const GridParams& grid,
                       double rho_g, bool head, CavityOutput& out);
 
+// column_head, CPU fast path: the reference's columns, each hit's load from its own height
+// (no pairing), summed per triangle in closed form over its covered rows (column_head.cpp).
+void column_head_rows(const CavityView& cavity, const Frame& frame, const GridParams& grid,
+                      double rho_g, CavityOutput& out);
+
 // Column method, CPU fast path: row sweeps over bands of rows, on worker threads. Computes
 // the grid (Step 1) itself, on the threads, and returns the signed volume.
 class FastColumn {

@@ -37,7 +37,7 @@ struct SurfaceMesh {
 // column: the paper's column method, each section's weight on its floor. column_head: the
 // same columns, each floor and ceiling loaded by the liquid's pressure at its depth below the
 // highest point (the head above a section's ceiling pushes its floor down and its ceiling up:
-// zero net, but it inflates; CPU only). hydrostatic: that pressure on every wall, in closed
+// zero net, but it inflates). hydrostatic: that pressure on every wall, in closed
 // form (docs/fluidweight.md, "The head above a section").
 enum class Method { column, column_head, hydrostatic };
 enum class Implementation { cpu_reference, cpu_fast, cuda };
