@@ -163,30 +163,49 @@ bool ReducedController::move(Vec u, const Eigen::VectorXd& dq, const Eigen::Vect
   Eigen::VectorXd lambda_start(n);
   for (int a = 0; a < n; ++a) lambda_start(a) = constraints_[actuators_[a]].multiplier();
   ReducedLinearization next;
-  double t = 1;
-  for (int halving = 0; halving < 6; ++halving, t *= 0.5) {
+  auto actuate = [&](double t) {
     const Eigen::VectorXd lambda = lambda_start + t * dl;
     for (int a = 0; a < n; ++a)
       constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda(a));
+    return lambda;
+  };
+  auto lands_near = [&](bool valid) {
+    return valid && next.r.norm() <= std::max(L.r.norm(), far * std::max(L.scale, next.scale));
+  };
+  auto accept = [&](const Eigen::VectorXd& q) {
+    q_ = q;
+    L = next;
+    return true;
+  };
+  // A step that lands near equilibrium goes on as one Newton iteration. While the iterations
+  // may stay loose (far > 0), so does a fraction of it, or the nearest training sample where
+  // it is the equilibrium at the fraction's actuation (a step to a bound): one linearization
+  // each, before any step is solved to equilibrium. Near the top of a nearly incompressible
+  // finger's range the equilibrium at a fixed pressure is nearly singular, and that solve took
+  // steps of 1/32 for 25 iterations at each halving (docs/reduced_models.md, "Silicone").
+  for (int halving = 0; far > 0 && halving < 6; ++halving) {
+    const double t = std::ldexp(1.0, -halving);
+    const Eigen::VectorXd lambda = actuate(t);
+    const Eigen::VectorXd q = q_start + t * dq;
+    if (lands_near(system_->linearize(q, u, next, false))) return accept(q);
+    const Eigen::VectorXd sampled = system_->nearest_training_state(lambda);
+    if (system_->linearize(sampled, u, next, false) && system_->balanced(next))
+      return accept(sampled);
+  }
+  // One that lands far off (a large change of the actuation: the finger stiffens as it
+  // inflates) is solved to equilibrium at its actuation, from there or from the nearest
+  // training sample.
+  for (int halving = 0; halving < 6; ++halving) {
+    const double t = std::ldexp(1.0, -halving);
+    const Eigen::VectorXd lambda = actuate(t);
     Eigen::VectorXd q = q_start + t * dq;
     const bool valid = system_->linearize(q, u, next, false);
-    // A step that lands near equilibrium goes on as one Newton iteration; one that lands far
-    // off (a large change of the actuation: the finger stiffens as it inflates) is first
-    // solved to equilibrium at its actuation, from there or from the nearest training sample.
-    if (valid && next.r.norm() <= std::max(L.r.norm(), far * std::max(L.scale, next.scale))) {
-      q_ = q;
-      L = next;
-      return true;
-    }
+    if (lands_near(valid)) return accept(q);
     const Eigen::VectorXd sampled = system_->nearest_training_state(lambda);
     if (!valid || system_->residual_norm(sampled, u) < next.r.norm()) q = sampled;
     const ReducedSolve solved = system_->solve(q, u);
     report.newton_iterations += solved.iterations;
-    if (solved.converged && system_->linearize(q, u, next, false)) {
-      q_ = q;
-      L = next;
-      return true;
-    }
+    if (solved.converged && system_->linearize(q, u, next, false)) return accept(q);
   }
   for (int a = 0; a < n; ++a)
     constraints_[actuators_[a]].prescribe(Constraint::Control::multiplier, lambda_start(a));
@@ -287,6 +306,7 @@ ControlStepReport ReducedController::step(Vec u, const std::vector<ControlTarget
   // The whole field, for the output (outside the step's time) and the error indicator (in it).
   system_->place(q_, u, true);
   report.reduced = error_statement(u, inside);
+  report.reduced["newton_iterations"] = report.newton_iterations;
   if (report.reduced.contains("indicator_ms"))
     report.total_ms += report.reduced["indicator_ms"].get<double>();
   outside_ += !inside;
