@@ -69,22 +69,15 @@ void column_head_rows(const CavityView& cavity, const Frame& frame, const GridPa
   out.column_volume = 0.0;
   out.unmatched_columns = 0;
   if (grid.empty) return;
-  const int n = grid.n, s = grid.sub_bits, units = n << s;
+  const int s = grid.sub_bits;
   const int64_t unit = int64_t{1} << s;
   const double top = grid.u1 - grid.u0;
   double volume = 0.0;
   for (int t = 0; t < cavity.num_triangles; ++t) {
     const int* v = cavity.triangles + 3 * t;
-    int sx[3], sy[3];
-    double z_in[3];
-    for (int k = 0; k < 3; ++k) {
-      Vec3 p = load_vec3(cavity.xyz, v[k]);
-      sx[k] = snap(dot_rn(p, frame.e1), grid.a0, grid.scale_a, units);
-      sy[k] = snap(dot_rn(p, frame.e2), grid.b0, grid.scale_b, units);
-      z_in[k] = dot_rn(p, frame.up) - grid.u0;
-    }
     SnappedTriangle tri;
-    if (!setup_triangle(sx, sy, grid.orientation, n, s, &tri)) continue;
+    double z_in[3];
+    if (!snap_triangle(cavity, frame, grid, t, &tri, z_in)) continue;
     if (tri.i0 > tri.i1 || tri.j0 > tri.j1) continue;
 
     // Edge k runs from counter-clockwise corner k + 1 to k + 2; lambda_k = E_k / area2.

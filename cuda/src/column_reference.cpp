@@ -25,22 +25,14 @@ void column_reference(const CavityView& cavity, const Frame& frame, const GridPa
   out.column_volume = 0.0;
   out.unmatched_columns = 0;
   if (grid.empty) return;
-  const int n = grid.n, s = grid.sub_bits, units = n << s;
+  const int n = grid.n, s = grid.sub_bits;
 
   // Steps 1-4: snap each triangle, test every column centre of its box, keep the hits.
   std::vector<Hit> hits;
   for (int t = 0; t < cavity.num_triangles; ++t) {
-    const int* v = cavity.triangles + 3 * t;
-    int sx[3], sy[3];
-    double z[3];
-    for (int k = 0; k < 3; ++k) {
-      Vec3 p = load_vec3(cavity.xyz, v[k]);
-      sx[k] = snap(dot_rn(p, frame.e1), grid.a0, grid.scale_a, units);
-      sy[k] = snap(dot_rn(p, frame.e2), grid.b0, grid.scale_b, units);
-      z[k] = dot_rn(p, frame.up) - grid.u0;
-    }
     SnappedTriangle tri;
-    if (!setup_triangle(sx, sy, grid.orientation, n, s, &tri)) continue;
+    double z[3];
+    if (!snap_triangle(cavity, frame, grid, t, &tri, z)) continue;
     for (int j = tri.j0; j <= tri.j1; ++j) {
       for (int i = tri.i0; i <= tri.i1; ++i) {
         int64_t e[3];

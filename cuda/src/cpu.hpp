@@ -37,6 +37,23 @@ struct CavityOutput {
   long long unmatched_columns = 0;
 };
 
+// Steps 1-2 for triangle t of a cavity: its corners snapped to the grid, their heights above
+// the lowest vertex (input order) into z, the triangle set up. False when its snapped
+// projection has no area (it covers no column).
+inline bool snap_triangle(const CavityView& cavity, const Frame& frame, const GridParams& grid,
+                          int t, SnappedTriangle* tri, double z[3]) {
+  const int* v = cavity.triangles + 3 * t;
+  const int units = grid.n << grid.sub_bits;
+  int sx[3], sy[3];
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 p = load_vec3(cavity.xyz, v[k]);
+    sx[k] = snap(dot_rn(p, frame.e1), grid.a0, grid.scale_a, units);
+    sy[k] = snap(dot_rn(p, frame.e2), grid.b0, grid.scale_b, units);
+    z[k] = dot_rn(p, frame.up) - grid.u0;
+  }
+  return setup_triangle(sx, sy, grid.orientation, grid.n, grid.sub_bits, tri);
+}
+
 // Column method, CPU reference: every candidate column of every triangle is tested, every hit
 // is stored, each column's floors and ceilings are sorted and paired. Simple, double precision.
 // rho_g = rho |g|.
