@@ -58,20 +58,25 @@ void RunSetup::load_mesh() {
   check_rigid_motions_held(config, dist.node_groups, dist.x, comm);
   exact = make_exact_solution(config);
   if (exact) check_reference_finite(config, *exact, dist.x, comm);
-  ExactDirichlet exact_dirichlet;
-  if (exact)
-    exact_dirichlet = [e = exact.get()](const std::array<double, 3>& X, double s) {
-      return e->displacement(X, s);
-    };
   // Two entries that prescribe one node's component differently: refused before any solve.
   // Every rank knows all the groups of its nodes, ghosts included, so each conflict is seen.
-  check_boundary_conflicts(config, dist.node_groups, dist.x, dist.num_owned(), exact_dirichlet,
-                           comm);
+  check_boundary_conflicts(config, dist.node_groups, dist.x, dist.num_owned(),
+                           exact_dirichlet_of(exact.get()), comm);
+  problem = make_problem(config, dist, comm, exact.get());
+  if (restart) restart->check_mesh(*problem);
+}
+
+ExactDirichlet exact_dirichlet_of(const ExactSolution* exact) {
+  if (!exact) return {};
+  return [exact](const std::array<double, 3>& X, double s) { return exact->displacement(X, s); };
+}
+
+std::unique_ptr<Problem> make_problem(const Config& config, const Distribution& dist, MPI_Comm comm,
+                                      const ExactSolution* exact) {
   ForceDensity body_force;
   if (exact && exact->has_body_force())
-    body_force = [e = exact.get()](const std::array<double, 3>& X) { return e->body_force(X); };
-  problem = std::make_unique<Problem>(config, dist, comm, exact_dirichlet, body_force);
-  if (restart) restart->check_mesh(*problem);
+    body_force = [exact](const std::array<double, 3>& X) { return exact->body_force(X); };
+  return std::make_unique<Problem>(config, dist, comm, exact_dirichlet_of(exact), body_force);
 }
 
 // A scene with constraints (cavities, cables, states, control) solves with the bordered

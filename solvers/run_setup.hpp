@@ -27,6 +27,12 @@
 
 namespace hs {
 
+// The deck's problem on `dist`: its exact section's (if any: `exact`, which must outlive it)
+// Dirichlet values and body force with it.
+std::unique_ptr<Problem> make_problem(const Config& config, const Distribution& dist, MPI_Comm comm,
+                                      const ExactSolution* exact);
+ExactDirichlet exact_dirichlet_of(const ExactSolution* exact);
+
 class RunSetup {
  public:
   RunSetup(const Config& config, MPI_Comm comm, const std::string& restart_folder);

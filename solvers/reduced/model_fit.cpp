@@ -8,10 +8,11 @@
 namespace hs {
 namespace {
 
-// Why this run cannot be reduced, or "".
+// Why this run cannot be reduced, or "". A training's full solves run on any number of ranks;
+// a model answers on one.
 std::string unreducible(const Config& config, const Problem& problem,
-                        const ConstraintSet& constraints) {
-  if (problem.distribution().size != 1)
+                        const ConstraintSet& constraints, bool training) {
+  if (!training && problem.distribution().size != 1)
     return "a reduced model runs on one rank (this run has " +
            std::to_string(problem.distribution().size) + ")";
   if (!config.control) return "a reduced model needs a control section (its actuators)";
@@ -63,7 +64,7 @@ void record_mesh(const Problem& problem, ReducedModel& model) {
 
 void check_reducible(const Config& config, const Problem& problem,
                      const ConstraintSet& constraints) {
-  const std::string why = unreducible(config, problem, constraints);
+  const std::string why = unreducible(config, problem, constraints, true);
   if (!why.empty()) throw InputError(config.deck_path + ": hydrosoft reduce: " + why);
 }
 
@@ -71,7 +72,7 @@ void check_model_fits(const Config& config, const Problem& problem,
                       const ConstraintSet& constraints, const ReducedModel& model,
                       const std::string& path) {
   const std::string where = config.deck_path + ": control.reduced_model '" + path + "': ";
-  const std::string why = unreducible(config, problem, constraints);
+  const std::string why = unreducible(config, problem, constraints, false);
   if (!why.empty()) throw InputError(where + why);
   ReducedModel run;
   record_mesh(problem, run);

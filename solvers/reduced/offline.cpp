@@ -125,7 +125,7 @@ void build_reduced_model(const Problem& problem, const Eigen::MatrixXd& training
       model.patch_weights.push_back(w.weights[i]);
     }
   }
-  if (!w.converged)  // training runs on one rank
+  if (!w.converged)  // built on one rank
     std::cerr << "hydrosoft: warning: ECSW's tolerance " << settings.ecsw_tolerance
               << " was not met (" << w.reason << "): the model keeps " << w.elements.size()
               << " elements and patches at a relative residual of " << w.relative_residual

@@ -6,12 +6,14 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/exchange.hpp"
 #include "common/interrupt.hpp"
 #include "reduction/design.hpp"
 #include "solvers/reduced/error_indicator.hpp"
 #include "solvers/reduced/model_fit.hpp"
 #include "solvers/reduced/offline.hpp"
 #include "solvers/reduced/reduced_system.hpp"
+#include "solvers/reduced/whole_body.hpp"
 
 namespace hs {
 TrainingStepper::TrainingStepper(const Config& config, Problem& problem, ConstraintSet& constraints,
@@ -125,24 +127,61 @@ std::optional<StepReport> TrainingStepper::advance(Vec u) {
 
 void TrainingStepper::build() {
   const double t_snapshots = MPI_Wtime() - t_start_;
+  if (problem_.distribution().size == 1) {
+    report_ = build_on(problem_, constraints_, effectors_, snapshots_);
+  } else {
+    report_ = build_on_rank_zero();
+  }
+  report_["snapshot_seconds"] = t_snapshots;
+  report_["seconds"] = MPI_Wtime() - t_start_;
+  report_["file"] = config_.training->output;
+  built_ = true;
+}
+
+// Several ranks: the snapshots and the constraints' states go to rank 0, which builds, checks
+// and writes the model on the whole body (whole_body.hpp); every rank gets the report.
+nlohmann::json TrainingStepper::build_on_rank_zero() {
+  const MPI_Comm comm = problem_.comm();
+  const std::vector<Eigen::VectorXd> snapshots = gather_in_mesh_order(problem_, snapshots_);
+  const std::vector<Constraint::State> states = constraints_.snapshot();
+  std::string report;
+  on_rank_zero(comm, [&] {
+    try {
+      const WholeBody body(config_, states);
+      report =
+          build_on(*body.problem, *body.constraints, *body.effectors, body.local_order(snapshots))
+              .dump();
+    } catch (const Interrupted&) {  // every rank got the signal: they stop below, together
+    }
+  });
+  stop_if_interrupted(comm);
+  broadcast_string(report, 0, comm);
+  return nlohmann::json::parse(report);
+}
+
+// The model from the snapshots (in `problem`'s local dofs), its check on the held-back
+// samples, the file; the training's report.
+nlohmann::json TrainingStepper::build_on(Problem& problem, ConstraintSet& constraints,
+                                         const Effectors& effectors,
+                                         const std::vector<Eigen::VectorXd>& snapshots) {
   std::vector<int> train, check;
   train.push_back(0);  // the rest state
   for (size_t s = 0; s < samples_.size(); ++s) (held_back_[s] ? check : train).push_back(s + 1);
-  Eigen::MatrixXd training(snapshots_[0].size(), train.size());
-  for (size_t i = 0; i < train.size(); ++i) training.col(i) = snapshots_[train[i]];
+  Eigen::MatrixXd training(snapshots[0].size(), train.size());
+  for (size_t i = 0; i < train.size(); ++i) training.col(i) = snapshots[train[i]];
   ReducedModel model;
   model.deck = config_.deck_name;
   model.physics = reduced_physics(config_);
-  record_mesh(problem_, model);
+  record_mesh(problem, model);
   for (const auto& a : config_.control->actuators) {
     model.actuators.push_back(a.constraint);
     model.lower.push_back(a.min_multiplier);
     model.upper.push_back(a.max_multiplier);
   }
-  build_reduced_model(problem_, training, *config_.training, model);
+  build_reduced_model(problem, training, *config_.training, model);
   const Eigen::MatrixXd phi = [&] {  // the basis in local order again
     Eigen::MatrixXd local(model.basis.rows(), model.basis.cols());
-    const Distribution& dist = problem_.distribution();
+    const Distribution& dist = problem.distribution();
     for (int64_t n = 0; n < dist.num_local(); ++n)
       local.middleRows(3 * n, 3) = model.basis.middleRows(3 * dist.old_of_local[n], 3);
     return local;
@@ -152,34 +191,33 @@ void TrainingStepper::build() {
   for (size_t i = 1; i < train.size(); ++i) {
     for (size_t a = 0; a < model.actuators.size(); ++a)
       model.training_actuations(i - 1, a) = samples_[train[i] - 1][a];
-    model.training_states.row(i - 1) = (phi.transpose() * snapshots_[train[i]]).transpose();
+    model.training_states.row(i - 1) = (phi.transpose() * snapshots[train[i]]).transpose();
   }
 
-  check_held_back(check, model);
+  check_held_back(problem, constraints, effectors, snapshots, check, model);
   model.report["samples"] = samples_.size();
   model.report["training_samples"] = train.size() - 1;
-  model.report["snapshot_seconds"] = t_snapshots;
-  model.report["seconds"] = MPI_Wtime() - t_start_;
   write_reduced_model(config_.training->output, model);
-  report_ = model.report;
-  report_["file"] = config_.training->output;
-  built_ = true;
+  return model.report;
 }
 
 // The held-back samples: the reduced equilibrium at each, from its nearest training
 // neighbour's projection, against the full model's; the errors go to model.report.
-void TrainingStepper::check_held_back(const std::vector<int>& check, ReducedModel& model) {
+void TrainingStepper::check_held_back(Problem& problem, ConstraintSet& constraints,
+                                      const Effectors& effectors,
+                                      const std::vector<Eigen::VectorXd>& snapshots,
+                                      const std::vector<int>& check, ReducedModel& model) {
   const double t_check = MPI_Wtime();
-  const std::vector<Constraint::State> saved = constraints_.snapshot();
+  const std::vector<Constraint::State> saved = constraints.snapshot();
   std::vector<Vec> rows;
-  for (int e = 0; e < effectors_.size(); ++e)
-    for (int d = 0; d < 3; ++d) rows.push_back(effectors_.row(e, d));
+  for (int e = 0; e < effectors.size(); ++e)
+    for (int d = 0; d < 3; ++d) rows.push_back(effectors.row(e, d));
   model.report["held_back"] = {{"samples", check.size()}};
-  ReducedSystem system(config_, problem_, constraints_, model, config_.training->output, rows);
+  ReducedSystem system(config_, problem, constraints, model, config_.training->output, rows);
   std::vector<int> actuators;
-  for (const std::string& name : model.actuators) actuators.push_back(constraints_.find(name));
-  ResidualErrorIndicator indicator(problem_, constraints_, system, actuators, rows);
-  VecHandle x(problem_.create_vector());
+  for (const std::string& name : model.actuators) actuators.push_back(constraints.find(name));
+  ResidualErrorIndicator indicator(problem, constraints, system, actuators, rows);
+  VecHandle x(problem.create_vector());
   double max_error = 0, sum_error = 0, max_field = 0;
   // The residual indicator's calibration: the largest ratio of a sample's error to its
   // indicator, and the smallest (how far the indicator overstates).
@@ -196,7 +234,7 @@ void TrainingStepper::check_held_back(const std::vector<int>& check, ReducedMode
       continue;
     }
     system.place(q, x, true);
-    const std::vector<double> reduced = effectors_.positions(x);
+    const std::vector<double> reduced = effectors.positions(x);
     double error = 0;
     for (size_t i = 0; i + 2 < reduced.size(); i += 3) {
       double d2 = 0;
@@ -211,13 +249,13 @@ void TrainingStepper::check_held_back(const std::vector<int>& check, ReducedMode
         ratio_min = std::min(ratio_min, error / estimate);
       }
     }
-    const Eigen::VectorXd full = snapshots_[h];
+    const Eigen::VectorXd& full = snapshots[h];
     max_error = std::max(max_error, error);
     sum_error += error;
     max_field =
         std::max(max_field, (local_values(x) - full).norm() / std::max(full.norm(), 1e-300));
   }
-  constraints_.restore(saved);
+  constraints.restore(saved);
   // An unsolved sample leaves the error near it unknown: no error is stated then (every
   // answer's estimate is null), rather than the solved samples' smaller one.
   const size_t solved = check.size() - unsolved.size();
@@ -235,7 +273,7 @@ void TrainingStepper::check_held_back(const std::vector<int>& check, ReducedMode
       {"unsolved", unsolved.size()},
       {"unsolved_actuations", unsolved},
       {"seconds", MPI_Wtime() - t_check}};
-  if (!unsolved.empty())  // training runs on one rank
+  if (!unsolved.empty())  // on one rank
     std::cerr << "hydrosoft: warning: the reduced model found no equilibrium at " << unsolved.size()
               << " of its " << check.size() << " held-back samples (actuations " << unsolved.dump()
               << "), so it states no error: train with more --samples, or narrow the actuators' "

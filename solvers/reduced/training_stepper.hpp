@@ -4,7 +4,8 @@
 // them (offline.hpp), checked on the held-back samples and written. The samples are a design
 // over every actuator's [min, max] range (reduction/design.hpp: a grid, or a space-filling
 // design for many actuators), walked so that each solve starts from a neighbour, some of them
-// held back.
+// held back. The full solves run on every rank of the run; the model is built on one
+// (whole_body.hpp).
 #pragma once
 
 #include <memory>
@@ -37,9 +38,15 @@ class TrainingStepper : public Stepper {
   void add_summary(nlohmann::json& summary) const override;
 
  private:
-  // The model from the snapshots, its check on the held-back samples, the file.
+  // The model from the snapshots, its check on the held-back samples, the file; on several
+  // ranks, on rank 0's copy of the whole body.
   void build();
-  void check_held_back(const std::vector<int>& check, ReducedModel& model);
+  nlohmann::json build_on(Problem& problem, ConstraintSet& constraints, const Effectors& effectors,
+                          const std::vector<Eigen::VectorXd>& snapshots);
+  nlohmann::json build_on_rank_zero();
+  void check_held_back(Problem& problem, ConstraintSet& constraints, const Effectors& effectors,
+                       const std::vector<Eigen::VectorXd>& snapshots, const std::vector<int>& check,
+                       ReducedModel& model);
 
   const Config& config_;
   Problem& problem_;

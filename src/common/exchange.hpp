@@ -88,22 +88,25 @@ void throw_together(const std::string& error, MPI_Comm comm) {
 }
 
 // Collective: rank 0 runs `work`; what it throws is thrown on every rank with its message, an
-// InputError as InputError, anything else as std::runtime_error.
+// InputError as InputError, a SolveError as SolveError, anything else as std::runtime_error.
 template <class F>
 void on_rank_zero(MPI_Comm comm, F&& work) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  std::string input_error, other_error;
+  std::string input_error, solve_error, other_error;
   if (rank == 0) {
     try {
       work();
     } catch (const InputError& e) {
       input_error = e.what();
+    } catch (const SolveError& e) {
+      solve_error = e.what();
     } catch (const std::exception& e) {
       other_error = e.what();
     }
   }
   throw_together<InputError>(input_error, comm);
+  throw_together<SolveError>(solve_error, comm);
   throw_together<std::runtime_error>(other_error, comm);
 }
 
