@@ -30,6 +30,7 @@ class GentLaw final : public ElasticLaw {
   std::string name() const override { return kName; }
   StressResult stress(const Mat3& H, bool with_tangent) const override;
   bool has_volumetric_term() const override { return true; }
+  bool finite_wherever_oriented() const override { return false; }  // past Jm: undefined
   double volumetric_modulus() const override {
     return constants_.lambda + 2.0 * constants_.mu / 3.0;
   }

@@ -44,6 +44,10 @@ class MaterialLaw {
   // CG. A finite-strain law's tangent can be indefinite away from equilibrium (compression
   // past a full Newton step), where CG breaks down.
   virtual bool tangent_always_definite() const { return false; }
+  // Whether psi and P are finite at every finite F with det F > 0: where they are, a body's
+  // stresses are finite once every element keeps its orientation (the check before a control
+  // answer, solvers/control_run.cpp). Gent's are not past the chains' limit.
+  virtual bool finite_wherever_oriented() const { return true; }
   // Whether the law is of small strains (linear elasticity): the F-bar element then takes its
   // linearisation, B-bar, so that the law stays linear (fem/fbar_element.cpp).
   virtual bool small_strain() const { return false; }
