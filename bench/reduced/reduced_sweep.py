@@ -3,7 +3,8 @@
 
     /usr/bin/python3 bench/reduced/reduced_sweep.py [--deck input/finger_hydraulic.yaml]
         [--h 0.00135] [--lines 40] [--repeats 3] [--samples 17] [--model FILE] [--every N]
-        [--pod-tolerance T] [--check-lines N] [--skip-full] [--set KEY=VALUE ...]
+        [--pod-tolerance T] [--check-lines N] [--skip-full] [--indicators false,true]
+        [--set KEY=VALUE ...]
 
 Trains the deck's reduced model (`hydrosoft reduce`, timed; skipped with --model), then sends
 the same tip-height lines, in a fixed shuffled order, to the reduced model and to the full model
@@ -77,6 +78,8 @@ def main():
     ap.add_argument("--pod-tolerance", default=None, help="the training's POD tolerance")
     ap.add_argument("--every", type=int, default=1, help="output.every of the reduced runs")
     ap.add_argument("--skip-full", action="store_true")
+    ap.add_argument("--indicators", default="false,true",
+                    help="control.error_indicator values to time, in order")
     ap.add_argument("--full-lines", type=int, default=1000, help="lines the full model answers")
     ap.add_argument("--check-lines", type=int, default=1000,
                     help="lines whose full equilibrium is solved for the model's error")
@@ -113,7 +116,7 @@ def main():
     random.Random(1).shuffle(zs)
     lines = [f"0.09 0 {z:.6f}" for z in zs]
     reduced = base + [f"control.reduced_model={model}"]
-    for indicator in ("false", "true"):  # the same lines without, then with, the indicator
+    for indicator in a.indicators.split(","):  # the same lines without, then with, the indicator
         timing = []
         for rep in range(a.repeats):
             ans = answers(a.deck, reduced + [f"output.every={a.every}",
@@ -127,6 +130,8 @@ def main():
               f"{med[3]:.2f} median {med[4]:.2f} p95 {med[5]:.2f}")
     # The model's error: the full model's equilibrium at each answer's actuation, against the
     # error each answer stated.
+    if a.check_lines == 0:
+        return
     checked = answers(a.deck, reduced + ["control.check_equilibrium=true",
                                          "control.error_indicator=true"],
                       lines[:a.check_lines], f"{work}/checked")

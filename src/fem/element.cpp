@@ -129,6 +129,16 @@ ElementFields fields(const double* X, const double* u, const MaterialLaw& m) {
 
 template <int NPE>
 bool orientation_preserved(const double* X, const double* u) {
+  if constexpr (NPE ==
+                4) {  // dx/dxi's columns are x_1 - x_0, x_2 - x_0, x_3 - x_0 (L_0 = 1 - sum xi)
+    double e[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int d = 0; d < 3; ++d) e[a][d] = (X[3 * a + 3 + d] + u[3 * a + 3 + d]) - (X[d] + u[d]);
+    const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                       e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                       e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+    return det > 0;  // false for NaN too
+  }
   const auto& t = tet_tables<NPE>(1);  // the centroid
   const NodeMatrix<NPE> x =
       Eigen::Map<const NodeMatrix<NPE>>(X) + Eigen::Map<const NodeMatrix<NPE>>(u);
