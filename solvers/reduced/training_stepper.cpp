@@ -126,14 +126,12 @@ std::optional<StepReport> TrainingStepper::advance(Vec u) {
 }
 
 void TrainingStepper::build() {
-  const double t_snapshots = MPI_Wtime() - t_start_;
+  snapshot_seconds_ = MPI_Wtime() - t_start_;
   if (problem_.distribution().size == 1) {
     report_ = build_on(problem_, constraints_, effectors_, snapshots_);
   } else {
     report_ = build_on_rank_zero();
   }
-  report_["snapshot_seconds"] = t_snapshots;
-  report_["seconds"] = MPI_Wtime() - t_start_;
   report_["file"] = config_.training->output;
   built_ = true;
 }
@@ -197,6 +195,8 @@ nlohmann::json TrainingStepper::build_on(Problem& problem, ConstraintSet& constr
   check_held_back(problem, constraints, effectors, snapshots, check, model);
   model.report["samples"] = samples_.size();
   model.report["training_samples"] = train.size() - 1;
+  model.report["snapshot_seconds"] = snapshot_seconds_;
+  model.report["seconds"] = MPI_Wtime() - t_start_;
   write_reduced_model(config_.training->output, model);
   return model.report;
 }

@@ -66,7 +66,7 @@ class TrainingStepper : public Stepper {
   std::vector<std::vector<double>> positions_;  // the effectors' at each snapshot
   int iterations_ = 0;
   bool started_ = false, built_ = false;
-  double t_start_ = 0;
+  double t_start_ = 0, snapshot_seconds_ = 0;
   nlohmann::json report_;
 };
 

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "reduction/model_file.hpp"
 #include "run_deck.hpp"
 
 namespace {
@@ -65,6 +66,11 @@ TEST(ReducedTraining, OnTwoRanksTrainsTheModelOfOneRank) {
   const double stated_b = rb.at("held_back").at("max_effector_error_m");
   EXPECT_GT(stated_a, 0);
   EXPECT_NEAR(stated_a, stated_b, 0.01 * stated_b);
+  // The file written on rank 0 holds the report the run gives, its times included.
+  const nlohmann::json in_file = hs::read_reduced_model(two).report;
+  EXPECT_EQ(in_file.at("held_back"), ra.at("held_back"));
+  EXPECT_EQ(in_file.at("seconds"), ra.at("seconds"));
+  EXPECT_GT(in_file.at("seconds").get<double>(), in_file.at("snapshot_seconds").get<double>());
 
   // Each model's answers within its stated error of the full model's equilibrium, and the two
   // models' answers the same to well within it.
