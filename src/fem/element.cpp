@@ -129,8 +129,8 @@ ElementFields fields(const double* X, const double* u, const MaterialLaw& m) {
 
 template <int NPE>
 bool orientation_preserved(const double* X, const double* u) {
-  if constexpr (NPE ==
-                4) {  // dx/dxi's columns are x_1 - x_0, x_2 - x_0, x_3 - x_0 (L_0 = 1 - sum xi)
+  // P1: dx/dxi's columns are x_1 - x_0, x_2 - x_0, x_3 - x_0 (L_0 = 1 - sum xi).
+  if constexpr (NPE == 4) {
     double e[3][3];
     for (int a = 0; a < 3; ++a)
       for (int d = 0; d < 3; ++d) e[a][d] = (X[3 * a + 3 + d] + u[3 * a + 3 + d]) - (X[d] + u[d]);

@@ -11,12 +11,7 @@
 namespace {
 
 using hs_test::out_folder;
-
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
+using hs_test::world_rank;
 
 hs::Config finger(const std::vector<std::string>& given, const std::string& tag) {
   std::vector<std::string> overrides = {"mesh.parameters.h=0.006", "output.progress=false",
