@@ -3,30 +3,85 @@
 #include <petscis.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
+#include <stdexcept>
+#include <utility>
 
 #include "common/error.hpp"
 #include "solvers/petsc_check.hpp"
 
 namespace hs {
 
-std::vector<int> cavity_triangles(const GatheredSurface& surface) {
+namespace {
+
+// Tri6 shape functions at barycentric (l0, l1, l2): vertices 0-2, edge nodes 3:(0,1) 4:(1,2)
+// 5:(2,0).
+std::array<double, 6> tri6_shape(double l0, double l1, double l2) {
+  return {l0 * (2 * l0 - 1), l1 * (2 * l1 - 1), l2 * (2 * l2 - 1),
+          4 * l0 * l1,       4 * l1 * l2,       4 * l2 * l0};
+}
+
+}  // namespace
+
+WallTriangulation wall_triangulation(const GatheredSurface& surface, int n) {
+  WallTriangulation w;
   const std::vector<int>& faces = surface.faces;
-  std::vector<int> t;
   const int npf = surface.nodes_per_face;
-  // Tri6 (vertices 0-2, edge nodes 3:(0,1) 4:(1,2) 5:(2,0)): four triangles of the same
-  // orientation, so every node, edge nodes included, receives its share.
-  static const int kSplit[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {3, 4, 5}};
-  for (size_t f = 0; f < faces.size() / npf; ++f) {
-    const int* face = &faces[f * npf];
-    if (npf == 3) {
-      for (int a = 0; a < 3; ++a) t.push_back(face[a]);
-    } else {
-      for (const auto& tri : kSplit)
-        for (int a : tri) t.push_back(face[a]);
-    }
+  const size_t num_faces = faces.size() / npf;
+  if (npf == 3) {
+    w.num_points = static_cast<int>(surface.x.size() / 3);
+    w.triangles = faces;
+    for (int p = 0; p < w.num_points; ++p) w.terms.push_back({p, p, 1.0});
+    return w;
   }
-  return t;
+  if (n < 2) throw std::invalid_argument("wall_triangulation: n must be >= 2 on Tri6 faces");
+  // A point of a face at lattice coordinates (i, j, k), i + j + k = n, over its vertices
+  // (a, b, c): the same point of a neighbouring face has the same nonzero (vertex, count)
+  // pairs, whatever the faces' orders.
+  std::map<std::vector<std::pair<int, int>>, int> point_of;
+  auto point = [&](const int* face, int i, int j, int k) {
+    std::vector<std::pair<int, int>> key;
+    for (const auto& [vertex, count] : {std::pair{face[0], i}, {face[1], j}, {face[2], k}})
+      if (count > 0) key.emplace_back(vertex, count);
+    std::sort(key.begin(), key.end());
+    const auto [it, added] = point_of.emplace(key, w.num_points);
+    if (added) {
+      const std::array<double, 6> shape = tri6_shape(double(i) / n, double(j) / n, double(k) / n);
+      for (int a = 0; a < 6; ++a)
+        if (shape[a] != 0) w.terms.push_back({w.num_points, face[a], shape[a]});
+      ++w.num_points;
+    }
+    return it->second;
+  };
+  for (size_t f = 0; f < num_faces; ++f) {
+    const int* face = &faces[f * npf];
+    // (s, t) = (j, k) / n runs over the face as (0,0), (1,0), (0,1) run over vertices 0, 1,
+    // 2: triangles counter-clockwise in (s, t) keep the face's orientation.
+    auto at = [&](int j, int k) { return point(face, n - j - k, j, k); };
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j + k < n; ++j) {
+        for (int p : {at(j, k), at(j + 1, k), at(j, k + 1)}) w.triangles.push_back(p);
+        if (j + k + 2 <= n)
+          for (int p : {at(j + 1, k), at(j + 1, k + 1), at(j, k + 1)}) w.triangles.push_back(p);
+      }
+  }
+  return w;
+}
+
+void WallTriangulation::points_of(const std::vector<double>& nodes,
+                                  std::vector<double>& points) const {
+  points.assign(3 * static_cast<size_t>(num_points), 0.0);
+  for (const Term& t : terms)
+    for (int d = 0; d < 3; ++d) points[3 * t.point + d] += t.weight * nodes[3 * t.node + d];
+}
+
+void WallTriangulation::node_forces(const std::vector<double>& points, size_t num_nodes,
+                                    std::vector<double>& nodes) const {
+  nodes.assign(3 * num_nodes, 0.0);
+  for (const Term& t : terms)
+    for (int d = 0; d < 3; ++d) nodes[3 * t.node + d] += t.weight * points[3 * t.point + d];
 }
 
 CavityWeight::CavityWeight(const Distribution& dist, const CavityConfig& cavity,
@@ -63,9 +118,10 @@ CavityWeight::CavityWeight(const Distribution& dist, const CavityConfig& cavity,
       for (int d = 0; d < 3; ++d) global_dofs_.push_back(static_cast<PetscInt>(3 * node + d));
     reference_ = walls.x;
     positions_ = reference_;
+    walls_ = wall_triangulation(walls, fw.subdivision);
     fluidweight::SurfaceMesh surface;
-    surface.vertices = reference_;
-    surface.triangles = cavity_triangles(walls);
+    walls_.points_of(reference_, surface.vertices);
+    surface.triangles = walls_.triangles;
     context_ = std::make_unique<fluidweight::Context>(options_);
     context_->set_cavities({surface});
   }
@@ -96,10 +152,12 @@ void CavityWeight::add_weight(Vec u, double load_factor, Vec W) {
     HS_PETSC(VecGetArrayRead(surface_u_, &su));
     for (size_t k = 0; k < positions_.size(); ++k) positions_[k] = reference_[k] + su[k];
     HS_PETSC(VecRestoreArrayRead(surface_u_, &su));
-    context_->set_positions({positions_.data()});
+    walls_.points_of(positions_, points_);
+    context_->set_positions({points_.data()});
     const fluidweight::Result& r = context_->compute().front();
-    std::vector<PetscScalar> f(r.forces.size());
-    for (size_t k = 0; k < f.size(); ++k) f[k] = load_factor * r.forces[k];
+    std::vector<double> f;
+    walls_.node_forces(r.forces, positions_.size() / 3, f);
+    for (double& fk : f) fk *= load_factor;
     if (load_factor != 0)
       HS_PETSC(VecSetValues(W, static_cast<PetscInt>(f.size()), global_dofs_.data(), f.data(),
                             ADD_VALUES));

@@ -18,9 +18,32 @@
 
 namespace hs {
 
-// The triangles the fluid-weight module sees for a cavity's faces: Tri3 as they are, Tri6 as
-// four flat triangles through the edge nodes; 3 per triangle, indices into the surface's nodes.
-std::vector<int> cavity_triangles(const GatheredSurface& surface);
+// The flat triangles the fluid-weight module sees for a cavity's walls, and how their
+// vertices (the points) follow the walls' nodes. Tri3 faces are the triangles themselves,
+// their points the nodes. A Tri6 face is its quadratic map sampled at the vertices of
+// n x n sub-triangles (n = 2: the four through its edge nodes, the points the nodes), each
+// point a fixed combination of the face's six nodes (their shape functions there) and shared
+// with the neighbouring face where they meet. Flat sub-triangles leave out the curved face's
+// bulge, which shrinks as 1/n^2 (docs/cavities.md, "Curved walls"); forces at the points
+// reach the nodes through the same shape functions (the transpose: the same virtual work).
+struct WallTriangulation {
+  struct Term {
+    int point, node;
+    double weight;
+  };
+  int num_points = 0;
+  std::vector<int> triangles;  // 3 per triangle, indices into the points
+  std::vector<Term> terms;     // point = sum of weight * node over its terms
+
+  // The points' coordinates from the nodes' (3 each).
+  void points_of(const std::vector<double>& nodes, std::vector<double>& points) const;
+  // The nodes' forces from the points' (3 each), for num_nodes nodes.
+  void node_forces(const std::vector<double>& points, size_t num_nodes,
+                   std::vector<double>& nodes) const;
+};
+
+// n: the sub-triangles along an edge of a Tri6 face (>= 2); Tri3 faces ignore it.
+WallTriangulation wall_triangulation(const GatheredSurface& surface, int n);
 
 class CavityWeight {
  public:
@@ -51,8 +74,10 @@ class CavityWeight {
   int rank_ = 0, owner_ = 0;
   double density_ = 0, gravity_norm_ = 0;
   fluidweight::Options options_;
+  WallTriangulation walls_;            // owner: the module's triangles on the surface nodes
   std::vector<double> reference_;      // owner: reference positions of the surface nodes
   std::vector<double> positions_;      // owner: current positions
+  std::vector<double> points_;         // owner: current positions of the triangles' points
   std::vector<PetscInt> global_dofs_;  // owner: PETSc dofs of the surface nodes
   std::unique_ptr<fluidweight::Context> context_;  // owner only
   VecHandle surface_u_;  // sequential, 3 per surface node on the owner, empty elsewhere

@@ -143,7 +143,8 @@ inline const std::vector<std::string> kWeightDeviceNames = {"cpu", "cuda"};
 inline const std::vector<std::string> kWeightCouplingNames = {"converged", "linearized"};
 struct FluidWeightConfig {
   WeightMethod method = WeightMethod::hydrostatic;
-  int grid = 200;  // column methods: N x N columns
+  int grid = 200;       // column methods: N x N columns
+  int subdivision = 4;  // P2 walls: each Tri6 face as n x n flat triangles
   WeightDevice device = WeightDevice::cpu;
   WeightCoupling coupling = WeightCoupling::converged;
 };

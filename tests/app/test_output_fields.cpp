@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "../coarse_cylinder.hpp"
 #include "../deck/temp_folder.hpp"
 #include "text_file.hpp"
 
@@ -79,15 +80,17 @@ double tet_volume(const std::vector<double>& x, const int64_t* t) {
          6;
 }
 
-// The cylinder of input/cylinder_water.yaml on its coarse P1 mesh, in few steps.
+// The cylinder of input/cylinder_water.yaml on its coarse P1 mesh (../coarse_cylinder.hpp), in
+// few steps.
 void check_cylinder(const std::string& launcher) {
   TempFolder tmp;
   const std::string folder = (tmp.path() / "cylinder").string();
   const std::string err = (tmp.path() / "err").string();
-  const std::string command = launcher + std::string(HYDROSOFT_EXE) + " " + kSource +
-                              "/input/cylinder_water.yaml -q --set states[0].steps=2 "
-                              "--set states[1].steps=2 --set output.folder=" +
-                              folder + " > /dev/null 2> " + err;
+  const std::string command =
+      launcher + std::string(HYDROSOFT_EXE) + " " + kSource + "/input/cylinder_water.yaml -q " +
+      hs_test::coarse_cylinder_args() +
+      "--set states[0].steps=2 --set states[1].steps=2 --set output.folder=" + folder +
+      " > /dev/null 2> " + err;
   ASSERT_EQ(std::system(command.c_str()), 0) << text_of(err);
   const auto summary = nlohmann::json::parse(text_of(folder + "/summary.json"));
   const H5 h5(folder + "/cylinder_water.h5");

@@ -12,6 +12,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 
+#include "../coarse_cylinder.hpp"
 #include "../deck/temp_folder.hpp"
 #include "restart_test_util.hpp"
 
@@ -37,23 +38,29 @@ const Case kStatic{"static", "cantilever_gravity",
 const Case kDynamic{"dynamic", "cantilever_dynamic",
                     "--set mesh.order=1 --set time.dt=0.1 --set time.end_time=2.0 "
                     "--set output.every=1"};
-const Case kStates{"states", "cylinder_water", "--set states[1].steps=20"};
+// The cylinders are the coarse compressible one of ../coarse_cylinder.hpp.
+const Case kStates{"states", "cylinder_water",
+                   hs_test::coarse_cylinder_args() + "--set states[1].steps=20"};
 // Incompressible silicone (nu = 0.5): the volume multipliers are part of the state. Without
 // them the restart would rebuild them, to 1.4e-9 of the uninterrupted run; with them it
 // repeats its arithmetic (1e-14).
-const Case kIncompressible{"incompressible", "cylinder_air",
-                           "--set materials[0].nu=0.5 --set states[1].steps=20", 1e-12};
+const Case kIncompressible{
+    "incompressible", "cylinder_air",
+    hs_test::coarse_cylinder_args() + "--set materials[0].nu=0.5 --set states[1].steps=20", 1e-12};
 // The same on P2, whose F-bar elements keep a multiplier each (the checkpoint's element
 // field): without them the restart would raise them again, to 1.4e-12 of the uninterrupted
 // run; with them it repeats its arithmetic (3e-15).
-const Case kIncompressibleP2{"incompressible_p2", "cylinder_air",
-                             "--set materials[0].nu=0.5 --set mesh.order=2 --set states[1].steps=6",
-                             1e-13};
+const Case kIncompressibleP2{
+    "incompressible_p2", "cylinder_air",
+    hs_test::coarse_cylinder_args() +
+        "--set materials[0].nu=0.5 --set mesh.order=2 --set states[1].steps=6",
+    1e-13};
 // The water cylinder in dynamics: its weight ramps in, then 3 kPa, over 25 time steps.
 const Case kDynamicStates{"dynamic_states", "cylinder_water",
-                          "--set 'time={type: dynamic, dt: 0.002, end_time: 0.05}' "
-                          "--set 'states=[{name: rest, time: 0.02}, {name: inflated, time: "
-                          "0.04, cavities: {cavity: {pressure: 3000}}}]' --set output.every=1"};
+                          hs_test::coarse_cylinder_args() +
+                              "--set 'time={type: dynamic, dt: 0.002, end_time: 0.05}' "
+                              "--set 'states=[{name: rest, time: 0.02}, {name: inflated, time: "
+                              "0.04, cavities: {cavity: {pressure: 3000}}}]' --set output.every=1"};
 
 std::string command(const Case& c, const std::string& folder, const std::string& extra,
                     const std::string& err) {

@@ -23,6 +23,9 @@ def main():
     with tempfile.TemporaryDirectory(prefix="hydrosoft_history_test_") as tmp:
         run = os.path.join(tmp, "run")
         subprocess.run([hydrosoft, os.path.join(ROOT, "input", "cylinder_water.yaml"), "-q",
+                        # the coarse compressible cylinder of tests/coarse_cylinder.hpp
+                        "--set", "mesh.order=1", "--set", "materials[0].E=2.0e5",
+                        "--set", "materials[0].nu=0.45",
                         "--set", f"output.folder={run}"], check=True, stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL)
         png = os.path.join(tmp, "history.png")

@@ -26,9 +26,14 @@ SIZES = ["0.011", "0.008", "0.0055"]
 TIP = "states[-1].tip.displacement_magnitude_m"
 
 
+# The compressible silicone of the mechanism tests (tests/coarse_cylinder.hpp): the study's
+# fit is what is tested, not the deck's material.
+COARSE = ["--set", "materials[0].E=2.0e5", "--set", "materials[0].nu=0.45"]
+
+
 def study(hydrosoft, out, *extra):
     return subprocess.run(["/usr/bin/python3", SCRIPT, "--binary", hydrosoft, "--order", "1",
-                           "--out", out, *extra], capture_output=True, text=True)
+                           *COARSE, "--out", out, *extra], capture_output=True, text=True)
 
 
 def check_bad_input(hydrosoft, tmp):

@@ -25,6 +25,9 @@ def main():
     with tempfile.TemporaryDirectory(prefix="hydrosoft_render_test_") as tmp:
         run = os.path.join(tmp, "run")
         subprocess.run([hydrosoft, os.path.join(ROOT, "input", "cylinder_air.yaml"), "-q",
+                        # the coarse compressible cylinder of tests/coarse_cylinder.hpp
+                        "--set", "mesh.order=1", "--set", "materials[0].E=2.0e5",
+                        "--set", "materials[0].nu=0.45",
                         "--set", f"output.folder={run}"], check=True, stdout=subprocess.DEVNULL)
         pictures = os.path.join(tmp, "pictures")
         subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "postprocess", "render.py"), run,

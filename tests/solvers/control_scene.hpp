@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../mpi_test_decks.hpp"
 #include "deck/deck.hpp"
 #include "distribute_whole.hpp"
 #include "mesh/distribution.hpp"

@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <utility>
+#include <vector>
 
 #include "common/error.hpp"
 #include "deck/deck.hpp"
@@ -31,14 +34,15 @@ namespace mpi_test_cavities {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
+// The coarse compressible cylinder (../mpi_test_decks.hpp) read, meshed and distributed.
 struct Scene {
   hs::Config config;
   hs::Mesh mesh;
   hs::Distribution dist;
   std::unique_ptr<hs::Problem> problem;
   std::unique_ptr<hs::ConstraintSet> cavities;
-  explicit Scene(const std::string& deck, std::vector<std::string> overrides) {
-    config = hs::parse_deck(kSource + "/input/" + deck, overrides);
+  explicit Scene(const std::string& deck, const std::vector<std::string>& overrides) {
+    config = hs::parse_deck(kSource + "/input/" + deck, hs_test::coarse_cylinder(overrides));
     mesh = hs::load_mesh(config.mesh);  // gmsh is deterministic: the same on every rank
     dist = hs_test::distribute_whole(mesh);
     problem = std::make_unique<hs::Problem>(config, dist, PETSC_COMM_WORLD);
@@ -88,6 +92,125 @@ void bend(hs::Problem& problem, Vec u, double amplitude) {
   VecRestoreArray(u, &a);
 }
 
+// The octahedron's eight faces as Tri6 on the unit sphere (vertices and edge nodes on it):
+// a closed curved surface, oriented outwards.
+hs::GatheredSurface curved_octahedron() {
+  hs::GatheredSurface s;
+  s.nodes_per_face = 6;
+  const double v[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (const auto& p : v) s.x.insert(s.x.end(), p, p + 3);
+  std::map<std::pair<int, int>, int> edge_node;
+  auto middle = [&](int a, int b) {
+    const auto key = std::minmax(a, b);
+    if (const auto it = edge_node.find(key); it != edge_node.end()) return it->second;
+    double m[3], r = 0;
+    for (int d = 0; d < 3; ++d) r += std::pow(m[d] = v[a][d] + v[b][d], 2);
+    for (int d = 0; d < 3; ++d) s.x.push_back(m[d] / std::sqrt(r));
+    return edge_node[key] = static_cast<int>(s.x.size() / 3 - 1);
+  };
+  for (int a : {0, 1})
+    for (int b : {2, 3})
+      for (int c : {4, 5}) {
+        // (a, b, c) is counter-clockwise seen from outside when the signs' product is +1.
+        const bool flip = (a == 1) != (b == 3) != (c == 5);
+        const int p = a, q = flip ? c : b, r = flip ? b : c;
+        for (int n : {p, q, r, middle(p, q), middle(q, r), middle(r, p)}) s.faces.push_back(n);
+      }
+  return s;
+}
+
+// The volume inside a surface of Tri6 faces: (1/3) int x . n da, a polynomial of degree 4
+// over each face, by the 6-point rule of degree 4 (Dunavant).
+double tri6_volume(const hs::GatheredSurface& s) {
+  const double a[2] = {0.445948490915965, 0.091576213509771};
+  const double w[2] = {0.223381589678011, 0.109951743655322};
+  double volume = 0;
+  for (size_t f = 0; f < s.faces.size() / 6; ++f) {
+    const int* n = &s.faces[6 * f];
+    for (int g = 0; g < 2; ++g)
+      for (int perm = 0; perm < 3; ++perm) {
+        double l[3] = {a[g], a[g], 1 - 2 * a[g]};
+        std::rotate(l, l + perm, l + 3);
+        // x and its derivatives along s = l1, t = l2 (l0 = 1 - s - t).
+        const double shape[6] = {l[0] * (2 * l[0] - 1), l[1] * (2 * l[1] - 1),
+                                 l[2] * (2 * l[2] - 1), 4 * l[0] * l[1],
+                                 4 * l[1] * l[2],       4 * l[2] * l[0]};
+        const double ds[6] = {1 - 4 * l[0],      4 * l[1] - 1, 0,
+                              4 * (l[0] - l[1]), 4 * l[2],     -4 * l[2]};
+        const double dt[6] = {1 - 4 * l[0], 0,        4 * l[2] - 1,
+                              -4 * l[1],    4 * l[1], 4 * (l[0] - l[2])};
+        double x[3] = {0, 0, 0}, xs[3] = {0, 0, 0}, xt[3] = {0, 0, 0};
+        for (int k = 0; k < 6; ++k)
+          for (int d = 0; d < 3; ++d) {
+            x[d] += shape[k] * s.x[3 * n[k] + d];
+            xs[d] += ds[k] * s.x[3 * n[k] + d];
+            xt[d] += dt[k] * s.x[3 * n[k] + d];
+          }
+        const double normal[3] = {xs[1] * xt[2] - xs[2] * xt[1], xs[2] * xt[0] - xs[0] * xt[2],
+                                  xs[0] * xt[1] - xs[1] * xt[0]};
+        volume += w[g] * 0.5 * (x[0] * normal[0] + x[1] * normal[1] + x[2] * normal[2]) / 3;
+      }
+  }
+  return volume;
+}
+
+// The volume inside a triangulation: sum of the signed tetrahedra on the origin.
+double flat_volume(const std::vector<double>& x, const std::vector<int>& triangles) {
+  double volume = 0;
+  for (size_t t = 0; t < triangles.size(); t += 3) {
+    const double *a = &x[3 * triangles[t]], *b = &x[3 * triangles[t + 1]],
+                 *c = &x[3 * triangles[t + 2]];
+    volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+               a[2] * (b[0] * c[1] - b[1] * c[0])) /
+              6;
+  }
+  return volume;
+}
+
+TEST(Cavities, CurvedWallsReachTheWeightAsTrianglesThatConvergeToTheirVolume) {
+  const hs::GatheredSurface sphere = curved_octahedron();
+  const double exact = tri6_volume(sphere);
+  EXPECT_GT(exact, 0.0);
+  std::vector<double> error;
+  for (int n : {2, 4, 8, 16}) {
+    const hs::WallTriangulation w = hs::wall_triangulation(sphere, n);
+    ASSERT_EQ(w.triangles.size(), 3u * 8 * n * n);
+    // Closed: every edge once in each direction, so the points are shared where faces meet.
+    std::map<std::pair<int, int>, int> edges;
+    for (size_t t = 0; t < w.triangles.size(); t += 3)
+      for (int e = 0; e < 3; ++e) ++edges[{w.triangles[t + e], w.triangles[t + (e + 1) % 3]}];
+    for (const auto& [edge, count] : edges) {
+      EXPECT_EQ(count, 1) << n;
+      EXPECT_EQ(edges.count({edge.second, edge.first}), 1u) << n;
+    }
+    EXPECT_EQ(w.num_points, 4 * n * n + 2) << n;  // Euler: V = F / 2 + 2
+    std::vector<double> points;
+    w.points_of(sphere.x, points);
+    error.push_back(exact - flat_volume(points, w.triangles));
+    // Forces reach the nodes by the transpose: the same virtual work, the same resultant.
+    std::vector<double> f(points.size()), du(sphere.x.size()), dp, fn;
+    for (size_t k = 0; k < f.size(); ++k) f[k] = std::sin(1.0 + 7.0 * k);
+    for (size_t k = 0; k < du.size(); ++k) du[k] = std::cos(2.0 + 3.0 * k);
+    w.points_of(du, dp);
+    w.node_forces(f, sphere.x.size() / 3, fn);
+    double work_points = 0, work_nodes = 0;
+    for (size_t k = 0; k < f.size(); ++k) work_points += f[k] * dp[k];
+    for (size_t k = 0; k < fn.size(); ++k) work_nodes += fn[k] * du[k];
+    EXPECT_NEAR(work_nodes, work_points, 1e-12 * std::abs(work_points)) << n;
+    for (int d = 0; d < 3; ++d) {
+      double sum_points = 0, sum_nodes = 0;
+      for (size_t k = d; k < f.size(); k += 3) sum_points += f[k];
+      for (size_t k = d; k < fn.size(); k += 3) sum_nodes += fn[k];
+      EXPECT_NEAR(sum_nodes, sum_points, 1e-12) << n;
+    }
+  }
+  // The flat triangles leave out the faces' bulge, a quarter as much at each halving.
+  for (size_t k = 1; k < error.size(); ++k) {
+    EXPECT_GT(error[k], 0.0);
+    EXPECT_NEAR(error[k] / error[k - 1], 0.25, 0.02) << k;
+  }
+}
+
 TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
   for (int order : {1, 2}) {
     // No Dirichlet condition, so that no entry of the gradient is zeroed.
@@ -124,14 +247,17 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
   }
 }
 
+// The coarse compressible cylinder's deck run.
 nlohmann::json run(const std::string& deck, const std::vector<std::string>& overrides,
                    const std::string& tag, MPI_Comm comm = MPI_COMM_WORLD) {
-  return hs_test::run_deck(deck, overrides, "cavities_" + tag, comm);
+  return hs_test::run_deck(deck, hs_test::coarse_cylinder(overrides), "cavities_" + tag, comm);
 }
 
+// The decks as shipped: Dragon Skin 10 at nu 0.4995 on P2, the F-bar element.
 TEST(Cavities, VolumeControlReachesItsVolumeAndWaterWeighs) {
-  const auto air = run("cylinder_air.yaml", {}, "air");
-  const auto water = run("cylinder_water.yaml", {}, "water");
+  const auto air = hs_test::run_deck("cylinder_air.yaml", {}, "cavities_air");
+  const auto water = hs_test::run_deck("cylinder_water.yaml", {}, "cavities_water");
+  EXPECT_EQ(air["materials"][0]["formulation"], "fbar");
   for (const auto* s : {&air, &water}) {
     const auto& states = (*s)["states"];
     ASSERT_EQ(states.size(), 2u);
@@ -149,13 +275,27 @@ TEST(Cavities, VolumeControlReachesItsVolumeAndWaterWeighs) {
   EXPECT_NEAR(w["fluid_weight_total"].get<double>(),
               1000 * 9.81 * w["fluid_weight_volume"].get<double>(),
               1e-10 * w["fluid_weight_total"].get<double>());
-  // The column volume tends to the cavity's volume (200^2 columns).
+  // The column volume tends to the cavity's volume (200^2 columns), less the bulge of the
+  // curved walls that their flat triangles leave out: 0.37 % at the default subdivision 4
+  // (1.7 % with 2, the edge nodes alone; docs/cavities.md, "Curved walls").
   EXPECT_NEAR(w["fluid_weight_volume"].get<double>(), w["volume"].get<double>(),
-              2e-3 * w["volume"].get<double>());
-  // The water-filled cylinder hangs lower, at rest and inflated.
+              5e-3 * w["volume"].get<double>());
+  // At rest the tip face turns as the slender beam of the decks' comments, q L^3 / (6 E I)
+  // with the end walls' weight: 9.92 deg with air and 16.92 deg with water at E = 260 kPa.
+  // The estimate leaves out the shear and the thick walls of this stubby beam (L / 2R =
+  // 3.75); at nu 0.45 the converged solid lay 2 and 6 % below it.
+  const double air_rest = air["states"][0]["tip"]["inclination_deg"].get<double>();
+  const double water_rest = water["states"][0]["tip"]["inclination_deg"].get<double>();
+  EXPECT_NEAR(air_rest, 9.92, 0.06 * 9.92);
+  EXPECT_NEAR(water_rest, 16.92, 0.06 * 16.92);
+  // The water-filled cylinder hangs lower, at rest and inflated; the inflation turns either
+  // up against gravity (the pressure on the end walls acts below the section's centroid), as
+  // in the paper's Fig. 4.
   for (int k : {0, 1})
     EXPECT_GT(water["states"][k]["tip"]["inclination_deg"].get<double>(),
               air["states"][k]["tip"]["inclination_deg"].get<double>() + 2.0);
+  EXPECT_LT(air["states"][1]["tip"]["inclination_deg"].get<double>(), air_rest - 0.5);
+  EXPECT_LT(water["states"][1]["tip"]["inclination_deg"].get<double>(), water_rest - 0.3);
 }
 
 TEST(Cavities, BadCavitiesAreRefusedWithTheirNameAndReason) {

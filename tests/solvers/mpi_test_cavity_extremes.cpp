@@ -25,9 +25,10 @@ namespace mpi_test_cavity_extremes {
 
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
+// Every case here is the coarse compressible cylinder (../mpi_test_decks.hpp).
 nlohmann::json run(const std::string& deck, const std::vector<std::string>& overrides,
                    const std::string& tag) {
-  return hs_test::run_deck(deck, overrides, "cavity_extremes_" + tag);
+  return hs_test::run_deck(deck, hs_test::coarse_cylinder(overrides), "cavity_extremes_" + tag);
 }
 
 // The message of the error that running the deck throws ("" if it runs), and no output
@@ -143,7 +144,8 @@ TEST(CavityExtremes, PressurePastThePeakStopsWithItsReason) {
 TEST(CavityExtremes, CollapsedCavityIsOutsideTheDomain) {
   // Mirroring the body through the plane y = 0 turns the cavity inside out (V -> -V). Newton
   // refuses to start there and names the cavity instead of an inverted element.
-  const hs::Config config = hs::parse_deck(kSource + "/input/cylinder_air.yaml", {});
+  const hs::Config config =
+      hs::parse_deck(kSource + "/input/cylinder_air.yaml", hs_test::coarse_cylinder());
   const hs::Distribution dist = hs::load_distributed_mesh(config.mesh, PETSC_COMM_WORLD);
   hs::Problem problem(config, dist, PETSC_COMM_WORLD);
   hs::ConstraintSet cavities(config, problem);

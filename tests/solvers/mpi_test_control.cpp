@@ -18,11 +18,13 @@
 namespace {
 namespace mpi_test_control {
 
-// A cylinder with its cavity as the actuator, the effector at the centre of the free end.
+// A cylinder with its cavity as the actuator, the effector at the centre of the free end
+// (the coarse compressible cylinder of ../mpi_test_decks.hpp).
 struct Scene : hs_test::ControlScene {
   Scene(const std::string& deck, double max_pressure,
         const std::vector<std::string>& overrides = {})
-      : ControlScene(deck, {0.0, 0.0, -0.15}, actuator(max_pressure), overrides) {}
+      : ControlScene(deck, {0.0, 0.0, -0.15}, actuator(max_pressure),
+                     hs_test::coarse_cylinder(overrides)) {}
   static hs::ActuatorConfig actuator(double max_pressure) {
     hs::ActuatorConfig a;
     a.constraint = "cavity";
@@ -97,22 +99,23 @@ TEST(SolverObjectOptions, EachObjectTakesItsPrefixedOptionsAndTheSharedOnes) {
   PetscOptionsSetValue(nullptr, "-ksp_max_it", "23");
   PetscOptionsSetValue(nullptr, "-hs_newton_ksp_type", "bcgs");  // no plain Newton here
   {
-    hs_test::DeckProblem scene("cylinder_air.yaml", {}, [](hs::Config& config) {
-      hs::ControlConfig control;
-      control.effectors = {hs::EffectorConfig{"tip", "", {0.0, 0.0, -0.15}}};
-      hs::ActuatorConfig actuator;
-      actuator.constraint = "cavity";
-      control.actuators = {actuator};
-      control.free_solve = hs::FreeSolve::one_step;
-      control.factor_threads = 1;  // the background correction too
-      config.control = control;
-      config.solver.petsc_options = {{"ksp_max_it", "17"},
-                                     {"ksp_rtol", "1e-3"},
-                                     {"hs_control_ksp_rtol", "1e-4"},
-                                     {"mat_mumps_icntl_14", "77"},
-                                     {"hs_control_mat_mumps_icntl_14", "88"},
-                                     {"hs_control_correction_ksp_rtol", "1e-2"}};
-    });
+    hs_test::DeckProblem scene(
+        "cylinder_air.yaml", hs_test::coarse_cylinder(), [](hs::Config& config) {
+          hs::ControlConfig control;
+          control.effectors = {hs::EffectorConfig{"tip", "", {0.0, 0.0, -0.15}}};
+          hs::ActuatorConfig actuator;
+          actuator.constraint = "cavity";
+          control.actuators = {actuator};
+          control.free_solve = hs::FreeSolve::one_step;
+          control.factor_threads = 1;  // the background correction too
+          config.control = control;
+          config.solver.petsc_options = {{"ksp_max_it", "17"},
+                                         {"ksp_rtol", "1e-3"},
+                                         {"hs_control_ksp_rtol", "1e-4"},
+                                         {"mat_mumps_icntl_14", "77"},
+                                         {"hs_control_mat_mumps_icntl_14", "88"},
+                                         {"hs_control_correction_ksp_rtol", "1e-2"}};
+        });
     hs::ConstraintSet cavities(scene.config, *scene.problem);
     hs::BorderedNewton newton(*scene.problem, cavities, scene.config.solver, hs::TangentKind{});
     hs::Effectors effectors(scene.config, *scene.problem);

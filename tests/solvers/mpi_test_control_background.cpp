@@ -130,7 +130,9 @@ TEST(ControlBackground, MonotoneTargetsGiveAMonotoneActuation) {
 
 TEST(ControlBackground, FailedBackgroundFactorizationFallsBackInLine) {
   struct Scene : hs_test::ControlScene {
-    Scene() : ControlScene("cylinder_water.yaml", {0.0, 0.0, -0.15}, actuator()) {
+    Scene()
+        : ControlScene("cylinder_water.yaml", {0.0, 0.0, -0.15}, actuator(),
+                       hs_test::coarse_cylinder()) {
       config.control->newton_finish = false;
       config.control->free_solve = hs::FreeSolve::one_step;
     }

@@ -10,8 +10,10 @@ namespace {
 
 const std::string kFill = "states=[{name: fill, steps: 4}]";
 
+// The coarse compressible cylinder (../mpi_test_decks.hpp) with the given cavity.
 nlohmann::json end_of(const std::string& cavity, const std::string& tag) {
-  return hs_test::run_deck("cylinder_air.yaml", {kFill, "cavities[0]=" + cavity},
+  return hs_test::run_deck("cylinder_air.yaml",
+                           hs_test::coarse_cylinder({kFill, "cavities[0]=" + cavity}),
                            tag)["end_of_run"]["cavities"][0];
 }
 

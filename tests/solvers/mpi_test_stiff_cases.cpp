@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../mpi_test_decks.hpp"
 #include "../mpi_test_folder.hpp"
 #include "common/error.hpp"
 #include "deck/deck.hpp"
@@ -189,9 +190,11 @@ TEST(StiffCases, NewtonOnNodalPressureBodiesDoesNotFeelNu) {
     MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
     return n;
   };
-  const auto compressible = run("cylinder_air.yaml", {}, out_folder("cylinder_045"));
+  const auto compressible =
+      run("cylinder_air.yaml", hs_test::coarse_cylinder(), out_folder("cylinder_045"));
   const auto silicone =
-      run("cylinder_air.yaml", {"materials[0].nu=0.4999"}, out_folder("cylinder_04999"));
+      run("cylinder_air.yaml", hs_test::coarse_cylinder({"materials[0].nu=0.4999"}),
+          out_folder("cylinder_04999"));
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (rank == 0) {
