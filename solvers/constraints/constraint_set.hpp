@@ -67,6 +67,12 @@ class ConstraintSet {
   // reduced model evaluates them apart from the elements. False when a constraint left its
   // domain (collapse_reason()).
   bool loads(Vec u, double s, Vec f);
+  // What loads() computes besides the multipliers' forces: the measures and each
+  // constraint's own load (its measure_load()) at (u, s). loads() is then sum_c lambda_c
+  // times the forces of constraint c (its forces(), where the Dirichlet rows are not zeroed)
+  // plus the measure loads, which a reduced model assembles from the unit forces it needs
+  // anyway. False when a constraint left its domain.
+  bool measure(Vec u, double s) { return update(u, s); }
   // After a residual() that returned false: why, if a constraint left its domain; else "".
   std::string collapse_reason() const;
   // The largest load_jump() of its constraints (N).

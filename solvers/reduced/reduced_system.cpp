@@ -182,10 +182,17 @@ void ReducedSystem::place(const Eigen::VectorXd& q, Vec u, bool everywhere) cons
   HS_PETSC(VecRestoreArray(u, &a));
 }
 
-bool ReducedSystem::constraint_forces(Vec u, Eigen::VectorXd& p) {
+bool ReducedSystem::constraint_forces(Vec u, Eigen::VectorXd& p, Eigen::MatrixXd& G) {
   const double t0 = MPI_Wtime();
-  const bool ok = constraints_.loads(u, 1.0, work_);
-  if (ok) p = project_sampled(work_);
+  const bool ok = constraints_.measure(u, 1.0);
+  if (ok) {
+    // The Dirichlet rows, where forces() is zero and loads() not, are zero in Phi.
+    G = project_unit_forces(u);
+    const std::vector<double> lambda = multipliers();
+    p = G * Eigen::Map<const Eigen::VectorXd>(lambda.data(), constraints_.size());
+    for (int c = 0; c < constraints_.size(); ++c)
+      if (Vec w = constraints_[c].measure_load()) p += project_sampled(w);
+  }
   constraint_s_ += MPI_Wtime() - t0;
   return ok;
 }
@@ -218,7 +225,7 @@ bool ReducedSystem::residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r
   HS_PETSC(VecRestoreArrayRead(u, &ua));
   element_s_ += MPI_Wtime() - t0;
   Eigen::VectorXd p;
-  if (!valid || !r.allFinite() || !constraint_forces(u, p)) return false;
+  if (!valid || !r.allFinite() || !constraint_forces(u, p, residual_G_)) return false;
   r -= p;
   force_scale_ = std::max({dead_.norm(), p.norm(), 1e-300});
   if (forces) *forces = p;
@@ -274,13 +281,18 @@ bool ReducedSystem::add_patches(const PetscScalar* ua, Eigen::VectorXd& r, Eigen
 
 Eigen::MatrixXd ReducedSystem::unit_forces(Vec u) {
   const double t0 = MPI_Wtime();
+  Eigen::MatrixXd G = project_unit_forces(u);
+  constraint_s_ += MPI_Wtime() - t0;
+  return G;
+}
+
+Eigen::MatrixXd ReducedSystem::project_unit_forces(Vec u) {
   const int m = constraints_.size();
   Eigen::MatrixXd G(size(), m);
   for (int c = 0; c < m; ++c) {
     constraints_[c].forces(u, work_);
     G.col(c) = project_sampled(work_);
   }
-  constraint_s_ += MPI_Wtime() - t0;
   return G;
 }
 
@@ -364,7 +376,7 @@ ReducedSolve ReducedSystem::solve(Eigen::VectorXd& q, Vec u) {
     }
     if (!accepted) {
       place(q, u, false);
-      constraints_.loads(u, 1.0, work_);  // the constraints' measures back at q
+      constraints_.measure(u, 1.0);  // the constraints' measures back at q
       out.reason = "the line search found no step that lowers the residual";
       return out;
     }
@@ -422,7 +434,7 @@ bool ReducedSystem::linearize(const Eigen::VectorXd& q, Vec u, ReducedLinearizat
   if (refresh) {
     refresh_stiffness(q, u, L.G);
   } else {
-    L.G = unit_forces(u);
+    L.G = residual_G_;  // the residual's, at the same u
     unit_forces_ = L.G;
   }
   const Eigen::MatrixXd D = constraint_tangent();

@@ -108,12 +108,15 @@ class ReducedSystem {
   // the elements' part of dr/dq; `forces`: also the constraints' projected forces.
   bool residual(const Eigen::VectorXd& q, Vec u, Eigen::VectorXd& r, Eigen::MatrixXd* tangent,
                 Eigen::VectorXd* forces = nullptr);
-  // Phi_S^T f_c(u): the constraints' forces projected, or false.
-  bool constraint_forces(Vec u, Eigen::VectorXd& p);
+  // Phi_S^T f_c(u): the constraints' forces projected, or false; their unit forces at u into
+  // G. One pass over each constraint's walls or path: the forces are sum_c lambda_c G_c
+  // plus the projected measure loads (ConstraintSet::measure).
+  bool constraint_forces(Vec u, Eigen::VectorXd& p, Eigen::MatrixXd& G);
   // Phi_S^T v for a vector v whose support is sampled.
   Eigen::VectorXd project_sampled(Vec v) const;
   // Each constraint's unit forces Phi^T g_c at u (one column per constraint).
   Eigen::MatrixXd unit_forces(Vec u);
+  Eigen::MatrixXd project_unit_forces(Vec u);  // the same, untimed
   // Each constraint's stiffness per unit multiplier, Phi^T (dg_c/du) Phi, by forward
   // differences of g_c along each mode (the walls' follower stiffness, a cable's turning), and
   // the unit forces G at q.
@@ -147,7 +150,8 @@ class ReducedSystem {
   const ObstacleContact* contact_ = nullptr;
   std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> phi_contact_;
   std::vector<NodeContact> contact_terms_;
-  Eigen::VectorXd dead_;  // Phi^T f_dead
+  Eigen::VectorXd dead_;        // Phi^T f_dead
+  Eigen::MatrixXd residual_G_;  // the unit forces at the last residual's u
   VecHandle work_;
   std::vector<int> actuators_;  // the model's actuators, indices into constraints_
   Eigen::MatrixXd training_actuations_, training_states_;
