@@ -8,8 +8,8 @@
 
 Trains the deck's reduced model (`hydrosoft reduce`, timed; skipped with --model), then sends
 the same tip-height lines, in a fixed shuffled order, to the reduced model and to the full model
-(its default `newton` mode), one control step a line and no per-step pressure limit, so that
-each answer is the equilibrium that meets its target. The lines span the middle 90 % of the
+(its default `newton` mode, and its real-time `one_step` mode one step a line), no per-step
+pressure limit, so that each answer is the equilibrium that meets its target. The lines span the middle 90 % of the
 tip's range over the actuator's bounds (measured by the training's own samples), so that none
 is a training sample's position. Prints the training time, per model the medians over the
 repeats of the step time's mean, median and p95 (ms, the answers' step_ms) and of the client's
@@ -160,6 +160,17 @@ def main():
           f"median {statistics.median(steps):.1f}; largest distance to target "
           f"{1e3 * max(e):.3f} mm")
     print(f"reduced vs full answers: max {1e3 * max(d):.3f} mm, mean "
+          f"{1e3 * statistics.mean(d):.3f} mm over {len(d)} lines")
+    # The full model's real-time mode (free_solve: one_step, refined to the equilibrium), one
+    # step a line as the reduced model answers.
+    fast = answers(a.deck, base + ["control.free_solve=one_step"], full_lines, f"{work}/one_step")
+    steps = [x["answer"]["step_ms"] for x in fast]
+    e = [x["answer"]["error_m"] for x in fast]
+    d = [dist(x["answer"]["reached"], y["answer"]["reached"]) for x, y in zip(checked, fast)]
+    mean, median, tail = stats(steps)
+    print(f"full one_step (1 step a line, {len(fast)} lines): step ms mean {mean:.1f} median "
+          f"{median:.1f} p95 {tail:.1f}; largest distance to target {1e3 * max(e):.3f} mm")
+    print(f"reduced vs one_step answers: max {1e3 * max(d):.3f} mm, mean "
           f"{1e3 * statistics.mean(d):.3f} mm over {len(d)} lines")
 
 
