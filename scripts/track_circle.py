@@ -2,7 +2,7 @@
 """Drives hydrosoft interactively along a circle and plots the tracking error over time.
 
     /usr/bin/python3 scripts/track_circle.py [--deck input/pendulum.yaml] [--np 1]
-        [--radius 0.0015] [--centre 0,0,-0.1012] [--points 40] [--turns 1]
+        [--radius 0.001] [--centre 0,0,-0.1011] [--points 40] [--turns 1]
         [--steps 1] [--out out/circle_tracking] [--set KEY=VALUE ...]
 
 Starts `mpirun -np NP build/bin/hydrosoft DECK --targets - --set
@@ -34,8 +34,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--deck", default="input/pendulum.yaml")
     ap.add_argument("--np", type=int, default=1)
-    ap.add_argument("--radius", type=float, default=0.0015)
-    ap.add_argument("--centre", default="0,0,-0.1012")
+    ap.add_argument("--radius", type=float, default=0.001)
+    ap.add_argument("--centre", default="0,0,-0.1011")
     ap.add_argument("--points", type=int, default=40)
     ap.add_argument("--turns", type=float, default=1.0)
     ap.add_argument("--steps", type=int, default=1)

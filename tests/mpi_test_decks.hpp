@@ -1,6 +1,6 @@
 // Helpers of the MPI tests that write their own decks and run them: the world's rank and
 // size, a deck written into the test's folder (and the paper's cylinder as the tests of
-// mechanisms run it, coarse_cylinder.hpp), rank 0's summary on every rank, and a whole dataset of a
+// mechanisms run it, pinned_decks.hpp), rank 0's summary on every rank, and a whole dataset of a
 // run's .h5 file.
 #pragma once
 
@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "coarse_cylinder.hpp"
 #include "mpi_test_folder.hpp"
+#include "pinned_decks.hpp"
 
 namespace hs_test {
 

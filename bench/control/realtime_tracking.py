@@ -46,10 +46,14 @@ def pendulum_circle(n=40, r=0.0015, z=-0.1012):
 SCENES = {"finger_hydraulic": finger_sweep, "pendulum": pendulum_circle}
 
 
+OVERRIDES = []  # --set: an override for every run
+
+
 def run(deck, lines, mode, check, folder):
     """(answers as hydrosoft wrote them, each line's round trip in ms) of one run."""
     overrides = ["control.free_solve=one_step", "control.steps_per_target=1",
                  f"control.check_equilibrium={'true' if check else 'false'}"] + MODES[mode]
+    overrides += OVERRIDES
     with Scene(os.path.join(ROOT, "input", deck + ".yaml"), overrides=overrides,
                output_folder=folder) as scene:
         answers = [scene.send_line(line) for line in lines]
@@ -66,7 +70,10 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "realtime"))
     ap.add_argument("--scenes", default=",".join(SCENES))
+    ap.add_argument("--set", action="append", default=[],
+                    help="an override for every run, e.g. materials[0].nu=0.45")
     a = ap.parse_args()
+    OVERRIDES.extend(a.set)
     os.makedirs(a.out, exist_ok=True)
     rows = []
     for scene in a.scenes.split(","):

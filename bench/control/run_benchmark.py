@@ -50,6 +50,9 @@ PARTS = ["assembly", "fluid_weight", "free_solve", "factorization", "compliance"
          "correction"]
 
 
+OVERRIDES = []  # --set: an override for every run
+
+
 def run(deck, h, np_, folder, mode, targets=None, extra=()):
     cmd = ["mpirun", "--oversubscribe", "-np", str(np_)]
     if os.geteuid() == 0:
@@ -64,6 +67,8 @@ def run(deck, h, np_, folder, mode, targets=None, extra=()):
             "finger_cable": "[{tip: [0.09, 0, -0.02]}, {tip: [0.09, 0, -0.025]}]"}.get(
             deck, "[{tip: [0.09, 0, -0.012]}, {tip: [0.09, 0, -0.008]}]")
     cmd += ["--set", targets, *extra]
+    for o in OVERRIDES:
+        cmd += ["--set", o]
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
     if p.returncode != 0:
@@ -79,7 +84,10 @@ def main():
     ap.add_argument("--largest", action="store_true")
     ap.add_argument("--tracking", action="store_true")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "control", "results.csv"))
+    ap.add_argument("--set", action="append", default=[],
+                    help="an override for every run, e.g. materials[0].nu=0.45")
     a = ap.parse_args()
+    OVERRIDES.extend(a.set)
     if a.tracking:
         return tracking(a)
     rows = []

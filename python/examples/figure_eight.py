@@ -2,7 +2,7 @@
 """Steers the pendulum's bottom along a figure eight and plots target against reached.
 
     /usr/bin/python3 python/examples/figure_eight.py [--deck input/pendulum.yaml] [--ranks 1]
-        [--size 0.0015] [--centre 0,0,-0.1012] [--points 40] [--out out/figure_eight]
+        [--size 0.001] [--centre 0,0,-0.1011] [--points 40] [--out out/figure_eight]
         [--set KEY=VALUE ...]
 
 Uses the hydrosoft_control package (python/hydrosoft_control): one target a point of the
@@ -27,8 +27,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--deck", default=os.path.join(ROOT, "input", "pendulum.yaml"))
     ap.add_argument("--ranks", type=int, default=1)
-    ap.add_argument("--size", type=float, default=0.0015, help="half width a of the eight (m)")
-    ap.add_argument("--centre", default="0,0,-0.1012")
+    ap.add_argument("--size", type=float, default=0.001, help="half width a of the eight (m)")
+    ap.add_argument("--centre", default="0,0,-0.1011")
     ap.add_argument("--points", type=int, default=40)
     ap.add_argument("--out", default="out/figure_eight")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")

@@ -4,9 +4,9 @@
     from hydrosoft_control import Scene, TargetRefused
 
     with Scene("input/pendulum.yaml", ranks=1) as scene:
-        answer = scene.reach([0.0015, 0.0, -0.1012])          # the first effector
+        answer = scene.reach([0.0015, 0.0, -0.1011])          # the first effector
         print(answer.reached, answer.error_m, answer.actuation)
-        scene.reach([0.0, 0.0015, -0.1012], effector="bottom")
+        scene.reach([0.0, 0.0015, -0.1011], effector="bottom")
     print(scene.summary["input"])                              # summary.json of the run
 
 A Scene runs `[mpirun -np RANKS] hydrosoft DECK --targets -` and speaks its protocol

@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "../deck/temp_folder.hpp"
+#include "../pinned_decks.hpp"
 #include "child_process.hpp"
 #include "text_file.hpp"
 
@@ -30,10 +31,10 @@ using hs::testing::TempFolder;
 
 const std::string kFinger = std::string(HYDROSOFT_SOURCE_DIR) + "/input/finger_hydraulic.yaml";
 
-// The small finger, writing into `folder`.
+// The small finger in its compressible material (../pinned_decks.hpp), writing into `folder`.
 std::string finger_command(const std::string& folder) {
-  return std::string(HYDROSOFT_EXE) + " " + kFinger +
-         " --set mesh.parameters.h=0.006 --set control.steps_per_target=1 --set output.folder=" +
+  return std::string(HYDROSOFT_EXE) + " " + kFinger + " " + hs_test::compressible_finger_args() +
+         "--set mesh.parameters.h=0.006 --set control.steps_per_target=1 --set output.folder=" +
          folder;
 }
 

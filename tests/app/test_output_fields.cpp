@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "../coarse_cylinder.hpp"
 #include "../deck/temp_folder.hpp"
+#include "../pinned_decks.hpp"
 #include "text_file.hpp"
 
 namespace {
@@ -80,7 +80,7 @@ double tet_volume(const std::vector<double>& x, const int64_t* t) {
          6;
 }
 
-// The cylinder of input/cylinder_water.yaml on its coarse P1 mesh (../coarse_cylinder.hpp), in
+// The cylinder of input/cylinder_water.yaml on its coarse P1 mesh (../pinned_decks.hpp), in
 // few steps.
 void check_cylinder(const std::string& launcher) {
   TempFolder tmp;
@@ -238,7 +238,9 @@ TEST(OutputFields, AControlRunLabelsItsStepsAsTargetSets) {
   TempFolder tmp;
   const std::string folder = (tmp.path() / "finger").string();
   const std::string command = std::string(HYDROSOFT_EXE) + " " + kSource +
-                              "/input/finger_hydraulic.yaml -q --set mesh.parameters.h=0.006 "
+                              "/input/finger_hydraulic.yaml -q " +
+                              hs_test::compressible_finger_args() +
+                              "--set mesh.parameters.h=0.006 "
                               "--set control.steps_per_target=1 --set output.folder=" +
                               folder + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);

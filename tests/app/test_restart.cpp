@@ -12,8 +12,8 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 
-#include "../coarse_cylinder.hpp"
 #include "../deck/temp_folder.hpp"
+#include "../pinned_decks.hpp"
 #include "restart_test_util.hpp"
 
 namespace {
@@ -38,7 +38,7 @@ const Case kStatic{"static", "cantilever_gravity",
 const Case kDynamic{"dynamic", "cantilever_dynamic",
                     "--set mesh.order=1 --set time.dt=0.1 --set time.end_time=2.0 "
                     "--set output.every=1"};
-// The cylinders are the coarse compressible one of ../coarse_cylinder.hpp.
+// The cylinders are the coarse compressible one of ../pinned_decks.hpp.
 const Case kStates{"states", "cylinder_water",
                    hs_test::coarse_cylinder_args() + "--set states[1].steps=20"};
 // Incompressible silicone (nu = 0.5): the volume multipliers are part of the state. Without

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "../deck/temp_folder.hpp"
+#include "../pinned_decks.hpp"
 #include "restart_test_util.hpp"
 
 namespace {
@@ -76,7 +77,8 @@ const Case kNewtonDeckMesh{"newton_deck_mesh",
                            "--set control.steps_per_target=4",
                            1e-10, 1e-4, 1e-8};
 
-const std::string kDeck = "/input/finger_hydraulic.yaml -q ";
+// The hydraulic finger in its compressible material (../pinned_decks.hpp).
+const std::string kDeck = "/input/finger_hydraulic.yaml -q " + hs_test::compressible_finger_args();
 
 std::string command(const Case& c, const std::string& folder, const std::string& extra,
                     const std::string& err) {

@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "../deck/temp_folder.hpp"
+#include "../pinned_decks.hpp"
 #include "child_process.hpp"
 #include "text_file.hpp"
 
@@ -334,7 +335,8 @@ TEST(InterruptedInteractive, ASignalWhileWaitingForATargetStopsTheReading) {
                     err = (tmp.path() / "err").string();
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
   const pid_t pid = start(std::string(HYDROSOFT_EXE) + " " + kSource +
-                          "/input/finger_hydraulic.yaml -q --set mesh.parameters.h=0.006 "
+                          "/input/finger_hydraulic.yaml -q " + hs_test::compressible_finger_args() +
+                          "--set mesh.parameters.h=0.006 "
                           "--set control.steps_per_target=1 --set output.folder=" +
                           folder + " --targets - < " + fifo + " > " + out + " 2> " + err);
   const int targets = open(fifo.c_str(), O_WRONLY);  // held open: the input never ends
@@ -364,7 +366,9 @@ TEST(History, EveryOutputStepHasARowEqualToTheSummaryAndTheH5) {
   const std::string err = (tmp.path() / "err").string();
   // The small finger, two deck targets: 4 state steps and 2 control steps.
   const std::string command = std::string(HYDROSOFT_EXE) + " " + kSource +
-                              "/input/finger_hydraulic.yaml -q --set mesh.parameters.h=0.006 "
+                              "/input/finger_hydraulic.yaml -q " +
+                              hs_test::compressible_finger_args() +
+                              "--set mesh.parameters.h=0.006 "
                               "--set control.steps_per_target=2 "
                               "--set 'control.targets=[{tip: [0.09, 0, -0.012]}, "
                               "{tip: [0.09, 0, -0.008]}]' --set output.folder=" +

@@ -12,13 +12,15 @@
 #include <functional>
 #include <sstream>
 
+#include "../pinned_decks.hpp"
 #include "../solvers/run_deck.hpp"
 #include "common/error.hpp"
 
 namespace {
 
-const std::vector<std::string> kSmallFinger = {"mesh.parameters.h=0.006",
-                                               "control.steps_per_target=2"};
+// The coarse hydraulic finger in its compressible material (../pinned_decks.hpp).
+const std::vector<std::string> kSmallFinger =
+    hs_test::compressible_finger({"mesh.parameters.h=0.006", "control.steps_per_target=2"});
 
 int world_rank() {
   int rank = 0;

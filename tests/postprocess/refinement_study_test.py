@@ -26,7 +26,7 @@ SIZES = ["0.011", "0.008", "0.0055"]
 TIP = "states[-1].tip.displacement_magnitude_m"
 
 
-# The compressible silicone of the mechanism tests (tests/coarse_cylinder.hpp): the study's
+# The compressible silicone of the mechanism tests (tests/pinned_decks.hpp): the study's
 # fit is what is tested, not the deck's material.
 COARSE = ["--set", "materials[0].E=2.0e5", "--set", "materials[0].nu=0.45"]
 

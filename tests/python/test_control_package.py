@@ -24,7 +24,10 @@ sys.path.insert(0, os.path.join(ROOT, "python"))
 from hydrosoft_control import Scene, SceneError, TargetRefused  # noqa: E402
 
 DECK = os.path.join(ROOT, "input", "finger_hydraulic.yaml")
-COARSE = ["mesh.parameters.h=0.006"]
+# The coarse finger in its compressible material, as the C++ tests of mechanisms run it
+# (tests/pinned_decks.hpp).
+COARSE = ["mesh.parameters.h=0.006", "materials[0].E=2.0e5", "materials[0].nu=0.45",
+          "control.actuators[0].max_pressure=30000"]
 LOW, HIGH = [0.09, 0.0, -0.012], [0.09, 0.0, -0.008]  # the deck's targets 0 and 4 (z steered)
 
 

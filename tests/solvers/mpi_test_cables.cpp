@@ -26,7 +26,9 @@ namespace {
 const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
 struct Body : hs_test::DeckProblem {
-  Body() : DeckProblem("finger_pneumatic.yaml", {"mesh.parameters.h=0.006"}) {}
+  Body()
+      : DeckProblem("finger_pneumatic.yaml",
+                    hs_test::compressible_finger({"mesh.parameters.h=0.006"})) {}
   // u = A X at every node (owned entries; the new numbering of the distribution).
   hs::VecHandle affine(const double A[3][3]) {
     hs::VecHandle u(problem->create_vector());

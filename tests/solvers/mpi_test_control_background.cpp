@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "../pinned_decks.hpp"
 #include "control_scene.hpp"
 #include "run_deck.hpp"
 
@@ -44,9 +45,11 @@ TEST(ControlBackground, ConcurrentLoopGivesTheSequentialActuation) {
   std::vector<std::string> o = {"mesh.parameters.h=0.004", "control.free_solve=one_step",
                                 "control.steps_per_target=1", "control.check_equilibrium=true",
                                 sweep_targets()};
-  const auto sequential = run_deck("finger_hydraulic.yaml", o, "sequential");
+  const auto sequential =
+      run_deck("finger_hydraulic.yaml", hs_test::compressible_finger(o), "sequential");
   o.push_back("control.factor_threads=1");
-  const auto concurrent = run_deck("finger_hydraulic.yaml", o, "concurrent");
+  const auto concurrent =
+      run_deck("finger_hydraulic.yaml", hs_test::compressible_finger(o), "concurrent");
   const auto& seq = sequential["targets"];
   const auto& con = concurrent["targets"];
   ASSERT_EQ(seq.size(), 30u);
@@ -101,11 +104,12 @@ TEST(ControlBackground, MonotoneTargetsGiveAMonotoneActuation) {
   targets += "]";
   const auto summary = run_deck(
       "finger_hydraulic.yaml",
-      {"mesh.parameters.h=0.004", "control.free_solve=one_step", "control.steps_per_target=1",
-       "control.factor_threads=1", "control.check_equilibrium=true",
-       "control.actuators=[{cavity: cavity, min_pressure: 0, max_pressure: 60000, "
-       "max_pressure_change: 5000}]",
-       targets},
+      hs_test::compressible_finger(
+          {"mesh.parameters.h=0.004", "control.free_solve=one_step", "control.steps_per_target=1",
+           "control.factor_threads=1", "control.check_equilibrium=true",
+           "control.actuators=[{cavity: cavity, min_pressure: 0, max_pressure: 60000, "
+           "max_pressure_change: 5000}]",
+           targets}),
       "monotone");
   const auto& t = summary["targets"];
   ASSERT_EQ(t.size(), z.size());

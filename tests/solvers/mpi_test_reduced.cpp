@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "../pinned_decks.hpp"
 #include "common/error.hpp"
 #include "control_scene.hpp"
 #include "run_deck.hpp"
@@ -49,7 +50,8 @@ hs::ReducedModel reduced_model_of(const hs_test::ControlScene& scene) {
 // full model's equilibrium at 20 kPa, and the full model's solution already balances them.
 void expect_the_full_basis_solves_the_full_model(const std::vector<std::string>& overrides,
                                                  double from = 0) {
-  hs_test::ControlScene scene(kDeck, {0.085, 0.0, 0.0}, cavity_actuator(), overrides);
+  hs_test::ControlScene scene(kDeck, {0.085, 0.0, 0.0}, cavity_actuator(),
+                              hs_test::compressible_finger(overrides));
   hs::Problem& problem = *scene.problem;
   const hs::Distribution& dist = problem.distribution();
   hs::ReducedModel model = reduced_model_of(scene);
@@ -119,7 +121,7 @@ TEST(ReducedSystem, WithTheFullBasisEveryElementAndEveryPatchSolvesANodalPressur
 // displacement, to second order in eps; at the equilibrium itself, nothing.
 TEST(ReducedSystem, ResidualIndicatorIsTheNewtonStepBackToEquilibrium) {
   hs_test::ControlScene scene(kDeck, {0.085, 0.0, 0.0}, cavity_actuator(),
-                              {"mesh.parameters.h=0.01"});
+                              hs_test::compressible_finger({"mesh.parameters.h=0.01"}));
   hs::Problem& problem = *scene.problem;
   const hs::Distribution& dist = problem.distribution();
   const double p = 20000;
@@ -197,7 +199,8 @@ double held_back_error(const nlohmann::json& report) {
 class TrainedModel : public ::testing::Test {
  protected:
   static hs::Config deck(const std::vector<std::string>& given, const std::string& tag) {
-    std::vector<std::string> overrides = {"mesh.parameters.h=0.006"};  // the test's may change it
+    // The compressible finger, the test's overrides may change it
+    std::vector<std::string> overrides = hs_test::compressible_finger({"mesh.parameters.h=0.006"});
     overrides.insert(overrides.end(), given.begin(), given.end());
     overrides.push_back("output.progress=false");
     overrides.push_back("output.folder=" + out_folder(tag));
@@ -286,12 +289,10 @@ TEST_F(TrainedModel, ASiliconeFingerSamplesPatchesAndAnswersWithinItsStatedError
 // with the halved steps going on as loose iterations, 4-5. A step to the bound takes the
 // training sample there; one back up to it, 4 iterations.
 TEST(ReducedModel, ASiliconeFingerNearTheTopOfItsRangeIsDrivenInAFewIterations) {
-  const std::vector<std::string> silicone = {"mesh.parameters.h=0.006",
-                                             "materials[0].E=2.6e5",
-                                             "materials[0].nu=0.4995",
-                                             "control.steps_per_target=1",
-                                             "control.actuators[0].max_pressure_change=1e9",
-                                             "output.progress=false"};
+  const std::vector<std::string> silicone = {
+      "mesh.parameters.h=0.006", "control.actuators[0].max_pressure=30000",
+      "control.steps_per_target=1", "control.actuators[0].max_pressure_change=1e9",
+      "output.progress=false"};
   auto deck = [&](const std::string& tag) {
     std::vector<std::string> overrides = silicone;
     overrides.push_back("output.folder=" + out_folder(tag));
@@ -352,7 +353,8 @@ TEST(ReducedModel, AFingerOnABallIsTrainedAndLiftedOffAndOntoIt) {
         "output.progress=false",
         "output.folder=" + out_folder(tag)};
     o.insert(o.end(), more.begin(), more.end());
-    return hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + kDeck, o);
+    return hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/" + kDeck,
+                          hs_test::compressible_finger(o));
   };
   const std::string model = out_folder("ball.h5");
   const double stated = held_back_error(training_report(deck({}, "ball_train"), model, 17));

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "../pinned_decks.hpp"
 #include "reduction/model_file.hpp"
 #include "run_deck.hpp"
 
@@ -18,7 +19,7 @@ hs::Config finger(const std::vector<std::string>& given, const std::string& tag)
                                         "output.folder=" + out_folder(tag)};
   overrides.insert(overrides.end(), given.begin(), given.end());
   return hs::parse_deck(std::string(HYDROSOFT_SOURCE_DIR) + "/input/finger_pneumatic.yaml",
-                        overrides);
+                        hs_test::compressible_finger(overrides));
 }
 
 // The training's summary on every rank: on all ranks of `comm`, or on rank 0 alone (MPI_COMM_SELF).
