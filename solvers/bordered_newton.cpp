@@ -118,6 +118,7 @@ NewtonResult BorderedNewton::solve_once(Vec u, double s) {
       break;
     }
     const double tc = MPI_Wtime();
+    reset_if_pattern_grew();
     HS_PETSC(KSPSetOperators(ksp_, J_, J_));
     for (int i = 0; i < m; ++i) HS_PETSC(VecNorm(lin_.g[i], NORM_2, &g_norm[i]));
     if (!system_.solve(ksp_, R_, lin_, &result.linear_iterations)) {
@@ -137,6 +138,7 @@ NewtonResult BorderedNewton::solve_once(Vec u, double s) {
 bool BorderedNewton::newton_step(Vec u, double s, Vec du, std::vector<double>& dmultipliers) {
   std::vector<double> c;
   if (!constraints_.residual(u, s, R_, c) || !constraints_.linearize(u, s, J_, lin_)) return false;
+  reset_if_pattern_grew();
   HS_PETSC(KSPSetOperators(ksp_, J_, J_));
   if (!system_.solve(ksp_, R_, lin_)) return false;
   system_.factor_dense(lin_);
@@ -144,6 +146,15 @@ bool BorderedNewton::newton_step(Vec u, double s, Vec du, std::vector<double>& d
   system_.step(zeta, du);
   dmultipliers.assign(zeta.data(), zeta.data() + constraints_.size());
   return true;
+}
+
+// As NewtonSolver::reset_if_pattern_grew.
+void BorderedNewton::reset_if_pattern_grew() {
+  if (problem_.pattern_version() == pattern_version_) return;
+  pattern_version_ = problem_.pattern_version();
+  PC pc;
+  HS_PETSC(KSPGetPC(ksp_, &pc));
+  HS_PETSC(PCReset(pc));
 }
 
 // Full Newton steps, halved only where the trial leaves the domain (an inverted element, a
@@ -156,7 +167,9 @@ bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
                                std::string& reason) {
   const int m = constraints_.size();
   std::vector<double> c_trial;
-  double t = 1;
+  // Self-contact's distances are unsigned: a step that carried a node through a triangle
+  // would not be refused, so it is shortened first (SelfContact::step_limit).
+  double t = problem_.self_contact_step_limit(u, du_);
   std::string collapse;  // the last trial's collapsed cavity, if that was why it was refused
   for (int halving = 0; halving <= 8; ++halving, t /= 2) {
     HS_PETSC(VecWAXPY(u_trial_, t, du_, u));
@@ -179,9 +192,9 @@ bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
   }
   constraints_.set_multipliers(lambda);
   constraints_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
-  reason = !collapse.empty()                  ? "every shortened step fails: " + collapse
-           : problem_.obstacle_reached() >= 0 ? "every shortened step fails: " + problem_.refusal()
-                                              : "every shortened step inverts an element";
+  reason = !collapse.empty()            ? "every shortened step fails: " + collapse
+           : problem_.contact_refused() ? "every shortened step fails: " + problem_.refusal()
+                                        : "every shortened step inverts an element";
   return false;
 }
 

@@ -58,6 +58,8 @@ class BorderedNewton : public NonlinearSolver {
   TangentKind tangent_;
   SolverOptions options_;  // before the KSP: it outlives it
   KspHandle ksp_;
+  int pattern_version_ = 0;  // the tangent pattern the preconditioner was set up for
+  void reset_if_pattern_grew();
   MatHandle J_;
   VecHandle R_, du_, u_trial_;
   BorderedSystem system_;

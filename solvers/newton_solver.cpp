@@ -33,7 +33,7 @@ NewtonSolver::NewtonSolver(Problem& problem, const SolverConfig& solver, Tangent
   HS_PETSC(SNESSetFunction(snes_, R_, form_residual, this));
   HS_PETSC(SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
   if (problem.has_potential()) HS_PETSC(SNESSetObjective(snes_, form_objective, this));
-  if (problem.contact()) {
+  if (problem.has_contact()) {
     SNESLineSearch search;
     HS_PETSC(SNESGetLineSearch(snes_, &search));
     HS_PETSC(SNESLineSearchSetPreCheck(search, limit_step, this));
@@ -59,10 +59,24 @@ PetscErrorCode NewtonSolver::form_jacobian(SNES snes, Vec u, Mat J, Mat, void* c
   auto* self = static_cast<NewtonSolver*>(ctx);
   try {
     if (!self->problem_.jacobian(u, self->load_, J)) PetscCall(SNESSetJacobianDomainError(snes));
+    self->reset_if_pattern_grew();
   } catch (const std::exception& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
   }
   return 0;
+}
+
+// A factorization analysed for an earlier pattern of the tangent (self-contact's grew) is
+// dropped: the preconditioner does not notice the new pattern and would refactor on the old
+// analysis (MUMPS failed so on 2 ranks).
+void NewtonSolver::reset_if_pattern_grew() {
+  if (problem_.pattern_version() == pattern_version_) return;
+  pattern_version_ = problem_.pattern_version();
+  KSP ksp;
+  PC pc;
+  HS_PETSC(SNESGetKSP(snes_, &ksp));
+  HS_PETSC(KSPGetPC(ksp, &pc));
+  HS_PETSC(PCReset(pc));
 }
 
 PetscErrorCode NewtonSolver::form_objective(SNES, Vec u, PetscReal* energy, void* ctx) {
@@ -147,6 +161,7 @@ NewtonResult NewtonSolver::solve(Vec u, double s) {
 bool NewtonSolver::newton_step(Vec u, double s, Vec du, std::vector<double>& dmultipliers) {
   dmultipliers.clear();
   if (!problem_.residual(u, s, R_) || !problem_.jacobian(u, s, J_)) return false;
+  reset_if_pattern_grew();
   KSP ksp;
   HS_PETSC(SNESGetKSP(snes_, &ksp));
   HS_PETSC(KSPSetOperators(ksp, J_, J_));

@@ -62,6 +62,8 @@ class NewtonSolver : public NonlinearSolver {
   double roundoff_ = -1;         // the floor it converged at, -1 when it converged otherwise
   bool atol_scaled_ = false;     // by a load (scale_absolute_tolerance)
   bool contact_search_ = false;  // the line search is chosen per solve (obstacles)
+  int pattern_version_ = 0;      // the tangent pattern the preconditioner was set up for
+  void reset_if_pattern_grew();
   bool volume_monitor_ = false;  // -hs_volume_monitor: a line per raise of the multipliers
 };
 

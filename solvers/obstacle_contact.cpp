@@ -37,18 +37,25 @@ double triangle_area(const std::vector<double>& X, const int32_t* nodes) {
 
 }  // namespace
 
+ContactBarrier contact_barrier_of(const Config& config, const std::vector<double>& X,
+                                  MPI_Comm comm) {
+  ContactBarrier barrier;
+  barrier.distance =
+      config.contact.distance ? *config.contact.distance : 1e-3 * bounding_diagonal(X, comm);
+  double E = 0;
+  for (const auto& m : config.materials) E = std::max(E, m.law->elastic_constants().E);
+  barrier.stiffness =
+      config.contact.stiffness ? *config.contact.stiffness : 0.01 * E / barrier.distance;
+  return barrier;
+}
+
 ObstacleContact::ObstacleContact(const Config& config, const Distribution& dist,
                                  const std::vector<double>& X, Vec work, MPI_Comm comm)
     : comm_(comm),
       obstacles_(config.obstacles),
       project_(config.solver.preset == SolverPreset::gamg),
       X_(X) {
-  barrier_.distance =
-      config.contact.distance ? *config.contact.distance : 1e-3 * bounding_diagonal(X, comm);
-  double E = 0;
-  for (const auto& m : config.materials) E = std::max(E, m.law->elastic_constants().E);
-  barrier_.stiffness =
-      config.contact.stiffness ? *config.contact.stiffness : 0.01 * E / barrier_.distance;
+  barrier_ = contact_barrier_of(config, X, comm);
 
   // Each face of the contact surfaces once (a face in two of the groups too), its area shared
   // equally by its nodes (the lumped area of a P1 face; on P2 faces the corner nodes get a

@@ -20,6 +20,11 @@
 
 namespace hs {
 
+// The barrier's reach and stiffness: the deck's contact.distance and contact.stiffness, or
+// from the mesh's bounding box and the stiffest material (docs/contact.md). Collective.
+ContactBarrier contact_barrier_of(const Config& config, const std::vector<double>& X,
+                                  MPI_Comm comm);
+
 class ObstacleContact {
  public:
   // `work`: a ghosted vector of the problem's layout, used once to sum the nodes' areas

@@ -132,6 +132,13 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
   HS_PETSC(VecDuplicate(u_work_, r_work_.out()));
   if (!config.obstacles.empty())
     contact_ = std::make_unique<ObstacleContact>(config, dist, X_, u_work_, comm_);
+  if (config.contact.self) {
+    std::vector<char> fixed(dofs_.num_owned_dofs());
+    for (int64_t l = 0; l < dofs_.num_owned_dofs(); ++l) fixed[l] = dofs_.constrained(l);
+    self_contact_ =
+        std::make_unique<SelfContact>(config, dist, fixed, contact_barrier_of(config, X_, comm_),
+                                      config.solver.preset == SolverPreset::gamg, comm_);
+  }
 }
 
 Problem::~Problem() = default;
@@ -254,13 +261,22 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
       }
   });
   if (b != 0 && extra_load_) HS_PETSC(VecAXPY(out, b, extra_load_));
+  if (a != 0 && self_contact_) {  // the pairs' barriers are stored energy too
+    LocalView view(u, u_work_);
+    PetscScalar* f;
+    HS_PETSC(VecGetArray(out, &f));
+    double e = 0;
+    self_touch_ = !self_contact_->add_forces(view.values(), a, f, &e);
+    HS_PETSC(VecRestoreArray(out, &f));
+    local_energy += e;
+  }
   if (energy) MPI_Allreduce(&local_energy, energy, 1, MPI_DOUBLE, MPI_SUM, comm_);
   if (a != 0 && contact_) {
     MPI_Allreduce(MPI_IN_PLACE, &reached, 1, MPI_INT, MPI_MAX, comm_);
     obstacle_reached_ = reached;
   }
   const bool oriented = record_inverted(bad);
-  return oriented && (a == 0 || obstacle_reached_ < 0);
+  return oriented && (a == 0 || (obstacle_reached_ < 0 && !self_touch_));
 }
 
 bool Problem::record_inverted(int64_t local_bad) {
@@ -289,6 +305,17 @@ bool Problem::residual(Vec u, double s, Vec R) {
 bool Problem::jacobian(Vec u, double s, Mat J) {
   const double t0 = MPI_Wtime();
   int64_t bad = -1;
+  std::vector<SelfContact::Pair> self_pairs;
+  if (self_contact_) {
+    LocalView view(u, u_work_);
+    self_contact_->pairs(view.values(), self_pairs);
+    if (self_contact_->extend_pattern(self_pairs)) {
+      ++pattern_version_;
+      std::vector<PetscInt> rows, cols;
+      pattern_entries(rows, cols);
+    }
+  }
+  update_pattern(J);
   // Values in the order of tangent_entries: element and face matrices summed into the
   // node-pair blocks, then the constraint entries.
   PetscScalar* value = tangent_values_.data();
@@ -325,6 +352,11 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
           ua, tangent_values_.data() + tangent_values_.size() - nodal_->num_coupling_entries());
   }
   fill_constraint_entries(value + block_values);
+  if (self_contact_) {
+    const size_t nodal = nodal_ ? nodal_->num_coupling_entries() : 0;
+    self_contact_->fill_tangent(self_pairs, tangent_values_.data() + tangent_values_.size() -
+                                                nodal - 9 * self_contact_->pattern().size());
+  }
   HS_PETSC(MatSetValuesCOO(J, tangent_values_.data(), INSERT_VALUES));
   if (inertia_) HS_PETSC(MatAXPY(J, inertia_->c, inertia_->M, SUBSET_NONZERO_PATTERN));
   PetscObject mixed = nullptr;
@@ -409,6 +441,13 @@ double Problem::residual_roundoff(Vec u) {
       }
     }
   });
+  if (self_contact_) {
+    LocalView view(u, u_work_);
+    PetscScalar* b;
+    HS_PETSC(VecGetArray(bound, &b));
+    self_contact_->add_roundoff(view.values(), b);
+    HS_PETSC(VecRestoreArray(bound, &b));
+  }
   dofs_.zero(bound);
   PetscReal norm = 0;
   HS_PETSC(VecNorm(bound, NORM_2, &norm));
@@ -501,6 +540,7 @@ void Problem::take_friction_lag(Vec u, double s) {
 }
 
 std::string Problem::refusal() const {
+  if (self_touch_) return "a node reached a triangle of the contact surfaces (contact.self)";
   if (obstacle_reached_ >= 0)
     return "a node reached obstacle '" + contact_->obstacles()[obstacle_reached_].name + "'";
   return "inverted element";
@@ -567,15 +607,46 @@ double Problem::contact_force_rows(Vec u, double s, int o, const std::vector<cha
 }
 
 double Problem::contact_step_limit(Vec u, Vec du, double s) const {
-  if (!contact_) return 1;
+  double alpha = self_contact_step_limit(u, du);
+  if (!contact_) return alpha;
   const PetscScalar *ua, *da;
   HS_PETSC(VecGetArrayRead(u, &ua));
   HS_PETSC(VecGetArrayRead(du, &da));
-  double alpha = contact_->step_limit(ua, da, s);
+  alpha = std::min(alpha, contact_->step_limit(ua, da, s));
   HS_PETSC(VecRestoreArrayRead(du, &da));
   HS_PETSC(VecRestoreArrayRead(u, &ua));
   MPI_Allreduce(MPI_IN_PLACE, &alpha, 1, MPI_DOUBLE, MPI_MIN, comm_);
   return alpha;
+}
+
+double Problem::self_contact_step_limit(Vec u, Vec du) const {
+  if (!self_contact_) return 1;
+  const PetscScalar *ua, *da;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  HS_PETSC(VecGetArrayRead(du, &da));
+  const double alpha = self_contact_->step_limit(ua, da);
+  HS_PETSC(VecRestoreArrayRead(du, &da));
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  return alpha;
+}
+
+void Problem::keep_self_contact(Vec from, Vec u, double s) const {
+  if (!self_contact_) return;
+  VecHandle step;
+  HS_PETSC(VecDuplicate(u, step.out()));
+  HS_PETSC(VecWAXPY(step, -1.0, from, u));
+  if (self_contact_step_limit(from, step) == 1) return;
+  HS_PETSC(VecCopy(from, u));
+  dofs_.apply(u, s);
+}
+
+SelfContact::Totals Problem::self_contact_totals(Vec u) const {
+  if (!self_contact_) return {};
+  const PetscScalar* ua;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  const SelfContact::Totals t = self_contact_->totals(ua);
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  return t;
 }
 
 ObstacleContact::NodeValues Problem::contact_node_values(Vec u, double s) const {

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <functional>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -29,6 +30,7 @@
 #include "solvers/obstacle_contact.hpp"
 #include "solvers/petsc_check.hpp"
 #include "solvers/petsc_handle.hpp"
+#include "solvers/self_contact.hpp"
 
 namespace hs {
 
@@ -146,6 +148,9 @@ class Problem {
   // the deck's list, over all ranks), or -1: the barrier refuses such a configuration as an
   // inverted element is refused.
   int obstacle_reached() const { return obstacle_reached_; }
+  // Whether the last residual was refused for contact: an obstacle reached, or a node of the
+  // contact surfaces on one of their triangles.
+  bool contact_refused() const { return obstacle_reached_ >= 0 || self_touch_; }
   // Why the last residual was refused, in words: "inverted element" or "a node reached
   // obstacle 'NAME'".
   std::string refusal() const;
@@ -164,6 +169,14 @@ class Problem {
   void take_friction_lag(Vec u, double s);
   // Contact with the deck's obstacles (null without them).
   const ObstacleContact* contact() const { return contact_.get(); }
+  // Contact of the contact surfaces with each other (null without contact.self).
+  const SelfContact* self_contact() const { return self_contact_.get(); }
+  bool has_contact() const { return contact_ || self_contact_; }
+  // Counts the times self-contact's tangent pattern grew: a solver whose factorization was
+  // analysed for an earlier pattern resets its preconditioner (PCReset).
+  int pattern_version() const { return pattern_version_; }
+  // Its totals on u (SelfContact::totals). Collective; without contact.self zeros.
+  SelfContact::Totals self_contact_totals(Vec u) const;
   // Per obstacle, the force the body exerts on it and its touching area, on u at load
   // factor s. Collective; empty without obstacles.
   ObstacleContact::Totals contact_totals(Vec u, double s) const;
@@ -180,9 +193,18 @@ class Problem {
   double contact_force_rows(Vec u, double s, int o, const std::vector<char>* only,
                             Vec rows[3]) const;
   // The largest fraction <= 1 of the step du from u (at load factor s) that keeps every
-  // contact node outside the obstacles (ObstacleContact::step_limit), over all ranks; 1
-  // without obstacles. Collective.
+  // contact node outside the obstacles (ObstacleContact::step_limit) and every node a tenth
+  // of its distance off the triangles of the surfaces (SelfContact::step_limit), over all
+  // ranks; 1 without contact. Collective.
   double contact_step_limit(Vec u, Vec du, double s) const;
+  // Its self-contact part alone (1 without contact.self). Collective.
+  double self_contact_step_limit(Vec u, Vec du) const;
+  // A step's predicted start u (extrapolated, its Dirichlet values at s set) that would bring
+  // a node of the contact surfaces through or near a triangle on the way from the converged
+  // `from` is taken back to `from` with the Dirichlet values at s: self-contact's distances
+  // are unsigned, so no residual would refuse it, and Newton walks there instead with its
+  // steps limited. Collective.
+  void keep_self_contact(Vec from, Vec u, double s) const;
   // Per owned node, the contact's fields (ObstacleContact::node_values); empty without
   // obstacles. Collective.
   ObstacleContact::NodeValues contact_node_values(Vec u, double s) const;
@@ -318,8 +340,14 @@ class Problem {
   template <class F>
   void assemble_local(Vec u, Vec out, F add);
   Mat create_pattern_matrix();  // the tangent's pattern, no mixed system
+  // The tangent's entries (tangent_entries, then the patch coupling's), and its values
+  // sized to them.
+  void pattern_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols);
+  // J (and its mixed system) preallocated again where self-contact's pattern grew since.
+  void update_pattern(Mat J);
   // The mixed system of a nodal-pressure body's tangent, its pattern by coordinates.
   Mat create_mixed_matrix();
+  void preallocate_mixed(Mat mixed);
   // Its values for the tangent whose values tangent_values_ holds.
   void fill_mixed_matrix(Mat mixed);
   void element_coordinates(int64_t local_tet, double* X) const;
@@ -369,8 +397,14 @@ class Problem {
   // multiplier.
   FbarNewtonPressure fbar_pressure(int64_t e) const;
   bool has_volume_multipliers_ = false;
-  bool has_fbar_multipliers_ = false;         // the deck's materials: the same on every rank
-  std::unique_ptr<ObstacleContact> contact_;  // with obstacles
+  bool has_fbar_multipliers_ = false;          // the deck's materials: the same on every rank
+  std::unique_ptr<ObstacleContact> contact_;   // with obstacles
+  std::unique_ptr<SelfContact> self_contact_;  // with contact.self
+  bool self_touch_ = false;                    // the last residual's: a node on a triangle
+  // Self-contact's pattern grows (SelfContact::extend_pattern): each matrix made here with
+  // the version of the pattern it was preallocated for.
+  int pattern_version_ = 0;
+  std::map<Mat, int> matrix_pattern_;
   bool friction_lag_held_ = false;
   DofMap dofs_;
   const std::vector<double>& X_;         // reference coordinates of local nodes

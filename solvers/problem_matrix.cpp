@@ -1,4 +1,6 @@
 // Problem: the tangent's matrix and its pattern, its mixed system, the mass matrix.
+#include <petsc/private/matimpl.h>  // Mat::nonzerostate (update_pattern)
+
 #include <stdexcept>
 
 #include "solvers/mixed_factor.hpp"
@@ -44,6 +46,51 @@ void Problem::tangent_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>
       cols.push_back(dofs_.global(l));
     }
   for (const auto& dofs : couplings_) block(dofs.data(), static_cast<int>(dofs.size()));
+  if (!self_contact_) return;
+  int64_t r[3], c[3];
+  for (size_t k = 0; k < self_contact_->pattern().size(); ++k) {
+    self_contact_->pattern_dofs(k, r, c);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        rows.push_back(static_cast<PetscInt>(r[i]));
+        cols.push_back(static_cast<PetscInt>(c[j]));
+      }
+  }
+}
+
+void Problem::pattern_entries(std::vector<PetscInt>& rows, std::vector<PetscInt>& cols) {
+  tangent_entries(rows, cols);
+  if (nodal_) nodal_->coupling_entries(rows, cols);  // last: jacobian() fills them at the end
+  tangent_values_.assign(rows.size(), 0.0);
+}
+
+// A matrix preallocated again in place kept parts of its old layout on 2 ranks (MUMPS then
+// failed), so the new pattern is a new matrix whose data replace J's under J's handle, which
+// the solvers hold. Its nonzero state, which PCSetUp compares to decide that a direct
+// solver's analysis must be redone, is moved past the old one's; so is the mixed system's.
+void Problem::update_pattern(Mat J) {
+  const auto known = matrix_pattern_.find(J);
+  if (known == matrix_pattern_.end() || known->second == pattern_version_) return;
+  PetscObject old_mixed = nullptr;
+  if (nodal_)
+    HS_PETSC(PetscObjectQuery(reinterpret_cast<PetscObject>(J), kMixedTangentKey, &old_mixed));
+  const PetscObjectState state = J->nonzerostate;
+  const PetscObjectState mixed_state =
+      old_mixed ? reinterpret_cast<Mat>(old_mixed)->nonzerostate : 0;
+  Mat fresh = create_pattern_matrix();
+  matrix_pattern_.erase(fresh);
+  MatHandle mixed;
+  if (old_mixed) {
+    mixed_rows_.clear();
+    mixed = MatHandle(create_mixed_matrix());
+    mixed.get()->nonzerostate = mixed_state + 1;
+  }
+  HS_PETSC(MatHeaderReplace(J, &fresh));
+  J->nonzerostate = state + 1;
+  if (old_mixed)
+    HS_PETSC(PetscObjectCompose(reinterpret_cast<PetscObject>(J), kMixedTangentKey,
+                                reinterpret_cast<PetscObject>(mixed.get())));
+  matrix_pattern_[J] = pattern_version_;
 }
 
 int Problem::add_coupling(std::vector<PetscInt> dofs) {
@@ -77,6 +124,16 @@ Mat Problem::create_matrix(bool mixed) {
 }
 
 Mat Problem::create_mixed_matrix() {
+  MatHandle A;  // the caller's once returned
+  const PetscInt n = nodal_->mixed_local_size();
+  HS_PETSC(MatCreate(comm_, A.out()));
+  HS_PETSC(MatSetSizes(A, n, n, PETSC_DETERMINE, PETSC_DETERMINE));
+  HS_PETSC(MatSetType(A, MATAIJ));
+  preallocate_mixed(A);
+  return A.release();
+}
+
+void Problem::preallocate_mixed(Mat A) {
   if (mixed_rows_.empty()) {
     std::vector<PetscInt> rows, cols;
     tangent_entries(rows, cols);
@@ -87,15 +144,9 @@ Mat Problem::create_mixed_matrix() {
     mixed_cols_ = std::move(cols);
     mixed_values_.assign(mixed_rows_.size(), 0.0);
   }
-  MatHandle A;  // the caller's once returned
-  const PetscInt n = nodal_->mixed_local_size();
-  HS_PETSC(MatCreate(comm_, A.out()));
-  HS_PETSC(MatSetSizes(A, n, n, PETSC_DETERMINE, PETSC_DETERMINE));
-  HS_PETSC(MatSetType(A, MATAIJ));
   std::vector<PetscInt> rows = mixed_rows_, cols = mixed_cols_;  // PETSc may change them
   HS_PETSC(
       MatSetPreallocationCOO(A, static_cast<PetscCount>(rows.size()), rows.data(), cols.data()));
-  return A.release();
 }
 
 // The tangent less the patch coupling (its values come last in tangent_values_), with the
@@ -103,10 +154,11 @@ Mat Problem::create_mixed_matrix() {
 void Problem::fill_mixed_matrix(Mat mixed) {
   const size_t tangent = tangent_values_.size() - nodal_->num_coupling_entries();
   std::copy(tangent_values_.begin(), tangent_values_.begin() + tangent, mixed_values_.begin());
-  if (inertia_) {
-    if (mass_values_.size() != tangent_values_.size())
+  if (inertia_) {  // the mass matrix's values come first; self-contact's pattern may have grown
+    if (mass_values_.empty())
       throw std::logic_error("Problem: inertia with a mass matrix not made by this problem");
-    for (size_t k = 0; k < tangent; ++k) mixed_values_[k] += inertia_->c * mass_values_[k];
+    for (size_t k = 0; k < std::min(tangent, mass_values_.size()); ++k)
+      mixed_values_[k] += inertia_->c * mass_values_[k];
   }
   nodal_->fill_mixed(mixed_values_.data() + tangent);
   HS_PETSC(MatSetValuesCOO(mixed, mixed_values_.data(), INSERT_VALUES));
@@ -117,9 +169,7 @@ Mat Problem::create_pattern_matrix() {
   const int64_t nowned = dist_.num_owned();
   if (!pairs_) pairs_ = std::make_unique<NodePairBlocks>(dist_.tet_nodes, npe_, dist_.num_local());
   std::vector<PetscInt> rows, cols;
-  tangent_entries(rows, cols);
-  if (nodal_) nodal_->coupling_entries(rows, cols);  // last: jacobian() fills them at the end
-  tangent_values_.assign(rows.size(), 0.0);
+  pattern_entries(rows, cols);
   MatHandle A;  // the caller's once returned
   HS_PETSC(MatCreate(comm_, A.out()));
   HS_PETSC(MatSetSizes(A, 3 * nowned, 3 * nowned, PETSC_DETERMINE, PETSC_DETERMINE));
@@ -140,6 +190,7 @@ Mat Problem::create_pattern_matrix() {
   NullSpaceHandle nullspace;
   HS_PETSC(MatNullSpaceCreateRigidBody(coords, nullspace.out()));
   HS_PETSC(MatSetNearNullSpace(A, nullspace));
+  matrix_pattern_[A.get()] = pattern_version_;
   return A.release();
 }
 

@@ -50,7 +50,8 @@ nlohmann::json final_summary(RunSetup& run, const Stepper& stepper, const nlohma
   }
   if (!run.problem->reaction_groups().empty())
     summary["reactions_N"] = reactions_json(*run.problem, run.u, load_factor);
-  if (run.problem->contact()) summary["contact"] = contact_json(*run.problem, run.u, load_factor);
+  if (run.problem->has_contact())
+    summary["contact"] = contact_json(*run.problem, run.u, load_factor);
   stepper.add_summary(summary);
   // The obstacles' forces beside the constraints' in the run's end state, in any kind of run.
   if (run.problem->contact()) summary["end_of_run"]["contact"] = summary["contact"]["obstacles"];

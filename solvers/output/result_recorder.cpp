@@ -89,6 +89,11 @@ nlohmann::json reactions_json(Problem& problem, Vec u, double s) {
 }
 
 void add_contact(Problem& problem, Vec u, double s, HistoryRow& row) {
+  if (problem.self_contact()) {
+    const SelfContact::Totals t = problem.self_contact_totals(u);
+    row.add("self_contact_pairs", static_cast<double>(t.pairs));
+    row.add("self_contact_force_N", t.force);
+  }
   if (!problem.contact()) return;
   const auto totals = problem.contact_totals(u, s);
   const auto& obstacles = problem.contact()->obstacles();
@@ -101,6 +106,15 @@ void add_contact(Problem& problem, Vec u, double s, HistoryRow& row) {
 
 nlohmann::json contact_json(Problem& problem, Vec u, double s) {
   nlohmann::json out = nlohmann::json::object();
+  if (const SelfContact* self = problem.self_contact()) {
+    const SelfContact::Totals t = problem.self_contact_totals(u);
+    out["self"] = {{"pairs", t.pairs},
+                   {"force_N", t.force},
+                   {"min_gap_m", t.pairs > 0 ? nlohmann::json(t.min_gap) : nlohmann::json()},
+                   {"nodes", self->num_nodes()}};
+    out["distance_m"] = self->barrier().distance;
+    out["stiffness_Pa_per_m"] = self->barrier().stiffness;
+  }
   if (!problem.contact()) return out;
   const auto totals = problem.contact_totals(u, s);
   const auto& obstacles = problem.contact()->obstacles();

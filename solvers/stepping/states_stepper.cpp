@@ -55,13 +55,16 @@ std::optional<StepReport> StatesStepper::advance(Vec u) {
 
 void StatesStepper::solve_increment(Vec u, double tau_to) {
   const StatePlan& plan = plans_[k_];
+  VecHandle from(problem_.create_vector());
   auto attempt = [&](double tau) {
+    HS_PETSC(VecCopy(u, from));
     std::vector<double> lambda = constraints_.multipliers();
     predictor_.predict(u, lambda, tau);
     constraints_.set_multipliers(lambda);
     const double s = plan.load_factor(tau);
     plan.set_targets(constraints_, tau);
     problem_.apply_dirichlet(u, s);
+    problem_.keep_self_contact(from, u, s);
     if (constraints_.linearized()) constraints_.freeze_weights(u, s);
     const NewtonResult r = solver_.solve(u, s);
     if (r.converged) {
@@ -127,7 +130,7 @@ nlohmann::json state_entry(const Config& config, Problem& problem, ConstraintSet
   }
   if (!problem.reaction_groups().empty())
     state["reactions_N"] = reactions_json(problem, u, load_factor);
-  if (problem.contact()) state["contact"] = contact_json(problem, u, load_factor);
+  if (problem.has_contact()) state["contact"] = contact_json(problem, u, load_factor);
   state["added_volume_ml"] = constraints.added_volume() * 1e6;
   state["volume_change_ml"] = constraints.volume_change() * 1e6;
   const nlohmann::json actuators = constraints.report();

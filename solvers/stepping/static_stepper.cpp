@@ -53,11 +53,14 @@ std::optional<StepReport> StaticStepper::advance(Vec u) {
   const size_t k = next_;
   const double s_to = schedule_[k];
   std::vector<double> no_multipliers;
+  VecHandle from(problem_.create_vector());
   auto attempt = [&](double s) {
+    HS_PETSC(VecCopy(u, from));
     predictor_.predict(u, no_multipliers, s);
     if (!predictor_.has_previous())
       predict_by_tangent(problem_, solver_, u, predictor_.parameter(), s);
     problem_.apply_dirichlet(u, s);
+    problem_.keep_self_contact(from, u, s);
     const NewtonResult r = solver_.solve(u, s);
     if (r.converged)
       predictor_.accept(s);

@@ -1,5 +1,5 @@
 // The closest point of a triangle by its Voronoi regions (the face, three edges, three
-// vertices), the tree split at the median of the triangles' centres along the longest side,
+// vertices), found through a tree of the triangles' boxes (box_tree.hpp),
 // and the sign from the closest feature's pseudo-normal: the face's normal, an edge's the sum
 // of its two faces' normals, a vertex's the sum of its faces' normals weighted by their
 // angles there (the weights that make the sign right at a vertex, where the plain sum fails).
@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numeric>
 #include <unordered_map>
 
 namespace hs {
@@ -83,79 +82,26 @@ TriangleSurface::TriangleSurface(std::vector<Point> vertices,
       const int v = triangles_[t][k];
       if (face_normal_[t].dot(vertex_normal_[v].normalized()) < kFlat) flat_vertex_[v] = 0;
     }
-  order_.resize(nt);
-  std::iota(order_.begin(), order_.end(), 0);
-  nodes_.reserve(2 * nt);
-  if (nt > 0) build(0, static_cast<int>(nt));
-}
-
-int TriangleSurface::build(int first, int count) {
-  const int index = static_cast<int>(nodes_.size());
-  nodes_.emplace_back();
-  Eigen::AlignedBox3d box, centres;
-  for (int i = first; i < first + count; ++i) {
-    Point centre = Point::Zero();
-    for (int v : triangles_[order_[i]]) {
-      box.extend(vertices_[v]);
-      centre += vertices_[v] / 3;
-    }
-    centres.extend(centre);
-  }
-  nodes_[index].box = box;
-  constexpr int kLeafSize = 4;
-  if (count <= kLeafSize) {
-    nodes_[index].first = first;
-    nodes_[index].count = count;
-    return index;
-  }
-  int axis = 0;
-  centres.sizes().maxCoeff(&axis);
-  auto centre = [&](int t) {
-    const auto& v = triangles_[t];
-    return vertices_[v[0]](axis) + vertices_[v[1]](axis) + vertices_[v[2]](axis);
-  };
-  const int half = count / 2;
-  std::nth_element(order_.begin() + first, order_.begin() + first + half,
-                   order_.begin() + first + count, [&](int s, int t) {
-                     const double cs = centre(s), ct = centre(t);
-                     return cs < ct || (cs == ct && s < t);  // the same tree on every rank
-                   });
-  build(first, half);
-  const int right = build(first + half, count - half);
-  nodes_[index].right = right;
-  return index;
+  std::vector<Eigen::AlignedBox3d> boxes(nt);
+  for (size_t t = 0; t < nt; ++t)
+    for (int v : triangles_[t]) boxes[t].extend(vertices_[v]);
+  tree_ = std::make_unique<BoxTree>(std::move(boxes));
 }
 
 SignedDistance TriangleSurface::distance(const Point& x) const {
   double best = std::numeric_limits<double>::infinity();
   int best_triangle = -1;
   Closest closest;
-  int stack[128];
-  int top = 0;
-  if (!nodes_.empty()) stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (node.box.squaredExteriorDistance(x) >= best) continue;
-    if (node.right < 0) {
-      for (int i = node.first; i < node.first + node.count; ++i) {
-        const auto& v = triangles_[order_[i]];
-        const Closest c = closest_on_triangle(x, vertices_[v[0]], vertices_[v[1]], vertices_[v[2]]);
-        const double squared = (x - c.point).squaredNorm();
-        if (squared < best) {
-          best = squared;
-          best_triangle = order_[i];
-          closest = c;
-        }
-      }
-      continue;
+  tree_->nearest(x, best, [&](int t) {
+    const auto& v = triangles_[t];
+    const Closest c = closest_on_triangle(x, vertices_[v[0]], vertices_[v[1]], vertices_[v[2]]);
+    const double squared = (x - c.point).squaredNorm();
+    if (squared < best) {
+      best = squared;
+      best_triangle = t;
+      closest = c;
     }
-    // The nearer child last, so that it is searched first and prunes the other.
-    const int left = static_cast<int>(&node - nodes_.data()) + 1;
-    const bool left_nearer = nodes_[left].box.squaredExteriorDistance(x) <=
-                             nodes_[node.right].box.squaredExteriorDistance(x);
-    stack[top++] = left_nearer ? node.right : left;
-    stack[top++] = left_nearer ? left : node.right;
-  }
+  });
   SignedDistance out;
   if (best_triangle < 0) return out;
   const Point v = x - closest.point;

@@ -6,8 +6,10 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <memory>
 #include <vector>
 
+#include "contact/box_tree.hpp"
 #include "contact/obstacle.hpp"
 
 namespace hs {
@@ -28,21 +30,13 @@ class TriangleSurface {
   const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
 
  private:
-  struct Node {
-    Eigen::AlignedBox3d box;
-    int first = 0, count = 0;  // a leaf's triangles: order_[first, first + count)
-    int right = -1;            // an inner node's second child (its first is the next node)
-  };
-  int build(int first, int count);
-
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   std::vector<Eigen::Vector3d> face_normal_, vertex_normal_, edge_normal_;  // edge: 3 a triangle
   // An edge between coplanar faces, a vertex amid them (a tessellated flat side): the
   // distance is the plane's there, flat, not curved round the feature.
   std::vector<char> flat_edge_, flat_vertex_;
-  std::vector<Node> nodes_;
-  std::vector<int> order_;
+  std::unique_ptr<BoxTree> tree_;  // over the triangles' boxes
 };
 
 }  // namespace hs

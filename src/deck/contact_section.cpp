@@ -181,6 +181,10 @@ const KeyTable<ContactConfig>& contact_keys() {
                    "eps_v (m): the slip within a step below which friction sticks (a spring whose "
                    "force reaches the Coulomb limit at this slip) and beyond which the node "
                    "slides"),
+      bool_key("self", &ContactConfig::self,
+               "the surfaces also touch each other: a node of them is kept off every triangle "
+               "of them it is not a corner of (self-contact, and contact between the bodies of "
+               "one mesh; mesh.order 1)"),
   };
   return keys;
 }

@@ -90,6 +90,16 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
                "not supported with control.free_solve one_step and a hydraulic cavity's "
                "fluid_weight.coupling linearized (the frozen weights are not saved, so such a "
                "run cannot be restarted to the same numbers)");
+  if (root["contact"] && c.obstacles.empty() && !c.contact.self)
+    r.fail("contact", root["contact"],
+           "only used with obstacles or contact.self (the section obstacles is empty and "
+           "self is false)");
+  if (c.contact.self && c.mesh.order != 1)
+    r.fail("contact.self", root["contact"]["self"],
+           "needs mesh.order 1 (the pairs are a node and a flat triangle of the surface)");
+  if (c.contact.self && c.control)
+    r.fail("contact.self", root["contact"]["self"],
+           "not supported with control yet (docs/contact.md, \"Self-contact\")");
   if (!c.obstacles.empty() && c.contact.surfaces.empty())
     r.fail("contact",
            "required with obstacles: contact.surfaces names the body's surface "

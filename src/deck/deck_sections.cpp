@@ -242,15 +242,13 @@ const KeyTable<Config>& deck_section_keys() {
           .printed_when([](const Config& c) { return !c.obstacles.empty(); }),
       custom_key<Config>(
           "contact", "map", "none (required with obstacles)",
-          "the body's surfaces that touch the obstacles, the barrier (docs/contact.md)",
+          "the body's surfaces that touch the obstacles or each other, the barrier "
+          "(docs/contact.md)",
           [](R r, N n, K, Config& s, const Config& c) { s.contact = parse_contact(r, n, c); },
           [](YAML::Emitter& out, const Config& c, const Config&) {
             write_map(out, contact_keys(), c.contact, c);
           })
-          .only(
-              use_when<Config>([](const Config&, const Config& c) { return !c.obstacles.empty(); },
-                               "only used with obstacles (the section obstacles is empty)", ""))
-          .printed_when([](const Config& c) { return !c.obstacles.empty(); }),
+          .printed_when([](const Config& c) { return !c.obstacles.empty() || c.contact.self; }),
       custom_key<Config>(
           "control", "map", "none", "inverse control",
           [](R r, N n, K, Config& s, const Config& c) { s.control = parse_control(r, n, c); },

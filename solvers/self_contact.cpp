@@ -1,0 +1,318 @@
+#include "solvers/self_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+
+#include "common/error.hpp"
+#include "contact/box_tree.hpp"
+#include "solvers/gathered_surface.hpp"
+
+namespace hs {
+namespace {
+
+Eigen::Vector3d at(const std::vector<double>& x, int32_t i) {
+  return Eigen::Vector3d(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+}
+
+Eigen::AlignedBox3d grown(Eigen::AlignedBox3d box, double by) {
+  box.min().array() -= by;
+  box.max().array() += by;
+  return box;
+}
+
+}  // namespace
+
+SelfContact::SelfContact(const Config& config, const Distribution& dist,
+                         const std::vector<char>& constrained, const ContactBarrier& barrier,
+                         bool project, MPI_Comm comm)
+    : comm_(comm), barrier_(barrier), project_(project) {
+  // The surface nodes in the mesh file's numbering, so that their order (and with it every
+  // sum over them) does not depend on the number of ranks.
+  std::map<int64_t, int64_t> global_of;  // mesh number -> PETSc node number
+  std::map<int64_t, std::array<double, 3>> x_of;
+  std::vector<std::array<int64_t, 3>> faces;
+  for (const auto& group : config.contact.surfaces) {
+    const GatheredSurface s = gather_surface(dist, group, -1, comm);
+    for (size_t n = 0; n < s.mesh_nodes.size(); ++n) {
+      global_of[s.mesh_nodes[n]] = s.global_nodes[n];
+      x_of[s.mesh_nodes[n]] = {s.x[3 * n], s.x[3 * n + 1], s.x[3 * n + 2]};
+    }
+    for (size_t f = 0; f < s.faces.size() / s.nodes_per_face; ++f) {
+      std::array<int64_t, 3> face;
+      for (int a = 0; a < 3; ++a) face[a] = s.mesh_nodes[s.faces[f * s.nodes_per_face + a]];
+      faces.push_back(face);
+    }
+  }
+  std::map<int64_t, int32_t> index;
+  for (const auto& [mesh, global] : global_of) {
+    index[mesh] = static_cast<int32_t>(global_.size());
+    global_.push_back(global);
+    reference_.insert(reference_.end(), x_of[mesh].begin(), x_of[mesh].end());
+  }
+  const std::vector<double>& x = reference_;
+  std::map<std::array<int64_t, 3>, bool> seen;  // a face in two groups counts once
+  for (const auto& face : faces) {
+    std::array<int64_t, 3> key = face;
+    std::sort(key.begin(), key.end());
+    if (!seen.emplace(key, true).second) continue;
+    faces_.push_back({index[face[0]], index[face[1]], index[face[2]]});
+  }
+  const size_t ns = global_.size();
+  area_.assign(ns, 0.0);
+  faces_of_.resize(ns);
+  for (size_t f = 0; f < faces_.size(); ++f) {
+    const auto& t = faces_[f];
+    const double area = 0.5 * (at(x, t[1]) - at(x, t[0])).cross(at(x, t[2]) - at(x, t[0])).norm();
+    for (int32_t n : t) {
+      area_[n] += area / 3;
+      faces_of_[n].push_back(static_cast<int32_t>(f));
+    }
+  }
+  const int64_t first = dist.owned_offsets[dist.rank], last = dist.owned_offsets[dist.rank + 1];
+  owned_.assign(ns, -1);
+  std::vector<int> fixed(3 * ns, 0);
+  for (size_t n = 0; n < ns; ++n)
+    if (global_[n] >= first && global_[n] < last) {
+      owned_[n] = global_[n] - first;
+      mine_.push_back(static_cast<int32_t>(n));
+      for (int d = 0; d < 3; ++d) fixed[3 * n + d] = constrained[3 * owned_[n] + d];
+    }
+  MPI_Allreduce(MPI_IN_PLACE, fixed.data(), static_cast<int>(fixed.size()), MPI_INT, MPI_MAX, comm);
+  constrained_.assign(fixed.begin(), fixed.end());
+  check_start(config.deck_path);
+}
+
+std::vector<double> SelfContact::positions(const double* u) const {
+  std::vector<double> x(3 * global_.size(), 0.0);
+  for (int32_t n : mine_)
+    for (int d = 0; d < 3; ++d) x[3 * n + d] = u[3 * owned_[n] + d];
+  MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  return x;
+}
+
+// Calls visit(feature nodes, count) for the feature nearest to node p of each triangle whose
+// box the tree finds for `box`, skipping the triangles p is a corner of. Every triangle counts
+// (a feature shared by two triangles twice): merging the pairs whose nearest feature is the
+// same, as the first incremental potential contact does, makes the energy jump where a node
+// crosses from a face's region to its edge's, and Newton cycled on the jumps.
+template <class Visit>
+void each_feature(const std::vector<std::array<int32_t, 3>>& faces, const BoxTree& tree,
+                  const std::vector<double>& x, int32_t p, const Eigen::AlignedBox3d& box,
+                  Visit&& visit) {
+  const Eigen::Vector3d xp = at(x, p);
+  tree.overlapping(box, [&](int f) {
+    const auto& t = faces[f];
+    if (t[0] == p || t[1] == p || t[2] == p) return;
+    const TriangleFeature feature = nearest_feature(xp, at(x, t[0]), at(x, t[1]), at(x, t[2]));
+    int32_t nodes[4] = {p, -1, -1, -1};
+    for (int k = 0; k < feature.count; ++k) nodes[1 + k] = t[feature.vertex[k]];
+    visit(nodes, feature.count + 1);
+  });
+}
+
+bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
+  out.clear();
+  std::vector<double> x = positions(u);
+  for (size_t k = 0; k < x.size(); ++k) x[k] += reference_[k];
+  std::vector<Eigen::AlignedBox3d> boxes(faces_.size());  // empty
+  for (size_t f = 0; f < faces_.size(); ++f)
+    for (int32_t n : faces_[f]) boxes[f].extend(at(x, n));
+  const BoxTree tree(std::move(boxes));
+  const double dhat = barrier_.distance;
+  bool ok = true;
+  for (int32_t p : mine_) {
+    const Eigen::Vector3d xp = at(x, p);
+    each_feature(faces_, tree, x, p, grown(Eigen::AlignedBox3d(xp, xp), dhat),
+                 [&](const int32_t* nodes, int count) {
+                   Eigen::Vector3d y[4];
+                   for (int k = 0; k < count; ++k) y[k] = at(x, nodes[k]);
+                   const double d2 = feature_squared_distance(y, count);
+                   if (d2 >= dhat * dhat) return;
+                   if (!(d2 > 0)) {
+                     ok = false;
+                     return;
+                   }
+                   Pair pair;
+                   pair.count = count;
+                   std::copy(nodes, nodes + count, pair.node);
+                   pair.term = pair_barrier(y, count, area_[p], barrier_, project_);
+                   out.push_back(pair);
+                 });
+  }
+  return ok;
+}
+
+bool SelfContact::add_forces(const double* u, double a, double* f, double* energy) const {
+  std::vector<Pair> found;
+  int ok = pairs(u, found);
+  std::vector<double> g(3 * global_.size(), 0.0);
+  double sum = 0;
+  for (const Pair& pair : found) {
+    sum += pair.term.energy;
+    for (int k = 0; k < pair.count; ++k)
+      for (int d = 0; d < 3; ++d) g[3 * pair.node[k] + d] += a * pair.term.gradient(3 * k + d);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, g.data(), static_cast<int>(g.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, comm_);
+  for (int32_t n : mine_)
+    for (int d = 0; d < 3; ++d) f[3 * owned_[n] + d] += g[3 * n + d];
+  if (energy) *energy = sum;
+  return ok != 0;
+}
+
+void SelfContact::add_roundoff(const double* u, double* bound) const {
+  std::vector<Pair> found;
+  pairs(u, found);
+  std::vector<double> x = positions(u), b(3 * global_.size(), 0.0);
+  for (size_t k = 0; k < x.size(); ++k) x[k] = std::abs(x[k] + reference_[k]);
+  for (const Pair& pair : found)
+    for (int i = 0; i < 3 * pair.count; ++i)
+      for (int j = 0; j < 3 * pair.count; ++j)
+        b[3 * pair.node[i / 3] + i % 3] +=
+            std::abs(pair.term.hessian(i, j)) * x[3 * pair.node[j / 3] + j % 3];
+  MPI_Allreduce(MPI_IN_PLACE, b.data(), static_cast<int>(b.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  for (int32_t n : mine_)
+    for (int d = 0; d < 3; ++d) bound[3 * owned_[n] + d] += b[3 * n + d];
+}
+
+double SelfContact::step_limit(const double* u, const double* du) const {
+  std::vector<double> x = positions(u);
+  for (size_t k = 0; k < x.size(); ++k) x[k] += reference_[k];
+  const std::vector<double> dx = positions(du);
+  auto swept = [&](int32_t n) {
+    Eigen::AlignedBox3d box(at(x, n));
+    return box.extend(at(x, n) + at(dx, n));
+  };
+  std::vector<Eigen::AlignedBox3d> boxes(faces_.size());  // empty
+  for (size_t f = 0; f < faces_.size(); ++f)
+    for (int32_t n : faces_[f]) boxes[f].extend(swept(n));
+  const BoxTree tree(std::move(boxes));
+  // Conservative advancement along the step for each node and triangle whose swept boxes
+  // meet: from t, the distance d(t) can fall by at most (t' - t) m by t', so the step may go on
+  // to t + (d(t) - d(0) / 10) / m, and again from there.
+  auto distance = [&](int32_t p, const std::array<int32_t, 3>& t, double along) {
+    Eigen::Vector3d y[4], corner[3];
+    const Eigen::Vector3d xp = at(x, p) + along * at(dx, p);
+    for (int k = 0; k < 3; ++k) corner[k] = at(x, t[k]) + along * at(dx, t[k]);
+    const TriangleFeature feature = nearest_feature(xp, corner[0], corner[1], corner[2]);
+    y[0] = xp;
+    for (int k = 0; k < feature.count; ++k) y[1 + k] = corner[feature.vertex[k]];
+    return std::sqrt(feature_squared_distance(y, feature.count + 1));
+  };
+  double alpha = 1;
+  for (int32_t p : mine_)
+    tree.overlapping(grown(swept(p), barrier_.distance), [&](int f) {
+      const auto& t = faces_[f];
+      if (t[0] == p || t[1] == p || t[2] == p) return;
+      double relative = 0;
+      for (int32_t n : t) relative = std::max(relative, (at(dx, n) - at(dx, p)).norm());
+      const double d0 = distance(p, t, 0.0);
+      if (relative <= 0.9 * d0) return;
+      double along = 0;
+      for (int k = 0; k < 100 && along < alpha; ++k) {
+        const double d = k == 0 ? d0 : distance(p, t, along);
+        if (d <= 0.1 * d0 * (1 + 1e-12)) break;
+        along = std::min(1.0, along + (d - 0.1 * d0) / relative);
+        if (along == 1.0) return;
+      }
+      alpha = std::min(alpha, along);
+    });
+  MPI_Allreduce(MPI_IN_PLACE, &alpha, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  return alpha;
+}
+
+void SelfContact::pattern_dofs(size_t k, int64_t rows[3], int64_t cols[3]) const {
+  for (int d = 0; d < 3; ++d) {
+    const int32_t a = pattern_[k][0], b = pattern_[k][1];
+    rows[d] = constrained_[3 * a + d] ? -1 : 3 * global_[a] + d;
+    cols[d] = constrained_[3 * b + d] ? -1 : 3 * global_[b] + d;
+  }
+}
+
+bool SelfContact::extend_pattern(const std::vector<Pair>& found) {
+  std::vector<std::array<int32_t, 2>> missing;
+  for (const Pair& pair : found)
+    for (int i = 0; i < pair.count; ++i)
+      for (int j = 0; j < pair.count; ++j) {
+        const std::array<int32_t, 2> key = {pair.node[i], pair.node[j]};
+        if (!std::binary_search(pattern_.begin(), pattern_.end(), key)) missing.push_back(key);
+      }
+  int grew = !missing.empty();
+  MPI_Allreduce(MPI_IN_PLACE, &grew, 1, MPI_INT, MPI_MAX, comm_);
+  pattern_.insert(pattern_.end(), missing.begin(), missing.end());
+  std::sort(pattern_.begin(), pattern_.end());
+  pattern_.erase(std::unique(pattern_.begin(), pattern_.end()), pattern_.end());
+  return grew != 0;
+}
+
+void SelfContact::fill_tangent(const std::vector<Pair>& found, double* values) const {
+  std::fill(values, values + 9 * pattern_.size(), 0.0);
+  for (const Pair& pair : found)
+    for (int i = 0; i < pair.count; ++i)
+      for (int j = 0; j < pair.count; ++j) {
+        const std::array<int32_t, 2> key = {pair.node[i], pair.node[j]};
+        const auto slot =
+            std::lower_bound(pattern_.begin(), pattern_.end(), key) - pattern_.begin();
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c)
+            values[9 * slot + 3 * r + c] += pair.term.hessian(3 * i + r, 3 * j + c);
+      }
+}
+
+SelfContact::Totals SelfContact::totals(const double* u) const {
+  std::vector<Pair> found;
+  pairs(u, found);
+  Totals t;
+  t.pairs = static_cast<int64_t>(found.size());
+  t.min_gap = std::numeric_limits<double>::infinity();
+  for (const Pair& pair : found) {
+    t.force += pair.term.gradient.head<3>().norm();
+    t.min_gap = std::min(t.min_gap, pair.term.distance);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &t.pairs, 1, MPI_INT64_T, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &t.force, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &t.min_gap, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  return t;
+}
+
+void SelfContact::check_start(const std::string& deck) const {
+  const std::vector<double>& x = reference_;
+  std::vector<Eigen::AlignedBox3d> boxes(faces_.size());  // empty
+  for (size_t f = 0; f < faces_.size(); ++f)
+    for (int32_t n : faces_[f]) boxes[f].extend(at(x, n));
+  const BoxTree tree(std::move(boxes));
+  struct {
+    double d;
+    int rank;
+  } worst{std::numeric_limits<double>::infinity(), 0};
+  MPI_Comm_rank(comm_, &worst.rank);
+  Eigen::Vector3d where = Eigen::Vector3d::Zero();
+  for (int32_t p : mine_) {
+    const Eigen::Vector3d xp = at(x, p);
+    each_feature(faces_, tree, x, p, grown(Eigen::AlignedBox3d(xp, xp), barrier_.distance),
+                 [&](const int32_t* nodes, int count) {
+                   Eigen::Vector3d y[4];
+                   for (int k = 0; k < count; ++k) y[k] = at(x, nodes[k]);
+                   const double d = std::sqrt(feature_squared_distance(y, count));
+                   if (d < worst.d) {
+                     worst.d = d;
+                     where = xp;
+                   }
+                 });
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
+  if (worst.d >= barrier_.distance) return;
+  MPI_Bcast(where.data(), 3, MPI_DOUBLE, worst.rank, comm_);
+  char text[300];
+  std::snprintf(text, sizeof text,
+                "the undeformed surface's node at (%g, %g, %g) lies %g m from a triangle of the "
+                "contact surfaces it is not a corner of, within the barrier's distance %g m: "
+                "make contact.distance smaller than the surfaces' gaps",
+                where(0), where(1), where(2), worst.d, barrier_.distance);
+  throw InputError(deck + ": contact.self: " + text);
+}
+
+}  // namespace hs

@@ -1,0 +1,100 @@
+// Self-contact of the body's surfaces (docs/contact.md, "Self-contact"): every node of the
+// deck's contact surfaces is kept off every triangle of them that it is not a corner of, by
+// the barrier of contact/surface_pair.hpp on the pair of the node and the triangle's feature
+// nearest to it (each such feature once per node). Two bodies of one mesh touch the same way.
+//
+// The surfaces are gathered whole on every rank once (their reference faces and nodes), and
+// their current positions at each evaluation (one reduction over 3 doubles a surface node):
+// the surface is n^(2/3) of a body of n nodes, and with it whole every rank finds its pairs
+// in a tree of the triangles' boxes (contact/box_tree.hpp) with no ghost layers to keep. Each
+// rank evaluates the pairs of the nodes it owns, so every pair is counted once on any number
+// of ranks; forces reach the triangles' nodes through the same reduction.
+//
+// A pair couples nodes that share no tetrahedron, so its tangent entries lie outside the
+// mesh's pattern: the pairs met so far make a pattern of their own (pattern()), which only
+// grows; Problem preallocates the matrix again when it has (Problem::jacobian).
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "contact/node_contact.hpp"
+#include "contact/surface_pair.hpp"
+#include "deck/config.hpp"
+#include "mesh/distribution.hpp"
+
+namespace hs {
+
+class SelfContact {
+ public:
+  // constrained(l): whether owned local dof l is prescribed (the tangent leaves its row and
+  // column out). Collective.
+  SelfContact(const Config& config, const Distribution& dist, const std::vector<char>& constrained,
+              const ContactBarrier& barrier, bool project, MPI_Comm comm);
+
+  // One pair: the node and its triangle's feature (2 to 4 surface nodes, the node first).
+  struct Pair {
+    int count = 0;
+    int32_t node[4] = {0, 0, 0, 0};  // surface node indices
+    PairTerm term;
+  };
+  // The pairs of this rank's nodes at owned displacements u (3 per owned node); false when a
+  // node is on a triangle (d = 0). Collective.
+  bool pairs(const double* u, std::vector<Pair>& out) const;
+  // f += a dE/du over all ranks' pairs, into the owned entries of f; the energy of this rank's
+  // pairs into *energy. False as pairs(). Collective.
+  bool add_forces(const double* u, double a, double* f, double* energy) const;
+  // bound += sum_j |d2E/dx_i dx_j| |x_j| at the owned entries: the pairs' part of the
+  // residual's round-off (Problem::residual_roundoff), their distances being differences of
+  // absolute positions. Collective.
+  void add_roundoff(const double* u, double* bound) const;
+  // The largest alpha <= 1 of the step du (owned, as u) that keeps every pair at least a tenth
+  // of its distance apart: a feature point moves by at most max_k |du_k - du_p| relative to
+  // the node, so d(alpha) >= d - alpha max_k |du_k - du_p| (the tree finds the pairs whose
+  // swept boxes meet). Collective.
+  double step_limit(const double* u, const double* du) const;
+
+  // The tangent's extra pattern: pairs of surface nodes (a, b), sorted, with their PETSc dof
+  // indices (negative where constrained).
+  const std::vector<std::array<int32_t, 2>>& pattern() const { return pattern_; }
+  void pattern_dofs(size_t k, int64_t rows[3], int64_t cols[3]) const;
+  // Adds the node pairs of `pairs` missing from the pattern; true (on every rank) when any
+  // rank's grew. Collective.
+  bool extend_pattern(const std::vector<Pair>& pairs);
+  // values (9 per pattern pair, row-major) = the pairs' Hessians. Every pair must be in the
+  // pattern (extend_pattern first).
+  void fill_tangent(const std::vector<Pair>& pairs, double* values) const;
+
+  struct Totals {
+    int64_t pairs = 0;   // within dhat, over all ranks
+    double force = 0;    // the sum of the nodes' contact force magnitudes (N)
+    double min_gap = 0;  // the smallest node-triangle distance (m)
+  };
+  Totals totals(const double* u) const;  // collective
+  int64_t num_nodes() const { return static_cast<int64_t>(global_.size()); }
+  const ContactBarrier& barrier() const { return barrier_; }
+
+ private:
+  // Every surface node's current position (3 each) from the owned displacements.
+  std::vector<double> positions(const double* u) const;
+  // No node may start within dhat of a triangle it is not a corner of. Collective.
+  void check_start(const std::string& deck) const;
+
+  MPI_Comm comm_;
+  ContactBarrier barrier_;
+  bool project_ = false;
+  std::vector<int64_t> global_;                 // per surface node: its PETSc node number
+  std::vector<double> reference_;               // per surface node: its reference position
+  std::vector<int64_t> owned_;                  // per surface node: its owned local index or -1
+  std::vector<char> constrained_;               // per surface node: 3 flags
+  std::vector<double> area_;                    // per surface node: its share of the area (m^2)
+  std::vector<std::array<int32_t, 3>> faces_;   // surface node indices
+  std::vector<std::vector<int32_t>> faces_of_;  // per surface node: the faces it is a corner of
+  std::vector<int32_t> mine_;                   // the surface nodes this rank owns
+  std::vector<std::array<int32_t, 2>> pattern_;
+};
+
+}  // namespace hs

@@ -1,0 +1,108 @@
+// Self-contact's node-triangle pairs (contact/surface_pair.hpp): the nearest feature against
+// the distance by brute force over the triangle, and the pair's barrier gradient and Hessian
+// against central differences of its energy and gradient, for a face, an edge and a vertex.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "contact/box_tree.hpp"
+#include "contact/surface_pair.hpp"
+
+namespace {
+
+using Eigen::Vector3d;
+
+double feature_distance(const Vector3d& p, const Vector3d* t) {
+  const hs::TriangleFeature f = hs::nearest_feature(p, t[0], t[1], t[2]);
+  Vector3d y[4] = {p};
+  for (int k = 0; k < f.count; ++k) y[1 + k] = t[f.vertex[k]];
+  return std::sqrt(hs::feature_squared_distance(y, f.count + 1));
+}
+
+// The smallest distance from p to points of the triangle on a fine barycentric grid, and a
+// bound of its error (half the grid's spacing along the longest edge).
+double brute_distance(const Vector3d& p, const Vector3d* t, int n) {
+  double best = 1e300;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j) {
+      const double a = double(i) / n, b = double(j) / n;
+      best = std::min(best, (p - ((1 - a - b) * t[0] + a * t[1] + b * t[2])).norm());
+    }
+  return best;
+}
+
+TEST(SelfContactPair, TheNearestFeatureGivesTheTrianglesDistance) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Vector3d t[3] = {{0, 0, 0}, {1, 0, 0.2}, {0.3, 0.9, -0.1}};
+  const int n = 600;
+  int kinds[4] = {0, 0, 0, 0};
+  for (int k = 0; k < 300; ++k) {
+    const Vector3d p(1.5 * u(random) + 0.4, 1.5 * u(random) + 0.3, 0.6 * u(random));
+    const double d = feature_distance(p, t), brute = brute_distance(p, t, n);
+    EXPECT_LE(d, brute + 1e-12) << k;  // a feature's distance is a distance to the triangle
+    EXPECT_GE(d, brute - 1.5 / n) << k;
+    ++kinds[hs::nearest_feature(p, t[0], t[1], t[2]).count];
+  }
+  EXPECT_GT(kinds[1], 10);  // vertices, edges and the face all met
+  EXPECT_GT(kinds[2], 10);
+  EXPECT_GT(kinds[3], 10);
+}
+
+// Central differences of the energy and the gradient against the pair's own.
+void expect_derivatives(Vector3d* x, int count) {
+  const hs::ContactBarrier barrier{0.1, 1e4};
+  const double area = 0.3, h = 1e-7;
+  const hs::PairTerm term = hs::pair_barrier(x, count, area, barrier, false);
+  ASSERT_GT(term.energy, 0);
+  for (int k = 0; k < 3 * count; ++k) {
+    double& c = x[k / 3](k % 3);
+    const double keep = c;
+    c = keep + h;
+    const hs::PairTerm plus = hs::pair_barrier(x, count, area, barrier, false);
+    c = keep - h;
+    const hs::PairTerm minus = hs::pair_barrier(x, count, area, barrier, false);
+    c = keep;
+    const double scale = term.gradient.norm();
+    EXPECT_NEAR(term.gradient(k), (plus.energy - minus.energy) / (2 * h), 1e-6 * scale) << k;
+    const hs::PairVector column = (plus.gradient - minus.gradient) / (2 * h);
+    for (int i = 0; i < 3 * count; ++i)
+      EXPECT_NEAR(term.hessian(i, k), column(i), 1e-5 * term.hessian.norm()) << i << " " << k;
+  }
+  // The node and the feature are pushed apart equally (no net force on the pair).
+  Vector3d sum = Vector3d::Zero();
+  for (int a = 0; a < count; ++a) sum += term.gradient.segment<3>(3 * a);
+  EXPECT_LT(sum.norm(), 1e-10 * term.gradient.norm());
+}
+
+TEST(SelfContactPair, TheBarriersDerivativesAreTheEnergysForAFaceAnEdgeAndAVertex) {
+  Vector3d face[4] = {{0.3, 0.2, 0.02}, {0, 0, 0}, {1, 0.1, 0.05}, {0.2, 0.9, -0.03}};
+  expect_derivatives(face, 4);
+  Vector3d edge[3] = {{0.5, -0.03, 0.01}, {0, 0, 0}, {1, 0.1, 0.05}};
+  expect_derivatives(edge, 3);
+  Vector3d vertex[2] = {{0.02, -0.01, 0.015}, {0, 0, 0}};
+  expect_derivatives(vertex, 2);
+}
+
+TEST(SelfContactPair, TheBoxTreeFindsEveryOverlappingBox) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (int k = 0; k < 500; ++k) {
+    const Vector3d low(u(random), u(random), u(random));
+    boxes.emplace_back(low, low + 0.05 * Vector3d(u(random), u(random), u(random)));
+  }
+  const hs::BoxTree tree(boxes);
+  for (int q = 0; q < 50; ++q) {
+    const Vector3d low(u(random), u(random), u(random));
+    const Eigen::AlignedBox3d box(low, low + 0.1 * Vector3d::Ones());
+    std::vector<int> found, expected;
+    tree.overlapping(box, [&](int i) { found.push_back(i); });
+    for (int i = 0; i < 500; ++i)
+      if (boxes[i].intersects(box)) expected.push_back(i);
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, expected) << q;
+  }
+}
+
+}  // namespace
