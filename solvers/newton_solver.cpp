@@ -6,12 +6,12 @@
 namespace hs {
 namespace {
 
-// The preset's options; with obstacles without its line search, which solve() chooses per
+// The preset's options; with contact without its line search, which solve() chooses per
 // step unless the deck or the command line does.
 std::map<std::string, std::string> newton_presets(const Problem& problem,
                                                   const SolverConfig& solver, TangentKind tangent) {
   auto options = preset_options(solver.preset, tangent);
-  if (problem.contact()) options.erase("snes_linesearch_type");
+  if (problem.has_contact()) options.erase("snes_linesearch_type");
   return options;
 }
 
@@ -115,25 +115,32 @@ PetscErrorCode NewtonSolver::converged(SNES snes, PetscInt it, PetscReal xnorm, 
                                        PetscReal fnorm, SNESConvergedReason* reason, void* ctx) {
   auto* self = static_cast<NewtonSolver*>(ctx);
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
+  Vec u;
+  PetscCall(SNESGetSolution(snes, &u));
+  auto roundoff = [&](double* floor) -> PetscErrorCode {
+    try {
+      *floor = self->problem_.residual_roundoff(u);
+    } catch (const std::exception& e) {
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+    }
+    return 0;
+  };
+  // The start's round-off floor: a step whose increment is small (a deep cutback) starts
+  // near round-off, where no relative test passes and Newton wanders on the floor (self-contact
+  // stalled so at 3e-13 against a floor of 1e-11). Without a load to scale the absolute
+  // tolerance (a body moved by its Dirichlet values alone), a step may even start at its
+  // solution to round-off (a rigid motion before contact, predicted exactly).
   if (it == 0) {
     self->first_norm_ = fnorm;
     self->roundoff_ = -1;
+    PetscCall(roundoff(&self->start_floor_));
   }
-  // Without a load to scale the absolute tolerance (a body moved by its Dirichlet values
-  // alone), a step may start at its solution to round-off (a rigid motion before contact,
-  // predicted exactly), which no relative test passes: its first residual is checked too.
+  if (*reason != SNES_CONVERGED_ITERATING) return 0;
   const bool start_check = it == 0 && !self->atol_scaled_;
-  if (*reason != SNES_CONVERGED_ITERATING ||
-      (!start_check && (it == 0 || !(fnorm <= 1e-6 * self->first_norm_))))
-    return 0;
-  Vec u;
-  PetscCall(SNESGetSolution(snes, &u));
-  double floor = 0;
-  try {
-    floor = self->problem_.residual_roundoff(u);
-  } catch (const std::exception& e) {
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
-  }
+  const bool near = it > 0 && (fnorm <= 1e-6 * self->first_norm_ || fnorm <= self->start_floor_);
+  if (!start_check && !near) return 0;
+  double floor = self->start_floor_;
+  if (it > 0) PetscCall(roundoff(&floor));
   PetscCall(PetscInfo(snes, "residual norm %g, its round-off %g\n", (double)fnorm, floor));
   if (fnorm <= floor) {
     *reason = SNES_CONVERGED_FNORM_ABS;

@@ -59,6 +59,7 @@ class NewtonSolver : public NonlinearSolver {
   double load_ = 0;
   double solve_s_ = 0;
   double first_norm_ = 0;        // of this solve's first residual
+  double start_floor_ = 0;       // its round-off floor (Problem::residual_roundoff)
   double roundoff_ = -1;         // the floor it converged at, -1 when it converged otherwise
   bool atol_scaled_ = false;     // by a load (scale_absolute_tolerance)
   bool contact_search_ = false;  // the line search is chosen per solve (obstacles)
