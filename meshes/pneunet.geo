@@ -3,8 +3,9 @@
 // soft top more than the layer, so the actuator bends towards the layer's side.
 // Physical groups: volumes "body" (the chambers' soft silicone) and "layer" (the
 // strain-limiting bottom layer); surfaces "base" (the clamped end, x = 0), "tip" (x = L),
-// "cavity" (every wall of the chambers and the channel); point "effector", the centre of
-// the tip face.
+// "cavity" (every wall of the chambers and the channel), "slots" (the walls and floors of the
+// slots between the chamber blocks, which press on each other when the chambers bulge:
+// self-contact); point "effector", the centre of the tip face.
 // Parameters (a deck's mesh.parameters or gmsh -setnumber), lengths in m:
 //   h: mesh size; chambers: how many; pitch: their spacing along x.
 SetFactory("OpenCASCADE");
@@ -60,6 +61,15 @@ If (#bottom() != 1 || #top() != 1 || #base() != 2 || #tip() != 2 || #cavity() < 
   Error("pneunet.geo: a bounding-box selection failed (layer %g, body %g, base %g, tip %g, cavity %g faces)",
         #bottom(), #top(), #base(), #tip(), #cavity());
 EndIf
+slots() = {};
+For k In {1 : chambers - 1}
+  slots() += Surface In BoundingBox{head + k * pitch - slot / 2 - tol, -W / 2 - tol,
+                                    slot_floor - tol, head + k * pitch + slot / 2 + tol,
+                                    W / 2 + tol, H + tol};
+EndFor
+If (#slots() != 3 * (chambers - 1))
+  Error("pneunet.geo: expected 3 faces a slot, got %g for %g slots", #slots(), chambers - 1);
+EndIf
 effector = newp;
 Point(effector) = {L, 0, H / 2};
 tip_top() = Surface In BoundingBox{L - tol, -W / 2 - tol, layer - tol, L + tol, W / 2 + tol, H + tol};
@@ -70,6 +80,9 @@ Physical Volume("layer") = {bottom()};
 Physical Surface("base") = {base()};
 Physical Surface("tip") = {tip()};
 Physical Surface("cavity") = {cavity()};
+If (chambers > 1)
+  Physical Surface("slots") = {slots()};
+EndIf
 Physical Point("effector") = {effector};
 Mesh.MeshSizeFromCurvature = 0;
 Mesh.MeshSizeMax = h;

@@ -161,7 +161,7 @@ void BorderedNewton::reset_if_pattern_grew() {
 // cavity volume <= 0, a value that is not finite). No descent test on |R|: a bending
 // structure's first step from rest overshoots the residual by orders of magnitude (the spurious
 // stretch of the linear rotation), and a merit test would crawl there; a diverging increment is
-// caught by the iteration limit and cut back by the stepping.
+// caught by the iteration limit and cut back by the stepping. Self-contact is the exception.
 bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
                                std::vector<double>& lambda, std::vector<double>& c, double& r_norm,
                                std::string& reason) {
@@ -170,26 +170,46 @@ bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
   // Self-contact's distances are unsigned: a step that carried a node through a triangle
   // would not be refused, so it is shortened first (SelfContact::step_limit).
   double t = problem_.self_contact_step_limit(u, du_);
+  // Where self-contact's pairs act, at u or at the trial, full steps cycle on their stiff
+  // barriers, whose Hessians jump between a triangle's regions (docs/contact.md,
+  // "Self-contact"): a step is halved while it does not lower |R|, and the trial of the
+  // smallest |R| is taken after four halvings.
+  const SelfContact* self = problem_.self_contact();
+  const bool pairs_at_u = self && self->last_pairs() > 0;
   std::string collapse;  // the last trial's collapsed cavity, if that was why it was refused
-  for (int halving = 0; halving <= 8; ++halving, t /= 2) {
-    HS_PETSC(VecWAXPY(u_trial_, t, du_, u));
-    std::vector<double> trial = lambda;
-    for (int i = 0; i < m; ++i) trial[i] += t * zeta(i);
+  // The point at u + t du, its multipliers and constraint values in `trial`, c_trial;
+  // false where it leaves the domain.
+  std::vector<double> trial;
+  PetscReal norm = 0;
+  auto evaluate = [&](double at) {
+    HS_PETSC(VecWAXPY(u_trial_, at, du_, u));
+    trial = lambda;
+    for (int i = 0; i < m; ++i) trial[i] += at * zeta(i);
     constraints_.set_multipliers(trial);
     const bool ok = constraints_.residual(u_trial_, s, R_, c_trial);
-    PetscReal norm = 0;
     HS_PETSC(VecNorm(R_, NORM_2, &norm));
     bool finite = std::isfinite(norm);
     for (double x : c_trial) finite &= std::isfinite(x);
     collapse = constraints_.collapse_reason();
-    if (ok && finite) {
-      HS_PETSC(VecCopy(u_trial_, u));
-      lambda = trial;
-      c = c_trial;
-      r_norm = norm;
-      return true;
-    }
+    return ok && finite;
+  };
+  auto accept = [&](double at) {
+    if (monitor_) HS_PETSC(PetscPrintf(problem_.comm(), "      step %.3g of du\n", at));
+    HS_PETSC(VecCopy(u_trial_, u));
+    lambda = trial;
+    c = c_trial;
+    r_norm = norm;
+    return true;
+  };
+  double best_t = -1, best_norm = 0;
+  for (int halving = 0; halving <= 8; ++halving, t /= 2) {
+    if (!evaluate(t)) continue;
+    const bool descend = pairs_at_u || (self && self->last_pairs() > 0);
+    if (!descend || norm < r_norm) return accept(t);
+    if (best_t < 0 || norm < best_norm) best_t = t, best_norm = norm;
+    if (halving >= 4) break;
   }
+  if (best_t > 0 && evaluate(best_t)) return accept(best_t);
   constraints_.set_multipliers(lambda);
   constraints_.residual(u, s, R_, c);  // leave the cavities at the last accepted point
   reason = !collapse.empty()            ? "every shortened step fails: " + collapse

@@ -157,6 +157,8 @@ bool SelfContact::add_forces(const double* u, double a, double* f, double* energ
   }
   MPI_Allreduce(MPI_IN_PLACE, g.data(), static_cast<int>(g.size()), MPI_DOUBLE, MPI_SUM, comm_);
   MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, comm_);
+  last_pairs_ = static_cast<int64_t>(found.size());
+  MPI_Allreduce(MPI_IN_PLACE, &last_pairs_, 1, MPI_INT64_T, MPI_SUM, comm_);
   for (int32_t n : mine_)
     for (int d = 0; d < 3; ++d) f[3 * owned_[n] + d] += g[3 * n + d];
   if (energy) *energy = sum;

@@ -47,6 +47,8 @@ class SelfContact {
   // f += a dE/du over all ranks' pairs, into the owned entries of f; the energy of this rank's
   // pairs into *energy. False as pairs(). Collective.
   bool add_forces(const double* u, double a, double* f, double* energy) const;
+  // The pairs the last add_forces found, over all ranks.
+  int64_t last_pairs() const { return last_pairs_; }
   // bound += sum_j |d2E/dx_i dx_j| |x_j| at the owned entries: the pairs' part of the
   // residual's round-off (Problem::residual_roundoff), their distances being differences of
   // absolute positions. Collective.
@@ -86,6 +88,7 @@ class SelfContact {
   MPI_Comm comm_;
   ContactBarrier barrier_;
   bool project_ = false;
+  mutable int64_t last_pairs_ = 0;
   std::vector<int64_t> global_;                 // per surface node: its PETSc node number
   std::vector<double> reference_;               // per surface node: its reference position
   std::vector<int64_t> owned_;                  // per surface node: its owned local index or -1

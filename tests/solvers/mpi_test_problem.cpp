@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "../materials/material_fixtures.hpp"
+#include "../tangent_check.hpp"
 #include "common/deck_reader.hpp"
 #include "common/error.hpp"
 #include "deck/boundary_conflicts.hpp"
@@ -56,27 +57,8 @@ void fill_random(Vec v, double scale, unsigned seed) {
   VecAssemblyEnd(v);
 }
 
-// The tangent J at u against the central difference of the residual along v:
-// |(R(u + eps v) - R(u - eps v)) / (2 eps) - J v| and |J v| (error -1 if a residual failed).
-struct TangentCheck {
-  PetscReal error = -1, size = 0;
-};
-TangentCheck check_tangent(hs::Problem& problem, Mat J, Vec u, Vec v, double s) {
-  hs::VecHandle Jv, Rp, Rm, up, um;
-  for (auto* h : {&Jv, &Rp, &Rm, &up, &um}) VecDuplicate(u, h->out());
-  MatMult(J, v, Jv);
-  const double eps = 1e-6;
-  VecWAXPY(up, eps, v, u);
-  VecWAXPY(um, -eps, v, u);
-  TangentCheck c;
-  if (!problem.residual(up, s, Rp) || !problem.residual(um, s, Rm)) return c;
-  VecAXPY(Rp, -1.0, Rm);
-  VecScale(Rp, 1.0 / (2 * eps));  // central difference of R along v
-  VecAXPY(Rp, -1.0, Jv);
-  VecNorm(Rp, NORM_2, &c.error);
-  VecNorm(Jv, NORM_2, &c.size);
-  return c;
-}
+using hs_test::check_tangent;
+using hs_test::TangentCheck;
 
 class TangentTest : public ::testing::TestWithParam<std::tuple<int, std::string>> {};
 
