@@ -649,6 +649,15 @@ SelfContact::Totals Problem::self_contact_totals(Vec u) const {
   return t;
 }
 
+SelfContact::NodeValues Problem::self_contact_node_values(Vec u) const {
+  if (!self_contact_) return {};
+  const PetscScalar* ua;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  SelfContact::NodeValues v = self_contact_->node_values(ua, dist_.num_owned());
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  return v;
+}
+
 ObstacleContact::NodeValues Problem::contact_node_values(Vec u, double s) const {
   if (!contact_) return {};
   VecHandle uw;

@@ -177,6 +177,9 @@ class Problem {
   int pattern_version() const { return pattern_version_; }
   // Its totals on u (SelfContact::totals). Collective; without contact.self zeros.
   SelfContact::Totals self_contact_totals(Vec u) const;
+  // Its gap and pressure per owned node (SelfContact::node_values). Collective; without
+  // contact.self empty.
+  SelfContact::NodeValues self_contact_node_values(Vec u) const;
   // Per obstacle, the force the body exerts on it and its touching area, on u at load
   // factor s. Collective; empty without obstacles.
   ObstacleContact::Totals contact_totals(Vec u, double s) const;

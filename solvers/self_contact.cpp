@@ -280,6 +280,29 @@ SelfContact::Totals SelfContact::totals(const double* u) const {
   return t;
 }
 
+SelfContact::NodeValues SelfContact::node_values(const double* u, int64_t num_owned) const {
+  std::vector<Pair> found;
+  pairs(u, found);
+  const double dhat = barrier_.distance;
+  std::vector<double> g(3 * global_.size(), 0.0), gap(global_.size(), dhat);
+  for (const Pair& pair : found)
+    for (int k = 0; k < pair.count; ++k) {
+      const int32_t n = pair.node[k];
+      for (int d = 0; d < 3; ++d) g[3 * n + d] += pair.term.gradient(3 * k + d);
+      gap[n] = std::min(gap[n], pair.term.distance);
+    }
+  MPI_Allreduce(MPI_IN_PLACE, g.data(), static_cast<int>(g.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, gap.data(), static_cast<int>(gap.size()), MPI_DOUBLE, MPI_MIN, comm_);
+  NodeValues v;
+  v.gap.assign(num_owned, dhat);
+  v.pressure.assign(num_owned, 0.0);
+  for (int32_t n : mine_) {
+    v.gap[owned_[n]] = gap[n];
+    v.pressure[owned_[n]] = at(g, n).norm() / area_[n];
+  }
+  return v;
+}
+
 void SelfContact::check_start(const std::string& deck) const {
   const std::vector<double>& x = reference_;
   std::vector<Eigen::AlignedBox3d> boxes(faces_.size());  // empty

@@ -76,6 +76,13 @@ class SelfContact {
     double min_gap = 0;  // the smallest node-triangle distance (m)
   };
   Totals totals(const double* u) const;  // collective
+  // Per owned node (num_owned of them), for the output: `gap`, the smallest distance of its
+  // pairs, dhat where it has none (and off the surfaces); `pressure`, the size of the pairs'
+  // force on it over its share of the surfaces' area, 0 off them. Collective.
+  struct NodeValues {
+    std::vector<double> gap, pressure;
+  };
+  NodeValues node_values(const double* u, int64_t num_owned) const;
   int64_t num_nodes() const { return static_cast<int64_t>(global_.size()); }
   const ContactBarrier& barrier() const { return barrier_; }
 

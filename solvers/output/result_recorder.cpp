@@ -178,6 +178,11 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
     if (problem_.contact()->has_friction())
       f.node_fields.push_back({"friction_traction", 3, "Pa", std::move(c.friction)});
   }
+  if (problem_.self_contact()) {
+    auto c = problem_.self_contact_node_values(u);
+    f.node_fields.push_back({"self_contact_gap", 1, "m", std::move(c.gap)});
+    f.node_fields.push_back({"self_contact_pressure", 1, "Pa", std::move(c.pressure)});
+  }
   f.rank.assign(f.J.size(), rank_);
   HistoryRow row;
   row.add_count("step", written_);

@@ -98,7 +98,8 @@ struct StepFields {
   std::vector<double> pressure;
   std::vector<int> rank;  // per tetrahedron: the MPI rank that owns it
   // Further per-node fields, each written when given (decks with obstacles: contact_gap,
-  // contact_pressure, friction_traction; docs/output.md): `components` values per node.
+  // contact_pressure, friction_traction; with contact.self: self_contact_gap,
+  // self_contact_pressure; docs/output.md): `components` values per node.
   struct NodeField {
     std::string name;
     int components = 1;

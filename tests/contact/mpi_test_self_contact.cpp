@@ -1,7 +1,8 @@
 // Self-contact (docs/contact.md, "Self-contact") on 1 and 2 ranks: two linear elastic blocks
 // of one mesh (meshes/two_blocks.geo, their facing surfaces meshed apart), the upper pressed
 // down onto the lower across a gap, take the uniaxial force of their compression, which the
-// clamp of the lower balances; the surfaces never meet; 2 ranks give 1 rank's forces. The
+// clamp of the lower balances; the surfaces never meet; the contact pressure written per node
+// is the uniaxial stress; 2 ranks give 1 rank's forces. The
 // assembled tangent with pairs acting is the derivative of the assembled residual. The
 // shipped PneuNet's chamber walls press on each other, which adds to its bending, and their
 // forces, internal, leave the clamp with the weight alone. A deck whose surfaces start within
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -72,6 +74,30 @@ TEST(SelfContact, TwoBlocksPressedTogetherTakeTheUniaxialForceOfTheirCompression
   // The pairs' forces add up to the load (their sideways parts, from the triangles' edges
   // and corners, cancel over the surface).
   EXPECT_NEAR(self["force_N"].get<double>(), -top, 0.03 * low);
+  // The output's fields: away from the edges the contact pressure is the uniaxial stress
+  // F / A on both faces (the median of each face's inner nodes), and the gap field's
+  // smallest value is the summary's.
+  if (hs_test::world_rank() == 0) {
+    const std::string h5 = (hs_test::test_folder() / "blocks" / "blocks.h5").string();
+    const std::string last = "/step_" + std::to_string(s["outputs"].get<int>() - 1);
+    const std::vector<double> X = hs_test::read_dataset(h5, "/mesh/coordinates");
+    const std::vector<double> p = hs_test::read_dataset(h5, last + "/self_contact_pressure");
+    const std::vector<double> d = hs_test::read_dataset(h5, last + "/self_contact_gap");
+    ASSERT_EQ(X.size(), 3 * p.size());
+    for (const double z : {H, H + g0}) {
+      std::vector<double> face;
+      for (size_t n = 0; n < p.size(); ++n) {
+        const double x = X[3 * n], y = X[3 * n + 1];
+        if (std::abs(X[3 * n + 2] - z) < 1e-9 && x > 0.005 && x < 0.095 && y > 0.005 && y < 0.095)
+          face.push_back(p[n]);
+      }
+      ASSERT_GT(face.size(), 10u) << z;
+      std::nth_element(face.begin(), face.begin() + face.size() / 2, face.end());
+      EXPECT_NEAR(face[face.size() / 2], -top / A, 0.03 * -top / A) << z;
+    }
+    EXPECT_DOUBLE_EQ(*std::min_element(d.begin(), d.end()), gap);
+    EXPECT_LE(*std::max_element(d.begin(), d.end()), dhat);
+  }
   if (hs_test::world_size() > 1) {
     Json one;
     if (hs_test::world_rank() == 0) one = run(deck, "blocks_one", MPI_COMM_SELF);
