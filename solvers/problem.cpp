@@ -528,15 +528,16 @@ std::vector<std::array<double, 3>> Problem::reactions(Vec u, double s) {
 }
 
 void Problem::accept_state(Vec u, double s) {
-  if (!contact_ || !contact_->has_friction() || friction_lag_held_) return;
-  LocalView view(u, u_work_);
-  contact_->accept(view.values(), s);
+  if (!friction_lag_held_) take_friction_lag(u, s);
 }
 
 void Problem::take_friction_lag(Vec u, double s) {
-  if (!contact_ || !contact_->has_friction()) return;
+  const bool obstacles = contact_ && contact_->has_friction();
+  const bool surfaces = self_contact_ && self_contact_->has_friction();
+  if (!obstacles && !surfaces) return;
   LocalView view(u, u_work_);
-  contact_->accept(view.values(), s);
+  if (obstacles) contact_->accept(view.values(), s);
+  if (surfaces) self_contact_->accept(view.values());
 }
 
 std::string Problem::refusal() const {

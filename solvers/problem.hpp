@@ -161,6 +161,7 @@ class Problem {
   void accept_state(Vec u, double s);
   void begin_solve() {
     if (contact_) contact_->begin_step();
+    if (self_contact_) self_contact_->begin_step();
   }
   // While held, accept_state does nothing: the control loop holds friction's lag over its
   // solves (trial and check solves included) and accepts each answered state with

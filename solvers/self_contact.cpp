@@ -83,6 +83,8 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
   MPI_Allreduce(MPI_IN_PLACE, fixed.data(), static_cast<int>(fixed.size()), MPI_INT, MPI_MAX, comm);
   constrained_.assign(fixed.begin(), fixed.end());
   check_start(config.deck_path);
+  friction_ = config.contact.friction;
+  slip_ = config.contact.slip ? *config.contact.slip : 0.1 * barrier_.distance;
 }
 
 std::vector<double> SelfContact::positions(const double* u) const {
@@ -93,9 +95,9 @@ std::vector<double> SelfContact::positions(const double* u) const {
   return x;
 }
 
-// Calls visit(feature nodes, count) for the feature nearest to node p of each triangle whose
-// box the tree finds for `box`, skipping the triangles p is a corner of. Every triangle counts
-// (a feature shared by two triangles twice): merging the pairs whose nearest feature is the
+// Calls visit(feature nodes, count, triangle) for the feature nearest to node p of each triangle
+// whose box the tree finds for `box`, skipping the triangles p is a corner of. Every triangle
+// counts (a feature shared by two triangles twice): merging the pairs whose nearest feature is the
 // same, as the first incremental potential contact does, makes the energy jump where a node
 // crosses from a face's region to its edge's, and Newton cycled on the jumps.
 template <class Visit>
@@ -109,14 +111,12 @@ void each_feature(const std::vector<std::array<int32_t, 3>>& faces, const BoxTre
     const TriangleFeature feature = nearest_feature(xp, at(x, t[0]), at(x, t[1]), at(x, t[2]));
     int32_t nodes[4] = {p, -1, -1, -1};
     for (int k = 0; k < feature.count; ++k) nodes[1 + k] = t[feature.vertex[k]];
-    visit(nodes, feature.count + 1);
+    visit(nodes, feature.count + 1, static_cast<int32_t>(f));
   });
 }
 
-bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
-  out.clear();
-  std::vector<double> x = positions(u);
-  for (size_t k = 0; k < x.size(); ++k) x[k] += reference_[k];
+template <class Visit>
+bool SelfContact::each_pair(const std::vector<double>& x, Visit&& visit) const {
   std::vector<Eigen::AlignedBox3d> boxes(faces_.size());  // empty
   for (size_t f = 0; f < faces_.size(); ++f)
     for (int32_t n : faces_[f]) boxes[f].extend(at(x, n));
@@ -126,7 +126,7 @@ bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
   for (int32_t p : mine_) {
     const Eigen::Vector3d xp = at(x, p);
     each_feature(faces_, tree, x, p, grown(Eigen::AlignedBox3d(xp, xp), dhat),
-                 [&](const int32_t* nodes, int count) {
+                 [&](const int32_t* nodes, int count, int32_t face) {
                    Eigen::Vector3d y[4];
                    for (int k = 0; k < count; ++k) y[k] = at(x, nodes[k]);
                    const double d2 = feature_squared_distance(y, count);
@@ -135,34 +135,93 @@ bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
                      ok = false;
                      return;
                    }
-                   Pair pair;
-                   pair.count = count;
-                   std::copy(nodes, nodes + count, pair.node);
-                   pair.term = pair_barrier(y, count, area_[p], barrier_, project_);
-                   out.push_back(pair);
+                   visit(nodes, count, face, pair_barrier(y, count, area_[p], barrier_, project_));
                  });
   }
   return ok;
 }
 
+bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
+  out.clear();
+  std::vector<double> x = positions(u);
+  for (size_t k = 0; k < x.size(); ++k) x[k] += reference_[k];
+  const bool ok = each_pair(x, [&](const int32_t* nodes, int count, int32_t, const PairTerm& term) {
+    Pair pair;
+    pair.count = count;
+    std::copy(nodes, nodes + count, pair.node);
+    pair.term = term;
+    out.push_back(pair);
+  });
+  for (const PairFrictionLag& lag : lag_) {
+    Pair pair;
+    pair.count = lag.count;
+    pair.friction = true;
+    Eigen::Vector3d y[4];
+    for (int k = 0; k < lag.count; ++k) {
+      pair.node[k] = lag.node[k];
+      y[k] = at(x, lag.node[k]);
+    }
+    pair.term = pair_friction(lag, y, friction_, slip_);
+    out.push_back(pair);
+  }
+  return ok;
+}
+
+void SelfContact::accept(const double* u) {
+  if (!has_friction()) return;
+  accepted_ = positions(u);
+  for (size_t k = 0; k < accepted_.size(); ++k) accepted_[k] += reference_[k];
+}
+
+// Each pair within dhat at the accepted state holds its barrier's force on the node, and a
+// pair that held one over the step before (the same node and triangle) carries its slip.
+void SelfContact::begin_step() {
+  if (accepted_.empty()) return;
+  const std::vector<double>& x = accepted_;
+  auto key = [](const PairFrictionLag& l) { return std::make_pair(l.node[0], l.face); };
+  std::vector<PairFrictionLag> lag;
+  each_pair(x, [&](const int32_t* nodes, int count, int32_t face, const PairTerm& term) {
+    Eigen::Vector3d y[4], carried = Eigen::Vector3d::Zero();
+    PairFrictionLag probe;
+    probe.node[0] = nodes[0];
+    probe.face = face;
+    const auto before = std::lower_bound(
+        lag_.begin(), lag_.end(), probe,
+        [&](const PairFrictionLag& a, const PairFrictionLag& b) { return key(a) < key(b); });
+    if (before != lag_.end() && key(*before) == key(probe)) {
+      for (int k = 0; k < before->count; ++k) y[k] = at(x, before->node[k]);
+      carried = pair_slip(*before, y);
+    }
+    for (int k = 0; k < count; ++k) y[k] = at(x, nodes[k]);
+    lag.push_back(
+        pair_friction_lag(nodes, y, count, face, term.gradient.head<3>().norm(), carried, slip_));
+  });
+  std::sort(lag.begin(), lag.end(),
+            [&](const PairFrictionLag& a, const PairFrictionLag& b) { return key(a) < key(b); });
+  lag_ = std::move(lag);
+  accepted_.clear();
+}
+
 bool SelfContact::add_forces(const double* u, double a, double* f, double* energy) const {
   std::vector<Pair> found;
-  int ok = pairs(u, found);
-  std::vector<double> g(3 * global_.size(), 0.0);
+  const bool ok = pairs(u, found);
+  // The forces per surface node, then the failures and the pairs, in one reduction.
+  const size_t n = 3 * global_.size();
+  std::vector<double> g(n + 2, 0.0);
   double sum = 0;
   for (const Pair& pair : found) {
     sum += pair.term.energy;
     for (int k = 0; k < pair.count; ++k)
       for (int d = 0; d < 3; ++d) g[3 * pair.node[k] + d] += a * pair.term.gradient(3 * k + d);
   }
+  g[n] = ok ? 0 : 1;
+  g[n + 1] = static_cast<double>(found.size());
   MPI_Allreduce(MPI_IN_PLACE, g.data(), static_cast<int>(g.size()), MPI_DOUBLE, MPI_SUM, comm_);
-  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, comm_);
-  last_pairs_ = static_cast<int64_t>(found.size());
-  MPI_Allreduce(MPI_IN_PLACE, &last_pairs_, 1, MPI_INT64_T, MPI_SUM, comm_);
-  for (int32_t n : mine_)
-    for (int d = 0; d < 3; ++d) f[3 * owned_[n] + d] += g[3 * n + d];
+  last_pairs_ = static_cast<int64_t>(g[n + 1]);
+  for (int32_t p : mine_)
+    for (int d = 0; d < 3; ++d) f[3 * owned_[p] + d] += g[3 * p + d];
   if (energy) *energy = sum;
-  return ok != 0;
+  return g[n] == 0;
 }
 
 void SelfContact::add_roundoff(const double* u, double* bound) const {
@@ -268,14 +327,21 @@ SelfContact::Totals SelfContact::totals(const double* u) const {
   std::vector<Pair> found;
   pairs(u, found);
   Totals t;
-  t.pairs = static_cast<int64_t>(found.size());
   t.min_gap = std::numeric_limits<double>::infinity();
   for (const Pair& pair : found) {
+    if (pair.friction) {
+      t.friction += pair.term.gradient.head<3>().norm();
+      continue;
+    }
+    ++t.pairs;
     t.force += pair.term.gradient.head<3>().norm();
     t.min_gap = std::min(t.min_gap, pair.term.distance);
   }
   MPI_Allreduce(MPI_IN_PLACE, &t.pairs, 1, MPI_INT64_T, MPI_SUM, comm_);
-  MPI_Allreduce(MPI_IN_PLACE, &t.force, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  double sums[2] = {t.force, t.friction};
+  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_);
+  t.force = sums[0];
+  t.friction = sums[1];
   MPI_Allreduce(MPI_IN_PLACE, &t.min_gap, 1, MPI_DOUBLE, MPI_MIN, comm_);
   return t;
 }
@@ -284,21 +350,27 @@ SelfContact::NodeValues SelfContact::node_values(const double* u, int64_t num_ow
   std::vector<Pair> found;
   pairs(u, found);
   const double dhat = barrier_.distance;
-  std::vector<double> g(3 * global_.size(), 0.0), gap(global_.size(), dhat);
+  const size_t ns = global_.size();
+  std::vector<double> g(6 * ns, 0.0), gap(ns, dhat);  // the barriers' forces, then friction's
   for (const Pair& pair : found)
     for (int k = 0; k < pair.count; ++k) {
       const int32_t n = pair.node[k];
-      for (int d = 0; d < 3; ++d) g[3 * n + d] += pair.term.gradient(3 * k + d);
-      gap[n] = std::min(gap[n], pair.term.distance);
+      const size_t at_n = 3 * n + (pair.friction ? 3 * ns : 0);
+      for (int d = 0; d < 3; ++d) g[at_n + d] += pair.term.gradient(3 * k + d);
+      if (!pair.friction) gap[n] = std::min(gap[n], pair.term.distance);
     }
   MPI_Allreduce(MPI_IN_PLACE, g.data(), static_cast<int>(g.size()), MPI_DOUBLE, MPI_SUM, comm_);
   MPI_Allreduce(MPI_IN_PLACE, gap.data(), static_cast<int>(gap.size()), MPI_DOUBLE, MPI_MIN, comm_);
   NodeValues v;
   v.gap.assign(num_owned, dhat);
   v.pressure.assign(num_owned, 0.0);
+  if (has_friction()) v.friction.assign(3 * num_owned, 0.0);
   for (int32_t n : mine_) {
     v.gap[owned_[n]] = gap[n];
     v.pressure[owned_[n]] = at(g, n).norm() / area_[n];
+    // The traction on the body: the pairs' friction force on the node, less its dE/du.
+    for (int d = 0; d < 3 && has_friction(); ++d)
+      v.friction[3 * owned_[n] + d] = -g[3 * ns + 3 * n + d] / area_[n];
   }
   return v;
 }
@@ -318,7 +390,7 @@ void SelfContact::check_start(const std::string& deck) const {
   for (int32_t p : mine_) {
     const Eigen::Vector3d xp = at(x, p);
     each_feature(faces_, tree, x, p, grown(Eigen::AlignedBox3d(xp, xp), barrier_.distance),
-                 [&](const int32_t* nodes, int count) {
+                 [&](const int32_t* nodes, int count, int32_t) {
                    Eigen::Vector3d y[4];
                    for (int k = 0; k < count; ++k) y[k] = at(x, nodes[k]);
                    const double d = std::sqrt(feature_squared_distance(y, count));

@@ -13,6 +13,10 @@
 // A pair couples nodes that share no tetrahedron, so its tangent entries lie outside the
 // mesh's pattern: the pairs met so far make a pattern of their own (pattern()), which only
 // grows; Problem preallocates the matrix again when it has (Problem::jacobian).
+//
+// With contact.friction, each pair within dhat at a step's start also holds the lagged
+// Coulomb friction of contact/pair_friction.hpp over the step, kept by the rank that owns its
+// node (accept() and begin_step(), as ObstacleContact's).
 #pragma once
 
 #include <mpi.h>
@@ -22,6 +26,7 @@
 #include <vector>
 
 #include "contact/node_contact.hpp"
+#include "contact/pair_friction.hpp"
 #include "contact/surface_pair.hpp"
 #include "deck/config.hpp"
 #include "mesh/distribution.hpp"
@@ -35,14 +40,16 @@ class SelfContact {
   SelfContact(const Config& config, const Distribution& dist, const std::vector<char>& constrained,
               const ContactBarrier& barrier, bool project, MPI_Comm comm);
 
-  // One pair: the node and its triangle's feature (2 to 4 surface nodes, the node first).
+  // One pair: the node and its triangle's feature (2 to 4 surface nodes, the node first), its
+  // barrier or (friction) its lagged friction.
   struct Pair {
     int count = 0;
     int32_t node[4] = {0, 0, 0, 0};  // surface node indices
+    bool friction = false;
     PairTerm term;
   };
-  // The pairs of this rank's nodes at owned displacements u (3 per owned node); false when a
-  // node is on a triangle (d = 0). Collective.
+  // The pairs of this rank's nodes at owned displacements u (3 per owned node), the barriers'
+  // and the lagged frictions'; false when a node is on a triangle (d = 0). Collective.
   bool pairs(const double* u, std::vector<Pair>& out) const;
   // f += a dE/du over all ranks' pairs, into the owned entries of f; the energy of this rank's
   // pairs into *energy. False as pairs(). Collective.
@@ -70,17 +77,26 @@ class SelfContact {
   // pattern (extend_pattern first).
   void fill_tangent(const std::vector<Pair>& pairs, double* values) const;
 
+  // A converged state: the next step's friction is lagged from it once begin_step() is called
+  // (until then the forces stay those it converged with). Collective; nothing without friction.
+  void accept(const double* u);
+  void begin_step();
+  bool has_friction() const { return friction_ > 0; }
+
   struct Totals {
-    int64_t pairs = 0;   // within dhat, over all ranks
-    double force = 0;    // the sum of the nodes' contact force magnitudes (N)
-    double min_gap = 0;  // the smallest node-triangle distance (m)
+    int64_t pairs = 0;    // within dhat, over all ranks
+    double force = 0;     // the sum of the nodes' contact force magnitudes (N)
+    double friction = 0;  // the sum of the lagged pairs' friction force magnitudes (N)
+    double min_gap = 0;   // the smallest node-triangle distance (m)
   };
   Totals totals(const double* u) const;  // collective
   // Per owned node (num_owned of them), for the output: `gap`, the smallest distance of its
   // pairs, dhat where it has none (and off the surfaces); `pressure`, the size of the pairs'
   // force on it over its share of the surfaces' area, 0 off them. Collective.
+  // `friction`: the friction's traction on the node (Pa, 3 per node), the pairs' friction forces
+  // on it over its area, with contact.friction.
   struct NodeValues {
-    std::vector<double> gap, pressure;
+    std::vector<double> gap, pressure, friction;
   };
   NodeValues node_values(const double* u, int64_t num_owned) const;
   int64_t num_nodes() const { return static_cast<int64_t>(global_.size()); }
@@ -89,6 +105,10 @@ class SelfContact {
  private:
   // Every surface node's current position (3 each) from the owned displacements.
   std::vector<double> positions(const double* u) const;
+  // Every pair within dhat of this rank's nodes at positions x, as visit(nodes, count, face,
+  // the barrier's term).
+  template <class Visit>
+  bool each_pair(const std::vector<double>& x, Visit&& visit) const;
   // No node may start within dhat of a triangle it is not a corner of. Collective.
   void check_start(const std::string& deck) const;
 
@@ -105,6 +125,9 @@ class SelfContact {
   std::vector<std::vector<int32_t>> faces_of_;  // per surface node: the faces it is a corner of
   std::vector<int32_t> mine_;                   // the surface nodes this rank owns
   std::vector<std::array<int32_t, 2>> pattern_;
+  double friction_ = 0, slip_ = 0;    // mu and eps_v (m)
+  std::vector<PairFrictionLag> lag_;  // sorted by (node[0], face)
+  std::vector<double> accepted_;      // positions of a state not lagged yet
 };
 
 }  // namespace hs

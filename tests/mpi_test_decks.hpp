@@ -1,14 +1,16 @@
 // Helpers of the MPI tests that write their own decks and run them: the world's rank and
 // size, a deck written into the test's folder (and the paper's cylinder as the tests of
 // mechanisms run it, pinned_decks.hpp), rank 0's summary on every rank, and a whole dataset of a
-// run's .h5 file.
+// run's .h5 file, and its history.csv.
 #pragma once
 
 #include <hdf5.h>
 #include <mpi.h>
 
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -58,6 +60,22 @@ inline std::vector<double> read_dataset(const std::string& path, const std::stri
   H5Dclose(set);
   H5Fclose(file);
   return v;
+}
+
+// A run's history.csv as {column: values by row} (read by the calling rank alone).
+inline std::map<std::string, std::vector<double>> read_history(const std::string& folder) {
+  std::ifstream in(folder + "/history.csv");
+  std::string header, line, cell;
+  std::getline(in, header);
+  std::vector<std::string> names;
+  for (std::stringstream h(header); std::getline(h, cell, ',');) names.push_back(cell);
+  std::map<std::string, std::vector<double>> columns;
+  while (std::getline(in, line)) {
+    std::stringstream values(line);
+    for (size_t c = 0; c < names.size() && std::getline(values, cell, ','); ++c)
+      columns[names[c]].push_back(std::stod(cell));
+  }
+  return columns;
 }
 
 }  // namespace hs_test

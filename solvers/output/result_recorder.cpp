@@ -93,6 +93,7 @@ void add_contact(Problem& problem, Vec u, double s, HistoryRow& row) {
     const SelfContact::Totals t = problem.self_contact_totals(u);
     row.add("self_contact_pairs", static_cast<double>(t.pairs));
     row.add("self_contact_force_N", t.force);
+    if (problem.self_contact()->has_friction()) row.add("self_contact_friction_N", t.friction);
   }
   if (!problem.contact()) return;
   const auto totals = problem.contact_totals(u, s);
@@ -112,6 +113,7 @@ nlohmann::json contact_json(Problem& problem, Vec u, double s) {
                    {"force_N", t.force},
                    {"min_gap_m", t.pairs > 0 ? nlohmann::json(t.min_gap) : nlohmann::json()},
                    {"nodes", self->num_nodes()}};
+    if (self->has_friction()) out["self"]["friction_N"] = t.friction;
     out["distance_m"] = self->barrier().distance;
     out["stiffness_Pa_per_m"] = self->barrier().stiffness;
   }
@@ -182,6 +184,8 @@ void ResultRecorder::record(double time, Vec u, double s, const std::string& tim
     auto c = problem_.self_contact_node_values(u);
     f.node_fields.push_back({"self_contact_gap", 1, "m", std::move(c.gap)});
     f.node_fields.push_back({"self_contact_pressure", 1, "Pa", std::move(c.pressure)});
+    if (!c.friction.empty())
+      f.node_fields.push_back({"self_contact_friction", 3, "Pa", std::move(c.friction)});
   }
   f.rank.assign(f.J.size(), rank_);
   HistoryRow row;

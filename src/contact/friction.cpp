@@ -11,6 +11,12 @@ Eigen::Vector3d moved(const ObstacleShape& o, const Eigen::Vector3d& x, double s
 
 }  // namespace
 
+SlipPotential slip_potential(double y, double eps_v) {
+  if (y >= eps_v) return {y, 1 / y, -1 / (y * y * y)};
+  return {-y * y * y / (3 * eps_v * eps_v) + y * y / eps_v + eps_v / 3,
+          -y / (eps_v * eps_v) + 2 / eps_v, y > 0 ? -1 / (eps_v * eps_v * y) : 0};
+}
+
 FrictionLag friction_lag(const std::vector<ObstacleShape>& obstacles, const Eigen::Vector3d& x0,
                          double s0, double area, const ContactBarrier& barrier, double eps_v,
                          const FrictionLag& previous) {
@@ -44,23 +50,12 @@ void add_friction(const std::vector<ObstacleShape>& obstacles, const FrictionLag
     const Eigen::Vector3d n = lag.normal[o];
     const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n * n.transpose();
     const Eigen::Vector3d w = P * (moved(obstacles[o], x, s) - lag.anchor[o]);
-    const double y = w.norm();
-    // f0, f0'(y) / y and the Hessian's second part g(y) w w^T (its first f0'(y)/y P).
-    double f0 = 0, f1_over_y = 0, g = 0;
-    if (y >= eps_v) {
-      f0 = y;
-      f1_over_y = 1 / y;
-      g = -1 / (y * y * y);
-    } else {
-      f0 = -y * y * y / (3 * eps_v * eps_v) + y * y / eps_v + eps_v / 3;
-      f1_over_y = -y / (eps_v * eps_v) + 2 / eps_v;
-      g = y > 0 ? -1 / (eps_v * eps_v * y) : 0;
-    }
-    const Eigen::Vector3d force = scale * f1_over_y * w;
-    out.energy += scale * f0;
+    const SlipPotential f = slip_potential(w.norm(), eps_v);
+    const Eigen::Vector3d force = scale * f.slope_over_y * w;
+    out.energy += scale * f.value;
     out.gradient += force;
     out.force[o] += force;
-    const Eigen::Matrix3d stiffness = scale * (f1_over_y * P + g * w * w.transpose());
+    const Eigen::Matrix3d stiffness = scale * (f.slope_over_y * P + f.g * w * w.transpose());
     out.stiffness[o] += stiffness;
     out.hessian += stiffness;
   }

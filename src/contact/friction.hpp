@@ -28,6 +28,14 @@ struct FrictionLag {
   std::vector<Eigen::Vector3d> normal, anchor;
 };
 
+// f0(y) of the slip y >= 0 with slip eps_v, f0'(y) / y and g(y) = (f0''(y) - f0'(y) / y) / y^2:
+// the potential's Hessian in the slip w is f0'/y P + g w w^T (P the projector normal to the
+// lagged normal). Shared with the surfaces' own friction (pair_friction.hpp).
+struct SlipPotential {
+  double value = 0, slope_over_y = 0, g = 0;
+};
+SlipPotential slip_potential(double y, double eps_v);
+
 // The lag of a node at x0, load factor s0, that had `previous` over the step before (empty:
 // none, the first step): each touching obstacle's barrier force there, and the anchors.
 FrictionLag friction_lag(const std::vector<ObstacleShape>& obstacles, const Eigen::Vector3d& x0,

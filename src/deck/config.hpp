@@ -281,6 +281,7 @@ struct ContactConfig {
   std::optional<double> stiffness;    // kappa (Pa/m): the barrier's scale
   std::optional<double> slip;         // eps_v (m): friction's slip between stick and slide
   bool self = false;                  // the surfaces also touch each other (self-contact)
+  double friction = 0;                // Coulomb coefficient between the surfaces (with self)
 };
 
 // `hydrosoft reduce DECK -o MODEL.h5` (the command line's, not deck keys): the training of a

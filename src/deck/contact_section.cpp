@@ -185,6 +185,10 @@ const KeyTable<ContactConfig>& contact_keys() {
                "the surfaces also touch each other: a node of them is kept off every triangle "
                "of them it is not a corner of (self-contact, and contact between the bodies of "
                "one mesh; mesh.order 1)"),
+      number_key("friction", &ContactConfig::friction, at_least(0, "a Coulomb coefficient"),
+                 "Coulomb friction coefficient between the surfaces where they touch each other "
+                 "(with `self`; 0: frictionless), lagged over each step as an obstacle's "
+                 "(docs/contact.md)"),
   };
   return keys;
 }

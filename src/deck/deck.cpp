@@ -100,6 +100,14 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (c.contact.self && c.control)
     r.fail("contact.self", root["contact"]["self"],
            "not supported with control yet (docs/contact.md, \"Self-contact\")");
+  if (c.contact.friction > 0 && !c.contact.self)
+    r.fail("contact.friction", root["contact"]["friction"],
+           "is friction between the contact surfaces, which touch each other only with "
+           "contact.self: true (an obstacle's friction is its own key)");
+  if (c.contact.friction > 0 && c.output.checkpoint)
+    r.fail("contact.friction", root["contact"]["friction"],
+           "friction is not supported with output.checkpoint (its lagged state is not saved, "
+           "so a restart would not continue the same run)");
   if (!c.obstacles.empty() && c.contact.surfaces.empty())
     r.fail("contact",
            "required with obstacles: contact.surfaces names the body's surface "

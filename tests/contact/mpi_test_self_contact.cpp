@@ -5,8 +5,9 @@
 // is the uniaxial stress; 2 ranks give 1 rank's forces. The
 // assembled tangent with pairs acting is the derivative of the assembled residual. The
 // shipped PneuNet's chamber walls press on each other, which adds to its bending, and their
-// forces, internal, leave the clamp with the weight alone. A deck whose surfaces start within
-// the barrier's distance is refused before any work.
+// forces, internal, leave the clamp with the weight alone. Dragged blocks stick or slide on
+// each other as their Coulomb friction allows. A deck whose surfaces start within the
+// barrier's distance is refused before any work.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -104,6 +105,108 @@ TEST(SelfContact, TwoBlocksPressedTogetherTakeTheUniaxialForceOfTheirCompression
     one = hs_test::shared(one);
     EXPECT_NEAR(one["reactions_N"]["top"][2].get<double>(), top, 1e-6 * low);
     EXPECT_EQ(one["contact"]["self"]["pairs"], self["pairs"]);
+  }
+}
+
+// The upper block clamped at its top, brought down onto the lower (clamped at its bottom) and
+// dragged 2 mm along x at once (nu = 0: no sideways swelling), with friction mu between the
+// facing surfaces.
+std::string dragged_blocks(const std::string& mu) {
+  return "mesh:\n  file: " + kSource +
+         "/meshes/two_blocks.geo\n  order: 1\n"
+         "materials:\n"
+         "  - {group: body, model: linear_elastic, E: 1.0e5, nu: 0.0}\n"
+         "boundary:\n"
+         "  - {group: bottom}\n"
+         "  - {group: top, value: [0.002, 0, -0.004]}\n"
+         "contact: {surfaces: [lower_top, upper_bottom], self: true, friction: " +
+         mu +
+         "}\n"
+         "time: {type: static, steps: 8}\n";
+}
+
+// The facing surfaces' relative shift along x per output step: the mean x displacement of the
+// upper block's bottom nodes less the lower block's top nodes' (rank 0).
+std::vector<double> surface_shift(const std::string& h5, size_t steps) {
+  const double H = 0.05, g0 = 0.001;
+  const std::vector<double> X = hs_test::read_dataset(h5, "/mesh/coordinates");
+  std::vector<double> shift;
+  for (size_t k = 0; k < steps; ++k) {
+    const auto u = hs_test::read_dataset(h5, "/step_" + std::to_string(k) + "/displacement");
+    double sum[2] = {0, 0};
+    int count[2] = {0, 0};
+    for (size_t n = 0; 3 * n < X.size(); ++n)
+      for (int side = 0; side < 2; ++side)
+        if (std::abs(X[3 * n + 2] - (side ? H + g0 : H)) < 1e-9) {
+          sum[side] += u[3 * n];
+          ++count[side];
+        }
+    shift.push_back(sum[1] / count[1] - sum[0] / count[0]);
+  }
+  return shift;
+}
+
+// Coulomb friction between the blocks: with mu = 1 the blocks' shear under the drag stays
+// below mu N and the facing surfaces stick where they touched (their relative shift moves by
+// less than the slip eps_v); with mu = 0.1 they slide, and each step's friction is mu times the
+// normal force of the step before (lagged), its sideways reaction at the clamp within the
+// barrier's own sideways part (under 2 % of the normal force, the pressed surfaces tilting) of
+// it. The clamps balance; the friction traction written per node drags the lower block's face
+// along +x and the upper's back; 2 ranks give 1 rank's forces.
+TEST(SelfContact, DraggedBlocksStickWithMuOneAndSlideWithMuATenth) {
+  for (const std::string mu : {"1.0", "0.1"}) {
+    const std::string tag = "drag_" + mu, folder = (hs_test::test_folder() / tag).string();
+    const std::string deck = hs_test::write_deck(tag + ".yaml", dragged_blocks(mu));
+    const Json s = hs_test::shared(run(deck, tag, MPI_COMM_WORLD));
+    ASSERT_EQ(s["status"], "ok");
+    const double m = std::stod(mu), eps_v = 0.1 * s["contact"]["distance_m"].get<double>();
+    const double fx = s["reactions_N"]["top"][0], fz = -s["reactions_N"]["top"][2].get<double>();
+    EXPECT_NEAR(s["reactions_N"]["bottom"][0].get<double>(), -fx, 1e-7 * fz) << mu;
+    EXPECT_GT(fx, 0.5) << mu;
+    if (hs_test::world_size() > 1) {
+      Json one;
+      if (hs_test::world_rank() == 0) one = run(deck, tag + "_one", MPI_COMM_SELF);
+      one = hs_test::shared(one);
+      EXPECT_NEAR(one["reactions_N"]["top"][0].get<double>(), fx, 1e-6 * fz) << mu;
+    }
+    if (hs_test::world_rank() != 0) continue;
+    const auto h = hs_test::read_history(folder);
+    const auto& x = h.at("reaction_top_x_N");
+    const auto& z = h.at("reaction_top_z_N");
+    const auto& normal = h.at("self_contact_force_N");
+    const auto& friction = h.at("self_contact_friction_N");
+    ASSERT_EQ(x.size(), 8u);
+    ASSERT_GT(normal[1], 0) << "touches in the second step";
+    const std::vector<double> shift = surface_shift(folder + "/" + tag + ".h5", x.size());
+    if (m == 1.0) {
+      for (size_t k = 2; k < x.size(); ++k) {
+        EXPECT_LT(friction[k], m * normal[k - 1]) << k;
+        EXPECT_LT(x[k], 0.5 * -z[k]) << k;
+        EXPECT_NEAR(shift[k], shift[1], eps_v) << k;
+      }
+      continue;
+    }
+    for (size_t k = 3; k < x.size(); ++k) {  // the third step on: no cutback before
+      EXPECT_NEAR(friction[k], m * normal[k - 1], 1e-9 * normal[k - 1]) << k;
+      EXPECT_NEAR(x[k], m * -z[k - 1], 0.02 * -z[k]) << k;
+    }
+    EXPECT_GT(shift.back() - shift[1], 10 * eps_v);
+    // The friction traction at the faces' inner nodes: along +x on the lower face, -x on the
+    // upper, and at most mu times the pressure (the lagged step's, lower).
+    const std::string h5 = folder + "/" + tag + ".h5", last = "/step_7/";
+    const auto X = hs_test::read_dataset(h5, "/mesh/coordinates");
+    const auto t = hs_test::read_dataset(h5, last + "self_contact_friction");
+    const auto p = hs_test::read_dataset(h5, last + "self_contact_pressure");
+    int inner = 0;
+    for (size_t n = 0; n < p.size(); ++n) {
+      const double zn = X[3 * n + 2], xn = X[3 * n], yn = X[3 * n + 1];
+      const bool lower = std::abs(zn - 0.05) < 1e-9, upper = std::abs(zn - 0.051) < 1e-9;
+      if (!(lower || upper) || xn < 0.01 || xn > 0.09 || yn < 0.01 || yn > 0.09) continue;
+      ++inner;
+      EXPECT_GT(lower ? t[3 * n] : -t[3 * n], 0) << n;
+      EXPECT_LT(std::hypot(t[3 * n], t[3 * n + 1]), m * p[n]) << n;
+    }
+    EXPECT_GT(inner, 20);
   }
 }
 

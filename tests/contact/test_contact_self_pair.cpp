@@ -1,11 +1,13 @@
 // Self-contact's node-triangle pairs (contact/surface_pair.hpp): the nearest feature against
 // the distance by brute force over the triangle, and the pair's barrier gradient and Hessian
-// against central differences of its energy and gradient, for a face, an edge and a vertex.
+// against central differences of its energy and gradient, for a face, an edge and a vertex;
+// the same for the pair's lagged friction, whose forces balance.
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "contact/box_tree.hpp"
+#include "contact/pair_friction.hpp"
 #include "contact/surface_pair.hpp"
 
 namespace {
@@ -106,3 +108,78 @@ TEST(SelfContactPair, TheBoxTreeFindsEveryOverlappingBox) {
 }
 
 }  // namespace
+
+// Friction between a node and a triangle's face, edge or vertex (contact/pair_friction.hpp),
+// lagged where the node sits above the feature, then the node and the triangle moved apart
+// sideways (the triangle also moved as a whole, which costs nothing): the feature's weights
+// give back the nearest point; the term's gradient and Hessian are its energy's derivatives;
+// the forces on the pair's nodes add up to zero and lie in the lagged tangent plane; sliding,
+// the force on the node is mu lambda against the slip; the next lag carries the slip (into
+// its turned tangent plane at the same length), eps_v of it where the pair slid.
+TEST(SelfContactPair, FrictionsDerivativesAreItsEnergysAndItsForcesBalance) {
+  const Vector3d t[3] = {{0, 0, 0}, {1, 0, 0.2}, {0.3, 0.9, -0.1}};
+  const Vector3d normal = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+  const double mu = 0.4, lambda = 2.5, eps = 1e-3;
+  // Nodes above the face's inside, beyond the edge t0 t1, and beyond the vertex t0.
+  const Vector3d above[3] = {(t[0] + t[1] + t[2]) / 3 + 0.05 * normal,
+                             0.5 * (t[0] + t[1]) + Vector3d(0, -0.04, 0.02),
+                             {-0.03, -0.03, 0.02}};
+  const int counts[3] = {4, 3, 2};
+  for (int kind = 0; kind < 3; ++kind) {
+    const hs::TriangleFeature f = hs::nearest_feature(above[kind], t[0], t[1], t[2]);
+    ASSERT_EQ(f.count + 1, counts[kind]);
+    Vector3d x[4] = {above[kind]};
+    int32_t nodes[4] = {0, 1, 2, 3};
+    for (int k = 0; k < f.count; ++k) x[1 + k] = t[f.vertex[k]];
+    const int n = f.count + 1;
+    double beta[3];
+    hs::feature_weights(x, n, beta);
+    Vector3d q = Vector3d::Zero();
+    for (int k = 1; k < n; ++k) q += beta[k - 1] * x[k];
+    const Vector3d to_node = x[0] - q;
+    EXPECT_NEAR(std::sqrt(hs::feature_squared_distance(x, n)), to_node.norm(), 1e-14) << kind;
+    const hs::PairFrictionLag lag =
+        hs::pair_friction_lag(nodes, x, n, 7, lambda, Vector3d::Zero(), eps);
+    const Vector3d dir = to_node.unitOrthogonal();  // a tangential slip
+    for (double slip : {3e-4, 4e-2}) {
+      Vector3d y[4];
+      for (int k = 0; k < n; ++k) y[k] = x[k] + Vector3d(0.01, -0.02, 0.03);
+      y[0] += slip * dir;
+      const hs::PairTerm term = hs::pair_friction(lag, y, mu, eps);
+      const double h = 1e-7;
+      for (int i = 0; i < 3 * n; ++i) {
+        double& c = y[i / 3](i % 3);
+        const double keep = c;
+        c = keep + h;
+        const hs::PairTerm p = hs::pair_friction(lag, y, mu, eps);
+        c = keep - h;
+        const hs::PairTerm m = hs::pair_friction(lag, y, mu, eps);
+        c = keep;
+        EXPECT_NEAR(term.gradient(i), (p.energy - m.energy) / (2 * h), 1e-6 * term.gradient.norm())
+            << kind << " " << i;
+        for (int j = 0; j < 3 * n; ++j)
+          EXPECT_NEAR(term.hessian(j, i), (p.gradient(j) - m.gradient(j)) / (2 * h),
+                      1e-6 * term.hessian.norm())
+              << kind << " " << i << " " << j;
+      }
+      Vector3d sum = Vector3d::Zero();
+      for (int k = 0; k < n; ++k) sum += term.gradient.segment<3>(3 * k);
+      EXPECT_NEAR(sum.norm(), 0, 1e-14) << kind;
+      const Vector3d on_node = term.gradient.head<3>();
+      EXPECT_NEAR(on_node.dot(lag.normal), 0, 1e-14) << kind;
+      if (slip > eps) {
+        EXPECT_NEAR(on_node.norm(), mu * lambda, 1e-12) << kind;
+        EXPECT_NEAR(on_node.normalized().dot(dir), 1, 1e-12) << kind;
+      } else {
+        EXPECT_LT(on_node.norm(), mu * lambda) << kind;
+      }
+      Eigen::SelfAdjointEigenSolver<hs::PairMatrix> eig(term.hessian);
+      EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-9 * term.hessian.norm()) << kind;
+      // The next step starts from the slip, or eps_v of it.
+      const Vector3d carried = hs::pair_slip(lag, y);
+      EXPECT_NEAR((carried - slip * dir).norm(), 0, 1e-12) << kind;
+      const hs::PairFrictionLag next = hs::pair_friction_lag(nodes, y, n, 7, lambda, carried, eps);
+      EXPECT_NEAR(hs::pair_slip(next, y).norm(), std::min(slip, eps), 1e-9 * slip) << kind;
+    }
+  }
+}

@@ -820,6 +820,14 @@ TEST_F(DeckErrors, ObstaclesAndContact) {
       {obstacles("{name: floor, type: plane, friction: 0.5}") +
            "output: {checkpoint: {every: 1}}\n",
        "obstacles[0].friction", "friction is not supported with output.checkpoint"},
+      {obstacles(floor, "{surfaces: [skin], friction: 0.5}"), "contact.friction",
+       "touch each other only with contact.self: true"},
+      {obstacles(floor, "{surfaces: [skin], friction: -1}"), "contact.friction",
+       "must be >= 0 (a Coulomb coefficient), got -1"},
+      {kMesh + kMaterials +
+           "boundary: [{group: base}]\ncontact: {surfaces: [skin], self: true, friction: 0.2}\n"
+           "output: {checkpoint: {every: 1}}\n",
+       "contact.friction", "friction is not supported with output.checkpoint"},
   });
 }
 
