@@ -8,14 +8,17 @@
 //   L, W, T: length (x), height (z), thickness (y) of each finger; g: the gap between them;
 //   lc, wc, tc: length (x), height (z), thickness (y) of each cavity; xb: wall between the
 //   palm and the cavity; ey: offset of the cavity's centre from the finger's mid-plane,
-//   away from the gap; h: target mesh size.
+//   away from the gap; h: target mesh size; ox, oy, oz: the sides (x, y, z) of a soft block
+//   held between the tips, its far face ob beyond them and centred across the gap (ox = 0,
+//   the default: none).
 // Physical groups: volume "body" (both fingers); surfaces "base" (both x = 0 faces, the
 // palm), "cavity_left" and "cavity_right" (y > 0 and y < 0; normals out of the body),
 // "skin_left" and "skin_right" (every other face of each finger: the faces that may touch);
-// points "tip_left" and "tip_right", the centres of the tip faces.
+// points "tip_left" and "tip_right", the centres of the tip faces. With the block: volume
+// "object" and surface "object_skin" (its faces).
 SetFactory("OpenCASCADE");
 DefineConstant[ L = 0.09, W = 0.018, T = 0.016, g = 0.02, lc = 0.07, wc = 0.01, tc = 0.005,
-                xb = 0.01, ey = 0.003, h = 0.006 ];
+                xb = 0.01, ey = 0.003, h = 0.006, ox = 0, oy = 0.019, oz = 0.016, ob = 0.004 ];
 If (L <= 0 || W <= 0 || T <= 0 || g <= 0 || lc <= 0 || wc <= 0 || tc <= 0 || xb <= 0 || h <= 0)
   Error("gripper.geo: need L, W, T, g, lc, wc, tc, xb, h > 0 (L = %g, W = %g, T = %g, g = %g, lc = %g, wc = %g, tc = %g, xb = %g, h = %g)",
         L, W, T, g, lc, wc, tc, xb, h);
@@ -61,6 +64,17 @@ For k In {0 : 1}
   Point(tip~{k}) = {L, y_mid, 0};
   Point{tip~{k}} In Surface{tipface~{k}(0)};
 EndFor
+
+If (ox > 0)
+  If (oy >= g || ox <= ob || oz <= 0)
+    Error("gripper.geo: the block must fit between the fingers and reach between them (oy = %g < g = %g, ox = %g > ob = %g, oz = %g > 0)",
+          oy, g, ox, ob, oz);
+  EndIf
+  Box(30) = {L + ob - ox, -oy / 2, -oz / 2, ox, oy, oz};
+  Physical Volume("object") = {30};
+  Physical Surface("object_skin") = {Boundary{ Volume{30}; }};
+  MeshSize{ PointsOf{ Volume{30}; } } = h;
+EndIf
 
 Physical Volume("body") = {3, 13};
 Physical Surface("base") = {base~{0}(), base~{1}()};

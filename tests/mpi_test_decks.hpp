@@ -7,6 +7,7 @@
 #include <hdf5.h>
 #include <mpi.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -62,7 +63,8 @@ inline std::vector<double> read_dataset(const std::string& path, const std::stri
   return v;
 }
 
-// A run's history.csv as {column: values by row} (read by the calling rank alone).
+// A run's history.csv as {column: values by row}, a state's name read as 0 (read by the
+// calling rank alone).
 inline std::map<std::string, std::vector<double>> read_history(const std::string& folder) {
   std::ifstream in(folder + "/history.csv");
   std::string header, line, cell;
@@ -73,7 +75,7 @@ inline std::map<std::string, std::vector<double>> read_history(const std::string
   while (std::getline(in, line)) {
     std::stringstream values(line);
     for (size_t c = 0; c < names.size() && std::getline(values, cell, ','); ++c)
-      columns[names[c]].push_back(std::stod(cell));
+      columns[names[c]].push_back(std::strtod(cell.c_str(), nullptr));  // a name: 0
   }
   return columns;
 }

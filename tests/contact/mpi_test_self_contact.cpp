@@ -6,8 +6,8 @@
 // assembled tangent with pairs acting is the derivative of the assembled residual. The
 // shipped PneuNet's chamber walls press on each other, which adds to its bending, and their
 // forces, internal, leave the clamp with the weight alone. Dragged blocks stick or slide on
-// each other as their Coulomb friction allows. A deck whose surfaces start within the
-// barrier's distance is refused before any work.
+// each other as their Coulomb friction allows, and a gripper's friction holds a block up. A deck
+// whose surfaces start within the barrier's distance is refused before any work.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -208,6 +208,57 @@ TEST(SelfContact, DraggedBlocksStickWithMuOneAndSlideWithMuATenth) {
     }
     EXPECT_GT(inner, 20);
   }
+}
+
+// input/gripper_lift.yaml (at nu 0.45, faster): the fingers close on the block as the table
+// drops 3 mm away. With friction between the fingers and the block the table ends carrying
+// nothing and the block hangs above it; without, the table carries the block's weight (less
+// what the fingers' tilted faces wedge up). In every step the palm's reaction, the table's
+// force and the weights of the silicone (growing with the load factor) and of the water
+// balance: the pairs' forces, friction included, are internal. 2 ranks give 1 rank's palm
+// reaction.
+TEST(SelfContact, TheGripperHoldsABlockByFrictionAsTheTableDropsAway) {
+  const std::string shipped = kSource + "/input/gripper_lift.yaml";
+  const double block_weight = 1070 * 9.81 * 0.016 * 0.019 * 0.016;
+  auto lift = [&](const std::string& tag, const std::string& mu, MPI_Comm comm) {
+    const std::vector<std::string> o = {"materials[0].nu=0.45", "materials[1].nu=0.45",
+                                        "contact.friction=" + mu,
+                                        "output.folder=" + (hs_test::test_folder() / tag).string()};
+    return hs::run_simulation(hs::parse_deck(shipped, o), comm);
+  };
+  const Json held = hs_test::shared(lift("held", "0.8", MPI_COMM_WORLD));
+  ASSERT_EQ(held["status"], "ok");
+  const Json& table = held["contact"]["obstacles"][0];
+  EXPECT_EQ(table["force_N"][0].get<double>(), 0);
+  EXPECT_GT(held["contact"]["min_gap_m"].get<double>(), 0.3e-3);  // above the table
+  EXPECT_GT(held["contact"]["self"]["friction_N"].get<double>(), block_weight);
+  const double palm = held["reactions_N"]["base"][0];
+  if (hs_test::world_rank() == 0) {
+    const auto h = hs_test::read_history((hs_test::test_folder() / "held").string());
+    const auto& base = h.at("reaction_base_x_N");
+    const size_t n = base.size();
+    ASSERT_EQ(n, 20u);
+    // The silicone's weight per unit load factor, the same in every step.
+    std::vector<double> solid;
+    for (size_t k = 0; k < n; ++k)
+      solid.push_back((-base[k] + h.at("contact_table_x_N")[k] -
+                       h.at("cavity_cavity_left_fluid_weight_N")[k] -
+                       h.at("cavity_cavity_right_fluid_weight_N")[k]) /
+                      (k + 1.0) / n);
+    for (size_t k = 0; k < n; ++k) EXPECT_NEAR(solid[k], solid.back(), 1e-8) << k;
+    EXPECT_GT(h.at("contact_table_x_N")[0], 0);  // the table held the block at first
+  }
+  if (hs_test::world_size() > 1) {
+    Json one;
+    if (hs_test::world_rank() == 0) one = lift("held_one", "0.8", MPI_COMM_SELF);
+    one = hs_test::shared(one);
+    EXPECT_NEAR(one["reactions_N"]["base"][0].get<double>(), palm, 1e-6 * -palm);
+  }
+  const Json slips = hs_test::shared(lift("slips", "0", MPI_COMM_WORLD));
+  ASSERT_EQ(slips["status"], "ok");
+  const double carried = slips["contact"]["obstacles"][0]["force_N"][0];
+  EXPECT_GT(carried, 0.9 * block_weight);
+  EXPECT_LT(carried, block_weight);
 }
 
 // The tangent against central differences of the residual, with the upper block moved down
