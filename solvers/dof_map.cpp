@@ -1,6 +1,7 @@
 #include "solvers/dof_map.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "common/error.hpp"
 #include "solvers/petsc_check.hpp"
@@ -24,6 +25,7 @@ DofMap::DofMap(const Config& config, const Distribution& dist, ExactDirichlet ex
   scaled_.assign(3 * nlocal, 1);
   from_exact_.assign(3 * nlocal, 0);
   group_of_.assign(3 * nlocal, -1);
+  moved_by_.assign(3 * nlocal, -1);
   for (const auto& bc : config.dirichlet) {
     if (bc.exact && !exact_)
       throw InputError(config.deck_path + ": boundary: group '" + bc.group +
@@ -38,6 +40,7 @@ DofMap::DofMap(const Config& config, const Distribution& dist, ExactDirichlet ex
       for (int d = 0; d < 3; ++d)
         if (bc.components[d]) {
           if (group_of_[3 * n + d] < 0) group_of_[3 * n + d] = group;
+          moved_by_[3 * n + d] = group;
           constrained_[3 * n + d] = 1;
           prescribed_[3 * n + d] = bc.value[d];
           scaled_[3 * n + d] = bc.scaled;
@@ -69,7 +72,21 @@ double DofMap::prescribed_value(int64_t l, double s) const {
     const std::array<double, 3> X = {X_[3 * node], X_[3 * node + 1], X_[3 * node + 2]};
     return exact_(X, s)[l % 3];
   }
-  return prescribed_[l] * (scaled_[l] ? s : 1.0);
+  const double move = moves_.empty() ? 0.0 : moves_[moved_by_[l]][l % 3];
+  return prescribed_[l] * (scaled_[l] ? s : 1.0) + move;
+}
+
+void DofMap::set_move(const std::string& group, const std::array<double, 3>& by) {
+  const auto at = std::find(groups_.begin(), groups_.end(), group);
+  if (at == groups_.end()) throw std::logic_error("DofMap::set_move: no boundary group " + group);
+  moves_.resize(groups_.size(), {0, 0, 0});
+  moves_[at - groups_.begin()] = by;
+}
+
+std::array<double, 3> DofMap::moved(const std::string& group) const {
+  const auto at = std::find(groups_.begin(), groups_.end(), group);
+  if (at == groups_.end() || moves_.empty()) return {0, 0, 0};
+  return moves_[at - groups_.begin()];
 }
 
 void DofMap::apply(Vec u, double s) const {

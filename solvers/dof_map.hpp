@@ -37,7 +37,12 @@ class DofMap {
   bool constrained(int64_t local_dof) const { return constrained_[local_dof]; }
   PetscInt global(int64_t local_dof) const { return global_[local_dof]; }
 
-  // The prescribed value of a constrained dof at load factor s.
+  // A translation added to a boundary group's prescribed values (a state's `move`), on the
+  // components it prescribes; `moved` gives the group's present one.
+  void set_move(const std::string& group, const std::array<double, 3>& by);
+  std::array<double, 3> moved(const std::string& group) const;
+
+  // The prescribed value of a constrained dof at load factor s (with its group's move).
   double prescribed_value(int64_t local_dof, double s) const;
   // Sets the constrained dofs of u to their values at s (owned entries).
   void apply(Vec u, double s) const;
@@ -59,6 +64,9 @@ class DofMap {
   std::vector<double> prescribed_;                       // per local dof, at full load
   std::vector<std::string> groups_;
   std::vector<int> group_of_;  // per local dof: index in groups_, -1 if not constrained
+  std::vector<std::array<double, 3>> moves_;  // per group
+  // per local dof: the group of the first entry that prescribes it (its move's), -1 if none
+  std::vector<int> moved_by_;
   ExactDirichlet exact_;
 };
 

@@ -115,6 +115,14 @@ class Problem {
 
   // Sets the Dirichlet dofs of u to their prescribed values at load factor s.
   void apply_dirichlet(Vec u, double s) const { dofs_.apply(u, s); }
+  // A translation added to a boundary group's prescribed values (a state's `move`), and the
+  // present one.
+  void move_boundary(const std::string& group, const std::array<double, 3>& by) {
+    dofs_.set_move(group, by);
+  }
+  std::array<double, 3> boundary_moved(const std::string& group) const {
+    return dofs_.moved(group);
+  }
 
   // Residual and tangent. Return false if an element is inverted (det F <= 0) or a
   // value is not finite; inverted_element() then names one such element on every rank (its

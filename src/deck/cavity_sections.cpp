@@ -101,6 +101,33 @@ std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAM
   return targets;
 }
 
+// A later state's moves: boundary group -> a translation (m).
+std::map<std::string, std::array<double, 3>> parse_moves(const DeckReader& r,
+                                                         const YAML::Node& node,
+                                                         const std::string& key, const Config& c) {
+  if (!node.IsMap()) r.fail(key, node, "expected a map of boundary group: [dx, dy, dz]");
+  std::vector<std::string> names;
+  for (const auto& bc : c.dirichlet)
+    if (std::find(names.begin(), names.end(), bc.group) == names.end()) names.push_back(bc.group);
+  std::map<std::string, std::array<double, 3>> moves;
+  for (const auto& entry : node) {
+    const std::string name = entry.first.Scalar(), gkey = child_key(key, name);
+    if (moves.count(name)) r.fail(gkey, entry.first, "duplicate key");
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      r.fail(gkey, entry.first,
+             names.empty() ? "not a boundary group (the deck has no boundary section)"
+                           : "not a boundary group (did you mean '" + nearest(name, names) +
+                                 "'? boundary groups: " + join(names) + ")");
+    for (const auto& bc : c.dirichlet)
+      if (bc.group == name && bc.exact)
+        r.fail(
+            gkey, entry.first,
+            "group '" + name + "' takes the exact solution's values, which a move cannot add to");
+    moves[name] = r.vector3(entry.second, gkey);
+  }
+  return moves;
+}
+
 // A dynamic run's states: each one's time (the first's 0 unless given) on a time step, in
 // order, within the run, and a ramp of at least one time step after a step state.
 void check_state_times(const DeckReader& r, const YAML::Node& node,
@@ -316,6 +343,26 @@ const KeyTable<StateConfig>& state_keys() {
             out << YAML::EndMap;
           })
           .printed_when([](const StateConfig& s) { return !s.cavities.empty(); }),
+      custom_key<StateConfig>(
+          "move", "map group: 3 numbers", "none",
+          "not in the first state. A translation (m) added to a boundary group's prescribed "
+          "displacement over the state, ramped with its steps, on the components the group "
+          "prescribes (a palm that rises once the fingers hold what they grasp); later states "
+          "keep it. Not for groups with `exact` values",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, StateConfig& s,
+             const Config& c) { s.moves = parse_moves(r, n, key, c); },
+          [](YAML::Emitter& out, const StateConfig& s, const Config&) {
+            out << YAML::BeginMap;
+            for (const auto& [group, by] : s.moves) {
+              out << YAML::Key << group << YAML::Value;
+              write_numbers(out, by.data(), 3);
+            }
+            out << YAML::EndMap;
+          })
+          .only(use_when<StateConfig>(
+              [](const StateConfig&, const Config& c) { return c.time.type != TimeType::dynamic; },
+              "not used when time.type is dynamic", "static/quasi-static"))
+          .printed_when([](const StateConfig& s) { return !s.moves.empty(); }),
   };
   return keys;
 }
@@ -360,6 +407,10 @@ std::vector<StateConfig> parse_states(const DeckReader& r, const YAML::Node& nod
              "not allowed in the first state: it ramps the load and the cavities' own controls "
              "(cavities[].pressure or added_volume) from 0 to full; give targets in later "
              "states");
+    if (i == 0 && node[i].IsMap() && node[i]["move"])
+      r.fail(child_key(key, "move"), node[i]["move"],
+             "not allowed in the first state: it ramps the boundary's own values "
+             "(boundary[].value) from 0 to full; move a group in later states");
     StateConfig s;
     read_keys(r, node[i], key, state_keys(), s, c);
     for (size_t j = 0; j < i; ++j)

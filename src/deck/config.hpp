@@ -200,6 +200,9 @@ struct StateConfig {
   // given; docs/decks.md, "Dynamic runs with cavities and cables").
   std::optional<double> time;
   std::map<std::string, CavityTarget> cavities;  // by cavity name (its group)
+  // By boundary group: a translation (m) added to its prescribed displacement over the state
+  // (a palm that rises once the fingers hold what they grasp). Static and quasi-static runs.
+  std::map<std::string, std::array<double, 3>> moves;
 };
 
 // Inclination of a face group (e.g. a hanging tip) reported for every state.

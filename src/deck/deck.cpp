@@ -108,6 +108,11 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
     r.fail("contact.friction", root["contact"]["friction"],
            "friction is not supported with output.checkpoint (its lagged state is not saved, "
            "so a restart would not continue the same run)");
+  for (size_t k = 0; k < c.states.size() && c.output.checkpoint; ++k)
+    if (!c.states[k].moves.empty())
+      r.fail(child_key(item_key("states", k), "move"), root["states"][k]["move"],
+             "not supported with output.checkpoint (a restart does not restore the moved "
+             "groups' values)");
   if (!c.obstacles.empty() && c.contact.surfaces.empty())
     r.fail("contact",
            "required with obstacles: contact.surfaces names the body's surface "

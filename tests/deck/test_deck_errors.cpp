@@ -820,6 +820,21 @@ TEST_F(DeckErrors, ObstaclesAndContact) {
       {obstacles("{name: floor, type: plane, friction: 0.5}") +
            "output: {checkpoint: {every: 1}}\n",
        "obstacles[0].friction", "friction is not supported with output.checkpoint"},
+      {kMesh + kMaterials +
+           "boundary: [{group: base}]\nstates:\n  - {name: a, move: {base: [0, 0, 1]}}\n",
+       "states[0].move", "not allowed in the first state"},
+      {kMesh + kMaterials +
+           "boundary: [{group: base}]\nstates:\n  - {name: a}\n  - {name: b, move: {bse: [0, "
+           "0, 1]}}\n",
+       "states[1].move.bse", "not a boundary group (did you mean 'base'?"},
+      {kMesh + kMaterials +
+           "boundary: [{group: base}]\nstates:\n  - {name: a}\n  - {name: b, move: {base: [0, "
+           "1]}}\n",
+       "states[1].move.base", "3"},
+      {kMesh + kMaterials +
+           "boundary: [{group: base}]\nstates:\n  - {name: a}\n  - {name: b, move: {base: [0, "
+           "0, 1]}}\noutput: {checkpoint: {every: 1}}\n",
+       "states[1].move", "not supported with output.checkpoint"},
       {obstacles(floor, "{surfaces: [skin], friction: 0.5}"), "contact.friction",
        "touch each other only with contact.self: true"},
       {obstacles(floor, "{surfaces: [skin], friction: -1}"), "contact.friction",

@@ -2,7 +2,8 @@
 // cantilever carries its weight; a clamped block under gravity, a follower pressure and a dead
 // traction reacts with minus the whole applied load (a conservation law: the internal forces
 // sum to zero); a cavity clamped at both ends pushes on its clamps with the blocked force of
-// plane-strain elasticity (up to its end walls' give), equal and opposite at the two ends.
+// plane-strain elasticity (up to its end walls' give), equal and opposite at the two ends; a
+// state that moves a boundary group changes its force as elasticity says.
 // On 2 ranks every figure is compared with the same deck run on one (each node's force
 // counted by its owner alone).
 #include <gtest/gtest.h>
@@ -179,6 +180,38 @@ TEST(Reactions, ABlockReactsWithMinusTheWholeAppliedLoad) {
   EXPECT_GT(magnitude(bottom), scale);
   expect_same_on_one_rank(r, "bottom", scale);
   expect_same_on_one_rank(r, "x0", scale);
+}
+
+TEST(Reactions, AStateMovesABoundaryGroupByItsTranslation) {
+  // A linear elastic block (nu = 0: uniaxial stress, exact on any mesh) on symmetry planes, its
+  // top pressed 2 mm down over the first state, then moved 5 mm up (a state's `move`; its x
+  // part falls on no prescribed component) and held over a third: the top's force is
+  // E A delta / H with delta -2, then +3 mm, kept.
+  const double E = 1e5, A = 0.01, H = 0.1;
+  const std::string deck = write_deck(
+      "moved.yaml", "mesh:\n  file: " + kSource +
+                        "/meshes/block.geo\n"
+                        "  order: 1\n"
+                        "  parameters: {H: 0.1, h: 0.05}\n"
+                        "materials:\n"
+                        "  - {group: body, model: linear_elastic, E: 1.0e5, nu: 0.0}\n"
+                        "boundary:\n  - {group: bottom, components: [z]}\n"
+                        "  - {group: x0, components: [x]}\n  - {group: y0, components: [y]}\n"
+                        "  - {group: top, components: [z], value: [0, 0, -0.002]}\n"
+                        "states:\n  - {name: press, steps: 2}\n"
+                        "  - {name: pull, steps: 3, move: {top: [0.01, 0, 0.005]}}\n"
+                        "  - {name: hold}\n"
+                        "solver: {preset: mumps}\n");
+  const Runs r = run_both(deck, "moved");
+  const Json& states = r.all["states"];
+  ASSERT_EQ(states.size(), 3u);
+  const double delta[3] = {-0.002, 0.003, 0.003};
+  for (int k = 0; k < 3; ++k) {
+    const Force top = force(states[k]["reactions_N"], "top");
+    EXPECT_NEAR(top[2], E * A * delta[k] / H, 1e-9 * E * A * 0.002 / H) << k;
+    EXPECT_EQ(top[0], 0) << k;
+  }
+  expect_same_on_one_rank(r, "top", E * A * 0.003 / H);
 }
 
 TEST(Reactions, BlockedForceOfACavityClampedAtBothEnds) {
