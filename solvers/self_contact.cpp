@@ -33,17 +33,26 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
   // sum over them) does not depend on the number of ranks.
   std::map<int64_t, int64_t> global_of;  // mesh number -> PETSc node number
   std::map<int64_t, std::array<double, 3>> x_of;
+  std::map<int64_t, uint64_t> surfaces_of;  // mesh number -> its surfaces' bits
   std::vector<std::array<int64_t, 3>> faces;
-  for (const auto& group : config.contact.surfaces) {
-    const GatheredSurface s = gather_surface(dist, group, -1, comm);
+  std::vector<int> face_surface;
+  const std::vector<std::string>& groups = config.contact.surfaces;
+  if (groups.size() > 64)
+    throw InputError(config.deck_path + ": contact.surfaces: self-contact takes at most 64");
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const GatheredSurface s = gather_surface(dist, groups[g], -1, comm);
     for (size_t n = 0; n < s.mesh_nodes.size(); ++n) {
       global_of[s.mesh_nodes[n]] = s.global_nodes[n];
       x_of[s.mesh_nodes[n]] = {s.x[3 * n], s.x[3 * n + 1], s.x[3 * n + 2]};
     }
     for (size_t f = 0; f < s.faces.size() / s.nodes_per_face; ++f) {
       std::array<int64_t, 3> face;
-      for (int a = 0; a < 3; ++a) face[a] = s.mesh_nodes[s.faces[f * s.nodes_per_face + a]];
+      for (int a = 0; a < 3; ++a) {
+        face[a] = s.mesh_nodes[s.faces[f * s.nodes_per_face + a]];
+        surfaces_of[face[a]] |= uint64_t{1} << g;
+      }
       faces.push_back(face);
+      face_surface.push_back(static_cast<int>(g));
     }
   }
   std::map<int64_t, int32_t> index;
@@ -51,14 +60,16 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
     index[mesh] = static_cast<int32_t>(global_.size());
     global_.push_back(global);
     reference_.insert(reference_.end(), x_of[mesh].begin(), x_of[mesh].end());
+    node_surfaces_.push_back(surfaces_of[mesh]);
   }
   const std::vector<double>& x = reference_;
   std::map<std::array<int64_t, 3>, bool> seen;  // a face in two groups counts once
-  for (const auto& face : faces) {
-    std::array<int64_t, 3> key = face;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    std::array<int64_t, 3> key = faces[f];
     std::sort(key.begin(), key.end());
     if (!seen.emplace(key, true).second) continue;
-    faces_.push_back({index[face[0]], index[face[1]], index[face[2]]});
+    faces_.push_back({index[faces[f][0]], index[faces[f][1]], index[faces[f][2]]});
+    face_surface_.push_back(face_surface[f]);
   }
   const size_t ns = global_.size();
   area_.assign(ns, 0.0);
@@ -83,7 +94,14 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
   MPI_Allreduce(MPI_IN_PLACE, fixed.data(), static_cast<int>(fixed.size()), MPI_INT, MPI_MAX, comm);
   constrained_.assign(fixed.begin(), fixed.end());
   check_start(config.deck_path);
-  friction_ = config.contact.friction;
+  const size_t ng = groups.size();
+  friction_.assign(ng * ng, config.contact.friction);
+  for (const auto& between : config.contact.friction_between) {
+    const auto a = std::find(groups.begin(), groups.end(), between.surfaces[0]) - groups.begin();
+    const auto b = std::find(groups.begin(), groups.end(), between.surfaces[1]) - groups.begin();
+    friction_[a * ng + b] = friction_[b * ng + a] = between.friction;
+  }
+  for (double mu : friction_) has_friction_ |= mu > 0;
   slip_ = config.contact.slip ? *config.contact.slip : 0.1 * barrier_.distance;
 }
 
@@ -161,10 +179,18 @@ bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
       pair.node[k] = lag.node[k];
       y[k] = at(x, lag.node[k]);
     }
-    pair.term = pair_friction(lag, y, friction_, slip_);
+    pair.term = pair_friction(lag, y, slip_);
     out.push_back(pair);
   }
   return ok;
+}
+
+double SelfContact::friction(int32_t p, int32_t f) const {
+  const size_t ng = static_cast<size_t>(std::lround(std::sqrt(friction_.size())));
+  double mu = 0;
+  for (size_t g = 0; g < ng; ++g)
+    if (node_surfaces_[p] >> g & 1) mu = std::max(mu, friction_[g * ng + face_surface_[f]]);
+  return mu;
 }
 
 void SelfContact::accept(const double* u) {
@@ -192,9 +218,11 @@ void SelfContact::begin_step() {
       for (int k = 0; k < before->count; ++k) y[k] = at(x, before->node[k]);
       carried = pair_slip(*before, y);
     }
+    const double mu = friction(nodes[0], face);
+    if (mu == 0) return;
     for (int k = 0; k < count; ++k) y[k] = at(x, nodes[k]);
-    lag.push_back(
-        pair_friction_lag(nodes, y, count, face, term.gradient.head<3>().norm(), carried, slip_));
+    lag.push_back(pair_friction_lag(nodes, y, count, face, mu, term.gradient.head<3>().norm(),
+                                    carried, slip_));
   });
   std::sort(lag.begin(), lag.end(),
             [&](const PairFrictionLag& a, const PairFrictionLag& b) { return key(a) < key(b); });

@@ -81,7 +81,7 @@ class SelfContact {
   // (until then the forces stay those it converged with). Collective; nothing without friction.
   void accept(const double* u);
   void begin_step();
-  bool has_friction() const { return friction_ > 0; }
+  bool has_friction() const { return has_friction_; }
 
   struct Totals {
     int64_t pairs = 0;    // within dhat, over all ranks
@@ -125,7 +125,14 @@ class SelfContact {
   std::vector<std::vector<int32_t>> faces_of_;  // per surface node: the faces it is a corner of
   std::vector<int32_t> mine_;                   // the surface nodes this rank owns
   std::vector<std::array<int32_t, 2>> pattern_;
-  double friction_ = 0, slip_ = 0;    // mu and eps_v (m)
+  // mu between node p and face f: the largest over p's surfaces of the coefficient between
+  // that surface and f's (contact.friction, or contact.friction_between's for the pair).
+  double friction(int32_t p, int32_t f) const;
+  std::vector<int> face_surface_;        // per face: its surface (index in the deck's list)
+  std::vector<uint64_t> node_surfaces_;  // per surface node: its surfaces, one bit each
+  std::vector<double> friction_;         // per pair of surfaces (row-major): mu
+  bool has_friction_ = false;
+  double slip_ = 0;                   // eps_v (m)
   std::vector<PairFrictionLag> lag_;  // sorted by (node[0], face)
   std::vector<double> accepted_;      // positions of a state not lagged yet
 };

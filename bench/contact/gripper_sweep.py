@@ -13,12 +13,11 @@ and, over the target sets after the third, the largest distance of an answer fro
 and from the equilibrium at its pressures (N or mm).
 """
 import argparse
-import json
 import os
 import statistics
-import subprocess
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from runs import ROOT, run, shipped_deck
+
 MODES = {"newton": [], "one_step": ["control.free_solve=one_step",
                                     "control.check_equilibrium=true"]}
 FORCES = [0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08, 0.07, 0.06, 0.05, 0.04, 0.03]
@@ -27,8 +26,10 @@ TIPS = [0.017, 0.016, 0.015, 0.014, 0.013, 0.012, 0.011, 0.012, 0.013, 0.014, 0.
 
 def scene_deck(scene, folder):
     """The shipped deck with the scene's effectors and targets (and, for `free`, no ball)."""
-    text = open(os.path.join(ROOT, "input", "gripper_grasp.yaml")).read()
-    text = text.replace("../meshes/", os.path.join(ROOT, "meshes") + "/")
+    return shipped_deck("gripper_grasp", folder, scene, lambda text: scene_text(scene, text))
+
+
+def scene_text(scene, text):
     head = text[:text.index("\ncontrol:\n") + 1]
     tail = text[text.index("  actuators:"):text.index("  targets:")]
     if scene == "free":
@@ -40,21 +41,8 @@ def scene_deck(scene, folder):
         effectors = ("    - {name: gl, obstacle: ball, surfaces: [skin_left], directions: [y]}\n"
                      "    - {name: gr, obstacle: ball, surfaces: [skin_right], directions: [y]}\n")
         sets = "".join("    - {gl: [0, %g, 0], gr: [0, %g, 0]}\n" % (-f, f) for f in FORCES)
-    deck = os.path.join(folder, scene + ".yaml")
-    with open(deck, "w") as f:
-        f.write(head + "control:\n  effectors:\n" + effectors + tail + "  targets:\n" + sets +
-                "  steps_per_target: 1\n")
-    return deck
-
-
-def run(deck, overrides, folder):
-    exe = os.environ.get("HYDROSOFT", os.path.join(ROOT, "build", "bin", "hydrosoft"))
-    cmd = [exe, deck, "--set", f"output.folder={folder}"]
-    for o in overrides:
-        cmd += ["--set", o]
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
-    return json.load(open(os.path.join(folder, "summary.json")))
+    return (head + "control:\n  effectors:\n" + effectors + tail + "  targets:\n" + sets +
+            "  steps_per_target: 1\n")
 
 
 def main():

@@ -9,39 +9,21 @@ the time an iteration takes, the assembly and solve shares, and the tip's rotati
 thread a rank (OPENBLAS_NUM_THREADS=1).
 """
 import argparse
-import json
 import os
 import statistics
-import subprocess
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from runs import run, shipped_deck
 
 
 def scene_deck(scene, folder):
-    """The shipped deck, its mesh path made absolute; for `free`, without contact."""
-    text = open(os.path.join(ROOT, "input", "pneunet_self_contact.yaml")).read()
-    text = text.replace("../meshes/", os.path.join(ROOT, "meshes") + "/")
-    if scene == "free":
-        text = "".join(line for line in text.splitlines(True) if not line.startswith("contact:"))
-    deck = os.path.join(folder, scene + ".yaml")
-    with open(deck, "w") as f:
-        f.write(text)
-    return deck
-
-
-def run(deck, overrides, folder, ranks):
-    exe = os.environ.get("HYDROSOFT", os.path.join(ROOT, "build", "bin", "hydrosoft"))
-    cmd = [exe, deck, "--set", f"output.folder={folder}"]
-    if ranks > 1:
-        cmd = ["mpirun", "--oversubscribe", "-np", str(ranks)] + cmd
-        if os.geteuid() == 0:
-            cmd.insert(1, "--allow-run-as-root")
-    for o in overrides:
-        cmd += ["--set", o]
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
-    return json.load(open(os.path.join(folder, "summary.json")))
+    """The shipped deck; for `free`, without contact."""
+    def edit(text):
+        if scene == "free":
+            lines = text.splitlines(True)
+            return "".join(line for line in lines if not line.startswith("contact:"))
+        return text
+    return shipped_deck("pneunet_self_contact", folder, scene, edit)
 
 
 def main():

@@ -37,9 +37,10 @@ Eigen::Vector3d pair_slip(const PairFrictionLag& lag, const Eigen::Vector3d* x) 
 }
 
 PairFrictionLag pair_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x, int count,
-                                  int32_t face, double normal_force, const Eigen::Vector3d& carried,
-                                  double eps_v) {
+                                  int32_t face, double mu, double normal_force,
+                                  const Eigen::Vector3d& carried, double eps_v) {
   PairFrictionLag lag;
+  lag.friction = mu;
   lag.count = count;
   lag.face = face;
   lag.normal_force = normal_force;
@@ -60,10 +61,9 @@ PairFrictionLag pair_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x
   return lag;
 }
 
-PairTerm pair_friction(const PairFrictionLag& lag, const Eigen::Vector3d* x, double mu,
-                       double eps_v) {
+PairTerm pair_friction(const PairFrictionLag& lag, const Eigen::Vector3d* x, double eps_v) {
   PairTerm t;
-  const double scale = mu * lag.normal_force;
+  const double scale = lag.friction * lag.normal_force;
   if (scale == 0) return t;
   const Eigen::Vector3d w = pair_slip(lag, x);
   const SlipPotential f = slip_potential(w.norm(), eps_v);

@@ -25,6 +25,7 @@ struct PairFrictionLag {
   int32_t face = -1;                // the triangle (the caller's number)
   double weight[4] = {1, 0, 0, 0};  // c
   double normal_force = 0;          // lambda (N)
+  double friction = 0;              // mu
   Eigen::Vector3d normal = Eigen::Vector3d::Zero(), anchor = Eigen::Vector3d::Zero();
 };
 
@@ -33,20 +34,19 @@ struct PairFrictionLag {
 void feature_weights(const Eigen::Vector3d* x, int n, double* beta);
 
 // The lag of the pair of `nodes` (count of them: the node, then its feature's) at positions x,
-// whose barrier pushes the node with normal_force. `carried`: the slip w the pair had reached
-// under the step before (pair_slip of its lag there, zero for a new pair); the anchor is set so
-// that the new step starts from it, turned into the new tangent plane at its length, or at
-// eps_v where the pair slid farther.
+// with friction mu, whose barrier pushes the node with normal_force. `carried`: the slip w the pair
+// had reached under the step before (pair_slip of its lag there, zero for a new pair); the anchor
+// is set so that the new step starts from it, turned into the new tangent plane at its length, or
+// at eps_v where the pair slid farther.
 PairFrictionLag pair_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x, int count,
-                                  int32_t face, double normal_force, const Eigen::Vector3d& carried,
-                                  double eps_v);
+                                  int32_t face, double mu, double normal_force,
+                                  const Eigen::Vector3d& carried, double eps_v);
 
 // The slip w of a lagged pair whose nodes are at x.
 Eigen::Vector3d pair_slip(const PairFrictionLag& lag, const Eigen::Vector3d* x);
 
-// mu lambda f0(|w|) with its gradient and Hessian over the pair's nodes at x (term.distance is
-// 0: a friction term holds no gap).
-PairTerm pair_friction(const PairFrictionLag& lag, const Eigen::Vector3d* x, double mu,
-                       double eps_v);
+// mu lambda f0(|w|), mu the lag's, with its gradient and Hessian over the pair's nodes at x
+// (term.distance is 0: a friction term holds no gap).
+PairTerm pair_friction(const PairFrictionLag& lag, const Eigen::Vector3d* x, double eps_v);
 
 }  // namespace hs

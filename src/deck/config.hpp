@@ -285,6 +285,13 @@ struct ContactConfig {
   std::optional<double> slip;         // eps_v (m): friction's slip between stick and slide
   bool self = false;                  // the surfaces also touch each other (self-contact)
   double friction = 0;                // Coulomb coefficient between the surfaces (with self)
+  // Coefficients for particular pairs of the surfaces (a surface with itself: the same name
+  // twice), in place of `friction` there.
+  struct FrictionBetween {
+    std::array<std::string, 2> surfaces;
+    double friction = 0;
+  };
+  std::vector<FrictionBetween> friction_between;
 };
 
 // `hydrosoft reduce DECK -o MODEL.h5` (the command line's, not deck keys): the training of a

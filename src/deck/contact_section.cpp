@@ -165,6 +165,40 @@ const KeyTable<ObstacleShape>& obstacle_keys() {
   return keys;
 }
 
+// contact.friction_between: each entry names two of contact.surfaces (read before it) and a
+// coefficient >= 0.
+std::vector<ContactConfig::FrictionBetween> parse_friction_between(const DeckReader& r,
+                                                                   const YAML::Node& node,
+                                                                   const std::string& key,
+                                                                   const ContactConfig& contact) {
+  r.check_list(node, key);
+  std::vector<ContactConfig::FrictionBetween> list;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string ikey = item_key(key, i);
+    r.check_map(node[i], ikey, {"surfaces", "friction"});
+    const YAML::Node names = required(r, node[i], ikey, "surfaces");
+    const std::string skey = child_key(ikey, "surfaces");
+    r.check_list(names, skey);
+    require(names.size() == 2, r, names, skey,
+            "needs two surface names (the same twice: a "
+            "surface on itself)");
+    ContactConfig::FrictionBetween f;
+    for (int k = 0; k < 2; ++k) {
+      f.surfaces[k] = r.text(names[k], item_key(skey, k));
+      if (!contains(contact.surfaces, f.surfaces[k]))
+        r.fail(item_key(skey, k), names[k],
+               "'" + f.surfaces[k] + "' is not one of contact.surfaces (did you mean '" +
+                   nearest(f.surfaces[k], contact.surfaces) + "'?)");
+    }
+    const std::string fkey = child_key(ikey, "friction");
+    f.friction = r.number(required(r, node[i], ikey, "friction"), fkey);
+    require(f.friction >= 0, r, node[i]["friction"], fkey,
+            "must be >= 0 (a Coulomb coefficient), got " + format_number(f.friction));
+    list.push_back(f);
+  }
+  return list;
+}
+
 const KeyTable<ContactConfig>& contact_keys() {
   static const KeyTable<ContactConfig> keys = {
       names_key<ContactConfig>("surfaces", &ContactConfig::surfaces, "required",
@@ -189,6 +223,25 @@ const KeyTable<ContactConfig>& contact_keys() {
                  "Coulomb friction coefficient between the surfaces where they touch each other "
                  "(with `self`; 0: frictionless), lagged over each step as an obstacle's "
                  "(docs/contact.md)"),
+      custom_key<ContactConfig>(
+          "friction_between", "list of {surfaces: [A, B], friction: mu}", "none",
+          "with `self`: the Coulomb coefficient between two of `surfaces` (the same name twice: "
+          "a surface on itself), in place of `friction` there; a node on two surfaces takes "
+          "the larger coefficient",
+          [](const DeckReader& r, const YAML::Node& n, const std::string& key, ContactConfig& s,
+             const Config&) { s.friction_between = parse_friction_between(r, n, key, s); },
+          [](YAML::Emitter& out, const ContactConfig& s, const Config&) {
+            out << YAML::BeginSeq;
+            for (const auto& f : s.friction_between) {
+              out << YAML::Flow << YAML::BeginMap << YAML::Key << "surfaces" << YAML::Value
+                  << YAML::Flow << YAML::BeginSeq << f.surfaces[0] << f.surfaces[1] << YAML::EndSeq
+                  << YAML::Key << "friction" << YAML::Value;
+              write_numbers(out, &f.friction, 1);
+              out << YAML::EndMap;
+            }
+            out << YAML::EndSeq;
+          })
+          .printed_when([](const ContactConfig& s) { return !s.friction_between.empty(); }),
   };
   return keys;
 }

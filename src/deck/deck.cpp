@@ -100,6 +100,16 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (c.contact.self && c.control)
     r.fail("contact.self", root["contact"]["self"],
            "not supported with control yet (docs/contact.md, \"Self-contact\")");
+  if (!c.contact.friction_between.empty() && !c.contact.self)
+    r.fail("contact.friction_between", root["contact"]["friction_between"],
+           "is friction between the contact surfaces, which touch each other only with "
+           "contact.self: true");
+  bool between = false;
+  for (const auto& f : c.contact.friction_between) between |= f.friction > 0;
+  if (between && c.output.checkpoint)
+    r.fail("contact.friction_between", root["contact"]["friction_between"],
+           "friction between the surfaces is not supported with output.checkpoint (its lagged "
+           "state is not saved, so a restart would not continue the same run)");
   if (c.contact.friction > 0 && !c.contact.self)
     r.fail("contact.friction", root["contact"]["friction"],
            "is friction between the contact surfaces, which touch each other only with "

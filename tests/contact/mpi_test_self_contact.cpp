@@ -152,8 +152,10 @@ std::vector<double> surface_shift(const std::string& h5, size_t steps) {
 // normal force of the step before (lagged), its sideways reaction at the clamp within the
 // barrier's own sideways part (under 2 % of the normal force, the pressed surfaces tilting) of
 // it. The clamps balance; the friction traction written per node drags the lower block's face
-// along +x and the upper's back; 2 ranks give 1 rank's forces.
+// along +x and the upper's back; 2 ranks give 1 rank's forces; a coefficient given for the
+// pair of faces replaces the surfaces' default.
 TEST(SelfContact, DraggedBlocksStickWithMuOneAndSlideWithMuATenth) {
+  double slid = 0;  // the sideways force with mu 0.1
   for (const std::string mu : {"1.0", "0.1"}) {
     const std::string tag = "drag_" + mu, folder = (hs_test::test_folder() / tag).string();
     const std::string deck = hs_test::write_deck(tag + ".yaml", dragged_blocks(mu));
@@ -163,6 +165,7 @@ TEST(SelfContact, DraggedBlocksStickWithMuOneAndSlideWithMuATenth) {
     const double fx = s["reactions_N"]["top"][0], fz = -s["reactions_N"]["top"][2].get<double>();
     EXPECT_NEAR(s["reactions_N"]["bottom"][0].get<double>(), -fx, 1e-7 * fz) << mu;
     EXPECT_GT(fx, 0.5) << mu;
+    if (mu == "0.1") slid = fx;
     if (hs_test::world_size() > 1) {
       Json one;
       if (hs_test::world_rank() == 0) one = run(deck, tag + "_one", MPI_COMM_SELF);
@@ -208,6 +211,14 @@ TEST(SelfContact, DraggedBlocksStickWithMuOneAndSlideWithMuATenth) {
     }
     EXPECT_GT(inner, 20);
   }
+  // A coefficient for a pair of surfaces replaces contact.friction there: mu 1 but 0.1 between
+  // the two faces is the run with mu 0.1.
+  const std::string deck = hs_test::write_deck(
+      "drag_between.yaml",
+      dragged_blocks("1.0, friction_between: [{surfaces: [lower_top, upper_bottom], friction: "
+                     "0.1}]"));
+  const Json s = hs_test::shared(run(deck, "drag_between", MPI_COMM_WORLD));
+  EXPECT_NEAR(s["reactions_N"]["top"][0].get<double>(), slid, 1e-12 * slid);
 }
 
 // The block's mean x displacement at the last output step of a run of input/gripper_lift.yaml

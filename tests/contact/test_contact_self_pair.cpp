@@ -139,21 +139,21 @@ TEST(SelfContactPair, FrictionsDerivativesAreItsEnergysAndItsForcesBalance) {
     const Vector3d to_node = x[0] - q;
     EXPECT_NEAR(std::sqrt(hs::feature_squared_distance(x, n)), to_node.norm(), 1e-14) << kind;
     const hs::PairFrictionLag lag =
-        hs::pair_friction_lag(nodes, x, n, 7, lambda, Vector3d::Zero(), eps);
+        hs::pair_friction_lag(nodes, x, n, 7, mu, lambda, Vector3d::Zero(), eps);
     const Vector3d dir = to_node.unitOrthogonal();  // a tangential slip
     for (double slip : {3e-4, 4e-2}) {
       Vector3d y[4];
       for (int k = 0; k < n; ++k) y[k] = x[k] + Vector3d(0.01, -0.02, 0.03);
       y[0] += slip * dir;
-      const hs::PairTerm term = hs::pair_friction(lag, y, mu, eps);
+      const hs::PairTerm term = hs::pair_friction(lag, y, eps);
       const double h = 1e-7;
       for (int i = 0; i < 3 * n; ++i) {
         double& c = y[i / 3](i % 3);
         const double keep = c;
         c = keep + h;
-        const hs::PairTerm p = hs::pair_friction(lag, y, mu, eps);
+        const hs::PairTerm p = hs::pair_friction(lag, y, eps);
         c = keep - h;
-        const hs::PairTerm m = hs::pair_friction(lag, y, mu, eps);
+        const hs::PairTerm m = hs::pair_friction(lag, y, eps);
         c = keep;
         EXPECT_NEAR(term.gradient(i), (p.energy - m.energy) / (2 * h), 1e-6 * term.gradient.norm())
             << kind << " " << i;
@@ -178,7 +178,8 @@ TEST(SelfContactPair, FrictionsDerivativesAreItsEnergysAndItsForcesBalance) {
       // The next step starts from the slip, or eps_v of it.
       const Vector3d carried = hs::pair_slip(lag, y);
       EXPECT_NEAR((carried - slip * dir).norm(), 0, 1e-12) << kind;
-      const hs::PairFrictionLag next = hs::pair_friction_lag(nodes, y, n, 7, lambda, carried, eps);
+      const hs::PairFrictionLag next =
+          hs::pair_friction_lag(nodes, y, n, 7, mu, lambda, carried, eps);
       EXPECT_NEAR(hs::pair_slip(next, y).norm(), std::min(slip, eps), 1e-9 * slip) << kind;
     }
   }

@@ -835,6 +835,22 @@ TEST_F(DeckErrors, ObstaclesAndContact) {
            "boundary: [{group: base}]\nstates:\n  - {name: a}\n  - {name: b, move: {base: [0, "
            "0, 1]}}\noutput: {checkpoint: {every: 1}}\n",
        "states[1].move", "not supported with output.checkpoint"},
+      {kMesh + kMaterials +
+           "boundary: [{group: base}]\ncontact: {surfaces: [skin], self: true, friction_between: "
+           "[{surfaces: [skin, skn], friction: 0.2}]}\n",
+       "contact.friction_between[0].surfaces[1]", "'skn' is not one of contact.surfaces"},
+      {kMesh + kMaterials +
+           "boundary: [{group: base}]\ncontact: {surfaces: [skin], self: true, friction_between: "
+           "[{surfaces: [skin], friction: 0.2}]}\n",
+       "contact.friction_between[0].surfaces", "needs two surface names"},
+      {kMesh + kMaterials +
+           "boundary: [{group: base}]\ncontact: {surfaces: [skin], self: true, friction_between: "
+           "[{surfaces: [skin, skin], friction: -1}]}\n",
+       "contact.friction_between[0].friction", "must be >= 0"},
+      {obstacles(floor,
+                 "{surfaces: [skin], friction_between: [{surfaces: [skin, skin], "
+                 "friction: 0.2}]}"),
+       "contact.friction_between", "only with contact.self: true"},
       {obstacles(floor, "{surfaces: [skin], friction: 0.5}"), "contact.friction",
        "touch each other only with contact.self: true"},
       {obstacles(floor, "{surfaces: [skin], friction: -1}"), "contact.friction",
