@@ -235,9 +235,8 @@ const KeyTable<ContactConfig>& contact_keys() {
             for (const auto& f : s.friction_between) {
               out << YAML::Flow << YAML::BeginMap << YAML::Key << "surfaces" << YAML::Value
                   << YAML::Flow << YAML::BeginSeq << f.surfaces[0] << f.surfaces[1] << YAML::EndSeq
-                  << YAML::Key << "friction" << YAML::Value;
-              write_numbers(out, &f.friction, 1);
-              out << YAML::EndMap;
+                  << YAML::Key << "friction" << YAML::Value << format_number(f.friction)
+                  << YAML::EndMap;
             }
             out << YAML::EndSeq;
           })

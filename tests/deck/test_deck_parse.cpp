@@ -84,8 +84,14 @@ states:
     cavities:
       cavity: {added_volume: 3.0e-5}
       bladder: {pressure: 5.0e3}
+    move: {top: [0, 1.0e-3, 0]}
   - {name: hold}
 tip: {group: tip}
+contact:
+  surfaces: [skin, tip]
+  self: true
+  friction: 0.5
+  friction_between: [{surfaces: [skin, tip], friction: 0.2}, {surfaces: [tip, tip], friction: 0}]
 )";
 
 // Every key of the control section: an effector at a mesh node and one at a material point,
