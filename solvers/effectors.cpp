@@ -104,8 +104,21 @@ Effectors::Effectors(const Config& config, Problem& problem) : problem_(problem)
     names_.push_back(e.name);
     configs_.push_back(e);
     obstacle_.push_back(-1);
+    between_.push_back({-1, -1});
     only_.emplace_back();
     approach_gap_.push_back(0);
+    if (!e.between.empty()) {  // the deck parser checked the names and contact.self
+      const auto& surfaces = config.contact.surfaces;
+      for (int k = 0; k < 2; ++k)
+        between_.back()[k] = static_cast<int>(
+            std::find(surfaces.begin(), surfaces.end(), e.between[k]) - surfaces.begin());
+      if (!problem.self_contact()) throw InputError(where + ": between needs contact.self: true");
+      for (int d = 0; d < 3; ++d) {
+        reference_.push_back(0);
+        rows_.push_back(problem.create_vector());
+      }
+      continue;
+    }
     if (!e.obstacle.empty()) {  // the deck parser checked the names
       for (size_t o = 0; o < config.obstacles.size(); ++o)
         if (config.obstacles[o].name == e.obstacle) obstacle_.back() = static_cast<int>(o);
@@ -170,7 +183,9 @@ std::vector<double> Effectors::positions(Vec u) const {
   std::vector<double> x(reference_);
   for (size_t e = 0; e < names_.size(); ++e) {
     if (is_force(e)) {  // the obstacles stand where the load factor 1 puts them
-      const std::array<double, 3> f = problem_.contact_force(u, 1.0, obstacle_[e], only(e));
+      const std::array<double, 3> f =
+          obstacle_[e] >= 0 ? problem_.contact_force(u, 1.0, obstacle_[e], only(e))
+                            : problem_.self_contact_force(u, between_[e][0], between_[e][1]);
       std::copy(f.begin(), f.end(), &x[3 * e]);
       continue;
     }
@@ -185,9 +200,12 @@ std::vector<double> Effectors::positions(Vec u) const {
 
 void Effectors::linearize(Vec u) {
   for (size_t e = 0; e < names_.size(); ++e)
-    if (is_force(e))
+    if (obstacle_[e] >= 0)
       approach_gap_[e] =
           problem_.contact_force_rows(u, 1.0, obstacle_[e], only(e), &rows_.data()[3 * e]);
+    else if (between_[e][0] >= 0)
+      approach_gap_[e] =
+          problem_.self_contact_force_rows(u, between_[e][0], between_[e][1], &rows_.data()[3 * e]);
 }
 
 }  // namespace hs

@@ -6,7 +6,8 @@
 // Or the contact force the body exerts on an obstacle, F_o(u) = sum over the contact nodes of
 // the barrier's force (ObstacleContact; or those of some contact surfaces only, one finger's),
 // which is not linear: its rows are dF_o/du at the configuration last given to linearize(),
-// the per-obstacle barrier Hessians.
+// the per-obstacle barrier Hessians. Or the force one contact surface exerts on another
+// through self-contact's pairs (SelfContact::force_between), its rows the pairs' Hessians.
 #pragma once
 
 #include <petscvec.h>
@@ -57,8 +58,9 @@ class Effectors {
   int index(const std::string& name) const;  // -1 if unknown
   const std::string& name(int e) const { return names_[e]; }
   const EffectorConfig& config(int e) const { return configs_[e]; }
-  // Whether effector e is an obstacle's contact force (N) rather than a position (m).
-  bool is_force(int e) const { return obstacle_[e] >= 0; }
+  // Whether effector e is a contact force (N: on an obstacle, or between two contact
+  // surfaces) rather than a position (m).
+  bool is_force(int e) const { return obstacle_[e] >= 0 || between_[e][0] >= 0; }
   // The unit of effector e's values: "m" or "N".
   const char* unit(int e) const { return is_force(e) ? "N" : "m"; }
   // Current positions (contact forces for force effectors) on configuration u (3 per
@@ -80,6 +82,8 @@ class Effectors {
   std::vector<std::string> names_;
   std::vector<EffectorConfig> configs_;
   std::vector<int> obstacle_;  // per effector: the obstacle's index, -1 for a position
+  // per effector: `between`'s surfaces (indices in contact.surfaces), -1 otherwise
+  std::vector<std::array<int, 2>> between_;
   // Per effector with `surfaces`: its contact nodes (per local node), else empty.
   std::vector<std::vector<char>> only_;
   std::vector<double> approach_gap_;

@@ -224,7 +224,8 @@ bool InverseController::factor_if_due(Vec u, bool one_step, bool stale_failed, d
   ++step_count_;
   const bool refactor = !one_step || background || !factored_ || stale_failed || force_refactor_ ||
                         steps_since_factorization_ + 1 >= config_.control->refactor_every ||
-                        r_norm > residual_at_factorization_;
+                        r_norm > residual_at_factorization_ ||
+                        problem_.pattern_version() != pattern_version_;
   bool fresh = refactor;  // factored at this step's state
   step_ksp_ = ksp_;
   clock.factor = clock.compliance = MPI_Wtime();
@@ -244,6 +245,14 @@ bool InverseController::factor_if_due(Vec u, bool one_step, bool stale_failed, d
   if (background) fresh = correct_in_background(stale_failed, report, clock);
   if (fresh) {
     clock.factor = MPI_Wtime();
+    // Self-contact's pattern grew since the last factorization: MUMPS must analyse it anew
+    // (as NewtonSolver::reset_if_pattern_grew).
+    if (problem_.pattern_version() != pattern_version_) {
+      pattern_version_ = problem_.pattern_version();
+      PC pc;
+      HS_PETSC(KSPGetPC(ksp_, &pc));
+      HS_PETSC(PCReset(pc));
+    }
     HS_PETSC(KSPSetOperators(ksp_, J_, J_));
     const OptionsScope scope(options_.database());  // its factor's options
     HS_PETSC(KSPSetUp(ksp_));
@@ -320,7 +329,7 @@ void InverseController::correct(Vec u, const Eigen::VectorXd& dl, ControlStepRep
 
 void InverseController::keep_outside_obstacles(Vec u, ControlStepReport& report) {
   shortened_at_obstacle_ = false;
-  if (!problem_.contact()) return;
+  if (!problem_.has_contact()) return;
   if (!contact_move_) HS_PETSC(VecDuplicate(u, contact_move_.out()));
   HS_PETSC(VecWAXPY(contact_move_, -1.0, step_start_, u));
   const double alpha = problem_.contact_step_limit(step_start_, contact_move_, 1.0);
@@ -334,7 +343,8 @@ void InverseController::keep_outside_obstacles(Vec u, ControlStepReport& report)
   shortened_at_obstacle_ = true;
   char note[160];
   std::snprintf(note, sizeof note,
-                "the step was shortened to %.3g of its length: it carried a node into an obstacle",
+                "the step was shortened to %.3g of its length: it carried a node into an obstacle "
+                "or near a triangle of the contact surfaces",
                 alpha);
   report.fallback += (report.fallback.empty() ? "" : "; ") + std::string(note);
 }

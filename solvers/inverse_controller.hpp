@@ -195,7 +195,8 @@ class InverseController {
   std::vector<bool> actuated_;
   Eigen::MatrixXd zeta_;
   bool factored_ = false;
-  KSP step_ksp_ = nullptr;  // the solver of this step's responses (in line or the correction)
+  int pattern_version_ = 0;  // self-contact's tangent pattern at the last factorization
+  KSP step_ksp_ = nullptr;   // the solver of this step's responses (in line or the correction)
   // Each actuator's actuation before the step's first QP: the per-step change bound counts
   // from there, refinements included.
   std::vector<double> change_origin_;

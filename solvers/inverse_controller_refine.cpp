@@ -77,15 +77,16 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     // P2 F-bar: its chord steps inverted an element at 9 of 13 lines). Not beside obstacles,
     // whose barrier a fresh pass from there met in its own chord step (the finger on the ball
     // was answered 0.8 mm from equilibrium; docs/contact.md).
-    const bool again = inverted && !problem_.contact() && pass < kMaxRefinements;
+    const bool again = inverted && !problem_.has_contact() && pass < kMaxRefinements;
     // Beside obstacles such a correction can lie far from its equilibrium, where the contact
     // it linearised opened or closed: on the silicone gripper of input/gripper_grasp.yaml one
     // pressed the ball with 0.27 N where its equilibrium gave 0.012 N; a finger landing on a
     // ball from above was answered 6.6 mm from its equilibrium. Its equilibrium is the answer.
-    if (problem_.contact() && (enters || inverted)) {
+    if (problem_.has_contact() && (enters || inverted)) {
       back_to_correction();
-      equilibrium_answer(std::string("the free step after the correction ") +
-                         (inverted ? "inverted an element" : "carried a node into an obstacle"));
+      equilibrium_answer(
+          std::string("the free step after the correction ") +
+          (inverted ? "inverted an element" : "carried a node into an obstacle or onto a surface"));
       break;
     }
     if (inverted && !again) {  // the answer: the correction
@@ -116,7 +117,7 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     // turns indefinite (above): the silicone gripper of input/gripper_grasp.yaml met 5-49
     // negative pivots there at every line, and none from the correction.
     ++report.refinements;
-    if (problem_.contact() && !problem_.has_nodal_pressure()) {
+    if (problem_.has_contact() && !problem_.has_nodal_pressure()) {
       HS_PETSC(VecCopy(u, before));
     } else {
       back_to_correction();

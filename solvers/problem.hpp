@@ -204,6 +204,11 @@ class Problem {
   // the return value is that gap; else 0.
   double contact_force_rows(Vec u, double s, int o, const std::vector<char>* only,
                             Vec rows[3]) const;
+  // The force contact surface a exerts on b (indices in contact.surfaces) and its rows, as
+  // contact_force and contact_force_rows (SelfContact::force_between, force_rows_between).
+  // Collective; without contact.self zero.
+  std::array<double, 3> self_contact_force(Vec u, int a, int b) const;
+  double self_contact_force_rows(Vec u, int a, int b, Vec rows[3]) const;
   // The largest fraction <= 1 of the step du from u (at load factor s) that keeps every
   // contact node outside the obstacles (ObstacleContact::step_limit) and every node a tenth
   // of its distance off the triangles of the surfaces (SelfContact::step_limit), over all

@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "contact/box_tree.hpp"
+#include "contact/pair_friction.hpp"
 #include "solvers/gathered_surface.hpp"
 
 namespace hs {
@@ -134,7 +135,7 @@ void each_feature(const std::vector<std::array<int32_t, 3>>& faces, const BoxTre
 }
 
 template <class Visit>
-bool SelfContact::each_pair(const std::vector<double>& x, Visit&& visit) const {
+bool SelfContact::each_pair(const std::vector<double>& x, bool project, Visit&& visit) const {
   std::vector<Eigen::AlignedBox3d> boxes(faces_.size());  // empty
   for (size_t f = 0; f < faces_.size(); ++f)
     for (int32_t n : faces_[f]) boxes[f].extend(at(x, n));
@@ -153,23 +154,29 @@ bool SelfContact::each_pair(const std::vector<double>& x, Visit&& visit) const {
                      ok = false;
                      return;
                    }
-                   visit(nodes, count, face, pair_barrier(y, count, area_[p], barrier_, project_));
+                   visit(nodes, count, face, pair_barrier(y, count, area_[p], barrier_, project));
                  });
   }
   return ok;
 }
 
-bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
-  out.clear();
+std::vector<double> SelfContact::current(const double* u) const {
   std::vector<double> x = positions(u);
   for (size_t k = 0; k < x.size(); ++k) x[k] += reference_[k];
-  const bool ok = each_pair(x, [&](const int32_t* nodes, int count, int32_t, const PairTerm& term) {
-    Pair pair;
-    pair.count = count;
-    std::copy(nodes, nodes + count, pair.node);
-    pair.term = term;
-    out.push_back(pair);
-  });
+  return x;
+}
+
+bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
+  out.clear();
+  const std::vector<double> x = current(u);
+  const bool ok =
+      each_pair(x, project_, [&](const int32_t* nodes, int count, int32_t, const PairTerm& term) {
+        Pair pair;
+        pair.count = count;
+        std::copy(nodes, nodes + count, pair.node);
+        pair.term = term;
+        out.push_back(pair);
+      });
   for (const PairFrictionLag& lag : lag_) {
     Pair pair;
     pair.count = lag.count;
@@ -195,8 +202,7 @@ double SelfContact::friction(int32_t p, int32_t f) const {
 
 void SelfContact::accept(const double* u) {
   if (!has_friction()) return;
-  accepted_ = positions(u);
-  for (size_t k = 0; k < accepted_.size(); ++k) accepted_[k] += reference_[k];
+  accepted_ = current(u);
 }
 
 // Each pair within dhat at the accepted state holds its barrier's force on the node, and a
@@ -206,7 +212,7 @@ void SelfContact::begin_step() {
   const std::vector<double>& x = accepted_;
   auto key = [](const PairFrictionLag& l) { return std::make_pair(l.node[0], l.face); };
   std::vector<PairFrictionLag> lag;
-  each_pair(x, [&](const int32_t* nodes, int count, int32_t face, const PairTerm& term) {
+  each_pair(x, project_, [&](const int32_t* nodes, int count, int32_t face, const PairTerm& term) {
     Eigen::Vector3d y[4], carried = Eigen::Vector3d::Zero();
     PairFrictionLag probe;
     probe.node[0] = nodes[0];
@@ -268,8 +274,7 @@ void SelfContact::add_roundoff(const double* u, double* bound) const {
 }
 
 double SelfContact::step_limit(const double* u, const double* du) const {
-  std::vector<double> x = positions(u);
-  for (size_t k = 0; k < x.size(); ++k) x[k] += reference_[k];
+  const std::vector<double> x = current(u);
   const std::vector<double> dx = positions(du);
   auto swept = [&](int32_t n) {
     Eigen::AlignedBox3d box(at(x, n));
@@ -349,6 +354,101 @@ void SelfContact::fill_tangent(const std::vector<Pair>& found, double* values) c
           for (int c = 0; c < 3; ++c)
             values[9 * slot + 3 * r + c] += pair.term.hessian(3 * i + r, 3 * j + c);
       }
+}
+
+int SelfContact::side(int32_t p, int32_t f, int a, int b) const {
+  return int((node_surfaces_[p] >> a & 1) && face_surface_[f] == b) -
+         int((node_surfaces_[p] >> b & 1) && face_surface_[f] == a);
+}
+
+std::array<double, 3> SelfContact::force_between(const double* u, int a, int b) const {
+  std::array<double, 3> force = {0, 0, 0};
+  each_pair(current(u), false, [&](const int32_t* nodes, int, int32_t face, const PairTerm& term) {
+    const int s = side(nodes[0], face, a, b);
+    for (int d = 0; d < 3; ++d) force[d] += s * term.gradient(d);
+  });
+  MPI_Allreduce(MPI_IN_PLACE, force.data(), 3, MPI_DOUBLE, MPI_SUM, comm_);
+  return force;
+}
+
+double SelfContact::force_rows_between(const double* u, int a, int b, double* rows[3]) const {
+  const std::vector<double> x = current(u);
+  const size_t ns = global_.size();
+  // Per surface node the 3 x 3 block dF_d/dx_node, then whether any pair acts.
+  std::vector<double> r(9 * ns + 1, 0.0);
+  each_pair(x, false, [&](const int32_t* nodes, int count, int32_t face, const PairTerm& term) {
+    const int s = side(nodes[0], face, a, b);
+    if (s == 0) return;
+    r[9 * ns] = 1;
+    for (int k = 0; k < count; ++k)
+      for (int d = 0; d < 3; ++d)
+        for (int c = 0; c < 3; ++c) r[9 * nodes[k] + 3 * d + c] += s * term.hessian(d, 3 * k + c);
+  });
+  MPI_Allreduce(MPI_IN_PLACE, r.data(), static_cast<int>(r.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  for (int32_t p : mine_)
+    for (int d = 0; d < 3; ++d)
+      for (int c = 0; c < 3; ++c) rows[d][3 * owned_[p] + c] = r[9 * p + 3 * d + c];
+  if (r[9 * ns] > 0) return 0;
+  // No pair acts: the nearest node of either surface to a face of the other, and the weights
+  // of its nearest point there, q = sum beta_k x_k.
+  struct Near {
+    double d2 = std::numeric_limits<double>::infinity();
+    double sign = 0, beta[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+    int32_t node[4] = {-1, -1, -1, -1};
+  } near;
+  for (const int from : {a, b}) {
+    const int to = from == a ? b : a;
+    std::vector<int32_t> faces;
+    std::vector<Eigen::AlignedBox3d> boxes;
+    for (size_t f = 0; f < faces_.size(); ++f)
+      if (face_surface_[f] == to) {
+        faces.push_back(static_cast<int32_t>(f));
+        boxes.emplace_back();
+        for (int32_t n : faces_[f]) boxes.back().extend(at(x, n));
+      }
+    const BoxTree tree(std::move(boxes));
+    for (int32_t p : mine_) {
+      if (!(node_surfaces_[p] >> from & 1)) continue;
+      const Eigen::Vector3d xp = at(x, p);
+      tree.nearest(xp, near.d2, [&](int i) {
+        const auto& t = faces_[faces[i]];
+        if (t[0] == p || t[1] == p || t[2] == p) return;
+        const TriangleFeature feature = nearest_feature(xp, at(x, t[0]), at(x, t[1]), at(x, t[2]));
+        Eigen::Vector3d y[4] = {xp};
+        for (int k = 0; k < feature.count; ++k) y[1 + k] = at(x, t[feature.vertex[k]]);
+        const double d2 = feature_squared_distance(y, feature.count + 1);
+        if (!(d2 < near.d2) || !(d2 > 0)) return;
+        near = Near();
+        near.d2 = d2;
+        near.sign = from == a ? 1 : -1;
+        near.node[0] = p;
+        feature_weights(y, feature.count + 1, near.beta);
+        Eigen::Vector3d q = Eigen::Vector3d::Zero();
+        for (int k = 0; k < feature.count; ++k) {
+          near.node[1 + k] = t[feature.vertex[k]];
+          q += near.beta[k] * y[1 + k];
+        }
+        Eigen::Map<Eigen::Vector3d>(near.n) = (xp - q).normalized();
+      });
+    }
+  }
+  struct {
+    double d;
+    int rank;
+  } best{std::sqrt(near.d2), 0};
+  MPI_Comm_rank(comm_, &best.rank);
+  MPI_Allreduce(MPI_IN_PLACE, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
+  if (!std::isfinite(best.d)) return best.d;
+  MPI_Bcast(&near, sizeof near, MPI_BYTE, best.rank, comm_);
+  // The spring on the gap's closing: the node's move less its nearest point's.
+  for (int k = 0; k < 4 && near.node[k] >= 0; ++k) {
+    if (owned_[near.node[k]] < 0) continue;
+    const double w = k == 0 ? near.sign : -near.sign * near.beta[k - 1];
+    for (int d = 0; d < 3; ++d)
+      for (int c = 0; c < 3; ++c)
+        rows[d][3 * owned_[near.node[k]] + c] += w * near.n[d] * near.n[c];
+  }
+  return best.d;
 }
 
 SelfContact::Totals SelfContact::totals(const double* u) const {

@@ -83,6 +83,18 @@ class SelfContact {
   void begin_step();
   bool has_friction() const { return has_friction_; }
 
+  // The contact force surface a exerts on surface b (indices in contact.surfaces) through
+  // their pairs' barriers at owned displacements u (N): over the pairs of a node of a and a
+  // face of b, the node's dE/dx, less the same over those of a node of b and a face of a.
+  // A face in two surfaces belongs to the first listed. Collective.
+  std::array<double, 3> force_between(const double* u, int a, int b) const;
+  // Its derivative, rows[d][i] = dF_d/du_i at the owned entries (3 per owned node, set here),
+  // from the pairs' Hessians unprojected; 0 returned. Where no pair of a and b acts, the gap
+  // between them (their nearest node and face) is returned instead, and the rows are a unit
+  // spring across it, +-n n^T on the node's move less its nearest point's (n from that point
+  // to the node), whose force grows as the gap closes. Collective.
+  double force_rows_between(const double* u, int a, int b, double* rows[3]) const;
+
   struct Totals {
     int64_t pairs = 0;    // within dhat, over all ranks
     double force = 0;     // the sum of the nodes' contact force magnitudes (N)
@@ -103,12 +115,17 @@ class SelfContact {
   const ContactBarrier& barrier() const { return barrier_; }
 
  private:
-  // Every surface node's current position (3 each) from the owned displacements.
+  // Every surface node's displacement (3 each) from the owned displacements.
   std::vector<double> positions(const double* u) const;
+  // Every surface node's current position (3 each): positions(u) + its reference.
+  std::vector<double> current(const double* u) const;
   // Every pair within dhat of this rank's nodes at positions x, as visit(nodes, count, face,
-  // the barrier's term).
+  // the barrier's term, its Hessian projected with `project`).
   template <class Visit>
-  bool each_pair(const std::vector<double>& x, Visit&& visit) const;
+  bool each_pair(const std::vector<double>& x, bool project, Visit&& visit) const;
+  // +1 for a pair of node p of surface a and face f of b, -1 for p of b and f of a, else 0
+  // (force_between's sign of the node's dE/dx).
+  int side(int32_t p, int32_t f, int a, int b) const;
   // No node may start within dhat of a triangle it is not a corner of. Collective.
   void check_start(const std::string& deck) const;
 

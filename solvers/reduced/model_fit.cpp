@@ -23,8 +23,10 @@ std::string unreducible(const Config& config, const Problem& problem,
     return "a deck's follower pressure load (loads.pressure) is not reduced; cavities are";
   if (const ObstacleContact* contact = problem.contact(); contact && contact->has_friction())
     return "contact with friction is not reduced (its lag is a state of the path)";
+  if (problem.self_contact())
+    return "self-contact is not reduced (its pairs couple nodes that no element does)";
   for (const auto& e : config.control->effectors)
-    if (!e.obstacle.empty())
+    if (!e.obstacle.empty() || !e.between.empty())
       return "effector '" + e.name +
              "' is a contact force, which the reduced model does not "
              "answer (positions only)";

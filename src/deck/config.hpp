@@ -223,6 +223,9 @@ struct EffectorConfig {
   // With `obstacle`: only the force of the contact nodes on these surface groups of
   // contact.surfaces (one finger of a gripper); empty: all of them.
   std::vector<std::string> surfaces;
+  // Or two of contact.surfaces, with contact.self: the effector is then the contact force the
+  // first exerts on the second (N), e.g. one finger's grasp on an object of the same mesh.
+  std::vector<std::string> between;
   std::array<bool, 3> directions{true, true, true};  // which of x, y, z are controlled
   double weight = 1;                                 // > 0, on its squared error
 };

@@ -15,11 +15,30 @@ EffectorConfig parse_effector(const DeckReader& r, const YAML::Node& node, const
                               const Config& c) {
   EffectorConfig e;
   read_keys(r, node, key, effector_keys(), e, c);
-  // A mesh node, a material point inside an element or an obstacle's contact force: one.
-  if (!node["point"] + !node["position"] + !node["obstacle"] != 2)
+  // A mesh node, a material point inside an element, an obstacle's contact force or the
+  // contact force between two surfaces: one.
+  if (!node["point"] + !node["position"] + !node["obstacle"] + !node["between"] != 3)
     r.fail(key, node,
            "give exactly one of point (a point group with one node), position (a material "
-           "point, in reference coordinates) or obstacle (the contact force on it)");
+           "point, in reference coordinates), obstacle (the contact force on it) or between "
+           "(the contact force one surface exerts on another)");
+  if (node["between"]) {
+    const std::string bkey = child_key(key, "between");
+    if (e.between.size() != 2)
+      r.fail(bkey, node["between"],
+             "names two surfaces, [A, B]: the force A exerts on B (" +
+                 std::to_string(e.between.size()) + " given)");
+    if (!c.contact.self)
+      r.fail(bkey, node["between"],
+             "needs contact.self: true (the force between surfaces that touch each other)");
+    for (size_t i = 0; i < e.between.size(); ++i)
+      if (!contains(c.contact.surfaces, e.between[i]))
+        r.fail(item_key(bkey, i), node["between"][i],
+               "'" + e.between[i] + "' is not one of contact.surfaces (" +
+                   join(c.contact.surfaces) + ")");
+    if (e.between.size() == 2 && e.between[0] == e.between[1])
+      r.fail(bkey, node["between"], "names '" + e.between[0] + "' twice: give two surfaces");
+  }
   if (!e.obstacle.empty()) {
     std::vector<std::string> names;
     for (const auto& o : c.obstacles) names.push_back(o.name);
@@ -200,28 +219,38 @@ const KeyTable<EffectorConfig>& effector_keys() {
       text_key("point", &EffectorConfig::point, "name",
                "a physical point group of the mesh with exactly one node (checked once the mesh "
                "is loaded), e.g. `effector` of `meshes/finger.geo`; the effector is that node")
-          .defaults_to("required (or `position`, `obstacle`)")
+          .defaults_to("required (or `position`, `obstacle`, `between`)")
           .printed_when([](const EffectorConfig& e) { return !e.point.empty(); }),
       custom_key<EffectorConfig>(
-          "position", "3 numbers", "required (or `point`, `obstacle`)",
+          "position", "3 numbers", "required (or `point`, `obstacle`, `between`)",
           "a point of the undeformed body, in reference coordinates (m); the solver finds the "
           "element that holds it (a point outside the mesh is an error then). Give exactly one "
-          "of `point`, `position` and `obstacle`.",
+          "of `point`, `position`, `obstacle` and `between`.",
           [](const DeckReader& r, const YAML::Node& n, const std::string& key, EffectorConfig& e,
              const Config&) { e.position = r.vector3(n, key); },
           [](YAML::Emitter& out, const EffectorConfig& e, const Config&) {
             write_numbers(out, e.position.data(), 3);
           })
-          .printed_when(
-              [](const EffectorConfig& e) { return e.point.empty() && e.obstacle.empty(); }),
+          .printed_when([](const EffectorConfig& e) {
+            return e.point.empty() && e.obstacle.empty() && e.between.empty();
+          }),
       text_key("obstacle", &EffectorConfig::obstacle, "name",
                "an obstacle of `obstacles` (docs/contact.md): the effector is then the contact "
                "force the body exerts on it (N, summary.json's contact force), and its targets "
                "are forces, e.g. `{press: [0, 0, -0.2]}` to press it down with 0.2 N. Its row "
                "in the controller is that force's derivative at each step's free "
                "configuration (through the compliance, which includes the barrier)")
-          .defaults_to("required (or `point`, `position`)")
+          .defaults_to("required (or `point`, `position`, `between`)")
           .printed_when([](const EffectorConfig& e) { return !e.obstacle.empty(); }),
+      names_key<EffectorConfig>(
+          "between", &EffectorConfig::between, "required (or `point`, `position`, `obstacle`)",
+          "two of `contact.surfaces`, `[A, B]`, with `contact.self` (docs/contact.md): the "
+          "effector is then the contact force A exerts on B through their pairs (N; the "
+          "barrier's, not friction's), e.g. `[skin_left, object_skin]` for one finger's grasp "
+          "on a body of the same mesh. A face in two of `contact.surfaces` counts as the first "
+          "listed. Its rows are the force's derivative at each step's free configuration, as "
+          "`obstacle`'s")
+          .printed_when([](const EffectorConfig& e) { return !e.between.empty(); }),
       names_key<EffectorConfig>(
           "surfaces", &EffectorConfig::surfaces, "all of `contact.surfaces`",
           "with `obstacle`: the force of these contact surfaces only (each one of "

@@ -97,9 +97,6 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
   if (c.contact.self && c.mesh.order != 1)
     r.fail("contact.self", root["contact"]["self"],
            "needs mesh.order 1 (the pairs are a node and a flat triangle of the surface)");
-  if (c.contact.self && c.control)
-    r.fail("contact.self", root["contact"]["self"],
-           "not supported with control yet (docs/contact.md, \"Self-contact\")");
   if (!c.contact.friction_between.empty() && !c.contact.self)
     r.fail("contact.friction_between", root["contact"]["friction_between"],
            "is friction between the contact surfaces, which touch each other only with "

@@ -7,7 +7,9 @@
 // shipped PneuNet's chamber walls press on each other, which adds to its bending, and their
 // forces, internal, leave the clamp with the weight alone. Dragged blocks stick or slide on
 // each other as their Coulomb friction allows, and a gripper's friction lifts a block off its
-// table. A deck whose surfaces start within the barrier's distance is refused before any work.
+// table. The force one surface exerts on another and its rows are checked, and the controller
+// grasps that block with the forces asked. A deck whose surfaces start within the barrier's
+// distance is refused before any work.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -288,24 +290,17 @@ TEST(SelfContact, TheGripperLiftsABlockOffItsTableByFriction) {
     EXPECT_GT(block_drop((hs_test::test_folder() / "slips" / "gripper_lift.h5").string()), -1e-3);
 }
 
-// The tangent against central differences of the residual, with the upper block moved down
-// into the barrier's reach (tilted and roughened, so that the pairs meet faces, edges and
-// corners and the gaps differ), along a random direction: the pairs' Hessians reach the
-// assembled matrix whole, across ranks and through the pattern that grows.
-TEST(SelfContact, TheTangentIsTheResidualsDerivativeWhereThePairsAct) {
-  const std::string deck = hs_test::write_deck("tangent.yaml", blocks_deck(""));
-  const hs::Config config = hs::parse_deck(deck, {});
-  const hs::Distribution dist = hs::load_distributed_mesh(config.mesh, PETSC_COMM_WORLD);
-  hs::Problem problem(config, dist, PETSC_COMM_WORLD);
+// u: the upper block moved down into the barrier's reach (tilted and roughened, so that the
+// pairs meet faces, edges and corners and the gaps differ); v: a random direction. Both depend
+// on the nodes' places only, the same on any number of ranks.
+void pressed_blocks(hs::Problem& problem, int64_t owned, Vec u, Vec v) {
   const double H = 0.05, g0 = 0.001, dhat = problem.self_contact()->barrier().distance;
-  const hs::VecHandle u(problem.create_vector()), v(problem.create_vector());
   PetscScalar *ua, *va;
   VecGetArray(u, &ua);
   VecGetArray(v, &va);
-  for (int64_t n = 0; n < dist.num_owned(); ++n) {
+  for (int64_t n = 0; n < owned; ++n) {
     const double x = problem.reference_coordinate(n, 0), y = problem.reference_coordinate(n, 1),
                  z = problem.reference_coordinate(n, 2);
-    // Noise that depends on the node's place only, the same on any number of ranks.
     std::mt19937 random(static_cast<unsigned>(1e6 * (x + 3 * y + 7 * z)));
     std::uniform_real_distribution<double> noise(-1, 1);
     for (int d = 0; d < 3; ++d) {
@@ -318,6 +313,19 @@ TEST(SelfContact, TheTangentIsTheResidualsDerivativeWhereThePairsAct) {
   VecRestoreArray(v, &va);
   problem.apply_dirichlet(u, 0.0);
   problem.apply_dirichlet(v, 0.0);
+}
+
+// The tangent against central differences of the residual at the pressed blocks, along a
+// random direction: the pairs' Hessians reach the assembled matrix whole, across ranks and
+// through the pattern that grows.
+TEST(SelfContact, TheTangentIsTheResidualsDerivativeWhereThePairsAct) {
+  const std::string deck = hs_test::write_deck("tangent.yaml", blocks_deck(""));
+  const hs::Config config = hs::parse_deck(deck, {});
+  const hs::Distribution dist = hs::load_distributed_mesh(config.mesh, PETSC_COMM_WORLD);
+  hs::Problem problem(config, dist, PETSC_COMM_WORLD);
+  const double dhat = problem.self_contact()->barrier().distance;
+  const hs::VecHandle u(problem.create_vector()), v(problem.create_vector());
+  pressed_blocks(problem, dist.num_owned(), u, v);
   ASSERT_GT(problem.self_contact_totals(u).pairs, 50);
   ASSERT_GT(problem.self_contact_totals(u).min_gap, 0.3 * dhat);
   const hs::MatHandle J(problem.create_matrix());
@@ -325,6 +333,137 @@ TEST(SelfContact, TheTangentIsTheResidualsDerivativeWhereThePairsAct) {
   const hs_test::TangentCheck c = hs_test::check_tangent(problem, J, u, v, 0.0, 1e-4 * dhat);
   ASSERT_GE(c.error, 0) << "a residual failed";
   EXPECT_LT(c.error, 1e-6 * c.size) << c.error / c.size;
+}
+
+// The controller's force effector between two surfaces (`between`, docs/control.md): the force
+// the upper block's face exerts on the lower's is the opposite of the lower's on the upper, it
+// presses down, and the sum of the pairs' forces on the lower face's nodes (the residual's
+// contact part there, from add_forces); its rows are its derivative (central differences along
+// a random direction). Apart, the rows are a unit spring across the gap g0 that closes it.
+TEST(SelfContact, TheForceBetweenTwoSurfacesAndItsRowsAreItsDerivative) {
+  const std::string deck = hs_test::write_deck("between.yaml", blocks_deck(""));
+  const hs::Config config = hs::parse_deck(deck, {});
+  const hs::Distribution dist = hs::load_distributed_mesh(config.mesh, PETSC_COMM_WORLD);
+  hs::Problem problem(config, dist, PETSC_COMM_WORLD);
+  const double H = 0.05, g0 = 0.001, dhat = problem.self_contact()->barrier().distance;
+  const int lower = 0, upper = 1;  // in contact.surfaces
+  const hs::VecHandle u(problem.create_vector()), v(problem.create_vector());
+  hs::VecHandle rows[3];
+  for (auto& r : rows) r = hs::VecHandle(problem.create_vector());
+  Vec r[3] = {rows[0], rows[1], rows[2]};
+
+  // Apart: the gap is g0, and the spring's z row takes the faces' relative move.
+  const hs::VecHandle closing(problem.create_vector());
+  PetscScalar* ca;
+  VecGetArray(closing, &ca);
+  for (int64_t n = 0; n < dist.num_owned(); ++n)
+    ca[3 * n + 2] = problem.reference_coordinate(n, 2) > H + 0.5 * g0 ? -0.5 : 0.5;
+  VecRestoreArray(closing, &ca);
+  EXPECT_NEAR(problem.self_contact_force_rows(u, upper, lower, r), g0, 1e-12);
+  PetscScalar dot[3];
+  for (int d = 0; d < 3; ++d) VecDot(r[d], closing, &dot[d]);
+  EXPECT_NEAR(dot[2], -1.0, 1e-12);  // closing by 1 presses the lower face down by 1
+  EXPECT_NEAR(dot[0], 0.0, 1e-12);
+  EXPECT_NEAR(dot[1], 0.0, 1e-12);
+
+  pressed_blocks(problem, dist.num_owned(), u, v);
+  const std::array<double, 3> F = problem.self_contact_force(u, upper, lower);
+  const std::array<double, 3> back = problem.self_contact_force(u, lower, upper);
+  const double size = std::hypot(F[0], F[1], F[2]);
+  ASSERT_GT(-F[2], 0.5 * size);  // it presses the lower face down
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(F[d], -back[d], 1e-12 * size) << d;
+  // The residual's contact part on the lower block's nodes: the barrier's forces there.
+  const hs::VecHandle R(problem.create_vector()), R0(problem.create_vector());
+  ASSERT_TRUE(problem.residual(u, 0.0, R));
+  const hs::VecHandle apart(problem.create_vector());  // u with the upper block lifted away
+  VecCopy(u, apart);
+  PetscScalar *aa, *rr, *r0;
+  VecGetArray(apart, &aa);
+  for (int64_t n = 0; n < dist.num_owned(); ++n)
+    if (problem.reference_coordinate(n, 2) > H + 0.5 * g0) aa[3 * n + 2] += 0.1;
+  VecRestoreArray(apart, &aa);
+  ASSERT_TRUE(problem.residual(apart, 0.0, R0));
+  double on_lower[3] = {0, 0, 0};
+  VecGetArray(R, &rr);
+  VecGetArray(R0, &r0);
+  for (int64_t n = 0; n < dist.num_owned(); ++n)
+    if (problem.reference_coordinate(n, 2) < H + 0.5 * g0)
+      for (int d = 0; d < 3; ++d) on_lower[d] += rr[3 * n + d] - r0[3 * n + d];
+  VecRestoreArray(R, &rr);
+  VecRestoreArray(R0, &r0);
+  MPI_Allreduce(MPI_IN_PLACE, on_lower, 3, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  // The residual is dE/du: the force on the lower nodes is its negative; their elastic part
+  // is the same at u and at `apart`, whose lower nodes did not move. Along z: the symmetry
+  // planes leave the x and y rows of some of the face's nodes out of the residual.
+  EXPECT_NEAR(F[2], -on_lower[2], 1e-9 * size);
+
+  ASSERT_EQ(problem.self_contact_force_rows(u, upper, lower, r), 0.0);
+  const double h = 1e-4 * dhat;
+  const hs::VecHandle up(problem.create_vector()), down(problem.create_vector());
+  VecWAXPY(up, h, v, u);
+  VecWAXPY(down, -h, v, u);
+  const std::array<double, 3> Fu = problem.self_contact_force(up, upper, lower);
+  const std::array<double, 3> Fd = problem.self_contact_force(down, upper, lower);
+  for (int d = 0; d < 3; ++d) {
+    PetscScalar row_v;
+    VecDot(r[d], v, &row_v);
+    EXPECT_NEAR(row_v, (Fu[d] - Fd[d]) / (2 * h), 1e-6 * size / dhat) << d;
+  }
+}
+
+// input/gripper_grasp_block.yaml at nu 0.45: the controller finds the two pressures that grasp
+// the block with the forces asked of each finger (`between`, the y component), from 0.5 mm
+// apart (the approach rows close the gap): each answer meets its forces (the first, which
+// closes the gap, to 1e-3 N; the others to 1e-5 N), and the pairs' total force is the two
+// grasps'; every state balances (the palm, the table and the weights in x; the palm and the
+// table's friction in y, where the unequal grasp of the last set pushes the block); 2 ranks
+// give 1 rank's pressures.
+TEST(SelfContact, TheControllerFindsThePressuresThatGraspABlockWithTheForcesAsked) {
+  const std::string shipped = kSource + "/input/gripper_grasp_block.yaml";
+  auto grasp = [&](const std::string& tag, MPI_Comm comm) {
+    const std::vector<std::string> o = {"materials[0].nu=0.45", "materials[1].nu=0.45",
+                                        "output.folder=" + (hs_test::test_folder() / tag).string()};
+    return hs::run_simulation(hs::parse_deck(shipped, o), comm);
+  };
+  const Json s = hs_test::shared(grasp("grasp_block", MPI_COMM_WORLD));
+  ASSERT_EQ(s["status"], "ok");
+  const Json& answers = s["targets"];
+  ASSERT_EQ(answers.size(), 6u);  // 3 sets of 2 fingers
+  for (size_t k = 0; k < answers.size(); ++k) {
+    const Json& a = answers[k];
+    EXPECT_LT(a["error_N"].get<double>(), k < 2 ? 1e-3 : 1e-5) << k;
+    EXPECT_NEAR(a["reached"][1].get<double>(), a["target"][1].get<double>(), k < 2 ? 1e-3 : 1e-5);
+    if (k % 2 == 0) {
+      const double both = std::abs(a["reached"][1].get<double>()) +
+                          std::abs(answers[k + 1]["reached"][1].get<double>());
+      EXPECT_NEAR(a["contact"]["self"]["force_N"].get<double>(), both, 0.03 * both) << k;
+    }
+  }
+  if (hs_test::world_rank() == 0) {
+    const auto h = hs_test::read_history((hs_test::test_folder() / "grasp_block").string());
+    const auto& base = h.at("reaction_base_x_N");
+    ASSERT_EQ(base.size(), 5u);  // 2 rest steps, 3 target sets
+    std::vector<double> solid;   // the silicone's weight per unit load factor
+    for (size_t k = 0; k < base.size(); ++k) {
+      solid.push_back((-base[k] + h.at("contact_table_x_N")[k] -
+                       h.at("cavity_cavity_left_fluid_weight_N")[k] -
+                       h.at("cavity_cavity_right_fluid_weight_N")[k]) /
+                      std::min(1.0, (k + 1) / 2.0));
+      EXPECT_NEAR(h.at("reaction_base_y_N")[k], h.at("contact_table_y_N")[k], 1e-10) << k;
+    }
+    for (size_t k = 0; k < solid.size(); ++k) EXPECT_NEAR(solid[k], solid.back(), 1e-8) << k;
+    EXPECT_LT(h.at("contact_table_y_N").back(), -0.005);  // the table holds the unequal grasp
+  }
+  if (hs_test::world_size() > 1) {
+    Json one;
+    if (hs_test::world_rank() == 0) one = grasp("grasp_block_one", MPI_COMM_SELF);
+    one = hs_test::shared(one);
+    for (size_t k = 0; k < answers.size(); ++k)
+      for (int a = 0; a < 2; ++a)
+        EXPECT_NEAR(one["targets"][k]["actuation"][a].get<double>(),
+                    answers[k]["actuation"][a].get<double>(), 1e-6 * 4e4)
+            << k;
+  }
 }
 
 // input/pneunet_self_contact.yaml, coarser (h 4 mm): at 24 kPa the chamber walls bulge across

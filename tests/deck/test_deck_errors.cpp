@@ -601,7 +601,10 @@ TEST_F(DeckErrors, ControlEffectors) {
   expect_errors({
       {effector("point: effector, position: [0.09, 0, 0]"), "control.effectors[0]",
        "give exactly one of point (a point group with one node), position (a material point, "
-       "in reference coordinates) or obstacle (the contact force on it)"},
+       "in reference coordinates), obstacle (the contact force on it) or between (the contact "
+       "force one surface exerts on another)"},
+      {effector("point: effector, between: [a, b]"), "control.effectors[0]",
+       "give exactly one of point"},
       {effector("point: effector, obstacle: ball"), "control.effectors[0]",
        "give exactly one of point"},
       {effector("obstacle: ball"), "control.effectors[0].obstacle",
@@ -764,6 +767,27 @@ TEST_F(DeckErrors, AContactForceEffectorNamesAnObstacleOfTheDeck) {
        "control.effectors[0].surfaces[0]", "'skim' is not one of contact.surfaces (skin)"},
       {with("obstacle: bal", "position: [0, 0, 0], surfaces: [skin]"),
        "control.effectors[0].surfaces", "needs obstacle (a contact force)"},
+  });
+}
+
+TEST_F(DeckErrors, AContactForceBetweenSurfacesNamesTwoSelfContactSurfaces) {
+  const std::string deck = kMesh + kMaterials +
+                           "boundary: [{group: base}]\ncontact: {surfaces: [skin, tip], self: "
+                           "true}\ncavities:\n  - {group: c}\ncontrol:\n  effectors: [{name: "
+                           "grip, between: [skin, tip]}]\n  actuators: [{cavity: c}]\n";
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string d = deck;
+    d.replace(d.find(from), from.size(), to);
+    return d;
+  };
+  expect_errors({
+      {with("between: [skin, tip]", "between: [skin, tap]"), "control.effectors[0].between[1]",
+       "'tap' is not one of contact.surfaces (skin, tip)"},
+      {with("between: [skin, tip]", "between: [skin]"), "control.effectors[0].between",
+       "names two surfaces, [A, B]: the force A exerts on B (1 given)"},
+      {with("between: [skin, tip]", "between: [skin, skin]"), "control.effectors[0].between",
+       "names 'skin' twice"},
+      {with("self: true", "self: false"), "control.effectors[0].between", "needs contact.self"},
   });
 }
 

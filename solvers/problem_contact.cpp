@@ -1,0 +1,180 @@
+// Problem's contact: the obstacles' and the surfaces' forces, their rows for the controller's
+// force effectors, the steps' limits and the friction's lag (docs/contact.md).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "solvers/problem.hpp"
+
+namespace hs {
+
+void Problem::accept_state(Vec u, double s) {
+  if (!friction_lag_held_) take_friction_lag(u, s);
+}
+
+void Problem::take_friction_lag(Vec u, double s) {
+  const bool obstacles = contact_ && contact_->has_friction();
+  const bool surfaces = self_contact_ && self_contact_->has_friction();
+  if (!obstacles && !surfaces) return;
+  LocalView view(u, u_work_);
+  if (obstacles) contact_->accept(view.values(), s);
+  if (surfaces) self_contact_->accept(view.values());
+}
+
+std::string Problem::refusal() const {
+  if (self_touch_) return "a node reached a triangle of the contact surfaces (contact.self)";
+  if (obstacle_reached_ >= 0)
+    return "a node reached obstacle '" + contact_->obstacles()[obstacle_reached_].name + "'";
+  return "inverted element";
+}
+
+ObstacleContact::Totals Problem::contact_totals(Vec u, double s) const {
+  if (!contact_) return {};
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
+  LocalView view(u, uw);
+  return contact_->totals(view.values(), s);
+}
+
+std::array<double, 3> Problem::contact_force(Vec u, double s, int o,
+                                             const std::vector<char>* only) const {
+  std::array<double, 3> f{0, 0, 0};
+  if (contact_) {
+    VecHandle uw;
+    HS_PETSC(VecDuplicate(u_work_, uw.out()));
+    LocalView view(u, uw);
+    const Eigen::Vector3d here = contact_->force_on(view.values(), s, o, only);
+    for (int d = 0; d < 3; ++d) f[d] = here(d);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, f.data(), 3, MPI_DOUBLE, MPI_SUM, comm_);
+  return f;
+}
+
+double Problem::contact_force_rows(Vec u, double s, int o, const std::vector<char>* only,
+                                   Vec rows[3]) const {
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
+  LocalView view(u, uw);
+  double* r[3];
+  for (int d = 0; d < 3; ++d) {
+    HS_PETSC(VecSet(rows[d], 0.0));
+    HS_PETSC(VecGetArray(rows[d], &r[d]));
+  }
+  double touching = 0;  // the largest row entry: zero when no node is within reach
+  if (contact_) {
+    contact_->force_rows(view.values(), s, o, only, r);
+    for (int d = 0; d < 3; ++d)
+      for (int64_t k = 0; k < 3 * dist_.num_owned(); ++k)
+        touching = std::max(touching, std::abs(r[d][k]));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &touching, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  double gap = 0;
+  if (contact_ && touching == 0) {
+    const ObstacleContact::Nearest near = contact_->nearest(view.values(), s, o, only);
+    struct {
+      double gap;
+      int rank;
+    } best{near.node >= 0 ? near.gap : std::numeric_limits<double>::max(), dist_.rank};
+    MPI_Allreduce(MPI_IN_PLACE, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
+    gap = best.gap;
+    if (best.rank == dist_.rank && near.node >= 0)
+      for (int d = 0; d < 3; ++d)
+        for (int j = 0; j < 3; ++j) r[d][3 * near.node + j] = near.normal(d) * near.normal(j);
+  }
+  for (int d = 0; d < 3; ++d) {
+    HS_PETSC(VecRestoreArray(rows[d], &r[d]));
+    zero_constrained(rows[d]);
+  }
+  return gap;
+}
+
+std::array<double, 3> Problem::self_contact_force(Vec u, int a, int b) const {
+  if (!self_contact_) return {0, 0, 0};
+  const PetscScalar* ua;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  const std::array<double, 3> f = self_contact_->force_between(ua, a, b);
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  return f;
+}
+
+double Problem::self_contact_force_rows(Vec u, int a, int b, Vec rows[3]) const {
+  double* r[3];
+  for (int d = 0; d < 3; ++d) {
+    HS_PETSC(VecSet(rows[d], 0.0));
+    HS_PETSC(VecGetArray(rows[d], &r[d]));
+  }
+  double gap = 0;
+  if (self_contact_) {
+    const PetscScalar* ua;
+    HS_PETSC(VecGetArrayRead(u, &ua));
+    gap = self_contact_->force_rows_between(ua, a, b, r);
+    HS_PETSC(VecRestoreArrayRead(u, &ua));
+  }
+  for (int d = 0; d < 3; ++d) {
+    HS_PETSC(VecRestoreArray(rows[d], &r[d]));
+    zero_constrained(rows[d]);
+  }
+  return gap;
+}
+
+double Problem::contact_step_limit(Vec u, Vec du, double s) const {
+  double alpha = self_contact_step_limit(u, du);
+  if (!contact_) return alpha;
+  const PetscScalar *ua, *da;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  HS_PETSC(VecGetArrayRead(du, &da));
+  alpha = std::min(alpha, contact_->step_limit(ua, da, s));
+  HS_PETSC(VecRestoreArrayRead(du, &da));
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  MPI_Allreduce(MPI_IN_PLACE, &alpha, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  return alpha;
+}
+
+double Problem::self_contact_step_limit(Vec u, Vec du) const {
+  if (!self_contact_) return 1;
+  const PetscScalar *ua, *da;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  HS_PETSC(VecGetArrayRead(du, &da));
+  const double alpha = self_contact_->step_limit(ua, da);
+  HS_PETSC(VecRestoreArrayRead(du, &da));
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  return alpha;
+}
+
+void Problem::keep_self_contact(Vec from, Vec u, double s) const {
+  if (!self_contact_) return;
+  VecHandle step;
+  HS_PETSC(VecDuplicate(u, step.out()));
+  HS_PETSC(VecWAXPY(step, -1.0, from, u));
+  if (self_contact_step_limit(from, step) == 1) return;
+  HS_PETSC(VecCopy(from, u));
+  dofs_.apply(u, s);
+}
+
+SelfContact::Totals Problem::self_contact_totals(Vec u) const {
+  if (!self_contact_) return {};
+  const PetscScalar* ua;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  const SelfContact::Totals t = self_contact_->totals(ua);
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  return t;
+}
+
+SelfContact::NodeValues Problem::self_contact_node_values(Vec u) const {
+  if (!self_contact_) return {};
+  const PetscScalar* ua;
+  HS_PETSC(VecGetArrayRead(u, &ua));
+  SelfContact::NodeValues v = self_contact_->node_values(ua, dist_.num_owned());
+  HS_PETSC(VecRestoreArrayRead(u, &ua));
+  return v;
+}
+
+ObstacleContact::NodeValues Problem::contact_node_values(Vec u, double s) const {
+  if (!contact_) return {};
+  VecHandle uw;
+  HS_PETSC(VecDuplicate(u_work_, uw.out()));
+  LocalView view(u, uw);
+  return contact_->node_values(view.values(), s, dist_.num_owned());
+}
+
+}  // namespace hs
