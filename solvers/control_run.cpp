@@ -195,7 +195,12 @@ bool ControlLoop::done() const {
 
 bool ControlLoop::next_set(Vec u) {
   if (interactive_) return next_line_answered(u);
-  reach(u, config_.control->targets[totals_.sets], 0);
+  const size_t k = totals_.sets;
+  const auto& moves = config_.control->moves;
+  moves_ = k < moves.size() ? BoundaryMoves(moves[k]) : BoundaryMoves();
+  moves_.begin(problem_);
+  reach(u, config_.control->targets[k], 0);
+  moves_ = BoundaryMoves();
   return true;
 }
 
@@ -205,7 +210,10 @@ ControlStepReport ControlLoop::take_steps(Vec u, const std::vector<ControlTarget
   MPI_Comm_rank(problem_.comm(), &rank);
   Totals& t = totals_;
   ControlStepReport r;
-  for (int k = 0; k < config_.control->steps_per_target; ++k) {
+  const int steps = config_.control->steps_per_target;
+  for (int k = 0; k < steps; ++k) {
+    moves_.set(problem_, static_cast<double>(k + 1) / steps);
+    predict_move(u, static_cast<double>(k) / steps, static_cast<double>(k + 1) / steps);
     r = reduced_ ? reduced_->step(u, targets) : controller_.step(u, targets);
     problem_.take_friction_lag(u, 1.0);  // each step's end the next one's start
     if (!r.fallback.empty() && rank == 0)
@@ -226,6 +234,36 @@ ControlStepReport ControlLoop::take_steps(Vec u, const std::vector<ControlTarget
     }
   }
   return r;
+}
+
+// While boundary groups move, each step starts from the last one's answer moved on by that
+// answer's own increment (a secant predictor, as the states' steps), where that keeps every
+// node off the contact surfaces: from the answer itself, with the moved values set on the
+// boundary alone, Newton met the jump in the elements at the boundary.
+void ControlLoop::predict_move(Vec u, double tau0, double tau1) {
+  if (moves_.empty()) {
+    moved_from_.reset();
+    return;
+  }
+  VecHandle step(problem_.create_vector());
+  std::array<double, 3> by;
+  if (moved_from_) {
+    HS_PETSC(VecWAXPY(step, -1.0, moved_from_, u));
+  } else {
+    // The first step of a move: the body translated with its one moved group, if one.
+    HS_PETSC(VecDuplicate(u, moved_from_.out()));
+    if (!moves_.one_translation(tau0, tau1, by)) by = {0, 0, 0};
+    PetscScalar* a;
+    PetscInt n = 0;
+    HS_PETSC(VecGetLocalSize(step, &n));
+    HS_PETSC(VecGetArray(step, &a));
+    for (PetscInt i = 0; i < n; ++i) a[i] = by[i % 3];
+    HS_PETSC(VecRestoreArray(step, &a));
+  }
+  HS_PETSC(VecCopy(u, moved_from_));
+  // Not into an obstacle or onto a contact surface: from the answer itself then.
+  if (problem_.contact_step_limit(moved_from_, step, 1.0) < 1) return;
+  HS_PETSC(VecAXPY(u, 1.0, step));
 }
 
 void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int line_number) {

@@ -19,6 +19,7 @@
 #include "solvers/inverse_controller.hpp"
 #include "solvers/output/result_recorder.hpp"
 #include "solvers/reduced/reduced_controller.hpp"
+#include "solvers/stepping/boundary_moves.hpp"
 
 namespace hs {
 
@@ -132,6 +133,9 @@ class ControlLoop {
   std::unique_ptr<ReducedController> reduced_;  // control.reduced_model
   InteractiveIo io_;
   Totals totals_;
+  BoundaryMoves moves_;   // the present target set's `move`, ramped over its steps
+  VecHandle moved_from_;  // while moves_ act: the answer before the last (predict_move)
+  void predict_move(Vec u, double tau0, double tau1);
   Session session_;
   nlohmann::json pending_ = nlohmann::json::array();  // the last set's entries, unanswered
   size_t last_set_entries_ = 0;                       // the last answered set's in targets

@@ -41,6 +41,11 @@ class DofMap {
   // components it prescribes; `moved` gives the group's present one.
   void set_move(const std::string& group, const std::array<double, 3>& by);
   std::array<double, 3> moved(const std::string& group) const;
+  // Every group's translation (in the order of the deck's boundary groups; empty when none
+  // moved yet), and the same set back.
+  using Moves = std::vector<std::array<double, 3>>;
+  const Moves& moves() const { return moves_; }
+  void set_moves(const Moves& moves) { moves_ = moves; }
 
   // The prescribed value of a constrained dof at load factor s (with its group's move).
   double prescribed_value(int64_t local_dof, double s) const;

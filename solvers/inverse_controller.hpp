@@ -210,6 +210,7 @@ class InverseController {
   std::vector<double> step_start_pressures_;
   VecHandle last_free_;  // the last free equilibrium and its pressures
   std::vector<double> last_pressures_;
+  DofMap::Moves last_moves_;  // and its boundary groups' translations (a target set's `move`)
   // refactor_every > 1 (in line): the configuration and the constraints' states that the
   // kept factorization was made at, for a restart to make it again.
   bool keeps_factorization() const;

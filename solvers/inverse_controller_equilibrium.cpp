@@ -14,13 +14,15 @@ void InverseController::set_rest(Vec u) {
   if (!last_free_) HS_PETSC(VecDuplicate(u, last_free_.out()));
   HS_PETSC(VecCopy(u, last_free_));
   last_pressures_ = constraints_.multipliers();
+  last_moves_ = problem_.boundary_moves();
 }
 
 // Newton from the corrected configuration: one linearisation away from equilibrium, it
 // nearly always converges at once. Where it does not (a large pressure change on a wall that
 // softens, near a limit point of the pressure), the pressures are walked from the last free
 // equilibrium to the new ones with the halving increments of the load stepping; past a limit
-// point no equilibrium exists, and the actuation stops at the last one reached.
+// point no equilibrium exists, and the actuation stops at the last one reached. Boundary
+// groups that a target set moves walk with the pressures, from their translations there.
 NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
   const auto solve = [&](Vec x) {
     problem_.apply_dirichlet(x, 1.0);
@@ -30,23 +32,33 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
     return r;
   };
   const std::vector<double> wanted = constraints_.multipliers();
+  const DofMap::Moves moved = problem_.boundary_moves();
+  auto keep = [&]() {
+    HS_PETSC(VecCopy(u, last_free_));
+    last_pressures_ = constraints_.multipliers();
+    last_moves_ = problem_.boundary_moves();
+  };
   NewtonResult result = solve(u);
   if (result.converged || !last_free_) {
-    if (result.converged) {
-      HS_PETSC(VecCopy(u, last_free_));
-      last_pressures_ = constraints_.multipliers();
-    }
+    if (result.converged) keep();
     return result;
   }
   HS_PETSC(VecCopy(last_free_, u));
   constraints_.set_multipliers(last_pressures_);
   const std::vector<double> from = last_pressures_;
+  DofMap::Moves moved_from = last_moves_;
+  moved_from.resize(moved.size(), {0, 0, 0});
   auto set_actuation = [&](double t) {
     for (const auto& a : actuators_) {
       const int c = a.constraint;
       constraints_[c].prescribe(Constraint::Control::multiplier,
                                 from[c] + t * (wanted[c] - from[c]));
     }
+    DofMap::Moves at = moved;
+    for (size_t g = 0; g < at.size(); ++g)
+      for (int d = 0; d < 3; ++d)
+        at[g][d] = moved_from[g][d] + t * (moved[g][d] - moved_from[g][d]);
+    problem_.set_boundary_moves(at);
   };
   struct Stop {};
   SteppingStats stats;
@@ -55,8 +67,7 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
     set_actuation(t);
     const NewtonResult r = solve(u);
     if (r.converged) {
-      HS_PETSC(VecCopy(u, last_free_));
-      last_pressures_ = constraints_.multipliers();
+      keep();
     } else {
       HS_PETSC(VecCopy(last_free_, u));
       constraints_.restore(before);
@@ -71,6 +82,7 @@ NewtonResult InverseController::solve_free(Vec u, ControlStepReport& report) {
     // Held at the last equilibrium reached on the way: a bound of physics, not of the deck.
     HS_PETSC(VecCopy(last_free_, u));
     constraints_.set_multipliers(last_pressures_);
+    problem_.set_boundary_moves(last_moves_);
     for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
     result.converged = true;
     report.limit_point = true;

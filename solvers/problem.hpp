@@ -123,6 +123,9 @@ class Problem {
   std::array<double, 3> boundary_moved(const std::string& group) const {
     return dofs_.moved(group);
   }
+  // Every group's translation, and the same set back (DofMap::moves).
+  const DofMap::Moves& boundary_moves() const { return dofs_.moves(); }
+  void set_boundary_moves(const DofMap::Moves& moves) { dofs_.set_moves(moves); }
 
   // Residual and tangent. Return false if an element is inverted (det F <= 0) or a
   // value is not finite; inverted_element() then names one such element on every rank (its

@@ -29,26 +29,10 @@ std::vector<StatePlan> plan_states(const Config& config) {
       p.ramps.push_back(
           {cavity, target.pressure ? Constraint::Control::multiplier : Constraint::Control::measure,
            0, target.pressure ? *target.pressure : *target.added_volume});
-    for (const auto& [group, by] : states[k].moves) p.moves.push_back({group, {0, 0, 0}, by});
+    p.moves = BoundaryMoves(states[k].moves);
     plans.push_back(p);
   }
   return plans;
-}
-
-void StatePlan::begin_moves(const Problem& problem) {
-  for (Move& m : moves) {
-    const std::array<double, 3> by = m.to;
-    m.from = problem.boundary_moved(m.group);
-    for (int d = 0; d < 3; ++d) m.to[d] = m.from[d] + by[d];
-  }
-}
-
-void StatePlan::set_moves(Problem& problem, double tau) const {
-  for (const Move& m : moves) {
-    std::array<double, 3> at;
-    for (int d = 0; d < 3; ++d) at[d] = m.from[d] + tau * (m.to[d] - m.from[d]);
-    problem.move_boundary(m.group, at);
-  }
 }
 
 const StatePlan::Ramp* StatePlan::ramp_of(const Constraint& c) const {

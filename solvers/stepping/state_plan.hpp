@@ -11,6 +11,7 @@
 #include "deck/config.hpp"
 #include "solvers/constraints/constraint_set.hpp"
 #include "solvers/problem.hpp"
+#include "solvers/stepping/boundary_moves.hpp"
 
 namespace hs {
 
@@ -27,12 +28,7 @@ struct StatePlan {
     double from = 0, to = 0;
   };
   std::vector<Ramp> ramps;
-  // The boundary groups it moves (a later state's `move`): their translation, from -> to.
-  struct Move {
-    std::string group;
-    std::array<double, 3> from{0, 0, 0}, to{0, 0, 0};
-  };
-  std::vector<Move> moves;
+  BoundaryMoves moves;  // the boundary groups it moves (a later state's `move`)
 
   double load_factor(double tau) const { return first ? tau : 1.0; }
   // Starts the state: fixes its ramps' start values from the constraints' current state and
@@ -41,9 +37,6 @@ struct StatePlan {
   void begin(ConstraintSet& constraints, const std::string& deck_path);
   // Sets the constraints' targets (and the prescribed multipliers) at tau.
   void set_targets(ConstraintSet& constraints, double tau) const;
-  // The same for its moves: from the groups' present translations, and their values at tau.
-  void begin_moves(const Problem& problem);
-  void set_moves(Problem& problem, double tau) const;
   // Why a ramp may have no equilibrium ahead (a pressure past its peak), for a failed step.
   std::string failure_note(const ConstraintSet& constraints) const;
   // The ramps for a checkpoint, one entry per constraint, and the same put back.

@@ -36,7 +36,7 @@ std::optional<StepReport> StatesStepper::advance(Vec u) {
   StatePlan& plan = plans_[k_];
   if (!begun_) {
     plan.begin(constraints_, config_.deck_path);
-    plan.begin_moves(problem_);
+    plan.moves.begin(problem_);
     predictor_.start_path();
     begun_ = true;
   }
@@ -64,7 +64,7 @@ void StatesStepper::solve_increment(Vec u, double tau_to) {
     constraints_.set_multipliers(lambda);
     const double s = plan.load_factor(tau);
     plan.set_targets(constraints_, tau);
-    plan.set_moves(problem_, tau);
+    plan.moves.set(problem_, tau);
     problem_.apply_dirichlet(u, s);
     problem_.keep_self_contact(from, u, s);
     if (constraints_.linearized()) constraints_.freeze_weights(u, s);

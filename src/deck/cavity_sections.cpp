@@ -101,33 +101,6 @@ std::map<std::string, CavityTarget> parse_targets(const DeckReader& r, const YAM
   return targets;
 }
 
-// A later state's moves: boundary group -> a translation (m).
-std::map<std::string, std::array<double, 3>> parse_moves(const DeckReader& r,
-                                                         const YAML::Node& node,
-                                                         const std::string& key, const Config& c) {
-  if (!node.IsMap()) r.fail(key, node, "expected a map of boundary group: [dx, dy, dz]");
-  std::vector<std::string> names;
-  for (const auto& bc : c.dirichlet)
-    if (std::find(names.begin(), names.end(), bc.group) == names.end()) names.push_back(bc.group);
-  std::map<std::string, std::array<double, 3>> moves;
-  for (const auto& entry : node) {
-    const std::string name = entry.first.Scalar(), gkey = child_key(key, name);
-    if (moves.count(name)) r.fail(gkey, entry.first, "duplicate key");
-    if (std::find(names.begin(), names.end(), name) == names.end())
-      r.fail(gkey, entry.first,
-             names.empty() ? "not a boundary group (the deck has no boundary section)"
-                           : "not a boundary group (did you mean '" + nearest(name, names) +
-                                 "'? boundary groups: " + join(names) + ")");
-    for (const auto& bc : c.dirichlet)
-      if (bc.group == name && bc.exact)
-        r.fail(
-            gkey, entry.first,
-            "group '" + name + "' takes the exact solution's values, which a move cannot add to");
-    moves[name] = r.vector3(entry.second, gkey);
-  }
-  return moves;
-}
-
 // A dynamic run's states: each one's time (the first's 0 unless given) on a time step, in
 // order, within the run, and a ramp of at least one time step after a step state.
 void check_state_times(const DeckReader& r, const YAML::Node& node,
@@ -187,6 +160,32 @@ void check_state_times(const DeckReader& r, const YAML::Node& node,
 }
 
 }  // namespace
+
+std::map<std::string, std::array<double, 3>> parse_moves(const DeckReader& r,
+                                                         const YAML::Node& node,
+                                                         const std::string& key, const Config& c) {
+  if (!node.IsMap()) r.fail(key, node, "expected a map of boundary group: [dx, dy, dz]");
+  std::vector<std::string> names;
+  for (const auto& bc : c.dirichlet)
+    if (std::find(names.begin(), names.end(), bc.group) == names.end()) names.push_back(bc.group);
+  std::map<std::string, std::array<double, 3>> moves;
+  for (const auto& entry : node) {
+    const std::string name = entry.first.Scalar(), gkey = child_key(key, name);
+    if (moves.count(name)) r.fail(gkey, entry.first, "duplicate key");
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      r.fail(gkey, entry.first,
+             names.empty() ? "not a boundary group (the deck has no boundary section)"
+                           : "not a boundary group (did you mean '" + nearest(name, names) +
+                                 "'? boundary groups: " + join(names) + ")");
+    for (const auto& bc : c.dirichlet)
+      if (bc.group == name && bc.exact)
+        r.fail(
+            gkey, entry.first,
+            "group '" + name + "' takes the exact solution's values, which a move cannot add to");
+    moves[name] = r.vector3(entry.second, gkey);
+  }
+  return moves;
+}
 
 const KeyTable<FluidWeightConfig>& fluid_weight_keys() {
   static const KeyTable<FluidWeightConfig> keys = {

@@ -4,7 +4,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,12 @@ std::vector<CavityConfig> parse_cavities(const DeckReader& r, const YAML::Node& 
                                          const Config& c);
 // The list `node` of section `states`, whose targets name c.cavities (read before).
 std::vector<StateConfig> parse_states(const DeckReader& r, const YAML::Node& node, const Config& c);
+
+// A map of boundary group: translation (m), a later state's `move` or a control target
+// set's: each a group of c.dirichlet (read before) without exact values.
+std::map<std::string, std::array<double, 3>> parse_moves(const DeckReader& r,
+                                                         const YAML::Node& node,
+                                                         const std::string& key, const Config& c);
 
 // A dynamic run's schedule of states: the time step at which each state's values are reached,
 // m_k = time_k / dt, except where a state's time equals the one before it (a step): then its

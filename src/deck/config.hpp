@@ -252,6 +252,9 @@ struct ControlConfig {
   // One entry per target set, in order; a set names at least one effector, each at most
   // once, in the deck's order. Empty when the deck gives no targets.
   std::vector<std::vector<ControlTarget>> targets;
+  // Per target set (as many as targets): the boundary groups it translates over its steps (a
+  // set's `move`, as a state's), empty for none.
+  std::vector<std::map<std::string, std::array<double, 3>>> moves;
   int steps_per_target = 10;     // control steps spent on each target set
   double regularization = 1e-3;  // relative weight of |d lambda|^2 against the effector error
   bool newton_finish = false;    // end every step with Newton at the new actuation

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "deck/cavity_sections.hpp"
 #include "deck/section_keys.hpp"
 
 namespace hs {
@@ -68,6 +69,10 @@ std::vector<EffectorConfig> parse_effectors(const DeckReader& r, const YAML::Nod
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string ekey = item_key(key, i);
     effectors.push_back(parse_effector(r, node[i], ekey, c));
+    if (effectors[i].name == "move")
+      r.fail(child_key(ekey, "name"), node[i]["name"],
+             "'move' is a target set's key (the boundary groups it moves): name the effector "
+             "otherwise");
     for (size_t j = 0; j < i; ++j)
       if (effectors[j].name == effectors[i].name)
         r.fail(child_key(ekey, "name"), node[i]["name"],
@@ -131,10 +136,12 @@ std::vector<ActuatorConfig> parse_actuators(const DeckReader& r, const YAML::Nod
   return actuators;
 }
 
-// The target sets, in order: each a map effector name -> [x, y, z], kept in the deck's order.
+// The target sets, in order: each a map effector name -> [x, y, z], kept in the deck's order,
+// and its boundary groups' translations (the key `move`) into `moves`.
 std::vector<std::vector<ControlTarget>> parse_control_targets(
     const DeckReader& r, const YAML::Node& node, const std::string& key,
-    const std::vector<EffectorConfig>& effectors) {
+    const std::vector<EffectorConfig>& effectors, const Config& c,
+    std::vector<std::map<std::string, std::array<double, 3>>>& moves) {
   r.check_list(node, key);
   require(node.size() > 0, r, node, key,
           "must hold at least one target set (leave targets out when the command line gives "
@@ -148,8 +155,13 @@ std::vector<std::vector<ControlTarget>> parse_control_targets(
     require(node[i].size() > 0, r, node[i], skey,
             "an empty target set (name at least one effector: " + join(names) + ")");
     std::vector<ControlTarget> set;
+    moves.emplace_back();
     for (const auto& entry : node[i]) {
       const std::string name = entry.first.Scalar(), tkey = child_key(skey, name);
+      if (name == "move") {
+        moves.back() = parse_moves(r, entry.second, tkey, c);
+        continue;
+      }
       for (const auto& t : set)
         if (t.effector == name) r.fail(tkey, entry.first, "duplicate key");
       if (!contains(names, name))
@@ -158,6 +170,9 @@ std::vector<std::vector<ControlTarget>> parse_control_targets(
                    "'? effectors: " + join(names) + ")");
       set.push_back(ControlTarget{name, r.vector3(entry.second, tkey)});
     }
+    require(!set.empty(), r, node[i], skey,
+            "a target set names at least one effector besides its move (effectors: " + join(names) +
+                ")");
     sets.push_back(set);
   }
   return sets;
@@ -357,18 +372,32 @@ const KeyTable<ControlConfig>& control_keys() {
           "target sets, reached one after the other: each maps effector names to the position "
           "(m) the effector should reach, e.g. `{tip: [0.09, 0, -0.01]}` (a contact-force "
           "effector's: the force, N). A set names at least "
-          "one effector, each at most once. Without `targets` the run has none from the deck: "
+          "one effector, each at most once. A set's `move: {group: [dx, dy, dz]}` translates "
+          "boundary groups over its steps as a state's `move` does (a palm that rises while the "
+          "fingers keep their grasp force; not with `free_solve: one_step`, `reduced_model` or "
+          "output.checkpoint). Without `targets` the run has none from the deck: "
           "`--targets -` on the command line reads them from standard input (docs/control.md); "
           "that switch is not a deck key.",
           [](const DeckReader& r, const YAML::Node& n, const std::string& key, ControlConfig& k,
-             const Config&) { k.targets = parse_control_targets(r, n, key, k.effectors); },
+             const Config& c) {
+            k.moves.clear();
+            k.targets = parse_control_targets(r, n, key, k.effectors, c, k.moves);
+          },
           [](YAML::Emitter& out, const ControlConfig& k, const Config&) {
             out << YAML::BeginSeq;
-            for (const auto& set : k.targets) {
+            for (size_t i = 0; i < k.targets.size(); ++i) {
               out << YAML::Flow << YAML::BeginMap;
-              for (const auto& t : set) {
+              for (const auto& t : k.targets[i]) {
                 out << YAML::Key << t.effector << YAML::Value;
                 write_numbers(out, t.position.data(), 3);
+              }
+              if (i < k.moves.size() && !k.moves[i].empty()) {
+                out << YAML::Key << "move" << YAML::Value << YAML::BeginMap;
+                for (const auto& [group, by] : k.moves[i]) {
+                  out << YAML::Key << group << YAML::Value;
+                  write_numbers(out, by.data(), 3);
+                }
+                out << YAML::EndMap;
               }
               out << YAML::EndMap;
             }

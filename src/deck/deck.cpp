@@ -115,6 +115,23 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
     r.fail("contact.friction", root["contact"]["friction"],
            "friction is not supported with output.checkpoint (its lagged state is not saved, "
            "so a restart would not continue the same run)");
+  for (size_t k = 0; c.control && k < c.control->moves.size(); ++k) {
+    if (c.control->moves[k].empty()) continue;
+    const std::string key = child_key(item_key("control.targets", k), "move");
+    const YAML::Node node = root["control"]["targets"][k]["move"];
+    if (c.output.checkpoint)
+      r.fail(key, node,
+             "not supported with output.checkpoint (a restart does not restore the moved "
+             "groups' values)");
+    if (!c.control->reduced_model.empty())
+      r.fail(key, node,
+             "not supported with control.reduced_model (its basis holds the "
+             "boundary's values fixed)");
+    if (c.control->free_solve == FreeSolve::one_step)
+      r.fail(key, node,
+             "not supported with control.free_solve one_step (its single linearisation does not "
+             "carry the boundary's move: use newton)");
+  }
   for (size_t k = 0; k < c.states.size() && c.output.checkpoint; ++k)
     if (!c.states[k].moves.empty())
       r.fail(child_key(item_key("states", k), "move"), root["states"][k]["move"],

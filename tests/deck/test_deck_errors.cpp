@@ -538,6 +538,10 @@ std::string actuator(const std::string& fields) {
 }
 // The effector "tip" and an actuator, with the given further lines of the control section.
 std::string control_with(const std::string& more) { return control(kTip, kActuator, more); }
+// The same with a boundary group "base", which a target set may move.
+std::string control_moving(const std::string& more) {
+  return control_with(more).insert(kBase.size(), "boundary: [{group: base}]\n");
+}
 
 TEST_F(DeckErrors, ControlKeysAndTypes) {
   expect_errors({
@@ -582,6 +586,15 @@ TEST_F(DeckErrors, ControlKeysAndTypes) {
       {control_with("  newton_finish: maybe\n"), "control.newton_finish",
        "expected true or false, got 'maybe'"},
       {control_with("  free_solve: fast\n"), "control.free_solve", "'fast'"},
+      {control_moving("  targets: [{tip: [0, 0, 0], move: {bse: [0, 0, 1]}}]\n"),
+       "control.targets[0].move.bse", "not a boundary group (did you mean 'base'?"},
+      {control_moving("  targets: [{move: {base: [0, 0, 1]}}]\n"), "control.targets[0]",
+       "a target set names at least one effector besides its move"},
+      {control_moving("  targets: [{tip: [0, 0, 0], move: {base: [0, 0, 1]}}]\n  free_solve: "
+                      "one_step\n"),
+       "control.targets[0].move", "not supported with control.free_solve one_step"},
+      {control("[{name: move, point: effector}]", kActuator), "control.effectors[0].name",
+       "'move' is a target set's key"},
       {control_with("  check_every: 4\n"), "control.check_every", "needs check_equilibrium: true"},
       {control_with("  error_indicator: true\n"), "control.error_indicator", "needs reduced_model"},
       {control_with("  check_equilibrium: true\n  check_every: 0\n"), "control.check_every",

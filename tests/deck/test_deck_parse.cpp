@@ -276,6 +276,7 @@ void expect_same(const Config& a, const Config& b) {
       EXPECT_EQ(p.targets[i][j].position, q.targets[i][j].position);
     }
   }
+  EXPECT_EQ(p.moves, q.moves);
   EXPECT_EQ(p.steps_per_target, q.steps_per_target);
   EXPECT_EQ(p.regularization, q.regularization);
   EXPECT_EQ(p.newton_finish, q.newton_finish);
