@@ -237,9 +237,11 @@ ControlStepReport ControlLoop::take_steps(Vec u, const std::vector<ControlTarget
 }
 
 // While boundary groups move, each step starts from the last one's answer moved on by that
-// answer's own increment (a secant predictor, as the states' steps), where that keeps every
-// node off the contact surfaces: from the answer itself, with the moved values set on the
-// boundary alone, Newton met the jump in the elements at the boundary.
+// answer's own increment (a secant predictor, as the states' steps), and a move's first step
+// from the body translated with its one moved group; either only where it keeps every node off
+// the obstacles and the contact surfaces. From the answer itself, with the moved values set on
+// the boundary alone, Newton met the jump in the elements at the boundary (docs/control.md,
+// "Lifting under control").
 void ControlLoop::predict_move(Vec u, double tau0, double tau1) {
   if (moves_.empty()) {
     moved_from_.reset();
