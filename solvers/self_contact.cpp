@@ -96,6 +96,7 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
   constrained_.assign(fixed.begin(), fixed.end());
   check_start(config.deck_path);
   const size_t ng = groups.size();
+  num_surfaces_ = static_cast<int>(ng);
   friction_.assign(ng * ng, config.contact.friction);
   for (const auto& between : config.contact.friction_between) {
     const auto a = std::find(groups.begin(), groups.end(), between.surfaces[0]) - groups.begin();
@@ -193,7 +194,7 @@ bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
 }
 
 double SelfContact::friction(int32_t p, int32_t f) const {
-  const size_t ng = static_cast<size_t>(std::lround(std::sqrt(friction_.size())));
+  const size_t ng = static_cast<size_t>(num_surfaces_);
   double mu = 0;
   for (size_t g = 0; g < ng; ++g)
     if (node_surfaces_[p] >> g & 1) mu = std::max(mu, friction_[g * ng + face_surface_[f]]);

@@ -145,6 +145,7 @@ class SelfContact {
   // mu between node p and face f: the largest over p's surfaces of the coefficient between
   // that surface and f's (contact.friction, or contact.friction_between's for the pair).
   double friction(int32_t p, int32_t f) const;
+  int num_surfaces_ = 0;                 // the deck's contact.surfaces
   std::vector<int> face_surface_;        // per face: its surface (index in the deck's list)
   std::vector<uint64_t> node_surfaces_;  // per surface node: its surfaces, one bit each
   std::vector<double> friction_;         // per pair of surfaces (row-major): mu
