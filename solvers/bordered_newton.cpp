@@ -148,13 +148,8 @@ bool BorderedNewton::newton_step(Vec u, double s, Vec du, std::vector<double>& d
   return true;
 }
 
-// As NewtonSolver::reset_if_pattern_grew.
 void BorderedNewton::reset_if_pattern_grew() {
-  if (problem_.pattern_version() == pattern_version_) return;
-  pattern_version_ = problem_.pattern_version();
-  PC pc;
-  HS_PETSC(KSPGetPC(ksp_, &pc));
-  HS_PETSC(PCReset(pc));
+  problem_.reset_if_pattern_grew(ksp_, pattern_version_);
 }
 
 // Full Newton steps, halved only where the trial leaves the domain (an inverted element, a

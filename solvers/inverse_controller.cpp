@@ -245,14 +245,7 @@ bool InverseController::factor_if_due(Vec u, bool one_step, bool stale_failed, d
   if (background) fresh = correct_in_background(stale_failed, report, clock);
   if (fresh) {
     clock.factor = MPI_Wtime();
-    // Self-contact's pattern grew since the last factorization: MUMPS must analyse it anew
-    // (as NewtonSolver::reset_if_pattern_grew).
-    if (problem_.pattern_version() != pattern_version_) {
-      pattern_version_ = problem_.pattern_version();
-      PC pc;
-      HS_PETSC(KSPGetPC(ksp_, &pc));
-      HS_PETSC(PCReset(pc));
-    }
+    problem_.reset_if_pattern_grew(ksp_, pattern_version_);
     HS_PETSC(KSPSetOperators(ksp_, J_, J_));
     const OptionsScope scope(options_.database());  // its factor's options
     HS_PETSC(KSPSetUp(ksp_));

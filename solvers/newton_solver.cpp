@@ -66,17 +66,10 @@ PetscErrorCode NewtonSolver::form_jacobian(SNES snes, Vec u, Mat J, Mat, void* c
   return 0;
 }
 
-// A factorization analysed for an earlier pattern of the tangent (self-contact's grew) is
-// dropped: the preconditioner does not notice the new pattern and would refactor on the old
-// analysis (MUMPS failed so on 2 ranks).
 void NewtonSolver::reset_if_pattern_grew() {
-  if (problem_.pattern_version() == pattern_version_) return;
-  pattern_version_ = problem_.pattern_version();
   KSP ksp;
-  PC pc;
   HS_PETSC(SNESGetKSP(snes_, &ksp));
-  HS_PETSC(KSPGetPC(ksp, &pc));
-  HS_PETSC(PCReset(pc));
+  problem_.reset_if_pattern_grew(ksp, pattern_version_);
 }
 
 PetscErrorCode NewtonSolver::form_objective(SNES, Vec u, PetscReal* energy, void* ctx) {

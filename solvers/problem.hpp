@@ -8,6 +8,7 @@
 // solve, hence the zeroed columns lose nothing).
 #pragma once
 
+#include <petscksp.h>
 #include <petscmat.h>
 #include <petscvec.h>
 
@@ -187,6 +188,10 @@ class Problem {
   // Counts the times self-contact's tangent pattern grew: a solver whose factorization was
   // analysed for an earlier pattern resets its preconditioner (PCReset).
   int pattern_version() const { return pattern_version_; }
+  // Drops the factorization of ksp's preconditioner when the pattern grew since `seen` (the
+  // version it was set up for, updated here): it does not notice the new pattern and would
+  // refactor on the old analysis (MUMPS failed so on 2 ranks).
+  void reset_if_pattern_grew(KSP ksp, int& seen) const;
   // Its totals on u (SelfContact::totals). Collective; without contact.self zeros.
   SelfContact::Totals self_contact_totals(Vec u) const;
   // Its gap and pressure per owned node (SelfContact::node_values). Collective; without

@@ -214,4 +214,12 @@ Mat Problem::create_mass_matrix() {
   return M.release();
 }
 
+void Problem::reset_if_pattern_grew(KSP ksp, int& seen) const {
+  if (pattern_version_ == seen) return;
+  seen = pattern_version_;
+  PC pc;
+  HS_PETSC(KSPGetPC(ksp, &pc));
+  HS_PETSC(PCReset(pc));
+}
+
 }  // namespace hs
