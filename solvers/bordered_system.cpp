@@ -96,4 +96,26 @@ void BorderedSystem::response(const Eigen::VectorXd& zeta, Vec out) {
   HS_PETSC(VecMAXPY(out, size(), zeta.data(), columns_.data()));
 }
 
+bool BorderedSystem::load_responses(KSP ksp, const std::vector<Vec>& f,
+                                    const ConstraintLinearization& lin,
+                                    const std::vector<bool>& held, const std::vector<Vec>& out,
+                                    Eigen::MatrixXd& zeta) {
+  if (!solve_columns(ksp, f, out)) return false;
+  const int n = size(), N = static_cast<int>(f.size());
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, N);
+  std::vector<PetscScalar> dots(N);
+  for (int i = 0; i < m_; ++i) {
+    if (!held.empty() && held[i]) continue;
+    if (N) HS_PETSC(VecMDot(lin.g[i], N, out.data(), dots.data()));
+    for (int j = 0; j < N; ++j) rhs(i, j) = -lin.alpha[i] * dots[j];
+  }
+  for (size_t w = 0; w < weighted_.size(); ++w) {
+    if (N) HS_PETSC(VecMDot(lin.g[weighted_[w]], N, out.data(), dots.data()));
+    for (int j = 0; j < N; ++j) rhs(m_ + static_cast<int>(w), j) = -dots[j];
+  }
+  zeta = lu_.solve(rhs);
+  for (int j = 0; j < N; ++j) HS_PETSC(VecMAXPY(out[j], n, zeta.col(j).data(), columns_.data()));
+  return true;
+}
+
 }  // namespace hs

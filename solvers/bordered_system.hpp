@@ -48,6 +48,12 @@ class BorderedSystem {
   void step(const Eigen::VectorXd& zeta, Vec out);
   // out = [Y Z] zeta: the response to zeta alone (no residual).
   void response(const Eigen::VectorXd& zeta, Vec out);
+  // The responses of the whole system to loads f_j (after factor_dense with `held`):
+  // out_j = J^-1 f_j + [Y Z] zeta_j, with S zeta_j = -(alpha_c g_c^T J^-1 f_j, 0 where held;
+  // g_h^T J^-1 f_j); the zeta_j as columns. False when a solve failed.
+  bool load_responses(KSP ksp, const std::vector<Vec>& f, const ConstraintLinearization& lin,
+                      const std::vector<bool>& held, const std::vector<Vec>& out,
+                      Eigen::MatrixXd& zeta);
 
   int size() const { return static_cast<int>(columns_.size()); }  // m + m_h
   Vec a() const { return a_; }

@@ -324,6 +324,7 @@ void ControlLoop::reach(Vec u, const std::vector<ControlTarget>& targets, int li
     }
     j["actuation"] = r.actuation;
     if (!r.reduced.is_null()) j["reduced"] = r.reduced;
+    if (!r.contact_qp.is_null()) j["contact_qp"] = r.contact_qp;
     j["saturated"] = r.saturated;
     j["limit_point"] = limit_point;
     if (config_.control->free_solve == FreeSolve::one_step) {

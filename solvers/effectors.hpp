@@ -72,6 +72,10 @@ class Effectors {
   // After linearize: 0 when force effector e's nodes touch its obstacle, else the gap of the
   // nearest one, whose rows are then a unit spring across it (Problem::contact_force_rows).
   double approach_gap(int e) const { return approach_gap_[e]; }
+  // A force on an obstacle: the obstacle's index (else -1) and the contact nodes it counts
+  // (per local node; null: every contact node).
+  int obstacle(int e) const { return obstacle_[e]; }
+  const std::vector<char>* contact_nodes(int e) const { return only(e); }
   // Row of J_e for effector e, direction d.
   Vec row(int e, int d) const { return rows_[3 * e + d]; }
 

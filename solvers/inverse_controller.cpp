@@ -58,6 +58,8 @@ InverseController::InverseController(const Config& config, Problem& problem,
     background_ = std::make_unique<BackgroundFactorizations>(
         problem.comm(), config.control->factor_threads, ksp_, kCorrectionRtol, config.solver);
   for (size_t a = 0; a < actuators_.size(); ++a) response_.push_back(problem.create_vector());
+  if (config.control->contact_forces == ContactForces::qp)
+    contact_qp_ = std::make_unique<ContactQp>(config, problem, effectors);
   R_ = VecHandle(problem.create_vector());
   free_step_ = VecHandle(problem.create_vector());
 }
@@ -121,7 +123,7 @@ ControlStepReport InverseController::step(Vec u, const std::vector<ControlTarget
   clock.qp = MPI_Wtime();
 
   // Step 3: the QP for the pressure changes.
-  const Eigen::VectorXd dl = solve_actuation(W, delta, growth, report);
+  const Eigen::VectorXd dl = solve_actuation(u, targets, W, delta, growth, report);
   clock.correction = MPI_Wtime();
 
   // Step 4: correction x = x_free + sum_a du_a dl_a, and the pressures of every cavity.
@@ -163,6 +165,7 @@ void InverseController::converge_free(Vec u, bool one_step, ControlStepReport& r
   clock.assembly0 = timers.residual_s + timers.jacobian_s;
   clock.fluid0 = constraints_.fluid_weight_seconds();
   for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();
+  if (contact_qp_) contact_qp_->begin_step(u);
   if (!one_step) {
     const NewtonResult free = solve_free(u, report);
     if (!free.converged)
@@ -303,7 +306,8 @@ void InverseController::correct(Vec u, const Eigen::VectorXd& dl, ControlStepRep
   const int m = constraints_.size(), n = num_actuators();
   HS_PETSC(VecMAXPY(u, n, dl.data(), response_.data()));
   std::vector<double> lambda = constraints_.multipliers();
-  const Eigen::VectorXd dlambda = zeta_.topRows(m) * dl;
+  Eigen::VectorXd dlambda = zeta_.topRows(m) * dl;
+  if (contact_qp_) dlambda += contact_qp_->apply(u, contact_dforce_).topRows(m);
   for (int c = 0; c < m; ++c) lambda[c] += dlambda(c);
   constraints_.set_multipliers(lambda);
   for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();

@@ -26,6 +26,7 @@
 #include "solvers/checkpoint.hpp"
 #include "solvers/constraints/constraint_set.hpp"
 #include "solvers/control/background_factorizations.hpp"
+#include "solvers/control/contact_qp.hpp"
 #include "solvers/effectors.hpp"
 #include "solvers/solver_options.hpp"
 
@@ -73,6 +74,9 @@ struct ControlStepReport {
   // instead of trusting an indefinite tangent (empty when nothing).
   int negative_pivots = -1;
   std::string fallback;
+  // control.contact_forces qp: the candidates, the nodes touching, the active sets tried, the
+  // smallest linearised gap and force and the largest |force x gap| (ContactActuation).
+  nlohmann::json contact_qp;
   // A reduced model's answer (solvers/reduced/reduced_controller.hpp): whether the actuation
   // lies in its training envelope, and its error estimate; null for the full model.
   nlohmann::json reduced;
@@ -158,7 +162,8 @@ class InverseController {
   void compliance_rows(Vec u, const std::vector<ControlTarget>& targets, Eigen::MatrixXd& W,
                        Eigen::VectorXd& delta, Eigen::MatrixXd& growth);
   // Step 3: the pressure changes dl from the QP; the report's QP fields and saturation.
-  Eigen::VectorXd solve_actuation(const Eigen::MatrixXd& W, const Eigen::VectorXd& delta,
+  Eigen::VectorXd solve_actuation(Vec u, const std::vector<ControlTarget>& targets,
+                                  const Eigen::MatrixXd& W, const Eigen::VectorXd& delta,
                                   const Eigen::MatrixXd& growth, ControlStepReport& report);
   // Step 4: u and the multipliers corrected by dl (and Newton at the new actuation).
   void correct(Vec u, const Eigen::VectorXd& dl, ControlStepReport& report);
@@ -183,6 +188,8 @@ class InverseController {
   SolverOptions options_;  // prefix hs_control_; before the KSP: it outlives it
   KspHandle ksp_;
   std::unique_ptr<BackgroundFactorizations> background_;  // control.factor_threads > 0
+  std::unique_ptr<ContactQp> contact_qp_;  // control.contact_forces: qp
+  Eigen::VectorXd contact_dforce_;         // its force changes of the step (correct() adds them)
   int step_count_ = 0;                                    // steps begun, retakes included
   MatHandle J_;
   VecArray response_;  // per actuator

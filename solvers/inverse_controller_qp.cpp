@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "control/actuation_qp.hpp"
+#include "control/contact_actuation_qp.hpp"
 #include "solvers/inverse_controller.hpp"
 
 namespace hs {
@@ -26,7 +27,9 @@ void InverseController::compliance_rows(Vec u, const std::vector<ControlTarget>&
     // nearest node's gap, scaled so that closing the gap gives the force asked for (the real
     // rows take over once it touches: docs/control.md).
     double scale = ec.weight;
-    if (effectors_.is_force(e) && effectors_.approach_gap(e) > 0) {
+    if (contact_qp_ && effectors_.is_force(e))
+      scale = 0;  // its forces are the QP's unknowns (ContactQp gives its rows)
+    else if (effectors_.is_force(e) && effectors_.approach_gap(e) > 0) {
       double asked2 = 0;
       for (int d = 0; d < 3; ++d)
         if (ec.directions[d]) asked2 += t.position[d] * t.position[d];
@@ -54,7 +57,8 @@ void InverseController::compliance_rows(Vec u, const std::vector<ControlTarget>&
   }
 }
 
-Eigen::VectorXd InverseController::solve_actuation(const Eigen::MatrixXd& W,
+Eigen::VectorXd InverseController::solve_actuation(Vec u, const std::vector<ControlTarget>& targets,
+                                                   const Eigen::MatrixXd& W,
                                                    const Eigen::VectorXd& delta,
                                                    const Eigen::MatrixXd& growth,
                                                    ControlStepReport& report) {
@@ -74,8 +78,28 @@ Eigen::VectorXd InverseController::solve_actuation(const Eigen::MatrixXd& W,
     at[a] = {c.multiplier(), change_origin_[a],
              c.measure() + free_growth - actuators_[a].rest_measure};
   }
-  const ActuationChange change =
-      solve_actuation_qp(W, delta, growth, bounds, at, config_.control->regularization);
+  ActuationChange change;
+  if (contact_qp_) {
+    std::vector<int> constraint_of;
+    for (const auto& a : actuators_) constraint_of.push_back(a.constraint);
+    ContactBlocks blocks = contact_qp_->linearize(u, step_ksp_, system_, lin_, actuated_,
+                                                  {response_.data(), response_.data() + n},
+                                                  constraint_of, targets, W, delta);
+    blocks.growth_a = growth;
+    const ContactActuation answer =
+        solve_contact_actuation_qp(blocks, bounds, at, config_.control->regularization);
+    change = answer.change;
+    contact_dforce_ = answer.dforce;
+    report.contact_qp = {{"candidates", contact_qp_->num_candidates()},
+                         {"touching", answer.touching},
+                         {"passes", answer.passes},
+                         {"cycled", answer.cycled},
+                         {"least_gap_m", answer.least_gap},
+                         {"least_force_N", answer.least_force},
+                         {"complementarity_Nm", answer.worst_product}};
+  } else {
+    change = solve_actuation_qp(W, delta, growth, bounds, at, config_.control->regularization);
+  }
   report.qp_solved = change.solved;
   report.qp_status = change.status;
   report.kkt_residual = change.kkt_residual;

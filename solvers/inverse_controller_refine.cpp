@@ -142,7 +142,7 @@ void InverseController::refine(Vec u, const std::vector<ControlTarget>& targets,
     Eigen::MatrixXd W, growth;
     Eigen::VectorXd delta;
     compliance_rows(u, targets, W, delta, growth);
-    const Eigen::VectorXd dl = solve_actuation(W, delta, growth, report);
+    const Eigen::VectorXd dl = solve_actuation(u, targets, W, delta, growth, report);
     correct(u, dl, report);
     if (shortened_at_obstacle_) {  // linearisations no longer serve: Newton at the pressures
       for (const auto& a : actuators_) constraints_[a.constraint].hold_multiplier();

@@ -121,9 +121,70 @@ void ObstacleContact::begin_step() {
 
 NodeContact ObstacleContact::evaluate(size_t i, const Eigen::Vector3d& x, double s,
                                       bool project) const {
+  if (holds_forces()) return held_load(i, x);
   NodeContact c = node_contact(obstacles_, x, s, area_[i], barrier_, project);
   if (has_friction_ && c.valid) add_friction(obstacles_, lag_[i], x, s, slip_, c);
   return c;
+}
+
+// A held force as the node's contact: the load lambda n on the body is the gradient -lambda n
+// of the potential -lambda n . x, which has no Hessian; a node past the obstacle's surface is
+// the QP's to push back, not a refusal.
+NodeContact ObstacleContact::held_load(size_t i, const Eigen::Vector3d& x) const {
+  NodeContact c;
+  const size_t m = obstacles_.size();
+  c.force.assign(m, Eigen::Vector3d::Zero());
+  c.stiffness.assign(m, Eigen::Matrix3d::Zero());
+  c.active.assign(m, 0);
+  const Held& h = held_[i];
+  if (h.obstacle < 0 || h.force == 0) return c;
+  c.gradient = -h.force * h.normal;
+  c.energy = c.gradient.dot(x);
+  c.force[h.obstacle] = c.gradient;
+  c.active[h.obstacle] = 1;
+  return c;
+}
+
+void ObstacleContact::hold_forces(const double* u, double s) {
+  std::vector<Held> held(nodes_.size());
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const Eigen::Vector3d x = position(u, nodes_[i]);
+    const NodeContact c = evaluate(i, x, s, false);
+    for (size_t o = 0; o < obstacles_.size(); ++o) {
+      const Eigen::Vector3d n = signed_distance(obstacles_[o], x, s).gradient;
+      const double f = -c.force[o].dot(n);
+      if (f > held[i].force) held[i] = {static_cast<int>(o), n, f};
+    }
+  }
+  held_ = std::move(held);
+}
+
+void ObstacleContact::turn_held_normals(const double* u, double s) {
+  for (size_t i = 0; i < held_.size(); ++i)
+    if (held_[i].force > 0)
+      held_[i].normal =
+          signed_distance(obstacles_[held_[i].obstacle], position(u, nodes_[i]), s).gradient;
+}
+
+std::vector<ObstacleContact::Candidate> ObstacleContact::candidates(const double* u, double s,
+                                                                    double reach) const {
+  std::vector<Candidate> out;
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const Eigen::Vector3d x = position(u, nodes_[i]);
+    Candidate best;
+    best.gap = std::numeric_limits<double>::max();
+    for (size_t o = 0; o < obstacles_.size(); ++o) {
+      const SignedDistance sd = signed_distance(obstacles_[o], x, s);
+      if (sd.d < best.gap) best = {static_cast<int>(i), static_cast<int>(o), sd.d, sd.gradient};
+    }
+    if (holds_forces() && held_[i].force > 0) {
+      best.obstacle = held_[i].obstacle;
+      best.gap = signed_distance(obstacles_[best.obstacle], x, s).d;
+      best.normal = held_[i].normal;
+    }
+    if (best.gap < reach || (holds_forces() && held_[i].force > 0)) out.push_back(best);
+  }
+  return out;
 }
 
 // The undeformed body must start outside every obstacle (in their places at load factor 0):
@@ -239,6 +300,7 @@ ObstacleContact::Nearest ObstacleContact::nearest(const double* u, double s, int
 
 double ObstacleContact::step_limit(const double* u, const double* du, double s) const {
   double alpha = 1;
+  if (holds_forces()) return alpha;  // no barrier to keep outside
   for (int32_t n : nodes_) {
     const Eigen::Vector3d x = position(u, n), step(du[3 * n], du[3 * n + 1], du[3 * n + 2]);
     for (const auto& o : obstacles_) alpha = std::min(alpha, step_bound(o, x, step, s));
@@ -261,7 +323,8 @@ ObstacleContact::NodeValues ObstacleContact::node_values(const double* u, double
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const int32_t n = nodes_[i];
     const Eigen::Vector3d x = position(u, n);
-    const NodeContact normal = node_contact(obstacles_, x, s, area_[i], barrier_, false);
+    const NodeContact normal =
+        holds_forces() ? held_load(i, x) : node_contact(obstacles_, x, s, area_[i], barrier_, false);
     for (const auto& f : normal.force) v.pressure[n] += f.norm() / area_[i];
     const Eigen::Vector3d friction = (evaluate(i, x, s, false).gradient - normal.gradient);
     for (int d = 0; d < 3; ++d) v.friction[3 * n + d] = -friction(d) / area_[i];
@@ -272,10 +335,12 @@ ObstacleContact::NodeValues ObstacleContact::node_values(const double* u, double
 ObstacleContact::Totals ObstacleContact::totals(const double* u, double s) const {
   const size_t m = obstacles_.size();
   std::vector<double> sums(4 * m, 0.0);
-  double gap = std::numeric_limits<double>::max();
+  double gap = std::numeric_limits<double>::max(), loaded = 0;
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const Eigen::Vector3d x = position(u, nodes_[i]);
     const NodeContact c = evaluate(i, x, s, false);
+    if (holds_forces() && held_[i].force > 0)
+      loaded = std::max(loaded, std::abs(signed_distance(obstacles_[held_[i].obstacle], x, s).d));
     for (size_t o = 0; o < m; ++o) {
       for (int d = 0; d < 3; ++d) sums[4 * o + d] += c.force[o](d);
       if (c.active[o]) sums[4 * o + 3] += area_[i];
@@ -285,7 +350,9 @@ ObstacleContact::Totals ObstacleContact::totals(const double* u, double s) const
   MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM,
                 comm_);
   MPI_Allreduce(MPI_IN_PLACE, &gap, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &loaded, 1, MPI_DOUBLE, MPI_MAX, comm_);
   Totals t;
+  t.loaded_gap = loaded;
   for (size_t o = 0; o < m; ++o) {
     t.force.push_back({sums[4 * o], sums[4 * o + 1], sums[4 * o + 2]});
     t.area.push_back(sums[4 * o + 3]);

@@ -76,6 +76,7 @@ class ObstacleContact {
     std::vector<std::array<double, 3>> force;  // per obstacle: the body's force on it (N)
     std::vector<double> area;                  // per obstacle: reference area within dhat (m^2)
     double min_gap = 0;                        // the smallest gap of any contact node (m)
+    double loaded_gap = 0;  // with held forces: the largest |gap| of a node holding one (m)
   };
   // Over all ranks. Collective.
   Totals totals(const double* u, double s) const;
@@ -88,6 +89,33 @@ class ObstacleContact {
   };
   NodeValues node_values(const double* u, double s, int64_t num_owned) const;
 
+  // control.contact_forces: qp (docs/control.md, "Contact forces in the QP"): the barrier
+  // gives way to normal forces that the controller holds and sets, one per contact node, each
+  // a constant load `force` n on the body (n the obstacle's outward normal, fixed within a
+  // step), so that the residual has no contact stiffness and the forces, totals and fields
+  // report those loads. In nodes()'s order.
+  struct Held {
+    int obstacle = -1;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    double force = 0;  // N, >= 0
+  };
+  // Switches to held forces, each node's the barrier's normal force at u.
+  void hold_forces(const double* u, double s);
+  bool holds_forces() const { return !held_.empty(); }
+  std::vector<Held>& held() { return held_; }
+  // Each held force's normal turned to the obstacle's where its node is at u.
+  void turn_held_normals(const double* u, double s);
+  // The contact nodes (index in nodes()) within `reach` of an obstacle at u, with the nearest
+  // obstacle, the gap to it and its outward normal there; a node holding a force keeps its
+  // obstacle and normal. On this rank.
+  struct Candidate {
+    int index = -1;
+    int obstacle = -1;
+    double gap = 0;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  };
+  std::vector<Candidate> candidates(const double* u, double s, double reach) const;
+
   const std::vector<ObstacleShape>& obstacles() const { return obstacles_; }
   const ContactBarrier& barrier() const { return barrier_; }
   int64_t num_nodes() const { return num_nodes_; }  // over all ranks
@@ -96,6 +124,7 @@ class ObstacleContact {
   Eigen::Vector3d position(const double* u, int32_t node) const;
   // Node i's barrier and friction at position x, load factor s.
   NodeContact evaluate(size_t i, const Eigen::Vector3d& x, double s, bool project) const;
+  NodeContact held_load(size_t i, const Eigen::Vector3d& x) const;
   void check_start(const std::string& deck) const;  // collective; throws InputError
 
   MPI_Comm comm_;
@@ -115,6 +144,7 @@ class ObstacleContact {
   std::vector<Eigen::Vector3d> accepted_;  // the last accepted positions, not yet lagged
   double accepted_s_ = 0;
   int inside_ = -1;
+  std::vector<Held> held_;  // with held forces: one per contact node
 };
 
 }  // namespace hs

@@ -182,6 +182,7 @@ class Problem {
   void take_friction_lag(Vec u, double s);
   // Contact with the deck's obstacles (null without them).
   const ObstacleContact* contact() const { return contact_.get(); }
+  ObstacleContact* contact() { return contact_.get(); }
   // Contact of the contact surfaces with each other (null without contact.self).
   const SelfContact* self_contact() const { return self_contact_.get(); }
   bool has_contact() const { return contact_ || self_contact_; }

@@ -126,6 +126,11 @@ nlohmann::json contact_json(Problem& problem, Vec u, double s) {
                                 {"force_N", totals.force[o]},
                                 {"area_m2", totals.area[o]}});
   out["min_gap_m"] = totals.min_gap;
+  if (problem.contact()->holds_forces()) {  // control.contact_forces: qp, no barrier
+    out["law"] = "held forces";
+    out["loaded_gap_m"] = totals.loaded_gap;
+    return out;
+  }
   out["distance_m"] = problem.contact()->barrier().distance;
   out["stiffness_Pa_per_m"] = problem.contact()->barrier().stiffness;
   out["nodes"] = problem.contact()->num_nodes();

@@ -246,6 +246,8 @@ struct ControlTarget {
 };
 enum class FreeSolve { newton, one_step };
 inline const std::vector<std::string> kFreeSolveNames = {"newton", "one_step"};
+enum class ContactForces { free_step, qp };
+inline const std::vector<std::string> kContactForcesNames = {"free_step", "qp"};
 struct ControlConfig {
   std::vector<EffectorConfig> effectors;  // at least one
   std::vector<ActuatorConfig> actuators;  // at least one
@@ -262,6 +264,10 @@ struct ControlConfig {
   // the paper's real-time step, one linearisation (one assembly, one factorization) for the
   // free motion and the compliance together.
   FreeSolve free_solve = FreeSolve::newton;
+  // "free_step": contact with the obstacles is the barrier's, solved inside each free
+  // configuration, the compliance including it; "qp": the obstacles' normal forces on the
+  // contact nodes are unknowns of the QP beside the actuation, under complementarity.
+  ContactForces contact_forces = ContactForces::free_step;
   int refactor_every = 1;  // one_step: factorize the tangent every N steps (1: every step)
   // one_step: the step's correction is refined with its own factorization while its free
   // step moves a targeted effector by more than this (m; 0: never, the paper's single step).

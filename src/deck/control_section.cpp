@@ -419,6 +419,16 @@ const KeyTable<ControlConfig>& control_keys() {
                "final pressures; `one_step`: the paper's real-time step, one linearisation (one "
                "assembly, one factorization) for the free motion and the compliance together, "
                "the reported position the step's prediction (docs/control.md)"),
+      enum_key("contact_forces", &ControlConfig::contact_forces, kContactForcesNames,
+               "`free_step`: contact with the obstacles is the barrier's, solved inside each free "
+               "configuration, and the compliance includes it; `qp`: the obstacles' normal forces "
+               "on the contact nodes are unknowns of the QP beside the pressures, under "
+               "complementarity with their gaps (each force >= 0, each gap >= 0, their product "
+               "0), and the free configuration holds them as loads. `qp` needs obstacles without "
+               "friction, free_solve newton, and no contact.self, reduced_model or checkpoint "
+               "(docs/control.md, \"Contact forces in the QP\")")
+          .printed_when(
+              [](const ControlConfig& k) { return k.contact_forces != ContactForces::free_step; }),
       integer_key("refactor_every", &ControlConfig::refactor_every, at_least(1),
                   "`one_step` only: factorize the tangent every N steps and reuse it in between "
                   "(a modified-Newton free step on the fresh residual, the compliance of up to "

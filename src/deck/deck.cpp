@@ -115,6 +115,26 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
     r.fail("contact.friction", root["contact"]["friction"],
            "friction is not supported with output.checkpoint (its lagged state is not saved, "
            "so a restart would not continue the same run)");
+  if (c.control && c.control->contact_forces == ContactForces::qp) {
+    const YAML::Node node = root["control"]["contact_forces"];
+    const std::string key = "control.contact_forces";
+    auto refuse = [&](const std::string& why) { r.fail(key, node, "qp " + why); };
+    if (c.obstacles.empty()) refuse("needs obstacles (its unknowns are their contact forces)");
+    for (const auto& o : c.obstacles)
+      if (o.friction > 0)
+        refuse("takes normal forces only: obstacle '" + o.name +
+               "' has friction (use free_step, whose barrier carries friction)");
+    if (c.contact.self)
+      refuse("is not supported with contact.self (its pairs stay the barrier's: use free_step)");
+    if (c.control->free_solve == FreeSolve::one_step)
+      refuse("needs free_solve: newton (the held forces are converged with each free "
+             "configuration)");
+    if (!c.control->reduced_model.empty()) refuse("is not supported with control.reduced_model");
+    if (c.output.checkpoint)
+      refuse("is not supported with output.checkpoint (the held forces are not saved)");
+    for (const auto& moves : c.control->moves)
+      if (!moves.empty()) refuse("is not supported with a target set's move");
+  }
   for (size_t k = 0; c.control && k < c.control->moves.size(); ++k) {
     if (c.control->moves[k].empty()) continue;
     const std::string key = child_key(item_key("control.targets", k), "move");
