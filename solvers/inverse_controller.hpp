@@ -188,9 +188,9 @@ class InverseController {
   SolverOptions options_;  // prefix hs_control_; before the KSP: it outlives it
   KspHandle ksp_;
   std::unique_ptr<BackgroundFactorizations> background_;  // control.factor_threads > 0
-  std::unique_ptr<ContactQp> contact_qp_;  // control.contact_forces: qp
-  Eigen::VectorXd contact_dforce_;         // its force changes of the step (correct() adds them)
-  int step_count_ = 0;                                    // steps begun, retakes included
+  std::unique_ptr<ContactQp> contact_qp_;                 // control.contact_forces: qp
+  Eigen::VectorXd contact_dforce_;  // its force changes of the step (correct() adds them)
+  int step_count_ = 0;              // steps begun, retakes included
   MatHandle J_;
   VecArray response_;  // per actuator
   ConstraintLinearization lin_;

@@ -323,8 +323,9 @@ ObstacleContact::NodeValues ObstacleContact::node_values(const double* u, double
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const int32_t n = nodes_[i];
     const Eigen::Vector3d x = position(u, n);
-    const NodeContact normal =
-        holds_forces() ? held_load(i, x) : node_contact(obstacles_, x, s, area_[i], barrier_, false);
+    const NodeContact normal = holds_forces()
+                                   ? held_load(i, x)
+                                   : node_contact(obstacles_, x, s, area_[i], barrier_, false);
     for (const auto& f : normal.force) v.pressure[n] += f.norm() / area_[i];
     const Eigen::Vector3d friction = (evaluate(i, x, s, false).gradient - normal.gradient);
     for (int d = 0; d < 3; ++d) v.friction[3 * n + d] = -friction(d) / area_[i];

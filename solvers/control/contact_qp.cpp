@@ -34,11 +34,9 @@ ContactQp::ContactQp(const Config&, Problem& problem, Effectors& effectors)
       work_(problem.create_vector()) {}
 
 void ContactQp::begin_step(Vec u) {
+  if (contact_.holds_forces()) return;
   const Problem::LocalView view(u, work_);
-  if (!contact_.holds_forces())
-    contact_.hold_forces(view.values(), 1.0);
-  else
-    contact_.turn_held_normals(view.values(), 1.0);
+  contact_.hold_forces(view.values(), 1.0);
 }
 
 ContactBlocks ContactQp::linearize(Vec u, KSP ksp, BorderedSystem& system,
@@ -190,6 +188,10 @@ Eigen::VectorXd ContactQp::apply(Vec u, const Eigen::VectorXd& dforce) {
     h.obstacle = obstacle_[j];
     h.normal = normal_[j];
   }
+  // The forces turned to the obstacles' normals where the correction put their nodes: then
+  // the answer's equilibrium (and the next step's free configuration) hold the same loads.
+  const Problem::LocalView view(u, work_);
+  contact_.turn_held_normals(view.values(), 1.0);
   return zeta_ * dforce;
 }
 

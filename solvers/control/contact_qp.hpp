@@ -28,7 +28,7 @@ class ContactQp {
   ContactQp(const Config& config, Problem& problem, Effectors& effectors);
 
   // A step's start: the first time, the barrier gives way to held forces (the barrier's
-  // normal forces at u); later, the held forces' normals turn with their nodes.
+  // normal forces at u).
   void begin_step(Vec u);
   // At x_free, after the bordered elimination with the actuators held (`held`) and their
   // responses: the candidates and their responses, and the blocks of the QP. W_a and delta
@@ -40,8 +40,9 @@ class ContactQp {
                           const std::vector<int>& actuator_constraints,
                           const std::vector<ControlTarget>& targets, const Eigen::MatrixXd& W_a,
                           const Eigen::VectorXd& delta);
-  // u += sum_j du_j dforce_j and the candidates hold their new forces; the change of every
-  // constraint's multiplier that those forces bring.
+  // u += sum_j du_j dforce_j and the candidates hold their new forces, along the obstacles'
+  // normals where the nodes now are; the change of every constraint's multiplier that those
+  // forces bring.
   Eigen::VectorXd apply(Vec u, const Eigen::VectorXd& dforce);
   int num_candidates() const { return static_cast<int>(normal_.size()); }
 

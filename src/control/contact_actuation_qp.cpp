@@ -46,8 +46,7 @@ ContactActuation solve_contact_actuation_qp(const ContactBlocks& k,
                                             double regularization) {
   const Eigen::Index N = k.gap.size(), n = k.G_ca.cols(), r = k.W_a.rows();
   std::vector<char> touching(N);
-  for (Eigen::Index c = 0; c < N; ++c)
-    touching[c] = k.held(c) > 0 || k.gap(c) <= k.gap_tolerance;
+  for (Eigen::Index c = 0; c < N; ++c) touching[c] = k.held(c) > 0 || k.gap(c) <= k.gap_tolerance;
   std::set<std::vector<char>> seen;
   ContactActuation out;
   bool one_at_a_time = false;
@@ -76,8 +75,8 @@ ContactActuation solve_contact_actuation_qp(const ContactBlocks& k,
     std::vector<ActuatorPosition> shifted = at;
     const Eigen::VectorXd grown = k.growth_c * E0;
     for (Eigen::Index a = 0; a < n; ++a) shifted[a].grown += grown(a);
-    out.change = solve_actuation_qp(W, delta, k.growth_a + k.growth_c * E1, bounds, shifted,
-                                    regularization);
+    out.change =
+        solve_actuation_qp(W, delta, k.growth_a + k.growth_c * E1, bounds, shifted, regularization);
     out.dforce = E0 + E1 * out.change.dl;
     force = k.held + out.dforce;
     gap = g0 + Ggap * out.change.dl;

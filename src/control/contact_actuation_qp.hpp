@@ -47,7 +47,7 @@ struct ContactActuation {
   Eigen::VectorXd dforce;    // the candidates' force changes (N)
   int passes = 0;            // active sets tried
   int touching = 0;          // nodes in the final active set
-  bool cycled = false;  // the sets did not settle (the last one's answer is kept)
+  bool cycled = false;       // the sets did not settle (the last one's answer is kept)
   double worst_product = 0;  // max over c of |lambda_c g_c| at the answer (N m)
   double least_gap = 0;      // the smallest linearised gap at the answer (m)
   double least_force = 0;    // the smallest force at the answer (N)

@@ -425,7 +425,8 @@ const KeyTable<ControlConfig>& control_keys() {
                "on the contact nodes are unknowns of the QP beside the pressures, under "
                "complementarity with their gaps (each force >= 0, each gap >= 0, their product "
                "0), and the free configuration holds them as loads. `qp` needs obstacles without "
-               "friction, free_solve newton, and no contact.self, reduced_model or checkpoint "
+               "friction, free_solve newton, and no contact.self, reduced_model, checkpoint or "
+               "target set's move "
                "(docs/control.md, \"Contact forces in the QP\")")
           .printed_when(
               [](const ControlConfig& k) { return k.contact_forces != ContactForces::free_step; }),

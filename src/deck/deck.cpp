@@ -127,8 +127,9 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
     if (c.contact.self)
       refuse("is not supported with contact.self (its pairs stay the barrier's: use free_step)");
     if (c.control->free_solve == FreeSolve::one_step)
-      refuse("needs free_solve: newton (the held forces are converged with each free "
-             "configuration)");
+      refuse(
+          "needs free_solve: newton (the held forces are converged with each free "
+          "configuration)");
     if (!c.control->reduced_model.empty()) refuse("is not supported with control.reduced_model");
     if (c.output.checkpoint)
       refuse("is not supported with output.checkpoint (the held forces are not saved)");

@@ -652,6 +652,77 @@ TEST(ObstacleContact, TheGripperLetsGoWhenAskedForNoForceAndGraspsAgain) {
   for (int d = 0; d < 3; ++d) EXPECT_LT(std::abs(released[d].get<double>()), 1e-6) << d;
 }
 
+TEST(ObstacleContact, TheQpWithContactForcesGraspsTheBallTouchingIt) {
+  // input/gripper_grasp.yaml with control.contact_forces qp: the ball's normal forces on the
+  // skin's nodes are unknowns of the QP beside the pressures, under complementarity, and the
+  // free configurations hold them as loads (no barrier). Each finger presses with the force
+  // asked for; at every answer the linearised gaps and forces are complementary, and the
+  // nodes that carry a force touch the ball (no standoff of the barrier's reach, 0.1 mm); the
+  // held forces are loads like any other, so the palm, the weight and the ball balance.
+  const std::string folder = (hs_test::test_folder() / "gripper_qp").string();
+  const Json s =
+      run(kSource + "/input/gripper_grasp.yaml", "gripper_qp", {"control.contact_forces=qp"});
+  const auto& answers = s["targets"];
+  ASSERT_EQ(answers.size(), 6u);
+  for (const auto& t : answers) {
+    EXPECT_NEAR(grasp(t), t["target"][1].get<double>(), 1e-6) << t.dump();
+    const auto& qp = t["contact_qp"];
+    EXPECT_FALSE(qp["cycled"].get<bool>());
+    EXPECT_GT(qp["touching"].get<int>(), 0);
+    EXPECT_LT(qp["complementarity_Nm"].get<double>(), 1e-15);
+    EXPECT_GE(qp["least_gap_m"].get<double>(), -1e-12);
+    EXPECT_GE(qp["least_force_N"].get<double>(), 0.0);
+    EXPECT_LT(t["contact"]["loaded_gap_m"].get<double>(), 1e-6);
+    EXPECT_GT(t["contact"]["min_gap_m"].get<double>(), -1e-6);
+  }
+  const auto ball = obstacle_force(s, 0);
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(answers[4]["reached"][d].get<double>() + answers[5]["reached"][d].get<double>(),
+                ball[d], 1e-12)
+        << d;
+  const auto& base = s["reactions_N"]["base"];
+  const auto load = total_load(folder + "/gripper_grasp.h5", answers[5]["step"].get<int>());
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(base[d].get<double>() + load[d] - ball[d], 0, 1e-7 * std::abs(load[0])) << d;
+}
+
+TEST(ObstacleContact, TheQpWithContactForcesLiftsTheFingerOffTheBallAndLandsItAgain) {
+  // A finger resting on a ball under its weight (the barrier's contact until control begins,
+  // then held forces), its tip steered up off the ball and down onto it again: contact opens
+  // and closes inside the QP's active sets, every target is met, the ball carries the finger
+  // where it touches and nothing where it was let go.
+  const std::string deck = write_deck(
+      "qp_open_close.yaml",
+      "mesh:\n  file: " + kSource +
+          "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004}\n"
+          "materials:\n"
+          "  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}\n"
+          "boundary:\n  - {group: base}\nloads: {gravity: [0, 0, -9.81]}\n"
+          "cavities:\n  - {group: cavity, kind: pneumatic}\n"
+          "obstacles:\n  - {name: ball, type: sphere, center: [0.07, 0, -0.026], radius: 0.01}\n"
+          "contact: {surfaces: [outer, tip]}\nstates:\n  - {name: rest, steps: 4}\n"
+          "control:\n  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
+          "  actuators:\n    - {cavity: cavity, min_pressure: 0, max_pressure: 30000}\n"
+          "  targets:\n    - {tip: [0.09, 0, -0.009]}\n    - {tip: [0.09, 0, -0.002]}\n"
+          "    - {tip: [0.09, 0, -0.0015]}\n    - {tip: [0.09, 0, -0.010]}\n"
+          "  steps_per_target: 4\n  contact_forces: qp\n");
+  const Json s = run(deck, "qp_open_close");
+  const auto& answers = s["targets"];
+  ASSERT_EQ(answers.size(), 4u);
+  for (const auto& t : answers) {
+    EXPECT_NEAR(t["reached"][2].get<double>(), t["target"][2].get<double>(), 1e-6) << t.dump();
+    EXPECT_LT(t["contact_qp"]["complementarity_Nm"].get<double>(), 1e-15);
+  }
+  auto pressing = [&](int k) {
+    return answers[k]["contact"]["obstacles"][0]["force_N"][2].get<double>() < 0;
+  };
+  EXPECT_TRUE(pressing(0));
+  EXPECT_FALSE(pressing(2));
+  EXPECT_TRUE(pressing(3));
+  EXPECT_EQ(answers[2]["contact_qp"]["touching"].get<int>(), 0);
+  EXPECT_LT(answers[3]["contact"]["loaded_gap_m"].get<double>(), 1e-6);
+}
+
 TEST(ObstacleContact, TheRealTimeGripperAnswersWithEquilibria) {
   // The same gripper in the real-time step, one step a target: closing on the ball (the
   // first line) its correction's free step meets the ball and the answer is the equilibrium

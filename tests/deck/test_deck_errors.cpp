@@ -804,6 +804,35 @@ TEST_F(DeckErrors, AContactForceBetweenSurfacesNamesTwoSelfContactSurfaces) {
   });
 }
 
+TEST_F(DeckErrors, ContactForcesInTheQpNeedFrictionlessObstaclesAndNewton) {
+  const std::string deck = kMesh + kMaterials +
+                           "boundary: [{group: base}]\nobstacles:\n  - {name: ball, type: sphere, "
+                           "radius: 1, center: [0, 0, -2]}\ncontact: {surfaces: [skin]}\n"
+                           "cavities:\n  - {group: c}\ncontrol:\n  effectors: [{name: press, "
+                           "obstacle: ball}]\n  actuators: [{cavity: c}]\n  contact_forces: qp\n";
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string d = deck;
+    d.replace(d.find(from), from.size(), to);
+    return d;
+  };
+  const std::string key = "control.contact_forces";
+  expect_errors({
+      {with("radius: 1,", "radius: 1, friction: 0.5,"), key,
+       "qp takes normal forces only: obstacle 'ball' has friction"},
+      {with("surfaces: [skin]}", "surfaces: [skin], self: true}"), key,
+       "qp is not supported with contact.self"},
+      {with("contact_forces: qp", "contact_forces: qp\n  free_solve: one_step"), key,
+       "qp needs free_solve: newton"},
+      {with("contact_forces: qp",
+            "contact_forces: qp\n  targets: [{press: [0, 0, -1], move: "
+            "{base: [0, 0, 1]}}]"),
+       key, "qp is not supported with a target set's move"},
+      {with("contact_forces: qp", "contact_forces: qp\n  reduced_model: r.h5"), key,
+       "qp is not supported with control.reduced_model"},
+      {with("contact_forces: qp", "contact_forces: qb"), key, "qb"},
+  });
+}
+
 TEST_F(DeckErrors, ObstaclesAndContact) {
   const std::string floor = "{name: floor, type: plane}";
   expect_errors({
