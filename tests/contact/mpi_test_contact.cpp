@@ -705,7 +705,7 @@ TEST(ObstacleContact, TheQpWithContactForcesLiftsTheFingerOffTheBallAndLandsItAg
           "  actuators:\n    - {cavity: cavity, min_pressure: 0, max_pressure: 30000}\n"
           "  targets:\n    - {tip: [0.09, 0, -0.009]}\n    - {tip: [0.09, 0, -0.002]}\n"
           "    - {tip: [0.09, 0, -0.0015]}\n    - {tip: [0.09, 0, -0.010]}\n"
-          "  steps_per_target: 4\n  contact_forces: qp\n");
+          "  steps_per_target: 6\n  contact_forces: qp\n");
   const Json s = run(deck, "qp_open_close");
   const auto& answers = s["targets"];
   ASSERT_EQ(answers.size(), 4u);
