@@ -59,7 +59,7 @@ InverseController::InverseController(const Config& config, Problem& problem,
         problem.comm(), config.control->factor_threads, ksp_, kCorrectionRtol, config.solver);
   for (size_t a = 0; a < actuators_.size(); ++a) response_.push_back(problem.create_vector());
   if (config.control->contact_forces == ContactForces::qp)
-    contact_qp_ = std::make_unique<ContactQp>(config, problem, effectors);
+    contact_qp_ = std::make_unique<ContactQp>(problem, effectors);
   R_ = VecHandle(problem.create_vector());
   free_step_ = VecHandle(problem.create_vector());
 }

@@ -25,7 +25,7 @@ ObstacleContact& contact_of(Problem& problem) {
 
 }  // namespace
 
-ContactQp::ContactQp(const Config&, Problem& problem, Effectors& effectors)
+ContactQp::ContactQp(Problem& problem, Effectors& effectors)
     : problem_(problem),
       effectors_(effectors),
       contact_(contact_of(problem)),

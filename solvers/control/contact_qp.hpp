@@ -25,7 +25,7 @@ namespace hs {
 
 class ContactQp {
  public:
-  ContactQp(const Config& config, Problem& problem, Effectors& effectors);
+  ContactQp(Problem& problem, Effectors& effectors);
 
   // A step's start: the first time, the barrier gives way to held forces (the barrier's
   // normal forces at u).

@@ -80,7 +80,12 @@ ContactActuation solve_contact_actuation_qp(const ContactBlocks& k,
     out.dforce = E0 + E1 * out.change.dl;
     force = k.held + out.dforce;
     gap = g0 + Ggap * out.change.dl;
-    if (!out.change.solved) break;
+    if (!out.change.solved) {  // nothing changes: the actuation's and the forces' changes zero
+      out.dforce.setZero();
+      force = k.held;
+      gap = k.gap;
+      break;
+    }
     // A touching node that would pull leaves the set, a free one that would enter an
     // obstacle (or reach it) joins it: all at once, or, once a set came back, the first such
     // node alone (the least-index rule, which ends for a positive definite G_cc).

@@ -44,7 +44,7 @@ struct ContactBlocks {
 
 struct ContactActuation {
   ActuationChange change;    // dl and the QP's report for the final active set
-  Eigen::VectorXd dforce;    // the candidates' force changes (N)
+  Eigen::VectorXd dforce;    // the candidates' force changes (N; zero when not solved)
   int passes = 0;            // active sets tried
   int touching = 0;          // nodes in the final active set
   bool cycled = false;       // the sets did not settle (the last one's answer is kept)

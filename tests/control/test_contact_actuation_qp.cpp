@@ -121,4 +121,24 @@ TEST(ContactActuationQp, AForceTargetClosesTheGapAndPressesWithTheForceAsked) {
   EXPECT_GE(s.passes, 2);  // the approach, then the force
 }
 
+TEST(ContactActuationQp, AnUnsolvedQpChangesNeitherTheActuationNorTheForces) {
+  // The actuator stands at 1,000 Pa, its bound is 0 and it may not move this step: no
+  // actuation satisfies both, so the QP proves infeasibility, and the answer keeps the held
+  // forces (a correction that moved them with the actuation held would not be the QP's).
+  std::mt19937 rng(5);
+  hs::ContactBlocks k = random_blocks(rng, 3, 1);
+  k.W_a = Eigen::MatrixXd::Identity(1, 1);
+  k.W_c = Eigen::MatrixXd::Zero(1, 3);
+  k.delta = Eigen::VectorXd::Constant(1, 1.0);
+  k.approach.assign(1, -1);
+  k.approach_factor = Eigen::VectorXd::Zero(1);
+  std::vector<hs::ActuatorConfig> bounds(1);
+  bounds[0].max_multiplier = 0;
+  bounds[0].max_multiplier_step = 0;
+  const hs::ContactActuation s = hs::solve_contact_actuation_qp(k, bounds, {{1000, 1000, 0}}, 0);
+  EXPECT_FALSE(s.change.solved);
+  EXPECT_EQ(s.change.dl.norm(), 0.0);
+  EXPECT_EQ(s.dforce.norm(), 0.0);
+}
+
 }  // namespace
