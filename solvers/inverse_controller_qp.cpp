@@ -15,7 +15,8 @@ void InverseController::compliance_rows(Vec u, const std::vector<ControlTarget>&
                                         Eigen::MatrixXd& W, Eigen::VectorXd& delta,
                                         Eigen::MatrixXd& growth) {
   const int n = num_actuators();
-  effectors_.linearize(u);  // the contact forces' rows at x_free
+  if (!contact_qp_)
+    effectors_.linearize(u);  // the contact forces' rows at x_free (qp: ContactQp's)
   const std::vector<double> x_free = effectors_.positions(u);
   std::vector<double> rows_delta;
   std::vector<std::vector<double>> rows_W;

@@ -92,12 +92,14 @@ ContactBlocks ContactQp::linearize(Vec u, KSP ksp, BorderedSystem& system,
 
   // The responses to unit normal forces (zero on the Dirichlet dofs: no force acts there).
   std::vector<Vec> f(N), du(N);
-  VecArray loads;
-  while (static_cast<int>(response_.size()) < N) response_.push_back(problem_.create_vector());
+  while (static_cast<int>(response_.size()) < N) {
+    response_.push_back(problem_.create_vector());
+    load_.push_back(problem_.create_vector());
+  }
   for (int j = 0; j < N; ++j) {
-    loads.push_back(problem_.create_vector());
-    f[j] = loads[j];
+    f[j] = load_[j];
     du[j] = response_[j];
+    HS_PETSC(VecSet(f[j], 0.0));
     if (j < offset_ || j >= offset_ + static_cast<int>(own_.size())) continue;
     PetscScalar* a;
     HS_PETSC(VecGetArray(f[j], &a));

@@ -58,8 +58,8 @@ class ContactQp {
   std::vector<Eigen::Vector3d> normal_;
   std::vector<ObstacleContact::Candidate> own_;
   int offset_ = 0;
-  VecArray response_;     // per candidate
-  Eigen::MatrixXd zeta_;  // per candidate: the elimination's multipliers (columns)
+  VecArray load_, response_;  // per candidate: its unit normal force, the response to it
+  Eigen::MatrixXd zeta_;      // per candidate: the elimination's multipliers (columns)
 };
 
 }  // namespace hs

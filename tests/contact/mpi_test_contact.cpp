@@ -93,6 +93,25 @@ std::string finger_on_ball_deck(double ball_z, double max_change, const std::str
          std::to_string(max_change) + "}\n" + control;
 }
 
+// The finger of input/finger_pneumatic.yaml (inflation lifts it) resting under its weight on
+// a ball, its tip steered to -9 mm (on the ball), up off it to -2 and -1.5 mm, and down onto
+// it at -10 mm; `modes` ends the control section.
+std::string finger_lifting_off_ball_deck(const std::string& modes) {
+  return "mesh:\n  file: " + kSource +
+         "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004}\n"
+         "materials:\n"
+         "  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}\n"
+         "boundary:\n  - {group: base}\nloads: {gravity: [0, 0, -9.81]}\n"
+         "cavities:\n  - {group: cavity, kind: pneumatic}\n"
+         "obstacles:\n  - {name: ball, type: sphere, center: [0.07, 0, -0.026], radius: 0.01}\n"
+         "contact: {surfaces: [outer, tip]}\nstates:\n  - {name: rest, steps: 4}\n"
+         "control:\n  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
+         "  actuators:\n    - {cavity: cavity, min_pressure: 0, max_pressure: 30000}\n"
+         "  targets:\n    - {tip: [0.09, 0, -0.009]}\n    - {tip: [0.09, 0, -0.002]}\n"
+         "    - {tip: [0.09, 0, -0.0015]}\n    - {tip: [0.09, 0, -0.010]}\n" +
+         modes;
+}
+
 std::string block_deck(const std::string& rest) {
   return "mesh:\n  file: " + kSource +
          "/meshes/block.geo\n  order: 1\n  parameters: {H: 0.1, h: 0.03}\n" + rest;
@@ -570,21 +589,10 @@ TEST(ObstacleContact, TheRealTimeModeAnswersEquilibriaAsContactOpensAndCloses) {
   // know the ball (or with it closed, that it lets go), and a finger landing on the ball
   // from above had its answer 6.6 mm from its equilibrium. Now every answer is the
   // equilibrium at its pressure.
-  const std::string deck = write_deck(
-      "open_close.yaml",
-      "mesh:\n  file: " + kSource +
-          "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004}\n"
-          "materials:\n"
-          "  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}\n"
-          "boundary:\n  - {group: base}\nloads: {gravity: [0, 0, -9.81]}\n"
-          "cavities:\n  - {group: cavity, kind: pneumatic}\n"
-          "obstacles:\n  - {name: ball, type: sphere, center: [0.07, 0, -0.026], radius: 0.01}\n"
-          "contact: {surfaces: [outer, tip]}\nstates:\n  - {name: rest, steps: 4}\n"
-          "control:\n  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
-          "  actuators:\n    - {cavity: cavity, min_pressure: 0, max_pressure: 30000}\n"
-          "  targets:\n    - {tip: [0.09, 0, -0.009]}\n    - {tip: [0.09, 0, -0.002]}\n"
-          "    - {tip: [0.09, 0, -0.0015]}\n    - {tip: [0.09, 0, -0.010]}\n"
-          "  steps_per_target: 1\n  free_solve: one_step\n  check_equilibrium: true\n");
+  const std::string deck =
+      write_deck("open_close.yaml",
+                 finger_lifting_off_ball_deck(
+                     "  steps_per_target: 1\n  free_solve: one_step\n  check_equilibrium: true\n"));
   const Json s = run(deck, "open_close");
   const auto& answers = s["targets"];
   ASSERT_EQ(answers.size(), 4u);
@@ -691,21 +699,9 @@ TEST(ObstacleContact, TheQpWithContactForcesLiftsTheFingerOffTheBallAndLandsItAg
   // then held forces), its tip steered up off the ball and down onto it again: contact opens
   // and closes inside the QP's active sets, every target is met, the ball carries the finger
   // where it touches and nothing where it was let go.
-  const std::string deck = write_deck(
-      "qp_open_close.yaml",
-      "mesh:\n  file: " + kSource +
-          "/meshes/finger.geo\n  order: 1\n  parameters: {h: 0.004}\n"
-          "materials:\n"
-          "  - {group: body, model: neo_hookean, E: 2.0e5, nu: 0.45, density: 1070}\n"
-          "boundary:\n  - {group: base}\nloads: {gravity: [0, 0, -9.81]}\n"
-          "cavities:\n  - {group: cavity, kind: pneumatic}\n"
-          "obstacles:\n  - {name: ball, type: sphere, center: [0.07, 0, -0.026], radius: 0.01}\n"
-          "contact: {surfaces: [outer, tip]}\nstates:\n  - {name: rest, steps: 4}\n"
-          "control:\n  effectors:\n    - {name: tip, point: effector, directions: [z]}\n"
-          "  actuators:\n    - {cavity: cavity, min_pressure: 0, max_pressure: 30000}\n"
-          "  targets:\n    - {tip: [0.09, 0, -0.009]}\n    - {tip: [0.09, 0, -0.002]}\n"
-          "    - {tip: [0.09, 0, -0.0015]}\n    - {tip: [0.09, 0, -0.010]}\n"
-          "  steps_per_target: 6\n  contact_forces: qp\n");
+  const std::string deck =
+      write_deck("qp_open_close.yaml",
+                 finger_lifting_off_ball_deck("  steps_per_target: 6\n  contact_forces: qp\n"));
   const Json s = run(deck, "qp_open_close");
   const auto& answers = s["targets"];
   ASSERT_EQ(answers.size(), 4u);
