@@ -37,6 +37,7 @@ NewtonSolver::NewtonSolver(Problem& problem, const SolverConfig& solver, Tangent
     SNESLineSearch search;
     HS_PETSC(SNESGetLineSearch(snes_, &search));
     HS_PETSC(SNESLineSearchSetPreCheck(search, limit_step, this));
+    if (problem.self_contact()) HS_PETSC(SNESLineSearchSetPostCheck(search, limit_answer, this));
     contact_search_ = !options_.has("snes_linesearch_type");
   }
   HS_PETSC(SNESSetFromOptions(snes_));
@@ -97,6 +98,24 @@ PetscErrorCode NewtonSolver::limit_step(SNESLineSearch, Vec u, Vec y, PetscBool*
     if (alpha < 1) {
       PetscCall(VecScale(y, alpha));
       *changed = PETSC_TRUE;
+    }
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  return 0;
+}
+
+PetscErrorCode NewtonSolver::limit_answer(SNESLineSearch, Vec u, Vec, Vec w, PetscBool*,
+                                          PetscBool* changed_w, void* ctx) {
+  auto* self = static_cast<NewtonSolver*>(ctx);
+  try {
+    VecHandle dw;
+    PetscCall(VecDuplicate(w, dw.out()));
+    PetscCall(VecWAXPY(dw, -1.0, u, w));
+    const double alpha = self->problem_.self_contact_step_limit(u, dw);
+    if (alpha < 1) {
+      PetscCall(VecWAXPY(w, alpha, dw, u));
+      *changed_w = PETSC_TRUE;
     }
   } catch (const std::exception& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());

@@ -46,6 +46,11 @@ class NewtonSolver : public NonlinearSolver {
   // With obstacles: shortens the Newton step so that no contact node crosses into one
   // (Problem::contact_step_limit), before the line search.
   static PetscErrorCode limit_step(SNESLineSearch, Vec u, Vec y, PetscBool* changed, void* ctx);
+  // With self-contact: shortens the line search's answer w the same way, from u, where the
+  // search went beyond the limited step (l2 extrapolates): the distances are unsigned, so no
+  // residual refuses a state past a triangle or an edge.
+  static PetscErrorCode limit_answer(SNESLineSearch, Vec u, Vec y, Vec w, PetscBool* changed_y,
+                                     PetscBool* changed_w, void* ctx);
   // PETSc's test, and convergence when the residual is down to the round-off of its own
   // evaluation (Problem::residual_roundoff), checked once it is 1e-6 of the first.
   static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm,

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <tuple>
 
 #include "common/error.hpp"
 #include "contact/box_tree.hpp"
@@ -83,6 +84,24 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
       faces_of_[n].push_back(static_cast<int32_t>(f));
     }
   }
+  std::map<std::array<int32_t, 2>, int32_t> edge_of;
+  for (size_t f = 0; f < faces_.size() && config.contact.edges; ++f) {
+    const auto& t = faces_[f];
+    const double area = 0.5 * (at(x, t[1]) - at(x, t[0])).cross(at(x, t[2]) - at(x, t[0])).norm();
+    for (int k = 0; k < 3; ++k) {
+      const std::array<int32_t, 2> e = {std::min(t[k], t[(k + 1) % 3]),
+                                        std::max(t[k], t[(k + 1) % 3])};
+      const auto [it, added] = edge_of.emplace(e, static_cast<int32_t>(edges_.size()));
+      if (added) {
+        edges_.push_back(e);
+        edge_area_.push_back(0.0);
+        edge_length2_.push_back((at(x, e[1]) - at(x, e[0])).squaredNorm());
+        edge_surfaces_.push_back(0);
+      }
+      edge_area_[it->second] += area / 3;
+      edge_surfaces_[it->second] |= uint64_t{1} << face_surface_[f];
+    }
+  }
   const int64_t first = dist.owned_offsets[dist.rank], last = dist.owned_offsets[dist.rank + 1];
   owned_.assign(ns, -1);
   std::vector<int> fixed(3 * ns, 0);
@@ -94,6 +113,8 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
     }
   MPI_Allreduce(MPI_IN_PLACE, fixed.data(), static_cast<int>(fixed.size()), MPI_INT, MPI_MAX, comm);
   constrained_.assign(fixed.begin(), fixed.end());
+  for (size_t e = 0; e < edges_.size(); ++e)
+    if (owned_[edges_[e][0]] >= 0) my_edges_.push_back(static_cast<int32_t>(e));
   check_start(config.deck_path);
   const size_t ng = groups.size();
   num_surfaces_ = static_cast<int>(ng);
@@ -161,6 +182,42 @@ bool SelfContact::each_pair(const std::vector<double>& x, bool project, Visit&& 
   return ok;
 }
 
+template <class Visit>
+bool SelfContact::each_edge_pair(const std::vector<double>& x, bool project, Visit&& visit) const {
+  std::vector<Eigen::AlignedBox3d> boxes(edges_.size());
+  for (size_t e = 0; e < edges_.size(); ++e)
+    boxes[e] = Eigen::AlignedBox3d(at(x, edges_[e][0])).extend(at(x, edges_[e][1]));
+  const BoxTree tree(boxes);
+  const double dhat = barrier_.distance;
+  bool ok = true;
+  for (int32_t ea : my_edges_)
+    tree.overlapping(grown(boxes[ea], dhat), [&](int eb) {
+      const auto &a = edges_[ea], &b = edges_[eb];
+      if (eb <= ea || a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return;
+      const int32_t nodes[4] = {a[0], a[1], b[0], b[1]};
+      Eigen::Vector3d y[4];
+      for (int k = 0; k < 4; ++k) y[k] = at(x, nodes[k]);
+      const double parallel = 1e-3 * edge_length2_[ea] * edge_length2_[eb];
+      if ((y[1] - y[0]).cross(y[3] - y[2]).squaredNorm() <= 0.5 * parallel) return;
+      const EdgeFeature feature = nearest_edge_feature(y);
+      const double d2 = edge_squared_distance(y, feature);
+      if (d2 >= dhat * dhat) return;
+      if (!(d2 > 0)) {
+        ok = false;
+        return;
+      }
+      const double weight = 0.5 * (edge_area_[ea] + edge_area_[eb]);
+      visit(nodes, ea, static_cast<int32_t>(eb),
+            edge_pair_barrier(y, feature, weight, parallel, barrier_, project));
+    });
+  return ok;
+}
+
+Eigen::Vector3d SelfContact::Pair::push() const {
+  if (!edges) return term.gradient.head<3>();
+  return term.gradient.segment<3>(0) + term.gradient.segment<3>(3);
+}
+
 std::vector<double> SelfContact::current(const double* u) const {
   std::vector<double> x = positions(u);
   for (size_t k = 0; k < x.size(); ++k) x[k] += reference_[k];
@@ -178,10 +235,20 @@ bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
         pair.term = term;
         out.push_back(pair);
       });
+  const bool edges_ok = each_edge_pair(
+      x, project_, [&](const int32_t* nodes, int32_t, int32_t, const PairTerm& term) {
+        Pair pair;
+        pair.count = 4;
+        pair.edges = true;
+        std::copy(nodes, nodes + 4, pair.node);
+        pair.term = term;
+        out.push_back(pair);
+      });
   for (const PairFrictionLag& lag : lag_) {
     Pair pair;
     pair.count = lag.count;
     pair.friction = true;
+    pair.edges = lag.face < 0;
     Eigen::Vector3d y[4];
     for (int k = 0; k < lag.count; ++k) {
       pair.node[k] = lag.node[k];
@@ -190,7 +257,17 @@ bool SelfContact::pairs(const double* u, std::vector<Pair>& out) const {
     pair.term = pair_friction(lag, y, slip_);
     out.push_back(pair);
   }
-  return ok;
+  return ok && edges_ok;
+}
+
+double SelfContact::edge_friction(int32_t e, int32_t f) const {
+  const size_t ng = static_cast<size_t>(num_surfaces_);
+  double mu = 0;
+  for (size_t g = 0; g < ng; ++g)
+    for (size_t h = 0; h < ng; ++h)
+      if ((edge_surfaces_[e] >> g & 1) && (edge_surfaces_[f] >> h & 1))
+        mu = std::max(mu, friction_[g * ng + h]);
+  return mu;
 }
 
 double SelfContact::friction(int32_t p, int32_t f) const {
@@ -211,28 +288,47 @@ void SelfContact::accept(const double* u) {
 void SelfContact::begin_step() {
   if (accepted_.empty()) return;
   const std::vector<double>& x = accepted_;
-  auto key = [](const PairFrictionLag& l) { return std::make_pair(l.node[0], l.face); };
+  // A node's lag is named by the node and the triangle, an edge pair's (face < 0) by the one
+  // edge's nodes and the other edge.
+  auto key = [](const PairFrictionLag& l) {
+    return std::make_tuple(l.node[0], l.face, l.face < 0 ? l.node[1] : -1);
+  };
+  auto less = [&](const PairFrictionLag& a, const PairFrictionLag& b) { return key(a) < key(b); };
+  // The slip the same pair reached over the step before, zero for a new one.
+  auto carried = [&](const PairFrictionLag& probe) {
+    const auto before = std::lower_bound(lag_.begin(), lag_.end(), probe, less);
+    if (before == lag_.end() || key(*before) != key(probe)) return Eigen::Vector3d::Zero().eval();
+    Eigen::Vector3d y[4];
+    for (int k = 0; k < before->count; ++k) y[k] = at(x, before->node[k]);
+    return pair_slip(*before, y);
+  };
   std::vector<PairFrictionLag> lag;
   each_pair(x, project_, [&](const int32_t* nodes, int count, int32_t face, const PairTerm& term) {
-    Eigen::Vector3d y[4], carried = Eigen::Vector3d::Zero();
+    const double mu = friction(nodes[0], face);
+    if (mu == 0) return;
     PairFrictionLag probe;
     probe.node[0] = nodes[0];
     probe.face = face;
-    const auto before = std::lower_bound(
-        lag_.begin(), lag_.end(), probe,
-        [&](const PairFrictionLag& a, const PairFrictionLag& b) { return key(a) < key(b); });
-    if (before != lag_.end() && key(*before) == key(probe)) {
-      for (int k = 0; k < before->count; ++k) y[k] = at(x, before->node[k]);
-      carried = pair_slip(*before, y);
-    }
-    const double mu = friction(nodes[0], face);
-    if (mu == 0) return;
+    Eigen::Vector3d y[4];
     for (int k = 0; k < count; ++k) y[k] = at(x, nodes[k]);
     lag.push_back(pair_friction_lag(nodes, y, count, face, mu, term.gradient.head<3>().norm(),
-                                    carried, slip_));
+                                    carried(probe), slip_));
   });
-  std::sort(lag.begin(), lag.end(),
-            [&](const PairFrictionLag& a, const PairFrictionLag& b) { return key(a) < key(b); });
+  each_edge_pair(
+      x, project_, [&](const int32_t* nodes, int32_t e, int32_t f, const PairTerm& term) {
+        const double mu = edge_friction(e, f);
+        if (mu == 0) return;
+        PairFrictionLag probe;
+        probe.node[0] = nodes[0];
+        probe.node[1] = nodes[1];
+        probe.face = -1 - f;
+        Eigen::Vector3d y[4];
+        for (int k = 0; k < 4; ++k) y[k] = at(x, nodes[k]);
+        const Eigen::Vector3d push = term.gradient.segment<3>(0) + term.gradient.segment<3>(3);
+        lag.push_back(edge_friction_lag(nodes, y, nearest_edge_feature(y), probe.face, mu,
+                                        push.norm(), carried(probe), slip_));
+      });
+  std::sort(lag.begin(), lag.end(), less);
   lag_ = std::move(lag);
   accepted_.clear();
 }
@@ -298,22 +394,46 @@ double SelfContact::step_limit(const double* u, const double* du) const {
     return std::sqrt(feature_squared_distance(y, feature.count + 1));
   };
   double alpha = 1;
+  auto advance = [&](double relative, auto&& distance_at) {
+    const double d0 = distance_at(0.0);
+    if (relative <= 0.9 * d0) return;
+    double along = 0;
+    for (int k = 0; k < 100 && along < alpha; ++k) {
+      const double d = k == 0 ? d0 : distance_at(along);
+      if (d <= 0.1 * d0 * (1 + 1e-12)) break;
+      along = std::min(1.0, along + (d - 0.1 * d0) / relative);
+      if (along == 1.0) return;
+    }
+    alpha = std::min(alpha, along);
+  };
   for (int32_t p : mine_)
     tree.overlapping(grown(swept(p), barrier_.distance), [&](int f) {
       const auto& t = faces_[f];
       if (t[0] == p || t[1] == p || t[2] == p) return;
       double relative = 0;
       for (int32_t n : t) relative = std::max(relative, (at(dx, n) - at(dx, p)).norm());
-      const double d0 = distance(p, t, 0.0);
-      if (relative <= 0.9 * d0) return;
-      double along = 0;
-      for (int k = 0; k < 100 && along < alpha; ++k) {
-        const double d = k == 0 ? d0 : distance(p, t, along);
-        if (d <= 0.1 * d0 * (1 + 1e-12)) break;
-        along = std::min(1.0, along + (d - 0.1 * d0) / relative);
-        if (along == 1.0) return;
-      }
-      alpha = std::min(alpha, along);
+      advance(relative, [&](double along) { return distance(p, t, along); });
+    });
+  // The same for the pairs of edges: a point of one edge moves by at most the largest
+  // |du_i - du_j| (i of the one edge, j of the other) relative to a point of the other.
+  std::vector<Eigen::AlignedBox3d> edge_boxes(edges_.size());
+  for (size_t e = 0; e < edges_.size(); ++e)
+    edge_boxes[e] = swept(edges_[e][0]).extend(swept(edges_[e][1]));
+  const BoxTree edge_tree(edge_boxes);
+  for (int32_t ea : my_edges_)
+    edge_tree.overlapping(grown(edge_boxes[ea], barrier_.distance), [&](int eb) {
+      const auto &a = edges_[ea], &b = edges_[eb];
+      if (eb <= ea || a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return;
+      const int32_t nodes[4] = {a[0], a[1], b[0], b[1]};
+      double relative = 0;
+      for (int i = 0; i < 2; ++i)
+        for (int j = 2; j < 4; ++j)
+          relative = std::max(relative, (at(dx, nodes[i]) - at(dx, nodes[j])).norm());
+      advance(relative, [&](double along) {
+        Eigen::Vector3d y[4];
+        for (int k = 0; k < 4; ++k) y[k] = at(x, nodes[k]) + along * at(dx, nodes[k]);
+        return std::sqrt(edge_squared_distance(y, nearest_edge_feature(y)));
+      });
     });
   MPI_Allreduce(MPI_IN_PLACE, &alpha, 1, MPI_DOUBLE, MPI_MIN, comm_);
   return alpha;
@@ -362,11 +482,21 @@ int SelfContact::side(int32_t p, int32_t f, int a, int b) const {
          int((node_surfaces_[p] >> b & 1) && face_surface_[f] == a);
 }
 
+int SelfContact::edge_side(int32_t e, int32_t f, int a, int b) const {
+  auto in = [&](int32_t edge, int s) { return (edge_surfaces_[edge] >> s & 1) != 0; };
+  return int(in(e, a) && in(f, b)) - int(in(e, b) && in(f, a));
+}
+
 std::array<double, 3> SelfContact::force_between(const double* u, int a, int b) const {
   std::array<double, 3> force = {0, 0, 0};
-  each_pair(current(u), false, [&](const int32_t* nodes, int, int32_t face, const PairTerm& term) {
+  const std::vector<double> x = current(u);
+  each_pair(x, false, [&](const int32_t* nodes, int, int32_t face, const PairTerm& term) {
     const int s = side(nodes[0], face, a, b);
     for (int d = 0; d < 3; ++d) force[d] += s * term.gradient(d);
+  });
+  each_edge_pair(x, false, [&](const int32_t*, int32_t e, int32_t f, const PairTerm& term) {
+    const int s = edge_side(e, f, a, b);
+    for (int d = 0; d < 3; ++d) force[d] += s * (term.gradient(d) + term.gradient(3 + d));
   });
   MPI_Allreduce(MPI_IN_PLACE, force.data(), 3, MPI_DOUBLE, MPI_SUM, comm_);
   return force;
@@ -384,6 +514,16 @@ double SelfContact::force_rows_between(const double* u, int a, int b, double* ro
     for (int k = 0; k < count; ++k)
       for (int d = 0; d < 3; ++d)
         for (int c = 0; c < 3; ++c) r[9 * nodes[k] + 3 * d + c] += s * term.hessian(d, 3 * k + c);
+  });
+  each_edge_pair(x, false, [&](const int32_t* nodes, int32_t e, int32_t f, const PairTerm& term) {
+    const int s = edge_side(e, f, a, b);
+    if (s == 0) return;
+    r[9 * ns] = 1;
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 3; ++d)
+        for (int c = 0; c < 3; ++c)
+          r[9 * nodes[k] + 3 * d + c] +=
+              s * (term.hessian(d, 3 * k + c) + term.hessian(3 + d, 3 * k + c));
   });
   MPI_Allreduce(MPI_IN_PLACE, r.data(), static_cast<int>(r.size()), MPI_DOUBLE, MPI_SUM, comm_);
   for (int32_t p : mine_)
@@ -459,11 +599,11 @@ SelfContact::Totals SelfContact::totals(const double* u) const {
   t.min_gap = std::numeric_limits<double>::infinity();
   for (const Pair& pair : found) {
     if (pair.friction) {
-      t.friction += pair.term.gradient.head<3>().norm();
+      t.friction += pair.push().norm();
       continue;
     }
     ++t.pairs;
-    t.force += pair.term.gradient.head<3>().norm();
+    t.force += pair.push().norm();
     t.min_gap = std::min(t.min_gap, pair.term.distance);
   }
   MPI_Allreduce(MPI_IN_PLACE, &t.pairs, 1, MPI_INT64_T, MPI_SUM, comm_);
@@ -529,14 +669,21 @@ void SelfContact::check_start(const std::string& deck) const {
                    }
                  });
   }
+  const bool apart =
+      each_edge_pair(x, false, [&](const int32_t* nodes, int32_t, int32_t, const PairTerm& term) {
+        if (term.distance >= worst.d) return;
+        worst.d = term.distance;
+        where = 0.5 * (at(x, nodes[0]) + at(x, nodes[1]));
+      });
+  if (!apart) worst.d = 0;
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
   if (worst.d >= barrier_.distance) return;
   MPI_Bcast(where.data(), 3, MPI_DOUBLE, worst.rank, comm_);
   char text[300];
   std::snprintf(text, sizeof text,
-                "the undeformed surface's node at (%g, %g, %g) lies %g m from a triangle of the "
-                "contact surfaces it is not a corner of, within the barrier's distance %g m: "
-                "make contact.distance smaller than the surfaces' gaps",
+                "the undeformed surface's node or edge at (%g, %g, %g) lies %g m from a triangle "
+                "or an edge of the contact surfaces it does not touch, within the barrier's "
+                "distance %g m: make contact.distance smaller than the surfaces' gaps",
                 where(0), where(1), where(2), worst.d, barrier_.distance);
   throw InputError(deck + ": contact.self: " + text);
 }

@@ -1,7 +1,9 @@
 // Self-contact of the body's surfaces (docs/contact.md, "Self-contact"): every node of the
 // deck's contact surfaces is kept off every triangle of them that it is not a corner of, by
 // the barrier of contact/surface_pair.hpp on the pair of the node and the triangle's feature
-// nearest to it (each such feature once per node). Two bodies of one mesh touch the same way.
+// nearest to it (each such feature once per node), and every edge of them off every edge it
+// shares no node with, by the edge pairs' barrier there (each pair of edges once). Two bodies
+// of one mesh touch the same way.
 //
 // The surfaces are gathered whole on every rank once (their reference faces and nodes), and
 // their current positions at each evaluation (one reduction over 3 doubles a surface node):
@@ -16,7 +18,7 @@
 //
 // With contact.friction, each pair within dhat at a step's start also holds the lagged
 // Coulomb friction of contact/pair_friction.hpp over the step, kept by the rank that owns its
-// node (accept() and begin_step(), as ObstacleContact's).
+// node or its first edge's first node (accept() and begin_step(), as ObstacleContact's).
 #pragma once
 
 #include <mpi.h>
@@ -41,12 +43,15 @@ class SelfContact {
               const ContactBarrier& barrier, bool project, MPI_Comm comm);
 
   // One pair: the node and its triangle's feature (2 to 4 surface nodes, the node first), its
-  // barrier or (friction) its lagged friction.
+  // barrier or (friction) its lagged friction; or (edges) two edges' barrier or friction,
+  // nodes 0 and 1 the one edge, 2 and 3 the other.
   struct Pair {
     int count = 0;
     int32_t node[4] = {0, 0, 0, 0};  // surface node indices
-    bool friction = false;
+    bool friction = false, edges = false;
     PairTerm term;
+    // The contact force on the node, or on the first edge (N), against the barrier's push.
+    Eigen::Vector3d push() const;
   };
   // The pairs of this rank's nodes at owned displacements u (3 per owned node), the barriers'
   // and the lagged frictions'; false when a node is on a triangle (d = 0). Collective.
@@ -97,7 +102,7 @@ class SelfContact {
 
   struct Totals {
     int64_t pairs = 0;    // within dhat, over all ranks
-    double force = 0;     // the sum of the nodes' contact force magnitudes (N)
+    double force = 0;     // the sum of the pairs' contact force magnitudes (N)
     double friction = 0;  // the sum of the lagged pairs' friction force magnitudes (N)
     double min_gap = 0;   // the smallest node-triangle distance (m)
   };
@@ -123,10 +128,17 @@ class SelfContact {
   // the barrier's term, its Hessian projected with `project`).
   template <class Visit>
   bool each_pair(const std::vector<double>& x, bool project, Visit&& visit) const;
+  // Every pair of edges within dhat at positions x with an edge of this rank's, as
+  // visit(nodes, edge, other edge, the barrier's term).
+  template <class Visit>
+  bool each_edge_pair(const std::vector<double>& x, bool project, Visit&& visit) const;
+  // +1 for edge e of surface a and edge f of b, -1 the other way round, else 0.
+  int edge_side(int32_t e, int32_t f, int a, int b) const;
   // +1 for a pair of node p of surface a and face f of b, -1 for p of b and f of a, else 0
   // (force_between's sign of the node's dE/dx).
   int side(int32_t p, int32_t f, int a, int b) const;
-  // No node may start within dhat of a triangle it is not a corner of. Collective.
+  // No node may start within dhat of a triangle it is not a corner of, no edge within dhat of
+  // an edge it shares no node with. Collective.
   void check_start(const std::string& deck) const;
 
   MPI_Comm comm_;
@@ -141,17 +153,24 @@ class SelfContact {
   std::vector<std::array<int32_t, 3>> faces_;   // surface node indices
   std::vector<std::vector<int32_t>> faces_of_;  // per surface node: the faces it is a corner of
   std::vector<int32_t> mine_;                   // the surface nodes this rank owns
+  std::vector<std::array<int32_t, 2>> edges_;   // surface node indices, the smaller first
+  std::vector<double> edge_area_;               // per edge: a third of its triangles' areas
+  std::vector<double> edge_length2_;            // per edge: its squared length at rest
+  std::vector<uint64_t> edge_surfaces_;         // per edge: its triangles' surfaces, one bit each
+  std::vector<int32_t> my_edges_;               // the edges whose first node this rank owns
   std::vector<std::array<int32_t, 2>> pattern_;
   // mu between node p and face f: the largest over p's surfaces of the coefficient between
   // that surface and f's (contact.friction, or contact.friction_between's for the pair).
   double friction(int32_t p, int32_t f) const;
+  // mu between edges e and f: the largest over their surfaces' pairs.
+  double edge_friction(int32_t e, int32_t f) const;
   int num_surfaces_ = 0;                 // the deck's contact.surfaces
   std::vector<int> face_surface_;        // per face: its surface (index in the deck's list)
   std::vector<uint64_t> node_surfaces_;  // per surface node: its surfaces, one bit each
   std::vector<double> friction_;         // per pair of surfaces (row-major): mu
   bool has_friction_ = false;
   double slip_ = 0;                   // eps_v (m)
-  std::vector<PairFrictionLag> lag_;  // sorted by (node[0], face)
+  std::vector<PairFrictionLag> lag_;  // sorted by begin_step's key
   std::vector<double> accepted_;      // positions of a state not lagged yet
 };
 

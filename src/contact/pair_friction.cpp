@@ -36,21 +36,15 @@ Eigen::Vector3d pair_slip(const PairFrictionLag& lag, const Eigen::Vector3d* x) 
   return w - lag.normal * lag.normal.dot(w);
 }
 
-PairFrictionLag pair_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x, int count,
-                                  int32_t face, double mu, double normal_force,
-                                  const Eigen::Vector3d& carried, double eps_v) {
-  PairFrictionLag lag;
-  lag.friction = mu;
-  lag.count = count;
-  lag.face = face;
-  lag.normal_force = normal_force;
-  double beta[3];
-  feature_weights(x, count, beta);
-  Eigen::Vector3d r = x[0];
-  for (int k = 0; k < count; ++k) {
+namespace {
+
+// The lag of `count` nodes at x whose weights are set: its normal and anchor.
+PairFrictionLag lag_of(PairFrictionLag lag, const int32_t* nodes, const Eigen::Vector3d* x,
+                       const Eigen::Vector3d& carried, double eps_v) {
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  for (int k = 0; k < lag.count; ++k) {
     lag.node[k] = nodes[k];
-    if (k > 0) lag.weight[k] = -beta[k - 1];
-    if (k > 0) r += lag.weight[k] * x[k];
+    r += lag.weight[k] * x[k];
   }
   lag.normal = r.normalized();
   // The slip carried into the new tangent plane at its length, at most eps_v: where the
@@ -59,6 +53,36 @@ PairFrictionLag pair_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x
   const double y = in_plane.norm(), keep = std::min(carried.norm(), eps_v);
   lag.anchor = y > 0 ? Eigen::Vector3d(r - keep / y * in_plane) : r;
   return lag;
+}
+
+PairFrictionLag unweighted(int count, int32_t face, double mu, double normal_force) {
+  PairFrictionLag lag;
+  lag.friction = mu;
+  lag.count = count;
+  lag.face = face;
+  lag.normal_force = normal_force;
+  return lag;
+}
+
+}  // namespace
+
+PairFrictionLag pair_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x, int count,
+                                  int32_t face, double mu, double normal_force,
+                                  const Eigen::Vector3d& carried, double eps_v) {
+  PairFrictionLag lag = unweighted(count, face, mu, normal_force);
+  double beta[3];
+  feature_weights(x, count, beta);
+  for (int k = 1; k < count; ++k) lag.weight[k] = -beta[k - 1];
+  return lag_of(lag, nodes, x, carried, eps_v);
+}
+
+PairFrictionLag edge_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x,
+                                  const EdgeFeature& f, int32_t face, double mu,
+                                  double normal_force, const Eigen::Vector3d& carried,
+                                  double eps_v) {
+  PairFrictionLag lag = unweighted(4, face, mu, normal_force);
+  edge_feature_weights(x, f, lag.weight);
+  return lag_of(lag, nodes, x, carried, eps_v);
 }
 
 PairTerm pair_friction(const PairFrictionLag& lag, const Eigen::Vector3d* x, double eps_v) {

@@ -20,7 +20,7 @@ namespace hs {
 
 // One pair's lag. node[0] and face name the pair from one step to the next.
 struct PairFrictionLag {
-  int count = 0;                    // the node, then its feature's 1 to 3 nodes
+  int count = 0;                    // the node, then its feature's 1 to 3 nodes (or 2 edges' 4)
   int32_t node[4] = {0, 0, 0, 0};   // surface node numbers (the caller's)
   int32_t face = -1;                // the triangle (the caller's number)
   double weight[4] = {1, 0, 0, 0};  // c
@@ -41,6 +41,14 @@ void feature_weights(const Eigen::Vector3d* x, int n, double* beta);
 PairFrictionLag pair_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x, int count,
                                   int32_t face, double mu, double normal_force,
                                   const Eigen::Vector3d& carried, double eps_v);
+
+// The same for a pair of edges (nodes: the one edge's two, then the other's; x their positions)
+// whose nearest features are f: r is the one edge's nearest point less the other's
+// (edge_feature_weights), and `face` the caller's name of the pair.
+PairFrictionLag edge_friction_lag(const int32_t* nodes, const Eigen::Vector3d* x,
+                                  const EdgeFeature& f, int32_t face, double mu,
+                                  double normal_force, const Eigen::Vector3d& carried,
+                                  double eps_v);
 
 // The slip w of a lagged pair whose nodes are at x.
 Eigen::Vector3d pair_slip(const PairFrictionLag& lag, const Eigen::Vector3d* x);

@@ -296,6 +296,7 @@ struct ContactConfig {
   std::optional<double> stiffness;    // kappa (Pa/m): the barrier's scale
   std::optional<double> slip;         // eps_v (m): friction's slip between stick and slide
   bool self = false;                  // the surfaces also touch each other (self-contact)
+  bool edges = true;                  // with self: edges kept off edges as well
   double friction = 0;                // Coulomb coefficient between the surfaces (with self)
   // Coefficients for particular pairs of the surfaces (a surface with itself: the same name
   // twice), in place of `friction` there.

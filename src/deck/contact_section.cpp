@@ -219,6 +219,10 @@ const KeyTable<ContactConfig>& contact_keys() {
                "the surfaces also touch each other: a node of them is kept off every triangle "
                "of them it is not a corner of (self-contact, and contact between the bodies of "
                "one mesh; mesh.order 1)"),
+      bool_key("edges", &ContactConfig::edges,
+               "with `self`: an edge of the surfaces is also kept off every edge of them it "
+               "shares no node with, so that sharp edges pressed across each other cannot pass "
+               "through (docs/contact.md, \"Edge pairs\"); false: nodes against triangles only"),
       number_key("friction", &ContactConfig::friction, at_least(0, "a Coulomb coefficient"),
                  "Coulomb friction coefficient between the surfaces where they touch each other "
                  "(with `self`; 0: frictionless), lagged over each step as an obstacle's "

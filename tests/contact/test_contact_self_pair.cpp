@@ -1,6 +1,7 @@
 // Self-contact's node-triangle pairs (contact/surface_pair.hpp): the nearest feature against
 // the distance by brute force over the triangle, and the pair's barrier gradient and Hessian
 // against central differences of its energy and gradient, for a face, an edge and a vertex;
+// the same for the edge-edge pairs, with their mollifier;
 // the same for the pair's lagged friction, whose forces balance.
 #include <gtest/gtest.h>
 
@@ -84,6 +85,96 @@ TEST(SelfContactPair, TheBarriersDerivativesAreTheEnergysForAFaceAnEdgeAndAVerte
   expect_derivatives(edge, 3);
   Vector3d vertex[2] = {{0.02, -0.01, 0.015}, {0, 0, 0}};
   expect_derivatives(vertex, 2);
+}
+
+// The smallest distance between points of two segments on a fine grid of their parameters.
+double brute_edge_distance(const Vector3d* x, int n) {
+  double best = 1e300;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double s = double(i) / n, t = double(j) / n;
+      best = std::min(best, ((1 - s) * x[0] + s * x[1] - (1 - t) * x[2] - t * x[3]).norm());
+    }
+  return best;
+}
+
+TEST(SelfContactPair, TheNearestEdgeFeaturesGiveTheSegmentsDistance) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const int n = 800;
+  int kinds[5] = {0, 0, 0, 0, 0};
+  for (int k = 0; k < 300; ++k) {
+    Vector3d x[4];
+    for (Vector3d& v : x) v = Vector3d(u(random), u(random), 0.5 * u(random));
+    const hs::EdgeFeature f = hs::nearest_edge_feature(x);
+    const double d = std::sqrt(hs::edge_squared_distance(x, f)), brute = brute_edge_distance(x, n);
+    EXPECT_LE(d, brute + 1e-12) << k;  // a distance between points of the two segments
+    EXPECT_GE(d, brute - 4.0 / n) << k;
+    // The feature's weights give its two nearest points, that far apart.
+    double w[4];
+    hs::edge_feature_weights(x, f, w);
+    EXPECT_NEAR((w[0] * x[0] + w[1] * x[1] + w[2] * x[2] + w[3] * x[3]).norm(), d, 1e-12) << k;
+    EXPECT_NEAR(w[0] + w[1], 1, 1e-14);
+    EXPECT_NEAR(w[2] + w[3], -1, 1e-14);
+    ++kinds[f.count];
+  }
+  EXPECT_GT(kinds[2], 10);  // vertex-vertex, vertex-line and line-line all met
+  EXPECT_GT(kinds[3], 10);
+  EXPECT_GT(kinds[4], 10);
+}
+
+// The edge pair's gradient and Hessian against central differences, for two crossing edges
+// (line-line), an edge's end above the other (vertex-line), two ends (vertex-vertex), and
+// nearly parallel edges, whose pair the mollifier scales down; the forces on the four nodes
+// add up to zero. The mollifier joins its plateau with value and slope: the energy just
+// below and just above c = eps agree.
+TEST(SelfContactPair, TheEdgePairsDerivativesAreItsEnergysAndItFadesOutAsTheEdgesTurnParallel) {
+  const hs::ContactBarrier barrier{0.1, 1e4};
+  const double weight = 0.2;
+  auto term_of = [&](const Vector3d* x, double parallel) {
+    return hs::edge_pair_barrier(x, hs::nearest_edge_feature(x), weight, parallel, barrier, false);
+  };
+  auto check = [&](Vector3d* x, int count, double parallel) {
+    ASSERT_EQ(hs::nearest_edge_feature(x).count, count);
+    const hs::PairTerm term = term_of(x, parallel);
+    ASSERT_GT(term.energy, 0);
+    const double h = 1e-7;
+    for (int k = 0; k < 12; ++k) {
+      double& c = x[k / 3](k % 3);
+      const double keep = c;
+      c = keep + h;
+      const hs::PairTerm plus = term_of(x, parallel);
+      c = keep - h;
+      const hs::PairTerm minus = term_of(x, parallel);
+      c = keep;
+      EXPECT_NEAR(term.gradient(k), (plus.energy - minus.energy) / (2 * h),
+                  1e-6 * term.gradient.norm())
+          << count << " " << k;
+      const hs::PairVector column = (plus.gradient - minus.gradient) / (2 * h);
+      for (int i = 0; i < 12; ++i)
+        EXPECT_NEAR(term.hessian(i, k), column(i), 1e-5 * term.hessian.norm())
+            << count << " " << i << " " << k;
+    }
+    Vector3d sum = Vector3d::Zero();
+    for (int a = 0; a < 4; ++a) sum += term.gradient.segment<3>(3 * a);
+    EXPECT_LT(sum.norm(), 1e-10 * term.gradient.norm()) << count;
+  };
+  Vector3d crossing[4] = {
+      {-0.5, 0.02, 0}, {0.6, -0.01, 0.01}, {0.03, -0.4, 0.05}, {-0.02, 0.5, 0.04}};
+  check(crossing, 4, 1e-3);
+  Vector3d above_end[4] = {{-0.5, 0, 0}, {0.5, 0, 0}, {0.1, 0.03, 0.04}, {0.2, 0.9, 0.5}};
+  check(above_end, 3, 1e-3);
+  Vector3d ends[4] = {{-0.5, 0, 0}, {0, 0, 0}, {0.03, 0.02, 0.04}, {0.5, 0.3, 0.2}};
+  check(ends, 2, 1e-3);
+  // |a|^2 |b|^2 = 1 and sin^2 of their angle c = 1e-4, between eps/2 and eps = 1.6e-4.
+  Vector3d parallel[4] = {{-0.5, 0, 0}, {0.5, 0, 0}, {-0.5, -0.005, 0.05}, {0.5, 0.005, 0.05}};
+  const double c = (parallel[1] - parallel[0]).cross(parallel[3] - parallel[2]).squaredNorm();
+  check(parallel, 4, 1.6 * c);
+  const double full = term_of(parallel, 0.5 * c).energy;
+  EXPECT_NEAR(term_of(parallel, c * (1 + 1e-6)).energy, full, 1e-8 * full);
+  // m at c = 0.625 eps: the smoothstep at a quarter, 0.103515625; none at eps/2.
+  EXPECT_NEAR(term_of(parallel, 1.6 * c).energy, 0.103515625 * full, 1e-12 * full);
+  EXPECT_NEAR(term_of(parallel, 2 * c * (1 - 1e-6)).energy, 0, 1e-15 * full);
 }
 
 TEST(SelfContactPair, TheBoxTreeFindsEveryOverlappingBox) {
