@@ -37,7 +37,7 @@ NewtonSolver::NewtonSolver(Problem& problem, const SolverConfig& solver, Tangent
     SNESLineSearch search;
     HS_PETSC(SNESGetLineSearch(snes_, &search));
     HS_PETSC(SNESLineSearchSetPreCheck(search, limit_step, this));
-    if (problem.self_contact()) HS_PETSC(SNESLineSearchSetPostCheck(search, limit_answer, this));
+    HS_PETSC(SNESLineSearchSetPostCheck(search, limit_answer, this));
     contact_search_ = !options_.has("snes_linesearch_type");
   }
   HS_PETSC(SNESSetFromOptions(snes_));
@@ -112,7 +112,7 @@ PetscErrorCode NewtonSolver::limit_answer(SNESLineSearch, Vec u, Vec, Vec w, Pet
     VecHandle dw;
     PetscCall(VecDuplicate(w, dw.out()));
     PetscCall(VecWAXPY(dw, -1.0, u, w));
-    const double alpha = self->problem_.self_contact_step_limit(u, dw);
+    const double alpha = self->problem_.contact_step_limit(u, dw, self->load_);
     if (alpha < 1) {
       PetscCall(VecWAXPY(w, alpha, dw, u));
       *changed_w = PETSC_TRUE;

@@ -46,9 +46,10 @@ class NewtonSolver : public NonlinearSolver {
   // With obstacles: shortens the Newton step so that no contact node crosses into one
   // (Problem::contact_step_limit), before the line search.
   static PetscErrorCode limit_step(SNESLineSearch, Vec u, Vec y, PetscBool* changed, void* ctx);
-  // With self-contact: shortens the line search's answer w the same way, from u, where the
-  // search went beyond the limited step (l2 extrapolates): the distances are unsigned, so no
-  // residual refuses a state past a triangle or an edge.
+  // With contact: shortens the line search's answer w the same way, from u, where the search
+  // went beyond the limited step (l2 extrapolates): past a triangle or an edge (self-contact's
+  // distances are unsigned, so no residual would refuse it) or into an obstacle (whose
+  // residual would, ending the solve).
   static PetscErrorCode limit_answer(SNESLineSearch, Vec u, Vec y, Vec w, PetscBool* changed_y,
                                      PetscBool* changed_w, void* ctx);
   // PETSc's test, and convergence when the residual is down to the round-off of its own

@@ -228,6 +228,7 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
       local_energy += nodal_->owned_energy();
     }
     if (a != 0 && contact_) {  // the barrier's energy is stored energy: its force is a * dE/du
+      const AddSeconds timed(timers_.contact_s);
       double e = 0;
       contact_->add_forces(ua, s, a, ra, &e);
       local_energy += e;
@@ -262,6 +263,7 @@ bool Problem::assemble_forces(Vec u, double s, double a, double b, Vec out, doub
   });
   if (b != 0 && extra_load_) HS_PETSC(VecAXPY(out, b, extra_load_));
   if (a != 0 && self_contact_) {  // the pairs' barriers are stored energy too
+    const AddSeconds timed(timers_.contact_s);
     LocalView view(u, u_work_);
     PetscScalar* f;
     HS_PETSC(VecGetArray(out, &f));
@@ -307,6 +309,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
   int64_t bad = -1;
   std::vector<SelfContact::Pair> self_pairs;
   if (self_contact_) {
+    const AddSeconds timed(timers_.contact_s);
     LocalView view(u, u_work_);
     self_contact_->pairs(view.values(), self_pairs);
     if (self_contact_->extend_pattern(self_pairs)) {
@@ -333,7 +336,10 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
       if (!out.valid && bad < 0) bad = dist_.local_tets[e];
       pairs_->add_tet(static_cast<int64_t>(e), K, value);
     }
-    if (contact_) contact_->add_tangent(ua, s, *pairs_, value);
+    if (contact_) {
+      const AddSeconds timed(timers_.contact_s);
+      contact_->add_tangent(ua, s, *pairs_, value);
+    }
     const int npf = dist_.nodes_per_face();
     const int nf = 3 * npf;
     double xf[18], ff[18], Kf[324];
@@ -353,6 +359,7 @@ bool Problem::jacobian(Vec u, double s, Mat J) {
   }
   fill_constraint_entries(value + block_values);
   if (self_contact_) {
+    const AddSeconds timed(timers_.contact_s);
     const size_t nodal = nodal_ ? nodal_->num_coupling_entries() : 0;
     self_contact_->fill_tangent(self_pairs, tangent_values_.data() + tangent_values_.size() -
                                                 nodal - 9 * self_contact_->pattern().size());

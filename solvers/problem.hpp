@@ -42,9 +42,24 @@ struct InertiaTerm {
   double c = 0;
 };
 
+// contact_s: the contact's own work (obstacles' and self-contact's forces, tangents, pair
+// searches and step limits), the most part inside residual_s and jacobian_s.
 struct AssemblyTimers {
-  double residual_s = 0, jacobian_s = 0;
+  double residual_s = 0, jacobian_s = 0, contact_s = 0;
   int residual_calls = 0, jacobian_calls = 0;
+};
+
+// Adds the seconds of its scope to `total`.
+class AddSeconds {
+ public:
+  explicit AddSeconds(double& total) : total_(total), start_(MPI_Wtime()) {}
+  ~AddSeconds() { total_ += MPI_Wtime() - start_; }
+  AddSeconds(const AddSeconds&) = delete;
+  AddSeconds& operator=(const AddSeconds&) = delete;
+
+ private:
+  double& total_;
+  double start_;
 };
 
 // The checkpoint's field of the volume multipliers (Problem::volume_multiplier_field).
@@ -229,8 +244,11 @@ class Problem {
   // a node of the contact surfaces through or near a triangle on the way from the converged
   // `from` is taken back to `from` with the Dirichlet values at s: self-contact's distances
   // are unsigned, so no residual would refuse it, and Newton walks there instead with its
-  // steps limited. Collective.
-  void keep_self_contact(Vec from, Vec u, double s) const;
+  // steps limited. One that comes nearer an obstacle than a tenth of a node's gap (on or
+  // inside it the residual would be refused, the step cut back; just outside the barrier's
+  // force would be huge) is shortened to keep that tenth, as Newton's steps are.
+  // Collective.
+  void keep_outside_contact(Vec from, Vec u, double s) const;
   // Per owned node, the contact's fields (ObstacleContact::node_values); empty without
   // obstacles. Collective.
   ObstacleContact::NodeValues contact_node_values(Vec u, double s) const;
@@ -353,6 +371,8 @@ class Problem {
   bool constrained(int64_t local_dof) const { return dofs_.constrained(local_dof); }
 
  private:
+  // contact_step_limit's obstacle part (1 without obstacles). Collective.
+  double obstacle_step_limit(Vec u, Vec du, double s) const;
   struct PressureSurface {
     std::vector<int32_t> faces;  // local node indices, nodes_per_face each
     double value;
@@ -456,7 +476,7 @@ class Problem {
   VecHandle u_work_, r_work_;
   int64_t inverted_element_ = -1;  // of the last residual or tangent, over all ranks
   int obstacle_reached_ = -1;      // of the last residual, over all ranks
-  AssemblyTimers timers_;
+  mutable AssemblyTimers timers_;  // mutable: the step limits are const and timed
 };
 
 class Problem::LocalView {

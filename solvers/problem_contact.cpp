@@ -118,12 +118,16 @@ double Problem::self_contact_force_rows(Vec u, int a, int b, Vec rows[3]) const 
 }
 
 double Problem::contact_step_limit(Vec u, Vec du, double s) const {
-  double alpha = self_contact_step_limit(u, du);
-  if (!contact_) return alpha;
+  return std::min(self_contact_step_limit(u, du), obstacle_step_limit(u, du, s));
+}
+
+double Problem::obstacle_step_limit(Vec u, Vec du, double s) const {
+  if (!contact_) return 1;
+  const AddSeconds timed(timers_.contact_s);
   const PetscScalar *ua, *da;
   HS_PETSC(VecGetArrayRead(u, &ua));
   HS_PETSC(VecGetArrayRead(du, &da));
-  alpha = std::min(alpha, contact_->step_limit(ua, da, s));
+  double alpha = contact_->step_limit(ua, da, s);
   HS_PETSC(VecRestoreArrayRead(du, &da));
   HS_PETSC(VecRestoreArrayRead(u, &ua));
   MPI_Allreduce(MPI_IN_PLACE, &alpha, 1, MPI_DOUBLE, MPI_MIN, comm_);
@@ -132,6 +136,7 @@ double Problem::contact_step_limit(Vec u, Vec du, double s) const {
 
 double Problem::self_contact_step_limit(Vec u, Vec du) const {
   if (!self_contact_) return 1;
+  const AddSeconds timed(timers_.contact_s);
   const PetscScalar *ua, *da;
   HS_PETSC(VecGetArrayRead(u, &ua));
   HS_PETSC(VecGetArrayRead(du, &da));
@@ -141,13 +146,19 @@ double Problem::self_contact_step_limit(Vec u, Vec du) const {
   return alpha;
 }
 
-void Problem::keep_self_contact(Vec from, Vec u, double s) const {
-  if (!self_contact_) return;
+void Problem::keep_outside_contact(Vec from, Vec u, double s) const {
+  if (!has_contact()) return;
   VecHandle step;
   HS_PETSC(VecDuplicate(u, step.out()));
   HS_PETSC(VecWAXPY(step, -1.0, from, u));
-  if (self_contact_step_limit(from, step) == 1) return;
-  HS_PETSC(VecCopy(from, u));
+  if (self_contact_ && self_contact_step_limit(from, step) < 1) {
+    HS_PETSC(VecCopy(from, u));
+    dofs_.apply(u, s);
+    return;
+  }
+  const double alpha = obstacle_step_limit(from, step, s);
+  if (alpha == 1) return;
+  HS_PETSC(VecWAXPY(u, alpha, step, from));
   dofs_.apply(u, s);
 }
 

@@ -36,6 +36,11 @@ void add_timings(nlohmann::json& summary, const Problem& problem, const Distribu
   summary["mesh"]["largest_rank_tets"] = largest[0];
   summary["mesh"]["largest_rank_nodes"] = largest[1];
   summary["time_s"]["assembly"] = assembly;
+  if (problem.has_contact()) {
+    double contact = t.contact_s;
+    MPI_Allreduce(MPI_IN_PLACE, &contact, 1, MPI_DOUBLE, MPI_MAX, comm);
+    summary["time_s"]["contact"] = contact;
+  }
   // Peak resident memory: the largest rank's, and the sum over ranks.
   struct rusage usage;
   getrusage(RUSAGE_SELF, &usage);

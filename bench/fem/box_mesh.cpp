@@ -1,7 +1,8 @@
 // The cantilever's box (0.1 x 0.01 x 0.01 m, x from 0, y and z centred) as a hydrosoft mesh
 // file, for the benchmarks at sizes gmsh would take minutes to mesh: NX x NY x NZ cubes of 6
 // tetrahedra each (the 6 around the diagonal from the cube's low corner to its high one),
-// groups body (volume) and clamped (the faces at x = 0).
+// groups body (volume), clamped (the faces at x = 0) and bottom (the faces at z = -H/2, where
+// the beam lands on a floor: bench/contact/cantilever_on_floor.yaml).
 //   box_mesh NX NY NZ OUT.h5
 #include <array>
 #include <cstdio>
@@ -50,22 +51,27 @@ int main(int argc, char** argv) {
   m.volume_names = {"body"};
   std::vector<int64_t>& body = m.node_groups["body"];
   for (int64_t n = 0; n < m.num_nodes(); ++n) body.push_back(n);
-  // The clamped faces: the faces of tetrahedra in the first layer of cubes with all three
-  // nodes at x = 0, oriented out of the body (-x).
-  std::vector<int64_t>& faces = m.surfaces["clamped"];
-  std::vector<int64_t>& bounds = m.surface_tets["clamped"];
+  // A face group and its node group: the faces of tetrahedra with all three nodes on the
+  // plane coordinate `axis` = `at`, oriented out of the body.
   static const int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward
-  for (int64_t t = 0; t < m.num_tets(); ++t)
-    for (const auto& f : kFace) {
-      const int64_t a = m.tets[4 * t + f[0]], b = m.tets[4 * t + f[1]], c = m.tets[4 * t + f[2]];
-      if (m.x[3 * a] == 0 && m.x[3 * b] == 0 && m.x[3 * c] == 0) {
-        faces.insert(faces.end(), {a, b, c});
-        bounds.push_back(t);
+  auto add_group = [&m](const std::string& name, int axis, double at) {
+    auto on = [&](int64_t n) { return m.x[3 * n + axis] == at; };
+    std::vector<int64_t>& faces = m.surfaces[name];
+    std::vector<int64_t>& bounds = m.surface_tets[name];
+    for (int64_t t = 0; t < m.num_tets(); ++t)
+      for (const auto& f : kFace) {
+        const int64_t a = m.tets[4 * t + f[0]], b = m.tets[4 * t + f[1]], c = m.tets[4 * t + f[2]];
+        if (on(a) && on(b) && on(c)) {
+          faces.insert(faces.end(), {a, b, c});
+          bounds.push_back(t);
+        }
       }
-    }
-  std::vector<int64_t>& clamped = m.node_groups["clamped"];
-  for (int64_t n = 0; n < m.num_nodes(); ++n)
-    if (m.x[3 * n] == 0) clamped.push_back(n);
+    std::vector<int64_t>& nodes = m.node_groups[name];
+    for (int64_t n = 0; n < m.num_nodes(); ++n)
+      if (on(n)) nodes.push_back(n);
+  };
+  add_group("clamped", 0, 0.0);
+  add_group("bottom", 2, -H / 2);
   hs::write_mesh_h5(m, argv[4]);
   std::printf("{\"nodes\": %lld, \"tets\": %lld, \"dofs\": %lld}\n",
               static_cast<long long>(m.num_nodes()), static_cast<long long>(m.num_tets()),

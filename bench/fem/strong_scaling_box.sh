@@ -8,10 +8,11 @@
 # bench/fem/strong_scaling_table.py turns the folder into the table of docs/benchmarks.md.
 #   HS_EXTRA="--set materials[0].model=linear_elastic" \
 #     bash bench/fem/strong_scaling_box.sh OUTDIR "200x40x40" "1 2 4 8 16"
-# (HS_EXTRA: further arguments of every run)
+# (HS_EXTRA: further arguments of every run; HS_DECK: another deck on the same meshes, e.g.
+# bench/contact/cantilever_on_floor.yaml, the beam landing on a floor)
 set -uo pipefail
 outdir=$1 sizes=$2 ranks=$3
-deck=$(cd "$(dirname "$0")" && pwd)/cantilever_box.yaml
+deck=${HS_DECK:-$(cd "$(dirname "$0")" && pwd)/cantilever_box.yaml}
 mkdir -p "$outdir"
 nproc --all >"$outdir/cores.txt"  # --all: OMP_NUM_THREADS=1 makes plain nproc say 1
 grep -m1 "model name" /proc/cpuinfo >>"$outdir/cores.txt"

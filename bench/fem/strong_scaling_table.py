@@ -5,7 +5,8 @@
 
 One row per mesh size and rank count: dofs, Newton and Krylov iterations, the whole run and its
 parts (s), speed-up of the whole run and of the solve against 1 rank, peak memory of the
-largest rank (MB).
+largest rank (MB); where the runs had contact, its own seconds (time_s.contact) and share of the
+whole run.
 """
 import glob
 import json
@@ -20,10 +21,11 @@ def main(folder):
         h, n = re.match(r"h([^_]+)_np(\d+)\.json", os.path.basename(path)).groups()
         with open(path) as f:
             runs[(h, int(n))] = json.load(f)
+    contact = any("contact" in r["time_s"] for r in runs.values())
     print("| dofs | ranks | Newton its | KSP its | read s | partition s | setup s | assembly s |"
           " solve s | output s | whole s | speed-up whole | speed-up solve |"
-          " peak MB (largest rank) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          " peak MB (largest rank) |" + (" contact s | contact share |" if contact else ""))
+    print("|---" * (16 if contact else 14) + "|")
     for h, n in sorted(runs, key=lambda k: (runs[k]["dofs"], k[1])):
         s, t = runs[(h, n)], runs[(h, n)]["time_s"]
         one = runs.get((h, 1))
@@ -32,7 +34,8 @@ def main(folder):
         print(f"| {s['dofs']:,} | {n} | {s['newton_iterations']} | {s['linear_iterations']} |"
               f" {t['setup_mesh']:.2f} | {part:.2f} | {t['setup']:.2f} | {t['assembly']:.2f} |"
               f" {t['solve']:.2f} | {t.get('output', 0):.2f} | {t['total']:.2f} |"
-              f" {up('total')} | {up('solve')} | {s['memory_mb']['peak_rank_max']:.0f} |")
+              f" {up('total')} | {up('solve')} | {s['memory_mb']['peak_rank_max']:.0f} |" +
+              (f" {t['contact']:.2f} | {100 * t['contact'] / t['total']:.1f} % |" if contact else ""))
 
 
 if __name__ == "__main__":

@@ -66,7 +66,7 @@ void StatesStepper::solve_increment(Vec u, double tau_to) {
     plan.set_targets(constraints_, tau);
     plan.moves.set(problem_, tau);
     problem_.apply_dirichlet(u, s);
-    problem_.keep_self_contact(from, u, s);
+    problem_.keep_outside_contact(from, u, s);
     if (constraints_.linearized()) constraints_.freeze_weights(u, s);
     const NewtonResult r = solver_.solve(u, s);
     if (r.converged) {

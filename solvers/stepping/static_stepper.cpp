@@ -60,7 +60,7 @@ std::optional<StepReport> StaticStepper::advance(Vec u) {
     if (!predictor_.has_previous())
       predict_by_tangent(problem_, solver_, u, predictor_.parameter(), s);
     problem_.apply_dirichlet(u, s);
-    problem_.keep_self_contact(from, u, s);
+    problem_.keep_outside_contact(from, u, s);
     const NewtonResult r = solver_.solve(u, s);
     if (r.converged)
       predictor_.accept(s);

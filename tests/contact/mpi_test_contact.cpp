@@ -1,12 +1,12 @@
 // Contact with rigid obstacles on 1 and 2 ranks (docs/contact.md), against closed forms and
 // conservation: a block pressed on a plane takes the uniaxial force of its compression, at a
 // gap where the barrier's pressure is that force per area; a block resting on a floor puts
-// its weight on it; a sphere, a cylinder and a box pressed into a clamped block push on it
-// with the clamp's reaction, no node of the body reaching them; the shipped finger pressing
-// on a ball balances its base, its weight and the ball in every state; a block on an incline
-// sticks below tan(theta) = mu and slides above it with its closed-form acceleration; the
-// controller presses with the contact force asked for. On 2 ranks every force is compared
-// with the same deck run on one.
+// its weight on it, and a sagging beam lands on one without a cutback; a sphere, a cylinder and a
+// box pressed into a clamped block push on it with the clamp's reaction, no node of the body
+// reaching them; the shipped finger pressing on a ball balances its base, its weight and the ball
+// in every state; a block on an incline sticks below tan(theta) = mu and slides above it with its
+// closed-form acceleration; the controller presses with the contact force asked for. On 2 ranks
+// every force is compared with the same deck run on one.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -174,6 +174,36 @@ TEST(ObstacleContact, ABlockRestingOnAFloorPutsItsWeightOnIt) {
   const double gap = s["contact"]["min_gap_m"];
   EXPECT_GT(gap, 0);
   EXPECT_LT(gap, dhat);
+}
+
+TEST(ObstacleContact, ABeamSaggingOntoAFloorLandsWithoutACutbackAndBalancesItsWeight) {
+  // A cantilever under its own weight over a floor it reaches in the second step. The step's
+  // predicted start (the first step's increment extrapolated) and Newton's l2 line search
+  // both overshoot through the floor: each is shortened to keep a tenth of the gaps
+  // (Problem::keep_outside_contact, contact_answer_limit) instead of failing the residual
+  // and cutting the step back (6 cutbacks before). The clamp and the floor carry the weight.
+  const double rho = 1070, g = 9.81, L = 0.1, h = 0.01;
+  const std::string deck = write_deck(
+      "sag.yaml", "mesh:\n  file: " + kSource +
+                      "/meshes/cantilever.geo\n  order: 1\n"
+                      "  parameters: {L: 0.1, h: 0.01, n: 2}\n"
+                      "materials:\n"
+                      "  - {group: body, model: linear_elastic, E: 1.0e6, nu: 0.45, "
+                      "density: 1070}\n"
+                      "boundary:\n  - {group: clamped}\n"
+                      "loads: {gravity: [0, 0, -9.81]}\n"
+                      "obstacles:\n  - {name: floor, type: plane, point: [0, 0, -0.010]}\n"
+                      "contact: {surfaces: [bottom], distance: 2.0e-4}\n"
+                      "time: {type: static, steps: 2}\n");
+  const Json s = run(deck, "sag");
+  EXPECT_EQ(s["cutbacks"].get<int>(), 0);
+  const auto f = obstacle_force(s, 0);
+  const double weight = rho * g * L * h * h;
+  EXPECT_LT(f[2], -0.05 * weight);  // it landed
+  EXPECT_NEAR(s["reactions_N"]["clamped"][2].get<double>() - f[2], weight, 1e-7 * weight);
+  const double gap = s["contact"]["min_gap_m"];
+  EXPECT_GT(gap, 0);
+  EXPECT_LT(gap, s["contact"]["distance_m"].get<double>());
 }
 
 // The sum over the nodes of an output step's nodal_load (gravity and the cavity's pressure,

@@ -221,7 +221,9 @@ TEST(SelfContact, DraggedBlocksStickWithMuOneAndSlideWithMuATenth) {
       dragged_blocks("1.0, friction_between: [{surfaces: [lower_top, upper_bottom], friction: "
                      "0.1}]"));
   const Json s = hs_test::shared(run(deck, "drag_between", MPI_COMM_WORLD));
-  EXPECT_NEAR(s["reactions_N"]["top"][0].get<double>(), slid, 1e-12 * slid);
+  // To Newton's tolerance: the same arithmetic, but round-off may end the two runs' Newton
+  // at different iterations (2.4e-10 apart on the CI machine).
+  EXPECT_NEAR(s["reactions_N"]["top"][0].get<double>(), slid, 1e-8 * slid);
 }
 
 // The block's mean x displacement at the last output step of a run of input/gripper_lift.yaml
