@@ -180,7 +180,7 @@ TEST(ObstacleContact, ABeamSaggingOntoAFloorLandsWithoutACutbackAndBalancesItsWe
   // A cantilever under its own weight over a floor it reaches in the second step. The step's
   // predicted start (the first step's increment extrapolated) and Newton's l2 line search
   // both overshoot through the floor: each is shortened to keep a tenth of the gaps
-  // (Problem::keep_outside_contact, contact_answer_limit) instead of failing the residual
+  // (Problem::keep_outside_contact, NewtonSolver::limit_answer) instead of failing the residual
   // and cutting the step back (6 cutbacks before). The clamp and the floor carry the weight.
   const double rho = 1070, g = 9.81, L = 0.1, h = 0.01;
   const std::string deck = write_deck(
