@@ -130,6 +130,7 @@ Problem::Problem(const Config& config, const Distribution& dist, MPI_Comm comm,
 
   u_work_ = VecHandle(create_vector());
   HS_PETSC(VecDuplicate(u_work_, r_work_.out()));
+  contact_surfaces_ = config.contact.surfaces;
   if (!config.obstacles.empty())
     contact_ = std::make_unique<ObstacleContact>(config, dist, X_, u_work_, comm_);
   if (config.contact.self) {

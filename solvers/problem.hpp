@@ -250,7 +250,8 @@ class Problem {
   // Collective.
   void keep_outside_contact(Vec from, Vec u, double s) const;
   // Per owned node, the contact's fields (ObstacleContact::node_values); empty without
-  // obstacles. Collective.
+  // obstacles. Collective. On P2 meshes both contacts' pressure and friction are their
+  // faces' means (face_means).
   ObstacleContact::NodeValues contact_node_values(Vec u, double s) const;
 
   void set_inertia(const InertiaTerm* inertia) { inertia_ = inertia; }
@@ -442,6 +443,13 @@ class Problem {
   // The split term of F-bar element e (a split material's): its rest law, modulus and
   // multiplier.
   FbarNewtonPressure fbar_pressure(int64_t e) const;
+  // A P2 body balances a contact pressure with consistent nodal forces, which leave a face's
+  // corners almost nothing, so a node's force over its share of the area alternates between
+  // about 0 and 2 p across a face pressed by p. Each face's mean of those values, taken back
+  // to its nodes as their faces' mean, is p again: `values` (width per owned node) so
+  // averaged over the contact surfaces' faces on P2 meshes, unchanged on P1. Collective.
+  void face_means(std::vector<double>& values, int width) const;
+  std::vector<std::string> contact_surfaces_;  // the deck's contact.surfaces
   bool has_volume_multipliers_ = false;
   bool has_fbar_multipliers_ = false;          // the deck's materials: the same on every rank
   std::unique_ptr<ObstacleContact> contact_;   // with obstacles

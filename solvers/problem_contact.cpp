@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "solvers/problem.hpp"
 
@@ -177,6 +178,8 @@ SelfContact::NodeValues Problem::self_contact_node_values(Vec u) const {
   HS_PETSC(VecGetArrayRead(u, &ua));
   SelfContact::NodeValues v = self_contact_->node_values(ua, dist_.num_owned());
   HS_PETSC(VecRestoreArrayRead(u, &ua));
+  face_means(v.pressure, 1);
+  if (!v.friction.empty()) face_means(v.friction, 3);
   return v;
 }
 
@@ -184,8 +187,86 @@ ObstacleContact::NodeValues Problem::contact_node_values(Vec u, double s) const 
   if (!contact_) return {};
   VecHandle uw;
   HS_PETSC(VecDuplicate(u_work_, uw.out()));
-  LocalView view(u, uw);
-  return contact_->node_values(view.values(), s, dist_.num_owned());
+  ObstacleContact::NodeValues v;
+  {
+    LocalView view(u, uw);
+    v = contact_->node_values(view.values(), s, dist_.num_owned());
+  }
+  face_means(v.pressure, 1);
+  face_means(v.friction, 3);
+  return v;
+}
+
+void Problem::face_means(std::vector<double>& values, int width) const {
+  const int npf = dist_.nodes_per_face();
+  if (npf != 6) return;
+  const int64_t owned = dist_.num_owned();
+  // Three ghosted vectors of 3 per node: the values, the faces' means at the nodes, the
+  // nodes' shares of the faces' areas (the first entry of each node).
+  VecHandle in, mean, share;
+  HS_PETSC(VecDuplicate(u_work_, in.out()));
+  HS_PETSC(VecDuplicate(u_work_, mean.out()));
+  HS_PETSC(VecDuplicate(u_work_, share.out()));
+  HS_PETSC(VecSet(in, 0.0));
+  HS_PETSC(VecSet(mean, 0.0));
+  HS_PETSC(VecSet(share, 0.0));
+  {
+    PetscScalar* a;
+    HS_PETSC(VecGetArray(in, &a));
+    for (int64_t n = 0; n < owned; ++n)
+      for (int c = 0; c < width; ++c) a[3 * n + c] = values[width * n + c];
+    HS_PETSC(VecRestoreArray(in, &a));
+  }
+  HS_PETSC(VecGhostUpdateBegin(in, INSERT_VALUES, SCATTER_FORWARD));
+  HS_PETSC(VecGhostUpdateEnd(in, INSERT_VALUES, SCATTER_FORWARD));
+  Vec in_local, mean_local, share_local;
+  HS_PETSC(VecGhostGetLocalForm(in, &in_local));
+  HS_PETSC(VecGhostGetLocalForm(mean, &mean_local));
+  HS_PETSC(VecGhostGetLocalForm(share, &share_local));
+  const PetscScalar* v;
+  PetscScalar *m, *a;
+  HS_PETSC(VecGetArrayRead(in_local, &v));
+  HS_PETSC(VecGetArray(mean_local, &m));
+  HS_PETSC(VecGetArray(share_local, &a));
+  std::set<std::array<int32_t, 3>> seen;  // a face in two of the groups counts once
+  for (const auto& group : contact_surfaces_) {
+    const auto it = dist_.faces.find(group);
+    if (it == dist_.faces.end()) continue;
+    for (size_t f = 0; f < it->second.size() / npf; ++f) {
+      const int32_t* nodes = &it->second[f * npf];
+      std::array<int32_t, 3> key = {nodes[0], nodes[1], nodes[2]};
+      std::sort(key.begin(), key.end());
+      if (!seen.insert(key).second) continue;
+      const Eigen::Map<const Eigen::Vector3d> x0(&X_[3 * nodes[0]]), x1(&X_[3 * nodes[1]]),
+          x2(&X_[3 * nodes[2]]);
+      const double part = 0.5 * (x1 - x0).cross(x2 - x0).norm() / npf;
+      double face[3] = {0, 0, 0};  // the nodes' values weighted by their equal shares
+      for (int k = 0; k < npf; ++k)
+        for (int c = 0; c < width; ++c) face[c] += v[3 * nodes[k] + c] / npf;
+      for (int k = 0; k < npf; ++k) {
+        a[3 * nodes[k]] += part;
+        for (int c = 0; c < width; ++c) m[3 * nodes[k] + c] += part * face[c];
+      }
+    }
+  }
+  HS_PETSC(VecRestoreArrayRead(in_local, &v));
+  HS_PETSC(VecRestoreArray(mean_local, &m));
+  HS_PETSC(VecRestoreArray(share_local, &a));
+  HS_PETSC(VecGhostRestoreLocalForm(in, &in_local));
+  HS_PETSC(VecGhostRestoreLocalForm(mean, &mean_local));
+  HS_PETSC(VecGhostRestoreLocalForm(share, &share_local));
+  for (Vec w : {mean.get(), share.get()}) {
+    HS_PETSC(VecGhostUpdateBegin(w, ADD_VALUES, SCATTER_REVERSE));
+    HS_PETSC(VecGhostUpdateEnd(w, ADD_VALUES, SCATTER_REVERSE));
+  }
+  const PetscScalar *mo, *ao;
+  HS_PETSC(VecGetArrayRead(mean, &mo));
+  HS_PETSC(VecGetArrayRead(share, &ao));
+  for (int64_t n = 0; n < owned; ++n)
+    if (ao[3 * n] > 0)
+      for (int c = 0; c < width; ++c) values[width * n + c] = mo[3 * n + c] / ao[3 * n];
+  HS_PETSC(VecRestoreArrayRead(mean, &mo));
+  HS_PETSC(VecRestoreArrayRead(share, &ao));
 }
 
 }  // namespace hs

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 #include <tuple>
 
 #include "common/error.hpp"
@@ -23,6 +24,16 @@ Eigen::AlignedBox3d grown(Eigen::AlignedBox3d box, double by) {
   box.min().array() -= by;
   box.max().array() += by;
   return box;
+}
+
+// The flat triangles the pairs see on a face of nodes_per_face nodes, as node positions in
+// it: a P1 face itself; a P2 face (Tri6: corners 0-2, edge nodes 3 on (0,1), 4 on (1,2), 5 on
+// (2,0)) its four sub-triangles, the same way round. The surface is then the P1 surface of all
+// its nodes, which keeps every node of it, the edge nodes too, off the others' flat triangles.
+const std::vector<std::array<int, 3>>& flat_triangles(int nodes_per_face) {
+  static const std::vector<std::array<int, 3>> p1 = {{0, 1, 2}};
+  static const std::vector<std::array<int, 3>> p2 = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {3, 4, 5}};
+  return nodes_per_face == 6 ? p2 : p1;
 }
 
 }  // namespace
@@ -47,15 +58,16 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
       global_of[s.mesh_nodes[n]] = s.global_nodes[n];
       x_of[s.mesh_nodes[n]] = {s.x[3 * n], s.x[3 * n + 1], s.x[3 * n + 2]};
     }
-    for (size_t f = 0; f < s.faces.size() / s.nodes_per_face; ++f) {
-      std::array<int64_t, 3> face;
-      for (int a = 0; a < 3; ++a) {
-        face[a] = s.mesh_nodes[s.faces[f * s.nodes_per_face + a]];
-        surfaces_of[face[a]] |= uint64_t{1} << g;
+    for (size_t f = 0; f < s.faces.size() / s.nodes_per_face; ++f)
+      for (const auto& flat : flat_triangles(s.nodes_per_face)) {
+        std::array<int64_t, 3> face;
+        for (int a = 0; a < 3; ++a) {
+          face[a] = s.mesh_nodes[s.faces[f * s.nodes_per_face + flat[a]]];
+          surfaces_of[face[a]] |= uint64_t{1} << g;
+        }
+        faces.push_back(face);
+        face_surface.push_back(static_cast<int>(g));
       }
-      faces.push_back(face);
-      face_surface.push_back(static_cast<int>(g));
-    }
   }
   std::map<int64_t, int32_t> index;
   for (const auto& [mesh, global] : global_of) {
@@ -64,6 +76,7 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
     reference_.insert(reference_.end(), x_of[mesh].begin(), x_of[mesh].end());
     node_surfaces_.push_back(surfaces_of[mesh]);
   }
+  flat_per_face_ = static_cast<int>(flat_triangles(dist.nodes_per_face()).size());
   const std::vector<double>& x = reference_;
   std::map<std::array<int64_t, 3>, bool> seen;  // a face in two groups counts once
   for (size_t f = 0; f < faces.size(); ++f) {
@@ -74,15 +87,20 @@ SelfContact::SelfContact(const Config& config, const Distribution& dist,
     face_surface_.push_back(face_surface[f]);
   }
   const size_t ns = global_.size();
+  // A mesh face's area is shared equally by its nodes, as an obstacle's contact nodes share it
+  // (its flat triangles are consecutive in faces_).
   area_.assign(ns, 0.0);
   faces_of_.resize(ns);
-  for (size_t f = 0; f < faces_.size(); ++f) {
-    const auto& t = faces_[f];
-    const double area = 0.5 * (at(x, t[1]) - at(x, t[0])).cross(at(x, t[2]) - at(x, t[0])).norm();
-    for (int32_t n : t) {
-      area_[n] += area / 3;
-      faces_of_[n].push_back(static_cast<int32_t>(f));
+  for (size_t first = 0; first < faces_.size(); first += flat_per_face_) {
+    double area = 0;
+    std::set<int32_t> nodes;
+    for (size_t f = first; f < first + flat_per_face_; ++f) {
+      const auto& t = faces_[f];
+      area += 0.5 * (at(x, t[1]) - at(x, t[0])).cross(at(x, t[2]) - at(x, t[0])).norm();
+      nodes.insert(t.begin(), t.end());
+      for (int32_t n : t) faces_of_[n].push_back(static_cast<int32_t>(f));
     }
+    for (int32_t n : nodes) area_[n] += area / static_cast<double>(nodes.size());
   }
   std::map<std::array<int32_t, 2>, int32_t> edge_of;
   for (size_t f = 0; f < faces_.size() && config.contact.edges; ++f) {

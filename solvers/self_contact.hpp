@@ -145,12 +145,13 @@ class SelfContact {
   ContactBarrier barrier_;
   bool project_ = false;
   mutable int64_t last_pairs_ = 0;
-  std::vector<int64_t> global_;                 // per surface node: its PETSc node number
-  std::vector<double> reference_;               // per surface node: its reference position
-  std::vector<int64_t> owned_;                  // per surface node: its owned local index or -1
-  std::vector<char> constrained_;               // per surface node: 3 flags
-  std::vector<double> area_;                    // per surface node: its share of the area (m^2)
-  std::vector<std::array<int32_t, 3>> faces_;   // surface node indices
+  std::vector<int64_t> global_;                // per surface node: its PETSc node number
+  std::vector<double> reference_;              // per surface node: its reference position
+  std::vector<int64_t> owned_;                 // per surface node: its owned local index or -1
+  std::vector<char> constrained_;              // per surface node: 3 flags
+  std::vector<double> area_;                   // per surface node: its share of the area (m^2)
+  std::vector<std::array<int32_t, 3>> faces_;  // surface node indices
+  int flat_per_face_ = 1;  // faces_ per mesh face, consecutive: 1 (P1) or 4 (P2)
   std::vector<std::vector<int32_t>> faces_of_;  // per surface node: the faces it is a corner of
   std::vector<int32_t> mine_;                   // the surface nodes this rank owns
   std::vector<std::array<int32_t, 2>> edges_;   // surface node indices, the smaller first

@@ -218,7 +218,7 @@ const KeyTable<ContactConfig>& contact_keys() {
       bool_key("self", &ContactConfig::self,
                "the surfaces also touch each other: a node of them is kept off every triangle "
                "of them it is not a corner of (self-contact, and contact between the bodies of "
-               "one mesh; mesh.order 1)"),
+               "one mesh; a P2 face is its four flat sub-triangles)"),
       bool_key("edges", &ContactConfig::edges,
                "with `self`: an edge of the surfaces is also kept off every edge of them it "
                "shares no node with, so that sharp edges pressed across each other cannot pass "

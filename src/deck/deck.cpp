@@ -94,9 +94,6 @@ Config parse_deck(const std::string& path, const std::vector<std::string>& overr
     r.fail("contact", root["contact"],
            "only used with obstacles or contact.self (the section obstacles is empty and "
            "self is false)");
-  if (c.contact.self && c.mesh.order != 1)
-    r.fail("contact.self", root["contact"]["self"],
-           "needs mesh.order 1 (the pairs are a node and a flat triangle of the surface)");
   if (!c.contact.friction_between.empty() && !c.contact.self)
     r.fail("contact.friction_between", root["contact"]["friction_between"],
            "is friction between the contact surfaces, which touch each other only with "

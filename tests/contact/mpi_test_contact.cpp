@@ -150,6 +150,48 @@ TEST(ObstacleContact, APressedBlockTakesTheUniaxialForceOfItsCompression) {
   EXPECT_NEAR(s["contact"]["obstacles"][0]["area_m2"].get<double>(), A, 1e-12);
 }
 
+// The same block on P2: its consistent nodal forces load the faces' edge nodes and leave the
+// corners almost nothing (a node's force over its area share is about 2 p and 0 in turn), and
+// the pressure written is each face's mean, the uniaxial stress F / A again at every node away
+// from the block's edges. The force is the closed form's between the smallest gap and dhat.
+TEST(ObstacleContact, APressedP2BlockWritesTheUniaxialStressAsItsContactPressure) {
+  const double E = 1e5, H = 0.1, A = H * H, delta = 0.006, g0 = 0.001;
+  const std::string deck = write_deck(
+      "press_p2.yaml", block_deck("materials:\n"
+                                  "  - {group: body, model: linear_elastic, E: 1.0e5, nu: 0.3}\n"
+                                  "boundary:\n"
+                                  "  - {group: top, components: [z], value: [0, 0, -0.006]}\n"
+                                  "  - {group: x0, components: [x]}\n"
+                                  "  - {group: y0, components: [y]}\n"
+                                  "obstacles:\n"
+                                  "  - {name: floor, type: plane, point: [0, 0, -0.001]}\n"
+                                  "contact: {surfaces: [bottom]}\n"
+                                  "time: {type: static, steps: 4}\n"));
+  const Json s = run(deck, "press_p2", {"mesh.order=2"});
+  const double gap = s["contact"]["min_gap_m"], dhat = s["contact"]["distance_m"];
+  ASSERT_GT(gap, 0);
+  ASSERT_LT(gap, dhat);
+  const double F = -obstacle_force(s, 0)[2];
+  EXPECT_GT(F, E * A * (delta - g0 + gap) / H);
+  EXPECT_LT(F, E * A * (delta - g0 + dhat) / H);
+  EXPECT_NEAR(s["reactions_N"]["top"][2].get<double>(), -F, 1e-7 * F);
+  if (world_rank() == 0) {
+    const std::string h5 = (hs_test::test_folder() / "press_p2" / "press_p2.h5").string();
+    const std::string last = "/step_" + std::to_string(s["outputs"].get<int>() - 1);
+    const auto X = hs_test::read_dataset(h5, "/mesh/coordinates");
+    const auto p = hs_test::read_dataset(h5, last + "/contact_pressure");
+    int inner = 0;
+    for (size_t n = 0; n < p.size(); ++n) {
+      const double x = X[3 * n], y = X[3 * n + 1];
+      if (std::abs(X[3 * n + 2]) > 1e-9 || x < 0.005 || x > 0.095 || y < 0.005 || y > 0.095)
+        continue;
+      ++inner;
+      EXPECT_NEAR(p[n], F / A, 0.1 * F / A) << n;  // 0 or 2 F / A without the faces' means
+    }
+    EXPECT_GT(inner, 20);
+  }
+}
+
 TEST(ObstacleContact, ABlockRestingOnAFloorPutsItsWeightOnIt) {
   // Held by the barrier alone along z (its bottom starts half a dhat above the floor).
   const double rho = 1000, g = 9.81, H = 0.1;

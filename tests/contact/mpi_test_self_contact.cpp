@@ -37,9 +37,9 @@ const std::string kSource = HYDROSOFT_SOURCE_DIR;
 
 // L = 0.1 m blocks of H = 0.05 m, 1 mm apart, the upper's top moved down by 4 mm, free
 // sideways (symmetry planes x0, y0).
-std::string blocks_deck(const std::string& contact) {
-  return "mesh:\n  file: " + kSource +
-         "/meshes/two_blocks.geo\n  order: 1\n"
+std::string blocks_deck(const std::string& contact, int order = 1, int steps = 16) {
+  return "mesh:\n  file: " + kSource + "/meshes/two_blocks.geo\n  order: " + std::to_string(order) +
+         "\n"
          "materials:\n"
          "  - {group: body, model: linear_elastic, E: 1.0e5, nu: 0.3}\n"
          "boundary:\n"
@@ -50,7 +50,8 @@ std::string blocks_deck(const std::string& contact) {
          "contact: {surfaces: [lower_top, upper_bottom], self: true" +
          contact +
          "}\n"
-         "time: {type: static, steps: 16}\n";
+         "time: {type: static, steps: " +
+         std::to_string(steps) + "}\n";
 }
 
 Json run(const std::string& deck, const std::string& tag, MPI_Comm comm) {
@@ -58,12 +59,14 @@ Json run(const std::string& deck, const std::string& tag, MPI_Comm comm) {
   return hs::run_simulation(hs::parse_deck(deck, {"output.folder=" + folder}), comm);
 }
 
-TEST(SelfContact, TwoBlocksPressedTogetherTakeTheUniaxialForceOfTheirCompression) {
-  // Uniform uniaxial stress: the two blocks in series shorten by delta - g0 + gap, so the
-  // force is E A (delta - g0 + gap) / (2 H) with the gap between 0 and dhat.
+// Uniform uniaxial stress: the two blocks in series shorten by delta - g0 + gap, so the force
+// is E A (delta - g0 + gap) / (2 H) with the gap between 0 and dhat.
+void check_blocks_pressed_together(int order) {
   const double E = 1e5, H = 0.05, A = 0.01, delta = 0.004, g0 = 0.001;
-  const std::string deck = hs_test::write_deck("blocks.yaml", blocks_deck(""));
-  const Json s = hs_test::shared(run(deck, "blocks", MPI_COMM_WORLD));
+  const std::string tag = order == 1 ? "blocks" : "blocks_p2";
+  const std::string deck =
+      hs_test::write_deck(tag + ".yaml", blocks_deck("", order, order == 1 ? 16 : 8));
+  const Json s = hs_test::shared(run(deck, tag, MPI_COMM_WORLD));
   const double top = s["reactions_N"]["top"][2], bottom = s["reactions_N"]["bottom"][2];
   const double dhat = s["contact"]["distance_m"];
   const double low = E * A * (delta - g0) / (2 * H), high = E * A * (delta - g0 + dhat) / (2 * H);
@@ -82,7 +85,7 @@ TEST(SelfContact, TwoBlocksPressedTogetherTakeTheUniaxialForceOfTheirCompression
   // F / A on both faces (the median of each face's inner nodes), and the gap field's
   // smallest value is the summary's.
   if (hs_test::world_rank() == 0) {
-    const std::string h5 = (hs_test::test_folder() / "blocks" / "blocks.h5").string();
+    const std::string h5 = (hs_test::test_folder() / tag / (tag + ".h5")).string();
     const std::string last = "/step_" + std::to_string(s["outputs"].get<int>() - 1);
     const std::vector<double> X = hs_test::read_dataset(h5, "/mesh/coordinates");
     const std::vector<double> p = hs_test::read_dataset(h5, last + "/self_contact_pressure");
@@ -104,11 +107,20 @@ TEST(SelfContact, TwoBlocksPressedTogetherTakeTheUniaxialForceOfTheirCompression
   }
   if (hs_test::world_size() > 1) {
     Json one;
-    if (hs_test::world_rank() == 0) one = run(deck, "blocks_one", MPI_COMM_SELF);
+    if (hs_test::world_rank() == 0) one = run(deck, tag + "_one", MPI_COMM_SELF);
     one = hs_test::shared(one);
     EXPECT_NEAR(one["reactions_N"]["top"][2].get<double>(), top, 1e-6 * low);
     EXPECT_EQ(one["contact"]["self"]["pairs"], self["pairs"]);
   }
+}
+
+TEST(SelfContact, TwoBlocksPressedTogetherTakeTheUniaxialForceOfTheirCompression) {
+  check_blocks_pressed_together(1);
+}
+
+// P2: each face's four flat sub-triangles carry the pairs, its edge nodes too.
+TEST(SelfContact, TwoP2BlocksPressedTogetherTakeTheUniaxialForceOfTheirCompression) {
+  check_blocks_pressed_together(2);
 }
 
 // The upper block clamped at its top, brought down onto the lower (clamped at its bottom) and

@@ -877,9 +877,6 @@ TEST_F(DeckErrors, ObstaclesAndContact) {
        "only used with obstacles or contact.self"},
       {kMesh + kMaterials + "boundary: [{group: base}]\ncontact: {surfaces: [skin], self: 1}\n",
        "contact.self", "expected true or false, got '1'"},
-      {"mesh: {file: body.geo, order: 2}\n" + kMaterials +
-           "boundary: [{group: base}]\ncontact: {surfaces: [skin], self: true}\n",
-       "contact.self", "needs mesh.order 1"},
       {obstacles("{name: floor, type: plane, friction: -0.1}"), "obstacles[0].friction",
        "must be >= 0 (a Coulomb coefficient), got -0.1"},
       {obstacles(floor, "{surfaces: [skin], slip: 0}"), "contact.slip", "must be > 0, got 0"},
