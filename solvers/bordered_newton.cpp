@@ -196,11 +196,26 @@ bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
     r_norm = norm;
     return true;
   };
+  // With the pressures held, |R| is the gradient of an energy (Problem::potential_energy):
+  // a step that lowers it by Armijo's rule is taken too, though |R| rise, as incremental
+  // potential contact does; Newton's step with the pairs' projected Hessians descends it.
+  double energy_at_u = 0, slope = 0;
+  bool energy_merit = self && problem_.has_potential_at_held_pressures() &&
+                      constraints_.holds_pressures() && zeta.lpNorm<Eigen::Infinity>() == 0;
+  if (energy_merit) {
+    HS_PETSC(VecDot(R_, du_, &slope));
+    energy_merit = slope < 0 && problem_.potential_energy(u, s, &energy_at_u);
+  }
+  auto lowers_energy = [&](double at) {
+    double energy = 0;
+    return energy_merit && problem_.potential_energy(u_trial_, s, &energy) &&
+           energy <= energy_at_u + 1e-4 * at * slope;
+  };
   double best_t = -1, best_norm = 0;
   for (int halving = 0; halving <= 8; ++halving, t /= 2) {
     if (!evaluate(t)) continue;
     const bool descend = pairs_at_u || (self && self->last_pairs() > 0);
-    if (!descend || norm < r_norm) return accept(t);
+    if (!descend || norm < r_norm || lowers_energy(t)) return accept(t);
     if (best_t < 0 || norm < best_norm) best_t = t, best_norm = norm;
     if (halving >= 4) break;
   }

@@ -400,7 +400,8 @@ void Problem::internal_force(Vec u, Vec f, double* energy) {
 }
 
 bool Problem::potential_energy(Vec u, double s, double* energy) {
-  if (!has_potential()) throw std::logic_error("potential_energy: the loads have no potential");
+  if (!has_potential_at_held_pressures())
+    throw std::logic_error("potential_energy: the loads have no potential");
   const double t0 = MPI_Wtime();
   VecHandle f;
   HS_PETSC(VecDuplicate(u, f.out()));
@@ -409,8 +410,19 @@ bool Problem::potential_energy(Vec u, double s, double* energy) {
   const bool ok = assemble_forces(u, s, 1.0, 0.0, f, &stored);
   PetscScalar work = 0;
   if (ok) {
-    assemble_forces(u, s, 0.0, 1.0, f, nullptr);  // s f_body
-    HS_PETSC(VecDot(f, u, &work));
+    assemble_forces(u, s, 0.0, 1.0, f, nullptr);  // s f_body, and the cavities' pressures
+    if (has_cavity_surfaces()) {
+      VecHandle pressure;
+      HS_PETSC(VecDuplicate(u, pressure.out()));
+      cavity_pressure_load(u, pressure);
+      HS_PETSC(VecAXPY(f, -1.0, pressure));
+      for (size_t k = 0; k < pressure_faces_.size(); ++k)
+        if (!pressure_faces_[k].scaled)
+          work += pressure_faces_[k].value * enclosed_volume(static_cast<int>(k), u);
+    }
+    PetscScalar body = 0;
+    HS_PETSC(VecDot(f, u, &body));
+    work += body;
   }
   double kinetic = 0;
   if (ok && inertia_) {

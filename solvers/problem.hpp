@@ -273,8 +273,14 @@ class Problem {
   // Whether the residual is the gradient of a potential energy: no follower pressure and no
   // extra load (gravity, Dirichlet data and inertia are conservative).
   bool has_potential() const { return pressure_faces_.empty() && !extra_load_; }
-  // That energy, Pi(u; s) = int psi dV - s f_body . u [+ c/2 (u - u_pred)^T M (u - u_pred)],
-  // in *energy; false (and *energy untouched) on an inverted element. Requires has_potential().
+  // As has_potential, the cavities' closed walls allowed: at pressures held fixed, each adds
+  // -p V to the potential (the bordered Newton's merit with self-contact).
+  bool has_potential_at_held_pressures() const {
+    return !has_open_surface_pressure() && !extra_load_;
+  }
+  // That energy, Pi(u; s) = int psi dV - s f_body . u - sum_cavities p V(u)
+  // [+ c/2 (u - u_pred)^T M (u - u_pred)], in *energy; false (and *energy untouched) on an
+  // inverted element. Requires has_potential_at_held_pressures().
   bool potential_energy(Vec u, double s, double* energy);
   // The round-off of the residual's evaluation at u: eps || sum_e |K_e| (|u_e| + |X_e - c_e|) ||
   // (c_e the element's centroid), over the free dofs. Forming F = I + grad u from

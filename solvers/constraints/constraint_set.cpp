@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "solvers/constraints/cavity.hpp"
 #include "solvers/constraints/constraint_kinds.hpp"
 
 namespace hs {
@@ -149,6 +150,13 @@ bool ConstraintSet::fluid_weight_load(Vec f) const {
 bool ConstraintSet::symmetric() const {
   return std::all_of(constraints_.begin(), constraints_.end(),
                      [](const auto& c) { return c->symmetric_stiffness(); });
+}
+
+bool ConstraintSet::holds_pressures() const {
+  return std::all_of(constraints_.begin(), constraints_.end(), [](const auto& c) {
+    return dynamic_cast<const Cavity*>(c.get()) &&
+           c->control() == Constraint::Control::multiplier && !c->adds_load() && !c->fluid_weight();
+  });
 }
 
 std::string ConstraintSet::collapse_reason() const {

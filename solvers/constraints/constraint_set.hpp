@@ -85,6 +85,10 @@ class ConstraintSet {
 
   // Whether every constraint keeps the tangent symmetric.
   bool symmetric() const;
+  // Whether every constraint is a cavity whose pressure is prescribed and that adds no load of
+  // its own (no liquid's weight): Newton's steps then leave the pressures as they are, and the
+  // residual is the gradient of Problem::potential_energy.
+  bool holds_pressures() const;
   // Linearized coupling: freezes each hydraulic cavity's weights at configuration u.
   void freeze_weights(Vec u, double s);
   bool linearized() const { return linearized_; }

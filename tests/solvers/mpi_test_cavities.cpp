@@ -247,6 +247,44 @@ TEST(Cavities, PressureForcesHaveNoResultantAndAreTheVolumeGradient) {
   }
 }
 
+// With its pressure held, a cavity's pressure forces are the gradient of -p V: the residual
+// is the gradient of Problem::potential_energy (the bordered Newton's merit with
+// self-contact); a volume-controlled cavity and a liquid's weight have no such potential.
+TEST(Cavities, AtAHeldPressureTheResidualIsTheGradientOfThePotential) {
+  for (int order : {1, 2}) {
+    Scene s("cylinder_air.yaml", {"mesh.order=" + std::to_string(order)});
+    hs::Problem& p = *s.problem;
+    hs::Constraint& cavity = (*s.cavities)[0];
+    cavity.prescribe(hs::Constraint::Control::multiplier, 3000);
+    ASSERT_TRUE(s.cavities->holds_pressures());
+    ASSERT_TRUE(p.has_potential_at_held_pressures());
+    EXPECT_FALSE(p.has_potential());  // the plain Newton's objective knows no cavity
+    const hs::VecHandle u(p.create_vector()), v(p.create_vector()), R(p.create_vector());
+    bend(p, u, 2e-3);
+    bend(p, v, 1.0);
+    p.apply_dirichlet(u, 1.0);
+    p.apply_dirichlet(v, 0.0);
+    std::vector<double> c;
+    ASSERT_TRUE(s.cavities->residual(u, 1.0, R, c));  // sets the pressure on the walls
+    PetscScalar slope = 0;
+    VecDot(R, v, &slope);
+    const double eps = 1e-6;
+    double Ep = 0, Em = 0;
+    const hs::VecHandle ut(p.create_vector());
+    VecWAXPY(ut, eps, v, u);
+    ASSERT_TRUE(p.potential_energy(ut, 1.0, &Ep));
+    VecWAXPY(ut, -eps, v, u);
+    ASSERT_TRUE(p.potential_energy(ut, 1.0, &Em));
+    EXPECT_GT(std::abs(slope), 0);
+    EXPECT_NEAR((Ep - Em) / (2 * eps), slope, 1e-6 * std::abs(slope)) << "order " << order;
+    // A volume-controlled cavity's pressure moves with Newton's steps: no such merit.
+    cavity.prescribe(hs::Constraint::Control::measure, cavity.measure_at(u));
+    EXPECT_FALSE(s.cavities->holds_pressures());
+  }
+  Scene water("cylinder_water.yaml", {});
+  EXPECT_FALSE(water.cavities->holds_pressures());
+}
+
 // The coarse compressible cylinder's deck run.
 nlohmann::json run(const std::string& deck, const std::vector<std::string>& overrides,
                    const std::string& tag, MPI_Comm comm = MPI_COMM_WORLD) {
