@@ -167,8 +167,8 @@ bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
   double t = problem_.self_contact_step_limit(u, du_);
   // Where self-contact's pairs act, at u or at the trial, full steps cycle on their stiff
   // barriers, whose Hessians jump between a triangle's regions (docs/contact.md,
-  // "Self-contact"): a step is halved while it does not lower |R|, and the trial of the
-  // smallest |R| is taken after four halvings.
+  // "Self-contact"): a step is halved while it lowers neither |R| nor the energy, and the
+  // trial of the smallest |R| is taken after four halvings.
   const SelfContact* self = problem_.self_contact();
   const bool pairs_at_u = self && self->last_pairs() > 0;
   std::string collapse;  // the last trial's collapsed cavity, if that was why it was refused
@@ -196,12 +196,13 @@ bool BorderedNewton::take_step(Vec u, double s, const Eigen::VectorXd& zeta,
     r_norm = norm;
     return true;
   };
-  // With the pressures held, |R| is the gradient of an energy (Problem::potential_energy):
-  // a step that lowers it by Armijo's rule is taken too, though |R| rise, as incremental
-  // potential contact does; Newton's step with the pairs' projected Hessians descends it.
+  // With the cavities' pressures held, R is the gradient of an energy
+  // (Problem::potential_energy): a step that lowers it by Armijo's rule is taken too, though
+  // |R| rise, as incremental potential contact does. Where the exact tangent is indefinite
+  // the step may climb the energy (R . du >= 0): then |R| alone decides.
   double energy_at_u = 0, slope = 0;
   bool energy_merit = self && problem_.has_potential_at_held_pressures() &&
-                      constraints_.holds_pressures() && zeta.lpNorm<Eigen::Infinity>() == 0;
+                      constraints_.holds_pressures() && (zeta.array() == 0).all();
   if (energy_merit) {
     HS_PETSC(VecDot(R_, du_, &slope));
     energy_merit = slope < 0 && problem_.potential_energy(u, s, &energy_at_u);

@@ -48,8 +48,9 @@ class BorderedNewton : public NonlinearSolver {
   // repeats them for exactly incompressible bodies).
   NewtonResult solve_once(Vec u, double s);
   // Moves u and the multipliers (lambda) along the step du_, zeta, halved where a trial leaves
-  // the domain (and, with self-contact, where it does not lower |R|); c and r_norm become the new
-  // point's. False, with the reason, when no step is left (the cavities are then put back at u).
+  // the domain (and, with self-contact, where it lowers neither |R| nor, at held pressures,
+  // the energy); c and r_norm become the new point's. False, with the reason, when no step is
+  // left (the cavities are then put back at u).
   bool take_step(Vec u, double s, const Eigen::VectorXd& zeta, std::vector<double>& lambda,
                  std::vector<double>& c, double& r_norm, std::string& reason);
 
